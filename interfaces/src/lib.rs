@@ -1,0 +1,19 @@
+//! The contracts of missionlink, and nothing else: no I/O, no clocks.
+//!
+//! - [`wire`]: the STANAG 4586 wire layer of `ICD.md` (wrapper, field encodings, presence
+//!   vector, the messages), typed values in physical units with encode and decode.
+//! - [`contracts`]: the iceoryx2 payloads and service names between the FCC partitions
+//!   (`DESIGN.md`, "Contracts between partitions").
+//! - [`capacity`]: the fixed capacities both share.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing
+    )
+)]
+
+pub mod capacity;
+pub mod wire;

@@ -1,0 +1,69 @@
+//! The STANAG 4586 wire layer of ICD §1 to §4: wrapper, field encodings, presence vector and the
+//! twelve messages, each with encode and decode. Decoding untrusted bytes never panics and never
+//! allocates; errors say which message, which field and which rule (see [`error`]).
+
+/// Defines an enumeration field of ICD §4 (a U1 on the wire): its values, `TryFrom<u8>` and its
+/// [`field::Codec`], which rejects an undefined value as `Unsupported`.
+macro_rules! wire_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident {
+            $( $(#[$vmeta:meta])* $variant:ident = $value:literal ),+ $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[cfg_attr(
+            feature = "serde",
+            derive(serde::Serialize, serde::Deserialize),
+            serde(rename_all = "snake_case")
+        )]
+        #[repr(u8)]
+        pub enum $name {
+            $( $(#[$vmeta])* $variant = $value ),+
+        }
+
+        impl $name {
+            /// Every value, in wire order.
+            pub const ALL: &'static [Self] = &[$(Self::$variant),+];
+        }
+
+        impl TryFrom<u8> for $name {
+            type Error = u8;
+            fn try_from(v: u8) -> Result<Self, u8> {
+                match v {
+                    $( $value => Ok(Self::$variant), )+
+                    other => Err(other),
+                }
+            }
+        }
+
+        impl $crate::wire::field::Codec for $name {
+            const SIZE: usize = 1;
+            fn decode(bytes: &[u8]) -> Result<Self, $crate::wire::error::Cause> {
+                let v = $crate::wire::field::read_be(bytes) as u8;
+                Self::try_from(v)
+                    .map_err(|v| $crate::wire::error::Cause::Unsupported { value: u32::from(v) })
+            }
+            fn encode(&self, out: &mut [u8]) {
+                $crate::wire::field::write_be(*self as u64, out);
+            }
+        }
+    };
+}
+
+pub mod enums;
+pub mod error;
+pub mod field;
+pub mod frame;
+pub mod msg;
+mod presence;
+
+pub use enums::*;
+pub use error::{Cause, DecodeError, EncodeError, FieldRef, FrameError, MessageError, Reason};
+pub use field::{Altitude, Angle, OutOfRange, SafetyOffset, Speed, Text, TextError, Timestamp, U3};
+pub use frame::{
+    BROADCAST_ID, ChecksumWidth, Envelope, Frame, Frames, HEADER_LEN, IDD_VERSION, MAX_DATA_LEN,
+    MAX_FRAME_LEN, MessageProperties, decode, encode, frames,
+};
+pub use msg::*;
