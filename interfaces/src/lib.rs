@@ -16,4 +16,5 @@
 )]
 
 pub mod capacity;
+pub mod contracts;
 pub mod wire;

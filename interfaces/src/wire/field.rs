@@ -7,6 +7,8 @@
 
 use core::fmt;
 
+use iceoryx2::prelude::ZeroCopySend;
+
 use super::error::Cause;
 
 /// A value given in physical units that its wire encoding cannot represent.
@@ -150,8 +152,8 @@ impl Codec for U3 {
 
 /// BAM4 angle (ICD §3): a signed 32-bit binary angle, LSB = pi / 2^31 rad. Latitude and
 /// longitude on WGS-84. One LSB is about 9.3 mm of latitude.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
-#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
 pub struct Angle(i32);
 
 impl Angle {
@@ -215,13 +217,15 @@ impl Codec for Angle {
 }
 
 /// ALT3 altitude or height (ICD §3): a signed 24-bit integer, LSB 0.02 m.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
-#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
 pub struct Altitude(i32);
 
 impl Altitude {
     /// Metres per LSB.
     pub const LSB_METRES: f64 = 0.02;
+    /// Zero metres.
+    pub const ZERO: Self = Self(0);
     const MIN_RAW: i32 = -(1 << 23);
     const MAX_RAW: i32 = (1 << 23) - 1;
 
@@ -275,8 +279,8 @@ impl Codec for Altitude {
 }
 
 /// SPD2 speed (ICD §3): an unsigned 16-bit integer, LSB 0.5 m/s.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
-#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
 pub struct Speed(u16);
 
 impl Speed {
@@ -322,8 +326,8 @@ impl Codec for Speed {
 }
 
 /// Safety offset of #2011 and #3013 (ICD §4): an unsigned 16-bit distance, LSB 0.1 m.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
-#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
 pub struct SafetyOffset(u16);
 
 impl SafetyOffset {
@@ -377,8 +381,8 @@ impl Codec for SafetyOffset {
 ///
 /// A time stamp is an identity (ICD §3): together with Source ID and Message Type it names one
 /// message. The U5 runs out in 2034-11-01.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
-#[repr(transparent)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
 pub struct Timestamp(u64);
 
 impl Timestamp {

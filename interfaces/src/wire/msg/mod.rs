@@ -31,6 +31,8 @@ pub use ua_position_waypoint::UaPositionWaypoint;
 pub use ua_route::UaRoute;
 pub use vehicle_specific_waypoint::{SpecificData, VehicleSpecificWaypoint};
 
+use iceoryx2::prelude::ZeroCopySend;
+
 use super::error::{Cause, EncodeError, MessageError};
 use super::field::{Angle, OutOfRange, Timestamp};
 use super::presence::Reader;
@@ -61,7 +63,8 @@ fn is_waypoint_number(n: u16) -> bool {
 }
 
 /// A latitude and longitude on WGS-84.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, ZeroCopySend)]
+#[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GeoPoint {
     /// Latitude, -90..=90 deg.

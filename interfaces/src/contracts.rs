@@ -1,0 +1,767 @@
+//! The iceoryx2 contracts between the FCC partitions (DESIGN.md, "Contracts between
+//! partitions"): the payload types, their services and QoS, and the service names.
+//!
+//! Every payload is `#[repr(C)]`, fixed size and [`ZeroCopySend`], defined here once: iceoryx2
+//! matches services by type name, so a type defined twice would not connect. Each type name
+//! carries [`CONTRACT_VERSION`], so partitions built against different layouts refuse to connect
+//! instead of misreading each other.
+//!
+//! Enumerations cross shared memory as raw `u8` with typed accessors: the bytes are written by
+//! another process, and an out-of-range discriminant must read as "unknown", never as undefined
+//! behaviour. Optional values carry a `has_*` flag next to them for the same reason.
+
+use core::fmt;
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::capacity::{MAX_NO_FLY_ZONES, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
+use crate::wire::{
+    Altitude, AltitudeType, Angle, GeoPoint, LegType, MAX_FRAME_LEN, SafetyOffset, Speed,
+    SpeedType, TurnDirection, TurnType,
+};
+
+/// Version of the payload layouts; part of every type name.
+pub const CONTRACT_VERSION: u32 = 1;
+
+/// Service-name prefix used when none is configured.
+pub const DEFAULT_SERVICE_PREFIX: &str = "missionlink";
+
+/// Marks an optional enumeration byte as absent.
+pub const ABSENT: u8 = 0xff;
+
+fn enum_or_none<T: TryFrom<u8>>(raw: u8) -> Option<T> {
+    T::try_from(raw).ok()
+}
+
+fn enum_to_raw<T: Into<u8>>(v: Option<T>) -> u8 {
+    v.map_or(ABSENT, Into::into)
+}
+
+macro_rules! into_u8 {
+    ($($t:ty),+) => {$(
+        impl From<$t> for u8 {
+            fn from(v: $t) -> u8 {
+                v as u8
+            }
+        }
+    )+};
+}
+into_u8!(AltitudeType, SpeedType, TurnType, LegType, TurnDirection);
+
+/// The services of the FCC, by the path under the prefix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FccService {
+    /// `fcc/link/uplink`: voted uplink frames, voting-monitoring to mission-data-handling.
+    Uplink,
+    /// `fcc/link/downlink`: downlink frames, mission-data-handling to voting-monitoring.
+    Downlink,
+    /// `fcc/mission/waypoint-list`: the active waypoint list, history 1.
+    WaypointList,
+    /// `fcc/mission/area-list`: the active area list, history 1.
+    AreaList,
+    /// `fcc/automation/state`: flight phase and active functions, history 1.
+    AutomationState,
+    /// `fcc/guidance/progress`: FROM / TO / NEXT and position, history 1.
+    GuidanceProgress,
+}
+
+/// The quality of service of a service: every partition opens it with these, so that whoever
+/// creates it creates it the same way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Qos {
+    /// Samples a late subscriber receives on connecting.
+    pub history_size: usize,
+    /// Samples a subscriber buffers before the publisher blocks or drops.
+    pub subscriber_max_buffer_size: usize,
+    /// Publishers allowed at once (2: a restarted partition may meet its dead predecessor's port
+    /// until the dead node is cleaned up).
+    pub max_publishers: usize,
+    /// Subscribers allowed at once.
+    pub max_subscribers: usize,
+    /// Overwrite the oldest sample when a subscriber's buffer is full (state services), or make
+    /// the publisher fail so nothing is lost silently (frame queues).
+    pub safe_overflow: bool,
+}
+
+impl FccService {
+    /// Every service.
+    pub const ALL: [FccService; 6] = [
+        Self::Uplink,
+        Self::Downlink,
+        Self::WaypointList,
+        Self::AreaList,
+        Self::AutomationState,
+        Self::GuidanceProgress,
+    ];
+
+    /// The path under the prefix.
+    pub const fn path(self) -> &'static str {
+        match self {
+            Self::Uplink => "fcc/link/uplink",
+            Self::Downlink => "fcc/link/downlink",
+            Self::WaypointList => "fcc/mission/waypoint-list",
+            Self::AreaList => "fcc/mission/area-list",
+            Self::AutomationState => "fcc/automation/state",
+            Self::GuidanceProgress => "fcc/guidance/progress",
+        }
+    }
+
+    /// The full service name, `{prefix}/{path}`. The same name serves the publish-subscribe
+    /// service and its event service.
+    pub fn name(self, prefix: &str) -> String {
+        format!("{}/{}", prefix.trim_end_matches('/'), self.path())
+    }
+
+    /// The QoS of the service.
+    pub const fn qos(self) -> Qos {
+        match self {
+            // Frame queues: deep enough for a whole mission transfer in flight (one frame per
+            // ack round trip, both links), never overwritten.
+            Self::Uplink | Self::Downlink => Qos {
+                history_size: 0,
+                subscriber_max_buffer_size: 64,
+                max_publishers: 2,
+                max_subscribers: 4,
+                safe_overflow: false,
+            },
+            // State: the latest value is all that matters; late joiners get it.
+            Self::WaypointList
+            | Self::AreaList
+            | Self::AutomationState
+            | Self::GuidanceProgress => Qos {
+                history_size: 1,
+                subscriber_max_buffer_size: 1,
+                max_publishers: 2,
+                max_subscribers: 8,
+                safe_overflow: true,
+            },
+        }
+    }
+}
+
+impl fmt::Display for FccService {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.path())
+    }
+}
+
+/// The link a frame arrived on or leaves by (ICD §1: two independent links).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum Link {
+    /// The direct radio link.
+    Direct = 0,
+    /// The LTE link.
+    Lte = 1,
+    /// Both links (downlink frames are sent on both).
+    Both = 2,
+}
+
+impl TryFrom<u8> for Link {
+    type Error = u8;
+    fn try_from(v: u8) -> Result<Self, u8> {
+        match v {
+            0 => Ok(Self::Direct),
+            1 => Ok(Self::Lte),
+            2 => Ok(Self::Both),
+            other => Err(other),
+        }
+    }
+}
+
+/// A STANAG frame crossing shared memory: opaque bytes plus metadata. The protocol code views
+/// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::FramePayload/v1")]
+pub struct FramePayload {
+    /// CLOCK_MONOTONIC nanoseconds when the frame entered the FCC (socket receive) or was
+    /// produced (downlink): the start of the per-frame latency measurement.
+    pub origin_ns: u64,
+    /// CLOCK_MONOTONIC nanoseconds when the frame was published on this service.
+    pub published_ns: u64,
+    /// Counts frames per publisher, from 1; a gap tells a subscriber it missed frames.
+    pub sequence: u64,
+    /// Bytes used of `bytes`.
+    pub len: u16,
+    /// [`Link`] as `u8`.
+    pub link: u8,
+    /// Zero.
+    pub reserved: [u8; 5],
+    /// The frame: wrapper, data, checksum.
+    pub bytes: [u8; MAX_FRAME_LEN],
+}
+
+impl FramePayload {
+    /// A payload holding `frame`, if it fits [`MAX_FRAME_LEN`].
+    pub fn new(link: Link, frame: &[u8], origin_ns: u64) -> Option<Self> {
+        let mut bytes = [0u8; MAX_FRAME_LEN];
+        bytes.get_mut(..frame.len())?.copy_from_slice(frame);
+        Some(Self {
+            origin_ns,
+            published_ns: 0,
+            sequence: 0,
+            len: frame.len() as u16,
+            link: link as u8,
+            reserved: [0; 5],
+            bytes,
+        })
+    }
+
+    /// The frame bytes (clamped to the array, whatever `len` holds).
+    pub fn frame(&self) -> &[u8] {
+        let len = usize::from(self.len).min(MAX_FRAME_LEN);
+        self.bytes.get(..len).unwrap_or_default()
+    }
+
+    /// The link, or `None` for a value no publisher of this version writes.
+    pub fn link(&self) -> Option<Link> {
+        Link::try_from(self.link).ok()
+    }
+}
+
+/// One waypoint of the assembled list, in flight-plan order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::WaypointEntry/v1")]
+pub struct WaypointEntry {
+    /// Waypoint Number.
+    pub number: u16,
+    /// Next Waypoint; 0 on the last.
+    pub next: u16,
+    /// Position.
+    pub position: GeoPoint,
+    /// Waypoint to Altitude.
+    pub altitude: Altitude,
+    /// Waypoint to Speed.
+    pub speed: Speed,
+    /// [`AltitudeType`] or [`ABSENT`].
+    pub altitude_type: u8,
+    /// [`SpeedType`] or [`ABSENT`].
+    pub speed_type: u8,
+    /// [`TurnType`].
+    pub turn_type: u8,
+    /// [`LegType`] of the leg that ends here.
+    pub leg_type: u8,
+    /// [`TurnDirection`] of a radius-to-fix leg, or [`ABSENT`].
+    pub rf_turn_direction: u8,
+    /// Zero.
+    pub reserved: u8,
+    /// Centre of a radius-to-fix leg (zero for track-to-fix).
+    pub rf_centre: GeoPoint,
+}
+
+impl WaypointEntry {
+    /// An all-zero entry (unused slots).
+    pub const EMPTY: Self = Self {
+        number: 0,
+        next: 0,
+        position: GeoPoint {
+            latitude: Angle::from_raw(0),
+            longitude: Angle::from_raw(0),
+        },
+        altitude: Altitude::ZERO,
+        speed: Speed::from_raw(0),
+        altitude_type: ABSENT,
+        speed_type: ABSENT,
+        turn_type: 0,
+        leg_type: 0,
+        rf_turn_direction: ABSENT,
+        reserved: 0,
+        rf_centre: GeoPoint {
+            latitude: Angle::from_raw(0),
+            longitude: Angle::from_raw(0),
+        },
+    };
+
+    /// Altitude Type, if given.
+    pub fn altitude_type(&self) -> Option<AltitudeType> {
+        enum_or_none(self.altitude_type)
+    }
+
+    /// Sets the Altitude Type.
+    pub fn set_altitude_type(&mut self, v: Option<AltitudeType>) {
+        self.altitude_type = enum_to_raw(v);
+    }
+
+    /// Speed Type, if given.
+    pub fn speed_type(&self) -> Option<SpeedType> {
+        enum_or_none(self.speed_type)
+    }
+
+    /// Sets the Speed Type.
+    pub fn set_speed_type(&mut self, v: Option<SpeedType>) {
+        self.speed_type = enum_to_raw(v);
+    }
+
+    /// Turn Type (`None` only for a corrupted byte).
+    pub fn turn_type(&self) -> Option<TurnType> {
+        enum_or_none(self.turn_type)
+    }
+
+    /// Leg type of the leg that ends here (`None` only for a corrupted byte).
+    pub fn leg_type(&self) -> Option<LegType> {
+        enum_or_none(self.leg_type)
+    }
+
+    /// Centre and turn direction of a radius-to-fix leg.
+    pub fn rf_centre(&self) -> Option<(GeoPoint, TurnDirection)> {
+        enum_or_none(self.rf_turn_direction).map(|d| (self.rf_centre, d))
+    }
+
+    /// Sets or clears the radius-to-fix centre.
+    pub fn set_rf_centre(&mut self, rf: Option<(GeoPoint, TurnDirection)>) {
+        self.rf_centre = rf.map(|(c, _)| c).unwrap_or_default();
+        self.rf_turn_direction = enum_to_raw(rf.map(|(_, d)| d));
+    }
+}
+
+/// `fcc/mission/waypoint-list`: the active waypoint list with its take-off height and route
+/// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::WaypointListPayload/v1")]
+pub struct WaypointListPayload {
+    /// Counts activations of a new list since mission data handling started, from 1; 0 means
+    /// no mission is active (after start or a clear).
+    pub generation: u64,
+    /// Take-off height above ground (#13006 type 1).
+    pub take_off_height: Altitude,
+    /// Waypoints used of `waypoints`.
+    pub count: u16,
+    /// Initial Waypoint Number (#13001).
+    pub initial_waypoint: u16,
+    /// The route may be flown backwards for return to home (#13001 Activity ID bit 0).
+    pub bidirectional: bool,
+    /// Zero.
+    pub reserved: [u8; 7],
+    /// The waypoints in flight-plan order, from the initial one to the one with Next 0.
+    pub waypoints: [WaypointEntry; MAX_WAYPOINTS],
+}
+
+impl WaypointListPayload {
+    /// No active mission.
+    pub const EMPTY: Self = Self {
+        generation: 0,
+        take_off_height: Altitude::ZERO,
+        count: 0,
+        initial_waypoint: 0,
+        bidirectional: false,
+        reserved: [0; 7],
+        waypoints: [WaypointEntry::EMPTY; MAX_WAYPOINTS],
+    };
+
+    /// The waypoints in flight-plan order (clamped to the capacity, whatever `count` holds).
+    pub fn waypoints(&self) -> &[WaypointEntry] {
+        let n = usize::from(self.count).min(MAX_WAYPOINTS);
+        self.waypoints.get(..n).unwrap_or_default()
+    }
+
+    /// Whether a mission is active.
+    pub fn is_active(&self) -> bool {
+        self.generation != 0 && self.count != 0
+    }
+}
+
+/// Altitude bounds of an area (#2012 bits 4 to 6), each optional.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::AreaAltitudes/v1")]
+pub struct AreaAltitudes {
+    /// Lower Altitude, valid when `has_lower`.
+    pub lower: Altitude,
+    /// Upper Altitude, valid when `has_upper`.
+    pub upper: Altitude,
+    /// Whether `lower` is given.
+    pub has_lower: bool,
+    /// Whether `upper` is given.
+    pub has_upper: bool,
+    /// [`AltitudeType`] or [`ABSENT`].
+    pub altitude_type: u8,
+    /// Zero.
+    pub reserved: u8,
+}
+
+impl AreaAltitudes {
+    /// No bounds.
+    pub const NONE: Self = Self {
+        lower: Altitude::ZERO,
+        upper: Altitude::ZERO,
+        has_lower: false,
+        has_upper: false,
+        altitude_type: ABSENT,
+        reserved: 0,
+    };
+
+    /// Bounds from the optional fields of a #2012.
+    pub fn new(
+        lower: Option<Altitude>,
+        upper: Option<Altitude>,
+        altitude_type: Option<AltitudeType>,
+    ) -> Self {
+        Self {
+            lower: lower.unwrap_or_default(),
+            upper: upper.unwrap_or_default(),
+            has_lower: lower.is_some(),
+            has_upper: upper.is_some(),
+            altitude_type: enum_to_raw(altitude_type),
+            reserved: 0,
+        }
+    }
+
+    /// Lower Altitude.
+    pub fn lower(&self) -> Option<Altitude> {
+        self.has_lower.then_some(self.lower)
+    }
+
+    /// Upper Altitude.
+    pub fn upper(&self) -> Option<Altitude> {
+        self.has_upper.then_some(self.upper)
+    }
+
+    /// Altitude Type.
+    pub fn altitude_type(&self) -> Option<AltitudeType> {
+        enum_or_none(self.altitude_type)
+    }
+}
+
+/// A polygonal area: the fly-zone or a polygonal no-fly-zone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::PolygonArea/v1")]
+pub struct PolygonArea {
+    /// Area ID.
+    pub area_id: u16,
+    /// Vertices used of `vertices`, 3..=60.
+    pub vertex_count: u8,
+    /// Zero.
+    pub reserved: u8,
+    /// Altitude bounds.
+    pub altitudes: AreaAltitudes,
+    /// The vertices in order, not closed.
+    pub vertices: [GeoPoint; MAX_POLYGON_VERTICES],
+}
+
+impl PolygonArea {
+    /// An unused slot.
+    pub const EMPTY: Self = Self {
+        area_id: 0,
+        vertex_count: 0,
+        reserved: 0,
+        altitudes: AreaAltitudes::NONE,
+        vertices: [GeoPoint {
+            latitude: Angle::from_raw(0),
+            longitude: Angle::from_raw(0),
+        }; MAX_POLYGON_VERTICES],
+    };
+
+    /// The vertices (clamped to the capacity).
+    pub fn vertices(&self) -> &[GeoPoint] {
+        let n = usize::from(self.vertex_count).min(MAX_POLYGON_VERTICES);
+        self.vertices.get(..n).unwrap_or_default()
+    }
+}
+
+/// A circular no-fly-zone, kept apart from the polygons as the paper's Figure 8 does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::CircleArea/v1")]
+pub struct CircleArea {
+    /// Area ID.
+    pub area_id: u16,
+    /// Zero.
+    pub reserved: [u8; 2],
+    /// Altitude bounds.
+    pub altitudes: AreaAltitudes,
+    /// Centre (first vertex of the #2012).
+    pub centre: GeoPoint,
+    /// A point on the border (second vertex).
+    pub border: GeoPoint,
+}
+
+impl CircleArea {
+    /// An unused slot.
+    pub const EMPTY: Self = Self {
+        area_id: 0,
+        reserved: [0; 2],
+        altitudes: AreaAltitudes::NONE,
+        centre: GeoPoint {
+            latitude: Angle::from_raw(0),
+            longitude: Angle::from_raw(0),
+        },
+        border: GeoPoint {
+            latitude: Angle::from_raw(0),
+            longitude: Angle::from_raw(0),
+        },
+    };
+}
+
+/// `fcc/mission/area-list`: the active area list (ICD §5.3, §7): one fly-zone polygon, the
+/// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::AreaListPayload/v1")]
+pub struct AreaListPayload {
+    /// Counts activations of a new list, from 1; 0 means no area list is active.
+    pub generation: u64,
+    /// Distance the geofence keeps from every area border.
+    pub safety_offset: SafetyOffset,
+    /// No-fly-zone polygons used.
+    pub no_fly_polygon_count: u8,
+    /// No-fly-zone circles used.
+    pub no_fly_circle_count: u8,
+    /// Zero.
+    pub reserved: [u8; 4],
+    /// The fly-zone (stay-in).
+    pub fly_zone: PolygonArea,
+    /// Polygonal no-fly-zones, in list order.
+    pub no_fly_polygons: [PolygonArea; MAX_NO_FLY_ZONES],
+    /// Circular no-fly-zones, in list order.
+    pub no_fly_circles: [CircleArea; MAX_NO_FLY_ZONES],
+}
+
+impl AreaListPayload {
+    /// No active area list.
+    pub const EMPTY: Self = Self {
+        generation: 0,
+        safety_offset: SafetyOffset::from_raw(0),
+        no_fly_polygon_count: 0,
+        no_fly_circle_count: 0,
+        reserved: [0; 4],
+        fly_zone: PolygonArea::EMPTY,
+        no_fly_polygons: [PolygonArea::EMPTY; MAX_NO_FLY_ZONES],
+        no_fly_circles: [CircleArea::EMPTY; MAX_NO_FLY_ZONES],
+    };
+
+    /// Polygonal no-fly-zones (clamped to the capacity).
+    pub fn no_fly_polygons(&self) -> &[PolygonArea] {
+        let n = usize::from(self.no_fly_polygon_count).min(MAX_NO_FLY_ZONES);
+        self.no_fly_polygons.get(..n).unwrap_or_default()
+    }
+
+    /// Circular no-fly-zones (clamped to the capacity).
+    pub fn no_fly_circles(&self) -> &[CircleArea] {
+        let n = usize::from(self.no_fly_circle_count).min(MAX_NO_FLY_ZONES);
+        self.no_fly_circles.get(..n).unwrap_or_default()
+    }
+
+    /// Areas in the list: the fly-zone and every no-fly-zone.
+    pub fn area_count(&self) -> usize {
+        if self.generation == 0 {
+            0
+        } else {
+            1 + self.no_fly_polygons().len() + self.no_fly_circles().len()
+        }
+    }
+}
+
+/// Flight phases of system automation (paper §2.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum FlightPhase {
+    /// On ground, motors off: missions and areas may be uploaded and cleared.
+    OnGround = 0,
+    /// ATOL take-off: vertical climb to the take-off height.
+    TakeOff = 1,
+    /// Cruise: trajectory generation flies the waypoint list.
+    Cruise = 2,
+    /// Landing at the last (or the next) waypoint.
+    Landing = 3,
+    /// Landed after a mission.
+    Landed = 4,
+}
+
+impl TryFrom<u8> for FlightPhase {
+    type Error = u8;
+    fn try_from(v: u8) -> Result<Self, u8> {
+        match v {
+            0 => Ok(Self::OnGround),
+            1 => Ok(Self::TakeOff),
+            2 => Ok(Self::Cruise),
+            3 => Ok(Self::Landing),
+            4 => Ok(Self::Landed),
+            other => Err(other),
+        }
+    }
+}
+
+/// `fcc/automation/state`: the flight phase and which functions are active (paper §2.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::AutomationStatePayload/v1")]
+pub struct AutomationStatePayload {
+    /// Counts state changes, from 1.
+    pub sequence: u64,
+    /// CLOCK_MONOTONIC nanoseconds of the change.
+    pub changed_ns: u64,
+    /// Generation of the waypoint list being flown, 0 for none.
+    pub flown_waypoint_list: u64,
+    /// [`FlightPhase`] as `u8`.
+    pub flight_phase: u8,
+    /// Trajectory generation is active: a clear is refused (`GuidanceActive`).
+    pub trajectory_generation_active: bool,
+    /// Zero.
+    pub reserved: [u8; 6],
+}
+
+impl AutomationStatePayload {
+    /// On ground, nothing active.
+    pub const ON_GROUND: Self = Self {
+        sequence: 0,
+        changed_ns: 0,
+        flown_waypoint_list: 0,
+        flight_phase: FlightPhase::OnGround as u8,
+        trajectory_generation_active: false,
+        reserved: [0; 6],
+    };
+
+    /// The flight phase, or `None` for a value no publisher of this version writes.
+    pub fn flight_phase(&self) -> Option<FlightPhase> {
+        FlightPhase::try_from(self.flight_phase).ok()
+    }
+}
+
+/// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
+#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::GuidanceProgressPayload/v1")]
+pub struct GuidanceProgressPayload {
+    /// Counts updates, from 1.
+    pub sequence: u64,
+    /// CLOCK_MONOTONIC nanoseconds of the update.
+    pub time_ns: u64,
+    /// Generation of the waypoint list flown, 0 for none.
+    pub waypoint_list: u64,
+    /// Latitude, degrees.
+    pub latitude_deg: f64,
+    /// Longitude, degrees.
+    pub longitude_deg: f64,
+    /// Altitude, metres (of the waypoint list's altitude type).
+    pub altitude_m: f64,
+    /// Ground speed, m/s.
+    pub ground_speed_mps: f64,
+    /// FROM Waypoint Number, 0 = none (before the first waypoint).
+    pub from: u16,
+    /// TO Waypoint Number, 0 = none.
+    pub to: u16,
+    /// NEXT Waypoint Number, 0 = none (on the last leg).
+    pub next: u16,
+    /// Area ID of the no-fly-zone the position is in, 0 for none.
+    pub in_no_fly_zone: u16,
+    /// The position is inside the fly-zone.
+    pub inside_fly_zone: bool,
+    /// Trajectory generation is active.
+    pub trajectory_generation_active: bool,
+    /// Zero.
+    pub reserved: [u8; 6],
+}
+
+impl GuidanceProgressPayload {
+    /// Nothing flown yet.
+    pub const IDLE: Self = Self {
+        sequence: 0,
+        time_ns: 0,
+        waypoint_list: 0,
+        latitude_deg: 0.0,
+        longitude_deg: 0.0,
+        altitude_m: 0.0,
+        ground_speed_mps: 0.0,
+        from: 0,
+        to: 0,
+        next: 0,
+        in_no_fly_zone: 0,
+        inside_fly_zone: false,
+        trajectory_generation_active: false,
+        reserved: [0; 6],
+    };
+
+    /// The FROM-TO-NEXT triple.
+    pub fn from_to_next(&self) -> (u16, u16, u16) {
+        (self.from, self.to, self.next)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use iceoryx2::port::update_connections::UpdateConnections;
+    use iceoryx2::prelude::*;
+
+    #[test]
+    fn service_names_carry_the_prefix() {
+        assert_eq!(
+            FccService::WaypointList.name("test-1/"),
+            "test-1/fcc/mission/waypoint-list"
+        );
+        let names: std::collections::HashSet<_> =
+            FccService::ALL.iter().map(|s| s.name("p")).collect();
+        assert_eq!(names.len(), FccService::ALL.len());
+    }
+
+    #[test]
+    fn frame_payload_holds_the_largest_frame_and_refuses_more() {
+        let big = [7u8; MAX_FRAME_LEN];
+        let p = FramePayload::new(Link::Lte, &big, 5).unwrap();
+        assert_eq!(p.frame(), &big[..]);
+        assert_eq!(p.link(), Some(Link::Lte));
+        assert!(FramePayload::new(Link::Direct, &[0; MAX_FRAME_LEN + 1], 0).is_none());
+    }
+
+    #[test]
+    #[allow(
+        unsafe_code,
+        reason = "type_name is unsafe only to discourage overriding it"
+    )]
+    fn type_names_carry_the_contract_version() {
+        // SAFETY: type_name only returns a static string.
+        let name = unsafe { <WaypointListPayload as ZeroCopySend>::type_name() };
+        assert!(name.ends_with(&format!("/v{CONTRACT_VERSION}")));
+    }
+
+    /// A late subscriber of a history-1 service receives the active list (the contract the
+    /// guidance partition relies on), through the in-process iceoryx2 service variant.
+    #[test]
+    fn late_subscriber_receives_the_waypoint_list() {
+        let node = NodeBuilder::new().create::<local::Service>().unwrap();
+        let service = FccService::WaypointList;
+        let qos = service.qos();
+        let name: ServiceName = service.name("contracts-test").as_str().try_into().unwrap();
+        let pubsub = node
+            .service_builder(&name)
+            .publish_subscribe::<WaypointListPayload>()
+            .history_size(qos.history_size)
+            .subscriber_max_buffer_size(qos.subscriber_max_buffer_size)
+            .max_publishers(qos.max_publishers)
+            .max_subscribers(qos.max_subscribers)
+            .enable_safe_overflow(qos.safe_overflow)
+            .open_or_create()
+            .unwrap();
+        let publisher = pubsub.publisher_builder().create().unwrap();
+        let mut list = WaypointListPayload::EMPTY;
+        list.generation = 1;
+        list.count = 2;
+        list.waypoints[0].number = 1;
+        list.waypoints[0].next = 2;
+        list.waypoints[1].number = 2;
+        publisher
+            .loan_uninit()
+            .unwrap()
+            .write_payload(list)
+            .send()
+            .unwrap();
+
+        let subscriber = pubsub.subscriber_builder().create().unwrap();
+        publisher.update_connections().unwrap();
+        let sample = subscriber
+            .receive()
+            .unwrap()
+            .expect("history delivers the list");
+        assert!(sample.is_active());
+        let numbers: Vec<_> = sample
+            .waypoints()
+            .iter()
+            .map(|w| (w.number, w.next))
+            .collect();
+        assert_eq!(numbers, [(1, 2), (2, 0)]);
+    }
+}
