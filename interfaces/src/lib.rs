@@ -4,7 +4,7 @@
 //!   vector, the messages), typed values in physical units with encode and decode.
 //! - [`contracts`]: the iceoryx2 payloads and service names between the FCC partitions
 //!   (`DESIGN.md`, "Contracts between partitions").
-//! - [`capacity`]: the fixed capacities both share.
+//! - [`capacity`]: the fixed capacities both share; [`defaults`]: the defaults of ICD §1.
 #![cfg_attr(
     not(test),
     deny(
@@ -17,4 +17,5 @@
 
 pub mod capacity;
 pub mod contracts;
+pub mod defaults;
 pub mod wire;

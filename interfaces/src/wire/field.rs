@@ -600,9 +600,9 @@ mod serde_impls {
 
     #[derive(Deserialize)]
     #[serde(untagged)]
-    enum TimestampInput<'a> {
+    enum TimestampInput {
         Millis(u64),
-        Utc(&'a str),
+        Utc(String),
     }
 
     impl<'de> Deserialize<'de> for Timestamp {
@@ -613,7 +613,7 @@ mod serde_impls {
                 }),
                 TimestampInput::Utc(s) => {
                     let t = time::OffsetDateTime::parse(
-                        s,
+                        &s,
                         &time::format_description::well_known::Rfc3339,
                     )
                     .map_err(|e| D::Error::custom(format_args!("time stamp {s:?}: {e}")))?;
@@ -633,8 +633,8 @@ mod serde_impls {
 
     impl<'de, const N: usize> Deserialize<'de> for Text<N> {
         fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-            let s = <&str>::deserialize(d)?;
-            Text::new(s).map_err(D::Error::custom)
+            let s = String::deserialize(d)?;
+            Text::new(&s).map_err(D::Error::custom)
         }
     }
 }

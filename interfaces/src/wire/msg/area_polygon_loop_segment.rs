@@ -204,3 +204,188 @@ impl MessageBody for AreaPolygonLoopSegment {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #2012 the demo fly-zone: polygon of 4 corners, every field present; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME_POLYGON: [u8; 73] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x35,                   // message length: 53 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0x07, 0xdc,                   // message type 2012 = 0x07DC
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x01, 0xff,                   // presence vector 0x01FF: bits 0..=8
+        0xc5, 0x93, 0x2a, 0x9a, 0x64, // time stamp 2026-11-21T12:00:00.100Z = 848_577_600_100 ms since 2000-01-01 = 0xC5_932A_9A64
+        0x00, 0x01,                   // area ID 1
+        0x00,                         // area type 0: stay-in (fly-zone)
+        0x00, 0x00, 0x00,             // activity ID 0: polygon
+        0x00, 0x00, 0x00,             // lower altitude 0 m: 0 / 0.02 = 0 = 0x00_0000
+        0x00, 0x3a, 0x98,             // upper altitude 300 m: 300 / 0.02 = 15_000 = 0x00_3A98
+        0x03,                         // altitude type 3: WGS-84
+        0x04,                         // vertex count 4
+        0x22, 0x50, 0x8d, 0xff,       // vertex 1 latitude 48.255 deg: 48.255 / 180 * 2^31 = 575_704_574.6 -> 575_704_575 = 0x2250_8DFF
+        0x08, 0x46, 0x16, 0x4d,       // vertex 1 longitude 11.635 deg: 11.635 / 180 * 2^31 = 138_810_956.9 -> 138_810_957 = 0x0846_164D
+        0x22, 0x50, 0x8d, 0xff,       // vertex 2 latitude 48.255 deg: 48.255 / 180 * 2^31 = 575_704_574.6 -> 575_704_575 = 0x2250_8DFF
+        0x08, 0x50, 0x19, 0x7c,       // vertex 2 longitude 11.69 deg: 11.69 / 180 * 2^31 = 139_467_132.473 -> 139_467_132 = 0x0850_197C
+        0x22, 0x56, 0x04, 0x19,       // vertex 3 latitude 48.285 deg: 48.285 / 180 * 2^31 = 576_062_488.6 -> 576_062_489 = 0x2256_0419
+        0x08, 0x50, 0x19, 0x7c,       // vertex 3 longitude 11.69 deg: 11.69 / 180 * 2^31 = 139_467_132.473 -> 139_467_132 = 0x0850_197C
+        0x22, 0x56, 0x04, 0x19,       // vertex 4 latitude 48.285 deg: 48.285 / 180 * 2^31 = 576_062_488.6 -> 576_062_489 = 0x2256_0419
+        0x08, 0x46, 0x16, 0x4d,       // vertex 4 longitude 11.635 deg: 11.635 / 180 * 2^31 = 138_810_956.9 -> 138_810_957 = 0x0846_164D
+        // checksum
+        0x00, 0x00, 0x11, 0x11,       // checksum: byte sum of header and data = 4369 = 0x0000_1111
+    ];
+
+    /// #2012 the demo circular no-fly-zone, altitudes absent; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME_CIRCLE: [u8; 50] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x1e,                   // message length: 30 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0x07, 0xdc,                   // message type 2012 = 0x07DC
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x01, 0x8f,                   // presence vector 0x018F: bits 0..=3, 7, 8
+        0xc5, 0x93, 0x2a, 0x9a, 0xc8, // time stamp 2026-11-21T12:00:00.200Z = 848_577_600_200 ms since 2000-01-01 = 0xC5_932A_9AC8
+        0x00, 0x02,                   // area ID 2
+        0x01,                         // area type 1: keep-out (no-fly-zone)
+        0x00, 0x00, 0x01,             // activity ID 1: circle
+        0x02,                         // vertex count 2
+        0x22, 0x52, 0xeb, 0xd7,       // centre latitude 48.268 deg: 48.268 / 180 * 2^31 = 575_859_670.7 -> 575_859_671 = 0x2252_EBD7
+        0x08, 0x4d, 0x5e, 0x70,       // centre longitude 11.675 deg: 11.675 / 180 * 2^31 = 139_288_175.502 -> 139_288_176 = 0x084D_5E70
+        0x22, 0x52, 0xeb, 0xd7,       // border latitude 48.268 deg: 48.268 / 180 * 2^31 = 575_859_670.7 -> 575_859_671 = 0x2252_EBD7
+        0x08, 0x4e, 0x18, 0xd9,       // border longitude 11.679 deg: 11.679 / 180 * 2^31 = 139_335_897.4 -> 139_335_897 = 0x084E_18D9
+        // checksum
+        0x00, 0x00, 0x0e, 0x8e,       // checksum: byte sum of header and data = 3726 = 0x0000_0E8E
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn point(latitude: i32, longitude: i32) -> GeoPoint {
+        GeoPoint {
+            latitude: Angle::from_raw(latitude),
+            longitude: Angle::from_raw(longitude),
+        }
+    }
+
+    fn repr_polygon() -> AreaPolygonLoopSegment {
+        let corners = [
+            point(575_704_575, 138_810_957),
+            point(575_704_575, 139_467_132),
+            point(576_062_489, 139_467_132),
+            point(576_062_489, 138_810_957),
+        ];
+        AreaPolygonLoopSegment {
+            time_stamp: Timestamp::from_millis(848_577_600_100).unwrap(),
+            area_id: 1,
+            area_type: AreaType::FlyZone,
+            lower_altitude: Some(Altitude::from_metres(0.0).unwrap()),
+            upper_altitude: Some(Altitude::from_metres(300.0).unwrap()),
+            altitude_type: Some(AltitudeType::Wgs84),
+            shape: AreaShape::Polygon(PolygonVertices::from_slice(&corners).unwrap()),
+        }
+    }
+
+    fn repr_circle() -> AreaPolygonLoopSegment {
+        AreaPolygonLoopSegment {
+            time_stamp: Timestamp::from_millis(848_577_600_200).unwrap(),
+            area_id: 2,
+            area_type: AreaType::NoFlyZone,
+            lower_altitude: None,
+            upper_altitude: None,
+            altitude_type: None,
+            shape: AreaShape::Circle {
+                centre: point(575_859_671, 139_288_176),
+                border: point(575_859_671, 139_335_897),
+            },
+        }
+    }
+
+    fn check_decode(frame: &[u8], repr: AreaPolygonLoopSegment) {
+        let expected = (ENVELOPE, Message::AreaPolygonLoopSegment(repr));
+        assert_eq!(crate::wire::decode(frame).unwrap(), expected);
+    }
+
+    fn check_emit(frame: &[u8], repr: AreaPolygonLoopSegment) {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::AreaPolygonLoopSegment(repr);
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, frame.len());
+        assert_eq!(buf[..len], *frame);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    fn assert_degrees(p: GeoPoint, latitude: f64, longitude: f64) {
+        assert!((p.latitude.degrees() - latitude).abs() < Angle::LSB_DEGREES);
+        assert!((p.longitude.degrees() - longitude).abs() < Angle::LSB_DEGREES);
+        assert_eq!(GeoPoint::from_degrees(latitude, longitude).unwrap(), p);
+    }
+
+    #[test]
+    fn decode_polygon() {
+        check_decode(&FRAME_POLYGON, repr_polygon());
+    }
+
+    #[test]
+    fn emit_polygon() {
+        check_emit(&FRAME_POLYGON, repr_polygon());
+    }
+
+    #[test]
+    fn physical_polygon() {
+        let m = repr_polygon();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:00:00.100Z");
+        assert_eq!(m.lower_altitude.unwrap().raw(), 0);
+        assert_eq!(m.upper_altitude.unwrap().raw(), 15_000);
+        assert_eq!(m.upper_altitude.unwrap().metres(), 300.0);
+        let AreaShape::Polygon(vertices) = m.shape else {
+            panic!("not a polygon");
+        };
+        let corners = [
+            (48.255, 11.635),
+            (48.255, 11.69),
+            (48.285, 11.69),
+            (48.285, 11.635),
+        ];
+        assert_eq!(vertices.len(), corners.len());
+        for (p, (latitude, longitude)) in vertices.iter().zip(corners) {
+            assert_degrees(*p, latitude, longitude);
+        }
+    }
+
+    #[test]
+    fn decode_circle() {
+        check_decode(&FRAME_CIRCLE, repr_circle());
+    }
+
+    #[test]
+    fn emit_circle() {
+        check_emit(&FRAME_CIRCLE, repr_circle());
+    }
+
+    #[test]
+    fn physical_circle() {
+        let m = repr_circle();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:00:00.200Z");
+        let AreaShape::Circle { centre, border } = m.shape else {
+            panic!("not a circle");
+        };
+        assert_degrees(centre, 48.268, 11.675);
+        assert_degrees(border, 48.268, 11.679);
+    }
+}

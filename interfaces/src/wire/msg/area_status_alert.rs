@@ -51,3 +51,69 @@ impl MessageBody for AreaStatusAlert {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #3012: the area list of 3 areas is valid, every field present; FCC to GCS, no ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 29] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x09,                   // message length: 9 bytes of message data
+        0x0b, 0x00, 0x00, 0x01,       // source ID: FCC 0x0B00_0001
+        0x0a, 0x00, 0x00, 0x01,       // destination ID: GCS 0x0A00_0001
+        0x0b, 0xc4,                   // message type 3012 = 0x0BC4
+        0x28, 0x80,                   // properties: ack 0 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0x2880
+        // message data
+        0x0f,                         // presence vector 0x0F: bits 0..=3
+        0xc5, 0x93, 0x2a, 0x9b, 0x5e, // time stamp 2026-11-21T12:00:00.350Z = 848_577_600_350 ms since 2000-01-01 = 0xC5_932A_9B5E
+        0x03,                         // area loop count 3
+        0x01,                         // status 1: area list valid
+        0x00,                         // reason 0: None
+        // checksum
+        0x00, 0x00, 0x06, 0x23,       // checksum: byte sum of header and data = 1571 = 0x0000_0623
+    ];
+
+    /// FCC to GCS, no acknowledgement requested: it is itself the answer to #2011 mode 2
+    /// (ICD §5.3).
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0B00_0001,
+        destination_id: 0x0A00_0001,
+        ack_requested: false,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> AreaStatusAlert {
+        AreaStatusAlert {
+            time_stamp: Timestamp::from_millis(848_577_600_350).unwrap(),
+            loop_count: 3,
+            status: AreaListStatus::Valid,
+            reason: Some(Reason::None),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::AreaStatusAlert(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::AreaStatusAlert(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        assert_eq!(repr().time_stamp.to_string(), "2026-11-21T12:00:00.350Z");
+    }
+}

@@ -77,3 +77,76 @@ impl MessageBody for AreaTransmissionCommand {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #2011 mode 1: initiate upload of 3 areas, every field present; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 35] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x0f,                   // message length: 15 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0x07, 0xdb,                   // message type 2011 = 0x07DB
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x3f,                         // presence vector 0x3F: bits 0..=5
+        0xc5, 0x93, 0x2a, 0x9a, 0x00, // time stamp 2026-11-21T12:00:00.000Z = 848_577_600_000 ms since 2000-01-01 = 0xC5_932A_9A00
+        0x01,                         // area transfer mode 1: initiate upload
+        0x03,                         // area loop count 3
+        0x00, 0x00,                   // area ID 0
+        0x00, 0xfa,                   // safety offset 25 m: 25 / 0.1 = 250 = 0x00FA
+        0x00, 0x00, 0x00,             // activity ID 0
+        // checksum
+        0x00, 0x00, 0x07, 0x87,       // checksum: byte sum of header and data = 1927 = 0x0000_0787
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> AreaTransmissionCommand {
+        AreaTransmissionCommand {
+            time_stamp: Timestamp::from_millis(848_577_600_000).unwrap(),
+            mode: AreaTransferMode::InitiateUpload,
+            loop_count: Some(3),
+            area_id: Some(0),
+            safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
+            activity_id: U3::new(0),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::AreaTransmissionCommand(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::AreaTransmissionCommand(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:00:00.000Z");
+        let offset = m.safety_offset.unwrap();
+        assert_eq!(offset.raw(), 250);
+        assert_eq!(offset.metres(), 25.0);
+    }
+}

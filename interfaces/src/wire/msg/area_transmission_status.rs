@@ -61,3 +61,73 @@ impl MessageBody for AreaTransmissionStatus {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #3013: ready to send all 3 areas; FCC to GCS, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 32] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x0c,                   // message length: 12 bytes of message data
+        0x0b, 0x00, 0x00, 0x01,       // source ID: FCC 0x0B00_0001
+        0x0a, 0x00, 0x00, 0x01,       // destination ID: GCS 0x0A00_0001
+        0x0b, 0xc5,                   // message type 3013 = 0x0BC5
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x1f,                         // presence vector 0x1F: bits 0..=4
+        0xc5, 0x93, 0x2a, 0xad, 0x88, // time stamp 2026-11-21T12:00:05.000Z = 848_577_605_000 ms since 2000-01-01 = 0xC5_932A_AD88
+        0x00, 0x00,                   // area ID 0: all areas
+        0x03,                         // area loop count 3
+        0x00, 0xfa,                   // safety offset 25 m: 25 / 0.1 = 250 = 0x00FA
+        0x00,                         // status 0: ready
+        // checksum
+        0x00, 0x00, 0x07, 0xec,       // checksum: byte sum of header and data = 2028 = 0x0000_07EC
+    ];
+
+    /// FCC to GCS, acknowledgement requested (ICD §5.4: the GCS acknowledges the #3013).
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0B00_0001,
+        destination_id: 0x0A00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> AreaTransmissionStatus {
+        AreaTransmissionStatus {
+            time_stamp: Timestamp::from_millis(848_577_605_000).unwrap(),
+            area_id: 0,
+            loop_count: 3,
+            safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
+            status: AreaDownloadStatus::Ready,
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::AreaTransmissionStatus(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::AreaTransmissionStatus(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:00:05.000Z");
+        assert_eq!(m.safety_offset.raw(), 250);
+        assert_eq!(m.safety_offset.metres(), 25.0);
+    }
+}

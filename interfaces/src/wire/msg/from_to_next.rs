@@ -161,3 +161,142 @@ impl MessageBody for FromToNext {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #4001 on mission 2: FROM CCP (1), TO W1 (2), NEXT ROLE2 (3), all 21 fields; FCC to GCS, no ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 89] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x45,                   // message length: 69 bytes of message data
+        0x0b, 0x00, 0x00, 0x01,       // source ID: FCC 0x0B00_0001
+        0x0a, 0x00, 0x00, 0x01,       // destination ID: GCS 0x0A00_0001
+        0x0f, 0xa1,                   // message type 4001 = 0x0FA1
+        0x28, 0x80,                   // properties: ack 0 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0x2880
+        // message data
+        0x1f, 0xff, 0xff,             // presence vector 0x1F_FFFF: bits 0..=20
+        0xc5, 0x93, 0x2f, 0x2d, 0xe0, // time stamp 2026-11-21T12:05:00.000Z = 848_577_900_000 ms since 2000-01-01 = 0xC5_932F_2DE0
+        0x03,                         // altitude type 3: WGS-84
+        0x00,                         // speed type 0: indicated airspeed
+        0x22, 0x54, 0x32, 0x10,       // from latitude 48.275 deg: 48.275 / 180 * 2^31 = 575_943_183.9 -> 575_943_184 = 0x2254_3210
+        0x08, 0x47, 0xe8, 0x56,       // from longitude 11.645 deg: 11.645 / 180 * 2^31 = 138_930_261.6 -> 138_930_262 = 0x0847_E856
+        0x00, 0x17, 0x70,             // from altitude 120 m: 120 / 0.02 = 6000 = 0x00_1770
+        0xc5, 0x93, 0x2e, 0x6a, 0x90, // from time 2026-11-21T12:04:10.000Z = 848_577_850_000 ms since 2000-01-01 = 0xC5_932E_6A90
+        0x00, 0x01,                   // from waypoint number 1 (CCP)
+        0x22, 0x54, 0xbd, 0xdf,       // to latitude 48.278 deg: 48.278 / 180 * 2^31 = 575_978_975.3 -> 575_978_975 = 0x2254_BDDF
+        0x08, 0x4a, 0x46, 0x2e,       // to longitude 11.658 deg: 11.658 / 180 * 2^31 = 139_085_357.6 -> 139_085_358 = 0x084A_462E
+        0x00, 0x17, 0x70,             // to altitude 120 m: 120 / 0.02 = 6000 = 0x00_1770
+        0x00, 0x32,                   // to speed 25 m/s: 25 / 0.5 = 50 = 0x0032
+        0xc5, 0x93, 0x2f, 0x7c, 0x00, // to time 2026-11-21T12:05:20.000Z = 848_577_920_000 ms since 2000-01-01 = 0xC5_932F_7C00
+        0x00, 0x02,                   // to waypoint number 2 (W1)
+        0x22, 0x55, 0x1b, 0x14,       // next latitude 48.28 deg: 48.28 / 180 * 2^31 = 576_002_836.3 -> 576_002_836 = 0x2255_1B14
+        0x08, 0x4e, 0x47, 0x74,       // next longitude 11.68 deg: 11.68 / 180 * 2^31 = 139_347_827.8 -> 139_347_828 = 0x084E_4774
+        0x00, 0x17, 0x70,             // next altitude 120 m: 120 / 0.02 = 6000 = 0x00_1770
+        0x00, 0x32,                   // next speed 25 m/s: 25 / 0.5 = 50 = 0x0032
+        0xc5, 0x93, 0x30, 0x18, 0x40, // next time 2026-11-21T12:06:00.000Z = 848_577_960_000 ms since 2000-01-01 = 0xC5_9330_1840
+        0x00, 0x03,                   // next waypoint number 3 (ROLE2)
+        0x00,                         // loiter configuration report validity 0
+        // checksum
+        0x00, 0x00, 0x17, 0x9c,       // checksum: byte sum of header and data = 6044 = 0x0000_179C
+    ];
+
+    /// FCC to GCS; #4001 is never acknowledged.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0B00_0001,
+        destination_id: 0x0A00_0001,
+        ack_requested: false,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn ts(millis: u64) -> Option<Timestamp> {
+        Timestamp::from_millis(millis)
+    }
+
+    fn repr() -> FromToNext {
+        let altitude = Some(Altitude::from_metres(120.0).unwrap());
+        let speed = Some(Speed::from_mps(25.0).unwrap());
+        FromToNext {
+            time_stamp: ts(848_577_900_000).unwrap(),
+            altitude_type: Some(AltitudeType::Wgs84),
+            speed_type: Some(SpeedType::IndicatedAirspeed),
+            from: FromWaypointState {
+                latitude: Some(Angle::from_raw(575_943_184)),
+                longitude: Some(Angle::from_raw(138_930_262)),
+                altitude,
+                time: ts(848_577_850_000),
+                waypoint_number: Some(1),
+            },
+            to: WaypointState {
+                latitude: Some(Angle::from_raw(575_978_975)),
+                longitude: Some(Angle::from_raw(139_085_358)),
+                altitude,
+                speed,
+                time: ts(848_577_920_000),
+                waypoint_number: Some(2),
+            },
+            next: WaypointState {
+                latitude: Some(Angle::from_raw(576_002_836)),
+                longitude: Some(Angle::from_raw(139_347_828)),
+                altitude,
+                speed,
+                time: ts(848_577_960_000),
+                waypoint_number: Some(3),
+            },
+            loiter_configuration_report_validity: Some(0),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::FromToNext(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::FromToNext(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:05:00.000Z");
+        let points = [
+            (m.from.latitude, m.from.longitude, 48.275, 11.645),
+            (m.to.latitude, m.to.longitude, 48.278, 11.658),
+            (m.next.latitude, m.next.longitude, 48.28, 11.68),
+        ];
+        for (lat, lon, lat_deg, lon_deg) in points {
+            let (lat, lon) = (lat.unwrap(), lon.unwrap());
+            assert!((lat.degrees() - lat_deg).abs() < Angle::LSB_DEGREES);
+            assert!((lon.degrees() - lon_deg).abs() < Angle::LSB_DEGREES);
+            assert_eq!(Angle::from_degrees(lat_deg).unwrap(), lat);
+            assert_eq!(Angle::from_degrees(lon_deg).unwrap(), lon);
+        }
+        for altitude in [m.from.altitude, m.to.altitude, m.next.altitude] {
+            assert_eq!(altitude.unwrap().raw(), 6000);
+        }
+        for speed in [m.to.speed, m.next.speed] {
+            assert_eq!(speed.unwrap().mps(), 25.0);
+        }
+        let times = [m.from.time, m.to.time, m.next.time].map(|t| t.unwrap().to_string());
+        assert_eq!(
+            times,
+            [
+                "2026-11-21T12:04:10.000Z",
+                "2026-11-21T12:05:20.000Z",
+                "2026-11-21T12:06:00.000Z"
+            ]
+        );
+    }
+}

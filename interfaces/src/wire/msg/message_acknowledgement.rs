@@ -62,3 +62,79 @@ impl MessageBody for MessageAcknowledgement {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #17000: the FCC rejects the #13000 of 12:01:00.600Z (BrokenChain); FCC to GCS, no ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 35] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x0f,                   // message length: 15 bytes of message data
+        0x0b, 0x00, 0x00, 0x01,       // source ID: FCC 0x0B00_0001
+        0x0a, 0x00, 0x00, 0x01,       // destination ID: GCS 0x0A00_0001
+        0x42, 0x68,                   // message type 17000 = 0x4268
+        0x28, 0x80,                   // properties: ack 0 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0x2880
+        // message data
+        0x1f,                         // presence vector 0x1F: bits 0..=4
+        0xc5, 0x93, 0x2b, 0x86, 0xea, // time stamp 2026-11-21T12:01:00.650Z = 848_577_660_650 ms since 2000-01-01 = 0xC5_932B_86EA
+        0xc5, 0x93, 0x2b, 0x86, 0xb8, // original message time stamp 2026-11-21T12:01:00.600Z = 848_577_660_600 ms since 2000-01-01 = 0xC5_932B_86B8
+        0x32, 0xc8,                   // original message type 13000 = 0x32C8
+        0x03,                         // acknowledgement type 3: rejected
+        0x09,                         // reject reason 9: BrokenChain
+        // checksum
+        0x00, 0x00, 0x0a, 0x4f,       // checksum: byte sum of header and data = 2639 = 0x0000_0A4F
+    ];
+
+    /// FCC to GCS; an acknowledgement is never acknowledged.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0B00_0001,
+        destination_id: 0x0A00_0001,
+        ack_requested: false,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> MessageAcknowledgement {
+        MessageAcknowledgement {
+            time_stamp: Timestamp::from_millis(848_577_660_650).unwrap(),
+            original_time_stamp: Timestamp::from_millis(848_577_660_600).unwrap(),
+            original_message_type: 13000,
+            ack_type: AckType::Rejected,
+            reject_reason: Some(Reason::BrokenChain),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::MessageAcknowledgement(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::MessageAcknowledgement(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.650Z");
+        assert_eq!(
+            m.original_time_stamp.to_string(),
+            "2026-11-21T12:01:00.600Z"
+        );
+        assert_eq!(
+            m.original_message_type,
+            MessageType::MissionTransferCommand as u16
+        );
+    }
+}

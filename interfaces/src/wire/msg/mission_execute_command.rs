@@ -43,3 +43,64 @@ impl MessageBody for MissionExecuteCommand {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #50000 command 1 execute; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 27] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x07,                   // message length: 7 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0xc3, 0x50,                   // message type 50000 = 0xC350
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x03,                         // presence vector 0x03: bits 0, 1
+        0xc5, 0x93, 0x2d, 0x59, 0x20, // time stamp 2026-11-21T12:03:00.000Z = 848_577_780_000 ms since 2000-01-01 = 0xC5_932D_5920
+        0x01,                         // command 1: execute
+        // checksum
+        0x00, 0x00, 0x06, 0x59,       // checksum: byte sum of header and data = 1625 = 0x0000_0659
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> MissionExecuteCommand {
+        MissionExecuteCommand {
+            time_stamp: Timestamp::from_millis(848_577_780_000).unwrap(),
+            command: ExecuteCommand::Execute,
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::MissionExecuteCommand(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::MissionExecuteCommand(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        assert_eq!(repr().time_stamp.to_string(), "2026-11-21T12:03:00.000Z");
+    }
+}

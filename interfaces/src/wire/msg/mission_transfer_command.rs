@@ -73,3 +73,82 @@ impl MessageBody for MissionTransferCommand {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #13000 mode 2 transmit mission 1 (TROL, CCP), every field present; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 85] = [
+        // wrapper
+        0xff, 0xff,                                     // reserved (sequence): 0xFFFF
+        0x00, 0x41,                                     // message length: 65 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,                         // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,                         // destination ID: FCC 0x0B00_0001
+        0x32, 0xc8,                                     // message type 13000 = 0x32C8
+        0xa8, 0x80,                                     // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x3f,                                           // presence vector 0x3F: bits 0..=5
+        0xc5, 0x93, 0x2b, 0x86, 0xb8,                   // time stamp 2026-11-21T12:01:00.600Z = 848_577_660_600 ms since 2000-01-01 = 0xC5_932B_86B8
+        b'M', b'E', b'D', b'E', b'V', b'A', b'C', b'-', // mission ID "MEDEVAC-1" (Char20)
+        b'1',
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // NUL padding, 11 bytes
+        0x00, 0x00, 0x00,
+        0x02,                                           // mission plan mode 2: transmit mission
+        0x00, 0x02,                                     // waypoint number: 2 waypoints (TROL, CCP)
+        b'T', b'R', b'O', b'L', b'-', b'C', b'C', b'P', // route ID "TROL-CCP" (Char33)
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // NUL padding, 25 bytes
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00,
+        0x00, 0x00, 0x00,                               // activity ID 0
+        // checksum
+        0x00, 0x00, 0x0c, 0x13,                         // checksum: byte sum of header and data = 3091 = 0x0000_0C13
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> MissionTransferCommand {
+        MissionTransferCommand {
+            time_stamp: Timestamp::from_millis(848_577_660_600).unwrap(),
+            mission_id: Some(Text::new("MEDEVAC-1").unwrap()),
+            mode: MissionPlanMode::TransmitMission,
+            waypoint_number: Some(2),
+            route_id: Some(Text::new("TROL-CCP").unwrap()),
+            activity_id: U3::new(0),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::MissionTransferCommand(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::MissionTransferCommand(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.600Z");
+        assert_eq!(m.mission_id.unwrap().as_str(), "MEDEVAC-1");
+        assert_eq!(m.route_id.unwrap().as_str(), "TROL-CCP");
+    }
+}

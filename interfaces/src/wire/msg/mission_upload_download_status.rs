@@ -77,3 +77,79 @@ impl MessageBody for MissionUploadDownloadStatus {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #14000: download of mission 2 complete, every field present; FCC to GCS, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 52] = [
+        // wrapper
+        0xff, 0xff,                                     // reserved (sequence): 0xFFFF
+        0x00, 0x20,                                     // message length: 32 bytes of message data
+        0x0b, 0x00, 0x00, 0x01,                         // source ID: FCC 0x0B00_0001
+        0x0a, 0x00, 0x00, 0x01,                         // destination ID: GCS 0x0A00_0001
+        0x36, 0xb0,                                     // message type 14000 = 0x36B0
+        0xa8, 0x80,                                     // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x7f,                                           // presence vector 0x7F: bits 0..=6
+        0xc5, 0x93, 0x2c, 0x6e, 0xc0,                   // time stamp 2026-11-21T12:02:00.000Z = 848_577_720_000 ms since 2000-01-01 = 0xC5_932C_6EC0
+        b'M', b'E', b'D', b'E', b'V', b'A', b'C', b'-', // mission ID "MEDEVAC-2" (Char20)
+        b'2',
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // NUL padding, 11 bytes
+        0x00, 0x00, 0x00,
+        0x01,                                           // status 1: complete
+        0x64,                                           // percent complete 100
+        0x00, 0x03,                                     // waypoint request 3
+        0x03,                                           // mission plan mode 3: receive mission
+        0x00,                                           // reason 0: None
+        // checksum
+        0x00, 0x00, 0x0a, 0x33,                         // checksum: byte sum of header and data = 2611 = 0x0000_0A33
+    ];
+
+    /// FCC to GCS, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0B00_0001,
+        destination_id: 0x0A00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> MissionUploadDownloadStatus {
+        MissionUploadDownloadStatus {
+            time_stamp: Timestamp::from_millis(848_577_720_000).unwrap(),
+            mission_id: Some(Text::new("MEDEVAC-2").unwrap()),
+            status: TransferStatus::Complete,
+            percent_complete: Some(100),
+            waypoint_request: Some(3),
+            mode: Some(MissionPlanMode::ReceiveMission),
+            reason: Some(Reason::None),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::MissionUploadDownloadStatus(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::MissionUploadDownloadStatus(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:02:00.000Z");
+        assert_eq!(m.mission_id.unwrap().as_str(), "MEDEVAC-2");
+    }
+}

@@ -141,3 +141,109 @@ impl MessageBody for UaPositionWaypoint {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #13002 ROLE2, waypoint 3 of mission 2 (radius-to-fix, last), all 18 fields; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 63] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x2b,                   // message length: 43 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0x32, 0xca,                   // message type 13002 = 0x32CA
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x03, 0xff, 0xff,             // presence vector 0x03_FFFF: bits 0..=17
+        0xc5, 0x93, 0x2b, 0x85, 0x8c, // time stamp 2026-11-21T12:01:00.300Z = 848_577_660_300 ms since 2000-01-01 = 0xC5_932B_858C
+        0x00, 0x03,                   // waypoint number 3 (ROLE2)
+        0x22, 0x55, 0x1b, 0x14,       // waypoint to latitude 48.28 deg: 48.28 / 180 * 2^31 = 576_002_836.3 -> 576_002_836 = 0x2255_1B14
+        0x08, 0x4e, 0x47, 0x74,       // waypoint to longitude 11.68 deg: 11.68 / 180 * 2^31 = 139_347_827.8 -> 139_347_828 = 0x084E_4774
+        0x00,                         // location type 0: absolute
+        0x00, 0x17, 0x70,             // waypoint to altitude 120 m: 120 / 0.02 = 6000 = 0x00_1770
+        0x03,                         // waypoint altitude type 3: WGS-84
+        0x01,                         // altitude change behaviour 1
+        0x00, 0x32,                   // waypoint to speed 25 m/s: 25 / 0.5 = 50 = 0x0032
+        0x00,                         // waypoint speed type 0: indicated airspeed
+        0x00, 0x00,                   // next waypoint 0: last waypoint
+        0x00,                         // turn type 0: fly-by
+        0x01,                         // optional messages: bit 0 = a #13006 RF centre follows
+        0x01,                         // waypoint type 1: radius-to-fix
+        0x02,                         // limit type 2
+        0x00, 0x05,                   // loop limit 5
+        0xc5, 0x93, 0x30, 0x18, 0x40, // arrival time 2026-11-21T12:06:00.000Z = 848_577_960_000 ms since 2000-01-01 = 0xC5_9330_1840
+        0x00, 0x00, 0x2a,             // activity ID 42 = 0x00_002A
+        // checksum
+        0x00, 0x00, 0x0d, 0x83,       // checksum: byte sum of header and data = 3459 = 0x0000_0D83
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> UaPositionWaypoint {
+        UaPositionWaypoint {
+            time_stamp: Timestamp::from_millis(848_577_660_300).unwrap(),
+            waypoint_number: 3,
+            latitude: Angle::from_raw(576_002_836),
+            longitude: Angle::from_raw(139_347_828),
+            location_type: Some(LocationType::Absolute),
+            altitude: Altitude::from_metres(120.0).unwrap(),
+            altitude_type: Some(AltitudeType::Wgs84),
+            altitude_change_behaviour: Some(1),
+            speed: Speed::from_mps(25.0).unwrap(),
+            speed_type: Some(SpeedType::IndicatedAirspeed),
+            next_waypoint: 0,
+            turn_type: TurnType::FlyBy,
+            optional_messages: Some(1),
+            leg_type: LegType::RadiusToFix,
+            limit_type: Some(2),
+            loop_limit: Some(5),
+            arrival_time: Some(Timestamp::from_millis(848_577_960_000).unwrap()),
+            activity_id: U3::new(42),
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::UaPositionWaypoint(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::UaPositionWaypoint(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.300Z");
+        assert!((m.latitude.degrees() - 48.28).abs() < Angle::LSB_DEGREES);
+        assert!((m.longitude.degrees() - 11.68).abs() < Angle::LSB_DEGREES);
+        assert_eq!(Angle::from_degrees(48.28).unwrap(), m.latitude);
+        assert_eq!(Angle::from_degrees(11.68).unwrap(), m.longitude);
+        assert_eq!(m.altitude.raw(), 6000);
+        assert_eq!(m.altitude.metres(), 120.0);
+        assert_eq!(m.speed.raw(), 50);
+        assert_eq!(m.speed.mps(), 25.0);
+        assert_eq!(
+            m.arrival_time.unwrap().to_string(),
+            "2026-11-21T12:06:00.000Z"
+        );
+    }
+}

@@ -67,3 +67,76 @@ impl MessageBody for UaRoute {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #13001 route of mission 1, every field present, bidirectional; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME: [u8; 65] = [
+        // wrapper
+        0xff, 0xff,                                     // reserved (sequence): 0xFFFF
+        0x00, 0x2d,                                     // message length: 45 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,                         // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,                         // destination ID: FCC 0x0B00_0001
+        0x32, 0xc9,                                     // message type 13001 = 0x32C9
+        0xa8, 0x80,                                     // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x1f,                                           // presence vector 0x1F: bits 0..=4
+        0xc5, 0x93, 0x2b, 0x86, 0x54,                   // time stamp 2026-11-21T12:01:00.500Z = 848_577_660_500 ms since 2000-01-01 = 0xC5_932B_8654
+        0x00, 0x01,                                     // initial waypoint number 1 (TROL)
+        b'T', b'R', b'O', b'L', b'-', b'C', b'C', b'P', // route ID "TROL-CCP" (Char33)
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // NUL padding, 25 bytes
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00,
+        0x02,                                           // route type 2: flight
+        0x00, 0x00, 0x01,                               // activity ID: bit 0 set = bidirectional
+        // checksum
+        0x00, 0x00, 0x09, 0x29,                         // checksum: byte sum of header and data = 2345 = 0x0000_0929
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr() -> UaRoute {
+        UaRoute {
+            time_stamp: Timestamp::from_millis(848_577_660_500).unwrap(),
+            initial_waypoint: 1,
+            route_id: Some(Text::new("TROL-CCP").unwrap()),
+            route_type: Some(RouteType::Flight),
+            bidirectional: true,
+        }
+    }
+
+    #[test]
+    fn decode() {
+        let expected = (ENVELOPE, Message::UaRoute(repr()));
+        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
+    }
+
+    #[test]
+    fn emit() {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::UaRoute(repr());
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, FRAME.len());
+        assert_eq!(buf[..len], FRAME);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn physical() {
+        let m = repr();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.500Z");
+        assert_eq!(m.route_id.unwrap().as_str(), "TROL-CCP");
+    }
+}

@@ -142,3 +142,147 @@ impl MessageBody for VehicleSpecificWaypoint {
         self.time_stamp
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+
+    /// #13006 type 1: take-off height 30 m, no activity ID; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME_TAKE_OFF: [u8; 32] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x0c,                   // message length: 12 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0x32, 0xce,                   // message type 13006 = 0x32CE
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0x0f,                         // presence vector 0x0F: bits 0..=3
+        0xc5, 0x93, 0x2b, 0x84, 0x60, // time stamp 2026-11-21T12:01:00.000Z = 848_577_660_000 ms since 2000-01-01 = 0xC5_932B_8460
+        0x00, 0x00,                   // waypoint number 0: take-off height
+        0x01,                         // specific data type 1: take-off height
+        0x00, 0x05, 0xdc,             // take-off height 30 m: 30 / 0.02 = 1500 = 0x00_05DC
+        // checksum
+        0x00, 0x00, 0x07, 0xa1,       // checksum: byte sum of header and data = 1953 = 0x0000_07A1
+    ];
+
+    /// #13006 type 2: the RF centre of ROLE2 (waypoint 3), clockwise, with activity ID; GCS to FCC, ack.
+    #[rustfmt::skip]
+    static FRAME_RF_CENTRE: [u8; 41] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x15,                   // message length: 21 bytes of message data
+        0x0a, 0x00, 0x00, 0x01,       // source ID: GCS 0x0A00_0001
+        0x0b, 0x00, 0x00, 0x01,       // destination ID: FCC 0x0B00_0001
+        0x32, 0xce,                   // message type 13006 = 0x32CE
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0xf7,                         // presence vector 0xF7: bits 0..=2, 4..=7
+        0xc5, 0x93, 0x2b, 0x85, 0xf0, // time stamp 2026-11-21T12:01:00.400Z = 848_577_660_400 ms since 2000-01-01 = 0xC5_932B_85F0
+        0x00, 0x03,                   // waypoint number 3 (ROLE2)
+        0x02,                         // specific data type 2: radius-to-fix centre
+        0x22, 0x54, 0x1d, 0x17,       // RF centre latitude 48.27455 deg: 48.27455 / 180 * 2^31 = 575_937_815.2 -> 575_937_815 = 0x2254_1D17
+        0x08, 0x4c, 0x71, 0x39,       // RF centre longitude 11.66991 deg: 11.66991 / 180 * 2^31 = 139_227_449.4 -> 139_227_449 = 0x084C_7139
+        0x00,                         // turn direction 0: clockwise
+        0x00, 0x00, 0x07,             // activity ID 7
+        // checksum
+        0x00, 0x00, 0x09, 0xf5,       // checksum: byte sum of header and data = 2549 = 0x0000_09F5
+    ];
+
+    /// GCS to FCC, acknowledgement requested.
+    const ENVELOPE: Envelope = Envelope {
+        source_id: 0x0A00_0001,
+        destination_id: 0x0B00_0001,
+        ack_requested: true,
+        idd_version: 40,
+        checksum: ChecksumWidth::Four,
+    };
+
+    fn repr_take_off() -> VehicleSpecificWaypoint {
+        VehicleSpecificWaypoint {
+            time_stamp: Timestamp::from_millis(848_577_660_000).unwrap(),
+            data: SpecificData::TakeOffHeight {
+                height: Altitude::from_metres(30.0).unwrap(),
+            },
+            activity_id: None,
+        }
+    }
+
+    fn repr_rf_centre() -> VehicleSpecificWaypoint {
+        VehicleSpecificWaypoint {
+            time_stamp: Timestamp::from_millis(848_577_660_400).unwrap(),
+            data: SpecificData::RfCentre {
+                waypoint_number: 3,
+                latitude: Angle::from_raw(575_937_815),
+                longitude: Angle::from_raw(139_227_449),
+                turn_direction: TurnDirection::Clockwise,
+            },
+            activity_id: U3::new(7),
+        }
+    }
+
+    fn check_decode(frame: &[u8], repr: VehicleSpecificWaypoint) {
+        let expected = (ENVELOPE, Message::VehicleSpecificWaypoint(repr));
+        assert_eq!(crate::wire::decode(frame).unwrap(), expected);
+    }
+
+    fn check_emit(frame: &[u8], repr: VehicleSpecificWaypoint) {
+        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
+        let message = Message::VehicleSpecificWaypoint(repr);
+        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
+        assert_eq!(len, frame.len());
+        assert_eq!(buf[..len], *frame);
+        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    }
+
+    #[test]
+    fn decode_take_off_height() {
+        check_decode(&FRAME_TAKE_OFF, repr_take_off());
+    }
+
+    #[test]
+    fn emit_take_off_height() {
+        check_emit(&FRAME_TAKE_OFF, repr_take_off());
+    }
+
+    #[test]
+    fn physical_take_off_height() {
+        let m = repr_take_off();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.000Z");
+        let SpecificData::TakeOffHeight { height } = m.data else {
+            panic!("not a take-off height");
+        };
+        assert_eq!(height.raw(), 1500);
+        assert_eq!(height.metres(), 30.0);
+    }
+
+    #[test]
+    fn decode_rf_centre() {
+        check_decode(&FRAME_RF_CENTRE, repr_rf_centre());
+    }
+
+    #[test]
+    fn emit_rf_centre() {
+        check_emit(&FRAME_RF_CENTRE, repr_rf_centre());
+    }
+
+    #[test]
+    fn physical_rf_centre() {
+        let m = repr_rf_centre();
+        assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.400Z");
+        let SpecificData::RfCentre {
+            latitude,
+            longitude,
+            ..
+        } = m.data
+        else {
+            panic!("not an RF centre");
+        };
+        assert!((latitude.degrees() - 48.27455).abs() < Angle::LSB_DEGREES);
+        assert!((longitude.degrees() - 11.66991).abs() < Angle::LSB_DEGREES);
+        assert_eq!(Angle::from_degrees(48.27455).unwrap(), latitude);
+        assert_eq!(Angle::from_degrees(11.66991).unwrap(), longitude);
+    }
+}

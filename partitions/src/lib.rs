@@ -1,0 +1,16 @@
+//! The drivers of missionlink: the FCC partitions, the fcc launcher and the gcs tool. They move
+//! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
+//! in `missionlink-services`.
+
+pub mod inspect;
+
+/// Installs the `tracing` subscriber of every binary: human-readable lines on stderr, filtered by
+/// `RUST_LOG` (default `info`), so stdout carries only the tool's output.
+pub fn init_logging() {
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
+    let _ = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .try_init();
+}
