@@ -1,1 +1,7 @@
-//! placeholder
+//! missionlink: the mission data-handling system of an automatic flight guidance system, after
+//! Heimsch et al., Aerospace 2024, 11, 115. This root package owns the cross-process tests in
+//! `tests/` and the benchmarks in `benches/`; the code lives in the workspace crates, re-exported
+//! here for them.
+
+pub use missionlink_interfaces as interfaces;
+pub use missionlink_services as services;

@@ -344,7 +344,14 @@ pub fn encode(
     let (_, body) = buf
         .split_at_mut_checked(HEADER_LEN)
         .ok_or(too_small(HEADER_LEN))?;
-    let data_len = message.encode(body)?;
+    // The writer counts from the start of the data: report frame sizes, header and checksum
+    // included.
+    let data_len = message.encode(body).map_err(|e| match e {
+        EncodeError::BufferTooSmall { needed, .. } => {
+            too_small(HEADER_LEN + needed + envelope.checksum.len())
+        }
+        other => other,
+    })?;
     let data_end = HEADER_LEN + data_len;
     let total = data_end + envelope.checksum.len();
     let frame = buf.get_mut(..total).ok_or(too_small(total))?;
