@@ -208,7 +208,7 @@ impl MessageBody for AreaPolygonLoopSegment {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #2012 the demo fly-zone: polygon of 4 corners, every field present; GCS to FCC, ack.
     #[rustfmt::skip]
@@ -316,20 +316,6 @@ mod tests {
         }
     }
 
-    fn check_decode(frame: &[u8], repr: AreaPolygonLoopSegment) {
-        let expected = (ENVELOPE, Message::AreaPolygonLoopSegment(repr));
-        assert_eq!(crate::wire::decode(frame).unwrap(), expected);
-    }
-
-    fn check_emit(frame: &[u8], repr: AreaPolygonLoopSegment) {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::AreaPolygonLoopSegment(repr);
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, frame.len());
-        assert_eq!(buf[..len], *frame);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
-    }
-
     fn assert_degrees(p: GeoPoint, latitude: f64, longitude: f64) {
         assert!((p.latitude.degrees() - latitude).abs() < Angle::LSB_DEGREES);
         assert!((p.longitude.degrees() - longitude).abs() < Angle::LSB_DEGREES);
@@ -337,13 +323,8 @@ mod tests {
     }
 
     #[test]
-    fn decode_polygon() {
-        check_decode(&FRAME_POLYGON, repr_polygon());
-    }
-
-    #[test]
-    fn emit_polygon() {
-        check_emit(&FRAME_POLYGON, repr_polygon());
+    fn golden_polygon() {
+        super::super::assert_golden(&FRAME_POLYGON, ENVELOPE, repr_polygon().into());
     }
 
     #[test]
@@ -369,13 +350,8 @@ mod tests {
     }
 
     #[test]
-    fn decode_circle() {
-        check_decode(&FRAME_CIRCLE, repr_circle());
-    }
-
-    #[test]
-    fn emit_circle() {
-        check_emit(&FRAME_CIRCLE, repr_circle());
+    fn golden_circle() {
+        super::super::assert_golden(&FRAME_CIRCLE, ENVELOPE, repr_circle().into());
     }
 
     #[test]

@@ -55,7 +55,7 @@ impl MessageBody for AreaStatusAlert {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #3012: the area list of 3 areas is valid, every field present; FCC to GCS, no ack.
     #[rustfmt::skip]
@@ -97,19 +97,8 @@ mod tests {
     }
 
     #[test]
-    fn decode() {
-        let expected = (ENVELOPE, Message::AreaStatusAlert(repr()));
-        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
-    }
-
-    #[test]
-    fn emit() {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::AreaStatusAlert(repr());
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, FRAME.len());
-        assert_eq!(buf[..len], FRAME);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    fn golden() {
+        super::super::assert_golden(&FRAME, ENVELOPE, repr().into());
     }
 
     #[test]

@@ -65,7 +65,7 @@ impl MessageBody for AreaTransmissionStatus {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #3013: ready to send all 3 areas; FCC to GCS, ack.
     #[rustfmt::skip]
@@ -108,19 +108,8 @@ mod tests {
     }
 
     #[test]
-    fn decode() {
-        let expected = (ENVELOPE, Message::AreaTransmissionStatus(repr()));
-        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
-    }
-
-    #[test]
-    fn emit() {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::AreaTransmissionStatus(repr());
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, FRAME.len());
-        assert_eq!(buf[..len], FRAME);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    fn golden() {
+        super::super::assert_golden(&FRAME, ENVELOPE, repr().into());
     }
 
     #[test]

@@ -66,7 +66,7 @@ impl MessageBody for MessageAcknowledgement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #17000: the FCC rejects the #13000 of 12:01:00.600Z (BrokenChain); FCC to GCS, no ack.
     #[rustfmt::skip]
@@ -109,19 +109,8 @@ mod tests {
     }
 
     #[test]
-    fn decode() {
-        let expected = (ENVELOPE, Message::MessageAcknowledgement(repr()));
-        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
-    }
-
-    #[test]
-    fn emit() {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::MessageAcknowledgement(repr());
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, FRAME.len());
-        assert_eq!(buf[..len], FRAME);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    fn golden() {
+        super::super::assert_golden(&FRAME, ENVELOPE, repr().into());
     }
 
     #[test]

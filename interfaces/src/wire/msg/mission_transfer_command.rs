@@ -77,7 +77,7 @@ impl MessageBody for MissionTransferCommand {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13000 mode 2 transmit mission 1 (TROL, CCP), every field present; GCS to FCC, ack.
     #[rustfmt::skip]
@@ -129,19 +129,8 @@ mod tests {
     }
 
     #[test]
-    fn decode() {
-        let expected = (ENVELOPE, Message::MissionTransferCommand(repr()));
-        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
-    }
-
-    #[test]
-    fn emit() {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::MissionTransferCommand(repr());
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, FRAME.len());
-        assert_eq!(buf[..len], FRAME);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    fn golden() {
+        super::super::assert_golden(&FRAME, ENVELOPE, repr().into());
     }
 
     #[test]

@@ -221,3 +221,22 @@ messages! {
     AreaTransmissionStatus = 3013, "Area Transmission Status";
     MissionExecuteCommand = 50000, "Mission Execute Command";
 }
+
+/// Golden-frame check shared by the message modules: `frame` decodes to `envelope` and
+/// `message`, and encoding them into a buffer pre-filled with 0xa5 writes exactly `frame` and
+/// nothing past it.
+#[cfg(test)]
+pub(crate) fn assert_golden(frame: &[u8], envelope: super::frame::Envelope, message: Message) {
+    assert_eq!(
+        super::frame::decode(frame).unwrap(),
+        (envelope, message.clone()),
+        "decode"
+    );
+    let mut buf = [0xa5; super::frame::MAX_FRAME_LEN + 4];
+    let len = super::frame::encode(&envelope, &message, &mut buf).unwrap();
+    assert_eq!(&buf[..len], frame, "emit");
+    assert!(
+        buf[len..].iter().all(|&b| b == 0xa5),
+        "emit wrote past the frame"
+    );
+}

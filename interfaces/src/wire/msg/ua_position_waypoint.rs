@@ -145,7 +145,7 @@ impl MessageBody for UaPositionWaypoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13002 ROLE2, waypoint 3 of mission 2 (radius-to-fix, last), all 18 fields; GCS to FCC, ack.
     #[rustfmt::skip]
@@ -214,19 +214,8 @@ mod tests {
     }
 
     #[test]
-    fn decode() {
-        let expected = (ENVELOPE, Message::UaPositionWaypoint(repr()));
-        assert_eq!(crate::wire::decode(&FRAME).unwrap(), expected);
-    }
-
-    #[test]
-    fn emit() {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::UaPositionWaypoint(repr());
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, FRAME.len());
-        assert_eq!(buf[..len], FRAME);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
+    fn golden() {
+        super::super::assert_golden(&FRAME, ENVELOPE, repr().into());
     }
 
     #[test]

@@ -146,7 +146,7 @@ impl MessageBody for VehicleSpecificWaypoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::{ChecksumWidth, Envelope, MAX_FRAME_LEN, Message};
+    use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13006 type 1: take-off height 30 m, no activity ID; GCS to FCC, ack.
     #[rustfmt::skip]
@@ -223,28 +223,9 @@ mod tests {
         }
     }
 
-    fn check_decode(frame: &[u8], repr: VehicleSpecificWaypoint) {
-        let expected = (ENVELOPE, Message::VehicleSpecificWaypoint(repr));
-        assert_eq!(crate::wire::decode(frame).unwrap(), expected);
-    }
-
-    fn check_emit(frame: &[u8], repr: VehicleSpecificWaypoint) {
-        let mut buf = [0xa5; MAX_FRAME_LEN + 4];
-        let message = Message::VehicleSpecificWaypoint(repr);
-        let len = crate::wire::encode(&ENVELOPE, &message, &mut buf).unwrap();
-        assert_eq!(len, frame.len());
-        assert_eq!(buf[..len], *frame);
-        assert!(buf[len..].iter().all(|&b| b == 0xa5));
-    }
-
     #[test]
-    fn decode_take_off_height() {
-        check_decode(&FRAME_TAKE_OFF, repr_take_off());
-    }
-
-    #[test]
-    fn emit_take_off_height() {
-        check_emit(&FRAME_TAKE_OFF, repr_take_off());
+    fn golden_take_off_height() {
+        super::super::assert_golden(&FRAME_TAKE_OFF, ENVELOPE, repr_take_off().into());
     }
 
     #[test]
@@ -259,13 +240,8 @@ mod tests {
     }
 
     #[test]
-    fn decode_rf_centre() {
-        check_decode(&FRAME_RF_CENTRE, repr_rf_centre());
-    }
-
-    #[test]
-    fn emit_rf_centre() {
-        check_emit(&FRAME_RF_CENTRE, repr_rf_centre());
+    fn golden_rf_centre() {
+        super::super::assert_golden(&FRAME_RF_CENTRE, ENVELOPE, repr_rf_centre().into());
     }
 
     #[test]
