@@ -10,4 +10,6 @@
     )
 )]
 
+pub mod sampling;
+pub mod time;
 pub mod time_stamp;
