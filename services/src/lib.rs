@@ -10,6 +10,10 @@
     )
 )]
 
+pub mod areas;
+pub mod endpoint;
+pub mod mission;
+pub mod retry;
 pub mod sampling;
 pub mod time;
 pub mod time_stamp;

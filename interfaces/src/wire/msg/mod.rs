@@ -195,6 +195,14 @@ macro_rules! messages {
                     $( Self::$variant(m) => m.time_stamp(), )+
                 }
             }
+
+            /// Sets field 0, the time stamp: every message a sender originates, and every retry,
+            /// gets a new one (ICD §3).
+            pub fn set_time_stamp(&mut self, time_stamp: Timestamp) {
+                match self {
+                    $( Self::$variant(m) => m.time_stamp = time_stamp, )+
+                }
+            }
         }
 
         $(

@@ -1,0 +1,303 @@
+//! Timeout and retry (paper §3.1.4; ICD §5): the one mechanism every sender uses. A message is
+//! sent with "acknowledgement requested" and the sender waits for its answer. When none arrives
+//! within the ack timeout, or the answer is a rejection, the message is sent once more with a new
+//! time stamp; a second timeout or rejection fails the exchange with an error that names the
+//! message and both causes. Worst case for one message: 2 x ack timeout.
+//!
+//! The answer is #17000 for most messages, #3012 for #2011 mode 2 (ICD §5.3) and #3013 for
+//! #2011 mode 3 (ICD §5.4).
+
+use core::fmt;
+use core::time::Duration;
+
+use missionlink_interfaces::wire::{
+    AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, Message, MessageType, Reason,
+    SpecificData, Timestamp,
+};
+
+use crate::endpoint::Endpoint;
+use crate::time::Instant;
+
+/// The kind of answer a message waits for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Expected {
+    /// #17000 matching the message's type and time stamp.
+    Acknowledgement,
+    /// #3012, the answer to #2011 mode 2 upload complete.
+    AreaStatusAlert,
+    /// #3013, the answer to #2011 mode 3 initiate download.
+    AreaTransmissionStatus,
+}
+
+impl Expected {
+    /// What `message` waits for.
+    pub fn of(message: &Message) -> Self {
+        match message {
+            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::UploadComplete => {
+                Self::AreaStatusAlert
+            }
+            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::InitiateDownload => {
+                Self::AreaTransmissionStatus
+            }
+            _ => Self::Acknowledgement,
+        }
+    }
+}
+
+/// Why one attempt failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AttemptFailure {
+    /// No answer within the ack timeout.
+    Timeout,
+    /// Rejected: #17000 type 3 or 4, #3012 status 0, with the reason given.
+    Rejected(Reason),
+    /// #3013 status 2: the peer aborted the download.
+    Aborted,
+}
+
+impl fmt::Display for AttemptFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Timeout => write!(f, "no answer within the ack timeout"),
+            Self::Rejected(reason) => write!(f, "rejected with reason {reason}"),
+            Self::Aborted => write!(f, "the peer aborted"),
+        }
+    }
+}
+
+/// The element a message carries, for error reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Subject {
+    /// A waypoint (#13002, #13006 RF centre).
+    Waypoint(u16),
+    /// An area (#2012).
+    Area(u16),
+}
+
+impl Subject {
+    fn of(message: &Message) -> Option<Self> {
+        match message {
+            Message::UaPositionWaypoint(w) => Some(Self::Waypoint(w.waypoint_number)),
+            Message::VehicleSpecificWaypoint(v) => match v.data {
+                SpecificData::RfCentre {
+                    waypoint_number, ..
+                } => Some(Self::Waypoint(waypoint_number)),
+                SpecificData::TakeOffHeight { .. } => None,
+            },
+            Message::AreaPolygonLoopSegment(a) => Some(Self::Area(a.area_id)),
+            _ => None,
+        }
+    }
+}
+
+/// An exchange that failed twice: which message, about what, and why each attempt failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExchangeError {
+    /// The message that failed.
+    pub message_type: MessageType,
+    /// The waypoint or area it carried.
+    pub subject: Option<Subject>,
+    /// Why the first attempt failed.
+    pub first: AttemptFailure,
+    /// Why the retry failed.
+    pub second: AttemptFailure,
+}
+
+impl ExchangeError {
+    /// The reason of the last rejection, if the peer gave one.
+    pub fn reason(&self) -> Option<Reason> {
+        match (self.second, self.first) {
+            (AttemptFailure::Rejected(r), _) | (_, AttemptFailure::Rejected(r)) => Some(r),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for ExchangeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "#{} {}",
+            self.message_type as u16,
+            self.message_type.name()
+        )?;
+        match self.subject {
+            Some(Subject::Waypoint(n)) => write!(f, " (waypoint {n})")?,
+            Some(Subject::Area(n)) => write!(f, " (area {n})")?,
+            None => {}
+        }
+        write!(f, ": {}; retried: {}", self.first, self.second)
+    }
+}
+
+impl core::error::Error for ExchangeError {}
+
+#[derive(Debug, Clone)]
+struct Pending {
+    message: Message,
+    expected: Expected,
+    /// Time stamps of the first attempt and, after a retry, of the second.
+    stamps: [Option<Timestamp>; 2],
+    deadline: Instant,
+    first_failure: Option<AttemptFailure>,
+}
+
+/// What became of the outstanding message after an answer or a timeout.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Outcome {
+    /// The peer accepted it; the answer.
+    Accepted(Message),
+    /// The first attempt failed; the message was sent again with a new time stamp.
+    Retried(AttemptFailure),
+    /// Both attempts failed.
+    Failed(ExchangeError),
+}
+
+/// One message in flight and its timer.
+#[derive(Debug, Clone)]
+pub struct Exchange {
+    ack_timeout: Duration,
+    pending: Option<Pending>,
+}
+
+impl Exchange {
+    /// An idle exchange whose messages wait `ack_timeout` for an answer.
+    pub const fn new(ack_timeout: Duration) -> Self {
+        Self {
+            ack_timeout,
+            pending: None,
+        }
+    }
+
+    /// Whether no message waits for an answer.
+    pub fn is_idle(&self) -> bool {
+        self.pending.is_none()
+    }
+
+    /// The message that waits for an answer.
+    pub fn outstanding(&self) -> Option<&Message> {
+        self.pending.as_ref().map(|p| &p.message)
+    }
+
+    /// Sends `message` through `endpoint` with "acknowledgement requested" and waits for its
+    /// answer. A message still outstanding is given up.
+    pub fn send(&mut self, endpoint: &mut Endpoint, now: Instant, message: Message) {
+        let ts = endpoint.send(now, message.clone(), true);
+        let mut message = message;
+        message.set_time_stamp(ts);
+        self.pending = Some(Pending {
+            expected: Expected::of(&message),
+            message,
+            stamps: [Some(ts), None],
+            deadline: now + self.ack_timeout,
+            first_failure: None,
+        });
+    }
+
+    /// Gives up the outstanding message without error (the transfer was cancelled).
+    pub fn cancel(&mut self) {
+        self.pending = None;
+    }
+
+    /// When [`Exchange::handle_timeout`] must be called.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.pending.as_ref().map(|p| p.deadline)
+    }
+
+    /// The ack timeout has passed at `now`: retry, or fail after the retry.
+    pub fn handle_timeout(&mut self, endpoint: &mut Endpoint, now: Instant) -> Option<Outcome> {
+        let deadline = self.pending.as_ref()?.deadline;
+        if now < deadline {
+            return None;
+        }
+        Some(self.fail_attempt(endpoint, now, AttemptFailure::Timeout))
+    }
+
+    /// Offers `answer` to the exchange. `None` when it is not an answer to the outstanding
+    /// message (the caller routes it elsewhere) or says nothing final (#17000 type 1).
+    pub fn handle_answer(
+        &mut self,
+        endpoint: &mut Endpoint,
+        now: Instant,
+        answer: &Message,
+    ) -> Option<Outcome> {
+        let pending = self.pending.as_ref()?;
+        let current = pending.stamps[1].or(pending.stamps[0]);
+        let verdict = match (pending.expected, answer) {
+            (Expected::Acknowledgement, Message::MessageAcknowledgement(ack))
+                if ack.original_message_type == pending.message.message_type() as u16 =>
+            {
+                let of_current = Some(ack.original_time_stamp) == current;
+                let of_any = pending.stamps.contains(&Some(ack.original_time_stamp));
+                match ack.ack_type {
+                    // An acceptance of either attempt is an acceptance: the receiver handles
+                    // a retried message the same way as the first.
+                    AckType::Completed | AckType::Received if of_any => Ok(()),
+                    // A late rejection of the first attempt says nothing about the retry.
+                    AckType::Rejected | AckType::ReceiveFailed if of_current => Err(
+                        AttemptFailure::Rejected(ack.reject_reason.unwrap_or(Reason::Malformed)),
+                    ),
+                    _ => return None,
+                }
+            }
+            (Expected::AreaStatusAlert, Message::AreaStatusAlert(alert)) => match alert.status {
+                AreaListStatus::Valid => Ok(()),
+                AreaListStatus::Invalid => Err(AttemptFailure::Rejected(
+                    alert.reason.unwrap_or(Reason::Malformed),
+                )),
+            },
+            (Expected::AreaTransmissionStatus, Message::AreaTransmissionStatus(status)) => {
+                match status.status {
+                    AreaDownloadStatus::Ready => Ok(()),
+                    AreaDownloadStatus::Aborted => Err(AttemptFailure::Aborted),
+                }
+            }
+            _ => return None,
+        };
+        Some(match verdict {
+            Ok(()) => {
+                self.pending = None;
+                Outcome::Accepted(answer.clone())
+            }
+            Err(failure) => self.fail_attempt(endpoint, now, failure),
+        })
+    }
+
+    fn fail_attempt(
+        &mut self,
+        endpoint: &mut Endpoint,
+        now: Instant,
+        failure: AttemptFailure,
+    ) -> Outcome {
+        let Some(pending) = self.pending.as_mut() else {
+            return Outcome::Retried(failure);
+        };
+        match pending.first_failure {
+            None => {
+                // The retry: the same message with a new time stamp (ICD §3).
+                let ts = endpoint.send(now, pending.message.clone(), true);
+                pending.message.set_time_stamp(ts);
+                pending.stamps[1] = Some(ts);
+                pending.deadline = now + self.ack_timeout;
+                pending.first_failure = Some(failure);
+                tracing::info!(
+                    message = pending.message.message_type() as u16,
+                    %failure,
+                    "resending once"
+                );
+                Outcome::Retried(failure)
+            }
+            Some(first) => {
+                let error = ExchangeError {
+                    message_type: pending.message.message_type(),
+                    subject: Subject::of(&pending.message),
+                    first,
+                    second: failure,
+                };
+                self.pending = None;
+                tracing::warn!(%error, "exchange failed");
+                Outcome::Failed(error)
+            }
+        }
+    }
+}
