@@ -249,7 +249,7 @@ pub(crate) mod tests {
         let fz = polygon(1, AreaType::FlyZone, &FLY_ZONE);
         let offset = SafetyOffset::default();
         assert_eq!(
-            buffer(&[fz.clone()]).assemble(2, offset),
+            buffer(core::slice::from_ref(&fz)).assemble(2, offset),
             Err(Reason::CountMismatch)
         );
         assert_eq!(

@@ -1,0 +1,592 @@
+//! Mission data handling on the FCC (paper §3.1): the partition's whole logic, sans-IO.
+//!
+//! Every uplink frame goes through preprocessing ([`Endpoint::receive`]: integrity, addressing,
+//! decoding, message sampling), then the moding of paper §3.1.2 routes it to the function that
+//! handles it:
+//!
+//! | message | function |
+//! |---|---|
+//! | #13000 mode 1 clear, mode 2 transmit, #13001, #13002, #13006 | mission upload ([`MissionReceiver`]) |
+//! | #13000 mode 3 receive | mission download ([`TransferSender`], [`Script::MissionDownload`]) |
+//! | #2011 mode 1, 2, #2012 | area upload ([`AreaReceiver`]); mode 2 answered by #3012 |
+//! | #2011 mode 3 | area download ([`Script::AreaDownload`]), opened by #3013 |
+//! | #2011 mode 6 | clear areas |
+//! | #13000 mode 5, #2011 mode 5 | cancel the transfer in progress |
+//! | #17000 | the download in progress |
+//! | #50000 | mission execute, checked here, carried out by system automation |
+//!
+//! Active lists change only when a complete new list is valid; a failed or abandoned transfer
+//! leaves them as they were. Steady-state handling allocates nothing.
+
+use core::time::Duration;
+
+use heapless::Deque;
+use missionlink_interfaces::contracts::{
+    AreaListPayload, GuidanceProgressPayload, WaypointListPayload,
+};
+use missionlink_interfaces::wire::{
+    AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionStatus,
+    EncodeError, Envelope, ExecuteCommand, FrameError, Message, MissionPlanMode, Reason,
+    SafetyOffset, Timestamp,
+};
+
+use crate::areas::AreaList;
+use crate::endpoint::{Endpoint, EndpointConfig, Inbound};
+use crate::from_to_next::FromToNextReporter;
+use crate::mission::Mission;
+use crate::receiver::{AreaReceiver, MissionReceiver, Received};
+use crate::retry::ExchangeError;
+use crate::sender::{Script, SenderEvent, TransferSender};
+use crate::time::Instant;
+
+/// Settings of mission data handling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FccConfig {
+    /// Addresses and clocks.
+    pub endpoint: EndpointConfig,
+    /// How long a download message waits for the GCS's answer (ICD §1: 500 ms).
+    pub ack_timeout: Duration,
+    /// How long an upload waits for the GCS before it is abandoned (ICD §1: 3 s).
+    pub transfer_timeout: Duration,
+}
+
+/// What the driver must know of: the lists to publish, failures to log, commands to forward.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FccEvent {
+    /// A new waypoint list is active (publish it).
+    MissionActivated {
+        /// Its generation.
+        generation: u64,
+    },
+    /// The waypoint list was cleared (publish the empty list).
+    MissionCleared,
+    /// A new area list is active (publish it).
+    AreasActivated {
+        /// Its generation.
+        generation: u64,
+    },
+    /// The area list was cleared (publish the empty list).
+    AreasCleared,
+    /// An upload was abandoned: cancelled by the GCS, timed out, or rejected at the end.
+    UploadAbandoned {
+        /// Mission or area upload.
+        kind: DataKind,
+        /// Why, where known.
+        reason: Option<Reason>,
+    },
+    /// A download was complete and acknowledged.
+    DownloadComplete {
+        /// Mission or area download.
+        kind: DataKind,
+    },
+    /// A download message failed twice.
+    DownloadFailed {
+        /// Mission or area download.
+        kind: DataKind,
+        /// The failure.
+        error: ExchangeError,
+    },
+    /// #50000 accepted: system automation carries it out.
+    Execute(ExecuteCommand),
+}
+
+/// Mission (waypoints) or areas.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataKind {
+    /// Waypoint list.
+    Mission,
+    /// Area list.
+    Areas,
+}
+
+/// Events the queue holds; the driver drains it after every call.
+pub const EVENT_CAPACITY: usize = 8;
+
+/// Mission data handling of the FCC.
+#[derive(Debug, Clone)]
+pub struct MissionDataHandling {
+    config: FccConfig,
+    endpoint: Endpoint,
+    mission_upload: MissionReceiver,
+    area_upload: AreaReceiver,
+    mission_download: Option<TransferSender>,
+    area_download: Option<TransferSender>,
+    active_mission: Option<Mission>,
+    mission_generation: u64,
+    active_areas: Option<AreaList>,
+    area_generation: u64,
+    trajectory_generation_active: bool,
+    events: Deque<FccEvent, EVENT_CAPACITY>,
+    /// The lists as published, rebuilt only when they change.
+    waypoint_list: WaypointListPayload,
+    area_list: AreaListPayload,
+    from_to_next: FromToNextReporter,
+}
+
+impl MissionDataHandling {
+    /// Mission data handling with no active lists.
+    pub fn new(config: FccConfig) -> Self {
+        Self {
+            config,
+            endpoint: Endpoint::new(config.endpoint),
+            mission_upload: MissionReceiver::new(config.transfer_timeout),
+            area_upload: AreaReceiver::new(config.transfer_timeout),
+            mission_download: None,
+            area_download: None,
+            active_mission: None,
+            mission_generation: 0,
+            active_areas: None,
+            area_generation: 0,
+            trajectory_generation_active: false,
+            events: Deque::new(),
+            waypoint_list: WaypointListPayload::EMPTY,
+            area_list: AreaListPayload::EMPTY,
+            from_to_next: FromToNextReporter::new(),
+        }
+    }
+
+    /// The endpoint (counters, configuration).
+    pub fn endpoint(&self) -> &Endpoint {
+        &self.endpoint
+    }
+
+    /// The active mission.
+    pub fn active_mission(&self) -> Option<&Mission> {
+        self.active_mission.as_ref()
+    }
+
+    /// The active area list.
+    pub fn active_areas(&self) -> Option<&AreaList> {
+        self.active_areas.as_ref()
+    }
+
+    /// The active waypoint list as published to guidance (empty when none; the generation
+    /// counts every change, clears included).
+    pub fn waypoint_list(&self) -> &WaypointListPayload {
+        &self.waypoint_list
+    }
+
+    /// The active area list as published to guidance.
+    pub fn area_list(&self) -> &AreaListPayload {
+        &self.area_list
+    }
+
+    fn mission_changed(&mut self, event: FccEvent) {
+        self.mission_generation += 1;
+        self.waypoint_list = match &self.active_mission {
+            Some(m) => m.to_payload(self.mission_generation),
+            None => WaypointListPayload {
+                generation: self.mission_generation,
+                ..WaypointListPayload::EMPTY
+            },
+        };
+        self.from_to_next.reset();
+        self.event(event);
+    }
+
+    fn areas_changed(&mut self, event: FccEvent) {
+        self.area_generation += 1;
+        self.area_list = match &self.active_areas {
+            Some(a) => a.to_payload(self.area_generation),
+            None => AreaListPayload {
+                generation: self.area_generation,
+                ..AreaListPayload::EMPTY
+            },
+        };
+        self.event(event);
+    }
+
+    /// Guidance reported its progress: #4001 goes out when FROM, TO or NEXT changed (paper
+    /// §3.1.7, ICD §5.5).
+    pub fn handle_progress(&mut self, now: Instant, progress: &GuidanceProgressPayload) {
+        if let Some(ftn) =
+            self.from_to_next
+                .update(progress, &self.waypoint_list, Timestamp::default())
+        {
+            self.endpoint.send(now, ftn.into(), false);
+        }
+    }
+
+    /// System automation says whether trajectory generation is active (a clear is refused
+    /// while it is, ICD §5.1 step 1).
+    pub fn set_trajectory_generation_active(&mut self, active: bool) {
+        self.trajectory_generation_active = active;
+    }
+
+    /// Handles one uplink message (wrapper to checksum) received at `now`. A frame error is
+    /// returned for the driver to count and log; it is never answered (ICD §2).
+    pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
+        if let Inbound::Message {
+            message,
+            ack_requested,
+        } = self.endpoint.receive(now, bytes)?
+        {
+            self.route(now, &message, ack_requested);
+        }
+        Ok(())
+    }
+
+    fn event(&mut self, e: FccEvent) {
+        if self.events.push_back(e).is_err() {
+            tracing::error!("event queue full: the driver does not drain it");
+        }
+    }
+
+    fn answer(&mut self, now: Instant, message: &Message, ack: bool, outcome: Result<(), Reason>) {
+        if ack {
+            self.endpoint.acknowledge(
+                now,
+                message.message_type() as u16,
+                message.time_stamp(),
+                outcome,
+            );
+        }
+        if let Err(reason) = outcome {
+            tracing::info!(
+                message = message.message_type() as u16,
+                %reason,
+                "message refused"
+            );
+        }
+    }
+
+    /// The moding of paper §3.1.2.
+    fn route(&mut self, now: Instant, message: &Message, ack: bool) {
+        match message {
+            Message::MessageAcknowledgement(_) => self.download_answer(now, message),
+            Message::MissionTransferCommand(c) => match c.mode {
+                MissionPlanMode::ClearMission => {
+                    let outcome = self.clear_mission(now);
+                    self.answer(now, message, ack, outcome);
+                }
+                MissionPlanMode::TransmitMission => {
+                    let outcome = self.mission_data(now, message);
+                    self.answer(now, message, ack, outcome);
+                }
+                MissionPlanMode::ReceiveMission => self.start_mission_download(now, message, ack),
+                MissionPlanMode::CancelTransfer => {
+                    self.cancel(DataKind::Mission);
+                    self.answer(now, message, ack, Ok(()));
+                }
+            },
+            Message::UaRoute(_)
+            | Message::UaPositionWaypoint(_)
+            | Message::VehicleSpecificWaypoint(_) => {
+                let outcome = self.mission_data(now, message);
+                self.answer(now, message, ack, outcome);
+            }
+            Message::AreaTransmissionCommand(c) => match c.mode {
+                AreaTransferMode::InitiateUpload => {
+                    let outcome = if self.area_download.is_some() {
+                        Err(Reason::Busy)
+                    } else {
+                        self.area_upload.handle(now, message).map(|_| ())
+                    };
+                    self.answer(now, message, ack, outcome);
+                }
+                // Answered by #3012 instead of #17000 (ICD §5.3 step 3).
+                AreaTransferMode::UploadComplete => self.complete_area_upload(now, message),
+                // Answered by #3013 instead of #17000 (ICD §5.4 step 1).
+                AreaTransferMode::InitiateDownload => self.start_area_download(now),
+                AreaTransferMode::Cancel => {
+                    self.cancel(DataKind::Areas);
+                    self.answer(now, message, ack, Ok(()));
+                }
+                AreaTransferMode::ClearAreas => {
+                    let outcome = self.clear_areas();
+                    self.answer(now, message, ack, outcome);
+                }
+                AreaTransferMode::DownloadComplete => {
+                    self.answer(now, message, ack, Err(Reason::WrongState));
+                }
+            },
+            Message::AreaPolygonLoopSegment(_) => {
+                let outcome = if self.area_download.is_some() {
+                    Err(Reason::WrongState)
+                } else {
+                    self.area_upload.handle(now, message).map(|_| ())
+                };
+                self.answer(now, message, ack, outcome);
+            }
+            Message::MissionExecuteCommand(c) => {
+                let outcome = self.check_execute(c.command);
+                if outcome.is_ok() {
+                    self.event(FccEvent::Execute(c.command));
+                }
+                self.answer(now, message, ack, outcome);
+            }
+            // Messages the FCC sends, never receives.
+            Message::FromToNext(_)
+            | Message::MissionUploadDownloadStatus(_)
+            | Message::AreaStatusAlert(_)
+            | Message::AreaTransmissionStatus(_) => {
+                self.answer(now, message, ack, Err(Reason::WrongState));
+            }
+        }
+    }
+
+    fn clear_mission(&mut self, now: Instant) -> Result<(), Reason> {
+        if self.trajectory_generation_active {
+            return Err(Reason::GuidanceActive);
+        }
+        if self.mission_download.is_some() {
+            return Err(Reason::Busy);
+        }
+        self.mission_upload.clear(now);
+        if self.active_mission.take().is_some() {
+            self.mission_changed(FccEvent::MissionCleared);
+        }
+        Ok(())
+    }
+
+    fn clear_areas(&mut self) -> Result<(), Reason> {
+        if self.trajectory_generation_active {
+            return Err(Reason::GuidanceActive);
+        }
+        if self.area_download.is_some() || self.area_upload.in_transfer() {
+            return Err(Reason::Busy);
+        }
+        if self.active_areas.take().is_some() {
+            self.areas_changed(FccEvent::AreasCleared);
+        }
+        Ok(())
+    }
+
+    /// Mission upload: store, or assemble and activate on #13000 mode 2.
+    fn mission_data(&mut self, now: Instant, message: &Message) -> Result<(), Reason> {
+        if self.mission_download.is_some() {
+            return Err(Reason::WrongState);
+        }
+        if !self.mission_upload.in_transfer() {
+            // An upload without clear edits the active mission.
+            self.mission_upload.abandon(self.active_mission.as_ref());
+        }
+        match self.mission_upload.handle(now, message)? {
+            Received::Complete(mission) => {
+                if self.active_mission.as_ref() != Some(&mission) {
+                    self.active_mission = Some(mission);
+                    self.mission_changed(FccEvent::MissionActivated {
+                        generation: self.mission_generation + 1,
+                    });
+                }
+                Ok(())
+            }
+            Received::Stored | Received::Abandoned(_) => Ok(()),
+        }
+    }
+
+    fn complete_area_upload(&mut self, now: Instant, message: &Message) {
+        let outcome = if self.area_download.is_some() {
+            Err(Reason::WrongState)
+        } else {
+            self.area_upload.handle(now, message)
+        };
+        let result = match outcome {
+            Ok(Received::Complete(list)) => {
+                if self.active_areas.as_ref() != Some(&list) {
+                    self.active_areas = Some(list);
+                    self.areas_changed(FccEvent::AreasActivated {
+                        generation: self.area_generation + 1,
+                    });
+                }
+                Ok(())
+            }
+            Ok(Received::Stored | Received::Abandoned(_)) => Err(Reason::WrongState),
+            Err(reason) => Err(reason),
+        };
+        let loop_count = self
+            .active_areas
+            .as_ref()
+            .map_or(0, |a| a.areas.len() as u8);
+        let alert = AreaStatusAlert {
+            time_stamp: Timestamp::default(),
+            loop_count: if result.is_ok() { loop_count } else { 0 },
+            status: if result.is_ok() {
+                AreaListStatus::Valid
+            } else {
+                AreaListStatus::Invalid
+            },
+            reason: Some(result.err().unwrap_or(Reason::None)),
+        };
+        self.endpoint.send(now, alert.into(), false);
+    }
+
+    fn start_mission_download(&mut self, now: Instant, message: &Message, ack: bool) {
+        let outcome = if self.mission_download.is_some() || self.mission_upload.in_transfer() {
+            Err(Reason::Busy)
+        } else if self.active_mission.is_none() {
+            Err(Reason::WrongState)
+        } else {
+            Ok(())
+        };
+        self.answer(now, message, ack, outcome);
+        if let (Ok(()), Some(mission)) = (outcome, self.active_mission.clone()) {
+            self.mission_download = Some(TransferSender::start(
+                Script::MissionDownload { mission },
+                self.config.ack_timeout,
+                &mut self.endpoint,
+                now,
+            ));
+        }
+    }
+
+    fn start_area_download(&mut self, now: Instant) {
+        let busy = self.area_download.is_some() || self.area_upload.in_transfer();
+        match (&self.active_areas, busy) {
+            (Some(list), false) => {
+                self.area_download = Some(TransferSender::start(
+                    Script::AreaDownload { list: list.clone() },
+                    self.config.ack_timeout,
+                    &mut self.endpoint,
+                    now,
+                ));
+            }
+            // Nothing to send, or busy: the #3013 says aborted (ICD §4: status 2).
+            _ => {
+                let status = AreaTransmissionStatus {
+                    time_stamp: Timestamp::default(),
+                    area_id: 0,
+                    loop_count: 0,
+                    safety_offset: SafetyOffset::default(),
+                    status: AreaDownloadStatus::Aborted,
+                };
+                self.endpoint.send(now, status.into(), false);
+            }
+        }
+    }
+
+    fn download_answer(&mut self, now: Instant, message: &Message) {
+        for kind in [DataKind::Mission, DataKind::Areas] {
+            let slot = match kind {
+                DataKind::Mission => &mut self.mission_download,
+                DataKind::Areas => &mut self.area_download,
+            };
+            let Some(sender) = slot.as_mut() else {
+                continue;
+            };
+            if let Some(event) = sender.handle_answer(&mut self.endpoint, now, message) {
+                self.download_event(kind, event);
+                return;
+            }
+        }
+        tracing::debug!("acknowledgement that answers nothing outstanding");
+    }
+
+    fn download_event(&mut self, kind: DataKind, event: SenderEvent) {
+        let slot = match kind {
+            DataKind::Mission => &mut self.mission_download,
+            DataKind::Areas => &mut self.area_download,
+        };
+        match event {
+            SenderEvent::Progress { .. } => {}
+            SenderEvent::Completed(_) => {
+                *slot = None;
+                self.event(FccEvent::DownloadComplete { kind });
+            }
+            SenderEvent::Failed(error) => {
+                *slot = None;
+                self.event(FccEvent::DownloadFailed { kind, error });
+            }
+        }
+    }
+
+    fn cancel(&mut self, kind: DataKind) {
+        match kind {
+            DataKind::Mission => {
+                if let Some(mut d) = self.mission_download.take() {
+                    d.cancel();
+                }
+                if self.mission_upload.in_transfer() {
+                    self.mission_upload.abandon(self.active_mission.as_ref());
+                    self.event(FccEvent::UploadAbandoned { kind, reason: None });
+                }
+            }
+            DataKind::Areas => {
+                if let Some(mut d) = self.area_download.take() {
+                    d.cancel();
+                }
+                if self.area_upload.in_transfer() {
+                    self.area_upload.abandon();
+                    self.event(FccEvent::UploadAbandoned { kind, reason: None });
+                }
+            }
+        }
+    }
+
+    /// #50000 (ICD §4): execute needs a valid waypoint and area list; return to home a
+    /// bidirectional route.
+    fn check_execute(&self, command: ExecuteCommand) -> Result<(), Reason> {
+        let mission = self.active_mission.as_ref().ok_or(Reason::WrongState)?;
+        if self.active_areas.is_none() {
+            return Err(Reason::WrongState);
+        }
+        if command == ExecuteCommand::ReturnToHome && !mission.route.bidirectional {
+            return Err(Reason::Unsupported);
+        }
+        Ok(())
+    }
+
+    /// When [`MissionDataHandling::handle_timeout`] must be called next.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        [
+            self.mission_download
+                .as_ref()
+                .and_then(TransferSender::poll_timeout),
+            self.area_download
+                .as_ref()
+                .and_then(TransferSender::poll_timeout),
+            self.mission_upload.poll_timeout(),
+            self.area_upload.poll_timeout(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// Timers: download retries, upload transfer timeouts.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        for kind in [DataKind::Mission, DataKind::Areas] {
+            let slot = match kind {
+                DataKind::Mission => &mut self.mission_download,
+                DataKind::Areas => &mut self.area_download,
+            };
+            if let Some(event) = slot
+                .as_mut()
+                .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
+            {
+                self.download_event(kind, event);
+            }
+        }
+        if self.mission_upload.timed_out(now) {
+            self.mission_upload.abandon(self.active_mission.as_ref());
+            tracing::warn!("mission upload abandoned: nothing heard for the transfer timeout");
+            self.event(FccEvent::UploadAbandoned {
+                kind: DataKind::Mission,
+                reason: None,
+            });
+        }
+        if self.area_upload.timed_out(now) {
+            self.area_upload.abandon();
+            tracing::warn!("area upload abandoned: nothing heard for the transfer timeout");
+            self.event(FccEvent::UploadAbandoned {
+                kind: DataKind::Areas,
+                reason: None,
+            });
+        }
+    }
+
+    /// The next message to send.
+    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
+        self.endpoint.poll_outgoing()
+    }
+
+    /// Encodes the next message to send into `buf`; returns the frame length.
+    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.endpoint.poll_transmit(buf)
+    }
+
+    /// The next event for the driver.
+    pub fn poll_event(&mut self) -> Option<FccEvent> {
+        self.events.pop_front()
+    }
+}

@@ -1,0 +1,585 @@
+//! The GCS logic (paper §3.2, Figure 11), sans-IO: standby; a validation request assembles the
+//! waypoint and area lists with the FCC's own assembly code, applies the validity checks of ICD
+//! §7, then the safety gateway; an upload request validates first, then uploads the waypoints,
+//! then the areas, and ends in success or the error; a download fetches the mission, then the
+//! areas. Any failure (a message failed twice, or the FCC fell silent for the transfer timeout)
+//! returns the logic to standby: the timeout reset of Figure 11.
+//!
+//! Inverted use (paper §3.2; ICD §5.6): the GCS uploads with the FCC's download sender and
+//! downloads with the FCC's upload receivers ([`TransferSender`], [`MissionReceiver`],
+//! [`AreaReceiver`]).
+
+use core::fmt;
+use core::time::Duration;
+use std::collections::VecDeque;
+
+use missionlink_interfaces::wire::{
+    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, EncodeError, Envelope,
+    FrameError, FromToNext, Message, MessageType, MissionPlanMode, Reason, SafetyOffset, Text,
+    Timestamp,
+};
+
+use crate::areas::{AreaBuffer, AreaList};
+use crate::endpoint::{Endpoint, EndpointConfig, Inbound};
+use crate::mission::{Mission, MissionBuffer};
+use crate::receiver::{AreaReceiver, MissionReceiver, Received};
+use crate::retry::ExchangeError;
+use crate::sender::{Script, SenderEvent, TransferSender, mission_command};
+use crate::time::Instant;
+
+/// The safety gateway hook (paper §2.2): a mission is uploaded only if every check passes. The
+/// gateway itself (geometry, energy, environment) plugs in here.
+pub trait SafetyGateway {
+    /// What the gateway reports against a mission.
+    type Report: fmt::Debug + fmt::Display + Clone + PartialEq;
+    /// Checks the assembled lists.
+    fn check(&self, mission: &Mission, areas: &AreaList) -> Result<(), Self::Report>;
+}
+
+/// No gateway configured: the lists pass with the checks of ICD §7 alone.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WithoutGateway;
+
+impl SafetyGateway for WithoutGateway {
+    type Report = core::convert::Infallible;
+    fn check(&self, _: &Mission, _: &AreaList) -> Result<(), Self::Report> {
+        Ok(())
+    }
+}
+
+/// What the operator planned: the mission data in any order and the areas, as the GCS holds
+/// them before assembly.
+#[derive(Debug, Clone, Default)]
+pub struct MissionPlan {
+    /// Take-off height, waypoints, RF centres and route.
+    pub mission: MissionBuffer,
+    /// Fly-zone and no-fly-zones.
+    pub areas: AreaBuffer,
+    /// Safety offset of the areas.
+    pub safety_offset: SafetyOffset,
+    /// Mission ID sent with #13000 mode 2.
+    pub mission_id: Option<Text<20>>,
+}
+
+/// The lists a validation request produced.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ValidatedPlan {
+    /// The waypoint list.
+    pub mission: Mission,
+    /// The area list.
+    pub areas: AreaList,
+}
+
+/// Settings of the GCS logic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GcsConfig {
+    /// Addresses and clocks.
+    pub endpoint: EndpointConfig,
+    /// How long a message waits for the FCC's answer (ICD §1: 500 ms).
+    pub ack_timeout: Duration,
+    /// How long a download waits for the FCC before it is abandoned (ICD §1: 3 s).
+    pub transfer_timeout: Duration,
+}
+
+/// The steps of Figure 11 that talk to the FCC.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Waypoint upload.
+    MissionUpload,
+    /// Area upload.
+    AreaUpload,
+    /// Mission download.
+    MissionDownload,
+    /// Area download.
+    AreaDownload,
+    /// A single command (clear, clear areas, execute).
+    Command,
+}
+
+impl fmt::Display for Phase {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::MissionUpload => "mission upload",
+            Self::AreaUpload => "area upload",
+            Self::MissionDownload => "mission download",
+            Self::AreaDownload => "area download",
+            Self::Command => "command",
+        })
+    }
+}
+
+/// Why a request failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GcsError<R> {
+    /// Another request is in progress.
+    Busy,
+    /// The waypoint list does not assemble (ICD §7), with the reason.
+    InvalidMission(Reason),
+    /// The area list does not assemble (ICD §7), with the reason.
+    InvalidAreas(Reason),
+    /// The safety gateway refused the mission.
+    Gateway(R),
+    /// A message failed twice (rejected or unanswered).
+    Transfer {
+        /// Where.
+        phase: Phase,
+        /// Which message and why.
+        error: ExchangeError,
+    },
+    /// The FCC aborted its download (#14000 status 2 or #2011 mode 5).
+    Aborted {
+        /// Where.
+        phase: Phase,
+        /// The FCC's reason, where it gave one.
+        reason: Option<Reason>,
+    },
+    /// The FCC fell silent for the transfer timeout during a download.
+    Timeout {
+        /// Where.
+        phase: Phase,
+    },
+    /// What the FCC sent does not assemble into a valid list.
+    InvalidDownload {
+        /// Where.
+        phase: Phase,
+        /// Why.
+        reason: Reason,
+    },
+}
+
+impl<R: fmt::Display> fmt::Display for GcsError<R> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Busy => write!(f, "another request is in progress"),
+            Self::InvalidMission(r) => write!(f, "the waypoint list is invalid: {r}"),
+            Self::InvalidAreas(r) => write!(f, "the area list is invalid: {r}"),
+            Self::Gateway(report) => write!(f, "the safety gateway refused the mission: {report}"),
+            Self::Transfer { phase, error } => write!(f, "{phase} failed: {error}"),
+            Self::Aborted { phase, reason } => match reason {
+                Some(r) => write!(f, "{phase} aborted by the FCC: {r}"),
+                None => write!(f, "{phase} aborted by the FCC"),
+            },
+            Self::Timeout { phase } => {
+                write!(
+                    f,
+                    "{phase} abandoned: nothing heard from the FCC for the transfer timeout"
+                )
+            }
+            Self::InvalidDownload { phase, reason } => {
+                write!(f, "{phase}: what the FCC sent is invalid: {reason}")
+            }
+        }
+    }
+}
+
+impl<R: fmt::Debug + fmt::Display> std::error::Error for GcsError<R> {}
+
+/// What the driver shows the operator.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GcsEvent<R> {
+    /// Message `sent` of `total` of a transfer was answered.
+    Progress {
+        /// Where.
+        phase: Phase,
+        /// Answered so far.
+        sent: usize,
+        /// In the transfer.
+        total: usize,
+    },
+    /// Waypoints and areas are uploaded; the FCC activated both.
+    UploadComplete,
+    /// Mission and areas are downloaded.
+    DownloadComplete(Box<ValidatedPlan>),
+    /// The FCC accepted a command (the message type).
+    CommandAccepted(MessageType),
+    /// The request failed; the logic is in standby again.
+    Failed(GcsError<R>),
+    /// The FCC reported FROM-TO-NEXT (#4001).
+    FromToNext(FromToNext),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum State {
+    Standby,
+    Uploading(Phase),
+    /// Waiting for the answer to a download request of `Phase`, or receiving it.
+    Downloading(Phase),
+    Commanding,
+}
+
+/// The GCS logic.
+#[derive(Debug)]
+pub struct GroundStation<G: SafetyGateway> {
+    config: GcsConfig,
+    endpoint: Endpoint,
+    gateway: G,
+    state: State,
+    sender: Option<TransferSender>,
+    areas_to_upload: Option<AreaList>,
+    mission_download: MissionReceiver,
+    area_download: AreaReceiver,
+    downloaded_mission: Option<Mission>,
+    events: VecDeque<GcsEvent<G::Report>>,
+}
+
+impl<G: SafetyGateway> GroundStation<G> {
+    /// The GCS logic in standby.
+    pub fn new(config: GcsConfig, gateway: G) -> Self {
+        Self {
+            config,
+            endpoint: Endpoint::new(config.endpoint),
+            gateway,
+            state: State::Standby,
+            sender: None,
+            areas_to_upload: None,
+            mission_download: MissionReceiver::new(config.transfer_timeout),
+            area_download: AreaReceiver::new(config.transfer_timeout),
+            downloaded_mission: None,
+            events: VecDeque::new(),
+        }
+    }
+
+    /// The endpoint (counters).
+    pub fn endpoint(&self) -> &Endpoint {
+        &self.endpoint
+    }
+
+    /// Whether the logic is in standby (no request in progress).
+    pub fn is_standby(&self) -> bool {
+        self.state == State::Standby
+    }
+
+    /// The validation request: assembles both lists with the FCC's assembly (ICD §7) and runs
+    /// the safety gateway.
+    pub fn validate(&self, plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<G::Report>> {
+        let announced = u16::try_from(plan.mission.len())
+            .map_err(|_| GcsError::InvalidMission(Reason::Capacity))?;
+        let mission = plan
+            .mission
+            .assemble(Some(announced), plan.mission_id)
+            .map_err(GcsError::InvalidMission)?;
+        let areas = plan
+            .areas
+            .assemble(plan.areas.len() as u8, plan.safety_offset)
+            .map_err(GcsError::InvalidAreas)?;
+        self.gateway
+            .check(&mission, &areas)
+            .map_err(GcsError::Gateway)?;
+        Ok(ValidatedPlan { mission, areas })
+    }
+
+    /// The upload request: validation first, then the waypoints (after a clear when `clear`,
+    /// else as an edit), then the areas. Nothing is sent when validation fails.
+    pub fn upload(
+        &mut self,
+        now: Instant,
+        plan: &MissionPlan,
+        clear: bool,
+    ) -> Result<(), GcsError<G::Report>> {
+        if !self.is_standby() {
+            return Err(GcsError::Busy);
+        }
+        let ValidatedPlan { mission, areas } = self.validate(plan)?;
+        self.areas_to_upload = Some(areas);
+        self.start(
+            now,
+            State::Uploading(Phase::MissionUpload),
+            Script::MissionUpload { mission, clear },
+        );
+        Ok(())
+    }
+
+    /// The download request: the mission (#13000 mode 3), then the areas (#2011 mode 3).
+    pub fn download(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
+        if !self.is_standby() {
+            return Err(GcsError::Busy);
+        }
+        self.downloaded_mission = None;
+        self.mission_download.abandon(None);
+        self.area_download.abandon();
+        let request = mission_command(MissionPlanMode::ReceiveMission, None, None);
+        self.start(
+            now,
+            State::Downloading(Phase::MissionDownload),
+            Script::Request(request),
+        );
+        Ok(())
+    }
+
+    /// A single command: #13000 mode 1 clear, #2011 mode 6 clear areas, #50000 execute.
+    pub fn command(&mut self, now: Instant, message: Message) -> Result<(), GcsError<G::Report>> {
+        if !self.is_standby() {
+            return Err(GcsError::Busy);
+        }
+        self.start(now, State::Commanding, Script::Request(message));
+        Ok(())
+    }
+
+    fn start(&mut self, now: Instant, state: State, script: Script) {
+        self.state = state;
+        self.sender = Some(TransferSender::start(
+            script,
+            self.config.ack_timeout,
+            &mut self.endpoint,
+            now,
+        ));
+    }
+
+    fn finish(&mut self, event: GcsEvent<G::Report>) {
+        self.state = State::Standby;
+        self.sender = None;
+        self.areas_to_upload = None;
+        self.mission_download.abandon(None);
+        self.area_download.abandon();
+        self.events.push_back(event);
+    }
+
+    fn fail(&mut self, error: GcsError<G::Report>) {
+        tracing::warn!(%error, "request failed");
+        self.finish(GcsEvent::Failed(error));
+    }
+
+    fn phase(&self) -> Phase {
+        match self.state {
+            State::Uploading(p) | State::Downloading(p) => p,
+            State::Standby | State::Commanding => Phase::Command,
+        }
+    }
+
+    /// Handles one downlink message (wrapper to checksum) received at `now`.
+    pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
+        if let Inbound::Message {
+            message,
+            ack_requested,
+        } = self.endpoint.receive(now, bytes)?
+        {
+            self.route(now, &message, ack_requested);
+        }
+        Ok(())
+    }
+
+    fn route(&mut self, now: Instant, message: &Message, ack: bool) {
+        // An answer to what the GCS sent?
+        if let Some(event) = self
+            .sender
+            .as_mut()
+            .and_then(|s| s.handle_answer(&mut self.endpoint, now, message))
+        {
+            self.sender_event(now, event);
+            // A ready #3013 answers the area download request and opens the download: it goes
+            // on to the receiver below.
+            if !matches!(message, Message::AreaTransmissionStatus(s) if s.status == AreaDownloadStatus::Ready)
+            {
+                return;
+            }
+        }
+        match message {
+            Message::FromToNext(ftn) => {
+                self.events.push_back(GcsEvent::FromToNext(*ftn));
+            }
+            Message::MessageAcknowledgement(_) | Message::AreaStatusAlert(_) => {
+                tracing::debug!("answer to nothing outstanding (late or duplicate)");
+            }
+            Message::VehicleSpecificWaypoint(_)
+            | Message::UaPositionWaypoint(_)
+            | Message::UaRoute(_)
+            | Message::MissionUploadDownloadStatus(_)
+                if self.state == State::Downloading(Phase::MissionDownload) =>
+            {
+                // The FCC may start before its acceptance of the request arrives (the links
+                // reorder): the first mission message opens the download as well.
+                if !self.mission_download.in_transfer() {
+                    self.sender = None;
+                    self.mission_download.begin(now);
+                }
+                let outcome = self.mission_download.handle(now, message);
+                self.answer(
+                    now,
+                    message,
+                    ack,
+                    outcome.as_ref().map(|_| ()).map_err(|r| *r),
+                );
+                match outcome {
+                    Ok(Received::Complete(mission)) => self.request_areas(now, mission),
+                    Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted {
+                        phase: Phase::MissionDownload,
+                        reason,
+                    }),
+                    Ok(Received::Stored) => {}
+                    Err(reason) if matches!(message, Message::MissionUploadDownloadStatus(_)) => {
+                        self.fail(GcsError::InvalidDownload {
+                            phase: Phase::MissionDownload,
+                            reason,
+                        });
+                    }
+                    Err(_) => {}
+                }
+            }
+            Message::AreaTransmissionStatus(_)
+            | Message::AreaPolygonLoopSegment(_)
+            | Message::AreaTransmissionCommand(_)
+                if self.state == State::Downloading(Phase::AreaDownload) =>
+            {
+                let outcome = self.area_download.handle(now, message);
+                self.answer(
+                    now,
+                    message,
+                    ack,
+                    outcome.as_ref().map(|_| ()).map_err(|r| *r),
+                );
+                match outcome {
+                    Ok(Received::Complete(areas)) => match self.downloaded_mission.take() {
+                        Some(mission) => {
+                            self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
+                                mission,
+                                areas,
+                            })))
+                        }
+                        None => self.fail(GcsError::InvalidDownload {
+                            phase: Phase::AreaDownload,
+                            reason: Reason::WrongState,
+                        }),
+                    },
+                    Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted {
+                        phase: Phase::AreaDownload,
+                        reason,
+                    }),
+                    Ok(Received::Stored) => {}
+                    Err(reason) if matches!(message, Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::DownloadComplete) =>
+                    {
+                        self.fail(GcsError::InvalidDownload {
+                            phase: Phase::AreaDownload,
+                            reason,
+                        });
+                    }
+                    Err(_) => {}
+                }
+            }
+            _ => self.answer(now, message, ack, Err(Reason::WrongState)),
+        }
+    }
+
+    fn answer(&mut self, now: Instant, message: &Message, ack: bool, outcome: Result<(), Reason>) {
+        if ack {
+            self.endpoint.acknowledge(
+                now,
+                message.message_type() as u16,
+                message.time_stamp(),
+                outcome,
+            );
+        }
+    }
+
+    fn request_areas(&mut self, now: Instant, mission: Mission) {
+        self.downloaded_mission = Some(mission);
+        let request = AreaTransmissionCommand {
+            time_stamp: Timestamp::default(),
+            mode: AreaTransferMode::InitiateDownload,
+            loop_count: None,
+            area_id: Some(0),
+            safety_offset: None,
+            activity_id: None,
+        };
+        self.start(
+            now,
+            State::Downloading(Phase::AreaDownload),
+            Script::Request(request.into()),
+        );
+    }
+
+    fn sender_event(&mut self, now: Instant, event: SenderEvent) {
+        let phase = self.phase();
+        match event {
+            SenderEvent::Progress { sent, total } => {
+                self.events
+                    .push_back(GcsEvent::Progress { phase, sent, total });
+            }
+            SenderEvent::Failed(error) => self.fail(GcsError::Transfer { phase, error }),
+            SenderEvent::Completed(answer) => match self.state {
+                State::Uploading(Phase::MissionUpload) => {
+                    self.events.push_back(GcsEvent::Progress {
+                        phase,
+                        sent: self.sender.as_ref().map_or(0, |s| s.script().len()),
+                        total: self.sender.as_ref().map_or(0, |s| s.script().len()),
+                    });
+                    match self.areas_to_upload.take() {
+                        Some(list) => self.start(
+                            now,
+                            State::Uploading(Phase::AreaUpload),
+                            Script::AreaUpload { list },
+                        ),
+                        None => self.finish(GcsEvent::UploadComplete),
+                    }
+                }
+                State::Uploading(_) => self.finish(GcsEvent::UploadComplete),
+                State::Downloading(Phase::MissionDownload) => {
+                    // The FCC accepted the request; its messages follow.
+                    self.sender = None;
+                    if !self.mission_download.in_transfer() {
+                        self.mission_download.begin(now);
+                    }
+                }
+                State::Downloading(_) => {
+                    // The #3013 that accepted the request opens the area download (handled
+                    // by the caller).
+                    self.sender = None;
+                }
+                State::Commanding => {
+                    self.finish(GcsEvent::CommandAccepted(answer_type(&answer)));
+                }
+                State::Standby => {}
+            },
+        }
+    }
+
+    /// When [`GroundStation::handle_timeout`] must be called next.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        [
+            self.sender.as_ref().and_then(TransferSender::poll_timeout),
+            self.mission_download.poll_timeout(),
+            self.area_download.poll_timeout(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// Timers: retries, and the download's transfer timeout.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if let Some(event) = self
+            .sender
+            .as_mut()
+            .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
+        {
+            self.sender_event(now, event);
+        }
+        if self.mission_download.timed_out(now) || self.area_download.timed_out(now) {
+            let phase = self.phase();
+            self.fail(GcsError::Timeout { phase });
+        }
+    }
+
+    /// The next message to send.
+    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
+        self.endpoint.poll_outgoing()
+    }
+
+    /// Encodes the next message to send into `buf`; returns the frame length.
+    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.endpoint.poll_transmit(buf)
+    }
+
+    /// The next event for the operator.
+    pub fn poll_event(&mut self) -> Option<GcsEvent<G::Report>> {
+        self.events.pop_front()
+    }
+}
+
+/// The message type a command answer acknowledged.
+fn answer_type(answer: &Message) -> MessageType {
+    match answer {
+        Message::MessageAcknowledgement(a) => MessageType::try_from(a.original_message_type)
+            .unwrap_or(MessageType::MessageAcknowledgement),
+        other => other.message_type(),
+    }
+}

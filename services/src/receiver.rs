@@ -1,0 +1,208 @@
+//! The receivers of transfers, one per data kind for both directions (paper §3.2, inverted use;
+//! ICD §5.6): the FCC receives a mission upload (paper §3.1.5) and an area upload (§3.1.8) with
+//! them, the GCS a mission download (§3.1.6) and an area download (§3.1.9).
+//!
+//! A receiver stores what arrives and assembles the list when the closing message comes: #13000
+//! mode 2 (FCC) or #14000 complete (GCS) for missions, #2011 mode 2 (FCC) or mode 4 (GCS) for
+//! areas. It never touches an active list: it hands a complete, valid list to its owner, who
+//! activates it. A receiver that hears nothing from its peer for the transfer timeout abandons
+//! the transfer (ICD §5).
+
+use core::time::Duration;
+
+use missionlink_interfaces::capacity::MAX_AREAS;
+use missionlink_interfaces::wire::{
+    AreaTransferMode, Message, MissionPlanMode, Reason, SafetyOffset, TransferStatus,
+};
+
+use crate::areas::{AreaBuffer, AreaList};
+use crate::mission::{Mission, MissionBuffer};
+use crate::time::Instant;
+
+/// What a receiver made of a message it accepted.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Received<T> {
+    /// Stored; the transfer goes on.
+    Stored,
+    /// The closing message came and the list is complete and valid.
+    Complete(T),
+    /// The peer cancelled or aborted the transfer (with its reason, where it gave one).
+    Abandoned(Option<Reason>),
+}
+
+/// Receives missions: a mission upload on the FCC, a mission download on the GCS.
+#[derive(Debug, Clone)]
+pub struct MissionReceiver {
+    buffer: MissionBuffer,
+    last_heard: Option<Instant>,
+    transfer_timeout: Duration,
+}
+
+impl MissionReceiver {
+    /// A receiver with an empty buffer.
+    pub fn new(transfer_timeout: Duration) -> Self {
+        Self {
+            buffer: MissionBuffer::new(),
+            last_heard: None,
+            transfer_timeout,
+        }
+    }
+
+    /// Whether a transfer is in progress (something arrived and it is neither complete nor
+    /// abandoned).
+    pub fn in_transfer(&self) -> bool {
+        self.last_heard.is_some()
+    }
+
+    /// Starts a transfer (the GCS's download request was accepted) with an empty buffer.
+    pub fn begin(&mut self, now: Instant) {
+        self.buffer.clear();
+        self.last_heard = Some(now);
+    }
+
+    /// Ends the transfer in progress and resets the buffer to `base` (the active mission, or
+    /// nothing): an abandoned edit must not leak into the next one.
+    pub fn abandon(&mut self, base: Option<&Mission>) {
+        self.last_heard = None;
+        self.buffer = base.map(MissionBuffer::from_mission).unwrap_or_default();
+    }
+
+    /// Empties the buffer (#13000 mode 1; the owner checks guidance first).
+    pub fn clear(&mut self, now: Instant) {
+        self.buffer.clear();
+        self.last_heard = Some(now);
+    }
+
+    /// When the transfer in progress times out.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.last_heard.map(|t| t + self.transfer_timeout)
+    }
+
+    /// Whether the transfer in progress has timed out at `now`.
+    pub fn timed_out(&self, now: Instant) -> bool {
+        self.poll_timeout().is_some_and(|deadline| now >= deadline)
+    }
+
+    /// Handles mission data: #13006, #13002, #13001, #13000 mode 2 transmit, #14000. The
+    /// answer to the message is `Ok` (acknowledge type 2) or the reason (type 3).
+    pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received<Mission>, Reason> {
+        self.last_heard = Some(now);
+        match message {
+            Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
+                let mission = self.buffer.assemble(c.waypoint_number, c.mission_id)?;
+                self.last_heard = None;
+                Ok(Received::Complete(mission))
+            }
+            Message::MissionUploadDownloadStatus(s) => match s.status {
+                TransferStatus::Complete => {
+                    let mission = self.buffer.assemble(None, s.mission_id)?;
+                    self.last_heard = None;
+                    Ok(Received::Complete(mission))
+                }
+                TransferStatus::Aborted => {
+                    self.abandon(None);
+                    Ok(Received::Abandoned(s.reason))
+                }
+                TransferStatus::InProgress => Ok(Received::Stored),
+            },
+            other => self.buffer.store(other).map(|()| Received::Stored),
+        }
+    }
+}
+
+/// Receives area lists: an area upload on the FCC, an area download on the GCS.
+#[derive(Debug, Clone)]
+pub struct AreaReceiver {
+    buffer: AreaBuffer,
+    /// Loop count and safety offset of the opening message, while a transfer is open.
+    open: Option<(u8, SafetyOffset)>,
+    last_heard: Option<Instant>,
+    transfer_timeout: Duration,
+}
+
+impl AreaReceiver {
+    /// A receiver with no transfer open.
+    pub fn new(transfer_timeout: Duration) -> Self {
+        Self {
+            buffer: AreaBuffer::new(),
+            open: None,
+            last_heard: None,
+            transfer_timeout,
+        }
+    }
+
+    /// Whether a transfer is open.
+    pub fn in_transfer(&self) -> bool {
+        self.open.is_some()
+    }
+
+    /// Ends the transfer in progress; what was stored is dropped (an area transfer always
+    /// carries the whole list).
+    pub fn abandon(&mut self) {
+        self.buffer = AreaBuffer::new();
+        self.open = None;
+        self.last_heard = None;
+    }
+
+    /// When the transfer in progress times out.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.last_heard.map(|t| t + self.transfer_timeout)
+    }
+
+    /// Whether the transfer in progress has timed out at `now`.
+    pub fn timed_out(&self, now: Instant) -> bool {
+        self.poll_timeout().is_some_and(|deadline| now >= deadline)
+    }
+
+    /// Handles area data: #2011 mode 1 (opens, FCC) or #3013 ready (opens, GCS), #2012, #2011
+    /// mode 2 (closes, FCC) or mode 4 (closes, GCS), #2011 mode 5 cancel.
+    pub fn handle(
+        &mut self,
+        now: Instant,
+        message: &Message,
+    ) -> Result<Received<AreaList>, Reason> {
+        self.last_heard = Some(now);
+        let opening = match message {
+            Message::AreaTransmissionCommand(c) => match c.mode {
+                AreaTransferMode::InitiateUpload => Some((
+                    c.loop_count.unwrap_or(0),
+                    c.safety_offset.unwrap_or_default(),
+                )),
+                AreaTransferMode::UploadComplete | AreaTransferMode::DownloadComplete => {
+                    let (announced, offset) = self.open.ok_or(Reason::WrongState)?;
+                    if c.loop_count != Some(announced) {
+                        return Err(Reason::CountMismatch);
+                    }
+                    let list = self.buffer.assemble(announced, offset)?;
+                    self.abandon();
+                    return Ok(Received::Complete(list));
+                }
+                AreaTransferMode::Cancel => {
+                    self.abandon();
+                    return Ok(Received::Abandoned(None));
+                }
+                AreaTransferMode::InitiateDownload | AreaTransferMode::ClearAreas => {
+                    return Err(Reason::WrongState);
+                }
+            },
+            Message::AreaTransmissionStatus(s) => Some((s.loop_count, s.safety_offset)),
+            Message::AreaPolygonLoopSegment(a) => {
+                if self.open.is_none() {
+                    return Err(Reason::WrongState);
+                }
+                return self.buffer.store(a).map(|()| Received::Stored);
+            }
+            _ => return Err(Reason::WrongState),
+        };
+        if let Some((count, offset)) = opening {
+            // ICD §5.3 step 1: more than the FCC holds is refused at once.
+            if usize::from(count) > MAX_AREAS {
+                self.abandon();
+                return Err(Reason::Capacity);
+            }
+            self.buffer = AreaBuffer::new();
+            self.open = Some((count, offset));
+        }
+        Ok(Received::Stored)
+    }
+}
