@@ -1,0 +1,771 @@
+//! Voting and monitoring of the two data links (paper §2.4; ICD §1, §2).
+//!
+//! The direct and the LTE link carry the same traffic (ICD §1), so every message normally
+//! arrives twice. The voter sits between the sockets and mission data handling and passes each
+//! message on exactly once:
+//!
+//! - **Integrity (ICD §2).** Every message of every datagram (a datagram may hold several, back
+//!   to back) goes through the wrapper rules ([`wire::frames`]), the addressing rules
+//!   ([`Frame::check_addressing`]) and the message rules ([`Frame::message`]). A frame that
+//!   breaks a wrapper or addressing rule is dropped and counted by cause: it is never processed
+//!   and never acknowledged. A message that breaks a message rule but whose time stamp could be
+//!   read is still forwarded, because mission data handling must answer it with #17000 type 3
+//!   and the reason; without a readable time stamp nobody can answer it, so it is dropped.
+//! - **Newest wins (paper §2.4; ICD §3 "Time stamps are identities").** Message sampling
+//!   ([`MessageSampler`], keyed by source, message type and time stamp) drops the redundant copy
+//!   from the other link (or a repeated frame) and any copy older than the newest forwarded of its
+//!   source and type. The voter never waits for the other link: a message that arrives alone is
+//!   forwarded at once, so a dead link costs no latency.
+//! - **Tie goes to the direct link.** The driver hands over a *step*: every datagram received
+//!   since its last wake-up. Within a step the messages are handled in order of (time stamp,
+//!   direct before LTE), so when both copies arrive in the same step the direct copy is the one
+//!   forwarded; across steps the first copy to arrive wins, because waiting would cost latency.
+//!
+//! Sans-IO (DESIGN.md, "The sans-IO core"): the driver passes the time and the bytes in and gets
+//! the forwarded frames back through a callback, as sub-slices of the datagrams it passed in.
+//! Nothing is allocated: a step holds at most [`VOTING_STEP_MESSAGES`] candidates on the stack.
+
+use core::time::Duration;
+
+use heapless::Vec;
+use missionlink_interfaces::contracts::Link;
+use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Timestamp};
+
+use crate::sampling::{MessageSampler, Sample};
+use crate::time::Instant;
+
+/// Messages one step considers at most; the rest of the step is dropped and counted as
+/// [`VotingStats::overflow`]. As deep as the frame queues between the partitions
+/// (`fcc/link/uplink` buffers 64 frames), and far more than a transfer has in flight: one message
+/// per acknowledgement round trip, twice (both links).
+pub const VOTING_STEP_MESSAGES: usize = 64;
+
+/// What the voter did since it was created. Every message of every datagram lands in exactly
+/// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames`, `unreadable_messages`,
+/// `overflow`.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct VotingStats {
+    /// Messages forwarded, per link: `[direct, LTE]` (includes `rejected_messages_forwarded`).
+    pub forwarded: [u64; 2],
+    /// Redundant copies dropped: the same (source, type, time stamp) was already forwarded.
+    pub duplicates: u64,
+    /// Copies dropped because a newer message of the same source and type was already
+    /// forwarded (a delayed duplicate or a reordered frame).
+    pub stale: u64,
+    /// Frames dropped by a rule of ICD §2, all causes; the sum of the eight counters below.
+    pub rejected_frames: u64,
+    /// [`FrameError::TooShort`]: fewer bytes than the wrapper header (an empty datagram too).
+    pub too_short: u64,
+    /// [`FrameError::LengthOutOfRange`]: Message Length 0 or above 528.
+    pub length_out_of_range: u64,
+    /// [`FrameError::LengthMismatch`]: Message Length and checksum width disagree with the
+    /// datagram.
+    pub length_mismatch: u64,
+    /// [`FrameError::InvalidChecksumLength`]: checksum length code 11.
+    pub invalid_checksum_length: u64,
+    /// [`FrameError::ChecksumMismatch`]: wrong checksum.
+    pub checksum_mismatch: u64,
+    /// [`FrameError::UnsupportedVersion`]: IDD version outside 30..=40.
+    pub unsupported_version: u64,
+    /// [`FrameError::WrongDestination`]: neither this node nor broadcast.
+    pub wrong_destination: u64,
+    /// [`FrameError::UnknownSource`]: not the configured peer.
+    pub unknown_source: u64,
+    /// Messages that break a rule of ICD §3 or §4 but carry a readable time stamp: forwarded
+    /// (and counted in `forwarded` too) so that mission data handling rejects them with #17000.
+    pub rejected_messages_forwarded: u64,
+    /// Messages that break a rule of ICD §3 or §4 and whose time stamp cannot be read (or whose
+    /// type the ICD does not define): dropped, since no acknowledgement can refer to them.
+    pub unreadable_messages: u64,
+    /// Messages beyond [`VOTING_STEP_MESSAGES`] in one step: dropped unexamined.
+    pub overflow: u64,
+}
+
+impl VotingStats {
+    /// Counts a frame rejected at the wrapper or by addressing, by cause.
+    fn count_rejected(&mut self, error: &FrameError) {
+        self.rejected_frames += 1;
+        let cause = match error {
+            FrameError::TooShort { .. } => &mut self.too_short,
+            FrameError::LengthOutOfRange { .. } => &mut self.length_out_of_range,
+            FrameError::LengthMismatch { .. } => &mut self.length_mismatch,
+            FrameError::InvalidChecksumLength => &mut self.invalid_checksum_length,
+            FrameError::ChecksumMismatch { .. } => &mut self.checksum_mismatch,
+            FrameError::UnsupportedVersion { .. } => &mut self.unsupported_version,
+            FrameError::WrongDestination { .. } => &mut self.wrong_destination,
+            FrameError::UnknownSource { .. } => &mut self.unknown_source,
+        };
+        *cause += 1;
+    }
+
+    /// Counts a forwarded message on its link.
+    fn count_forwarded(&mut self, link: Link) {
+        let [direct, lte] = &mut self.forwarded;
+        match link {
+            Link::Direct => *direct += 1,
+            // `Both` is no receive link; a driver that passes it gets LTE's treatment (see
+            // `tie_rank`).
+            Link::Lte | Link::Both => *lte += 1,
+        }
+    }
+}
+
+/// Rank of a link on equal time stamps: lower wins. The direct link is preferred (paper §2.4):
+/// it is the link with the shorter, more predictable delay.
+const fn tie_rank(link: Link) -> u8 {
+    match link {
+        Link::Direct => 0,
+        Link::Lte | Link::Both => 1,
+    }
+}
+
+/// A message of the step that passed the wrapper and addressing rules and has a time stamp.
+#[derive(Debug, Clone, Copy)]
+struct Candidate<'a> {
+    link: Link,
+    /// The one message, wrapper to checksum.
+    bytes: &'a [u8],
+    source: u32,
+    message_type: u16,
+    time_stamp: Timestamp,
+    /// The message breaks a rule of ICD §3 or §4 (forwarded for the rejection).
+    rejected: Option<MessageError>,
+    /// Position in the step, so that the order is total and deterministic.
+    arrival: usize,
+}
+
+impl Candidate<'_> {
+    /// Handling order within a step: time stamp, then direct before LTE, then arrival. Sorting
+    /// by time stamp also restores the sender's order (ICD §3: stamps strictly increase), so a
+    /// newer copy never hides an older message of the same source and type as stale.
+    fn order(&self) -> (Timestamp, u8, usize) {
+        (self.time_stamp, tie_rank(self.link), self.arrival)
+    }
+}
+
+/// The voter of one node: integrity checks, message sampling and the direct-link tie-break.
+#[derive(Debug, Clone)]
+pub struct Voter {
+    local_id: u32,
+    peer_id: u32,
+    sampler: MessageSampler,
+    stats: VotingStats,
+}
+
+impl Voter {
+    /// A voter for the node `local_id` that accepts frames from `peer_id` only (ICD §2).
+    /// `sampling_window` is how long the newest time stamp of a (source, type) is remembered
+    /// without traffic (see [`MessageSampler::new`]; the transfer timeout of ICD §1 fits).
+    pub fn new(local_id: u32, peer_id: u32, sampling_window: Duration) -> Self {
+        Self {
+            local_id,
+            peer_id,
+            sampler: MessageSampler::new(sampling_window),
+            stats: VotingStats::default(),
+        }
+    }
+
+    /// Votes one step: `arrivals` are the datagrams received since the last step, each with its
+    /// link. Calls `forward(link, frame_bytes)` for every message to pass on, in forwarding
+    /// order (`frame_bytes` = the bytes of that one message, wrapper to checksum). Bounded: at
+    /// most [`VOTING_STEP_MESSAGES`] messages per step are considered, in arrival order; the
+    /// rest are dropped and counted as [`VotingStats::overflow`].
+    pub fn vote_step<'a>(
+        &mut self,
+        now: Instant,
+        arrivals: &[(Link, &'a [u8])],
+        mut forward: impl FnMut(Link, &'a [u8]),
+    ) {
+        let mut candidates: Vec<Candidate<'a>, VOTING_STEP_MESSAGES> = Vec::new();
+        let mut considered = 0usize;
+        for &(link, datagram) in arrivals {
+            if datagram.is_empty() {
+                // The walker yields nothing for no bytes, but ICD §2 still calls an empty
+                // datagram shorter than the header: count it, so a peer sending them is seen.
+                if self.admit(&mut considered, link) {
+                    self.reject(link, FrameError::TooShort { len: 0 });
+                }
+                continue;
+            }
+            for item in wire::frames(datagram) {
+                let arrival = considered;
+                if !self.admit(&mut considered, link) {
+                    continue;
+                }
+                let checked = item.and_then(|frame| {
+                    frame
+                        .check_addressing(self.local_id, self.peer_id)
+                        .map(|()| frame)
+                });
+                match checked {
+                    Err(error) => self.reject(link, error),
+                    Ok(frame) => {
+                        if let Some(candidate) = self.candidate(link, frame, arrival) {
+                            // `admit` keeps the count within the capacity, so this never fails;
+                            // should it, the message is accounted for rather than lost silently.
+                            if candidates.push(candidate).is_err() {
+                                self.stats.overflow += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Unstable sort: it never allocates, and the arrival index makes the key unique.
+        candidates.sort_unstable_by_key(Candidate::order);
+        for candidate in &candidates {
+            self.sample(now, candidate, &mut forward);
+        }
+    }
+
+    /// One datagram alone (a step of one).
+    pub fn vote<'a>(
+        &mut self,
+        now: Instant,
+        link: Link,
+        datagram: &'a [u8],
+        forward: impl FnMut(Link, &'a [u8]),
+    ) {
+        self.vote_step(now, &[(link, datagram)], forward);
+    }
+
+    /// What the voter did so far.
+    pub fn stats(&self) -> &VotingStats {
+        &self.stats
+    }
+
+    /// Counts one more message of the step; `false` (and counted as overflow) once the step
+    /// has had [`VOTING_STEP_MESSAGES`].
+    fn admit(&mut self, considered: &mut usize, link: Link) -> bool {
+        if *considered >= VOTING_STEP_MESSAGES {
+            self.stats.overflow += 1;
+            tracing::warn!(
+                ?link,
+                limit = VOTING_STEP_MESSAGES,
+                "voting step full: message dropped"
+            );
+            return false;
+        }
+        *considered += 1;
+        true
+    }
+
+    /// Drops a frame by a rule of ICD §2: counted and logged, never processed.
+    fn reject(&mut self, link: Link, error: FrameError) {
+        self.stats.count_rejected(&error);
+        tracing::warn!(?link, %error, "frame rejected");
+    }
+
+    /// Decodes the message of a frame that passed the wrapper and addressing rules; `None` when
+    /// it is dropped because its time stamp cannot be read.
+    fn candidate<'a>(
+        &mut self,
+        link: Link,
+        frame: Frame<'a>,
+        arrival: usize,
+    ) -> Option<Candidate<'a>> {
+        let (time_stamp, rejected) = match frame.message() {
+            Ok(message) => (message.time_stamp(), None),
+            Err(error) => match error.time_stamp {
+                Some(time_stamp) => (time_stamp, Some(error)),
+                None => {
+                    self.stats.unreadable_messages += 1;
+                    tracing::warn!(?link, %error, "message without readable time stamp dropped");
+                    return None;
+                }
+            },
+        };
+        Some(Candidate {
+            link,
+            bytes: frame.as_bytes(),
+            source: frame.source_id(),
+            message_type: frame.message_type(),
+            time_stamp,
+            rejected,
+            arrival,
+        })
+    }
+
+    /// Message sampling of one candidate: forward it when fresh, else count the drop.
+    fn sample<'a>(
+        &mut self,
+        now: Instant,
+        candidate: &Candidate<'a>,
+        forward: &mut impl FnMut(Link, &'a [u8]),
+    ) {
+        let Candidate {
+            link,
+            bytes,
+            source,
+            message_type,
+            time_stamp,
+            rejected,
+            ..
+        } = *candidate;
+        match self.sampler.sample(now, source, message_type, time_stamp) {
+            Sample::Fresh => {
+                self.stats.count_forwarded(link);
+                if let Some(error) = rejected {
+                    self.stats.rejected_messages_forwarded += 1;
+                    tracing::debug!(?link, %error, "message breaks a rule: forwarded for rejection");
+                }
+                forward(link, bytes);
+            }
+            Sample::Duplicate => {
+                self.stats.duplicates += 1;
+                tracing::debug!(?link, message_type, %time_stamp, "redundant copy dropped");
+            }
+            Sample::Stale => {
+                self.stats.stale += 1;
+                tracing::debug!(?link, message_type, %time_stamp, "stale copy dropped");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
+    use missionlink_interfaces::wire::{
+        AckType, Altitude, Angle, BROADCAST_ID, Envelope, LegType, MAX_FRAME_LEN, Message,
+        MessageAcknowledgement, Speed, TurnType, UaPositionWaypoint, frame::checksum,
+    };
+
+    const WINDOW: Duration = Duration::from_secs(3);
+
+    fn ts(ms: u64) -> Timestamp {
+        Timestamp::from_millis(ms).unwrap()
+    }
+
+    /// A valid #13002 (waypoint `number`) stamped `stamp`.
+    fn waypoint(stamp: u64, number: u16) -> UaPositionWaypoint {
+        UaPositionWaypoint {
+            time_stamp: ts(stamp),
+            waypoint_number: number,
+            latitude: Angle::from_degrees(48.275).unwrap(),
+            longitude: Angle::from_degrees(11.645).unwrap(),
+            location_type: None,
+            altitude: Altitude::from_metres(120.0).unwrap(),
+            altitude_type: None,
+            altitude_change_behaviour: None,
+            speed: Speed::from_mps(25.0).unwrap(),
+            speed_type: None,
+            next_waypoint: 0,
+            turn_type: TurnType::FlyBy,
+            optional_messages: None,
+            leg_type: LegType::TrackToFix,
+            limit_type: None,
+            loop_limit: None,
+            arrival_time: None,
+            activity_id: None,
+        }
+    }
+
+    fn encode(envelope: Envelope, message: impl Into<Message>) -> std::vec::Vec<u8> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let len = wire::encode(&envelope, &message.into(), &mut buf).unwrap();
+        buf[..len].to_vec()
+    }
+
+    /// An uplink #13002 from the GCS to the FCC.
+    fn uplink(stamp: u64) -> std::vec::Vec<u8> {
+        encode(
+            Envelope::new(GCS_ID, FCC_ID).with_ack(true),
+            waypoint(stamp, 1),
+        )
+    }
+
+    /// An uplink #17000 from the GCS to the FCC.
+    fn ack(stamp: u64) -> std::vec::Vec<u8> {
+        encode(
+            Envelope::new(GCS_ID, FCC_ID),
+            MessageAcknowledgement {
+                time_stamp: ts(stamp),
+                original_time_stamp: ts(1),
+                original_message_type: 13002,
+                ack_type: AckType::Completed,
+                reject_reason: None,
+            },
+        )
+    }
+
+    /// A frame built by hand around `data`, with a correct 4-byte checksum.
+    fn raw(source: u32, destination: u32, message_type: u16, data: &[u8]) -> std::vec::Vec<u8> {
+        let mut f = vec![0xff, 0xff];
+        f.extend_from_slice(&(data.len() as u16).to_be_bytes());
+        f.extend_from_slice(&source.to_be_bytes());
+        f.extend_from_slice(&destination.to_be_bytes());
+        f.extend_from_slice(&message_type.to_be_bytes());
+        f.extend_from_slice(&0x2880u16.to_be_bytes());
+        f.extend_from_slice(data);
+        let sum = checksum(&f, wire::ChecksumWidth::Four);
+        f.extend_from_slice(&sum.to_be_bytes());
+        f
+    }
+
+    /// Rewrites the checksum after a test changed header bytes.
+    fn fix_checksum(f: &mut [u8]) {
+        let end = f.len() - 4;
+        let sum = checksum(&f[..end], wire::ChecksumWidth::Four);
+        f[end..].copy_from_slice(&sum.to_be_bytes());
+    }
+
+    fn fcc() -> Voter {
+        Voter::new(FCC_ID, GCS_ID, WINDOW)
+    }
+
+    /// Runs one step and collects what was forwarded.
+    fn step(
+        voter: &mut Voter,
+        now: Instant,
+        arrivals: &[(Link, &[u8])],
+    ) -> std::vec::Vec<(Link, std::vec::Vec<u8>)> {
+        let mut out = std::vec::Vec::new();
+        voter.vote_step(now, arrivals, |link, bytes| {
+            out.push((link, bytes.to_vec()))
+        });
+        out
+    }
+
+    fn stats(forwarded: [u64; 2]) -> VotingStats {
+        VotingStats {
+            forwarded,
+            ..VotingStats::default()
+        }
+    }
+
+    #[test]
+    fn single_link_is_forwarded_at_once() {
+        let mut v = fcc();
+        let a = uplink(100);
+        let out = step(&mut v, Instant::from_millis(1), &[(Link::Lte, &a)]);
+        assert_eq!(out, [(Link::Lte, a.clone())]);
+        let b = uplink(200);
+        let mut out = std::vec::Vec::new();
+        v.vote(Instant::from_millis(2), Link::Direct, &b, |l, f| {
+            out.push((l, f.to_vec()))
+        });
+        assert_eq!(out, [(Link::Direct, b)]);
+        assert_eq!(v.stats(), &stats([1, 1]));
+    }
+
+    #[test]
+    fn same_message_on_both_links_in_one_step_goes_out_once_by_direct() {
+        let mut v = fcc();
+        let a = uplink(100);
+        // LTE listed first: the tie-break, not the arrival order, decides.
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Lte, &a), (Link::Direct, &a)],
+        );
+        assert_eq!(out, [(Link::Direct, a)]);
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                duplicates: 1,
+                ..stats([1, 0])
+            }
+        );
+    }
+
+    #[test]
+    fn first_copy_across_steps_wins_without_waiting() {
+        let mut v = fcc();
+        let a = uplink(100);
+        let out = step(&mut v, Instant::from_millis(1), &[(Link::Lte, &a)]);
+        assert_eq!(out, [(Link::Lte, a.clone())]);
+        let out = step(&mut v, Instant::from_millis(2), &[(Link::Direct, &a)]);
+        assert!(out.is_empty());
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                duplicates: 1,
+                ..stats([0, 1])
+            }
+        );
+    }
+
+    #[test]
+    fn repeated_frame_on_one_link_is_a_duplicate() {
+        let mut v = fcc();
+        let a = uplink(100);
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Direct, &a), (Link::Direct, &a)],
+        );
+        assert_eq!(out.len(), 1);
+        assert_eq!(v.stats().duplicates, 1);
+    }
+
+    #[test]
+    fn older_message_is_stale() {
+        let mut v = fcc();
+        let new = uplink(200);
+        let old = uplink(100);
+        assert_eq!(
+            step(&mut v, Instant::from_millis(1), &[(Link::Direct, &new)]).len(),
+            1
+        );
+        assert!(step(&mut v, Instant::from_millis(2), &[(Link::Lte, &old)]).is_empty());
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                stale: 1,
+                ..stats([1, 0])
+            }
+        );
+    }
+
+    #[test]
+    fn newer_lte_after_older_direct_in_one_step_both_forwarded_in_time_stamp_order() {
+        let mut v = fcc();
+        let older = uplink(100);
+        let newer = uplink(200);
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Lte, &newer), (Link::Direct, &older)],
+        );
+        assert_eq!(out, [(Link::Direct, older), (Link::Lte, newer)]);
+        assert_eq!(v.stats(), &stats([1, 1]));
+    }
+
+    #[test]
+    fn interleaved_copies_of_a_sequence_go_out_once_in_order() {
+        let mut v = fcc();
+        let (a, b, c) = (uplink(100), ack(101), uplink(102));
+        // Direct lost b; LTE delivers everything in reverse.
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[
+                (Link::Lte, &c),
+                (Link::Lte, &b),
+                (Link::Lte, &a),
+                (Link::Direct, &a),
+                (Link::Direct, &c),
+            ],
+        );
+        assert_eq!(out, [(Link::Direct, a), (Link::Lte, b), (Link::Direct, c)]);
+        assert_eq!(v.stats().duplicates, 2);
+    }
+
+    #[test]
+    fn frame_errors_are_dropped_and_counted_by_cause() {
+        let good = uplink(100);
+
+        let too_short = good[..10].to_vec();
+        let mut length_zero = good.clone();
+        length_zero[2..4].copy_from_slice(&0u16.to_be_bytes());
+        let mut length_big = good.clone();
+        length_big[2..4].copy_from_slice(&529u16.to_be_bytes());
+        let truncated = good[..good.len() - 1].to_vec();
+        let mut checksum_code_11 = good.clone();
+        checksum_code_11[15] |= 0xc0;
+        let mut corrupted = good.clone();
+        corrupted[20] ^= 0x01;
+        let foreign_version = encode(
+            Envelope {
+                idd_version: 41,
+                ..Envelope::new(GCS_ID, FCC_ID)
+            },
+            waypoint(100, 1),
+        );
+        let other_destination = encode(Envelope::new(GCS_ID, 0x0B00_0002), waypoint(100, 1));
+        let other_source = encode(Envelope::new(0x0A00_0002, FCC_ID), waypoint(100, 1));
+
+        let mut v = fcc();
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[
+                (Link::Direct, &too_short),
+                (Link::Direct, &[]),
+                (Link::Direct, &length_zero),
+                (Link::Lte, &length_big),
+                (Link::Direct, &truncated),
+                (Link::Lte, &checksum_code_11),
+                (Link::Direct, &corrupted),
+                (Link::Lte, &foreign_version),
+                (Link::Direct, &other_destination),
+                (Link::Lte, &other_source),
+            ],
+        );
+        assert!(out.is_empty());
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                rejected_frames: 10,
+                too_short: 2,
+                length_out_of_range: 2,
+                length_mismatch: 1,
+                invalid_checksum_length: 1,
+                checksum_mismatch: 1,
+                unsupported_version: 1,
+                wrong_destination: 1,
+                unknown_source: 1,
+                ..VotingStats::default()
+            }
+        );
+        // A rejected frame does not occupy its key: the sound copy still goes through.
+        assert_eq!(
+            step(&mut v, Instant::from_millis(2), &[(Link::Lte, &good)]),
+            [(Link::Lte, good)]
+        );
+    }
+
+    #[test]
+    fn broadcast_destination_is_accepted() {
+        let mut v = fcc();
+        let a = encode(Envelope::new(GCS_ID, BROADCAST_ID), waypoint(100, 1));
+        assert_eq!(
+            step(&mut v, Instant::from_millis(1), &[(Link::Direct, &a)]),
+            [(Link::Direct, a)]
+        );
+    }
+
+    #[test]
+    fn voter_on_the_gcs_accepts_the_fcc_only() {
+        let mut v = Voter::new(GCS_ID, FCC_ID, WINDOW);
+        let down = encode(Envelope::new(FCC_ID, GCS_ID), waypoint(100, 1));
+        let up = uplink(100);
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Direct, &down), (Link::Direct, &up)],
+        );
+        assert_eq!(out, [(Link::Direct, down)]);
+        assert_eq!(v.stats().wrong_destination, 1);
+    }
+
+    #[test]
+    fn message_with_a_bad_field_is_forwarded_with_its_time_stamp() {
+        let mut v = fcc();
+        // Waypoint number 0 breaks ICD §4 (1..=65534): mission data handling must reject it.
+        let bad = encode(Envelope::new(GCS_ID, FCC_ID), waypoint(100, 0));
+        let err = Frame::new_checked(&bad).unwrap().message().unwrap_err();
+        assert_eq!(err.time_stamp, Some(ts(100)));
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Direct, &bad), (Link::Lte, &bad)],
+        );
+        assert_eq!(out, [(Link::Direct, bad)]);
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                rejected_messages_forwarded: 1,
+                duplicates: 1,
+                ..stats([1, 0])
+            }
+        );
+    }
+
+    #[test]
+    fn message_without_readable_time_stamp_is_dropped() {
+        let mut v = fcc();
+        // #17000 with an empty presence vector: no time stamp.
+        let no_stamp = raw(GCS_ID, FCC_ID, 17000, &[0x00]);
+        // A type the ICD does not define: nothing can be read.
+        let unknown_type = raw(GCS_ID, FCC_ID, 9999, &[0x01, 0, 0, 0, 0, 100]);
+        // A sound header with a rewritten type: the time stamp bytes are there, but unknown.
+        let mut retyped = uplink(100);
+        retyped[12..14].copy_from_slice(&13003u16.to_be_bytes());
+        fix_checksum(&mut retyped);
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[
+                (Link::Direct, &no_stamp),
+                (Link::Lte, &unknown_type),
+                (Link::Direct, &retyped),
+            ],
+        );
+        assert!(out.is_empty());
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                unreadable_messages: 3,
+                ..VotingStats::default()
+            }
+        );
+    }
+
+    #[test]
+    fn every_message_of_a_datagram_is_considered() {
+        let mut v = fcc();
+        let (a, b) = (uplink(100), ack(101));
+        let datagram = [a.as_slice(), b.as_slice()].concat();
+        let out = step(&mut v, Instant::from_millis(1), &[(Link::Lte, &datagram)]);
+        assert_eq!(out, [(Link::Lte, a.clone()), (Link::Lte, b.clone())]);
+        // The direct copies of the same pair are duplicates.
+        let out = step(
+            &mut v,
+            Instant::from_millis(2),
+            &[(Link::Direct, &a), (Link::Direct, &b)],
+        );
+        assert!(out.is_empty());
+        assert_eq!(v.stats().duplicates, 2);
+    }
+
+    #[test]
+    fn broken_tail_of_a_datagram_is_counted_the_messages_before_it_pass() {
+        let mut v = fcc();
+        let a = uplink(100);
+        let datagram = [a.as_slice(), &[0xff, 0xff, 0x00]].concat();
+        let out = step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Direct, &datagram)],
+        );
+        assert_eq!(out, [(Link::Direct, a)]);
+        assert_eq!(v.stats().too_short, 1);
+        assert_eq!(v.stats().rejected_frames, 1);
+    }
+
+    #[test]
+    fn a_step_considers_at_most_its_capacity() {
+        let mut v = fcc();
+        let extra = 6;
+        let frames: std::vec::Vec<_> = (0..(VOTING_STEP_MESSAGES + extra) as u64)
+            .map(|i| uplink(100 + i))
+            .collect();
+        let arrivals: std::vec::Vec<_> = frames
+            .iter()
+            .map(|f| (Link::Direct, f.as_slice()))
+            .collect();
+        let out = step(&mut v, Instant::from_millis(1), &arrivals);
+        assert_eq!(out.len(), VOTING_STEP_MESSAGES);
+        // The first messages of the step are the ones considered.
+        assert_eq!(out.last().unwrap().1, frames[VOTING_STEP_MESSAGES - 1]);
+        assert_eq!(
+            v.stats(),
+            &VotingStats {
+                overflow: extra as u64,
+                ..stats([VOTING_STEP_MESSAGES as u64, 0])
+            }
+        );
+        // Rejected frames count towards the limit too: every message costs a check.
+        let mut v = fcc();
+        let junk = [0u8; 4];
+        let mut arrivals: std::vec::Vec<(Link, &[u8])> =
+            vec![(Link::Lte, &junk[..]); VOTING_STEP_MESSAGES];
+        arrivals.push((Link::Direct, &frames[0]));
+        assert!(step(&mut v, Instant::from_millis(1), &arrivals).is_empty());
+        assert_eq!(v.stats().too_short, VOTING_STEP_MESSAGES as u64);
+        assert_eq!(v.stats().overflow, 1);
+        // The next step starts empty.
+        assert_eq!(
+            step(
+                &mut v,
+                Instant::from_millis(2),
+                &[(Link::Direct, &frames[0])]
+            )
+            .len(),
+            1
+        );
+    }
+}
