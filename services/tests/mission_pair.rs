@@ -1,0 +1,257 @@
+//! The GCS and the FCC stepped through simulated time (ICD §5): uploads, downloads and the
+//! message sequence, without faults.
+
+mod support;
+
+use std::time::Duration;
+
+use missionlink_interfaces::wire::{Message, Reason};
+use missionlink_services::gcs::{GcsError, GcsEvent};
+use missionlink_services::retry::AttemptFailure;
+use support::*;
+
+fn upload(pair: &mut Pair, plan: &missionlink_services::gcs::MissionPlan, clear: bool) {
+    let now = pair.now;
+    pair.gcs.upload(now, plan, clear).unwrap();
+    pair.run_until_standby(Duration::from_secs(60));
+}
+
+fn sequence(pair: &Pair, from: usize) -> Vec<String> {
+    pair.sent[from..]
+        .iter()
+        .map(|s| {
+            let dir = match s.direction {
+                Direction::Up => "up",
+                Direction::Down => "down",
+            };
+            format!("{dir} {}", describe(&s.message))
+        })
+        .collect()
+}
+
+#[test]
+fn demo_mission_1_upload_and_download_follow_icd_5_message_by_message() {
+    let mut pair = Pair::new(1);
+    let plan = mission_1();
+    let expected = pair.gcs.validate(&plan).unwrap();
+    upload(&mut pair, &plan, true);
+    assert!(
+        pair.take_gcs_events().contains(&GcsEvent::UploadComplete),
+        "upload did not complete"
+    );
+    assert_eq!(pair.fcc.active_mission(), Some(&expected.mission));
+    assert_eq!(pair.fcc.active_areas(), Some(&expected.areas));
+    // ICD §5.1 and §5.3, each message answered before the next.
+    assert_eq!(
+        sequence(&pair, 0),
+        [
+            "up 13000 mode 1",
+            "down 17000 completed 13000",
+            "up 13006 take-off",
+            "down 17000 completed 13006",
+            "up 13002 wp 1",
+            "down 17000 completed 13002",
+            "up 13001",
+            "down 17000 completed 13001",
+            "up 13000 mode 2",
+            "down 17000 completed 13000",
+            "up 2011 mode 1",
+            "down 17000 completed 2011",
+            "up 2012 area 1",
+            "down 17000 completed 2012",
+            "up 2011 mode 2",
+            "down 3012 Valid",
+        ]
+    );
+    // Every GCS message asks for an answer; answers do not.
+    for s in &pair.sent {
+        let answer = matches!(
+            s.message,
+            Message::MessageAcknowledgement(_) | Message::AreaStatusAlert(_)
+        );
+        assert_eq!(s.ack_requested, !answer, "{}", describe(&s.message));
+    }
+    // The whole upload took 8 + 3 round trips of 4 ms (2 ms latency each way).
+    assert_eq!(pair.now.micros(), 16 * 2_000);
+
+    let before = pair.sent.len();
+    let now = pair.now;
+    pair.gcs.download(now).unwrap();
+    pair.run_until_standby(Duration::from_secs(60));
+    let events = pair.take_gcs_events();
+    let Some(GcsEvent::DownloadComplete(downloaded)) = events.last() else {
+        panic!("download did not complete: {events:?}");
+    };
+    // ICD §5.2: every field equal.
+    assert_eq!(**downloaded, expected);
+    assert_eq!(
+        sequence(&pair, before),
+        [
+            "up 13000 mode 3",
+            "down 17000 completed 13000",
+            "down 13006 take-off",
+            "up 17000 completed 13006",
+            "down 13002 wp 1",
+            "up 17000 completed 13002",
+            "down 13001",
+            "up 17000 completed 13001",
+            "down 14000 Complete",
+            "up 17000 completed 14000",
+            "up 2011 mode 3",
+            "down 3013 Ready",
+            "up 17000 completed 3013",
+            "down 2012 area 1",
+            "up 17000 completed 2012",
+            "down 2011 mode 4",
+            "up 17000 completed 2011",
+        ]
+    );
+}
+
+#[test]
+fn mission_2_with_rf_leg_circle_and_polygon_round_trips() {
+    let mut pair = Pair::new(2);
+    let plan = mission_2();
+    let expected = pair.gcs.validate(&plan).unwrap();
+    // Flight-plan order, whatever the order of the plan.
+    let order: Vec<u16> = expected
+        .mission
+        .waypoints
+        .iter()
+        .map(|r| r.waypoint.waypoint_number)
+        .collect();
+    assert_eq!(order, [1, 2, 3]);
+    upload(&mut pair, &plan, true);
+    assert!(pair.take_gcs_events().contains(&GcsEvent::UploadComplete));
+    assert_eq!(pair.fcc.active_mission(), Some(&expected.mission));
+    let list = pair.fcc.waypoint_list();
+    assert!(list.bidirectional);
+    assert!(list.waypoints()[2].rf_centre().is_some());
+    let areas = pair.fcc.area_list();
+    assert_eq!(areas.no_fly_circles().len(), 1);
+    assert_eq!(areas.no_fly_polygons().len(), 1);
+    assert_eq!(areas.safety_offset.metres(), 25.0);
+    // The RF centre follows its waypoint (ICD §5.1 step 3).
+    let up: Vec<String> = sequence(&pair, 0)
+        .into_iter()
+        .filter(|s| s.starts_with("up 1300"))
+        .collect();
+    assert_eq!(
+        up,
+        [
+            "up 13000 mode 1",
+            "up 13006 take-off",
+            "up 13002 wp 1",
+            "up 13002 wp 2",
+            "up 13002 wp 3",
+            "up 13006 rf 3",
+            "up 13001",
+            "up 13000 mode 2",
+        ]
+    );
+
+    let now = pair.now;
+    pair.gcs.download(now).unwrap();
+    pair.run_until_standby(Duration::from_secs(60));
+    let events = pair.take_gcs_events();
+    let Some(GcsEvent::DownloadComplete(downloaded)) = events.last() else {
+        panic!("download did not complete: {events:?}");
+    };
+    assert_eq!(**downloaded, expected);
+}
+
+#[test]
+fn upload_over_one_dead_link_completes_on_the_other() {
+    for dead in 0..2 {
+        let mut pair = Pair::new(3);
+        pair.uplink[dead] = Faults::DOWN;
+        pair.downlink[dead] = Faults::DOWN;
+        let plan = mission_2();
+        upload(&mut pair, &plan, true);
+        assert!(pair.take_gcs_events().contains(&GcsEvent::UploadComplete));
+        assert_eq!(
+            pair.fcc.active_mission(),
+            Some(&pair.gcs.validate(&plan).unwrap().mission)
+        );
+    }
+}
+
+#[test]
+fn invalid_plan_is_refused_before_anything_is_sent() {
+    let mut pair = Pair::new(4);
+    let mut plan = mission_1();
+    plan.mission
+        .store(
+            &waypoint(
+                1,
+                7,
+                48.275,
+                11.645,
+                missionlink_interfaces::wire::LegType::TrackToFix,
+            )
+            .into(),
+        )
+        .unwrap();
+    let now = pair.now;
+    assert_eq!(
+        pair.gcs.upload(now, &plan, true),
+        Err(GcsError::InvalidMission(Reason::BrokenChain))
+    );
+    pair.run_until_standby(Duration::from_secs(10));
+    assert!(pair.sent.is_empty());
+}
+
+#[test]
+fn clear_is_refused_while_guidance_is_active() {
+    let mut pair = Pair::new(5);
+    let plan = mission_2();
+    upload(&mut pair, &plan, true);
+    pair.take_gcs_events();
+    let active = pair.fcc.active_mission().cloned();
+    pair.fcc.set_trajectory_generation_active(true);
+    let now = pair.now;
+    pair.gcs
+        .command(
+            now,
+            missionlink_services::sender::mission_command(
+                missionlink_interfaces::wire::MissionPlanMode::ClearMission,
+                None,
+                None,
+            ),
+        )
+        .unwrap();
+    pair.run_until_standby(Duration::from_secs(10));
+    let events = pair.take_gcs_events();
+    let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = events.last() else {
+        panic!("clear was not refused: {events:?}");
+    };
+    assert_eq!(
+        error.first,
+        AttemptFailure::Rejected(Reason::GuidanceActive)
+    );
+    assert_eq!(
+        error.second,
+        AttemptFailure::Rejected(Reason::GuidanceActive)
+    );
+    assert_eq!(pair.fcc.active_mission().cloned(), active);
+    // Once guidance is inactive, the clear goes through.
+    pair.fcc.set_trajectory_generation_active(false);
+    let now = pair.now;
+    pair.gcs
+        .command(
+            now,
+            missionlink_services::sender::mission_command(
+                missionlink_interfaces::wire::MissionPlanMode::ClearMission,
+                None,
+                None,
+            ),
+        )
+        .unwrap();
+    pair.run_until_standby(Duration::from_secs(10));
+    assert!(matches!(
+        pair.take_gcs_events().last(),
+        Some(GcsEvent::CommandAccepted(_))
+    ));
+    assert_eq!(pair.fcc.active_mission(), None);
+    assert!(!pair.fcc.waypoint_list().is_active());
+}

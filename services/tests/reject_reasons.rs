@@ -1,0 +1,406 @@
+//! Every reject reason of ICD §6, provoked through mission data handling: the FCC answers with
+//! #17000 type 3 (or #3012 status 0) and the reason, and its active lists stay as they were.
+
+mod support;
+
+use missionlink_interfaces::defaults;
+use missionlink_interfaces::wire::{
+    self, AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, ExecuteCommand,
+    LegType, MAX_FRAME_LEN, Message, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
+    Text, Timestamp,
+};
+use missionlink_services::endpoint::Endpoint;
+use missionlink_services::fcc::MissionDataHandling;
+use missionlink_services::sender::mission_command;
+use missionlink_services::time::Instant;
+use support::*;
+
+/// The FCC driven by hand: a GCS endpoint stamps and encodes, the FCC answers.
+struct Rig {
+    fcc: MissionDataHandling,
+    gcs: Endpoint,
+    now: Instant,
+}
+
+impl Rig {
+    fn new() -> Self {
+        Self {
+            fcc: MissionDataHandling::new(fcc_config()),
+            gcs: Endpoint::new(endpoint(defaults::GCS_ID, defaults::FCC_ID)),
+            now: Instant::from_millis(1),
+        }
+    }
+
+    /// Sends `message` with "acknowledgement requested"; returns the FCC's answers.
+    fn send(&mut self, message: impl Into<Message>) -> Vec<Message> {
+        self.now = self.now + std::time::Duration::from_millis(1);
+        self.gcs.send(self.now, message.into(), true);
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let len = self.gcs.poll_transmit(&mut buf).unwrap().unwrap();
+        self.send_raw(&buf[..len])
+    }
+
+    fn send_raw(&mut self, frame: &[u8]) -> Vec<Message> {
+        self.fcc.handle_frame(self.now, frame).unwrap();
+        std::iter::from_fn(|| self.fcc.poll_outgoing().map(|(_, m)| m)).collect()
+    }
+
+    /// The reason of the FCC's answer to `message` (None when accepted).
+    fn reason(&mut self, message: impl Into<Message>) -> Option<Reason> {
+        reason_of(&self.send(message))
+    }
+
+    fn accepted(&mut self, message: impl Into<Message>) {
+        let m = message.into();
+        let what = describe(&m);
+        assert_eq!(self.reason(m), None, "{what} refused");
+    }
+
+    /// Uploads demo mission 2 and its areas.
+    fn with_mission_2(mut self) -> Self {
+        let plan = mission_2();
+        let gcs = missionlink_services::gcs::GroundStation::new(
+            gcs_config(),
+            missionlink_services::gcs::WithoutGateway,
+        );
+        let valid = gcs.validate(&plan).unwrap();
+        self.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
+        for m in valid.mission.messages() {
+            self.accepted(m);
+        }
+        self.accepted(mission_command(
+            MissionPlanMode::TransmitMission,
+            Some(3),
+            None,
+        ));
+        self.accepted(area_command(AreaTransferMode::InitiateUpload, Some(3)));
+        for a in valid.areas.areas {
+            self.accepted(a);
+        }
+        assert_eq!(
+            reason_of(&self.send(area_command(AreaTransferMode::UploadComplete, Some(3)))),
+            None
+        );
+        assert!(self.fcc.active_mission().is_some());
+        assert!(self.fcc.active_areas().is_some());
+        self
+    }
+}
+
+fn reason_of(answers: &[Message]) -> Option<Reason> {
+    match answers.first() {
+        Some(Message::MessageAcknowledgement(a)) => match a.ack_type {
+            AckType::Rejected => Some(a.reject_reason.unwrap_or(Reason::None)),
+            _ => None,
+        },
+        Some(Message::AreaStatusAlert(a)) => match a.status {
+            AreaListStatus::Invalid => Some(a.reason.unwrap_or(Reason::None)),
+            AreaListStatus::Valid => None,
+        },
+        other => panic!("no answer: {other:?}"),
+    }
+}
+
+fn area_command(mode: AreaTransferMode, loop_count: Option<u8>) -> AreaTransmissionCommand {
+    AreaTransmissionCommand {
+        time_stamp: Timestamp::default(),
+        mode,
+        loop_count,
+        area_id: None,
+        safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
+        activity_id: None,
+    }
+}
+
+/// A frame from the GCS around hand-made message data (for rules the typed API cannot break).
+fn raw_frame(message_type: u16, data: &[u8]) -> Vec<u8> {
+    let mut f = Vec::new();
+    f.extend_from_slice(&0xFFFFu16.to_be_bytes());
+    f.extend_from_slice(&(data.len() as u16).to_be_bytes());
+    f.extend_from_slice(&defaults::GCS_ID.to_be_bytes());
+    f.extend_from_slice(&defaults::FCC_ID.to_be_bytes());
+    f.extend_from_slice(&message_type.to_be_bytes());
+    // Ack requested, IDD 40, 4-byte checksum.
+    f.extend_from_slice(&0xA880u16.to_be_bytes());
+    f.extend_from_slice(data);
+    let sum: u32 = f.iter().map(|b| u32::from(*b)).sum();
+    f.extend_from_slice(&sum.to_be_bytes());
+    f
+}
+
+/// Time stamp bytes of 2026-11-21T12:00:10Z (ms since 2000).
+const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
+
+#[test]
+fn malformed() {
+    let mut rig = Rig::new();
+    let mut w = waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix);
+    w.waypoint_number = 0;
+    assert_eq!(rig.reason(w), Some(Reason::Malformed));
+}
+
+#[test]
+fn missing_field() {
+    let mut rig = Rig::new();
+    assert_eq!(
+        rig.reason(mission_command(
+            MissionPlanMode::TransmitMission,
+            None,
+            None
+        )),
+        Some(Reason::MissingField)
+    );
+}
+
+#[test]
+fn unknown_field() {
+    let mut rig = Rig::new();
+    // #50000 with PV bit 2 set: only bits 0 and 1 are defined.
+    let mut data = vec![0b111];
+    data.extend_from_slice(&TS);
+    data.extend_from_slice(&[1, 0]);
+    assert_eq!(
+        reason_of(&rig.send_raw(&raw_frame(50000, &data))),
+        Some(Reason::UnknownField)
+    );
+}
+
+#[test]
+fn unsupported() {
+    let mut rig = Rig::new();
+    // #13000 mode 4 is not implemented.
+    let mut data = vec![0b101];
+    data.extend_from_slice(&TS);
+    data.push(4);
+    assert_eq!(
+        reason_of(&rig.send_raw(&raw_frame(13000, &data))),
+        Some(Reason::Unsupported)
+    );
+    // Return to home on a route that is not bidirectional.
+    let mut rig = Rig::new().with_mission_2();
+    let mut route = route(1, false);
+    route.time_stamp = Timestamp::default();
+    rig.accepted(route);
+    rig.accepted(mission_command(
+        MissionPlanMode::TransmitMission,
+        Some(3),
+        None,
+    ));
+    assert_eq!(
+        rig.reason(MissionExecuteCommand {
+            time_stamp: Timestamp::default(),
+            command: ExecuteCommand::ReturnToHome,
+        }),
+        Some(Reason::Unsupported)
+    );
+}
+
+#[test]
+fn capacity() {
+    let mut rig = Rig::new();
+    assert_eq!(
+        rig.reason(area_command(AreaTransferMode::InitiateUpload, Some(12))),
+        Some(Reason::Capacity)
+    );
+    // A 257th waypoint in the buffer.
+    for n in 1..=256u16 {
+        rig.accepted(waypoint(n, n + 1, 48.27, 11.66, LegType::TrackToFix));
+    }
+    assert_eq!(
+        rig.reason(waypoint(999, 0, 48.27, 11.66, LegType::TrackToFix)),
+        Some(Reason::Capacity)
+    );
+}
+
+#[test]
+fn wrong_state() {
+    let mut rig = Rig::new().with_mission_2();
+    // #13002 during a download (the ICD's example).
+    let answers = rig.send(mission_command(MissionPlanMode::ReceiveMission, None, None));
+    assert_eq!(reason_of(&answers), None);
+    assert!(answers.len() >= 2, "the download starts: {answers:?}");
+    assert_eq!(
+        rig.reason(waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix)),
+        Some(Reason::WrongState)
+    );
+    // Execute without an active area list.
+    let mut rig = Rig::new();
+    assert_eq!(
+        rig.reason(MissionExecuteCommand {
+            time_stamp: Timestamp::default(),
+            command: ExecuteCommand::Execute,
+        }),
+        Some(Reason::WrongState)
+    );
+}
+
+#[test]
+fn guidance_active() {
+    let mut rig = Rig::new().with_mission_2();
+    rig.fcc.set_trajectory_generation_active(true);
+    let before = rig.fcc.active_mission().cloned();
+    assert_eq!(
+        rig.reason(mission_command(MissionPlanMode::ClearMission, None, None)),
+        Some(Reason::GuidanceActive)
+    );
+    assert_eq!(
+        rig.reason(area_command(AreaTransferMode::ClearAreas, None)),
+        Some(Reason::GuidanceActive)
+    );
+    assert_eq!(rig.fcc.active_mission().cloned(), before);
+    assert!(rig.fcc.active_areas().is_some());
+}
+
+#[test]
+fn count_mismatch() {
+    let mut rig = Rig::new().with_mission_2();
+    let before = rig.fcc.active_mission().cloned();
+    assert_eq!(
+        rig.reason(mission_command(
+            MissionPlanMode::TransmitMission,
+            Some(4),
+            None
+        )),
+        Some(Reason::CountMismatch)
+    );
+    assert_eq!(rig.fcc.active_mission().cloned(), before);
+}
+
+#[test]
+fn broken_chain() {
+    let mut rig = Rig::new().with_mission_2();
+    let before = rig.fcc.active_mission().cloned();
+    // An edit: waypoint 2 now points at 9, which does not exist.
+    rig.accepted(waypoint(2, 9, 48.278, 11.658, LegType::TrackToFix));
+    assert_eq!(
+        rig.reason(mission_command(
+            MissionPlanMode::TransmitMission,
+            Some(3),
+            None
+        )),
+        Some(Reason::BrokenChain)
+    );
+    assert_eq!(rig.fcc.active_mission().cloned(), before);
+}
+
+#[test]
+fn missing_initial() {
+    let mut rig = Rig::new();
+    rig.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
+    rig.accepted(take_off(30.0));
+    rig.accepted(waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix));
+    rig.accepted(route(5, false));
+    assert_eq!(
+        rig.reason(mission_command(
+            MissionPlanMode::TransmitMission,
+            Some(1),
+            None
+        )),
+        Some(Reason::MissingInitial)
+    );
+    assert!(rig.fcc.active_mission().is_none());
+}
+
+#[test]
+fn missing_rf_centre() {
+    let mut rig = Rig::new();
+    rig.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
+    rig.accepted(take_off(30.0));
+    rig.accepted(waypoint(1, 0, 48.275, 11.645, LegType::RadiusToFix));
+    rig.accepted(route(1, false));
+    assert_eq!(
+        rig.reason(mission_command(
+            MissionPlanMode::TransmitMission,
+            Some(1),
+            None
+        )),
+        Some(Reason::MissingRfCentre)
+    );
+}
+
+#[test]
+fn bad_geometry() {
+    let mut rig = Rig::new().with_mission_2();
+    let before = rig.fcc.active_areas().cloned();
+    // No fly-zone: one no-fly-zone alone.
+    rig.accepted(area_command(AreaTransferMode::InitiateUpload, Some(1)));
+    rig.accepted(circle(2, (48.268, 11.675), (48.268, 11.679)));
+    assert_eq!(
+        reason_of(&rig.send(area_command(AreaTransferMode::UploadComplete, Some(1)))),
+        Some(Reason::BadGeometry)
+    );
+    assert_eq!(rig.fcc.active_areas().cloned(), before);
+    // A polygon of two vertices is refused at decode. PV 0x018F: time stamp, area ID, area
+    // type, shape, vertex count, vertices.
+    let mut data = vec![0x01, 0x8f];
+    data.extend_from_slice(&TS);
+    data.extend_from_slice(&[0, 7, 1, 0, 0, 0, 2]);
+    data.extend_from_slice(&[0u8; 16]);
+    assert_eq!(
+        reason_of(&rig.send_raw(&raw_frame(2012, &data))),
+        Some(Reason::BadGeometry)
+    );
+}
+
+#[test]
+fn busy() {
+    let mut rig = Rig::new().with_mission_2();
+    // An upload is in progress: a download request must wait.
+    rig.accepted(waypoint(2, 3, 48.278, 11.658, LegType::TrackToFix));
+    assert_eq!(
+        rig.reason(mission_command(MissionPlanMode::ReceiveMission, None, None)),
+        Some(Reason::Busy)
+    );
+    // An area download is in progress: an area upload must wait.
+    let answers = rig.send(area_command(AreaTransferMode::InitiateDownload, None));
+    assert!(matches!(
+        answers.first(),
+        Some(Message::AreaTransmissionStatus(_))
+    ));
+    assert_eq!(
+        rig.reason(area_command(AreaTransferMode::InitiateUpload, Some(1))),
+        Some(Reason::Busy)
+    );
+}
+
+#[test]
+fn an_edit_changes_only_the_waypoints_sent() {
+    let mut rig = Rig::new().with_mission_2();
+    let before = rig.fcc.active_mission().cloned().unwrap();
+    let mut w2 = waypoint(2, 3, 48.278, 11.658, LegType::TrackToFix);
+    w2.altitude = wire::Altitude::from_metres(150.0).unwrap();
+    rig.accepted(w2);
+    // Not active before the transmit.
+    assert_eq!(rig.fcc.active_mission(), Some(&before));
+    rig.accepted(mission_command(
+        MissionPlanMode::TransmitMission,
+        Some(3),
+        Some(Text::new("EDIT").unwrap()),
+    ));
+    let after = rig.fcc.active_mission().unwrap();
+    assert_eq!(after.waypoints[0], before.waypoints[0]);
+    assert_eq!(after.waypoints[2], before.waypoints[2]);
+    assert_eq!(after.waypoints[1].waypoint.altitude.metres(), 150.0);
+    assert_eq!(after.take_off, before.take_off);
+    assert_eq!(after.route, before.route);
+    assert_eq!(rig.fcc.waypoint_list().generation, 2);
+}
+
+#[test]
+fn an_abandoned_edit_leaves_nothing_behind() {
+    let mut rig = Rig::new().with_mission_2();
+    let before = rig.fcc.active_mission().cloned().unwrap();
+    rig.accepted(waypoint(2, 9, 48.278, 11.658, LegType::TrackToFix));
+    // The GCS falls silent: after the transfer timeout the edit is dropped.
+    rig.now = rig.now + TRANSFER_TIMEOUT;
+    rig.fcc.handle_timeout(rig.now);
+    // A later edit of waypoint 3 alone is assembled on the active mission, not on the
+    // abandoned edit of waypoint 2.
+    rig.accepted(waypoint(3, 0, 48.280, 11.680, LegType::RadiusToFix));
+    rig.accepted(mission_command(
+        MissionPlanMode::TransmitMission,
+        Some(3),
+        None,
+    ));
+    assert_eq!(rig.fcc.active_mission(), Some(&before));
+}

@@ -1,0 +1,510 @@
+//! A GCS and an FCC stepped through simulated time over two simulated links (after quinn-proto's
+//! `tests/util.rs` `Pair`): every frame goes out on the direct and the LTE link, each link with
+//! its own loss, duplication and latency (random latency reorders), drawn from a seeded RNG. The
+//! receiving side votes each step's arrivals (paper §2.4) before its logic sees them, as the
+//! partitions do.
+#![allow(dead_code)]
+
+use std::time::Duration;
+
+use missionlink_interfaces::contracts::Link;
+use missionlink_interfaces::defaults;
+use missionlink_interfaces::wire::{
+    self, AckType, Altitude, AltitudeType, Angle, AreaType, LegType, MAX_FRAME_LEN, Message,
+    SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnDirection, TurnType,
+    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+};
+use missionlink_services::areas::AreaBuffer;
+use missionlink_services::endpoint::EndpointConfig;
+use missionlink_services::fcc::{FccConfig, FccEvent, MissionDataHandling};
+use missionlink_services::gcs::{GcsConfig, GcsEvent, GroundStation, MissionPlan, WithoutGateway};
+use missionlink_services::mission::MissionBuffer;
+use missionlink_services::time::Instant;
+use missionlink_services::voting::Voter;
+
+pub const ACK_TIMEOUT: Duration = Duration::from_millis(500);
+pub const TRANSFER_TIMEOUT: Duration = Duration::from_secs(3);
+
+/// 2026-11-21T12:00:00Z, the UTC time of instant zero in every test.
+pub fn utc_at_zero() -> Timestamp {
+    Timestamp::from_millis(848_577_600_000).unwrap()
+}
+
+/// A small, fast, seeded RNG (xorshift64*): the same seed gives the same run.
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+    /// Uniform in lo..=hi.
+    pub fn range(&mut self, lo: u64, hi: u64) -> u64 {
+        lo + self.next_u64() % (hi - lo + 1)
+    }
+}
+
+/// The faults of one link in one direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Faults {
+    /// Probability that a frame is lost.
+    pub loss: f64,
+    /// Probability that a frame arrives twice.
+    pub duplicate: f64,
+    /// Latency, uniform in this range (ms); a wide range reorders frames.
+    pub latency_ms: (u64, u64),
+}
+
+impl Faults {
+    pub const NONE: Self = Self {
+        loss: 0.0,
+        duplicate: 0.0,
+        latency_ms: (2, 2),
+    };
+    pub const DOWN: Self = Self {
+        loss: 1.0,
+        duplicate: 0.0,
+        latency_ms: (2, 2),
+    };
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// GCS to FCC.
+    Up,
+    /// FCC to GCS.
+    Down,
+}
+
+/// One message as it left its sender.
+#[derive(Debug, Clone)]
+pub struct Sent {
+    pub at: Instant,
+    pub direction: Direction,
+    pub message: Message,
+    pub ack_requested: bool,
+}
+
+#[derive(Debug)]
+struct InFlight {
+    deliver_at: Instant,
+    order: u64,
+    link: Link,
+    bytes: Vec<u8>,
+}
+
+/// The pair.
+pub struct Pair {
+    pub now: Instant,
+    pub gcs: GroundStation<WithoutGateway>,
+    pub fcc: MissionDataHandling,
+    gcs_voter: Voter,
+    fcc_voter: Voter,
+    /// Faults of [direct, LTE], per direction.
+    pub uplink: [Faults; 2],
+    pub downlink: [Faults; 2],
+    to_fcc: Vec<InFlight>,
+    to_gcs: Vec<InFlight>,
+    order: u64,
+    rng: Rng,
+    pub sent: Vec<Sent>,
+    pub gcs_events: Vec<GcsEvent<core::convert::Infallible>>,
+    pub fcc_events: Vec<FccEvent>,
+}
+
+pub fn endpoint(local_id: u32, peer_id: u32) -> EndpointConfig {
+    EndpointConfig {
+        local_id,
+        peer_id,
+        utc_at_zero: utc_at_zero(),
+        sampling_window: TRANSFER_TIMEOUT,
+    }
+}
+
+pub fn fcc_config() -> FccConfig {
+    FccConfig {
+        endpoint: endpoint(defaults::FCC_ID, defaults::GCS_ID),
+        ack_timeout: ACK_TIMEOUT,
+        transfer_timeout: TRANSFER_TIMEOUT,
+    }
+}
+
+pub fn gcs_config() -> GcsConfig {
+    GcsConfig {
+        endpoint: endpoint(defaults::GCS_ID, defaults::FCC_ID),
+        ack_timeout: ACK_TIMEOUT,
+        transfer_timeout: TRANSFER_TIMEOUT,
+    }
+}
+
+impl Pair {
+    pub fn new(seed: u64) -> Self {
+        Self {
+            now: Instant::ZERO,
+            gcs: GroundStation::new(gcs_config(), WithoutGateway),
+            fcc: MissionDataHandling::new(fcc_config()),
+            gcs_voter: Voter::new(defaults::GCS_ID, defaults::FCC_ID, TRANSFER_TIMEOUT),
+            fcc_voter: Voter::new(defaults::FCC_ID, defaults::GCS_ID, TRANSFER_TIMEOUT),
+            uplink: [Faults::NONE; 2],
+            downlink: [Faults::NONE; 2],
+            to_fcc: Vec::new(),
+            to_gcs: Vec::new(),
+            order: 0,
+            rng: Rng::new(seed),
+            sent: Vec::new(),
+            gcs_events: Vec::new(),
+            fcc_events: Vec::new(),
+        }
+    }
+
+    /// Puts what both sides want to send on both links of its direction.
+    fn drain_outgoing(&mut self) {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        while let Some((envelope, message)) = self.gcs.poll_outgoing() {
+            let len = wire::encode(&envelope, &message, &mut buf).unwrap();
+            self.sent.push(Sent {
+                at: self.now,
+                direction: Direction::Up,
+                message,
+                ack_requested: envelope.ack_requested,
+            });
+            for (i, link) in [Link::Direct, Link::Lte].into_iter().enumerate() {
+                let faults = self.uplink[i];
+                self.transmit(Direction::Up, link, faults, &buf[..len]);
+            }
+        }
+        while let Some((envelope, message)) = self.fcc.poll_outgoing() {
+            let len = wire::encode(&envelope, &message, &mut buf).unwrap();
+            self.sent.push(Sent {
+                at: self.now,
+                direction: Direction::Down,
+                message,
+                ack_requested: envelope.ack_requested,
+            });
+            for (i, link) in [Link::Direct, Link::Lte].into_iter().enumerate() {
+                let faults = self.downlink[i];
+                self.transmit(Direction::Down, link, faults, &buf[..len]);
+            }
+        }
+    }
+
+    fn transmit(&mut self, direction: Direction, link: Link, faults: Faults, bytes: &[u8]) {
+        let copies = if self.rng.chance(faults.loss) {
+            0
+        } else if self.rng.chance(faults.duplicate) {
+            2
+        } else {
+            1
+        };
+        for _ in 0..copies {
+            let latency = self.rng.range(faults.latency_ms.0, faults.latency_ms.1);
+            self.order += 1;
+            let f = InFlight {
+                deliver_at: self.now + Duration::from_millis(latency),
+                order: self.order,
+                link,
+                bytes: bytes.to_vec(),
+            };
+            match direction {
+                Direction::Up => self.to_fcc.push(f),
+                Direction::Down => self.to_gcs.push(f),
+            }
+        }
+    }
+
+    fn drain_events(&mut self) {
+        while let Some(e) = self.gcs.poll_event() {
+            self.gcs_events.push(e);
+        }
+        while let Some(e) = self.fcc.poll_event() {
+            self.fcc_events.push(e);
+        }
+    }
+
+    /// When something happens next: a delivery or a timer.
+    pub fn next_time(&self) -> Option<Instant> {
+        self.to_fcc
+            .iter()
+            .chain(&self.to_gcs)
+            .map(|f| f.deliver_at)
+            .chain(self.gcs.poll_timeout())
+            .chain(self.fcc.poll_timeout())
+            .min()
+    }
+
+    fn take_due(queue: &mut Vec<InFlight>, now: Instant) -> Vec<InFlight> {
+        let (mut due, rest): (Vec<_>, Vec<_>) = queue.drain(..).partition(|f| f.deliver_at <= now);
+        *queue = rest;
+        due.sort_by_key(|f| (f.deliver_at, f.order));
+        due
+    }
+
+    /// Advances to the next event and handles it. `false` when nothing is left to happen.
+    pub fn step(&mut self) -> bool {
+        self.drain_outgoing();
+        let Some(next) = self.next_time() else {
+            return false;
+        };
+        self.now = self.now.max(next);
+        let now = self.now;
+
+        let due = Self::take_due(&mut self.to_fcc, now);
+        let arrivals: Vec<(Link, &[u8])> =
+            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
+        let fcc = &mut self.fcc;
+        self.fcc_voter.vote_step(now, &arrivals, |_, frame| {
+            let _ = fcc.handle_frame(now, frame);
+        });
+
+        let due = Self::take_due(&mut self.to_gcs, now);
+        let arrivals: Vec<(Link, &[u8])> =
+            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
+        let gcs = &mut self.gcs;
+        self.gcs_voter.vote_step(now, &arrivals, |_, frame| {
+            let _ = gcs.handle_frame(now, frame);
+        });
+
+        if self.fcc.poll_timeout().is_some_and(|t| t <= now) {
+            self.fcc.handle_timeout(now);
+        }
+        if self.gcs.poll_timeout().is_some_and(|t| t <= now) {
+            self.gcs.handle_timeout(now);
+        }
+        self.drain_events();
+        self.drain_outgoing();
+        true
+    }
+
+    /// Steps until the GCS is back in standby and nothing is in flight, or `limit` of
+    /// simulated time has passed.
+    pub fn run_until_standby(&mut self, limit: Duration) {
+        let end = self.now + limit;
+        while self.now < end {
+            self.drain_outgoing();
+            if self.gcs.is_standby() && self.to_fcc.is_empty() && self.to_gcs.is_empty() {
+                return;
+            }
+            if !self.step() {
+                return;
+            }
+        }
+    }
+
+    /// Steps until simulated time reaches `until` (or nothing is left to happen before it).
+    pub fn run_until(&mut self, until: Instant) {
+        while self.next_time().is_some_and(|t| t <= until) {
+            self.step();
+        }
+        self.now = self.now.max(until);
+        self.fcc.handle_timeout(self.now);
+        self.gcs.handle_timeout(self.now);
+        self.drain_events();
+    }
+
+    /// The GCS events since the last call.
+    pub fn take_gcs_events(&mut self) -> Vec<GcsEvent<core::convert::Infallible>> {
+        std::mem::take(&mut self.gcs_events)
+    }
+}
+
+/// A compact description of a message for sequence checks: type, then mode, ack type and the
+/// acknowledged type where they matter.
+pub fn describe(m: &Message) -> String {
+    match m {
+        Message::MessageAcknowledgement(a) => format!(
+            "17000 {} {}",
+            match a.ack_type {
+                AckType::Completed => "completed",
+                AckType::Rejected => "rejected",
+                other => return format!("17000 {other:?}"),
+            },
+            a.original_message_type
+        ),
+        Message::MissionTransferCommand(c) => format!("13000 mode {}", c.mode as u8),
+        Message::AreaTransmissionCommand(c) => format!("2011 mode {}", c.mode as u8),
+        Message::VehicleSpecificWaypoint(v) => match v.data {
+            SpecificData::TakeOffHeight { .. } => "13006 take-off".to_owned(),
+            SpecificData::RfCentre {
+                waypoint_number, ..
+            } => format!("13006 rf {waypoint_number}"),
+        },
+        Message::UaPositionWaypoint(w) => format!("13002 wp {}", w.waypoint_number),
+        Message::AreaPolygonLoopSegment(a) => format!("2012 area {}", a.area_id),
+        Message::AreaStatusAlert(a) => format!("3012 {:?}", a.status),
+        Message::AreaTransmissionStatus(s) => format!("3013 {:?}", s.status),
+        Message::MissionUploadDownloadStatus(s) => format!("14000 {:?}", s.status),
+        other => format!("{}", other.message_type() as u16),
+    }
+}
+
+// ---- The demo missions of ../shared/missions (README there) ----
+
+pub fn waypoint(number: u16, next: u16, lat: f64, lon: f64, leg: LegType) -> UaPositionWaypoint {
+    UaPositionWaypoint {
+        time_stamp: Timestamp::default(),
+        waypoint_number: number,
+        latitude: Angle::from_degrees(lat).unwrap(),
+        longitude: Angle::from_degrees(lon).unwrap(),
+        location_type: None,
+        altitude: Altitude::from_metres(120.0).unwrap(),
+        altitude_type: Some(AltitudeType::Wgs84),
+        altitude_change_behaviour: None,
+        speed: Speed::from_mps(25.0).unwrap(),
+        speed_type: Some(SpeedType::IndicatedAirspeed),
+        next_waypoint: next,
+        turn_type: TurnType::FlyBy,
+        optional_messages: (leg == LegType::RadiusToFix).then_some(1),
+        leg_type: leg,
+        limit_type: None,
+        loop_limit: None,
+        arrival_time: None,
+        activity_id: None,
+    }
+}
+
+pub fn take_off(height_m: f64) -> VehicleSpecificWaypoint {
+    VehicleSpecificWaypoint {
+        time_stamp: Timestamp::default(),
+        data: SpecificData::TakeOffHeight {
+            height: Altitude::from_metres(height_m).unwrap(),
+        },
+        activity_id: None,
+    }
+}
+
+pub fn rf_centre(number: u16, lat: f64, lon: f64, dir: TurnDirection) -> VehicleSpecificWaypoint {
+    VehicleSpecificWaypoint {
+        time_stamp: Timestamp::default(),
+        data: SpecificData::RfCentre {
+            waypoint_number: number,
+            latitude: Angle::from_degrees(lat).unwrap(),
+            longitude: Angle::from_degrees(lon).unwrap(),
+            turn_direction: dir,
+        },
+        activity_id: None,
+    }
+}
+
+pub fn route(initial: u16, bidirectional: bool) -> UaRoute {
+    UaRoute {
+        time_stamp: Timestamp::default(),
+        initial_waypoint: initial,
+        route_id: None,
+        route_type: Some(wire::RouteType::Flight),
+        bidirectional,
+    }
+}
+
+pub use missionlink_interfaces::wire::AreaPolygonLoopSegment;
+
+pub fn polygon(id: u16, area_type: AreaType, corners: &[(f64, f64)]) -> AreaPolygonLoopSegment {
+    let mut v = wire::PolygonVertices::new();
+    for (lat, lon) in corners {
+        v.push(wire::GeoPoint::from_degrees(*lat, *lon).unwrap())
+            .unwrap();
+    }
+    AreaPolygonLoopSegment {
+        time_stamp: Timestamp::default(),
+        area_id: id,
+        area_type,
+        lower_altitude: None,
+        upper_altitude: None,
+        altitude_type: None,
+        shape: wire::AreaShape::Polygon(v),
+    }
+}
+
+pub fn circle(id: u16, centre: (f64, f64), border: (f64, f64)) -> AreaPolygonLoopSegment {
+    AreaPolygonLoopSegment {
+        time_stamp: Timestamp::default(),
+        area_id: id,
+        area_type: AreaType::NoFlyZone,
+        lower_altitude: None,
+        upper_altitude: None,
+        altitude_type: None,
+        shape: wire::AreaShape::Circle {
+            centre: wire::GeoPoint::from_degrees(centre.0, centre.1).unwrap(),
+            border: wire::GeoPoint::from_degrees(border.0, border.1).unwrap(),
+        },
+    }
+}
+
+pub const FLY_ZONE: [(f64, f64); 4] = [
+    (48.255, 11.635),
+    (48.255, 11.690),
+    (48.285, 11.690),
+    (48.285, 11.635),
+];
+
+fn plan(messages: &[Message], areas: &[AreaPolygonLoopSegment], mission_id: &str) -> MissionPlan {
+    let mut mission = MissionBuffer::new();
+    for m in messages {
+        mission.store(m).unwrap();
+    }
+    let mut area_buffer = AreaBuffer::new();
+    for a in areas {
+        area_buffer.store(a).unwrap();
+    }
+    MissionPlan {
+        mission,
+        areas: area_buffer,
+        safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
+        mission_id: Some(Text::new(mission_id).unwrap()),
+    }
+}
+
+/// Demo mission 1: TROL to CCP, one waypoint (CCP), take-off 30 m, its fly-zone.
+pub fn mission_1() -> MissionPlan {
+    plan(
+        &[
+            take_off(30.0).into(),
+            waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix).into(),
+            route(1, false).into(),
+        ],
+        &[polygon(1, AreaType::FlyZone, &FLY_ZONE)],
+        "MEDEVAC-1",
+    )
+}
+
+/// Demo mission 2, the richer variant: CCP -> W1 (track-to-fix) -> ROLE2 (radius-to-fix,
+/// clockwise), bidirectional, the fly-zone, a circular and a polygonal no-fly-zone.
+pub fn mission_2() -> MissionPlan {
+    plan(
+        &[
+            take_off(30.0).into(),
+            waypoint(3, 0, 48.280, 11.680, LegType::RadiusToFix).into(),
+            rf_centre(3, 48.27455, 11.66991, TurnDirection::Clockwise).into(),
+            waypoint(1, 2, 48.275, 11.645, LegType::TrackToFix).into(),
+            waypoint(2, 3, 48.278, 11.658, LegType::TrackToFix).into(),
+            route(1, true).into(),
+        ],
+        &[
+            polygon(1, AreaType::FlyZone, &FLY_ZONE),
+            circle(2, (48.268, 11.675), (48.268, 11.679)),
+            polygon(
+                3,
+                AreaType::NoFlyZone,
+                &[
+                    (48.262, 11.640),
+                    (48.262, 11.646),
+                    (48.266, 11.646),
+                    (48.266, 11.640),
+                ],
+            ),
+        ],
+        "MEDEVAC-2",
+    )
+}
