@@ -17,6 +17,14 @@
 //!
 //! Active lists change only when a complete new list is valid; a failed or abandoned transfer
 //! leaves them as they were. Steady-state handling allocates nothing.
+//!
+//! The clear of ICD §5.1 step 1 (#13000 mode 1) empties the waypoint buffer at once, but the
+//! active list only with the #13000 mode 2 that closes the transfer. This project's choice where
+//! the ICD's "empties ... the active list" meets the rule above: a full upload that fails after
+//! its clear would otherwise leave the FCC without its mission. To clear the active mission, a
+//! GCS sends the clear and then #13000 mode 2 with Waypoint Number 0, which activates the empty
+//! list ([`crate::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
+//! nothing.
 
 use core::time::Duration;
 
@@ -332,10 +340,9 @@ impl MissionDataHandling {
         if self.mission_download.is_some() {
             return Err(Reason::Busy);
         }
+        // The buffer empties now; the active list changes only with the transmit that closes
+        // the transfer (see the module documentation).
         self.mission_upload.clear(now);
-        if self.active_mission.take().is_some() {
-            self.mission_changed(FccEvent::MissionCleared);
-        }
         Ok(())
     }
 
@@ -371,6 +378,12 @@ impl MissionDataHandling {
                 }
                 Ok(())
             }
+            Received::Emptied => {
+                if self.active_mission.take().is_some() {
+                    self.mission_changed(FccEvent::MissionCleared);
+                }
+                Ok(())
+            }
             Received::Stored | Received::Abandoned(_) => Ok(()),
         }
     }
@@ -391,7 +404,9 @@ impl MissionDataHandling {
                 }
                 Ok(())
             }
-            Ok(Received::Stored | Received::Abandoned(_)) => Err(Reason::WrongState),
+            Ok(Received::Stored | Received::Abandoned(_) | Received::Emptied) => {
+                Err(Reason::WrongState)
+            }
             Err(reason) => Err(reason),
         };
         let loop_count = self

@@ -306,7 +306,17 @@ impl<G: SafetyGateway> GroundStation<G> {
         Ok(())
     }
 
-    /// A single command: #13000 mode 1 clear, #2011 mode 6 clear areas, #50000 execute.
+    /// Clears the active mission: #13000 mode 1, then mode 2 with 0 waypoints (see
+    /// [`crate::fcc`]).
+    pub fn clear_mission(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
+        if !self.is_standby() {
+            return Err(GcsError::Busy);
+        }
+        self.start(now, State::Commanding, Script::MissionClear);
+        Ok(())
+    }
+
+    /// A single command: #2011 mode 6 clear areas, #50000 execute.
     pub fn command(&mut self, now: Instant, message: Message) -> Result<(), GcsError<G::Report>> {
         if !self.is_standby() {
             return Err(GcsError::Busy);
@@ -405,7 +415,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                         phase: Phase::MissionDownload,
                         reason,
                     }),
-                    Ok(Received::Stored) => {}
+                    Ok(Received::Stored | Received::Emptied) => {}
                     Err(reason) if matches!(message, Message::MissionUploadDownloadStatus(_)) => {
                         self.fail(GcsError::InvalidDownload {
                             phase: Phase::MissionDownload,
@@ -444,7 +454,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                         phase: Phase::AreaDownload,
                         reason,
                     }),
-                    Ok(Received::Stored) => {}
+                    Ok(Received::Stored | Received::Emptied) => {}
                     Err(reason) if matches!(message, Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::DownloadComplete) =>
                     {
                         self.fail(GcsError::InvalidDownload {

@@ -28,6 +28,9 @@ pub enum Received<T> {
     Complete(T),
     /// The peer cancelled or aborted the transfer (with its reason, where it gave one).
     Abandoned(Option<Reason>),
+    /// The closing message activates the empty list: #13000 mode 2 with Waypoint Number 0
+    /// after a clear (how this project clears the active mission, see [`crate::fcc`]).
+    Emptied,
 }
 
 /// Receives missions: a mission upload on the FCC, a mission download on the GCS.
@@ -89,6 +92,13 @@ impl MissionReceiver {
         self.last_heard = Some(now);
         match message {
             Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
+                if c.waypoint_number == Some(0) {
+                    if !self.buffer.is_empty() {
+                        return Err(Reason::CountMismatch);
+                    }
+                    self.last_heard = None;
+                    return Ok(Received::Emptied);
+                }
                 let mission = self.buffer.assemble(c.waypoint_number, c.mission_id)?;
                 self.last_heard = None;
                 Ok(Received::Complete(mission))

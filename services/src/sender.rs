@@ -9,7 +9,8 @@
 //! | mission download | FCC | #13006 take-off, #13002 (+ #13006 RF) ..., #13001, #14000 complete (§5.2) |
 //! | area upload | GCS | #2011 initiate upload, #2012 ..., #2011 upload complete (§5.3) |
 //! | area download | FCC | #3013 ready, #2012 ..., #2011 download complete (§5.4) |
-//! | request | GCS | one message: download requests, clear, execute |
+//! | mission clear | GCS | #13000 clear, #13000 transmit with 0 waypoints |
+//! | request | GCS | one message: download requests, clear areas, execute |
 
 use core::time::Duration;
 
@@ -50,6 +51,9 @@ pub enum Script {
         /// The active area list.
         list: AreaList,
     },
+    /// GCS to FCC: #13000 mode 1 clear, then #13000 mode 2 with Waypoint Number 0, which
+    /// activates the empty list (see [`crate::fcc`]).
+    MissionClear,
     /// One message and its answer.
     Request(Message),
 }
@@ -79,6 +83,7 @@ impl Script {
             }
             Self::MissionDownload { mission } => mission.message_count() + 1,
             Self::AreaUpload { list } | Self::AreaDownload { list } => list.areas.len() + 2,
+            Self::MissionClear => 2,
             Self::Request(_) => 1,
         }
     }
@@ -152,6 +157,15 @@ impl Script {
                     _ => None,
                 }
             }
+            Self::MissionClear => match index {
+                0 => Some(mission_command(MissionPlanMode::ClearMission, None, None)),
+                1 => Some(mission_command(
+                    MissionPlanMode::TransmitMission,
+                    Some(0),
+                    None,
+                )),
+                _ => None,
+            },
             Self::Request(m) => (index == 0).then(|| m.clone()),
         }
     }
@@ -160,7 +174,7 @@ impl Script {
     /// an answer: #13000 mode 5 and #2011 mode 5 cancel, #14000 aborted for a mission download.
     fn abandon_message(&self, reason: Reason) -> Option<Message> {
         match self {
-            Self::MissionUpload { .. } => {
+            Self::MissionUpload { .. } | Self::MissionClear => {
                 Some(mission_command(MissionPlanMode::CancelTransfer, None, None))
             }
             Self::MissionDownload { mission } => Some(

@@ -210,16 +210,7 @@ fn clear_is_refused_while_guidance_is_active() {
     let active = pair.fcc.active_mission().cloned();
     pair.fcc.set_trajectory_generation_active(true);
     let now = pair.now;
-    pair.gcs
-        .command(
-            now,
-            missionlink_services::sender::mission_command(
-                missionlink_interfaces::wire::MissionPlanMode::ClearMission,
-                None,
-                None,
-            ),
-        )
-        .unwrap();
+    pair.gcs.clear_mission(now).unwrap();
     pair.run_until_standby(Duration::from_secs(10));
     let events = pair.take_gcs_events();
     let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = events.last() else {
@@ -237,16 +228,7 @@ fn clear_is_refused_while_guidance_is_active() {
     // Once guidance is inactive, the clear goes through.
     pair.fcc.set_trajectory_generation_active(false);
     let now = pair.now;
-    pair.gcs
-        .command(
-            now,
-            missionlink_services::sender::mission_command(
-                missionlink_interfaces::wire::MissionPlanMode::ClearMission,
-                None,
-                None,
-            ),
-        )
-        .unwrap();
+    pair.gcs.clear_mission(now).unwrap();
     pair.run_until_standby(Duration::from_secs(10));
     assert!(matches!(
         pair.take_gcs_events().last(),

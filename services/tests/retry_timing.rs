@@ -1,0 +1,224 @@
+//! Timeout and retry (paper §3.1.4, ICD §5) in scripted time: nothing before the ack timeout, the
+//! resend exactly at it with a new time stamp, the abort after the second timeout; the same for
+//! rejections; and the receiver's transfer timeout.
+
+mod support;
+
+use std::time::Duration;
+
+use missionlink_interfaces::defaults;
+use missionlink_interfaces::wire::{
+    AckType, ExecuteCommand, MAX_FRAME_LEN, Message, MessageAcknowledgement, MessageType,
+    MissionExecuteCommand, Reason, Timestamp,
+};
+use missionlink_services::endpoint::Endpoint;
+use missionlink_services::gcs::{GcsError, GcsEvent, GroundStation, WithoutGateway};
+use missionlink_services::retry::{AttemptFailure, Subject};
+use missionlink_services::time::Instant;
+use support::*;
+
+fn execute() -> Message {
+    MissionExecuteCommand {
+        time_stamp: Timestamp::default(),
+        command: ExecuteCommand::Execute,
+    }
+    .into()
+}
+
+fn sent(gcs: &mut GroundStation<WithoutGateway>) -> Vec<Message> {
+    std::iter::from_fn(|| gcs.poll_outgoing().map(|(_, m)| m)).collect()
+}
+
+fn at(ms: u64) -> Instant {
+    Instant::from_millis(ms)
+}
+
+#[test]
+fn resend_at_the_ack_timeout_with_a_new_time_stamp_then_abort() {
+    let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
+    gcs.command(at(0), execute()).unwrap();
+    let first = sent(&mut gcs);
+    assert_eq!(first.len(), 1);
+    assert_eq!(gcs.poll_timeout(), Some(at(500)));
+
+    gcs.handle_timeout(at(499));
+    assert!(sent(&mut gcs).is_empty(), "no resend at timeout - 1 ms");
+
+    gcs.handle_timeout(at(500));
+    let second = sent(&mut gcs);
+    assert_eq!(second.len(), 1, "resend at the timeout");
+    assert_eq!(second[0].message_type(), MessageType::MissionExecuteCommand);
+    assert!(
+        second[0].time_stamp() > first[0].time_stamp(),
+        "a retry gets a new time stamp"
+    );
+    assert_eq!(
+        second[0].time_stamp().millis() - first[0].time_stamp().millis(),
+        500
+    );
+    assert_eq!(gcs.poll_timeout(), Some(at(1000)));
+
+    gcs.handle_timeout(at(999));
+    assert!(sent(&mut gcs).is_empty());
+    assert!(gcs.poll_event().is_none());
+
+    gcs.handle_timeout(at(1000));
+    assert!(sent(&mut gcs).is_empty(), "no third attempt");
+    let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = gcs.poll_event() else {
+        panic!("no abort after the second timeout");
+    };
+    assert_eq!(error.message_type, MessageType::MissionExecuteCommand);
+    assert_eq!(error.first, AttemptFailure::Timeout);
+    assert_eq!(error.second, AttemptFailure::Timeout);
+    assert_eq!(
+        error.to_string(),
+        "#50000 Mission Execute Command: no answer within the ack timeout; retried: no answer \
+         within the ack timeout"
+    );
+    assert!(gcs.is_standby());
+    assert_eq!(gcs.poll_timeout(), None);
+}
+
+/// The FCC's answer to `original`, as bytes from the FCC.
+fn answer(original: &Message, ack_type: AckType, reason: Reason, at_ms: u64) -> Vec<u8> {
+    let mut fcc = Endpoint::new(endpoint(defaults::FCC_ID, defaults::GCS_ID));
+    let ack = MessageAcknowledgement {
+        time_stamp: Timestamp::default(),
+        original_time_stamp: original.time_stamp(),
+        original_message_type: original.message_type() as u16,
+        ack_type,
+        reject_reason: Some(reason),
+    };
+    fcc.send(at(at_ms), ack.into(), false);
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let len = fcc.poll_transmit(&mut buf).unwrap().unwrap();
+    buf[..len].to_vec()
+}
+
+#[test]
+fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
+    let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
+    gcs.command(at(0), execute()).unwrap();
+    let first = sent(&mut gcs).remove(0);
+
+    gcs.handle_frame(
+        at(10),
+        &answer(&first, AckType::Rejected, Reason::WrongState, 10),
+    )
+    .unwrap();
+    let second = sent(&mut gcs);
+    assert_eq!(second.len(), 1, "resend at once after a rejection");
+    assert!(second[0].time_stamp() > first.time_stamp());
+    assert_eq!(gcs.poll_timeout(), Some(at(510)), "a fresh ack timeout");
+
+    // A late rejection of the first attempt says nothing about the retry.
+    gcs.handle_frame(
+        at(20),
+        &answer(&first, AckType::Rejected, Reason::WrongState, 11),
+    )
+    .unwrap();
+    assert!(sent(&mut gcs).is_empty());
+    assert!(gcs.poll_event().is_none());
+
+    gcs.handle_frame(
+        at(30),
+        &answer(&second[0], AckType::Rejected, Reason::WrongState, 30),
+    )
+    .unwrap();
+    assert!(sent(&mut gcs).is_empty(), "no third attempt");
+    let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = gcs.poll_event() else {
+        panic!("no abort after the second rejection");
+    };
+    assert_eq!(error.first, AttemptFailure::Rejected(Reason::WrongState));
+    assert_eq!(error.second, AttemptFailure::Rejected(Reason::WrongState));
+    assert_eq!(error.reason(), Some(Reason::WrongState));
+}
+
+#[test]
+fn a_timeout_then_an_acceptance_of_either_attempt_succeeds() {
+    let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
+    gcs.command(at(0), execute()).unwrap();
+    let first = sent(&mut gcs).remove(0);
+    gcs.handle_timeout(at(500));
+    assert_eq!(sent(&mut gcs).len(), 1);
+    // The acceptance of the first attempt arrives late: the command was carried out.
+    gcs.handle_frame(
+        at(600),
+        &answer(&first, AckType::Completed, Reason::None, 600),
+    )
+    .unwrap();
+    assert_eq!(
+        gcs.poll_event(),
+        Some(GcsEvent::CommandAccepted(
+            MessageType::MissionExecuteCommand
+        ))
+    );
+    assert!(gcs.is_standby());
+}
+
+#[test]
+fn an_upload_that_loses_its_link_names_the_message_after_the_retry() {
+    let mut pair = Pair::new(7);
+    pair.uplink = [Faults::NONE; 2];
+    let plan = mission_2();
+    let now = pair.now;
+    pair.gcs.upload(now, &plan, true).unwrap();
+    // Let the clear, the take-off height and waypoint 1 through, then cut both uplinks.
+    while pair
+        .sent
+        .iter()
+        .filter(|s| s.direction == Direction::Up)
+        .count()
+        < 3
+    {
+        pair.step();
+    }
+    pair.uplink = [Faults::DOWN; 2];
+    let cut = pair.now;
+    pair.run_until_standby(Duration::from_secs(30));
+    let events = pair.take_gcs_events();
+    let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = events.last() else {
+        panic!("{events:?}");
+    };
+    assert_eq!(error.message_type, MessageType::UaPositionWaypoint);
+    assert_eq!(error.subject, Some(Subject::Waypoint(2)));
+    // Worst case for one message: 2 x ack timeout.
+    assert!(pair.now.saturating_since(cut) <= 2 * ACK_TIMEOUT + Duration::from_millis(10));
+    // The FCC abandons the upload after the transfer timeout; nothing was activated.
+    let deadline = pair.now + TRANSFER_TIMEOUT;
+    pair.run_until(deadline);
+    assert_eq!(pair.fcc.active_mission(), None);
+    assert!(pair.fcc_events.iter().any(|e| matches!(
+        e,
+        missionlink_services::fcc::FccEvent::UploadAbandoned { .. }
+    )));
+}
+
+#[test]
+fn a_download_abandoned_when_the_fcc_falls_silent() {
+    let mut pair = Pair::new(8);
+    let now = pair.now;
+    pair.gcs.upload(now, &mission_1(), true).unwrap();
+    pair.run_until_standby(Duration::from_secs(10));
+    pair.take_gcs_events();
+    let now = pair.now;
+    pair.gcs.download(now).unwrap();
+    // The FCC accepts the request and sends the take-off height, then its downlinks die.
+    while !pair
+        .sent
+        .iter()
+        .any(|s| s.direction == Direction::Down && describe(&s.message) == "13006 take-off")
+    {
+        pair.step();
+    }
+    pair.downlink = [Faults::DOWN; 2];
+    pair.run_until_standby(Duration::from_secs(30));
+    let events = pair.take_gcs_events();
+    assert!(
+        matches!(
+            events.last(),
+            Some(GcsEvent::Failed(GcsError::Timeout { .. }))
+        ),
+        "{events:?}"
+    );
+}
