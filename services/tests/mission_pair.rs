@@ -237,3 +237,70 @@ fn clear_is_refused_while_guidance_is_active() {
     assert_eq!(pair.fcc.active_mission(), None);
     assert!(!pair.fcc.waypoint_list().is_active());
 }
+
+#[test]
+fn from_to_next_reaches_the_gcs_on_every_change_only() {
+    use missionlink_interfaces::contracts::GuidanceProgressPayload;
+    let mut pair = Pair::new(9);
+    upload(&mut pair, &mission_2(), true);
+    pair.take_gcs_events();
+    let before = pair.sent.len();
+    for (from, to, next) in [(0, 1, 2), (0, 1, 2), (1, 2, 3), (1, 2, 3), (2, 3, 0)] {
+        let progress = GuidanceProgressPayload {
+            from,
+            to,
+            next,
+            ..GuidanceProgressPayload::IDLE
+        };
+        let now = pair.now;
+        pair.fcc.handle_progress(now, &progress);
+        pair.run_until(now + Duration::from_millis(50));
+    }
+    let triples: Vec<(u16, u16, u16)> = pair
+        .take_gcs_events()
+        .into_iter()
+        .filter_map(|e| match e {
+            GcsEvent::FromToNext(f) => Some((
+                f.from.waypoint_number.unwrap(),
+                f.to.waypoint_number.unwrap(),
+                f.next.waypoint_number.unwrap(),
+            )),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(triples, [(0, 1, 2), (1, 2, 3), (2, 3, 0)]);
+    // Not acknowledged (ICD §5.5): nothing goes up.
+    assert!(
+        pair.sent[before..]
+            .iter()
+            .all(|s| s.direction == Direction::Down && !s.ack_requested)
+    );
+}
+
+#[test]
+fn the_safety_gateway_can_refuse_and_then_nothing_is_sent() {
+    use missionlink_services::areas::AreaList;
+    use missionlink_services::gcs::{GroundStation, SafetyGateway};
+    use missionlink_services::mission::Mission;
+
+    /// Refuses missions with more than `max` waypoints.
+    struct MaxWaypoints(usize);
+    impl SafetyGateway for MaxWaypoints {
+        type Report = String;
+        fn check(&self, mission: &Mission, _: &AreaList) -> Result<(), String> {
+            match mission.waypoints.len() {
+                n if n > self.0 => Err(format!("{n} waypoints, at most {}", self.0)),
+                _ => Ok(()),
+            }
+        }
+    }
+    let mut gcs = GroundStation::new(gcs_config(), MaxWaypoints(2));
+    assert!(gcs.validate(&mission_1()).is_ok());
+    let now = missionlink_services::time::Instant::ZERO;
+    assert_eq!(
+        gcs.upload(now, &mission_2(), true),
+        Err(GcsError::Gateway("3 waypoints, at most 2".to_owned()))
+    );
+    assert!(gcs.poll_outgoing().is_none());
+    assert!(gcs.is_standby());
+}

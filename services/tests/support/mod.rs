@@ -305,6 +305,7 @@ impl Pair {
 
     /// Steps until simulated time reaches `until` (or nothing is left to happen before it).
     pub fn run_until(&mut self, until: Instant) {
+        self.drain_outgoing();
         while self.next_time().is_some_and(|t| t <= until) {
             self.step();
         }

@@ -1,0 +1,128 @@
+//! The FCC's per-frame path allocates nothing (DESIGN.md, "The sans-IO core"): a counting global
+//! allocator around every call into voting and mission data handling, while the GCS uploads and
+//! then downloads demo mission 2 with its areas, and guidance reports progress.
+#![allow(unsafe_code, reason = "a global allocator is unsafe to implement")]
+
+mod support;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::time::Duration;
+
+use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
+use missionlink_interfaces::defaults;
+use missionlink_interfaces::wire::{self, MAX_FRAME_LEN};
+use missionlink_services::fcc::MissionDataHandling;
+use missionlink_services::gcs::{GcsEvent, GroundStation, WithoutGateway};
+use missionlink_services::time::Instant;
+use missionlink_services::voting::Voter;
+use support::*;
+
+struct Counting;
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; the thread-locals are const-initialised and never
+// allocate.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        }
+        // SAFETY: same contract as ours.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as ours.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        }
+        // SAFETY: same contract as ours.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Runs `f` and returns what it allocated on this thread.
+fn counted<T>(f: impl FnOnce() -> T) -> (T, u64) {
+    let before = ALLOCATIONS.with(Cell::get);
+    COUNTING.with(|c| c.set(true));
+    let out = f();
+    COUNTING.with(|c| c.set(false));
+    (out, ALLOCATIONS.with(Cell::get) - before)
+}
+
+#[test]
+fn the_fcc_frame_path_allocates_nothing() {
+    // Prove the counter counts.
+    let ((), n) = counted(|| drop(std::hint::black_box(vec![1u8; 16])));
+    assert_eq!(n, 1);
+
+    let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
+    let mut fcc = MissionDataHandling::new(fcc_config());
+    let mut voter = Voter::new(defaults::FCC_ID, defaults::GCS_ID, TRANSFER_TIMEOUT);
+    let mut now = Instant::ZERO;
+    let mut frames = 0u64;
+    let mut total = 0u64;
+    let mut up = [0u8; MAX_FRAME_LEN];
+    let mut down = [0u8; MAX_FRAME_LEN];
+
+    gcs.upload(now, &mission_2(), true).unwrap();
+    let mut downloading = false;
+    loop {
+        now = now + Duration::from_millis(2);
+        while let Some((envelope, message)) = gcs.poll_outgoing() {
+            let len = wire::encode(&envelope, &message, &mut up).unwrap();
+            // The FCC side: voting of both links' copies, mission data handling, the answers.
+            let ((), n) = counted(|| {
+                let arrivals = [(Link::Direct, &up[..len]), (Link::Lte, &up[..len])];
+                voter.vote_step(now, &arrivals, |_, frame| {
+                    let _ = fcc.handle_frame(now, frame);
+                });
+                while fcc.poll_event().is_some() {}
+            });
+            total += n;
+            frames += 1;
+            loop {
+                let (out, n) = counted(|| fcc.poll_transmit(&mut down));
+                total += n;
+                let Some(len) = out else { break };
+                gcs.handle_frame(now, &down[..len.unwrap()]).unwrap();
+            }
+        }
+        let ((), n) = counted(|| {
+            fcc.handle_timeout(now);
+            let progress = GuidanceProgressPayload {
+                from: 1,
+                to: 2,
+                next: 3,
+                ..GuidanceProgressPayload::IDLE
+            };
+            fcc.handle_progress(now, &progress);
+        });
+        total += n;
+        while let Some(len) = fcc.poll_transmit(&mut down) {
+            gcs.handle_frame(now, &down[..len.unwrap()]).unwrap();
+        }
+        match gcs.poll_event() {
+            Some(GcsEvent::UploadComplete) if !downloading => {
+                downloading = true;
+                gcs.download(now).unwrap();
+            }
+            Some(GcsEvent::DownloadComplete(_)) => break,
+            Some(GcsEvent::Failed(e)) => panic!("{e}"),
+            _ => {}
+        }
+        assert!(now < Instant::from_millis(60_000), "did not finish");
+    }
+    assert!(frames > 20, "only {frames} frames");
+    assert_eq!(total, 0, "{total} allocations over {frames} uplink frames");
+}
