@@ -63,6 +63,10 @@ pub enum FccService {
     AutomationState,
     /// `fcc/guidance/progress`: FROM / TO / NEXT and position, history 1.
     GuidanceProgress,
+    /// `fcc/automation/command`: #50000 commands accepted by mission data handling, for system
+    /// automation to carry out (queue, no history: a restarted automation must not replay an
+    /// old command).
+    AutomationCommand,
 }
 
 /// The quality of service of a service: every partition opens it with these, so that whoever
@@ -85,13 +89,14 @@ pub struct Qos {
 
 impl FccService {
     /// Every service.
-    pub const ALL: [FccService; 6] = [
+    pub const ALL: [FccService; 7] = [
         Self::Uplink,
         Self::Downlink,
         Self::WaypointList,
         Self::AreaList,
         Self::AutomationState,
         Self::GuidanceProgress,
+        Self::AutomationCommand,
     ];
 
     /// The path under the prefix.
@@ -103,6 +108,7 @@ impl FccService {
             Self::AreaList => "fcc/mission/area-list",
             Self::AutomationState => "fcc/automation/state",
             Self::GuidanceProgress => "fcc/guidance/progress",
+            Self::AutomationCommand => "fcc/automation/command",
         }
     }
 
@@ -117,7 +123,7 @@ impl FccService {
         match self {
             // Frame queues: deep enough for a whole mission transfer in flight (one frame per
             // ack round trip, both links), never overwritten.
-            Self::Uplink | Self::Downlink => Qos {
+            Self::Uplink | Self::Downlink | Self::AutomationCommand => Qos {
                 history_size: 0,
                 subscriber_max_buffer_size: 64,
                 max_publishers: 2,
@@ -600,8 +606,12 @@ pub struct AutomationStatePayload {
     pub flight_phase: u8,
     /// Trajectory generation is active: a clear is refused (`GuidanceActive`).
     pub trajectory_generation_active: bool,
+    /// Fly the route backwards, to its initial waypoint (return to home, #50000 command 2).
+    pub route_reversed: bool,
+    /// Land at this waypoint instead of the last one (#50000 command 3), 0 for the last.
+    pub land_at: u16,
     /// Zero.
-    pub reserved: [u8; 6],
+    pub reserved: [u8; 4],
 }
 
 impl AutomationStatePayload {
@@ -612,12 +622,36 @@ impl AutomationStatePayload {
         flown_waypoint_list: 0,
         flight_phase: FlightPhase::OnGround as u8,
         trajectory_generation_active: false,
-        reserved: [0; 6],
+        route_reversed: false,
+        land_at: 0,
+        reserved: [0; 4],
     };
 
     /// The flight phase, or `None` for a value no publisher of this version writes.
     pub fn flight_phase(&self) -> Option<FlightPhase> {
         FlightPhase::try_from(self.flight_phase).ok()
+    }
+}
+
+/// `fcc/automation/command`: a #50000 command that mission data handling accepted (ICD §4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::AutomationCommandPayload/v1")]
+pub struct AutomationCommandPayload {
+    /// Counts commands, from 1.
+    pub sequence: u64,
+    /// CLOCK_MONOTONIC nanoseconds when the command was accepted.
+    pub accepted_ns: u64,
+    /// [`crate::wire::ExecuteCommand`] as `u8`.
+    pub command: u8,
+    /// Zero.
+    pub reserved: [u8; 7],
+}
+
+impl AutomationCommandPayload {
+    /// The command, or `None` for a value no publisher of this version writes.
+    pub fn command(&self) -> Option<crate::wire::ExecuteCommand> {
+        crate::wire::ExecuteCommand::try_from(self.command).ok()
     }
 }
 
@@ -652,8 +686,14 @@ pub struct GuidanceProgressPayload {
     pub inside_fly_zone: bool,
     /// Trajectory generation is active.
     pub trajectory_generation_active: bool,
+    /// The climb to the take-off height is complete (take-off phase).
+    pub climb_complete: bool,
+    /// The last waypoint of the route (or the landing waypoint) is reached.
+    pub route_complete: bool,
+    /// On the ground (before take-off or after touchdown).
+    pub on_ground: bool,
     /// Zero.
-    pub reserved: [u8; 6],
+    pub reserved: [u8; 3],
 }
 
 impl GuidanceProgressPayload {
@@ -672,7 +712,10 @@ impl GuidanceProgressPayload {
         in_no_fly_zone: 0,
         inside_fly_zone: false,
         trajectory_generation_active: false,
-        reserved: [0; 6],
+        climb_complete: false,
+        route_complete: false,
+        on_ground: true,
+        reserved: [0; 3],
     };
 
     /// The FROM-TO-NEXT triple.

@@ -13,7 +13,7 @@
 //! | #2011 mode 6 | clear areas |
 //! | #13000 mode 5, #2011 mode 5 | cancel the transfer in progress |
 //! | #17000 | the download in progress |
-//! | #50000 | mission execute, checked here, carried out by system automation |
+//! | #50000 | mission execute: answered here by the rule of [`automation::check_command`], carried out by system automation |
 //!
 //! Active lists change only when a complete new list is valid; a failed or abandoned transfer
 //! leaves them as they were. Steady-state handling allocates nothing.
@@ -30,7 +30,7 @@ use core::time::Duration;
 
 use heapless::Deque;
 use missionlink_interfaces::contracts::{
-    AreaListPayload, GuidanceProgressPayload, WaypointListPayload,
+    AreaListPayload, AutomationStatePayload, GuidanceProgressPayload, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionStatus,
@@ -39,6 +39,7 @@ use missionlink_interfaces::wire::{
 };
 
 use crate::areas::AreaList;
+use crate::automation;
 use crate::endpoint::{Endpoint, EndpointConfig, Inbound};
 use crate::from_to_next::FromToNextReporter;
 use crate::mission::Mission;
@@ -123,7 +124,7 @@ pub struct MissionDataHandling {
     mission_generation: u64,
     active_areas: Option<AreaList>,
     area_generation: u64,
-    trajectory_generation_active: bool,
+    automation: AutomationStatePayload,
     events: Deque<FccEvent, EVENT_CAPACITY>,
     /// The lists as published, rebuilt only when they change.
     waypoint_list: WaypointListPayload,
@@ -145,7 +146,7 @@ impl MissionDataHandling {
             mission_generation: 0,
             active_areas: None,
             area_generation: 0,
-            trajectory_generation_active: false,
+            automation: AutomationStatePayload::ON_GROUND,
             events: Deque::new(),
             waypoint_list: WaypointListPayload::EMPTY,
             area_list: AreaListPayload::EMPTY,
@@ -215,10 +216,10 @@ impl MissionDataHandling {
         }
     }
 
-    /// System automation says whether trajectory generation is active (a clear is refused
-    /// while it is, ICD §5.1 step 1).
-    pub fn set_trajectory_generation_active(&mut self, active: bool) {
-        self.trajectory_generation_active = active;
+    /// System automation published its state: the flight phase decides whether a #50000 is
+    /// accepted, and a clear is refused while trajectory generation is active (ICD §5.1 step 1).
+    pub fn set_automation_state(&mut self, state: &AutomationStatePayload) {
+        self.automation = *state;
     }
 
     /// Handles one uplink message (wrapper to checksum) received at `now`. A frame error is
@@ -334,7 +335,7 @@ impl MissionDataHandling {
     }
 
     fn clear_mission(&mut self, now: Instant) -> Result<(), Reason> {
-        if self.trajectory_generation_active {
+        if self.automation.trajectory_generation_active {
             return Err(Reason::GuidanceActive);
         }
         if self.mission_download.is_some() {
@@ -347,7 +348,7 @@ impl MissionDataHandling {
     }
 
     fn clear_areas(&mut self) -> Result<(), Reason> {
-        if self.trajectory_generation_active {
+        if self.automation.trajectory_generation_active {
             return Err(Reason::GuidanceActive);
         }
         if self.area_download.is_some() || self.area_upload.in_transfer() {
@@ -528,17 +529,14 @@ impl MissionDataHandling {
         }
     }
 
-    /// #50000 (ICD §4): execute needs a valid waypoint and area list; return to home a
-    /// bidirectional route.
+    /// #50000 (ICD §4): the rule of system automation ([`automation::check_command`]).
     fn check_execute(&self, command: ExecuteCommand) -> Result<(), Reason> {
-        let mission = self.active_mission.as_ref().ok_or(Reason::WrongState)?;
-        if self.active_areas.is_none() {
-            return Err(Reason::WrongState);
-        }
-        if command == ExecuteCommand::ReturnToHome && !mission.route.bidirectional {
-            return Err(Reason::Unsupported);
-        }
-        Ok(())
+        automation::check_command(
+            &self.automation,
+            &self.waypoint_list,
+            &self.area_list,
+            command,
+        )
     }
 
     /// When [`MissionDataHandling::handle_timeout`] must be called next.

@@ -14,6 +14,7 @@
 #![allow(clippy::large_enum_variant)]
 
 pub mod areas;
+pub mod automation;
 pub mod endpoint;
 pub mod fcc;
 pub mod from_to_next;

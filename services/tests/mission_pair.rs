@@ -208,7 +208,7 @@ fn clear_is_refused_while_guidance_is_active() {
     upload(&mut pair, &plan, true);
     pair.take_gcs_events();
     let active = pair.fcc.active_mission().cloned();
-    pair.fcc.set_trajectory_generation_active(true);
+    pair.fcc.set_automation_state(&flying());
     let now = pair.now;
     pair.gcs.clear_mission(now).unwrap();
     pair.run_until_standby(Duration::from_secs(10));
@@ -226,7 +226,7 @@ fn clear_is_refused_while_guidance_is_active() {
     );
     assert_eq!(pair.fcc.active_mission().cloned(), active);
     // Once guidance is inactive, the clear goes through.
-    pair.fcc.set_trajectory_generation_active(false);
+    pair.fcc.set_automation_state(&on_ground());
     let now = pair.now;
     pair.gcs.clear_mission(now).unwrap();
     pair.run_until_standby(Duration::from_secs(10));

@@ -237,7 +237,7 @@ fn wrong_state() {
 #[test]
 fn guidance_active() {
     let mut rig = Rig::new().with_mission_2();
-    rig.fcc.set_trajectory_generation_active(true);
+    rig.fcc.set_automation_state(&flying());
     let before = rig.fcc.active_mission().cloned();
     assert_eq!(
         rig.reason(mission_command(MissionPlanMode::ClearMission, None, None)),

@@ -321,6 +321,21 @@ impl Pair {
     }
 }
 
+/// System automation's state while the aircraft flies (trajectory generation active).
+pub fn flying() -> missionlink_interfaces::contracts::AutomationStatePayload {
+    use missionlink_interfaces::contracts::{AutomationStatePayload, FlightPhase};
+    AutomationStatePayload {
+        flight_phase: FlightPhase::Cruise as u8,
+        trajectory_generation_active: true,
+        ..AutomationStatePayload::ON_GROUND
+    }
+}
+
+/// System automation's state on the ground.
+pub fn on_ground() -> missionlink_interfaces::contracts::AutomationStatePayload {
+    missionlink_interfaces::contracts::AutomationStatePayload::ON_GROUND
+}
+
 /// A compact description of a message for sequence checks: type, then mode, ack type and the
 /// acknowledged type where they matter.
 pub fn describe(m: &Message) -> String {

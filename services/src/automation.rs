@@ -1,0 +1,275 @@
+//! System automation (paper §2.5): the flight phases (on ground, take-off, cruise, landing,
+//! landed), which functions they allow, and the #50000 Mission Execute Command of ICD §4.
+//!
+//! | phase | left when | to |
+//! |---|---|---|
+//! | on ground, landed | execute accepted | take-off |
+//! | take-off (ATOL climb to the take-off height) | guidance reports the climb complete | cruise |
+//! | cruise (trajectory generation flies the list) | guidance reports the route complete | landing |
+//! | landing | guidance reports touchdown | landed |
+//!
+//! Trajectory generation counts as active from take-off to touchdown: guidance uses the active
+//! lists in every airborne phase, so a clear is refused in all of them (`GuidanceActive`).
+//!
+//! [`check_command`] is the one rule for #50000: mission data handling applies it to answer the
+//! command (type 2 or type 3 with the reason), system automation applies it again when it
+//! carries the command out.
+
+use missionlink_interfaces::contracts::{
+    AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
+    WaypointListPayload,
+};
+use missionlink_interfaces::wire::{ExecuteCommand, Reason};
+
+use crate::time::Instant;
+
+/// Whether system automation accepts `command` now (ICD §4, #50000): execute needs a valid
+/// waypoint and area list and the aircraft on the ground (`WrongState`); return to home needs a
+/// bidirectional route (`Unsupported`) and the aircraft in the air (`WrongState`); landing at
+/// the next waypoint needs the aircraft in the air (`WrongState`).
+pub fn check_command(
+    state: &AutomationStatePayload,
+    waypoints: &WaypointListPayload,
+    areas: &AreaListPayload,
+    command: ExecuteCommand,
+) -> Result<(), Reason> {
+    let phase = state.flight_phase();
+    let airborne = matches!(phase, Some(FlightPhase::TakeOff | FlightPhase::Cruise));
+    match command {
+        ExecuteCommand::Execute => {
+            let on_ground = matches!(phase, Some(FlightPhase::OnGround | FlightPhase::Landed));
+            if !waypoints.is_active() || areas.area_count() == 0 || !on_ground {
+                return Err(Reason::WrongState);
+            }
+        }
+        ExecuteCommand::ReturnToHome => {
+            if !waypoints.bidirectional {
+                return Err(Reason::Unsupported);
+            }
+            if !airborne {
+                return Err(Reason::WrongState);
+            }
+        }
+        ExecuteCommand::Land => {
+            if !airborne {
+                return Err(Reason::WrongState);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// System automation.
+#[derive(Debug, Clone)]
+pub struct SystemAutomation {
+    state: AutomationStatePayload,
+    waypoints: WaypointListPayload,
+    areas: AreaListPayload,
+    /// The TO waypoint guidance reported last (where "land at the next waypoint" lands).
+    to_waypoint: u16,
+    changed: bool,
+}
+
+impl Default for SystemAutomation {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SystemAutomation {
+    /// On the ground, no lists.
+    pub fn new() -> Self {
+        Self {
+            state: AutomationStatePayload::ON_GROUND,
+            waypoints: WaypointListPayload::EMPTY,
+            areas: AreaListPayload::EMPTY,
+            to_waypoint: 0,
+            // The first state is published too.
+            changed: true,
+        }
+    }
+
+    /// The state to publish.
+    pub fn state(&self) -> &AutomationStatePayload {
+        &self.state
+    }
+
+    /// Whether the state changed since the last call (publish it then).
+    pub fn take_changed(&mut self) -> bool {
+        core::mem::take(&mut self.changed)
+    }
+
+    fn set_phase(&mut self, now: Instant, phase: FlightPhase) {
+        self.state.flight_phase = phase as u8;
+        self.state.trajectory_generation_active = matches!(
+            phase,
+            FlightPhase::TakeOff | FlightPhase::Cruise | FlightPhase::Landing
+        );
+        self.touch(now);
+        tracing::info!(?phase, "flight phase");
+    }
+
+    fn touch(&mut self, now: Instant) {
+        self.state.sequence += 1;
+        self.state.changed_ns = now.micros().saturating_mul(1000);
+        self.changed = true;
+    }
+
+    /// The active waypoint list changed.
+    pub fn handle_waypoint_list(&mut self, list: &WaypointListPayload) {
+        self.waypoints = *list;
+    }
+
+    /// The active area list changed.
+    pub fn handle_area_list(&mut self, list: &AreaListPayload) {
+        self.areas = *list;
+    }
+
+    /// Carries out a #50000 command.
+    pub fn handle_command(&mut self, now: Instant, command: ExecuteCommand) -> Result<(), Reason> {
+        check_command(&self.state, &self.waypoints, &self.areas, command)?;
+        match command {
+            ExecuteCommand::Execute => {
+                self.state.flown_waypoint_list = self.waypoints.generation;
+                self.state.route_reversed = false;
+                self.state.land_at = 0;
+                self.set_phase(now, FlightPhase::TakeOff);
+            }
+            ExecuteCommand::ReturnToHome => {
+                self.state.route_reversed = true;
+                self.state.land_at = 0;
+                self.touch(now);
+            }
+            ExecuteCommand::Land => {
+                self.state.land_at = self.to_waypoint;
+                self.touch(now);
+            }
+        }
+        tracing::info!(?command, "command carried out");
+        Ok(())
+    }
+
+    /// Guidance reported progress: moves to the next phase when the current one is complete.
+    pub fn handle_progress(&mut self, now: Instant, progress: &GuidanceProgressPayload) {
+        if progress.to != 0 {
+            self.to_waypoint = progress.to;
+        }
+        match self.state.flight_phase() {
+            Some(FlightPhase::TakeOff) if progress.climb_complete => {
+                self.set_phase(now, FlightPhase::Cruise);
+            }
+            Some(FlightPhase::Cruise) if progress.route_complete => {
+                self.set_phase(now, FlightPhase::Landing);
+            }
+            Some(FlightPhase::Landing) if progress.on_ground => {
+                self.set_phase(now, FlightPhase::Landed);
+            }
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lists(bidirectional: bool) -> (WaypointListPayload, AreaListPayload) {
+        let mut w = WaypointListPayload::EMPTY;
+        w.generation = 1;
+        w.count = 2;
+        w.bidirectional = bidirectional;
+        let mut a = AreaListPayload::EMPTY;
+        a.generation = 1;
+        (w, a)
+    }
+
+    fn progress(f: impl FnOnce(&mut GuidanceProgressPayload)) -> GuidanceProgressPayload {
+        let mut p = GuidanceProgressPayload::IDLE;
+        f(&mut p);
+        p
+    }
+
+    #[test]
+    fn a_mission_goes_through_every_phase() {
+        let mut sa = SystemAutomation::new();
+        assert!(sa.take_changed(), "the first state is published");
+        let (w, a) = lists(false);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        let t = Instant::from_millis(5);
+        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::TakeOff));
+        assert!(sa.state().trajectory_generation_active);
+        assert_eq!(sa.state().flown_waypoint_list, 1);
+        assert!(sa.take_changed());
+        sa.handle_progress(t, &progress(|_| {}));
+        assert!(!sa.take_changed(), "nothing changed");
+        sa.handle_progress(t, &progress(|p| p.climb_complete = true));
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Cruise));
+        sa.handle_progress(t, &progress(|p| p.route_complete = true));
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Landing));
+        assert!(sa.state().trajectory_generation_active);
+        sa.handle_progress(t, &progress(|p| p.on_ground = true));
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Landed));
+        assert!(!sa.state().trajectory_generation_active);
+        assert_eq!(sa.state().sequence, 4);
+        // A landed aircraft can fly the next mission.
+        assert_eq!(sa.handle_command(t, ExecuteCommand::Execute), Ok(()));
+    }
+
+    #[test]
+    fn commands_are_checked_against_lists_and_phase() {
+        let mut sa = SystemAutomation::new();
+        let t = Instant::ZERO;
+        // No lists.
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::Execute),
+            Err(Reason::WrongState)
+        );
+        let (w, a) = lists(false);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        // On the ground: nothing to return from or land.
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::Land),
+            Err(Reason::WrongState)
+        );
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::ReturnToHome),
+            Err(Reason::Unsupported),
+            "one-way route"
+        );
+        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::Execute),
+            Err(Reason::WrongState)
+        );
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::ReturnToHome),
+            Err(Reason::Unsupported)
+        );
+    }
+
+    #[test]
+    fn return_to_home_and_land_at_the_next_waypoint() {
+        let mut sa = SystemAutomation::new();
+        let (w, a) = lists(true);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        let t = Instant::ZERO;
+        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        sa.handle_progress(t, &progress(|p| p.climb_complete = true));
+        sa.handle_progress(
+            t,
+            &progress(|p| {
+                p.from = 1;
+                p.to = 2;
+            }),
+        );
+        sa.handle_command(t, ExecuteCommand::ReturnToHome).unwrap();
+        assert!(sa.state().route_reversed);
+        sa.handle_command(t, ExecuteCommand::Land).unwrap();
+        assert_eq!(sa.state().land_at, 2);
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Cruise));
+    }
+}
