@@ -150,9 +150,26 @@ impl SystemAutomation {
     }
 
     /// Guidance reported progress: moves to the next phase when the current one is complete.
+    ///
+    /// A restarted automation (nothing published yet) that meets an aircraft in the air adopts
+    /// the phase guidance's progress shows, instead of claiming "on ground" under a flying
+    /// aircraft. What it cannot see (a return to home, a landing waypoint) is lost.
     pub fn handle_progress(&mut self, now: Instant, progress: &GuidanceProgressPayload) {
         if progress.to != 0 {
             self.to_waypoint = progress.to;
+        }
+        if self.state.sequence == 0 && !progress.on_ground {
+            let phase = if !progress.climb_complete {
+                FlightPhase::TakeOff
+            } else if progress.route_complete {
+                FlightPhase::Landing
+            } else {
+                FlightPhase::Cruise
+            };
+            self.state.flown_waypoint_list = progress.waypoint_list;
+            tracing::warn!(?phase, "resuming under an aircraft in the air");
+            self.set_phase(now, phase);
+            return;
         }
         match self.state.flight_phase() {
             Some(FlightPhase::TakeOff) if progress.climb_complete => {
@@ -248,6 +265,27 @@ mod tests {
             sa.handle_command(t, ExecuteCommand::ReturnToHome),
             Err(Reason::Unsupported)
         );
+    }
+
+    #[test]
+    fn a_restarted_automation_adopts_the_phase_of_an_aircraft_in_the_air() {
+        let mut sa = SystemAutomation::new();
+        let t = Instant::ZERO;
+        sa.handle_progress(
+            t,
+            &progress(|p| {
+                p.on_ground = false;
+                p.climb_complete = true;
+                p.waypoint_list = 7;
+            }),
+        );
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Cruise));
+        assert_eq!(sa.state().flown_waypoint_list, 7);
+        assert!(sa.state().trajectory_generation_active);
+        // A fresh automation with the aircraft on the ground stays on the ground.
+        let mut sa = SystemAutomation::new();
+        sa.handle_progress(t, &progress(|_| {}));
+        assert_eq!(sa.state().flight_phase(), Some(FlightPhase::OnGround));
     }
 
     #[test]

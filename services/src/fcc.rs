@@ -154,6 +154,42 @@ impl MissionDataHandling {
         }
     }
 
+    /// Resumes with the lists that were active before a restart (or none, after a clear),
+    /// under their generations, so guidance sees no change and later lists get newer
+    /// generations.
+    pub fn resume(
+        &mut self,
+        mission: Option<Mission>,
+        mission_generation: u64,
+        areas: Option<AreaList>,
+        area_generation: u64,
+    ) {
+        self.mission_generation = mission_generation;
+        self.waypoint_list = match &mission {
+            Some(m) => m.to_payload(mission_generation),
+            None => WaypointListPayload {
+                generation: mission_generation,
+                ..WaypointListPayload::EMPTY
+            },
+        };
+        self.active_mission = mission;
+        self.mission_upload.abandon(self.active_mission.as_ref());
+        self.area_generation = area_generation;
+        self.area_list = match &areas {
+            Some(a) => a.to_payload(area_generation),
+            None => AreaListPayload {
+                generation: area_generation,
+                ..AreaListPayload::EMPTY
+            },
+        };
+        self.active_areas = areas;
+    }
+
+    /// The generation of the active waypoint list and of the active area list.
+    pub fn generations(&self) -> (u64, u64) {
+        (self.mission_generation, self.area_generation)
+    }
+
     /// The endpoint (counters, configuration).
     pub fn endpoint(&self) -> &Endpoint {
         &self.endpoint

@@ -19,6 +19,7 @@ pub mod endpoint;
 pub mod fcc;
 pub mod from_to_next;
 pub mod gcs;
+pub mod guidance;
 pub mod mission;
 pub mod receiver;
 pub mod retry;

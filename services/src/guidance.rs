@@ -1,0 +1,1391 @@
+//! Guidance kinematics (the guidance stub partition, DESIGN.md): a point-mass model that flies
+//! the active waypoint list through the flight phases of system automation and reports its
+//! progress (FROM-TO-NEXT, position, fly-zone and no-fly-zone status) on
+//! `fcc/guidance/progress`.
+//!
+//! Sans-IO like the rest of `services`: the driver passes the automation state, the waypoint
+//! list and the area list when they arrive, and calls [`Guidance::step`] with the time; the
+//! model integrates from the previous step in sub-steps of at most 50 ms of simulated time.
+//! Stepping allocates nothing: the lists are the fixed payload arrays; only a new area list
+//! builds (and caches) its polygons.
+//!
+//! Geometry comes from the [`geo`] crate rather than hand-written predicates: point-in-polygon
+//! is [`geo::Contains`] on a [`geo::Polygon`] in longitude/latitude degrees (edges straight in
+//! degrees, fine for areas of a few kilometres), and distances, bearings and destinations are
+//! [`geo::Haversine`]'s (a sphere of the IUGG mean radius).
+//!
+//! # The model and its simplifications
+//!
+//! - **Phases** (from [`AutomationStatePayload::flight_phase`]): on the ground (OnGround,
+//!   Landed, or an unknown phase byte) the aircraft stays where it is at altitude 0 and reports
+//!   no FROM-TO-NEXT. TakeOff is a vertical climb at the climb rate up to the list's take-off
+//!   height; Cruise flies the route; Landing is a vertical descent at the descent rate to 0.
+//!   Vertical and horizontal motion never mix except in Cruise.
+//! - **Altitudes**: waypoint altitudes are taken as heights above the start ground, whatever
+//!   their altitude type (no terrain, no geoid). In Cruise the altitude moves linearly with the
+//!   distance flown towards the TO waypoint's altitude, without a vertical rate limit.
+//! - **Speed**: the TO waypoint's commanded speed is flown as ground speed at once (no wind, no
+//!   acceleration); a waypoint with speed 0 is flown at [`FALLBACK_SPEED_MPS`].
+//! - **Track-to-fix legs** are flown as a great circle (haversine bearing and destination) from
+//!   the current position to the TO waypoint; after a fly-by turn that is a direct-to, so the
+//!   aircraft does not re-join the line between the two waypoints.
+//! - **Radius-to-fix legs** are flown in polar coordinates around the centre, in the turn
+//!   direction, at the radius centre -> TO waypoint. Where the leg starts off the circle (after
+//!   a fly-by turn onto the arc), the radial offset is closed with a length constant of one
+//!   turn radius (and linearly by the TO waypoint at the latest); the arc is then followed
+//!   exactly.
+//! - **Fly-by** turns switch to the next leg when the distance to go is within the turn
+//!   anticipation distance `r·tan(Δψ/2)`, `r = v²/(g·tan(bank))`, capped at half the next leg
+//!   and at least one sub-step's travel. The turn itself is not flown as an arc: the next leg
+//!   starts where the switch happened; a U-turn (180 deg, after a reversal mid-leg) therefore
+//!   switches half the next leg before the waypoint. **Fly-over** switches at the waypoint.
+//! - **The first leg** of a route, from wherever the aircraft is to the first TO waypoint, is
+//!   flown direct (a straight line), whatever its leg type.
+//! - **Return to home** (`route_reversed`, honoured on bidirectional routes only): the aircraft
+//!   keeps flying to its current TO waypoint, then flies the route backwards to the initial
+//!   waypoint, each waypoint at its own speed; a reversed radius-to-fix leg is the same arc in
+//!   the opposite direction. Reversed after the route was complete, it starts from the final
+//!   waypoint; a route started reversed starts at the waypoint nearest to the aircraft.
+//! - **Land at** (`land_at` != 0) ends the route at that waypoint if it is still ahead (or is
+//!   the TO waypoint); a waypoint already passed is ignored.
+//! - **New waypoint lists**: on the ground a new generation is taken at once. In the air the
+//!   old list is kept until the automation state's `flown_waypoint_list` names the new
+//!   generation; then the new list's route starts from its first waypoint (FROM 0).
+//! - **Areas**: the fly-zone and the no-fly-zones are 2-D: altitude bounds and the safety offset
+//!   are not applied. A circle's radius is the haversine distance centre -> border point.
+//!   Leaving the fly-zone and entering a no-fly-zone are logged once, on the change.
+
+use geo::{Bearing, Contains, Destination, Distance, Haversine, LineString, Point, Polygon};
+use missionlink_interfaces::contracts::{
+    AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload, PolygonArea,
+    WaypointEntry, WaypointListPayload,
+};
+use missionlink_interfaces::wire::{GeoPoint, LegType, TurnDirection, TurnType};
+
+use crate::time::Instant;
+
+/// Longest sub-step of the integration, simulated seconds.
+pub const MAX_SUB_STEP_S: f64 = 0.05;
+
+/// Speed flown towards a waypoint whose commanded speed is 0, m/s.
+pub const FALLBACK_SPEED_MPS: f64 = 10.0;
+
+/// Standard gravity, m/s².
+const GRAVITY_MPS2: f64 = 9.806_65;
+
+/// A waypoint closer than this is reached, metres.
+const REACHED_M: f64 = 0.01;
+
+/// Climb and descent end this close to their target altitude, metres.
+const ALTITUDE_EPSILON_M: f64 = 1e-6;
+
+/// Arcs with a smaller radius (or a position closer to the centre) are flown direct, metres.
+const MIN_ARC_RADIUS_M: f64 = 1.0;
+
+/// Leg switches (or arrivals) handled within one sub-step at most.
+const MAX_LEGS_PER_SUB_STEP: usize = 4;
+
+/// Settings of the guidance model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GuidanceConfig {
+    /// Start latitude on the ground (degrees); default: TROL 48.26 from the demo missions.
+    pub start_latitude_deg: f64,
+    /// Start longitude on the ground (degrees); default: TROL 11.66 from the demo missions.
+    pub start_longitude_deg: f64,
+    /// Climb rate of the take-off (m/s), default 3.0.
+    pub climb_rate_mps: f64,
+    /// Descent rate of the landing (m/s), default 2.0.
+    pub descent_rate_mps: f64,
+    /// Bank angle limit for fly-by turn anticipation (deg), default 25.
+    pub max_bank_deg: f64,
+    /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
+    pub time_scale: f64,
+}
+
+impl Default for GuidanceConfig {
+    fn default() -> Self {
+        Self {
+            start_latitude_deg: 48.26,
+            start_longitude_deg: 11.66,
+            climb_rate_mps: 3.0,
+            descent_rate_mps: 2.0,
+            max_bank_deg: 25.0,
+            time_scale: 1.0,
+        }
+    }
+}
+
+impl GuidanceConfig {
+    /// The configuration with every unusable value replaced by its default: non-finite or
+    /// non-positive rates, a bank outside 0..90 deg, a negative or non-finite time scale, a
+    /// start position off the globe.
+    fn sanitized(self) -> Self {
+        let d = Self::default();
+        let positive = |v: f64, default: f64| {
+            if v.is_finite() && v > 0.0 { v } else { default }
+        };
+        Self {
+            start_latitude_deg: if (-90.0..=90.0).contains(&self.start_latitude_deg) {
+                self.start_latitude_deg
+            } else {
+                d.start_latitude_deg
+            },
+            start_longitude_deg: if (-180.0..=180.0).contains(&self.start_longitude_deg) {
+                self.start_longitude_deg
+            } else {
+                d.start_longitude_deg
+            },
+            climb_rate_mps: positive(self.climb_rate_mps, d.climb_rate_mps),
+            descent_rate_mps: positive(self.descent_rate_mps, d.descent_rate_mps),
+            max_bank_deg: if self.max_bank_deg > 0.0 && self.max_bank_deg < 90.0 {
+                self.max_bank_deg
+            } else {
+                d.max_bank_deg
+            },
+            time_scale: if self.time_scale.is_finite() && self.time_scale >= 0.0 {
+                self.time_scale
+            } else {
+                d.time_scale
+            },
+        }
+    }
+}
+
+/// The geometry of the leg to the TO waypoint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Leg {
+    /// A great circle from the current position to the TO waypoint.
+    Direct,
+    /// An arc around `centre` (lon/lat) ending at the TO waypoint; clockwise = right turn.
+    Arc { centre: Point<f64>, clockwise: bool },
+}
+
+/// Where the aircraft is on the route. Indices are into [`WaypointListPayload::waypoints`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Route {
+    /// The route has been started (take-off or cruise with this list).
+    started: bool,
+    /// Flown backwards (return to home).
+    reversed: bool,
+    /// FROM waypoint number, 0 for none.
+    from: u16,
+    /// Index of the TO waypoint; `None` when complete or without a list.
+    to: Option<usize>,
+    /// The last waypoint of the route is reached.
+    complete: bool,
+    /// Geometry of the leg to TO.
+    leg: Leg,
+}
+
+impl Route {
+    const NOT_STARTED: Self = Self {
+        started: false,
+        reversed: false,
+        from: 0,
+        to: None,
+        complete: false,
+        leg: Leg::Direct,
+    };
+}
+
+/// The area list with its polygons built for [`geo`].
+#[derive(Debug, Clone, Default)]
+struct Areas {
+    fly_zone: Option<Polygon<f64>>,
+    no_fly_polygons: Vec<(u16, Polygon<f64>)>,
+    /// Area ID, centre, radius in metres.
+    no_fly_circles: Vec<(u16, Point<f64>, f64)>,
+}
+
+impl Areas {
+    fn new(list: &AreaListPayload) -> Self {
+        if list.generation == 0 {
+            return Self::default();
+        }
+        Self {
+            fly_zone: polygon(&list.fly_zone),
+            no_fly_polygons: list
+                .no_fly_polygons()
+                .iter()
+                .filter_map(|a| polygon(a).map(|p| (a.area_id, p)))
+                .collect(),
+            no_fly_circles: list
+                .no_fly_circles()
+                .iter()
+                .map(|c| {
+                    let centre = point(c.centre);
+                    (
+                        c.area_id,
+                        centre,
+                        Haversine.distance(centre, point(c.border)),
+                    )
+                })
+                .collect(),
+        }
+    }
+
+    fn inside_fly_zone(&self, p: Point<f64>) -> bool {
+        self.fly_zone.as_ref().is_some_and(|z| z.contains(&p))
+    }
+
+    /// Area ID of the first no-fly-zone (polygons, then circles) containing `p`, else 0.
+    fn no_fly_zone_at(&self, p: Point<f64>) -> u16 {
+        self.no_fly_polygons
+            .iter()
+            .find(|(_, z)| z.contains(&p))
+            .map(|(id, _)| *id)
+            .or_else(|| {
+                self.no_fly_circles
+                    .iter()
+                    .find(|(_, c, r)| Haversine.distance(*c, p) <= *r)
+                    .map(|(id, _, _)| *id)
+            })
+            .unwrap_or(0)
+    }
+}
+
+fn polygon(area: &PolygonArea) -> Option<Polygon<f64>> {
+    let v = area.vertices();
+    (v.len() >= 3).then(|| {
+        let ring: LineString<f64> = v
+            .iter()
+            .map(|g| (g.longitude.degrees(), g.latitude.degrees()))
+            .collect();
+        Polygon::new(ring, Vec::new())
+    })
+}
+
+/// A wire position as a geo point (x = longitude, y = latitude, degrees).
+fn point(g: GeoPoint) -> Point<f64> {
+    Point::new(g.longitude.degrees(), g.latitude.degrees())
+}
+
+/// Angle to go from bearing `from` to bearing `to` in the turn direction, 0..360 deg.
+fn angle_to_go(from_deg: f64, to_deg: f64, clockwise: bool) -> f64 {
+    if clockwise {
+        (to_deg - from_deg).rem_euclid(360.0)
+    } else {
+        (from_deg - to_deg).rem_euclid(360.0)
+    }
+}
+
+/// Bearing of the direction of flight on a circle at bearing `radial_deg` from its centre.
+fn tangent(radial_deg: f64, clockwise: bool) -> f64 {
+    if clockwise {
+        radial_deg + 90.0
+    } else {
+        radial_deg - 90.0
+    }
+}
+
+/// An arc leg seen from the centre: the aircraft at `rho` metres and bearing `theta` deg, the TO
+/// waypoint at radius `r` and bearing `theta_to`, `alpha` deg to go in the turn direction.
+struct ArcState {
+    rho: f64,
+    theta: f64,
+    r: f64,
+    alpha: f64,
+}
+
+fn arc_state(
+    centre: Point<f64>,
+    clockwise: bool,
+    p: Point<f64>,
+    to: Point<f64>,
+) -> Option<ArcState> {
+    let rho = Haversine.distance(centre, p);
+    let r = Haversine.distance(centre, to);
+    if rho < MIN_ARC_RADIUS_M || r < MIN_ARC_RADIUS_M {
+        return None;
+    }
+    let theta = Haversine.bearing(centre, p);
+    let alpha = angle_to_go(theta, Haversine.bearing(centre, to), clockwise);
+    Some(ArcState {
+        rho,
+        theta,
+        r,
+        alpha,
+    })
+}
+
+/// The speed flown towards `e`.
+fn leg_speed(e: &WaypointEntry) -> f64 {
+    let v = e.speed.mps();
+    if v > 0.0 { v } else { FALLBACK_SPEED_MPS }
+}
+
+/// The guidance model: flies the waypoint list through the flight phases (see the module
+/// documentation for the model).
+#[derive(Debug, Clone)]
+pub struct Guidance {
+    config: GuidanceConfig,
+    /// The list flown.
+    list: WaypointListPayload,
+    /// A newer list received in the air, waiting for automation to fly it.
+    pending: Option<WaypointListPayload>,
+    areas: Areas,
+    automation: AutomationStatePayload,
+    /// Position, lon/lat degrees.
+    position: Point<f64>,
+    altitude_m: f64,
+    ground_speed_mps: f64,
+    climb_complete: bool,
+    route: Route,
+    last_step: Option<Instant>,
+    sequence: u64,
+    /// Zone status of the last step (or of the last area list change).
+    inside_fly_zone: bool,
+    in_no_fly_zone: u16,
+    /// Warnings logged for leaving the fly-zone or entering a no-fly-zone.
+    zone_warnings: u32,
+}
+
+impl Guidance {
+    /// On the ground at the configured start, altitude 0, no list, no areas.
+    pub fn new(config: GuidanceConfig) -> Self {
+        let config = config.sanitized();
+        Self {
+            config,
+            list: WaypointListPayload::EMPTY,
+            pending: None,
+            areas: Areas::default(),
+            automation: AutomationStatePayload::ON_GROUND,
+            position: Point::new(config.start_longitude_deg, config.start_latitude_deg),
+            altitude_m: 0.0,
+            ground_speed_mps: 0.0,
+            climb_complete: false,
+            route: Route::NOT_STARTED,
+            last_step: None,
+            sequence: 0,
+            inside_fly_zone: false,
+            in_no_fly_zone: 0,
+            zone_warnings: 0,
+        }
+    }
+
+    /// A waypoint list was published. A new generation is flown at once on the ground; in the
+    /// air only once the automation state's `flown_waypoint_list` names it (until then the old
+    /// list is flown).
+    pub fn set_waypoint_list(&mut self, list: &WaypointListPayload) {
+        if list.generation == self.list.generation {
+            return;
+        }
+        if self.on_ground() || self.automation.flown_waypoint_list == list.generation {
+            self.adopt(*list);
+        } else {
+            self.pending = Some(*list);
+        }
+    }
+
+    /// An area list was published: its polygons are built and kept for the zone checks.
+    pub fn set_area_list(&mut self, list: &AreaListPayload) {
+        self.areas = Areas::new(list);
+        // The aircraft did not move: the new status is taken without a warning.
+        self.inside_fly_zone = self.areas.inside_fly_zone(self.position);
+        self.in_no_fly_zone = self.areas.no_fly_zone_at(self.position);
+    }
+
+    /// The automation state changed.
+    pub fn set_automation(&mut self, state: &AutomationStatePayload) {
+        if state.route_reversed && !self.automation.route_reversed && !self.list.bidirectional {
+            tracing::warn!(
+                generation = self.list.generation,
+                "return to home requested on a route that is not bidirectional: ignored"
+            );
+        }
+        self.automation = *state;
+        self.adopt_pending_if_due();
+    }
+
+    /// Integrates from the previous step to `now` (simulated elapsed = real elapsed x
+    /// time_scale; nothing on the first call), in sub-steps of at most [`MAX_SUB_STEP_S`]
+    /// simulated seconds, and returns the progress. `sequence` counts calls from 1, `time_ns`
+    /// is `now` in nanoseconds, `waypoint_list` the generation of the list flown.
+    pub fn step(&mut self, now: Instant) -> GuidanceProgressPayload {
+        self.sequence = self.sequence.saturating_add(1);
+        let elapsed = self
+            .last_step
+            .map_or(0.0, |t| now.saturating_since(t).as_secs_f64());
+        self.last_step = Some(now);
+        self.adopt_pending_if_due();
+
+        let phase = self.automation.flight_phase();
+        match phase {
+            Some(FlightPhase::TakeOff | FlightPhase::Cruise) => self.start_route_if_needed(),
+            Some(FlightPhase::Landing) => {}
+            Some(FlightPhase::OnGround | FlightPhase::Landed) | None => {
+                self.altitude_m = 0.0;
+                self.route = Route::NOT_STARTED;
+                self.climb_complete = false;
+            }
+        }
+        self.sync_direction();
+        if phase != Some(FlightPhase::Cruise) {
+            self.ground_speed_mps = 0.0;
+        }
+
+        let simulated = elapsed * self.config.time_scale;
+        if simulated > 0.0 {
+            let n = (simulated / MAX_SUB_STEP_S).ceil().max(1.0);
+            let h = simulated / n;
+            let mut i = 0.0;
+            while i < n {
+                let busy = match phase {
+                    Some(FlightPhase::TakeOff) => self.climb(h),
+                    Some(FlightPhase::Cruise) => self.fly(h),
+                    Some(FlightPhase::Landing) => self.descend(h),
+                    _ => false,
+                };
+                if !busy {
+                    break;
+                }
+                i += 1.0;
+            }
+        }
+
+        self.check_zones();
+        let (from, to, next) = self.triple(phase);
+        GuidanceProgressPayload {
+            sequence: self.sequence,
+            time_ns: now.micros().saturating_mul(1000),
+            waypoint_list: self.list.generation,
+            latitude_deg: self.position.y(),
+            longitude_deg: self.position.x(),
+            altitude_m: self.altitude_m,
+            ground_speed_mps: self.ground_speed_mps,
+            from,
+            to,
+            next,
+            in_no_fly_zone: self.in_no_fly_zone,
+            inside_fly_zone: self.inside_fly_zone,
+            trajectory_generation_active: phase == Some(FlightPhase::Cruise),
+            climb_complete: self.climb_complete,
+            route_complete: self.route.complete,
+            on_ground: self.on_ground(),
+            reserved: [0; 3],
+        }
+    }
+
+    /// On the ground: before take-off, after touchdown, or in an unknown phase.
+    fn on_ground(&self) -> bool {
+        match self.automation.flight_phase() {
+            Some(FlightPhase::OnGround | FlightPhase::Landed) | None => true,
+            Some(FlightPhase::TakeOff | FlightPhase::Landing) => self.altitude_m <= 0.0,
+            Some(FlightPhase::Cruise) => false,
+        }
+    }
+
+    fn adopt(&mut self, list: WaypointListPayload) {
+        self.list = list;
+        self.pending = None;
+        self.route = Route::NOT_STARTED;
+    }
+
+    fn adopt_pending_if_due(&mut self) {
+        if let Some(p) = self.pending
+            && (self.on_ground() || self.automation.flown_waypoint_list == p.generation)
+        {
+            self.adopt(p);
+        }
+    }
+
+    fn reversal_wanted(&self) -> bool {
+        self.automation.route_reversed && self.list.bidirectional
+    }
+
+    fn entry(&self, index: usize) -> Option<&WaypointEntry> {
+        self.list.waypoints().get(index)
+    }
+
+    fn index_of(&self, number: u16) -> Option<usize> {
+        self.list
+            .waypoints()
+            .iter()
+            .position(|w| w.number == number)
+    }
+
+    fn number(&self, index: Option<usize>) -> u16 {
+        index.and_then(|i| self.entry(i)).map_or(0, |w| w.number)
+    }
+
+    /// Starts the route of the list flown: FROM 0, TO the first waypoint (or, reversed, the
+    /// nearest one), flown direct.
+    fn start_route_if_needed(&mut self) {
+        if self.route.started {
+            return;
+        }
+        let reversed = self.reversal_wanted();
+        let waypoints = self.list.waypoints();
+        let to = if waypoints.is_empty() {
+            None
+        } else if reversed {
+            waypoints
+                .iter()
+                .map(|w| Haversine.distance(self.position, point(w.position)))
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(i, _)| i)
+        } else {
+            Some(0)
+        };
+        self.route = Route {
+            started: true,
+            reversed,
+            from: 0,
+            to,
+            complete: false,
+            leg: Leg::Direct,
+        };
+    }
+
+    /// Applies a change of `route_reversed`: the TO waypoint stays, what follows it turns
+    /// round; a complete route restarts from its final waypoint.
+    fn sync_direction(&mut self) {
+        let wanted = self.reversal_wanted();
+        if !self.route.started || wanted == self.route.reversed {
+            return;
+        }
+        self.route.reversed = wanted;
+        if self.route.complete
+            && let Some(next) = self
+                .index_of(self.route.from)
+                .and_then(|i| self.next_index(i))
+        {
+            self.route.complete = false;
+            self.route.to = Some(next);
+            self.route.leg = self.leg_into(next);
+        }
+    }
+
+    /// Index of the last waypoint of the route, seen from TO at `to`.
+    fn end_index(&self, to: usize) -> usize {
+        let reversed = self.route.reversed;
+        let land_at = self.automation.land_at;
+        if land_at != 0
+            && let Some(i) = self.index_of(land_at)
+            && ((!reversed && i >= to) || (reversed && i <= to))
+        {
+            return i;
+        }
+        if reversed {
+            0
+        } else {
+            self.list.waypoints().len().saturating_sub(1)
+        }
+    }
+
+    /// Index of the waypoint after `to` on the route, `None` on the last leg.
+    fn next_index(&self, to: usize) -> Option<usize> {
+        let end = self.end_index(to);
+        if self.route.reversed {
+            (to > end).then(|| to - 1)
+        } else {
+            (to < end).then(|| to + 1)
+        }
+    }
+
+    /// Geometry of the route's leg that ends at `index`: forwards the leg type of that
+    /// waypoint; backwards the leg that ended at the waypoint after it, arcs turned round.
+    fn leg_into(&self, index: usize) -> Leg {
+        let (defining, flip) = if self.route.reversed {
+            (index.checked_add(1).and_then(|i| self.entry(i)), true)
+        } else {
+            (self.entry(index), false)
+        };
+        match defining {
+            Some(e) if e.leg_type() == Some(LegType::RadiusToFix) => match e.rf_centre() {
+                Some((centre, direction)) => Leg::Arc {
+                    centre: point(centre),
+                    clockwise: (direction == TurnDirection::Clockwise) != flip,
+                },
+                None => Leg::Direct,
+            },
+            _ => Leg::Direct,
+        }
+    }
+
+    fn triple(&self, phase: Option<FlightPhase>) -> (u16, u16, u16) {
+        match phase {
+            Some(FlightPhase::TakeOff | FlightPhase::Cruise | FlightPhase::Landing)
+                if self.route.started =>
+            {
+                let next = self.route.to.and_then(|t| self.next_index(t));
+                (
+                    self.route.from,
+                    self.number(self.route.to),
+                    self.number(next),
+                )
+            }
+            _ => (0, 0, 0),
+        }
+    }
+
+    /// One climb sub-step; false once at (or above) the take-off height.
+    fn climb(&mut self, h: f64) -> bool {
+        let target = self.list.take_off_height.metres().max(0.0);
+        if self.altitude_m >= target {
+            self.climb_complete = true;
+            return false;
+        }
+        self.altitude_m = (self.altitude_m + self.config.climb_rate_mps * h).min(target);
+        // Sums of sub-steps miss the height by rounding: a micrometre short is there.
+        if self.altitude_m >= target - ALTITUDE_EPSILON_M {
+            self.altitude_m = target;
+            self.climb_complete = true;
+        }
+        true
+    }
+
+    /// One descent sub-step; false once on the ground.
+    fn descend(&mut self, h: f64) -> bool {
+        if self.altitude_m <= 0.0 {
+            self.altitude_m = 0.0;
+            return false;
+        }
+        self.altitude_m = (self.altitude_m - self.config.descent_rate_mps * h).max(0.0);
+        if self.altitude_m <= ALTITUDE_EPSILON_M {
+            self.altitude_m = 0.0;
+        }
+        true
+    }
+
+    /// One cruise sub-step of `h` seconds; false when holding (route complete or no list).
+    fn fly(&mut self, h: f64) -> bool {
+        let mut left = h;
+        for _ in 0..MAX_LEGS_PER_SUB_STEP {
+            if left <= 0.0 {
+                break;
+            }
+            match self.fly_leg(left, h) {
+                Some(used) => left -= used,
+                None => {
+                    self.ground_speed_mps = 0.0;
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Flies towards TO for up to `dt` seconds (`h` is the sub-step, for the fly-by minimum).
+    /// Returns the time used (0 on a fly-by switch), `None` when there is nothing to fly.
+    fn fly_leg(&mut self, dt: f64, h: f64) -> Option<f64> {
+        let to_index = self.route.to?;
+        let to = *self.entry(to_index)?;
+        let target = point(to.position);
+        let v = leg_speed(&to);
+        let remaining = self.remaining(target);
+
+        if let Some(next) = self.next_index(to_index)
+            && to.turn_type() != Some(TurnType::FlyOver)
+        {
+            let threshold = self.turn_anticipation(v, target, next).max(v * h);
+            if remaining <= threshold {
+                self.switch_to(to_index, next);
+                return Some(0.0);
+            }
+        }
+
+        self.ground_speed_mps = v;
+        let budget = v * dt;
+        let target_alt = to.altitude.metres();
+        if remaining <= budget + REACHED_M {
+            self.position = target;
+            self.altitude_m = target_alt;
+            match self.next_index(to_index) {
+                Some(next) => self.switch_to(to_index, next),
+                None => {
+                    self.route.from = to.number;
+                    self.route.to = None;
+                    self.route.complete = true;
+                }
+            }
+            return Some(remaining / v);
+        }
+        self.altitude_m += (target_alt - self.altitude_m) * budget / remaining;
+        self.advance(target, budget, remaining, v);
+        Some(dt)
+    }
+
+    fn switch_to(&mut self, to_index: usize, next: usize) {
+        self.route.from = self.number(Some(to_index));
+        self.route.to = Some(next);
+        self.route.leg = self.leg_into(next);
+    }
+
+    /// Distance to go to `target` along the current leg, metres.
+    fn remaining(&self, target: Point<f64>) -> f64 {
+        let straight = Haversine.distance(self.position, target);
+        if straight <= REACHED_M {
+            return 0.0;
+        }
+        match self.route.leg {
+            Leg::Arc { centre, clockwise } => {
+                match arc_state(centre, clockwise, self.position, target) {
+                    Some(a) => (a.alpha.to_radians() * (a.rho + a.r) / 2.0).hypot(a.rho - a.r),
+                    None => straight,
+                }
+            }
+            Leg::Direct => straight,
+        }
+    }
+
+    /// Moves `distance` metres (less than `remaining`) along the current leg to `target`.
+    fn advance(&mut self, target: Point<f64>, distance: f64, remaining: f64, v: f64) {
+        let arc = match self.route.leg {
+            Leg::Arc { centre, clockwise } => {
+                arc_state(centre, clockwise, self.position, target).map(|a| (centre, clockwise, a))
+            }
+            Leg::Direct => None,
+        };
+        match arc {
+            Some((centre, clockwise, a)) => {
+                // Close the radial offset: exponentially over one turn radius, and linearly
+                // by the TO waypoint at the latest.
+                let length = self.turn_radius(v).max(MIN_ARC_RADIUS_M);
+                let keep = (-distance / length)
+                    .exp()
+                    .min((1.0 - distance / remaining).max(0.0));
+                let dr = ((a.r - a.rho) * (1.0 - keep)).clamp(-0.9 * distance, 0.9 * distance);
+                let along = (distance * distance - dr * dr).max(0.0).sqrt();
+                let dtheta = (along / (a.rho + dr / 2.0)).to_degrees().min(a.alpha);
+                let theta = if clockwise {
+                    a.theta + dtheta
+                } else {
+                    a.theta - dtheta
+                };
+                self.position = Haversine.destination(centre, theta.rem_euclid(360.0), a.rho + dr);
+            }
+            None => {
+                let bearing = Haversine.bearing(self.position, target);
+                self.position = Haversine.destination(self.position, bearing, distance);
+            }
+        }
+    }
+
+    /// Turn radius at speed `v` and the bank limit, metres.
+    fn turn_radius(&self, v: f64) -> f64 {
+        v * v / (GRAVITY_MPS2 * self.config.max_bank_deg.to_radians().tan())
+    }
+
+    /// Fly-by turn anticipation at the TO waypoint `to` before the leg to `next`: `r·tan(Δψ/2)`,
+    /// capped at half the next leg's length.
+    fn turn_anticipation(&self, v: f64, to: Point<f64>, next: usize) -> f64 {
+        let Some(next_point) = self.entry(next).map(|e| point(e.position)) else {
+            return 0.0;
+        };
+        let inbound = match self.route.leg {
+            Leg::Arc { centre, clockwise }
+                if Haversine.distance(centre, to) >= MIN_ARC_RADIUS_M =>
+            {
+                tangent(Haversine.bearing(centre, to), clockwise)
+            }
+            // Final course of the great circle from here: the reverse of the initial bearing
+            // from the waypoint back to here.
+            _ => Haversine.bearing(to, self.position) + 180.0,
+        };
+        let arc_out = match self.leg_into(next) {
+            Leg::Arc { centre, clockwise } => {
+                arc_state(centre, clockwise, to, next_point).map(|a| (a, clockwise))
+            }
+            Leg::Direct => None,
+        };
+        let (outbound, next_length) = match arc_out {
+            Some((a, clockwise)) => (tangent(a.theta, clockwise), a.alpha.to_radians() * a.r),
+            None => (
+                Haversine.bearing(to, next_point),
+                Haversine.distance(to, next_point),
+            ),
+        };
+        let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
+        let cap = next_length / 2.0;
+        if turn >= 179.999 {
+            return cap;
+        }
+        (self.turn_radius(v) * (turn / 2.0).to_radians().tan()).min(cap)
+    }
+
+    /// Updates the zone status and logs leaving the fly-zone and entering a no-fly-zone.
+    fn check_zones(&mut self) {
+        let inside = self.areas.inside_fly_zone(self.position);
+        let nfz = self.areas.no_fly_zone_at(self.position);
+        if self.inside_fly_zone && !inside {
+            self.zone_warnings = self.zone_warnings.saturating_add(1);
+            tracing::warn!(
+                latitude_deg = self.position.y(),
+                longitude_deg = self.position.x(),
+                "left the fly-zone"
+            );
+        }
+        if nfz != 0 && nfz != self.in_no_fly_zone {
+            self.zone_warnings = self.zone_warnings.saturating_add(1);
+            tracing::warn!(
+                area_id = nfz,
+                latitude_deg = self.position.y(),
+                longitude_deg = self.position.x(),
+                "entered a no-fly-zone"
+            );
+        }
+        self.inside_fly_zone = inside;
+        self.in_no_fly_zone = nfz;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use core::time::Duration;
+
+    use missionlink_interfaces::contracts::{CircleArea, PolygonArea};
+    use missionlink_interfaces::wire::{Altitude, AltitudeType, Speed};
+
+    use super::*;
+
+    const TROL: (f64, f64) = (48.26, 11.66);
+    const CCP: (f64, f64) = (48.275, 11.645);
+    const W1: (f64, f64) = (48.278, 11.658);
+    const ROLE2: (f64, f64) = (48.28, 11.68);
+    const RF_CENTRE: (f64, f64) = (48.27455, 11.66991);
+    const NFZ_CENTRE: (f64, f64) = (48.268, 11.675);
+    const NFZ_BORDER: (f64, f64) = (48.268, 11.679);
+    /// Real time between steps.
+    const DT: Duration = Duration::from_millis(100);
+    const SPEED: f64 = 25.0;
+
+    fn gp(p: (f64, f64)) -> GeoPoint {
+        GeoPoint::from_degrees(p.0, p.1).unwrap()
+    }
+
+    fn pt(p: (f64, f64)) -> Point<f64> {
+        Point::new(p.1, p.0)
+    }
+
+    fn here(p: &GuidanceProgressPayload) -> Point<f64> {
+        Point::new(p.longitude_deg, p.latitude_deg)
+    }
+
+    fn config_at(p: (f64, f64)) -> GuidanceConfig {
+        GuidanceConfig {
+            start_latitude_deg: p.0,
+            start_longitude_deg: p.1,
+            ..GuidanceConfig::default()
+        }
+    }
+
+    fn waypoint(number: u16, next: u16, at: (f64, f64), turn: TurnType) -> WaypointEntry {
+        let mut w = WaypointEntry {
+            number,
+            next,
+            position: gp(at),
+            altitude: Altitude::from_metres(120.0).unwrap(),
+            speed: Speed::from_mps(SPEED).unwrap(),
+            turn_type: turn.into(),
+            leg_type: LegType::TrackToFix.into(),
+            ..WaypointEntry::EMPTY
+        };
+        w.set_altitude_type(Some(AltitudeType::Wgs84));
+        w
+    }
+
+    fn list(generation: u64, waypoints: &[WaypointEntry]) -> WaypointListPayload {
+        let mut l = WaypointListPayload::EMPTY;
+        l.generation = generation;
+        l.take_off_height = Altitude::from_metres(30.0).unwrap();
+        l.count = waypoints.len() as u16;
+        l.initial_waypoint = waypoints[0].number;
+        l.waypoints[..waypoints.len()].copy_from_slice(waypoints);
+        l
+    }
+
+    /// Demo mission 1: TROL -> CCP.
+    fn mission1() -> WaypointListPayload {
+        list(1, &[waypoint(1, 0, CCP, TurnType::FlyBy)])
+    }
+
+    /// The richer demo mission 2: CCP -> W1 (TF) -> ROLE2 (RF, clockwise), bidirectional.
+    fn mission2(generation: u64, w1_turn: TurnType) -> WaypointListPayload {
+        let mut role2 = waypoint(3, 0, ROLE2, TurnType::FlyBy);
+        role2.leg_type = LegType::RadiusToFix.into();
+        role2.set_rf_centre(Some((gp(RF_CENTRE), TurnDirection::Clockwise)));
+        let mut l = list(
+            generation,
+            &[
+                waypoint(1, 2, CCP, TurnType::FlyBy),
+                waypoint(2, 3, W1, w1_turn),
+                role2,
+            ],
+        );
+        l.bidirectional = true;
+        l
+    }
+
+    fn mission2_areas() -> AreaListPayload {
+        let mut a = AreaListPayload::EMPTY;
+        a.generation = 1;
+        a.fly_zone.area_id = 1;
+        a.fly_zone.vertex_count = 4;
+        for (v, p) in a.fly_zone.vertices.iter_mut().zip([
+            (48.255, 11.635),
+            (48.255, 11.69),
+            (48.285, 11.69),
+            (48.285, 11.635),
+        ]) {
+            *v = gp(p);
+        }
+        a.no_fly_circle_count = 1;
+        a.no_fly_circles[0] = CircleArea {
+            area_id: 2,
+            centre: gp(NFZ_CENTRE),
+            border: gp(NFZ_BORDER),
+            ..CircleArea::EMPTY
+        };
+        a.no_fly_polygon_count = 1;
+        let mut poly = PolygonArea {
+            area_id: 3,
+            vertex_count: 4,
+            ..PolygonArea::EMPTY
+        };
+        for (v, p) in poly.vertices.iter_mut().zip([
+            (48.262, 11.64),
+            (48.262, 11.646),
+            (48.266, 11.646),
+            (48.266, 11.64),
+        ]) {
+            *v = gp(p);
+        }
+        a.no_fly_polygons[0] = poly;
+        a
+    }
+
+    /// A guidance driven through simulated time, every progress kept.
+    struct Sim {
+        g: Guidance,
+        now: Instant,
+        automation: AutomationStatePayload,
+        log: Vec<GuidanceProgressPayload>,
+    }
+
+    impl Sim {
+        fn new(config: GuidanceConfig, l: &WaypointListPayload) -> Self {
+            let mut g = Guidance::new(config);
+            g.set_waypoint_list(l);
+            let mut s = Self {
+                g,
+                now: Instant::ZERO,
+                automation: AutomationStatePayload::ON_GROUND,
+                log: Vec::new(),
+            };
+            s.automation.flown_waypoint_list = l.generation;
+            s.step();
+            s
+        }
+
+        fn set(&mut self, f: impl FnOnce(&mut AutomationStatePayload)) {
+            f(&mut self.automation);
+            self.automation.sequence += 1;
+            self.g.set_automation(&self.automation);
+        }
+
+        fn phase(&mut self, phase: FlightPhase) {
+            self.set(|a| a.flight_phase = phase as u8);
+        }
+
+        fn step(&mut self) -> GuidanceProgressPayload {
+            self.now = self.now + DT;
+            let p = self.g.step(self.now);
+            self.log.push(p);
+            p
+        }
+
+        /// Steps until `done`; returns the progress and the steps taken.
+        fn run_until(
+            &mut self,
+            max_steps: usize,
+            done: impl Fn(&GuidanceProgressPayload) -> bool,
+        ) -> (GuidanceProgressPayload, usize) {
+            for n in 1..=max_steps {
+                let p = self.step();
+                if done(&p) {
+                    return (p, n);
+                }
+            }
+            panic!("not done in {max_steps} steps: {:?}", self.log.last());
+        }
+
+        /// Steps `n` times.
+        fn run(&mut self, n: usize) {
+            for _ in 0..n {
+                self.step();
+            }
+        }
+
+        /// The FROM-TO-NEXT triples logged from `start`, repetitions removed.
+        fn triples(&self, start: usize) -> Vec<(u16, u16, u16)> {
+            let mut t: Vec<_> = self.log[start..].iter().map(|p| p.from_to_next()).collect();
+            t.dedup();
+            t
+        }
+
+        /// Take-off and climb to the take-off height.
+        fn take_off(&mut self) -> usize {
+            self.phase(FlightPhase::TakeOff);
+            self.run_until(1000, |p| p.climb_complete).1
+        }
+    }
+
+    fn secs(steps: usize) -> f64 {
+        steps as f64 * DT.as_secs_f64()
+    }
+
+    /// Bearing from `centre` to each point, unwrapped (no jumps of 360 deg).
+    fn unwrapped_bearings(centre: Point<f64>, points: &[Point<f64>]) -> Vec<f64> {
+        let mut out: Vec<f64> = Vec::with_capacity(points.len());
+        for p in points {
+            let b = Haversine.bearing(centre, *p);
+            out.push(match out.last() {
+                Some(prev) => prev + ((b - prev + 180.0).rem_euclid(360.0) - 180.0),
+                None => b,
+            });
+        }
+        out
+    }
+
+    #[test]
+    fn on_the_ground_nothing_moves() {
+        let mut s = Sim::new(GuidanceConfig::default(), &mission1());
+        for _ in 0..50 {
+            let p = s.step();
+            assert!(p.on_ground && !p.trajectory_generation_active);
+            assert_eq!((p.latitude_deg, p.longitude_deg), TROL);
+            assert_eq!(p.altitude_m, 0.0);
+            assert_eq!(p.ground_speed_mps, 0.0);
+            assert_eq!(p.from_to_next(), (0, 0, 0));
+            assert_eq!(p.waypoint_list, 1);
+        }
+        let p = s.log.last().unwrap();
+        assert_eq!(p.sequence, 51);
+        assert_eq!(p.time_ns, 5_100_000_000);
+    }
+
+    /// Demo mission 1 through every phase: climb 30 m at 3 m/s, the TF leg TROL -> CCP at
+    /// 25 m/s, descent from 120 m at 2 m/s.
+    #[test]
+    fn mission1_take_off_cruise_landing() {
+        let mut s = Sim::new(GuidanceConfig::default(), &mission1());
+
+        s.phase(FlightPhase::TakeOff);
+        let (p, steps) = s.run_until(1000, |p| p.climb_complete);
+        assert!((secs(steps) - 30.0 / 3.0).abs() <= 0.1 + 1e-9, "{steps}");
+        assert_eq!(p.altitude_m, 30.0);
+        assert_eq!((p.latitude_deg, p.longitude_deg), TROL);
+        assert_eq!(p.from_to_next(), (0, 1, 0));
+        assert!(!p.on_ground && !p.trajectory_generation_active);
+        assert_eq!(p.ground_speed_mps, 0.0);
+        // Holds at the take-off height.
+        assert_eq!(s.step().altitude_m, 30.0);
+
+        s.phase(FlightPhase::Cruise);
+        let start = s.log.len();
+        let (p, steps) = s.run_until(2000, |p| p.route_complete);
+        let leg = Haversine.distance(pt(TROL), pt(CCP));
+        assert!((leg - 2004.0).abs() < 5.0, "{leg}");
+        assert!((secs(steps) - leg / SPEED).abs() <= 0.1 + 1e-9, "{steps}");
+        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+        assert_eq!(p.altitude_m, 120.0);
+        assert_eq!(p.from_to_next(), (1, 0, 0));
+        assert_eq!(s.triples(start), [(0, 1, 0), (1, 0, 0)]);
+        let mid = s.log[start + steps / 2];
+        assert_eq!(mid.ground_speed_mps, SPEED);
+        assert!(mid.trajectory_generation_active && !mid.on_ground);
+        // Altitude linear in distance: half way, half way from 30 to 120 m.
+        assert!((mid.altitude_m - 75.0).abs() < 1.0, "{}", mid.altitude_m);
+        // Hovers at CCP.
+        let p = s.step();
+        assert_eq!(p.ground_speed_mps, 0.0);
+        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+
+        s.phase(FlightPhase::Landing);
+        let (p, steps) = s.run_until(2000, |p| p.on_ground);
+        assert!((secs(steps) - 120.0 / 2.0).abs() <= 0.1 + 1e-9, "{steps}");
+        assert_eq!(p.altitude_m, 0.0);
+        assert!(!p.trajectory_generation_active);
+
+        s.phase(FlightPhase::Landed);
+        let p = s.step();
+        assert!(p.on_ground);
+        assert_eq!(p.from_to_next(), (0, 0, 0));
+        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+    }
+
+    /// Expected fly-by anticipation at W1 of mission 2: TF inbound from CCP, tangent of the
+    /// clockwise arc outbound.
+    fn w1_anticipation() -> f64 {
+        let inbound = Haversine.bearing(pt(W1), pt(CCP)) + 180.0;
+        let outbound = Haversine.bearing(pt(RF_CENTRE), pt(W1)) + 90.0;
+        let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
+        let r = SPEED * SPEED / (9.80665 * 25f64.to_radians().tan());
+        r * (turn / 2.0).to_radians().tan()
+    }
+
+    /// Flies mission 2 from CCP to ROLE2; returns the simulation and the log index where the
+    /// take-off started.
+    fn fly_mission2(w1_turn: TurnType) -> (Sim, usize) {
+        let mut s = Sim::new(config_at(CCP), &mission2(2, w1_turn));
+        let start = s.log.len();
+        s.take_off();
+        assert_eq!(s.log.last().unwrap().from_to_next(), (0, 1, 2));
+        s.phase(FlightPhase::Cruise);
+        let (p, _) = s.run_until(3000, |p| p.route_complete);
+        assert!(Haversine.distance(here(&p), pt(ROLE2)) < 0.01);
+        assert_eq!(p.altitude_m, 120.0);
+        assert_eq!(
+            s.triples(start),
+            [(0, 1, 2), (1, 2, 3), (2, 3, 0), (3, 0, 0)]
+        );
+        (s, start)
+    }
+
+    /// Distances of the samples on the RF leg to the centre, relative to the radius, and the
+    /// points.
+    fn rf_leg(
+        s: &Sim,
+        on_leg: impl Fn(&GuidanceProgressPayload) -> bool,
+    ) -> (Vec<f64>, Vec<Point<f64>>) {
+        let radius = Haversine.distance(pt(RF_CENTRE), pt(ROLE2));
+        let points: Vec<_> = s.log.iter().filter(|p| on_leg(p)).map(here).collect();
+        let rel = points
+            .iter()
+            .map(|p| (Haversine.distance(pt(RF_CENTRE), *p) - radius).abs() / radius)
+            .collect();
+        (rel, points)
+    }
+
+    #[test]
+    fn mission2_fly_by_tf_then_rf_arc() {
+        let radius = Haversine.distance(pt(RF_CENTRE), pt(ROLE2));
+        assert!((radius - 962.0).abs() < 2.0, "{radius}");
+        let (s, start) = fly_mission2(TurnType::FlyBy);
+
+        // The TF leg CCP -> W1 is left by fly-by, the anticipation distance before W1.
+        let leg_start = start + s.log[start..].iter().position(|p| p.to == 2).unwrap();
+        let switch = start + s.log[start..].iter().position(|p| p.to == 3).unwrap();
+        let before = &s.log[switch - 1];
+        let anticipation = w1_anticipation();
+        assert!((55.0..65.0).contains(&anticipation), "{anticipation}");
+        let left_at = Haversine.distance(here(before), pt(W1));
+        assert!(
+            (left_at - anticipation).abs() <= 2.0 * SPEED * DT.as_secs_f64(),
+            "switched {left_at} m before W1, anticipation {anticipation} m"
+        );
+        let tf = Haversine.distance(pt(CCP), pt(W1));
+        let flown = secs(switch - leg_start);
+        assert!(
+            ((tf - anticipation) / SPEED - flown).abs() <= 0.2,
+            "TF leg {tf} m flown in {flown} s"
+        );
+
+        // The RF leg: within 2 % of the radius once the fly-by transition closed the offset,
+        // clockwise all along.
+        let (rel, points) = rf_leg(&s, |p| p.to == 3);
+        let on_arc = rel.iter().position(|r| *r <= 0.02).unwrap();
+        let transition = secs(on_arc) * SPEED;
+        assert!(transition < 150.0, "transition {transition} m");
+        let worst = rel[on_arc..].iter().cloned().fold(0.0, f64::max);
+        assert!(worst <= 0.02, "{worst}");
+        assert!(rel[rel.len() / 4..].iter().all(|r| *r < 0.002));
+        let bearings = unwrapped_bearings(pt(RF_CENTRE), &points);
+        assert!(bearings.windows(2).all(|w| w[1] > w[0]), "not clockwise");
+        let swept = bearings.last().unwrap() - bearings.first().unwrap();
+        assert!((110.0..125.0).contains(&swept), "{swept}");
+        eprintln!(
+            "mission 2: anticipation {anticipation:.1} m, left TF {left_at:.1} m before W1, \
+             TF {tf:.0} m in {flown:.1} s; arc radius {radius:.1} m, entry offset {:.2} %, \
+             within 2 % after {transition:.0} m, then worst {:.3} %, swept {swept:.1} deg",
+            rel[0] * 100.0,
+            worst * 100.0
+        );
+    }
+
+    #[test]
+    fn fly_over_switches_at_the_waypoint() {
+        let (s, start) = fly_mission2(TurnType::FlyOver);
+        let switch = start + s.log[start..].iter().position(|p| p.to == 3).unwrap();
+        // The leg switched at W1: the sample after it is at most one step's travel past it,
+        // the one before still short of it.
+        let step_travel = SPEED * DT.as_secs_f64();
+        assert!(Haversine.distance(here(&s.log[switch]), pt(W1)) <= step_travel + 0.01);
+        assert!(Haversine.distance(here(&s.log[switch - 1]), pt(W1)) > 0.01);
+        // Starting on the circle, the whole arc stays within 2 % of the radius.
+        let (rel, points) = rf_leg(&s, |p| p.to == 3);
+        let worst = rel.iter().cloned().fold(0.0, f64::max);
+        assert!(worst <= 0.02, "{worst}");
+        let bearings = unwrapped_bearings(pt(RF_CENTRE), &points);
+        assert!(bearings.windows(2).all(|w| w[1] > w[0]));
+    }
+
+    #[test]
+    fn return_to_home_flies_the_route_backwards() {
+        let (mut s, _) = fly_mission2(TurnType::FlyBy);
+        s.set(|a| a.route_reversed = true);
+        let start = s.log.len();
+        let (p, _) = s.run_until(3000, |p| p.route_complete);
+        assert!(
+            Haversine.distance(here(&p), pt(CCP)) < 0.01,
+            "ends at the initial waypoint"
+        );
+        assert_eq!(s.triples(start), [(3, 2, 1), (2, 1, 0), (1, 0, 0)]);
+        // The reversed RF leg ROLE2 -> W1 is the same arc, counter-clockwise.
+        let (rel, points) = rf_leg(&s, |p| p.from_to_next() == (3, 2, 1));
+        assert!(points.len() > 700, "{}", points.len());
+        assert!(rel.iter().all(|r| *r <= 0.02));
+        let bearings = unwrapped_bearings(pt(RF_CENTRE), &points);
+        assert!(
+            bearings.windows(2).all(|w| w[1] < w[0]),
+            "not counter-clockwise"
+        );
+    }
+
+    #[test]
+    fn reversal_mid_leg_keeps_to_and_turns_round_after_it() {
+        let mut s = Sim::new(config_at(CCP), &mission2(2, TurnType::FlyBy));
+        s.take_off();
+        s.phase(FlightPhase::Cruise);
+        s.run_until(100, |p| p.from_to_next() == (1, 2, 3));
+        s.step();
+        s.set(|a| a.route_reversed = true);
+        let start = s.log.len();
+        let p = s.step();
+        assert_eq!(p.from_to_next(), (1, 2, 1));
+        let (p, _) = s.run_until(3000, |p| p.route_complete);
+        assert_eq!(s.triples(start), [(1, 2, 1), (2, 1, 0), (1, 0, 0)]);
+        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+
+        // A route that is not bidirectional is not reversed.
+        let mut l = mission2(3, TurnType::FlyBy);
+        l.bidirectional = false;
+        let mut s = Sim::new(config_at(CCP), &l);
+        s.take_off();
+        s.phase(FlightPhase::Cruise);
+        s.set(|a| a.route_reversed = true);
+        let (p, _) = s.run_until(3000, |p| p.route_complete);
+        assert_eq!(p.from_to_next(), (3, 0, 0));
+    }
+
+    #[test]
+    fn land_at_ends_the_route_there() {
+        let mut s = Sim::new(config_at(CCP), &mission2(2, TurnType::FlyBy));
+        s.take_off();
+        s.phase(FlightPhase::Cruise);
+        s.set(|a| a.land_at = 2);
+        let start = s.log.len();
+        let (p, _) = s.run_until(3000, |p| p.route_complete);
+        assert_eq!(s.triples(start), [(1, 2, 0), (2, 0, 0)]);
+        assert!(Haversine.distance(here(&p), pt(W1)) < 0.01);
+    }
+
+    #[test]
+    fn time_scale_ten_flies_the_same_path_ten_times_faster() {
+        let fly = |time_scale: f64| {
+            let mut s = Sim::new(
+                GuidanceConfig {
+                    time_scale,
+                    ..GuidanceConfig::default()
+                },
+                &mission1(),
+            );
+            let climb = s.take_off();
+            s.phase(FlightPhase::Cruise);
+            let (p, cruise) = s.run_until(2000, |p| p.route_complete);
+            (climb, cruise, p)
+        };
+        let (climb1, cruise1, p1) = fly(1.0);
+        let (climb10, cruise10, p10) = fly(10.0);
+        assert_eq!((climb1, climb10), (100, 10));
+        assert!(
+            cruise1.abs_diff(cruise10 * 10) <= 10,
+            "{cruise1} {cruise10}"
+        );
+        assert_eq!(here(&p1), here(&p10));
+        assert_eq!(p1.altitude_m, p10.altitude_m);
+    }
+
+    #[test]
+    fn new_list_in_the_air_waits_for_automation() {
+        let mut s = Sim::new(GuidanceConfig::default(), &mission1());
+        s.take_off();
+        s.phase(FlightPhase::Cruise);
+        s.run(10);
+        let m2 = mission2(2, TurnType::FlyBy);
+        s.g.set_waypoint_list(&m2);
+        let p = s.step();
+        assert_eq!((p.waypoint_list, p.from_to_next()), (1, (0, 1, 0)));
+        s.set(|a| a.flown_waypoint_list = 2);
+        let p = s.step();
+        assert_eq!((p.waypoint_list, p.from_to_next()), (2, (0, 1, 2)));
+        let (p, _) = s.run_until(5000, |p| p.route_complete);
+        assert!(Haversine.distance(here(&p), pt(ROLE2)) < 0.01);
+
+        // On the ground a new list is taken at once.
+        s.phase(FlightPhase::Landing);
+        s.run_until(1000, |p| p.on_ground);
+        s.g.set_waypoint_list(&mission1());
+        assert_eq!(s.step().waypoint_list, 1);
+    }
+
+    #[test]
+    fn zones_are_detected_and_changes_logged_once() {
+        // Inside the polygonal no-fly-zone from the start.
+        let mut g = Guidance::new(config_at((48.264, 11.643)));
+        g.set_area_list(&mission2_areas());
+        let p = g.step(Instant::ZERO);
+        assert_eq!((p.inside_fly_zone, p.in_no_fly_zone), (true, 3));
+
+        // Without an area list: outside any fly-zone, in no no-fly-zone.
+        let mut s = Sim::new(
+            GuidanceConfig::default(),
+            &list(1, &[waypoint(1, 0, NFZ_CENTRE, TurnType::FlyBy)]),
+        );
+        assert_eq!(
+            (s.log[0].inside_fly_zone, s.log[0].in_no_fly_zone),
+            (false, 0)
+        );
+        s.g.set_area_list(&mission2_areas());
+        assert_eq!(
+            (
+                s.step().inside_fly_zone,
+                s.log.last().unwrap().in_no_fly_zone
+            ),
+            (true, 0)
+        );
+
+        // Fly into the circle: detected at its border (radius = haversine centre -> border).
+        let radius = Haversine.distance(pt(NFZ_CENTRE), pt(NFZ_BORDER));
+        assert!((radius - 296.0).abs() < 1.0, "{radius}");
+        s.take_off();
+        s.phase(FlightPhase::Cruise);
+        let (p, _) = s.run_until(2000, |p| p.in_no_fly_zone != 0);
+        assert_eq!(p.in_no_fly_zone, 2);
+        let d = Haversine.distance(here(&p), pt(NFZ_CENTRE));
+        assert!(
+            d <= radius && d > radius - SPEED * DT.as_secs_f64() - 0.01,
+            "{d}"
+        );
+        s.run_until(2000, |p| p.route_complete);
+        s.run(20);
+        assert_eq!(s.g.zone_warnings, 1, "logged once, not every step");
+
+        // Then out of the fly-zone to the north.
+        let out = list(2, &[waypoint(1, 0, (48.29, 11.675), TurnType::FlyBy)]);
+        s.g.set_waypoint_list(&out);
+        s.set(|a| a.flown_waypoint_list = 2);
+        let (p, _) = s.run_until(2000, |p| !p.inside_fly_zone);
+        assert!(
+            (p.latitude_deg - 48.285).abs() < 0.0001,
+            "{}",
+            p.latitude_deg
+        );
+        assert_eq!(p.in_no_fly_zone, 0);
+        s.run_until(2000, |p| p.route_complete);
+        assert!(!s.log.last().unwrap().inside_fly_zone);
+        assert_eq!(s.g.zone_warnings, 2);
+    }
+}
