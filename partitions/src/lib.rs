@@ -2,7 +2,16 @@
 //! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
 //! in `missionlink-services`.
 
+pub mod clock;
+pub mod config;
+pub mod gcs_link;
 pub mod inspect;
+pub mod ipc;
+pub mod latency;
+pub mod mission_file;
+pub mod runtime;
+pub mod state;
+pub mod udp;
 
 /// Installs the `tracing` subscriber of every binary: human-readable lines on stderr, filtered by
 /// `RUST_LOG` (default `info`), so stdout carries only the tool's output.
@@ -12,5 +21,6 @@ pub fn init_logging() {
     let _ = tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_writer(std::io::stderr)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .try_init();
 }

@@ -4,7 +4,7 @@
 //! polygons (paper Figure 8).
 
 use heapless::Vec;
-use missionlink_interfaces::capacity::{MAX_AREAS, MAX_NO_FLY_ZONES};
+use missionlink_interfaces::capacity::{MAX_AREAS, MAX_NO_FLY_ZONES, MIN_POLYGON_VERTICES};
 use missionlink_interfaces::contracts::{AreaAltitudes, AreaListPayload, CircleArea};
 use missionlink_interfaces::wire::{
     AreaPolygonLoopSegment, AreaShape, AreaType, Reason, SafetyOffset, Timestamp,
@@ -111,12 +111,12 @@ impl AreaBuffer {
 
     /// Assembles and checks the area list (ICD §5.3 step 3, §7):
     /// - `CountMismatch`: the buffer does not hold `announced` areas;
-    /// - `BadGeometry`: no fly-zone or several, a fly-zone that is a circle, or a circle whose
-    ///   border point is its centre (radius 0);
+    /// - `BadGeometry`: no fly-zone or several, a fly-zone that is a circle, a polygon with
+    ///   fewer than 3 vertices, or a circle whose border point is its centre (radius 0);
     /// - `Capacity`: more than ten no-fly-zones (only possible without a fly-zone, which is
     ///   reported first as `BadGeometry`).
     ///
-    /// Vertex counts (polygon 3..=60, circle 2) are checked per message at decode.
+    /// A polygon holds at most 60 vertices by its type; a circle has its two points by its type.
     pub fn assemble(&self, announced: u8, safety_offset: SafetyOffset) -> Result<AreaList, Reason> {
         if usize::from(announced) != self.areas.len() {
             return Err(Reason::CountMismatch);
@@ -134,6 +134,11 @@ impl AreaBuffer {
         }
         for area in &self.areas {
             match (&area.shape, area.area_type) {
+                // Decode checks the count of a #2012 too; a plan the GCS built from a file has
+                // not been through decode.
+                (AreaShape::Polygon(v), _) if v.len() < MIN_POLYGON_VERTICES => {
+                    return Err(Reason::BadGeometry);
+                }
                 (AreaShape::Circle { .. }, AreaType::FlyZone) => return Err(Reason::BadGeometry),
                 (AreaShape::Circle { centre, border }, _) if centre == border => {
                     return Err(Reason::BadGeometry);

@@ -1,0 +1,459 @@
+//! The one configuration of the FCC partitions and the gcs tool: every setting with a built-in
+//! default (ICD §1), so no file is needed to start; a TOML file may override any of them, and
+//! command-line flags override the file.
+//!
+//! ```toml
+//! [ids]
+//! gcs = 0x0A000001          # CUCS ID
+//! fcc = 0x0B000001          # vehicle ID
+//!
+//! [links]
+//! fcc_direct = "127.0.0.1:4586"   # the FCC receives the direct link here
+//! gcs_direct = "127.0.0.1:4587"
+//! fcc_lte = "127.0.0.1:4588"
+//! gcs_lte = "127.0.0.1:4589"
+//!
+//! [timing]
+//! ack_timeout_ms = 500
+//! transfer_timeout_ms = 3000
+//!
+//! [ipc]
+//! service_prefix = "missionlink"  # every iceoryx2 service name starts with it
+//! poll = false                    # true: spin instead of sleeping in the WaitSet (lowest latency)
+//! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
+//!
+//! [guidance]
+//! time_scale = 1.0                # simulated seconds per second
+//! update_interval_ms = 50
+//! start_latitude_deg = 48.26      # TROL
+//! start_longitude_deg = 11.66
+//! climb_rate_mps = 3.0
+//! descent_rate_mps = 2.0
+//!
+//! [latency]
+//! report_interval_s = 0           # 0: report at shutdown and on SIGUSR1 only
+//! summary_dir = "/tmp/stats"      # optional: each partition writes <name>.json at shutdown
+//!
+//! [launcher]
+//! restart_delay_ms = 200
+//! ```
+
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use clap::Args;
+use missionlink_interfaces::contracts::DEFAULT_SERVICE_PREFIX;
+use missionlink_interfaces::defaults;
+use serde::{Deserialize, Serialize};
+
+/// Node IDs (ICD §1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Ids {
+    /// GCS (CUCS) ID.
+    pub gcs: u32,
+    /// FCC (vehicle) ID.
+    pub fcc: u32,
+}
+
+impl Default for Ids {
+    fn default() -> Self {
+        Self {
+            gcs: defaults::GCS_ID,
+            fcc: defaults::FCC_ID,
+        }
+    }
+}
+
+/// The UDP ports of the two links (ICD §1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Links {
+    /// The FCC receives the direct link here.
+    pub fcc_direct: SocketAddr,
+    /// The GCS receives the direct link here.
+    pub gcs_direct: SocketAddr,
+    /// The FCC receives the LTE link here.
+    pub fcc_lte: SocketAddr,
+    /// The GCS receives the LTE link here.
+    pub gcs_lte: SocketAddr,
+}
+
+fn addr(s: &str) -> SocketAddr {
+    // The defaults are literals of the ICD.
+    s.parse().unwrap_or(SocketAddr::from(([127, 0, 0, 1], 0)))
+}
+
+impl Default for Links {
+    fn default() -> Self {
+        Self {
+            fcc_direct: addr(defaults::FCC_DIRECT),
+            gcs_direct: addr(defaults::GCS_DIRECT),
+            fcc_lte: addr(defaults::FCC_LTE),
+            gcs_lte: addr(defaults::GCS_LTE),
+        }
+    }
+}
+
+/// Timeouts (ICD §1, §5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Timing {
+    /// How long a sender waits for an answer before its one retry.
+    pub ack_timeout_ms: u64,
+    /// How long a receiver in a transfer waits for its peer.
+    pub transfer_timeout_ms: u64,
+}
+
+impl Default for Timing {
+    fn default() -> Self {
+        Self {
+            ack_timeout_ms: defaults::ACK_TIMEOUT.as_millis() as u64,
+            transfer_timeout_ms: defaults::TRANSFER_TIMEOUT.as_millis() as u64,
+        }
+    }
+}
+
+impl Timing {
+    /// The ack timeout.
+    pub fn ack_timeout(&self) -> Duration {
+        Duration::from_millis(self.ack_timeout_ms)
+    }
+    /// The transfer timeout.
+    pub fn transfer_timeout(&self) -> Duration {
+        Duration::from_millis(self.transfer_timeout_ms)
+    }
+}
+
+/// Shared memory between the partitions.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Ipc {
+    /// Prefix of every iceoryx2 service name: instances with different prefixes never meet.
+    pub service_prefix: String,
+    /// Spin instead of sleeping in the WaitSet (lowest latency, one core busy per partition).
+    pub poll: bool,
+    /// Where mission data handling keeps its active lists across restarts (default:
+    /// `<temp>/missionlink-state/<prefix>`).
+    pub state_dir: Option<PathBuf>,
+}
+
+impl Default for Ipc {
+    fn default() -> Self {
+        Self {
+            service_prefix: DEFAULT_SERVICE_PREFIX.to_owned(),
+            poll: false,
+            state_dir: None,
+        }
+    }
+}
+
+impl Ipc {
+    /// The state directory.
+    pub fn state_dir(&self) -> PathBuf {
+        self.state_dir
+            .clone()
+            .unwrap_or_else(|| crate::state::default_dir(&self.service_prefix))
+    }
+}
+
+/// The guidance stub.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Guidance {
+    /// Simulated seconds per second (demo time scale).
+    pub time_scale: f64,
+    /// How often guidance integrates and publishes its progress.
+    pub update_interval_ms: u64,
+    /// Start position, latitude.
+    pub start_latitude_deg: f64,
+    /// Start position, longitude.
+    pub start_longitude_deg: f64,
+    /// Vertical climb rate.
+    pub climb_rate_mps: f64,
+    /// Vertical descent rate.
+    pub descent_rate_mps: f64,
+}
+
+impl Default for Guidance {
+    fn default() -> Self {
+        Self {
+            time_scale: 1.0,
+            update_interval_ms: 50,
+            start_latitude_deg: 48.26,
+            start_longitude_deg: 11.66,
+            climb_rate_mps: 3.0,
+            descent_rate_mps: 2.0,
+        }
+    }
+}
+
+/// Latency reports.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Latency {
+    /// Log the percentiles every this many seconds; 0: only at shutdown and on SIGUSR1.
+    pub report_interval_s: u64,
+    /// Where each partition writes `<name>.json` with its percentiles at shutdown.
+    pub summary_dir: Option<PathBuf>,
+}
+
+/// The fcc launcher.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Launcher {
+    /// Pause before a dead partition is started again.
+    pub restart_delay_ms: u64,
+}
+
+impl Default for Launcher {
+    fn default() -> Self {
+        Self {
+            restart_delay_ms: 200,
+        }
+    }
+}
+
+/// Every setting.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// Node IDs.
+    pub ids: Ids,
+    /// UDP links.
+    pub links: Links,
+    /// Timeouts.
+    pub timing: Timing,
+    /// iceoryx2.
+    pub ipc: Ipc,
+    /// Guidance stub.
+    pub guidance: Guidance,
+    /// Latency reports.
+    pub latency: Latency,
+    /// Launcher.
+    pub launcher: Launcher,
+}
+
+/// A configuration file that cannot be used.
+#[derive(Debug)]
+pub enum ConfigError {
+    /// The file cannot be read.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// The TOML is wrong: line, column and what.
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl std::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Io { path, error } => write!(f, "{}: {error}", path.display()),
+            Self::Syntax {
+                path,
+                line,
+                column,
+                message,
+            } => write!(f, "{}:{line}:{column}: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// 1-based line and column of byte `offset` in `text`.
+pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = text.get(..offset).unwrap_or(text);
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+impl Config {
+    /// Parses a configuration; `path` names it in errors.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, ConfigError> {
+        toml::from_str(text).map_err(|e| {
+            let (line, column) = e
+                .span()
+                .map_or((0, 0), |span| line_column(text, span.start));
+            ConfigError::Syntax {
+                path: path.to_owned(),
+                line,
+                column,
+                message: e.message().to_owned(),
+            }
+        })
+    }
+
+    /// The configuration of `path`, or the defaults without one.
+    pub fn load(path: Option<&Path>) -> Result<Self, ConfigError> {
+        match path {
+            None => Ok(Self::default()),
+            Some(p) => {
+                let text = std::fs::read_to_string(p).map_err(|error| ConfigError::Io {
+                    path: p.to_owned(),
+                    error,
+                })?;
+                Self::parse(&text, p)
+            }
+        }
+    }
+
+    /// The configuration as TOML (what `--print-config` shows).
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).unwrap_or_default()
+    }
+}
+
+fn parse_id(s: &str) -> Result<u32, String> {
+    let t = s.trim();
+    match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(h) => u32::from_str_radix(h, 16),
+        None => t.parse(),
+    }
+    .map_err(|e| format!("{s:?} is not a 32-bit ID: {e}"))
+}
+
+/// The flags every binary takes: a configuration file and overrides of its most used settings.
+#[derive(Debug, Clone, Default, Args)]
+pub struct ConfigArgs {
+    /// Configuration file (TOML); every setting has a built-in default.
+    #[arg(long, value_name = "FILE", env = "MISSIONLINK_CONFIG")]
+    pub config: Option<PathBuf>,
+    /// Prefix of the iceoryx2 service names.
+    #[arg(long, value_name = "PREFIX", env = "MISSIONLINK_PREFIX")]
+    pub prefix: Option<String>,
+    /// GCS (CUCS) ID.
+    #[arg(long, value_parser = parse_id)]
+    pub gcs_id: Option<u32>,
+    /// FCC (vehicle) ID.
+    #[arg(long, value_parser = parse_id)]
+    pub fcc_id: Option<u32>,
+    /// Where the FCC receives the direct link.
+    #[arg(long, value_name = "ADDR")]
+    pub fcc_direct: Option<SocketAddr>,
+    /// Where the FCC receives the LTE link.
+    #[arg(long, value_name = "ADDR")]
+    pub fcc_lte: Option<SocketAddr>,
+    /// Where the GCS receives the direct link.
+    #[arg(long, value_name = "ADDR")]
+    pub gcs_direct: Option<SocketAddr>,
+    /// Where the GCS receives the LTE link.
+    #[arg(long, value_name = "ADDR")]
+    pub gcs_lte: Option<SocketAddr>,
+    /// Ack timeout in ms.
+    #[arg(long, value_name = "MS")]
+    pub ack_timeout_ms: Option<u64>,
+    /// Transfer timeout in ms.
+    #[arg(long, value_name = "MS")]
+    pub transfer_timeout_ms: Option<u64>,
+    /// Guidance time scale (simulated seconds per second).
+    #[arg(long, value_name = "FACTOR")]
+    pub time_scale: Option<f64>,
+    /// Spin instead of sleeping (lowest latency).
+    #[arg(long)]
+    pub poll: bool,
+    /// Directory for the latency summaries written at shutdown.
+    #[arg(long, value_name = "DIR")]
+    pub summary_dir: Option<PathBuf>,
+}
+
+impl ConfigArgs {
+    /// The file's configuration (or the defaults) with the flags applied.
+    pub fn resolve(&self) -> Result<Config, ConfigError> {
+        let mut c = Config::load(self.config.as_deref())?;
+        if let Some(p) = &self.prefix {
+            c.ipc.service_prefix = p.clone();
+        }
+        if let Some(v) = self.gcs_id {
+            c.ids.gcs = v;
+        }
+        if let Some(v) = self.fcc_id {
+            c.ids.fcc = v;
+        }
+        if let Some(v) = self.fcc_direct {
+            c.links.fcc_direct = v;
+        }
+        if let Some(v) = self.fcc_lte {
+            c.links.fcc_lte = v;
+        }
+        if let Some(v) = self.gcs_direct {
+            c.links.gcs_direct = v;
+        }
+        if let Some(v) = self.gcs_lte {
+            c.links.gcs_lte = v;
+        }
+        if let Some(v) = self.ack_timeout_ms {
+            c.timing.ack_timeout_ms = v;
+        }
+        if let Some(v) = self.transfer_timeout_ms {
+            c.timing.transfer_timeout_ms = v;
+        }
+        if let Some(v) = self.time_scale {
+            c.guidance.time_scale = v;
+        }
+        if self.poll {
+            c.ipc.poll = true;
+        }
+        if let Some(d) = &self.summary_dir {
+            c.latency.summary_dir = Some(d.clone());
+        }
+        Ok(c)
+    }
+
+    /// The flags that reproduce `config` for a child process (the launcher passes its resolved
+    /// configuration on this way, as one file).
+    pub fn for_file(path: &Path) -> Vec<String> {
+        vec!["--config".to_owned(), path.display().to_string()]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_icd_defaults() {
+        let c = Config::default();
+        assert_eq!(c.ids.gcs, 0x0A00_0001);
+        assert_eq!(c.links.fcc_direct.to_string(), "127.0.0.1:4586");
+        assert_eq!(c.links.gcs_lte.to_string(), "127.0.0.1:4589");
+        assert_eq!(c.timing.ack_timeout(), Duration::from_millis(500));
+        assert_eq!(c.timing.transfer_timeout(), Duration::from_secs(3));
+    }
+
+    #[test]
+    fn a_file_overrides_what_it_names_and_round_trips() {
+        let c = Config::parse(
+            "[ids]\nfcc = 0x0B000002\n[guidance]\ntime_scale = 20.0\n",
+            Path::new("x.toml"),
+        )
+        .unwrap();
+        assert_eq!(c.ids.fcc, 0x0B00_0002);
+        assert_eq!(c.ids.gcs, 0x0A00_0001);
+        assert_eq!(c.guidance.time_scale, 20.0);
+        assert_eq!(Config::parse(&c.to_toml(), Path::new("y")).unwrap(), c);
+    }
+
+    #[test]
+    fn errors_name_file_line_and_column() {
+        let e = Config::parse("[ids]\ngcs = 1\nfcc = \"x\"\n", Path::new("fcc.toml")).unwrap_err();
+        let text = e.to_string();
+        assert!(text.starts_with("fcc.toml:3:7: "), "{text}");
+        let e = Config::parse("[timing]\nack_timeout = 5\n", Path::new("f")).unwrap_err();
+        assert!(e.to_string().contains("unknown field `ack_timeout`"), "{e}");
+    }
+}

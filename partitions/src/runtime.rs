@@ -1,0 +1,91 @@
+//! What every partition's event loop shares: sleeping in the WaitSet (or spinning with
+//! `--poll`) until data, a deadline or a termination request; latency reports on an interval, on
+//! SIGUSR1 and at shutdown.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use iceoryx2::prelude::*;
+use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
+
+use crate::config::Config;
+use crate::latency::{self, Recorder};
+
+/// Waits for the next event: data on an attachment, `timeout`, or (with `poll`) not at all.
+/// `false` when the process was asked to terminate (SIGINT, SIGTERM).
+pub fn wait<S: Service>(
+    waitset: &WaitSet<S>,
+    poll: bool,
+    timeout: Duration,
+) -> Result<bool, WaitSetRunError> {
+    let timeout = if poll { Duration::ZERO } else { timeout };
+    let result =
+        waitset.wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)?;
+    Ok(!matches!(
+        result,
+        WaitSetRunResult::TerminationRequest | WaitSetRunResult::Interrupt
+    ))
+}
+
+/// SIGUSR1 asks a partition to log its latency percentiles now.
+#[derive(Debug)]
+pub struct Shutdown {
+    report: Arc<AtomicBool>,
+}
+
+impl Shutdown {
+    /// Installs the SIGUSR1 handler.
+    pub fn install() -> std::io::Result<Self> {
+        let report = Arc::new(AtomicBool::new(false));
+        signal_hook::flag::register(signal_hook::consts::SIGUSR1, Arc::clone(&report))?;
+        Ok(Self { report })
+    }
+
+    /// Whether SIGUSR1 arrived since the last call.
+    pub fn report_requested(&self) -> bool {
+        self.report.swap(false, Ordering::Relaxed)
+    }
+}
+
+/// Periodic latency reports and the summary file at shutdown.
+#[derive(Debug)]
+pub struct Report {
+    partition: &'static str,
+    interval: Option<Duration>,
+    last: Instant,
+    summary_dir: Option<PathBuf>,
+}
+
+impl Report {
+    /// Reports of `partition` as `config` says.
+    pub fn new(config: &Config, partition: &'static str) -> Self {
+        Self {
+            partition,
+            interval: (config.latency.report_interval_s > 0)
+                .then(|| Duration::from_secs(config.latency.report_interval_s)),
+            last: Instant::now(),
+            summary_dir: config.latency.summary_dir.clone(),
+        }
+    }
+
+    /// Whether the report interval has passed (then it starts again).
+    pub fn due(&mut self) -> bool {
+        match self.interval {
+            Some(i) if self.last.elapsed() >= i => {
+                self.last = Instant::now();
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Logs the recorders and writes the summary file, if configured (at shutdown).
+    pub fn finish(&self, recorders: &[&Recorder]) {
+        latency::log(self.partition, recorders);
+        if let Some(dir) = &self.summary_dir {
+            latency::write_summary(dir, self.partition, recorders);
+        }
+    }
+}

@@ -1,0 +1,156 @@
+//! The active lists of mission data handling on disk, so that a restarted partition (after a
+//! crash or `kill -9`) resumes with them instead of publishing nothing or empty lists.
+//!
+//! Each list is one file: its generation (8 bytes, big-endian), then the list as the STANAG
+//! frames that carry it (ICD §4), back to back like a datagram: take-off height, waypoints, RF
+//! centres, route and the #13000 transmit for the waypoint list; #2011 initiate upload, the
+//! #2012 areas and #2011 upload complete for the area list. Frames keep every field, and reading
+//! them back goes through the same assembly as an upload. A file is replaced atomically (write,
+//! then rename), so a crash mid-write leaves the previous list.
+
+use std::io;
+use std::path::{Path, PathBuf};
+
+use missionlink_interfaces::wire::{
+    self, AreaTransferMode, AreaTransmissionCommand, Envelope, MAX_FRAME_LEN, Message,
+    MissionPlanMode, Timestamp,
+};
+use missionlink_services::areas::{AreaBuffer, AreaList};
+use missionlink_services::mission::{Mission, MissionBuffer};
+use missionlink_services::sender::mission_command;
+
+const WAYPOINT_LIST: &str = "waypoint-list.frames";
+const AREA_LIST: &str = "area-list.frames";
+
+/// The directory of one FCC instance's state (`<temp>/missionlink-state/<prefix>` unless
+/// configured).
+pub fn default_dir(prefix: &str) -> PathBuf {
+    let safe: String = prefix
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    std::env::temp_dir().join("missionlink-state").join(safe)
+}
+
+fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path)
+}
+
+fn frames(generation: u64, messages: impl Iterator<Item = Message>) -> io::Result<Vec<u8>> {
+    let mut out = generation.to_be_bytes().to_vec();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    for m in messages {
+        let len = wire::encode(&Envelope::new(0, 0), &m, &mut buf)
+            .map_err(|e| io::Error::other(e.to_string()))?;
+        out.extend_from_slice(&buf[..len]);
+    }
+    Ok(out)
+}
+
+fn read(path: &Path) -> Option<(u64, Vec<Message>)> {
+    let bytes = std::fs::read(path).ok()?;
+    let (generation, rest) = bytes.split_first_chunk::<8>()?;
+    let mut messages = Vec::new();
+    for frame in wire::frames(rest) {
+        match frame.map(|f| f.message()) {
+            Ok(Ok(m)) => messages.push(m),
+            other => {
+                tracing::warn!(path = %path.display(), ?other, "state file is damaged");
+                return None;
+            }
+        }
+    }
+    Some((u64::from_be_bytes(*generation), messages))
+}
+
+/// Saves the active waypoint list (or none) under `generation`.
+pub fn save_mission(dir: &Path, mission: Option<&Mission>, generation: u64) -> io::Result<()> {
+    let messages: Vec<Message> = match mission {
+        Some(m) => m
+            .messages()
+            .chain(std::iter::once(mission_command(
+                MissionPlanMode::TransmitMission,
+                Some(m.waypoints.len() as u16),
+                m.mission_id,
+            )))
+            .collect(),
+        None => Vec::new(),
+    };
+    write_atomically(
+        &dir.join(WAYPOINT_LIST),
+        &frames(generation, messages.into_iter())?,
+    )
+}
+
+/// Saves the active area list (or none) under `generation`.
+pub fn save_areas(dir: &Path, areas: Option<&AreaList>, generation: u64) -> io::Result<()> {
+    let messages: Vec<Message> = match areas {
+        Some(list) => {
+            let command = |mode| {
+                Message::from(AreaTransmissionCommand {
+                    time_stamp: Timestamp::default(),
+                    mode,
+                    loop_count: Some(list.areas.len() as u8),
+                    area_id: None,
+                    safety_offset: Some(list.safety_offset),
+                    activity_id: None,
+                })
+            };
+            std::iter::once(command(AreaTransferMode::InitiateUpload))
+                .chain(list.areas.iter().cloned().map(Message::from))
+                .chain(std::iter::once(command(AreaTransferMode::UploadComplete)))
+                .collect()
+        }
+        None => Vec::new(),
+    };
+    write_atomically(
+        &dir.join(AREA_LIST),
+        &frames(generation, messages.into_iter())?,
+    )
+}
+
+/// The waypoint list saved last and its generation.
+pub fn load_mission(dir: &Path) -> Option<(Option<Mission>, u64)> {
+    let (generation, messages) = read(&dir.join(WAYPOINT_LIST))?;
+    let mut buffer = MissionBuffer::new();
+    for m in &messages {
+        if let Message::MissionTransferCommand(c) = m {
+            let mission = buffer.assemble(c.waypoint_number, c.mission_id).ok()?;
+            return Some((Some(mission), generation));
+        }
+        buffer.store(m).ok()?;
+    }
+    messages.is_empty().then_some((None, generation))
+}
+
+/// The area list saved last and its generation.
+pub fn load_areas(dir: &Path) -> Option<(Option<AreaList>, u64)> {
+    let (generation, messages) = read(&dir.join(AREA_LIST))?;
+    let mut buffer = AreaBuffer::new();
+    let mut offset = Default::default();
+    for m in &messages {
+        match m {
+            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::InitiateUpload => {
+                offset = c.safety_offset.unwrap_or_default();
+            }
+            Message::AreaTransmissionCommand(c) => {
+                let list = buffer.assemble(c.loop_count.unwrap_or(0), offset).ok()?;
+                return Some((Some(list), generation));
+            }
+            Message::AreaPolygonLoopSegment(a) => buffer.store(a).ok()?,
+            _ => return None,
+        }
+    }
+    messages.is_empty().then_some((None, generation))
+}

@@ -1,0 +1,138 @@
+//! The two UDP links of ICD §1 as one pair of sockets: each node receives on its direct and its
+//! LTE port and sends every frame on both links (the FCC's downlink, the GCS's uplink). The
+//! sockets are non-blocking and can sleep in an iceoryx2 WaitSet next to the listeners.
+
+use std::fmt;
+use std::io::ErrorKind;
+use std::net::{SocketAddr, UdpSocket};
+use std::os::fd::AsRawFd;
+
+use iceoryx2::prelude::{FileDescriptor, FileDescriptorBased, SynchronousMultiplexing};
+use missionlink_interfaces::contracts::Link;
+
+use crate::clock::monotonic_ns;
+
+/// A socket's descriptor as a WaitSet attachment (not owning: the socket closes it).
+pub struct SocketFd(FileDescriptor);
+
+impl fmt::Debug for SocketFd {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "SocketFd")
+    }
+}
+
+impl FileDescriptorBased for SocketFd {
+    fn file_descriptor(&self) -> &FileDescriptor {
+        &self.0
+    }
+}
+
+impl SynchronousMultiplexing for SocketFd {}
+
+/// Datagrams read per socket per wake-up at most, so one flooded link cannot starve the other.
+pub const MAX_READS_PER_WAKE: usize = 32;
+
+/// Largest datagram read: a few 548-byte frames back to back.
+pub const MAX_DATAGRAM: usize = 2048;
+
+/// The direct and the LTE socket of one node, and where the peer receives.
+#[derive(Debug)]
+pub struct LinkPair {
+    direct: UdpSocket,
+    lte: UdpSocket,
+    direct_fd: SocketFd,
+    lte_fd: SocketFd,
+    peer_direct: SocketAddr,
+    peer_lte: SocketAddr,
+}
+
+/// A socket that could not be set up.
+#[derive(Debug)]
+pub struct LinkError(pub String);
+
+impl fmt::Display for LinkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for LinkError {}
+
+fn bind(addr: SocketAddr, link: &str) -> Result<(UdpSocket, SocketFd), LinkError> {
+    let socket = UdpSocket::bind(addr)
+        .map_err(|e| LinkError(format!("cannot bind the {link} link to {addr}: {e}")))?;
+    socket
+        .set_nonblocking(true)
+        .map_err(|e| LinkError(format!("{link} link: {e}")))?;
+    let fd = FileDescriptor::non_owning_new(socket.as_raw_fd())
+        .ok_or_else(|| LinkError(format!("{link} link: no file descriptor")))?;
+    Ok((socket, SocketFd(fd)))
+}
+
+impl LinkPair {
+    /// Binds the local ends; frames go to the peer's ends.
+    pub fn bind(
+        local_direct: SocketAddr,
+        local_lte: SocketAddr,
+        peer_direct: SocketAddr,
+        peer_lte: SocketAddr,
+    ) -> Result<Self, LinkError> {
+        let (direct, direct_fd) = bind(local_direct, "direct")?;
+        let (lte, lte_fd) = bind(local_lte, "LTE")?;
+        Ok(Self {
+            direct,
+            lte,
+            direct_fd,
+            lte_fd,
+            peer_direct,
+            peer_lte,
+        })
+    }
+
+    /// The direct and the LTE socket (to poll them outside a WaitSet).
+    pub fn sockets(&self) -> [&UdpSocket; 2] {
+        [&self.direct, &self.lte]
+    }
+
+    /// The WaitSet attachments of both sockets.
+    pub fn attachments(&self) -> [&SocketFd; 2] {
+        [&self.direct_fd, &self.lte_fd]
+    }
+
+    /// Reads what both sockets hold (up to [`MAX_READS_PER_WAKE`] each) and hands each datagram
+    /// to `f` with its link and CLOCK_MONOTONIC receive time.
+    pub fn receive(&self, buf: &mut [u8], mut f: impl FnMut(Link, &[u8], u64)) {
+        for (link, socket) in [(Link::Direct, &self.direct), (Link::Lte, &self.lte)] {
+            for _ in 0..MAX_READS_PER_WAKE {
+                match socket.recv_from(buf) {
+                    Ok((len, _from)) => {
+                        let at = monotonic_ns();
+                        f(link, buf.get(..len).unwrap_or_default(), at);
+                    }
+                    Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                    Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+                    Err(e) => {
+                        // ICMP port unreachable from a peer not yet started, and the like.
+                        tracing::debug!(?link, %e, "receive error");
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Sends `frame` on both links. A link that fails is logged; the other still carries it.
+    pub fn send_both(&self, frame: &[u8]) -> usize {
+        let mut sent = 0;
+        for (link, socket, peer) in [
+            (Link::Direct, &self.direct, self.peer_direct),
+            (Link::Lte, &self.lte, self.peer_lte),
+        ] {
+            match socket.send_to(frame, peer) {
+                Ok(_) => sent += 1,
+                Err(e) => tracing::debug!(?link, %peer, %e, "send failed"),
+            }
+        }
+        sent
+    }
+}
