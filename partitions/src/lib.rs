@@ -2,6 +2,7 @@
 //! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
 //! in `missionlink-services`.
 
+pub mod binaries;
 pub mod clock;
 pub mod config;
 pub mod gcs_link;
@@ -16,8 +17,13 @@ pub mod udp;
 /// Installs the `tracing` subscriber of every binary: human-readable lines on stderr, filtered by
 /// `RUST_LOG` (default `info`), so stdout carries only the tool's output.
 pub fn init_logging() {
+    init_logging_at("info");
+}
+
+/// As [`init_logging`], with `default` as the filter when `RUST_LOG` is not set.
+pub fn init_logging_at(default: &str) {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
-        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(default));
     let _ = tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_writer(std::io::stderr)

@@ -169,11 +169,10 @@ fn main() -> ExitCode {
         print!("{}", config.to_toml());
         return ExitCode::SUCCESS;
     }
-    let bin_dir = match args.bin_dir.or_else(|| {
-        std::env::current_exe()
-            .ok()
-            .and_then(|p| p.parent().map(Path::to_path_buf))
-    }) {
+    let bin_dir = match args
+        .bin_dir
+        .or_else(missionlink_partitions::binaries::build_dir)
+    {
         Some(d) => d,
         None => {
             tracing::error!("cannot find the partition binaries: give --bin-dir");

@@ -1,0 +1,416 @@
+//! `demo`: the paper's medical evacuation demo (section 4), end to end, with no configuration.
+//!
+//! It starts the FCC (the `fcc` launcher and its four partitions, separate processes sharing
+//! iceoryx2 services under a fresh prefix, on free UDP ports), then acts as the GCS: validates
+//! and uploads mission 1 (TROL to CCP) with its fly-zone and prints the message sequence as the
+//! paper's Figure 15 does; executes it (time-scaled) and prints each FROM-TO-NEXT change; uploads
+//! the richer mission 2 (radius-to-fix leg, circle and polygon no-fly-zones, bidirectional route)
+//! once the aircraft has landed, flies it; downloads mission and areas and shows that they equal
+//! the upload; prints the per-frame latency percentiles of every partition; shuts all down.
+//! Exit status 0 on success, 1 with the error otherwise.
+
+use std::net::{SocketAddr, UdpSocket};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitCode};
+use std::time::{Duration, Instant};
+
+use clap::Parser;
+use missionlink_interfaces::wire::{
+    AckType, ExecuteCommand, Message, MessageType, MissionExecuteCommand, Reason, SpecificData,
+    Timestamp,
+};
+use missionlink_partitions::binaries;
+use missionlink_partitions::config::Config;
+use missionlink_partitions::gcs_link::{Direction, GcsLink, Logged, describe_from_to_next};
+use missionlink_partitions::latency::Summary;
+use missionlink_partitions::mission_file::MissionFile;
+use missionlink_services::gcs::{GcsError, GcsEvent, MissionPlan, ValidatedPlan, WithoutGateway};
+use missionlink_services::retry::AttemptFailure;
+
+const MISSION_1: &str = include_str!("../../../missions/mission-1.toml");
+const MISSION_2: &str = include_str!("../../../missions/mission-2.toml");
+
+/// The paper's demo, end to end.
+#[derive(Debug, Parser)]
+#[command(name = "demo", version, about)]
+struct Args {
+    /// Simulated seconds per second of the flights.
+    #[arg(long, default_value_t = 20.0)]
+    time_scale: f64,
+    /// Where the partition binaries are (default: next to this one).
+    #[arg(long, value_name = "DIR")]
+    bin_dir: Option<PathBuf>,
+}
+
+type Link = GcsLink<WithoutGateway>;
+
+/// Free UDP ports on loopback, so the demo never meets another FCC.
+fn free_ports() -> Result<[SocketAddr; 4], String> {
+    let sockets: Vec<UdpSocket> = (0..4)
+        .map(|_| UdpSocket::bind("127.0.0.1:0"))
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("no free UDP port: {e}"))?;
+    let addrs: Vec<SocketAddr> = sockets
+        .iter()
+        .map(|s| s.local_addr())
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
+    Ok([addrs[0], addrs[1], addrs[2], addrs[3]])
+}
+
+fn describe(m: &Message) -> String {
+    let t = m.message_type();
+    let detail = match m {
+        Message::MessageAcknowledgement(a) => {
+            let of = MessageType::try_from(a.original_message_type)
+                .map_or(a.original_message_type.to_string(), |t| {
+                    format!("#{}", t as u16)
+                });
+            match a.ack_type {
+                AckType::Completed => format!("type 2 completed, of {of}"),
+                AckType::Rejected => format!(
+                    "type 3 rejected ({}), of {of}",
+                    a.reject_reason.unwrap_or(Reason::None)
+                ),
+                other => format!("{other:?} of {of}"),
+            }
+        }
+        Message::MissionTransferCommand(c) => format!("{:?}", c.mode),
+        Message::AreaTransmissionCommand(c) => format!("{:?}", c.mode),
+        Message::VehicleSpecificWaypoint(v) => match v.data {
+            SpecificData::TakeOffHeight { height } => format!("take-off height {height:?}"),
+            SpecificData::RfCentre {
+                waypoint_number, ..
+            } => format!("RF centre of waypoint {waypoint_number}"),
+        },
+        Message::UaPositionWaypoint(w) => format!(
+            "waypoint {} -> {} ({:?})",
+            w.waypoint_number, w.next_waypoint, w.leg_type
+        ),
+        Message::UaRoute(r) => format!(
+            "initial waypoint {}, {}",
+            r.initial_waypoint,
+            if r.bidirectional {
+                "bidirectional"
+            } else {
+                "one-way"
+            }
+        ),
+        Message::AreaPolygonLoopSegment(a) => format!("area {} {:?}", a.area_id, a.area_type),
+        Message::AreaStatusAlert(a) => format!("{:?}", a.status),
+        Message::AreaTransmissionStatus(s) => format!("{:?}, {} areas", s.status, s.loop_count),
+        Message::MissionUploadDownloadStatus(s) => format!("{:?}", s.status),
+        Message::MissionExecuteCommand(c) => format!("{:?}", c.command),
+        Message::FromToNext(_) => String::new(),
+    };
+    format!("#{:<5} {:<32} {detail}", t as u16, t.name())
+}
+
+/// The message sequence of `log` from `from`, as the paper's Figure 15 lists a transfer.
+fn print_sequence(log: &[Logged], from: usize) {
+    let Some(start) = log.get(from).map(|l| l.at) else {
+        return;
+    };
+    println!("      time   direction  message");
+    for l in &log[from..] {
+        if matches!(l.message, Message::FromToNext(_)) {
+            continue;
+        }
+        let dir = match l.direction {
+            Direction::Up => "GCS -> FCC",
+            Direction::Down => "FCC -> GCS",
+        };
+        println!(
+            "  {:>7.1} ms  {dir}  {}",
+            (l.at - start).as_secs_f64() * 1000.0,
+            describe(&l.message)
+        );
+    }
+}
+
+fn plan(text: &str, name: &str) -> Result<MissionPlan, String> {
+    MissionFile::parse(text)
+        .and_then(|f| f.to_plan())
+        .map_err(|e| format!("{name}: {e}"))
+}
+
+/// Runs the link until the request in progress ends; prints FROM-TO-NEXT changes meanwhile.
+fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<core::convert::Infallible>> {
+    let mut outcome = None;
+    link.run_until(Duration::from_secs(120), |event| match event {
+        GcsEvent::UploadComplete | GcsEvent::CommandAccepted(_) => {
+            outcome = Some(Ok(None));
+            true
+        }
+        GcsEvent::DownloadComplete(p) => {
+            outcome = Some(Ok(Some((**p).clone())));
+            true
+        }
+        GcsEvent::Failed(e) => {
+            outcome = Some(Err(e.clone()));
+            true
+        }
+        GcsEvent::FromToNext(f) => {
+            println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
+            false
+        }
+        GcsEvent::Progress { .. } => false,
+    });
+    outcome.unwrap_or(Err(GcsError::Timeout {
+        phase: missionlink_services::gcs::Phase::Command,
+    }))
+}
+
+/// Uploads `plan`; while the FCC still flies the previous mission its clear is refused
+/// (`GuidanceActive`), and the upload is tried again until the aircraft has landed.
+/// Returns the time the successful attempt took and where its messages start in the log.
+fn upload(
+    link: &mut Link,
+    plan: &MissionPlan,
+    patience: Duration,
+) -> Result<(Duration, usize), String> {
+    let deadline = Instant::now() + patience;
+    let mut told = false;
+    loop {
+        let start = Instant::now();
+        let from = link.log.len();
+        let now = link.now();
+        link.station()
+            .upload(now, plan, true)
+            .map_err(|e| e.to_string())?;
+        match finish(link) {
+            Ok(_) => return Ok((start.elapsed(), from)),
+            Err(GcsError::Transfer { error, .. })
+                if error.second == AttemptFailure::Rejected(Reason::GuidanceActive)
+                    && Instant::now() < deadline =>
+            {
+                if !told {
+                    println!(
+                        "  the FCC still flies: clear refused (GuidanceActive); waiting for the landing"
+                    );
+                    told = true;
+                }
+                link.run_until(Duration::from_millis(500), |event| {
+                    if let GcsEvent::FromToNext(f) = event {
+                        println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
+                    }
+                    false
+                });
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+}
+
+fn execute(link: &mut Link) -> Result<(), String> {
+    let now = link.now();
+    let message = MissionExecuteCommand {
+        time_stamp: Timestamp::default(),
+        command: ExecuteCommand::Execute,
+    };
+    link.station()
+        .command(now, message.into())
+        .map_err(|e| e.to_string())?;
+    finish(link).map(|_| ()).map_err(|e| e.to_string())
+}
+
+/// Prints FROM-TO-NEXT until the route is flown (TO and NEXT none).
+fn fly(link: &mut Link, limit: Duration) -> Result<(), String> {
+    let done = link.run_until(limit, |event| match event {
+        GcsEvent::FromToNext(f) => {
+            println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
+            f.to.waypoint_number == Some(0) && f.from.waypoint_number.is_some_and(|n| n != 0)
+        }
+        _ => false,
+    });
+    if done {
+        Ok(())
+    } else {
+        Err(format!(
+            "the route was not flown within {} s",
+            limit.as_secs()
+        ))
+    }
+}
+
+struct Fcc {
+    child: Child,
+}
+
+impl Fcc {
+    fn start(bin_dir: &Path, config_file: &Path) -> Result<Self, String> {
+        let child = Command::new(bin_dir.join("fcc"))
+            .args(["--config", &config_file.display().to_string()])
+            .env(
+                "RUST_LOG",
+                std::env::var("RUST_LOG").unwrap_or_else(|_| "warn".to_owned()),
+            )
+            .spawn()
+            .map_err(|e| format!("cannot start {}: {e}", bin_dir.join("fcc").display()))?;
+        Ok(Self { child })
+    }
+
+    fn stop(&mut self) {
+        if let Some(pid) = rustix::process::Pid::from_raw(self.child.id() as i32) {
+            let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
+        }
+        let _ = self.child.wait();
+    }
+}
+
+impl Drop for Fcc {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            self.stop();
+        }
+    }
+}
+
+fn run(args: &Args) -> Result<(), String> {
+    let started = Instant::now();
+    let bin_dir = args
+        .bin_dir
+        .clone()
+        .or_else(binaries::build_dir)
+        .ok_or("cannot find the partition binaries: give --bin-dir")?;
+    let bin_dir = binaries::ensure(&bin_dir, &binaries::FCC_BINARIES)?;
+    let run_dir = std::env::temp_dir().join(format!("missionlink-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&run_dir).map_err(|e| e.to_string())?;
+    let [fcc_direct, gcs_direct, fcc_lte, gcs_lte] = free_ports()?;
+    let mut config = Config::default();
+    config.ipc.service_prefix = format!("demo-{}", std::process::id());
+    config.ipc.state_dir = Some(run_dir.join("state"));
+    config.links.fcc_direct = fcc_direct;
+    config.links.gcs_direct = gcs_direct;
+    config.links.fcc_lte = fcc_lte;
+    config.links.gcs_lte = gcs_lte;
+    config.guidance.time_scale = args.time_scale;
+    config.latency.summary_dir = Some(run_dir.join("latency"));
+    let config_file = run_dir.join("fcc.toml");
+    std::fs::write(&config_file, config.to_toml()).map_err(|e| e.to_string())?;
+
+    println!(
+        "missionlink demo: medical evacuation after Heimsch et al. (Aerospace 2024), section 4"
+    );
+    println!(
+        "FCC: 4 partitions, iceoryx2 prefix {:?}; links: direct {fcc_direct}, LTE {fcc_lte}; time scale {}x\n",
+        config.ipc.service_prefix, args.time_scale
+    );
+    let mut fcc = Fcc::start(&bin_dir, &config_file)?;
+    let mut link = GcsLink::open(&config, WithoutGateway).map_err(|e| e.to_string())?;
+    link.enable_log();
+    // Let the partitions open their services; the GCS's retry would cover a slow start too.
+    std::thread::sleep(Duration::from_millis(500));
+
+    let mission_1 = plan(MISSION_1, "missions/mission-1.toml")?;
+    let mission_2 = plan(MISSION_2, "missions/mission-2.toml")?;
+
+    println!("1. Validate and upload mission 1 (TROL -> CCP) and its fly-zone");
+    let valid_1 = link
+        .station()
+        .validate(&mission_1)
+        .map_err(|e| e.to_string())?;
+    println!(
+        "  valid: {} waypoint, {} area",
+        valid_1.mission.waypoints.len(),
+        valid_1.areas.areas.len()
+    );
+    let (took, from) = upload(&mut link, &mission_1, Duration::from_secs(5))?;
+    print_sequence(&link.log, from);
+    println!(
+        "  mission 1 transfer: {:.1} ms for {} messages (the paper reports about 400 ms)\n",
+        took.as_secs_f64() * 1000.0,
+        link.log.len() - from
+    );
+
+    println!("2. Execute mission 1");
+    execute(&mut link)?;
+    fly(&mut link, Duration::from_secs(60))?;
+    println!();
+
+    println!(
+        "3. Upload mission 2 (CCP -> W1 -> ROLE2: radius-to-fix leg, circle and polygon no-fly-zones, bidirectional)"
+    );
+    let valid_2 = link
+        .station()
+        .validate(&mission_2)
+        .map_err(|e| e.to_string())?;
+    let (took, from) = upload(&mut link, &mission_2, Duration::from_secs(120))?;
+    let sent = link.log[from..]
+        .iter()
+        .filter(|l| l.direction == Direction::Up)
+        .count();
+    println!(
+        "  mission 2 transfer: {:.1} ms, {sent} messages up, {} down\n",
+        took.as_secs_f64() * 1000.0,
+        link.log.len() - from - sent
+    );
+
+    println!("4. Execute mission 2");
+    execute(&mut link)?;
+    fly(&mut link, Duration::from_secs(90))?;
+    println!();
+
+    println!("5. Download mission and areas");
+    let now = link.now();
+    link.station().download(now).map_err(|e| e.to_string())?;
+    let downloaded = finish(&mut link)
+        .map_err(|e| e.to_string())?
+        .ok_or("the download ended without lists")?;
+    if downloaded != valid_2 {
+        return Err(format!(
+            "the download differs from the upload:\n  up:   {valid_2:?}\n  down: {downloaded:?}"
+        ));
+    }
+    println!(
+        "  {} waypoints, {} areas: equal to the upload, every field\n",
+        downloaded.mission.waypoints.len(),
+        downloaded.areas.areas.len()
+    );
+
+    println!(
+        "6. Shut down; per-frame latency of the partitions (debug builds are slower; see BENCHMARKS.md)"
+    );
+    fcc.stop();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(run_dir.join("latency"))
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    files.sort();
+    println!(
+        "  {:<22} {:<45} {:>6} {:>9} {:>9} {:>9} {:>9}",
+        "partition", "measured", "frames", "p50 us", "p99 us", "p99.9 us", "max us"
+    );
+    for file in files {
+        let Ok(text) = std::fs::read_to_string(&file) else {
+            continue;
+        };
+        let Ok(summary) = serde_json::from_str::<Summary>(&text) else {
+            continue;
+        };
+        for l in summary.latencies.iter().filter(|l| l.count > 0) {
+            println!(
+                "  {:<22} {:<45} {:>6} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
+                summary.partition, l.name, l.count, l.p50_us, l.p99_us, l.p999_us, l.max_us
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&run_dir);
+    println!(
+        "\ndemo complete in {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    missionlink_partitions::init_logging_at("error");
+    missionlink_partitions::ipc::quiet_iceoryx2_log();
+    let args = Args::parse();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("demo failed: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

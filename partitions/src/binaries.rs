@@ -1,0 +1,79 @@
+//! Where the partition binaries are, for the launcher, the demo and the cross-process tests.
+//! `cargo run --bin demo` builds only the demo; on a fresh clone the partitions it starts are not
+//! built yet, so this builds them with the cargo that built the caller (same profile).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The binaries the FCC needs.
+pub const FCC_BINARIES: [&str; 5] = [
+    "fcc",
+    "voting-monitoring",
+    "mission-data-handling",
+    "system-automation",
+    "guidance-stub",
+];
+
+/// The directory of the binaries of this build: the caller's own directory, or for a test
+/// binary (in `deps/`) the one above it.
+pub fn build_dir() -> Option<PathBuf> {
+    let exe = std::env::current_exe().ok()?;
+    let dir = exe.parent()?;
+    if dir.file_name().is_some_and(|n| n == "deps") {
+        dir.parent().map(Path::to_path_buf)
+    } else {
+        Some(dir.to_path_buf())
+    }
+}
+
+fn missing(dir: &Path, names: &[&str]) -> Vec<String> {
+    names
+        .iter()
+        .filter(|n| !dir.join(n).is_file())
+        .map(|n| (*n).to_owned())
+        .collect()
+}
+
+/// `dir` holding every one of `names`, built with cargo first if some are missing.
+pub fn ensure(dir: &Path, names: &[&str]) -> Result<PathBuf, String> {
+    let absent = missing(dir, names);
+    if absent.is_empty() {
+        return Ok(dir.to_path_buf());
+    }
+    // The cargo and the workspace that built this binary.
+    let cargo = std::env::var("CARGO")
+        .ok()
+        .or_else(|| option_env!("CARGO").map(str::to_owned))
+        .unwrap_or_else(|| "cargo".to_owned());
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
+    eprintln!(
+        "building the partition binaries ({}) ...",
+        absent.join(", ")
+    );
+    let mut command = Command::new(cargo);
+    command
+        .args([
+            "build",
+            "-q",
+            "-p",
+            "missionlink-partitions",
+            "--bins",
+            "--manifest-path",
+        ])
+        .arg(&manifest);
+    if !cfg!(debug_assertions) {
+        command.arg("--release");
+    }
+    let status = command
+        .status()
+        .map_err(|e| format!("cannot run cargo to build {}: {e}", absent.join(", ")))?;
+    let still = missing(dir, names);
+    if !status.success() || !still.is_empty() {
+        return Err(format!(
+            "{} missing in {} (cargo build: {status})",
+            still.join(", "),
+            dir.display()
+        ));
+    }
+    Ok(dir.to_path_buf())
+}
