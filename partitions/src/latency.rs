@@ -88,13 +88,16 @@ impl Recorder {
     }
 }
 
-/// The latency summary of one partition.
+/// The latency summary of one partition, with its counters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     /// The partition.
     pub partition: String,
     /// Its recorders.
     pub latencies: Vec<Percentiles>,
+    /// Counters by name (frames forwarded, rejected by cause, ...).
+    #[serde(default)]
+    pub counters: std::collections::BTreeMap<String, u64>,
 }
 
 /// Logs every recorder of `partition`.
@@ -105,10 +108,19 @@ pub fn log(partition: &str, recorders: &[&Recorder]) {
 }
 
 /// Writes `<dir>/<partition>.json`.
-pub fn write_summary(dir: &Path, partition: &str, recorders: &[&Recorder]) {
+pub fn write_summary(
+    dir: &Path,
+    partition: &str,
+    recorders: &[&Recorder],
+    counters: &[(&str, u64)],
+) {
     let summary = Summary {
         partition: partition.to_owned(),
         latencies: recorders.iter().map(|r| r.percentiles()).collect(),
+        counters: counters
+            .iter()
+            .map(|(k, v)| ((*k).to_owned(), *v))
+            .collect(),
     };
     let path = dir.join(format!("{partition}.json"));
     let result = std::fs::create_dir_all(dir).and_then(|()| {

@@ -81,11 +81,12 @@ impl Report {
         }
     }
 
-    /// Logs the recorders and writes the summary file, if configured (at shutdown).
-    pub fn finish(&self, recorders: &[&Recorder]) {
+    /// Logs the recorders and writes the summary file with the counters, if configured (at
+    /// shutdown).
+    pub fn finish(&self, recorders: &[&Recorder], counters: &[(&str, u64)]) {
         latency::log(self.partition, recorders);
         if let Some(dir) = &self.summary_dir {
-            latency::write_summary(dir, self.partition, recorders);
+            latency::write_summary(dir, self.partition, recorders, counters);
         }
     }
 }

@@ -124,7 +124,7 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
-    report.finish(&[]);
+    report.finish(&[], &[]);
     Ok(())
 }
 

@@ -175,7 +175,17 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     tracing::info!(stats = ?core.endpoint().stats(), "endpoint at shutdown");
-    report.finish(&[&hop, &handled, &processing]);
+    let s = core.endpoint().stats();
+    report.finish(
+        &[&hop, &handled, &processing],
+        &[
+            ("rejected_frames", s.rejected_frames),
+            ("rejected_messages", s.rejected_messages),
+            ("dropped_copies", s.dropped_copies),
+            ("queued", s.queued),
+            ("outbox_overflow", s.outbox_overflow),
+        ],
+    );
     Ok(())
 }
 

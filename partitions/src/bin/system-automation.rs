@@ -93,7 +93,7 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
             latency::log(NAME, &[&command_latency]);
         }
     }
-    report.finish(&[&command_latency]);
+    report.finish(&[&command_latency], &[]);
     Ok(())
 }
 

@@ -1,0 +1,247 @@
+//! End to end through the real binaries: the FCC partitions as separate processes sharing
+//! iceoryx2 services, the GCS over the two UDP links. Every test has its own service prefix,
+//! ports and state directory (tests/common), so they run in parallel.
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use common::*;
+use iceoryx2::prelude::ipc;
+use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
+use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMode};
+use missionlink_partitions::ipc::Ipc;
+use missionlink_services::gcs::{GcsError, Phase};
+use missionlink_services::sender::mission_command;
+
+fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
+    a.generation == b.generation
+        && a.take_off_height == b.take_off_height
+        && a.initial_waypoint == b.initial_waypoint
+        && a.bidirectional == b.bidirectional
+        && a.waypoints() == b.waypoints()
+}
+
+fn same_areas(a: &AreaListPayload, b: &AreaListPayload) -> bool {
+    a.generation == b.generation
+        && a.safety_offset == b.safety_offset
+        && a.fly_zone == b.fly_zone
+        && a.no_fly_polygons() == b.no_fly_polygons()
+        && a.no_fly_circles() == b.no_fly_circles()
+}
+
+/// Polls `f` until it gives a value or `limit` passes.
+fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T> {
+    let end = Instant::now() + limit;
+    while Instant::now() < end {
+        if let Some(v) = f() {
+            return Some(v);
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    None
+}
+
+#[test]
+fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_lists() {
+    let (config, dir) = unique_config("roundtrip");
+    let fcc = Process::start(&dir, "fcc");
+    wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
+    let mut link = gcs(&config);
+    for file in ["mission-1.toml", "mission-2.toml"] {
+        let plan = plan(file);
+        let valid = link.station().validate(&plan).unwrap();
+        upload(&mut link, &plan).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let downloaded = download(&mut link).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_eq!(downloaded, valid, "{file}");
+    }
+}
+
+#[test]
+fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
+    let (config, dir) = unique_config("late-guidance");
+    let vm = Process::start(&dir, "voting-monitoring");
+    let mdh = Process::start(&dir, "mission-data-handling");
+    let _sa = Process::start(&dir, "system-automation");
+    wait_for_log(&vm, "voting-monitoring up", Duration::from_secs(20));
+    wait_for_log(&mdh, "mission-data-handling up", Duration::from_secs(20));
+    let mut link = gcs(&config);
+    let plan = plan("mission-2.toml");
+    let valid = link.station().validate(&plan).unwrap();
+    upload(&mut link, &plan).unwrap();
+
+    // Guidance starts after the lists were published: the history of the services gives them.
+    let guidance = Process::start(&dir, "guidance-stub");
+    wait_for_log(
+        &guidance,
+        "waypoint list received generation=1 waypoints=3",
+        Duration::from_secs(20),
+    );
+    wait_for_log(
+        &guidance,
+        "area list received generation=1 areas=3",
+        Duration::from_secs(5),
+    );
+
+    // A subscriber started late, here, gets exactly the assembled lists.
+    let late = Ipc::<ipc::Service>::open("late-subscriber", &config.ipc.service_prefix).unwrap();
+    let waypoints = late
+        .subscriber::<WaypointListPayload>(FccService::WaypointList)
+        .unwrap();
+    let areas = late
+        .subscriber::<AreaListPayload>(FccService::AreaList)
+        .unwrap();
+    let w = eventually(Duration::from_secs(5), || waypoints.latest()).expect("waypoint list");
+    let a = eventually(Duration::from_secs(5), || areas.latest()).expect("area list");
+    assert!(same_waypoints(&w, &valid.mission.to_payload(1)), "{w:?}");
+    assert!(same_areas(&a, &valid.areas.to_payload(1)), "{a:?}");
+}
+
+#[test]
+fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_lists() {
+    let (config, dir) = unique_config("kill9");
+    let fcc = Process::start(&dir, "fcc");
+    wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
+    let mut link = gcs(&config);
+    let mission_1 = plan("mission-1.toml");
+    let mission_2 = plan("mission-2.toml");
+    let valid_1 = link.station().validate(&mission_1).unwrap();
+    let valid_2 = link.station().validate(&mission_2).unwrap();
+    upload(&mut link, &mission_1).unwrap();
+
+    // Watch the waypoint list guidance sees, all along.
+    let watch = Ipc::<ipc::Service>::open("watch", &config.ipc.service_prefix).unwrap();
+    let seen = watch
+        .subscriber::<WaypointListPayload>(FccService::WaypointList)
+        .unwrap();
+    let mut lists = Vec::new();
+    let observe = |lists: &mut Vec<WaypointListPayload>| {
+        seen.for_each(|l| lists.push(*l));
+    };
+    eventually(Duration::from_secs(5), || {
+        observe(&mut lists);
+        (!lists.is_empty()).then_some(())
+    })
+    .expect("the list of mission 1");
+
+    // Start uploading mission 2; after the clear, the take-off height and two waypoints,
+    // kill mission data handling.
+    link.enable_log();
+    let now = link.now();
+    link.station().upload(now, &mission_2, true).unwrap();
+    while link
+        .log
+        .iter()
+        .filter(|l| l.direction == missionlink_partitions::gcs_link::Direction::Up)
+        .count()
+        < 4
+    {
+        link.pump(Duration::from_millis(5));
+    }
+    let text = fcc.log_text();
+    let pid: i32 = text
+        .lines()
+        .find(|l| l.contains("started") && l.contains("partition=\"mission-data-handling\""))
+        .and_then(|l| l.split("pid=").nth(1))
+        .and_then(|p| p.trim().parse().ok())
+        .expect("pid of mission-data-handling");
+    rustix::process::kill_process(
+        rustix::process::Pid::from_raw(pid).unwrap(),
+        rustix::process::Signal::KILL,
+    )
+    .unwrap();
+
+    // The GCS reports the abort after its retry, naming the message.
+    let outcome = finish(&mut link);
+    let Err(GcsError::Transfer {
+        phase: Phase::MissionUpload,
+        error,
+    }) = outcome
+    else {
+        panic!("the upload did not abort in its mission phase: {outcome:?}");
+    };
+    eprintln!("the GCS reported: mission upload failed: {error}");
+    // The launcher restarted the partition, which resumed with mission 1.
+    wait_for_log(&fcc, "partition died", Duration::from_secs(5));
+    assert!(
+        fcc.log_text().contains("killed by signal 9"),
+        "{}",
+        fcc.log_text()
+    );
+    wait_for_log(
+        &fcc,
+        "resumed with the lists active before the restart",
+        Duration::from_secs(10),
+    );
+    observe(&mut lists);
+
+    // The next upload succeeds.
+    upload(&mut link, &mission_2).unwrap();
+    assert_eq!(download(&mut link).unwrap(), valid_2);
+    std::thread::sleep(Duration::from_millis(300));
+    observe(&mut lists);
+
+    // Guidance kept the last valid list throughout: mission 1, then mission 2, nothing else.
+    let one = valid_1.mission.to_payload(1);
+    assert!(
+        lists.iter().all(|l| {
+            (l.generation == 1 && same_waypoints(l, &one))
+                || (l.generation > 1
+                    && same_waypoints(l, &valid_2.mission.to_payload(l.generation)))
+        }),
+        "{lists:#?}"
+    );
+    assert!(lists.last().is_some_and(|l| l.count == 3));
+}
+
+#[test]
+fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_counted() {
+    let (config, dir) = unique_config("bad-frames");
+    let mut fcc = Process::start(&dir, "fcc");
+    wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
+    let mut link = gcs(&config);
+    let mission_1 = plan("mission-1.toml");
+    let valid = link.station().validate(&mission_1).unwrap();
+    upload(&mut link, &mission_1).unwrap();
+
+    // A clear and a transmit of the empty list from a foreign source, and from the GCS with a
+    // broken checksum: either would clear the mission if it were processed.
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let stamp = |ms| wire::Timestamp::from_millis(900_000_000_000 + ms).unwrap();
+    for (i, (source, break_checksum)) in [(0x0C00_0001, false), (config.ids.gcs, true)]
+        .into_iter()
+        .enumerate()
+    {
+        for (j, m) in [
+            mission_command(MissionPlanMode::ClearMission, None, None),
+            mission_command(MissionPlanMode::TransmitMission, Some(0), None),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let mut m = m;
+            m.set_time_stamp(stamp((i * 2 + j) as u64));
+            let envelope = Envelope::new(source, config.ids.fcc).with_ack(true);
+            let len = wire::encode(&envelope, &m, &mut buf).unwrap();
+            if break_checksum {
+                buf[len - 1] ^= 0x01;
+            }
+            socket
+                .send_to(&buf[..len], config.links.fcc_direct)
+                .unwrap();
+        }
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(download(&mut link).unwrap(), valid, "nothing changed");
+
+    fcc.stop();
+    let summaries = summaries(&dir);
+    let vm = summaries
+        .iter()
+        .find(|s| s.partition == "voting-monitoring")
+        .expect("voting-monitoring summary");
+    assert_eq!(vm.counters["unknown_source"], 2, "{:?}", vm.counters);
+    assert_eq!(vm.counters["checksum_mismatch"], 2, "{:?}", vm.counters);
+    assert_eq!(vm.counters["rejected_frames"], 4, "{:?}", vm.counters);
+}
