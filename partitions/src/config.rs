@@ -318,7 +318,8 @@ impl Config {
     }
 }
 
-fn parse_id(s: &str) -> Result<u32, String> {
+/// A 32-bit node ID, decimal or `0x` hexadecimal.
+pub fn parse_id(s: &str) -> Result<u32, String> {
     let t = s.trim();
     match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
         Some(h) => u32::from_str_radix(h, 16),

@@ -8,7 +8,9 @@ use std::time::Duration;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
 use missionlink_services::endpoint::EndpointConfig;
-use missionlink_services::gcs::{GcsConfig, GcsEvent, GroundStation, SafetyGateway};
+use missionlink_services::gcs::{
+    GcsConfig, GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
+};
 use missionlink_services::time::Instant;
 use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 
@@ -188,6 +190,30 @@ impl<G: SafetyGateway> GcsLink<G> {
             self.station.handle_timeout(now);
         }
         self.flush();
+    }
+
+    /// Runs the links until the request in progress ends, and gives its outcome (the downloaded
+    /// lists for a download). The GCS logic ends every request by itself (2 x ack timeout per
+    /// message, the transfer timeout for a download). The other events (progress,
+    /// FROM-TO-NEXT) go to `on_event`. Without a request in progress it returns at once.
+    pub fn finish(
+        &mut self,
+        mut on_event: impl FnMut(&GcsEvent<G::Report>),
+    ) -> Result<Option<ValidatedPlan>, GcsError<G::Report>> {
+        loop {
+            while let Some(event) = self.station.poll_event() {
+                match event {
+                    GcsEvent::UploadComplete | GcsEvent::CommandAccepted(_) => return Ok(None),
+                    GcsEvent::DownloadComplete(plan) => return Ok(Some(*plan)),
+                    GcsEvent::Failed(e) => return Err(e),
+                    other => on_event(&other),
+                }
+            }
+            if self.station.is_standby() {
+                return Ok(None);
+            }
+            self.pump(Duration::from_millis(20));
+        }
     }
 
     /// Runs the links until `done` returns true for an event, or `limit` passes; hands every

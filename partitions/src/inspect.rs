@@ -89,16 +89,9 @@ impl<'de> Deserialize<'de> for NodeId {
         }
         match Raw::deserialize(d)? {
             Raw::Number(n) => Ok(Self(n)),
-            Raw::Text(s) => {
-                let t = s.trim();
-                let parsed = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-                    Some(h) => u32::from_str_radix(h, 16),
-                    None => t.parse(),
-                };
-                parsed
-                    .map(Self)
-                    .map_err(|e| serde::de::Error::custom(format!("node ID {s:?}: {e}")))
-            }
+            Raw::Text(s) => crate::config::parse_id(&s)
+                .map(Self)
+                .map_err(serde::de::Error::custom),
         }
     }
 }

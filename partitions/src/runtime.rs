@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 
-use crate::config::Config;
+use crate::config::{Config, ConfigArgs};
 use crate::latency::{self, Recorder};
 
 /// Waits for the next event: data on an attachment, `timeout`, or (with `poll`) not at all.
@@ -87,6 +87,31 @@ impl Report {
         latency::log(self.partition, recorders);
         if let Some(dir) = &self.summary_dir {
             latency::write_summary(dir, self.partition, recorders, counters);
+        }
+    }
+}
+
+/// The `main` of every partition: logging, the configuration (exit status 2 when it is wrong),
+/// then `run` (exit status 1 with the error when it fails).
+pub fn partition_main(
+    name: &str,
+    args: &ConfigArgs,
+    run: impl FnOnce(&Config) -> Result<(), Box<dyn std::error::Error>>,
+) -> std::process::ExitCode {
+    crate::init_logging();
+    crate::ipc::quiet_iceoryx2_log();
+    let config = match args.resolve() {
+        Ok(c) => c,
+        Err(e) => {
+            tracing::error!(%e, "configuration");
+            return std::process::ExitCode::from(2);
+        }
+    };
+    match run(&config) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            tracing::error!(%e, "{name} failed");
+            std::process::ExitCode::FAILURE
         }
     }
 }

@@ -12,7 +12,7 @@ use missionlink_partitions::config::Config;
 use missionlink_partitions::gcs_link::GcsLink;
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::mission_file::MissionFile;
-use missionlink_services::gcs::{GcsError, GcsEvent, MissionPlan, ValidatedPlan, WithoutGateway};
+use missionlink_services::gcs::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 
 pub type Link = GcsLink<WithoutGateway>;
 pub type Error = GcsError<core::convert::Infallible>;
@@ -120,23 +120,7 @@ pub fn plan(file: &str) -> MissionPlan {
 
 /// Runs the link until the request ends.
 pub fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, Error> {
-    let mut outcome = None;
-    link.run_until(Duration::from_secs(60), |event| match event {
-        GcsEvent::UploadComplete | GcsEvent::CommandAccepted(_) => {
-            outcome = Some(Ok(None));
-            true
-        }
-        GcsEvent::DownloadComplete(p) => {
-            outcome = Some(Ok(Some((**p).clone())));
-            true
-        }
-        GcsEvent::Failed(e) => {
-            outcome = Some(Err(e.clone()));
-            true
-        }
-        _ => false,
-    });
-    outcome.expect("the request ended")
+    link.finish(|_| {})
 }
 
 pub fn upload(link: &mut Link, plan: &MissionPlan) -> Result<(), Error> {

@@ -136,29 +136,11 @@ fn plan(text: &str, name: &str) -> Result<MissionPlan, String> {
 
 /// Runs the link until the request in progress ends; prints FROM-TO-NEXT changes meanwhile.
 fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<core::convert::Infallible>> {
-    let mut outcome = None;
-    link.run_until(Duration::from_secs(120), |event| match event {
-        GcsEvent::UploadComplete | GcsEvent::CommandAccepted(_) => {
-            outcome = Some(Ok(None));
-            true
-        }
-        GcsEvent::DownloadComplete(p) => {
-            outcome = Some(Ok(Some((**p).clone())));
-            true
-        }
-        GcsEvent::Failed(e) => {
-            outcome = Some(Err(e.clone()));
-            true
-        }
-        GcsEvent::FromToNext(f) => {
+    link.finish(|event| {
+        if let GcsEvent::FromToNext(f) = event {
             println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
-            false
         }
-        GcsEvent::Progress { .. } => false,
-    });
-    outcome.unwrap_or(Err(GcsError::Timeout {
-        phase: missionlink_services::gcs::Phase::Command,
-    }))
+    })
 }
 
 /// Uploads `plan`; while the FCC still flies the previous mission its clear is refused

@@ -12,7 +12,7 @@ use missionlink_interfaces::wire::{
     AreaTransferMode, AreaTransmissionCommand, ExecuteCommand, Message, MissionExecuteCommand,
     Timestamp,
 };
-use missionlink_partitions::config::{Config, ConfigArgs};
+use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
 use missionlink_partitions::gcs_link::{GcsLink, describe_from_to_next};
 use missionlink_partitions::inspect::{
     MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
@@ -98,15 +98,6 @@ enum Command {
     },
 }
 
-fn parse_id(s: &str) -> Result<u32, String> {
-    let t = s.trim();
-    match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16),
-        None => t.parse(),
-    }
-    .map_err(|e| format!("{s:?} is not a 32-bit ID: {e}"))
-}
-
 /// The inputs: the arguments, or the non-blank, non-comment lines of stdin.
 fn inputs(args: Vec<String>) -> io::Result<Vec<String>> {
     if !args.is_empty() {
@@ -168,10 +159,6 @@ fn encode(json: Vec<String>, out: &mut impl Write) -> io::Result<bool> {
     Ok(all_ok)
 }
 
-/// A limit no request reaches: the GCS logic itself ends every request (2 x ack timeout per
-/// message, the transfer timeout for downloads).
-const REQUEST_LIMIT: Duration = Duration::from_secs(600);
-
 type Link = GcsLink<WithoutGateway>;
 
 fn open(config: &Config) -> Result<Link, String> {
@@ -185,38 +172,17 @@ fn read_plan(file: &Path) -> Result<MissionPlan, String> {
 }
 
 /// Runs the link until the request ends; prints progress on a terminal.
-fn finish(link: &mut Link) -> Result<Option<Box<ValidatedPlan>>, String> {
+fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, String> {
     let progress = io::stderr().is_terminal();
-    let mut outcome = None;
-    link.run_until(REQUEST_LIMIT, |event| match event {
-        GcsEvent::Progress { phase, sent, total } => {
-            if progress {
-                eprint!("\r{phase}: {sent}/{total} messages   ");
-            }
-            false
+    let outcome = link.finish(|event| {
+        if let (true, GcsEvent::Progress { phase, sent, total }) = (progress, event) {
+            eprint!("\r{phase}: {sent}/{total} messages   ");
         }
-        GcsEvent::UploadComplete => {
-            outcome = Some(Ok(None));
-            true
-        }
-        GcsEvent::DownloadComplete(plan) => {
-            outcome = Some(Ok(Some(plan.clone())));
-            true
-        }
-        GcsEvent::CommandAccepted(_) => {
-            outcome = Some(Ok(None));
-            true
-        }
-        GcsEvent::Failed(e) => {
-            outcome = Some(Err(e.to_string()));
-            true
-        }
-        GcsEvent::FromToNext(_) => false,
     });
     if progress {
         eprintln!();
     }
-    outcome.unwrap_or_else(|| Err("no answer from the FCC".to_owned()))
+    outcome.map_err(|e| e.to_string())
 }
 
 fn summary(plan: &ValidatedPlan) -> String {

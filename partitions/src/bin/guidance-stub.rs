@@ -15,8 +15,8 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::config::{Config, ConfigArgs};
-use missionlink_partitions::ipc::{Ipc, quiet_iceoryx2_log};
-use missionlink_partitions::runtime::{Report, Shutdown, wait};
+use missionlink_partitions::ipc::Ipc;
+use missionlink_partitions::runtime::{Report, Shutdown, partition_main, wait};
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 
 /// Guidance stub of the FCC.
@@ -129,21 +129,5 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 fn main() -> ExitCode {
-    missionlink_partitions::init_logging();
-    quiet_iceoryx2_log();
-    let args = Args::parse();
-    let config = match args.config.resolve() {
-        Ok(c) => c,
-        Err(e) => {
-            tracing::error!(%e, "configuration");
-            return ExitCode::from(2);
-        }
-    };
-    match run(&config) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            tracing::error!(%e, "{NAME} failed");
-            ExitCode::FAILURE
-        }
-    }
+    partition_main(NAME, &Args::parse().config, run)
 }

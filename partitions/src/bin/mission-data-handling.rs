@@ -16,9 +16,9 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN};
 use missionlink_partitions::clock::{DriverClock, monotonic_ns};
 use missionlink_partitions::config::{Config, ConfigArgs};
-use missionlink_partitions::ipc::{Ipc, quiet_iceoryx2_log};
+use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::latency::{self, Recorder};
-use missionlink_partitions::runtime::{Report, Shutdown, wait};
+use missionlink_partitions::runtime::{Report, Shutdown, partition_main, wait};
 use missionlink_partitions::state;
 use missionlink_services::endpoint::EndpointConfig;
 use missionlink_services::fcc::{FccConfig, FccEvent, MissionDataHandling};
@@ -220,21 +220,5 @@ fn publish_outgoing(
 }
 
 fn main() -> ExitCode {
-    missionlink_partitions::init_logging();
-    quiet_iceoryx2_log();
-    let args = Args::parse();
-    let config = match args.config.resolve() {
-        Ok(c) => c,
-        Err(e) => {
-            tracing::error!(%e, "configuration");
-            return ExitCode::from(2);
-        }
-    };
-    match run(&config) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            tracing::error!(%e, "{NAME} failed");
-            ExitCode::FAILURE
-        }
-    }
+    partition_main(NAME, &Args::parse().config, run)
 }
