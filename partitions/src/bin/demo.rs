@@ -351,7 +351,7 @@ fn run(args: &Args) -> Result<(), String> {
     );
 
     println!(
-        "6. Shut down; per-frame latency of the partitions (debug builds are slower; see BENCHMARKS.md)"
+        "6. Shut down; per-frame latency of the partitions (a debug build is several times slower than --release)"
     );
     fcc.stop();
     let mut files: Vec<PathBuf> = std::fs::read_dir(run_dir.join("latency"))
