@@ -120,7 +120,7 @@ impl<G: SafetyGateway> GcsLink<G> {
         while let Some((envelope, message)) = self.station.poll_outgoing() {
             match wire::encode(&envelope, &message, &mut buf) {
                 Ok(len) => {
-                    if self.links.send_both(&buf[..len]) == 0 {
+                    if self.links.send_both(buf.get(..len).unwrap_or_default()) == 0 {
                         tracing::warn!("no link could send");
                     }
                     self.record(Direction::Up, message);
@@ -160,8 +160,11 @@ impl<G: SafetyGateway> GcsLink<G> {
         let mut lens: heapless::Vec<(Link, usize), 8> = heapless::Vec::new();
         let mut buf = [0u8; MAX_DATAGRAM];
         self.links.receive(&mut buf, |link, datagram, _| {
-            if let Some(slot) = slots.get_mut(lens.len()) {
-                slot[..datagram.len()].copy_from_slice(datagram);
+            let slot = slots
+                .get_mut(lens.len())
+                .and_then(|s| s.get_mut(..datagram.len()));
+            if let Some(slot) = slot {
+                slot.copy_from_slice(datagram);
                 let _ = lens.push((link, datagram.len()));
             }
         });
@@ -170,7 +173,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             let mut arrivals: heapless::Vec<(Link, &[u8]), VOTING_STEP_MESSAGES> =
                 heapless::Vec::new();
             for (slot, (link, len)) in slots.iter().zip(&lens) {
-                let _ = arrivals.push((*link, &slot[..*len]));
+                let _ = arrivals.push((*link, slot.get(..*len).unwrap_or_default()));
             }
             let station = &mut self.station;
             let mut received = Vec::new();

@@ -1,6 +1,15 @@
 //! The drivers of missionlink: the FCC partitions, the fcc launcher and the gcs tool. They move
 //! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
 //! in `missionlink-services`.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing
+    )
+)]
 
 pub mod binaries;
 pub mod clock;

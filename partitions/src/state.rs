@@ -53,7 +53,7 @@ fn frames(generation: u64, messages: impl Iterator<Item = Message>) -> io::Resul
     for m in messages {
         let len = wire::encode(&Envelope::new(0, 0), &m, &mut buf)
             .map_err(|e| io::Error::other(e.to_string()))?;
-        out.extend_from_slice(&buf[..len]);
+        out.extend_from_slice(buf.get(..len).unwrap_or_default());
     }
     Ok(out)
 }

@@ -209,7 +209,9 @@ fn publish_outgoing(
         } else {
             origin_ns
         };
-        let Some(mut payload) = FramePayload::new(Link::Both, &buf[..len], origin) else {
+        let Some(mut payload) =
+            FramePayload::new(Link::Both, buf.get(..len).unwrap_or_default(), origin)
+        else {
             continue;
         };
         payload.published_ns = monotonic_ns();

@@ -72,8 +72,11 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
         downlink.drain_notifications();
         step.clear();
         links.receive(&mut buf, |link, datagram, at| {
-            if let Some(slot) = slots.get_mut(step.len()) {
-                slot[..datagram.len()].copy_from_slice(datagram);
+            let slot = slots
+                .get_mut(step.len())
+                .and_then(|s| s.get_mut(..datagram.len()));
+            if let Some(slot) = slot {
+                slot.copy_from_slice(datagram);
                 let _ = step.push((link, datagram.len(), at));
             }
         });
@@ -81,7 +84,7 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
             let mut arrivals: heapless::Vec<(Link, &[u8]), VOTING_STEP_MESSAGES> =
                 heapless::Vec::new();
             for (slot, (link, len, _)) in slots.iter().zip(&step) {
-                let _ = arrivals.push((*link, &slot[..*len]));
+                let _ = arrivals.push((*link, slot.get(..*len).unwrap_or_default()));
             }
             voter.vote_step(clock.now(), &arrivals, |link, frame| {
                 // The datagram the frame lies in gives its receive time.
