@@ -406,7 +406,10 @@ impl MissionDataHandling {
             self.mission_upload.abandon(self.active_mission.as_ref());
         }
         match self.mission_upload.handle(now, message)? {
-            Received::Complete(mission) => {
+            Received::Complete => {
+                let Some(mission) = self.mission_upload.take() else {
+                    return Err(Reason::WrongState);
+                };
                 if self.active_mission.as_ref() != Some(&mission) {
                     self.active_mission = Some(mission);
                     self.mission_changed(FccEvent::MissionActivated {
@@ -432,15 +435,18 @@ impl MissionDataHandling {
             self.area_upload.handle(now, message)
         };
         let result = match outcome {
-            Ok(Received::Complete(list)) => {
-                if self.active_areas.as_ref() != Some(&list) {
-                    self.active_areas = Some(list);
-                    self.areas_changed(FccEvent::AreasActivated {
-                        generation: self.area_generation + 1,
-                    });
+            Ok(Received::Complete) => match self.area_upload.take() {
+                Some(list) => {
+                    if self.active_areas.as_ref() != Some(&list) {
+                        self.active_areas = Some(list);
+                        self.areas_changed(FccEvent::AreasActivated {
+                            generation: self.area_generation + 1,
+                        });
+                    }
+                    Ok(())
                 }
-                Ok(())
-            }
+                None => Err(Reason::WrongState),
+            },
             Ok(Received::Stored | Received::Abandoned(_) | Received::Emptied) => {
                 Err(Reason::WrongState)
             }

@@ -410,7 +410,13 @@ impl<G: SafetyGateway> GroundStation<G> {
                     outcome.as_ref().map(|_| ()).map_err(|r| *r),
                 );
                 match outcome {
-                    Ok(Received::Complete(mission)) => self.request_areas(now, mission),
+                    Ok(Received::Complete) => match self.mission_download.take() {
+                        Some(mission) => self.request_areas(now, mission),
+                        None => self.fail(GcsError::InvalidDownload {
+                            phase: Phase::MissionDownload,
+                            reason: Reason::WrongState,
+                        }),
+                    },
                     Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted {
                         phase: Phase::MissionDownload,
                         reason,
@@ -438,18 +444,20 @@ impl<G: SafetyGateway> GroundStation<G> {
                     outcome.as_ref().map(|_| ()).map_err(|r| *r),
                 );
                 match outcome {
-                    Ok(Received::Complete(areas)) => match self.downloaded_mission.take() {
-                        Some(mission) => {
-                            self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
-                                mission,
-                                areas,
-                            })))
+                    Ok(Received::Complete) => {
+                        match (self.downloaded_mission.take(), self.area_download.take()) {
+                            (Some(mission), Some(areas)) => {
+                                self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
+                                    mission,
+                                    areas,
+                                })))
+                            }
+                            _ => self.fail(GcsError::InvalidDownload {
+                                phase: Phase::AreaDownload,
+                                reason: Reason::WrongState,
+                            }),
                         }
-                        None => self.fail(GcsError::InvalidDownload {
-                            phase: Phase::AreaDownload,
-                            reason: Reason::WrongState,
-                        }),
-                    },
+                    }
                     Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted {
                         phase: Phase::AreaDownload,
                         reason,

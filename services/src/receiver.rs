@@ -20,12 +20,16 @@ use crate::mission::{Mission, MissionBuffer};
 use crate::time::Instant;
 
 /// What a receiver made of a message it accepted.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Received<T> {
+///
+/// A completed list stays in the receiver until its owner takes it ([`MissionReceiver::take`],
+/// [`AreaReceiver::take`]): returning a 256-waypoint mission by value would copy it on every
+/// stored waypoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Received {
     /// Stored; the transfer goes on.
     Stored,
-    /// The closing message came and the list is complete and valid.
-    Complete(T),
+    /// The closing message came and the list is complete and valid: take it.
+    Complete,
     /// The peer cancelled or aborted the transfer (with its reason, where it gave one).
     Abandoned(Option<Reason>),
     /// The closing message activates the empty list: #13000 mode 2 with Waypoint Number 0
@@ -37,6 +41,7 @@ pub enum Received<T> {
 #[derive(Debug, Clone)]
 pub struct MissionReceiver {
     buffer: MissionBuffer,
+    complete: Option<Mission>,
     last_heard: Option<Instant>,
     transfer_timeout: Duration,
 }
@@ -46,6 +51,7 @@ impl MissionReceiver {
     pub fn new(transfer_timeout: Duration) -> Self {
         Self {
             buffer: MissionBuffer::new(),
+            complete: None,
             last_heard: None,
             transfer_timeout,
         }
@@ -86,9 +92,14 @@ impl MissionReceiver {
         self.poll_timeout().is_some_and(|deadline| now >= deadline)
     }
 
+    /// The mission the last [`Received::Complete`] assembled.
+    pub fn take(&mut self) -> Option<Mission> {
+        self.complete.take()
+    }
+
     /// Handles mission data: #13006, #13002, #13001, #13000 mode 2 transmit, #14000. The
     /// answer to the message is `Ok` (acknowledge type 2) or the reason (type 3).
-    pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received<Mission>, Reason> {
+    pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
         self.last_heard = Some(now);
         match message {
             Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
@@ -99,15 +110,15 @@ impl MissionReceiver {
                     self.last_heard = None;
                     return Ok(Received::Emptied);
                 }
-                let mission = self.buffer.assemble(c.waypoint_number, c.mission_id)?;
+                self.complete = Some(self.buffer.assemble(c.waypoint_number, c.mission_id)?);
                 self.last_heard = None;
-                Ok(Received::Complete(mission))
+                Ok(Received::Complete)
             }
             Message::MissionUploadDownloadStatus(s) => match s.status {
                 TransferStatus::Complete => {
-                    let mission = self.buffer.assemble(None, s.mission_id)?;
+                    self.complete = Some(self.buffer.assemble(None, s.mission_id)?);
                     self.last_heard = None;
-                    Ok(Received::Complete(mission))
+                    Ok(Received::Complete)
                 }
                 TransferStatus::Aborted => {
                     self.abandon(None);
@@ -124,6 +135,7 @@ impl MissionReceiver {
 #[derive(Debug, Clone)]
 pub struct AreaReceiver {
     buffer: AreaBuffer,
+    complete: Option<AreaList>,
     /// Loop count and safety offset of the opening message, while a transfer is open.
     open: Option<(u8, SafetyOffset)>,
     last_heard: Option<Instant>,
@@ -135,6 +147,7 @@ impl AreaReceiver {
     pub fn new(transfer_timeout: Duration) -> Self {
         Self {
             buffer: AreaBuffer::new(),
+            complete: None,
             open: None,
             last_heard: None,
             transfer_timeout,
@@ -164,13 +177,14 @@ impl AreaReceiver {
         self.poll_timeout().is_some_and(|deadline| now >= deadline)
     }
 
+    /// The area list the last [`Received::Complete`] assembled.
+    pub fn take(&mut self) -> Option<AreaList> {
+        self.complete.take()
+    }
+
     /// Handles area data: #2011 mode 1 (opens, FCC) or #3013 ready (opens, GCS), #2012, #2011
     /// mode 2 (closes, FCC) or mode 4 (closes, GCS), #2011 mode 5 cancel.
-    pub fn handle(
-        &mut self,
-        now: Instant,
-        message: &Message,
-    ) -> Result<Received<AreaList>, Reason> {
+    pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
         self.last_heard = Some(now);
         let opening = match message {
             Message::AreaTransmissionCommand(c) => match c.mode {
@@ -185,7 +199,8 @@ impl AreaReceiver {
                     }
                     let list = self.buffer.assemble(announced, offset)?;
                     self.abandon();
-                    return Ok(Received::Complete(list));
+                    self.complete = Some(list);
+                    return Ok(Received::Complete);
                 }
                 AreaTransferMode::Cancel => {
                     self.abandon();
