@@ -1,0 +1,1251 @@
+//! One-way latency of a frame between two processes, over five transports, for three payload
+//! sizes. Run with `cargo bench --bench latency` (`-- --frames N` to change the number of
+//! recorded frames per transport and size, `-- --warmup N` the frames sent before recording).
+//!
+//! # What is measured
+//!
+//! The bench binary is the sender; it starts itself again (`--role receiver ...`) as the
+//! receiver, one receiver process per transport and payload size. Before sending a frame the
+//! sender reads CLOCK_MONOTONIC and writes the reading into the payload; the receiver reads the
+//! clock as soon as the frame is in its hands and records the difference in an HDR histogram
+//! (nanoseconds, 3 significant digits). Both processes read the same clock of the same host, so
+//! the difference is the one-way latency. The receiver answers every frame over the same
+//! transport (a 64 B reply, not measured) and the sender sends the next frame only after the
+//! answer: every sample is a single frame crossing an idle path, never a frame queued behind
+//! another. The first frames (2000 by default) warm caches and code paths and are not recorded.
+//!
+//! The payload sizes are 64 B, 548 B (the largest STANAG frame, `MAX_FRAME_LEN`) and the size of
+//! `WaypointListPayload` (the full waypoint list, 8216 B with 256 waypoints). The transports:
+//!
+//! 1. `iox2-event`: iceoryx2 publish-subscribe as the partitions use it (`ipc::Service`, the
+//!    QoS of `fcc/link/uplink`): the sender copies the frame into a loaned sample, sends it and
+//!    notifies an event service of the same name; the receiver sleeps in a `WaitSet` on the
+//!    listener, drains it on wake-up and takes the sample (zero-copy: it reads the stamp in place).
+//! 2. `iox2-poll`: the same without the event service; the receiver spins on
+//!    `subscriber.receive()` (and the sender spins for the reply).
+//! 3. `uds`: a Unix domain datagram socket (abstract address), blocking `recv_from`.
+//! 4. `udp`: UDP over loopback, blocking `recv_from`.
+//! 5. `shm-floor`: the floor of any shared-memory transport: the stamp alone, stored into an
+//!    `AtomicU64` on its own cache line of a file mapped by both processes (under `/dev/shm`),
+//!    both sides spinning. Nothing but the cache-line transfer between the two cores.
+//!
+//! # What limits the numbers
+//!
+//! - The clock: reading CLOCK_MONOTONIC through the vDSO costs about 20-30 ns on each side;
+//!   every sample carries about one such read (the end of the sender's, the start of the
+//!   receiver's), so the floor is mostly a clock read and one cache-line transfer.
+//! - The machine: a 2 vCPU KVM guest. The sender and the receiver are pinned to the two CPUs
+//!   (printed with the results), so anything else running on the host (a build, the other
+//!   spinning side) shares a CPU with one of them: preemption shows in p99.9 and max. Each row
+//!   reports the involuntary context switches of both processes during the recording and the
+//!   CPU time the rest of the machine used meanwhile (from /proc), so a busy run is visible.
+//! - Wake-ups: the event-driven iceoryx2 transport and both sockets put the receiver to sleep;
+//!   their latency is mostly the kernel waking a thread on another CPU (an inter-processor
+//!   interrupt, in a VM a virtual one) and, for iceoryx2, the sender's notify system call and
+//!   the receiver's WaitSet (epoll) round, not the copy. The polling transports avoid the wake-up at
+//!   the cost of a CPU spinning at 100 %.
+//! - Copies: the iceoryx2 sender copies the whole payload into shared memory (as the
+//!   partitions do) and the receiver reads only the stamp in place; the socket receivers get the
+//!   whole payload copied into their buffer by the kernel. Larger payloads therefore cost the
+//!   sockets two copies and iceoryx2 one.
+//!
+//! Results: a table per payload size on stdout, all numbers as JSON in
+//! `target/latency/results.json` and a plot in `target/latency/latency.svg`.
+
+#![allow(
+    unsafe_code,
+    reason = "the shared-memory floor maps a file and views two of its cache lines as atomics"
+)]
+
+use std::fmt::Write as _;
+use std::io::{BufRead, BufReader};
+use std::net::UdpSocket;
+use std::os::linux::net::SocketAddrExt;
+use std::os::unix::net::{SocketAddr, UnixDatagram};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use hdrhistogram::Histogram;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
+use missionlink_interfaces::wire::MAX_FRAME_LEN;
+use missionlink_partitions::clock::monotonic_ns;
+use serde_json::{Value, json};
+
+/// Recorded frames per transport and size unless `--frames` says otherwise.
+const DEFAULT_FRAMES: u64 = 100_000;
+/// Frames sent before recording unless `--warmup` says otherwise.
+const DEFAULT_WARMUP: u64 = 2_000;
+/// A side that hears nothing for this long gives up: the other process is gone.
+const TIMEOUT: Duration = Duration::from_secs(10);
+/// Size of the reply to every frame.
+const REPLY_SIZE: usize = 64;
+/// Size of the full waypoint list.
+const WAYPOINT_LIST_SIZE: usize = size_of::<WaypointListPayload>();
+
+// ---------------------------------------------------------------------------------------------
+// Transports and payload sizes
+// ---------------------------------------------------------------------------------------------
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Transport {
+    Iox2Event,
+    Iox2Poll,
+    Uds,
+    Udp,
+    ShmFloor,
+}
+
+impl Transport {
+    /// In the order of the tables; the first is the reference of the ratios.
+    const ALL: [Transport; 5] = [
+        Self::Iox2Event,
+        Self::Iox2Poll,
+        Self::Uds,
+        Self::Udp,
+        Self::ShmFloor,
+    ];
+
+    /// The name on the command line and in the JSON.
+    fn arg(self) -> &'static str {
+        match self {
+            Self::Iox2Event => "iox2-event",
+            Self::Iox2Poll => "iox2-poll",
+            Self::Uds => "uds",
+            Self::Udp => "udp",
+            Self::ShmFloor => "shm-floor",
+        }
+    }
+
+    /// The name in the table and the plot.
+    fn label(self) -> &'static str {
+        match self {
+            Self::Iox2Event => "iceoryx2 event-driven",
+            Self::Iox2Poll => "iceoryx2 polling",
+            Self::Uds => "Unix datagram socket",
+            Self::Udp => "UDP loopback",
+            Self::ShmFloor => "shared cache line (floor)",
+        }
+    }
+
+    fn from_arg(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|t| t.arg() == s)
+    }
+}
+
+/// The payload sizes with their description.
+fn sizes() -> [(usize, String); 3] {
+    [
+        (64, "64 B".to_owned()),
+        (
+            MAX_FRAME_LEN,
+            format!("{MAX_FRAME_LEN} B, the largest STANAG frame"),
+        ),
+        (
+            WAYPOINT_LIST_SIZE,
+            format!("{WAYPOINT_LIST_SIZE} B, the full waypoint list (WaypointListPayload)"),
+        ),
+    ]
+}
+
+/// One measurement: a transport, a payload size, and the names that keep it apart from every
+/// other run.
+#[derive(Debug, Clone)]
+struct Run {
+    transport: Transport,
+    size: usize,
+    frames: u64,
+    warmup: u64,
+    /// Unique per run and host: the parent's pid, the transport and the size.
+    id: String,
+}
+
+impl Run {
+    fn total(&self) -> u64 {
+        self.warmup + self.frames
+    }
+
+    fn args(&self) -> Vec<String> {
+        vec![
+            "--role".into(),
+            "receiver".into(),
+            "--transport".into(),
+            self.transport.arg().into(),
+            "--size".into(),
+            self.size.to_string(),
+            "--frames".into(),
+            self.frames.to_string(),
+            "--warmup".into(),
+            self.warmup.to_string(),
+            "--id".into(),
+            self.id.clone(),
+        ]
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The measurement, the same for every transport
+// ---------------------------------------------------------------------------------------------
+
+/// The sender: stamps and sends a frame, waits for its reply, repeats.
+fn drive_sender(run: &Run, mut send: impl FnMut(u64), mut receive_reply: impl FnMut() -> u64) {
+    for _ in 0..run.total() {
+        let stamp = monotonic_ns();
+        send(stamp);
+        let echoed = receive_reply();
+        assert_eq!(echoed, stamp, "the reply answers the frame just sent");
+    }
+}
+
+/// The receiver: takes a frame, records `now - stamp` (after the warm-up), replies, repeats.
+fn drive_receiver(
+    run: &Run,
+    mut receive: impl FnMut() -> u64,
+    mut reply: impl FnMut(u64),
+) -> Histogram<u64> {
+    let mut histogram =
+        Histogram::<u64>::new_with_bounds(1, 60_000_000_000, 3).expect("valid histogram bounds");
+    for i in 0..run.total() {
+        let stamp = receive();
+        let now = monotonic_ns();
+        if i >= run.warmup {
+            histogram.saturating_record(now.saturating_sub(stamp).max(1));
+        }
+        reply(stamp);
+    }
+    histogram
+}
+
+/// Spins until `poll` gives a value; panics when nothing came for [`TIMEOUT`]. The clock is
+/// read only every 2^16 empty polls, so spinning costs one poll per iteration. No
+/// `spin_loop()` hint: the PAUSE it emits would add tens of nanoseconds to every detection,
+/// there is no SMT sibling to yield to, and KVM may deschedule a vCPU that loops on PAUSE.
+fn spin<T>(mut poll: impl FnMut() -> Option<T>) -> T {
+    let mut deadline = None;
+    let mut spins: u32 = 0;
+    loop {
+        if let Some(v) = poll() {
+            return v;
+        }
+        spins = spins.wrapping_add(1);
+        if spins % 65_536 == 0 {
+            let deadline = *deadline.get_or_insert_with(|| Instant::now() + TIMEOUT);
+            assert!(
+                Instant::now() < deadline,
+                "nothing for {TIMEOUT:?}: peer gone"
+            );
+        }
+    }
+}
+
+/// Tells the parent that the receiver is listening, with what the sender needs to reach it.
+fn announce_ready(info: &str) {
+    println!("ready {info}");
+}
+
+fn stamp_of(bytes: &[u8]) -> u64 {
+    let mut stamp = [0u8; 8];
+    stamp.copy_from_slice(&bytes[..8]);
+    u64::from_le_bytes(stamp)
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1 and 2: iceoryx2 publish-subscribe, event-driven or polling
+// ---------------------------------------------------------------------------------------------
+
+/// A fixed-size iceoryx2 payload: the send time and `FILL` bytes. The stamp is a byte array so
+/// the type has no padding and exactly the size it is named after.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+struct StampedFrame<const FILL: usize> {
+    /// CLOCK_MONOTONIC nanoseconds when the sender sent the frame, little endian.
+    stamp_ns: [u8; 8],
+    fill: [u8; FILL],
+}
+
+/// 64 B, also the reply of every transport.
+type Frame64 = StampedFrame<{ REPLY_SIZE - 8 }>;
+/// The largest STANAG frame.
+type FrameStanag = StampedFrame<{ MAX_FRAME_LEN - 8 }>;
+/// The full waypoint list.
+type FrameWaypointList = StampedFrame<{ WAYPOINT_LIST_SIZE - 8 }>;
+
+const _: () = assert!(size_of::<Frame64>() == 64);
+const _: () = assert!(size_of::<FrameStanag>() == MAX_FRAME_LEN);
+const _: () = assert!(size_of::<FrameWaypointList>() == WAYPOINT_LIST_SIZE);
+
+trait Stamped: std::fmt::Debug + Copy + ZeroCopySend + 'static {
+    fn zeroed() -> Self;
+    fn stamp(&self) -> u64;
+    fn set_stamp(&mut self, ns: u64);
+}
+
+impl<const FILL: usize> Stamped for StampedFrame<FILL> {
+    fn zeroed() -> Self {
+        Self {
+            stamp_ns: [0; 8],
+            fill: [0; FILL],
+        }
+    }
+
+    fn stamp(&self) -> u64 {
+        u64::from_le_bytes(self.stamp_ns)
+    }
+
+    fn set_stamp(&mut self, ns: u64) {
+        self.stamp_ns = ns.to_le_bytes();
+    }
+}
+
+type S = ipc::Service;
+
+/// One side of an iceoryx2 ping-pong: a publisher of `Out` and a subscriber of `In`, with a
+/// notifier and a listener when event-driven.
+struct Iox2End<Out: Stamped, In: Stamped> {
+    publisher: Publisher<S, Out, ()>,
+    subscriber: Subscriber<S, In, ()>,
+    notifier: Option<Notifier<S>>,
+    listener: Option<Listener<S>>,
+    /// Dropped last: the node owns the ports' resources.
+    _node: Node<S>,
+}
+
+fn service_name(run: &Run, direction: &str) -> ServiceName {
+    format!("missionlink-latency-{}/{direction}", run.id)
+        .as_str()
+        .try_into()
+        .expect("valid service name")
+}
+
+/// The publish-subscribe service `name` with the partitions' frame-queue QoS (that of
+/// `fcc/link/uplink`: no history, 64 samples deep, never overwritten).
+fn pubsub<T: Stamped>(
+    node: &Node<S>,
+    name: &ServiceName,
+) -> iceoryx2::service::port_factory::publish_subscribe::PortFactory<S, T, ()> {
+    let qos = FccService::Uplink.qos();
+    node.service_builder(name)
+        .publish_subscribe::<T>()
+        .history_size(qos.history_size)
+        .subscriber_max_buffer_size(qos.subscriber_max_buffer_size)
+        .max_publishers(qos.max_publishers)
+        .max_subscribers(qos.max_subscribers)
+        .enable_safe_overflow(qos.safe_overflow)
+        .open_or_create()
+        .expect("publish-subscribe service")
+}
+
+impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
+    fn open(run: &Run, node_name: &str, out: &str, input: &str, event: bool) -> Self {
+        let node = NodeBuilder::new()
+            .name(&node_name.try_into().expect("valid node name"))
+            // Ctrl-C ends the bench, also in a spinning loop.
+            .signal_handling_mode(SignalHandlingMode::Disabled)
+            .create::<S>()
+            .expect("iceoryx2 node");
+        node.try_cleanup_dead_nodes();
+        let publisher = pubsub::<Out>(&node, &service_name(run, out))
+            .publisher_builder()
+            .create()
+            .expect("publisher");
+        let subscriber = pubsub::<In>(&node, &service_name(run, input))
+            .subscriber_builder()
+            .create()
+            .expect("subscriber");
+        let qos = FccService::Uplink.qos();
+        let events = |direction: &str| {
+            node.service_builder(&service_name(run, direction))
+                .event()
+                .max_notifiers(qos.max_publishers)
+                .max_listeners(qos.max_subscribers)
+                .open_or_create()
+                .expect("event service")
+        };
+        let (notifier, listener) = if event {
+            (
+                Some(events(out).notifier_builder().create().expect("notifier")),
+                Some(events(input).listener_builder().create().expect("listener")),
+            )
+        } else {
+            (None, None)
+        };
+        Self {
+            publisher,
+            subscriber,
+            notifier,
+            listener,
+            _node: node,
+        }
+    }
+
+    /// Copies `value` into a loaned sample, sends it, and notifies when event-driven (what
+    /// `partitions::ipc::Publisher::send` does).
+    fn send(&self, value: &Out) {
+        self.publisher
+            .loan_uninit()
+            .expect("loan")
+            .write_payload(*value)
+            .send()
+            .expect("send");
+        if let Some(notifier) = &self.notifier {
+            notifier.notify().expect("notify");
+        }
+    }
+
+    /// The stamp of the next sample: event-driven, sleeping in `waitset` until notified;
+    /// polling, spinning on `receive()`.
+    fn receive(&self, waitset: &WaitSet<S>) -> u64 {
+        let take = || {
+            self.subscriber
+                .receive()
+                .expect("receive")
+                .map(|sample| sample.payload().stamp())
+        };
+        let Some(listener) = &self.listener else {
+            return spin(take);
+        };
+        let mut deadline = None;
+        loop {
+            if let Some(stamp) = take() {
+                return stamp;
+            }
+            let deadline = *deadline.get_or_insert_with(|| Instant::now() + TIMEOUT);
+            assert!(
+                Instant::now() < deadline,
+                "nothing for {TIMEOUT:?}: peer gone"
+            );
+            waitset
+                .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, TIMEOUT)
+                .expect("wait");
+            // Drain the notifications, or the WaitSet wakes at once next time.
+            listener.try_wait(|_| {}).expect("listener");
+        }
+    }
+}
+
+fn iox2_sender<F: Stamped>(run: &Run, event: bool) {
+    let end = Iox2End::<F, Frame64>::open(run, "latency-sender", "ping", "pong", event);
+    let waitset = WaitSetBuilder::new().create::<S>().expect("waitset");
+    let _guard = end
+        .listener
+        .as_ref()
+        .map(|l| waitset.attach_notification(l).expect("attach"));
+    let mut frame = F::zeroed();
+    drive_sender(
+        run,
+        |stamp| {
+            frame.set_stamp(stamp);
+            end.send(&frame);
+        },
+        || end.receive(&waitset),
+    );
+}
+
+fn iox2_receiver<F: Stamped>(run: &Run, event: bool) -> Histogram<u64> {
+    let end = Iox2End::<Frame64, F>::open(run, "latency-receiver", "pong", "ping", event);
+    let waitset = WaitSetBuilder::new().create::<S>().expect("waitset");
+    let _guard = end
+        .listener
+        .as_ref()
+        .map(|l| waitset.attach_notification(l).expect("attach"));
+    announce_ready("");
+    let mut reply = Frame64::zeroed();
+    drive_receiver(
+        run,
+        || end.receive(&waitset),
+        |stamp| {
+            reply.set_stamp(stamp);
+            end.send(&reply);
+        },
+    )
+}
+
+/// Runs the iceoryx2 side `role` with the frame type of the run's size.
+fn iox2(run: &Run, role: Role, event: bool) -> Option<Histogram<u64>> {
+    fn with<F: Stamped>(run: &Run, role: Role, event: bool) -> Option<Histogram<u64>> {
+        match role {
+            Role::Sender => {
+                iox2_sender::<F>(run, event);
+                None
+            }
+            Role::Receiver => Some(iox2_receiver::<F>(run, event)),
+        }
+    }
+    match run.size {
+        s if s == size_of::<Frame64>() => with::<Frame64>(run, role, event),
+        s if s == size_of::<FrameStanag>() => with::<FrameStanag>(run, role, event),
+        s if s == size_of::<FrameWaypointList>() => with::<FrameWaypointList>(run, role, event),
+        other => panic!("no iceoryx2 frame type of {other} B"),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3: Unix domain datagram socket
+// ---------------------------------------------------------------------------------------------
+
+fn uds_address(run: &Run, side: &str) -> SocketAddr {
+    SocketAddr::from_abstract_name(format!("missionlink-latency/{}/{side}", run.id))
+        .expect("abstract socket address")
+}
+
+fn uds_sender(run: &Run) {
+    let socket = UnixDatagram::bind_addr(&uds_address(run, "sender")).expect("bind");
+    socket
+        .connect_addr(&uds_address(run, "receiver"))
+        .expect("connect");
+    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    let mut frame = vec![0u8; run.size];
+    let mut reply = [0u8; REPLY_SIZE];
+    drive_sender(
+        run,
+        |stamp| {
+            frame[..8].copy_from_slice(&stamp.to_le_bytes());
+            socket.send(&frame).expect("send");
+        },
+        || {
+            socket.recv(&mut reply).expect("reply");
+            stamp_of(&reply)
+        },
+    );
+}
+
+fn uds_receiver(run: &Run) -> Histogram<u64> {
+    let socket = UnixDatagram::bind_addr(&uds_address(run, "receiver")).expect("bind");
+    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    announce_ready("");
+    let mut frame = vec![0u8; run.size];
+    let mut reply = [0u8; REPLY_SIZE];
+    let mut connected = false;
+    drive_receiver(
+        run,
+        || {
+            let (n, from) = socket.recv_from(&mut frame).expect("receive");
+            assert_eq!(n, run.size, "a whole frame");
+            if !connected {
+                // Replies go to whoever sent the first frame.
+                socket.connect_addr(&from).expect("connect");
+                connected = true;
+            }
+            stamp_of(&frame)
+        },
+        |stamp| {
+            reply[..8].copy_from_slice(&stamp.to_le_bytes());
+            socket.send(&reply).expect("reply");
+        },
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4: UDP over loopback
+// ---------------------------------------------------------------------------------------------
+
+fn udp_sender(run: &Run, receiver_port: &str) {
+    let socket = UdpSocket::bind("127.0.0.1:0").expect("bind");
+    socket
+        .connect(format!("127.0.0.1:{receiver_port}"))
+        .expect("connect");
+    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    let mut frame = vec![0u8; run.size];
+    let mut reply = [0u8; REPLY_SIZE];
+    drive_sender(
+        run,
+        |stamp| {
+            frame[..8].copy_from_slice(&stamp.to_le_bytes());
+            socket.send(&frame).expect("send");
+        },
+        || {
+            socket.recv(&mut reply).expect("reply");
+            stamp_of(&reply)
+        },
+    );
+}
+
+fn udp_receiver(run: &Run) -> Histogram<u64> {
+    let socket = UdpSocket::bind("127.0.0.1:0").expect("bind");
+    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    announce_ready(&socket.local_addr().expect("address").port().to_string());
+    let mut frame = vec![0u8; run.size];
+    let mut reply = [0u8; REPLY_SIZE];
+    let mut connected = false;
+    drive_receiver(
+        run,
+        || {
+            let (n, from) = socket.recv_from(&mut frame).expect("receive");
+            assert_eq!(n, run.size, "a whole frame");
+            if !connected {
+                // Replies go to whoever sent the first frame.
+                socket.connect(from).expect("connect");
+                connected = true;
+            }
+            stamp_of(&frame)
+        },
+        |stamp| {
+            reply[..8].copy_from_slice(&stamp.to_le_bytes());
+            socket.send(&reply).expect("reply");
+        },
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5: the floor, one cache line each way
+// ---------------------------------------------------------------------------------------------
+
+/// Two `AtomicU64`s in a file mapped shared by both processes: `ping` (sender to receiver) and
+/// `pong` (back), 128 bytes apart so that they never share a cache line or its prefetch pair.
+struct SharedLines {
+    ptr: *mut core::ffi::c_void,
+    path: PathBuf,
+    owner: bool,
+}
+
+const MAP_LEN: usize = 4096;
+const LINE_STRIDE: usize = 128;
+
+impl SharedLines {
+    fn path(run: &Run) -> PathBuf {
+        let dir = Path::new("/dev/shm");
+        let dir = if dir.is_dir() {
+            dir.to_path_buf()
+        } else {
+            std::env::temp_dir()
+        };
+        dir.join(format!("missionlink-latency-{}", run.id))
+    }
+
+    /// Creates (the receiver) or opens (the sender) the file and maps it.
+    fn map(run: &Run, create: bool) -> Self {
+        let path = Self::path(run);
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(create)
+            .truncate(create)
+            .open(&path)
+            .expect("shared-memory file");
+        file.set_len(MAP_LEN as u64).expect("size the file");
+        // SAFETY: a fresh shared mapping chosen by the kernel (null hint), of a file that is
+        // MAP_LEN bytes long; it aliases no Rust object. The mapping outlives the file handle.
+        let ptr = unsafe {
+            rustix::mm::mmap(
+                core::ptr::null_mut(),
+                MAP_LEN,
+                rustix::mm::ProtFlags::READ | rustix::mm::ProtFlags::WRITE,
+                rustix::mm::MapFlags::SHARED,
+                &file,
+                0,
+            )
+        }
+        .expect("map the file");
+        Self {
+            ptr,
+            path,
+            owner: create,
+        }
+    }
+
+    fn line(&self, index: usize) -> &AtomicU64 {
+        assert!((index + 1) * LINE_STRIDE <= MAP_LEN);
+        // SAFETY: the mapping is page aligned and MAP_LEN bytes long, so the offset is inside it
+        // and 8-byte aligned; it stays mapped while `self` lives, which bounds the reference.
+        // Both processes access these bytes only through atomics, which is what AtomicU64
+        // requires of memory shared with others.
+        unsafe {
+            &*self
+                .ptr
+                .cast::<u8>()
+                .add(index * LINE_STRIDE)
+                .cast::<AtomicU64>()
+        }
+    }
+
+    fn ping(&self) -> &AtomicU64 {
+        self.line(0)
+    }
+
+    fn pong(&self) -> &AtomicU64 {
+        self.line(1)
+    }
+}
+
+impl Drop for SharedLines {
+    fn drop(&mut self) {
+        // SAFETY: `ptr` is the mapping of MAP_LEN bytes made in `map`, unmapped only here; no
+        // reference from `line` outlives `self`.
+        if let Err(e) = unsafe { rustix::mm::munmap(self.ptr, MAP_LEN) } {
+            eprintln!("munmap: {e}");
+        }
+        if self.owner {
+            std::fs::remove_file(&self.path).ok();
+        }
+    }
+}
+
+/// Spins until `line` holds something other than `*last`, and returns it.
+fn spin_for_change(line: &AtomicU64, last: &mut u64) -> u64 {
+    let seen = *last;
+    *last = spin(|| {
+        let v = line.load(Ordering::Acquire);
+        (v != seen).then_some(v)
+    });
+    *last
+}
+
+fn shm_sender(run: &Run) {
+    let lines = SharedLines::map(run, false);
+    let mut last_pong = lines.pong().load(Ordering::Acquire);
+    drive_sender(
+        run,
+        |stamp| lines.ping().store(stamp, Ordering::Release),
+        || spin_for_change(lines.pong(), &mut last_pong),
+    );
+}
+
+fn shm_receiver(run: &Run) -> Histogram<u64> {
+    let lines = SharedLines::map(run, true);
+    let mut last_ping = 0;
+    announce_ready("");
+    drive_receiver(
+        run,
+        || spin_for_change(lines.ping(), &mut last_ping),
+        |stamp| lines.pong().store(stamp, Ordering::Release),
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// Processes: the receiver child, the sender parent, CPU pinning
+// ---------------------------------------------------------------------------------------------
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Role {
+    Sender,
+    Receiver,
+}
+
+/// The two CPUs to pin the sender and the receiver to, if this process may use two.
+fn cpu_pair() -> Option<(usize, usize)> {
+    let allowed = rustix::thread::sched_getaffinity(None).ok()?;
+    let mut cpus = (0..rustix::thread::CpuSet::MAX_CPU).filter(|&c| allowed.is_set(c));
+    Some((cpus.next()?, cpus.next()?))
+}
+
+/// Pins the calling thread to `cpu`; says why not on failure.
+fn pin_to(cpu: usize) -> Result<(), String> {
+    let mut set = rustix::thread::CpuSet::new();
+    set.set(cpu);
+    rustix::thread::sched_setaffinity(None, &set).map_err(|e| e.to_string())
+}
+
+/// What this process has used so far, from /proc: involuntary context switches (preemptions)
+/// and CPU time in clock ticks.
+#[derive(Debug, Clone, Copy)]
+struct Usage {
+    switches: u64,
+    ticks: u64,
+}
+
+impl Usage {
+    fn now() -> Self {
+        let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+        let switches = status
+            .lines()
+            .find_map(|l| l.strip_prefix("nonvoluntary_ctxt_switches:"))
+            .and_then(|v| v.trim().parse().ok())
+            .unwrap_or(0);
+        // Fields 14 and 15 of /proc/self/stat (utime, stime), counted after the command name.
+        let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+        let ticks = stat.rsplit_once(')').map_or(0, |(_, rest)| {
+            rest.split_whitespace()
+                .skip(11)
+                .take(2)
+                .filter_map(|v| v.parse::<u64>().ok())
+                .sum()
+        });
+        Self { switches, ticks }
+    }
+
+    fn since(self, start: Self) -> Self {
+        Self {
+            switches: self.switches.saturating_sub(start.switches),
+            ticks: self.ticks.saturating_sub(start.ticks),
+        }
+    }
+}
+
+/// CPU time of the whole machine from /proc/stat, in clock ticks: (busy, total). Busy counts
+/// everything but idle and I/O wait, including time stolen by the hypervisor.
+fn machine_ticks() -> (u64, u64) {
+    let stat = std::fs::read_to_string("/proc/stat").unwrap_or_default();
+    let fields: Vec<u64> = stat
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .split_whitespace()
+        .skip(1)
+        .take(8)
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    let total: u64 = fields.iter().sum();
+    let idle = fields.get(3).copied().unwrap_or(0) + fields.get(4).copied().unwrap_or(0);
+    (total.saturating_sub(idle), total)
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_default()
+}
+
+/// The receiver process: pins itself, listens, records, prints the result as one JSON line.
+fn receiver_main(run: &Run, cpu: Option<usize>) {
+    if let Some(cpu) = cpu {
+        if let Err(e) = pin_to(cpu) {
+            eprintln!("receiver: cannot pin to CPU {cpu}: {e}");
+        }
+    }
+    let start = Usage::now();
+    let histogram = match run.transport {
+        Transport::Iox2Event => iox2(run, Role::Receiver, true).expect("histogram"),
+        Transport::Iox2Poll => iox2(run, Role::Receiver, false).expect("histogram"),
+        Transport::Uds => uds_receiver(run),
+        Transport::Udp => udp_receiver(run),
+        Transport::ShmFloor => shm_receiver(run),
+    };
+    let usage = Usage::now().since(start);
+    let h = &histogram;
+    let result = json!({
+        "samples": h.len(),
+        "min_ns": h.min(),
+        "p50_ns": h.value_at_quantile(0.5),
+        "p99_ns": h.value_at_quantile(0.99),
+        "p999_ns": h.value_at_quantile(0.999),
+        "max_ns": h.max(),
+        "mean_ns": h.mean(),
+        "receiver_involuntary_switches": usage.switches,
+        "receiver_cpu_ticks": usage.ticks,
+    });
+    println!("result {result}");
+}
+
+/// Kills the receiver if the sender panics, so that no process is left behind.
+struct ChildGuard(Child);
+
+impl Drop for ChildGuard {
+    fn drop(&mut self) {
+        if let Ok(None) = self.0.try_wait() {
+            self.0.kill().ok();
+            self.0.wait().ok();
+        }
+    }
+}
+
+/// One measurement: starts the receiver, sends, collects the receiver's result.
+fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
+    let mut command = Command::new(std::env::current_exe().expect("own executable"));
+    command.args(run.args()).stdout(Stdio::piped());
+    if let Some(cpu) = receiver_cpu {
+        command.args(["--cpu", &cpu.to_string()]);
+    }
+    let mut child = ChildGuard(command.spawn().expect("start the receiver"));
+    let mut lines = BufReader::new(child.0.stdout.take().expect("piped stdout")).lines();
+    // Anything else the child prints goes to stderr; "ready ..." and "result ..." are ours.
+    let mut next = |tag: &str| loop {
+        let line = lines
+            .next()
+            .unwrap_or_else(|| panic!("the receiver ended before `{tag}`"))
+            .expect("the receiver's output");
+        match line.strip_prefix(tag) {
+            Some(rest) => return rest.trim().to_owned(),
+            None => eprintln!("receiver: {line}"),
+        }
+    };
+    let info = next("ready");
+    let (start, machine_start) = (Usage::now(), machine_ticks());
+    match run.transport {
+        Transport::Iox2Event => {
+            iox2(run, Role::Sender, true);
+        }
+        Transport::Iox2Poll => {
+            iox2(run, Role::Sender, false);
+        }
+        Transport::Uds => uds_sender(run),
+        Transport::Udp => udp_sender(run, &info),
+        Transport::ShmFloor => shm_sender(run),
+    }
+    let sender = Usage::now().since(start);
+    let machine_end = machine_ticks();
+    let mut result: Value = serde_json::from_str(&next("result")).expect("the receiver's JSON");
+    let status = child.0.wait().expect("the receiver's exit");
+    assert!(status.success(), "the receiver failed: {status}");
+    result["transport"] = json!(run.transport.arg());
+    result["label"] = json!(run.transport.label());
+    result["payload_bytes"] = json!(run.size);
+    result["sender_involuntary_switches"] = json!(sender.switches);
+    result["sender_cpu_ticks"] = json!(sender.ticks);
+    result["machine_busy_ticks"] = json!(machine_end.0.saturating_sub(machine_start.0));
+    result["machine_total_ticks"] = json!(machine_end.1.saturating_sub(machine_start.1));
+    // What the rest of the machine used meanwhile, in % of all CPUs.
+    let busy = machine_end.0.saturating_sub(machine_start.0);
+    let total = machine_end.1.saturating_sub(machine_start.1).max(1);
+    let ours = sender.ticks + result["receiver_cpu_ticks"].as_u64().unwrap_or(0);
+    result["others_cpu_percent"] = json!(100.0 * busy.saturating_sub(ours) as f64 / total as f64);
+    result
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output: tables, JSON, SVG
+// ---------------------------------------------------------------------------------------------
+
+fn us(result: &Value, key: &str) -> f64 {
+    result[key].as_f64().unwrap_or(f64::NAN) / 1000.0
+}
+
+/// `value / reference` with two significant digits (at least two decimals).
+fn ratio(value: f64, reference: f64) -> String {
+    let r = value / reference;
+    if !(r.is_finite() && r > 0.0) {
+        return "-".to_owned();
+    }
+    let decimals = (1.0 - r.log10().floor()).max(2.0) as usize;
+    format!("{r:.decimals$}x")
+}
+
+fn print_table(description: &str, results: &[&Value]) {
+    println!("\nPayload {description}");
+    println!(
+        "{:<27} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>7}",
+        "transport",
+        "samples",
+        "p50 µs",
+        "p99 µs",
+        "p99.9 µs",
+        "max µs",
+        "p50/ev",
+        "p99.9/ev",
+        "preempt",
+        "others"
+    );
+    let reference = results
+        .iter()
+        .find(|r| r["transport"] == Transport::Iox2Event.arg());
+    let (p50_ref, p999_ref) = reference.map_or((0.0, 0.0), |e| (us(e, "p50_ns"), us(e, "p999_ns")));
+    for r in results {
+        println!(
+            "{:<27} {:>8} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>9} {:>9} {:>9} {:>6.0}%",
+            r["label"].as_str().unwrap_or_default(),
+            r["samples"].as_u64().unwrap_or(0),
+            us(r, "p50_ns"),
+            us(r, "p99_ns"),
+            us(r, "p999_ns"),
+            us(r, "max_ns"),
+            ratio(us(r, "p50_ns"), p50_ref),
+            ratio(us(r, "p999_ns"), p999_ref),
+            format!(
+                "{}/{}",
+                r["sender_involuntary_switches"], r["receiver_involuntary_switches"]
+            ),
+            r["others_cpu_percent"].as_f64().unwrap_or(f64::NAN),
+        );
+    }
+}
+
+/// The plot: per payload size a group of bar triples (p50, p99, p99.9) per transport, on a
+/// logarithmic µs axis.
+fn svg(results: &[Value], subtitle: &str) -> String {
+    const PERCENTILES: [(&str, &str, &str); 3] = [
+        ("p50_ns", "p50", "#4c78a8"),
+        ("p99_ns", "p99", "#f58518"),
+        ("p999_ns", "p99.9", "#e45756"),
+    ];
+    const BAR: f64 = 10.0;
+    const CLUSTER: f64 = 3.0 * BAR + 14.0;
+    const GROUP_GAP: f64 = 40.0;
+    const LEFT: f64 = 80.0;
+    const TOP: f64 = 84.0;
+    const PLOT_H: f64 = 360.0;
+    let sizes = sizes();
+    let group_w = CLUSTER * Transport::ALL.len() as f64;
+    let width = LEFT + sizes.len() as f64 * (group_w + GROUP_GAP) + 20.0;
+    let height = TOP + PLOT_H + 180.0;
+    let bottom = TOP + PLOT_H;
+
+    let values: Vec<f64> = results
+        .iter()
+        .flat_map(|r| PERCENTILES.iter().map(move |(k, _, _)| us(r, k)))
+        .filter(|v| *v > 0.0)
+        .collect();
+    let lo = values
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .log10()
+        .floor();
+    let hi = values
+        .iter()
+        .copied()
+        .fold(0.0, f64::max)
+        .log10()
+        .ceil()
+        .max(lo + 1.0);
+    let y = |v: f64| bottom - (v.max(10f64.powf(lo)).log10() - lo) / (hi - lo) * PLOT_H;
+
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(
+        w,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(w, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        w,
+        r#"<text x="{LEFT}" y="24" font-size="16" font-weight="bold">One-way frame latency between two processes</text>"#
+    );
+    let _ = writeln!(
+        w,
+        r##"<text x="{LEFT}" y="44" fill="#555">{subtitle}</text>"##
+    );
+    // Legend.
+    for (i, (_, name, colour)) in PERCENTILES.iter().enumerate() {
+        let x = width - 260.0 + i as f64 * 80.0;
+        let _ = writeln!(
+            w,
+            r#"<rect x="{x}" y="56" width="12" height="12" fill="{colour}"/><text x="{}" y="66">{name}</text>"#,
+            x + 16.0
+        );
+    }
+    // Decades of the µs axis, with faint lines at 2 and 5.
+    for decade in (lo as i32)..=(hi as i32) {
+        let v = 10f64.powi(decade);
+        let label = if decade < 0 {
+            format!("{v:.*}", decade.unsigned_abs() as usize)
+        } else {
+            format!("{v:.0}")
+        };
+        let (right, at) = (width - 20.0, y(v));
+        let _ = writeln!(
+            w,
+            r##"<line x1="{LEFT}" x2="{right}" y1="{at:.1}" y2="{at:.1}" stroke="#bbb"/><text x="{:.1}" y="{:.1}" text-anchor="end">{label} µs</text>"##,
+            LEFT - 6.0,
+            at + 4.0,
+        );
+        if decade < hi as i32 {
+            for m in [2.0, 5.0] {
+                let at = y(v * m);
+                let _ = writeln!(
+                    w,
+                    r##"<line x1="{LEFT}" x2="{right}" y1="{at:.1}" y2="{at:.1}" stroke="#eee"/>"##
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        w,
+        r#"<text transform="translate(20,{}) rotate(-90)" text-anchor="middle">latency (µs)</text>"#,
+        TOP + PLOT_H / 2.0
+    );
+    // Bars.
+    for (g, (size, description)) in sizes.iter().enumerate() {
+        let gx = LEFT + 10.0 + g as f64 * (group_w + GROUP_GAP);
+        for (t, transport) in Transport::ALL.iter().enumerate() {
+            let Some(r) = results
+                .iter()
+                .find(|r| r["transport"] == transport.arg() && r["payload_bytes"] == json!(size))
+            else {
+                continue;
+            };
+            let cx = gx + t as f64 * CLUSTER;
+            for (i, (key, name, colour)) in PERCENTILES.iter().enumerate() {
+                let v = us(r, key);
+                let top = y(v);
+                let _ = writeln!(
+                    w,
+                    r#"<rect x="{:.1}" y="{top:.1}" width="{BAR}" height="{:.1}" fill="{colour}"><title>{}, {size} B: {name} = {v:.2} µs</title></rect>"#,
+                    cx + i as f64 * BAR,
+                    bottom - top,
+                    transport.label()
+                );
+            }
+            let _ = writeln!(
+                w,
+                r#"<text transform="translate({:.1},{:.1}) rotate(-45)" text-anchor="end">{}</text>"#,
+                cx + 1.5 * BAR,
+                bottom + 12.0,
+                transport.label()
+            );
+        }
+        let short = description.split(',').next().unwrap_or(description);
+        let what = description.split_once(", ").map_or("", |(_, w)| w);
+        let mid = gx + group_w / 2.0 - 7.0;
+        let _ = writeln!(
+            w,
+            r##"<text x="{mid:.1}" y="{:.1}" text-anchor="middle" font-weight="bold">{short}</text><text x="{mid:.1}" y="{:.1}" text-anchor="middle" fill="#555">{}</text>"##,
+            bottom + 150.0,
+            bottom + 166.0,
+            what.replace(" (WaypointListPayload)", "")
+        );
+    }
+    let _ = writeln!(
+        w,
+        r#"<line x1="{LEFT}" x2="{}" y1="{bottom}" y2="{bottom}" stroke="black"/>"#,
+        width - 20.0
+    );
+    let _ = writeln!(w, "</svg>");
+    s
+}
+
+/// `target/latency`: next to the bench binary (`<target>/release/deps/latency-*`), so that
+/// `CARGO_TARGET_DIR` is followed.
+fn output_dir() -> PathBuf {
+    std::env::current_exe()
+        .ok()
+        .and_then(|exe| exe.ancestors().nth(3).map(Path::to_path_buf))
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target"))
+        .join("latency")
+}
+
+// ---------------------------------------------------------------------------------------------
+// main
+// ---------------------------------------------------------------------------------------------
+
+#[derive(Debug, Default)]
+struct Args {
+    role: Option<String>,
+    transport: Option<String>,
+    size: Option<usize>,
+    frames: Option<u64>,
+    warmup: Option<u64>,
+    id: Option<String>,
+    cpu: Option<usize>,
+}
+
+fn parse_args() -> Args {
+    let mut args = Args::default();
+    let mut it = std::env::args().skip(1);
+    while let Some(arg) = it.next() {
+        let mut value = || it.next().unwrap_or_else(|| panic!("{arg} needs a value"));
+        let number =
+            |v: String| -> u64 { v.parse().unwrap_or_else(|_| panic!("not a number: {v}")) };
+        match arg.as_str() {
+            "--role" => args.role = Some(value()),
+            "--transport" => args.transport = Some(value()),
+            "--size" => args.size = Some(number(value()) as usize),
+            "--frames" => args.frames = Some(number(value())),
+            "--warmup" => args.warmup = Some(number(value())),
+            "--id" => args.id = Some(value()),
+            "--cpu" => args.cpu = Some(number(value()) as usize),
+            // `cargo bench` adds it.
+            "--bench" => {}
+            other => eprintln!("latency: ignoring `{other}` (options: --frames N, --warmup N)"),
+        }
+    }
+    args
+}
+
+fn main() {
+    missionlink_partitions::ipc::quiet_iceoryx2_log();
+    let args = parse_args();
+    let frames = args.frames.unwrap_or(DEFAULT_FRAMES).max(1);
+    let warmup = args.warmup.unwrap_or(DEFAULT_WARMUP);
+
+    if args.role.as_deref() == Some("receiver") {
+        let transport = args.transport.as_deref().and_then(Transport::from_arg);
+        let run = Run {
+            transport: transport.expect("--transport"),
+            size: args.size.expect("--size"),
+            frames,
+            warmup,
+            id: args.id.expect("--id"),
+        };
+        receiver_main(&run, args.cpu);
+        return;
+    }
+
+    let (sender_cpu, receiver_cpu, cpus) = match cpu_pair() {
+        Some((a, b)) => match pin_to(a) {
+            Ok(()) => (
+                Some(a),
+                Some(b),
+                format!("sender on CPU {a}, receiver on CPU {b}"),
+            ),
+            Err(e) => (None, None, format!("not pinned ({e})")),
+        },
+        None => (
+            None,
+            None,
+            "not pinned (fewer than two CPUs allowed)".to_owned(),
+        ),
+    };
+    let load_before = load_average();
+    println!(
+        "One-way latency, sender to receiver process: {frames} frames per transport and size \
+         after {warmup} warm-up frames, each sent after the previous one was answered; {cpus}; \
+         load average before: {load_before}"
+    );
+    let pid = std::process::id();
+    let mut results = Vec::new();
+    for (size, description) in sizes() {
+        for transport in Transport::ALL {
+            let run = Run {
+                transport,
+                size,
+                frames,
+                warmup,
+                id: format!("{pid}-{}-{size}", transport.arg()),
+            };
+            let started = Instant::now();
+            let result = measure(&run, receiver_cpu);
+            eprintln!(
+                "  {:<27} {size:>6} B  p50 {:>8.2} µs  ({:.1} s)",
+                transport.label(),
+                us(&result, "p50_ns"),
+                started.elapsed().as_secs_f64()
+            );
+            results.push(result);
+        }
+        let of_size: Vec<&Value> = results
+            .iter()
+            .filter(|r| r["payload_bytes"] == json!(size))
+            .collect();
+        print_table(&description, &of_size);
+    }
+    let load_after = load_average();
+    println!(
+        "\n(µs; p50/ev and p99.9/ev: ratio to iceoryx2 event-driven at the same size; preempt: \
+         involuntary context switches of sender/receiver while measuring; others: CPU time used \
+         by other processes meanwhile, in % of all CPUs. Load average after: {load_after})"
+    );
+
+    let dir = output_dir();
+    std::fs::create_dir_all(&dir).expect("create the output directory");
+    let document = json!({
+        "what": "one-way latency of a frame between two processes, CLOCK_MONOTONIC stamp to receipt, ping-pong paced",
+        "frames": frames,
+        "warmup": warmup,
+        "sender_cpu": sender_cpu,
+        "receiver_cpu": receiver_cpu,
+        "load_average_before": load_before,
+        "load_average_after": load_after,
+        "results": results,
+    });
+    let json_path = dir.join("results.json");
+    let svg_path = dir.join("latency.svg");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&document).expect("JSON"),
+    )
+    .expect("write results.json");
+    let subtitle = format!(
+        "CLOCK_MONOTONIC stamp to receipt, ping-pong paced, {frames} frames per bar, {cpus}; log scale"
+    );
+    std::fs::write(&svg_path, svg(&results, &subtitle)).expect("write latency.svg");
+    println!(
+        "Results: {}\nPlot:    {}",
+        json_path.display(),
+        svg_path.display()
+    );
+}

@@ -1,0 +1,376 @@
+//! End-to-end transfer time: the real FCC (the `fcc` launcher and its four partitions, over
+//! iceoryx2) and the real GCS link (`GcsLink`, both UDP links on loopback), an upload request as
+//! `gcs upload` makes it: validation, clear, take-off height, waypoints, route, transmit, then
+//! the areas (initiate, one #2012 per area, complete). Each message waits for its answer before
+//! the next goes out (ICD §5, one message in flight), so the time is dominated by round trips.
+//!
+//! Missions: demo mission 1 (one waypoint and its fly-zone; the paper reports about 0.4 s for
+//! this transfer) and generated missions of 10, 100 and 256 waypoints, each with 11 areas of 60
+//! vertices (the fly-zone and ten no-fly-zones). Prints a table and writes
+//! `target/transfer/results.json`.
+//!
+//! ```sh
+//! cargo bench --bench transfer                 # 30 runs per mission
+//! cargo bench --bench transfer -- --runs 100
+//! ```
+//!
+//! Without `--bench` (`cargo test --benches`) it makes one run per mission and writes nothing.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::{Duration, Instant};
+
+use missionlink_interfaces::capacity::MAX_POLYGON_VERTICES;
+use missionlink_interfaces::wire::{
+    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint,
+    LegType, Message, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnType,
+    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+};
+use missionlink_partitions::binaries;
+use missionlink_partitions::gcs_link::Direction;
+use missionlink_services::areas::AreaBuffer;
+use missionlink_services::gcs::MissionPlan;
+use missionlink_services::mission::MissionBuffer;
+
+const DEFAULT_RUNS: usize = 30;
+const WARM_UP_RUNS: usize = 2;
+/// The demo fly-zone rectangle: 48.255..48.285 N, 11.635..11.690 E.
+const CENTRE: (f64, f64) = (48.270, 11.6625);
+
+fn waypoint(number: u16, next: u16, lat: f64, lon: f64) -> Message {
+    UaPositionWaypoint {
+        time_stamp: Timestamp::default(),
+        waypoint_number: number,
+        latitude: Angle::from_degrees(lat).unwrap(),
+        longitude: Angle::from_degrees(lon).unwrap(),
+        location_type: None,
+        altitude: Altitude::from_metres(120.0).unwrap(),
+        altitude_type: Some(AltitudeType::Wgs84),
+        altitude_change_behaviour: None,
+        speed: Speed::from_mps(25.0).unwrap(),
+        speed_type: Some(SpeedType::IndicatedAirspeed),
+        next_waypoint: next,
+        turn_type: TurnType::FlyBy,
+        optional_messages: None,
+        leg_type: LegType::TrackToFix,
+        limit_type: None,
+        loop_limit: None,
+        arrival_time: None,
+        activity_id: None,
+    }
+    .into()
+}
+
+/// A closed curve of 60 vertices around `centre` with semi-axes in degrees of latitude and
+/// longitude.
+fn ellipse(
+    id: u16,
+    area_type: AreaType,
+    centre: (f64, f64),
+    axes: (f64, f64),
+) -> AreaPolygonLoopSegment {
+    let mut vertices = wire::PolygonVertices::new();
+    for i in 0..MAX_POLYGON_VERTICES {
+        let a = i as f64 / MAX_POLYGON_VERTICES as f64 * std::f64::consts::TAU;
+        let p = GeoPoint::from_degrees(centre.0 + axes.0 * a.sin(), centre.1 + axes.1 * a.cos())
+            .unwrap();
+        vertices.push(p).unwrap();
+    }
+    AreaPolygonLoopSegment {
+        time_stamp: Timestamp::default(),
+        area_id: id,
+        area_type,
+        lower_altitude: None,
+        upper_altitude: None,
+        altitude_type: None,
+        shape: AreaShape::Polygon(vertices),
+    }
+}
+
+/// `n` waypoints zig-zagging west to east inside the fly-zone (track-to-fix, 120 m, 25 m/s),
+/// the fly-zone as a 60-vertex ellipse inside the demo rectangle, and ten 60-vertex no-fly-zone
+/// circles (about 130 m radius) inside it.
+fn generated(n: u16) -> MissionPlan {
+    let mut mission = MissionBuffer::new();
+    let take_off: Message = VehicleSpecificWaypoint {
+        time_stamp: Timestamp::default(),
+        data: SpecificData::TakeOffHeight {
+            height: Altitude::from_metres(30.0).unwrap(),
+        },
+        activity_id: None,
+    }
+    .into();
+    mission.store(&take_off).unwrap();
+    for i in 0..n {
+        let lat = if i % 2 == 0 { 48.262 } else { 48.278 };
+        let lon = 11.645 + 0.035 * f64::from(i) / f64::from((n - 1).max(1));
+        let next = if i + 1 == n { 0 } else { i + 2 };
+        mission.store(&waypoint(i + 1, next, lat, lon)).unwrap();
+    }
+    let route: Message = UaRoute {
+        time_stamp: Timestamp::default(),
+        initial_waypoint: 1,
+        route_id: None,
+        route_type: Some(wire::RouteType::Flight),
+        bidirectional: false,
+    }
+    .into();
+    mission.store(&route).unwrap();
+
+    let mut areas = AreaBuffer::new();
+    areas
+        .store(&ellipse(1, AreaType::FlyZone, CENTRE, (0.0145, 0.027)))
+        .unwrap();
+    let lon_scale = 1.0 / CENTRE.0.to_radians().cos();
+    for k in 0..10u16 {
+        let centre = (
+            48.266 + 0.008 * f64::from(k / 5),
+            11.648 + 0.0075 * f64::from(k % 5),
+        );
+        areas
+            .store(&ellipse(
+                k + 2,
+                AreaType::NoFlyZone,
+                centre,
+                (0.0012, 0.0012 * lon_scale),
+            ))
+            .unwrap();
+    }
+    MissionPlan {
+        mission,
+        areas,
+        safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
+        mission_id: Some(Text::new(&format!("BENCH-{n}")).unwrap()),
+    }
+}
+
+struct Case {
+    name: String,
+    waypoints: usize,
+    areas: usize,
+    plan: MissionPlan,
+}
+
+struct Measured {
+    case: Case,
+    /// Messages the upload request sends (computed from the plan).
+    expected: usize,
+    up: Vec<usize>,
+    down: Vec<usize>,
+    ms: Vec<f64>,
+}
+
+/// Nearest-rank percentile of sorted samples.
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    let rank = (p * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+fn median(sorted: &[f64]) -> f64 {
+    let n = sorted.len();
+    if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0
+    }
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "unknown".to_owned())
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let bench_mode = args.iter().any(|a| a == "--bench");
+    let runs = args
+        .iter()
+        .position(|a| a == "--runs")
+        .and_then(|i| args.get(i + 1))
+        .map(|v| v.parse::<usize>().expect("--runs N"))
+        .unwrap_or(if bench_mode { DEFAULT_RUNS } else { 1 })
+        .max(1);
+    let warm_up = if bench_mode { WARM_UP_RUNS } else { 0 };
+
+    let mut cases = vec![Case {
+        name: "mission-1".to_owned(),
+        waypoints: 1,
+        areas: 1,
+        plan: common::plan("mission-1.toml"),
+    }];
+    for n in [10u16, 100, 256] {
+        cases.push(Case {
+            name: format!("generated-{n}"),
+            waypoints: usize::from(n),
+            areas: 11,
+            plan: generated(n),
+        });
+    }
+
+    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let load_before = load_average();
+    let (config, dir) = common::unique_config("bench-transfer");
+    let mut fcc = common::Process::start(&dir, "fcc");
+    for partition in [
+        "voting-monitoring",
+        "mission-data-handling",
+        "system-automation",
+        "guidance-stub",
+    ] {
+        common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
+    }
+    let mut link = common::gcs(&config);
+    link.enable_log();
+
+    let mut results = Vec::new();
+    for case in cases {
+        let valid = link.station().validate(&case.plan).unwrap();
+        assert_eq!(valid.mission.waypoints.len(), case.waypoints);
+        assert_eq!(valid.areas.areas.len(), case.areas);
+        // clear, take-off, waypoints (+ RF centres), route, transmit; initiate, areas, complete
+        let expected = 1 + valid.mission.message_count() + 1 + 1 + case.areas + 1;
+        let mut result = Measured {
+            case,
+            expected,
+            up: Vec::new(),
+            down: Vec::new(),
+            ms: Vec::new(),
+        };
+        for run in 0..warm_up + runs {
+            link.log.clear();
+            let start = Instant::now();
+            common::upload(&mut link, &result.case.plan)
+                .unwrap_or_else(|e| panic!("{} run {run}: {e}", result.case.name));
+            let elapsed = start.elapsed();
+            if run < warm_up {
+                continue;
+            }
+            let up = link
+                .log
+                .iter()
+                .filter(|l| l.direction == Direction::Up)
+                .count();
+            result.up.push(up);
+            result.down.push(link.log.len() - up);
+            result.ms.push(elapsed.as_secs_f64() * 1e3);
+        }
+        results.push(result);
+    }
+    let load_after = load_average();
+    fcc.stop();
+    let status = fcc.child.wait().ok();
+
+    println!();
+    println!(
+        "Upload transfer through the real FCC partitions and GcsLink over UDP loopback \
+         ({runs} runs per mission after {warm_up} warm-up runs; {cpus} CPUs; load average \
+         before {load_before}, after {load_after})"
+    );
+    println!(
+        "{:<14} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9}",
+        "mission", "wps", "areas", "msgs up", "median", "p99", "min", "max", "msg/s", "RTT/msg"
+    );
+    println!(
+        "{:<14} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9}",
+        "", "", "", "(+down)", "ms", "ms", "ms", "ms", "both dirs", "ms"
+    );
+    let mut json = Vec::new();
+    let mut medians = std::collections::HashMap::new();
+    for r in &results {
+        let mut sorted = r.ms.clone();
+        sorted.sort_by(f64::total_cmp);
+        let (med, p99) = (median(&sorted), percentile(&sorted, 0.99));
+        let (min, max) = (sorted[0], sorted[sorted.len() - 1]);
+        let up = *r.up.iter().max().unwrap();
+        let down = *r.down.iter().max().unwrap();
+        let retried = r.up.iter().filter(|&&u| u != r.expected).count();
+        let per_s = (up + down) as f64 / (med / 1e3);
+        let per_message = med / up as f64;
+        medians.insert(r.case.waypoints, (med, up));
+        println!(
+            "{:<14} {:>4} {:>5} {:>9} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>10.0} {:>9.3}",
+            r.case.name,
+            r.case.waypoints,
+            r.case.areas,
+            format!("{up}+{down}"),
+            med,
+            p99,
+            min,
+            max,
+            per_s,
+            per_message
+        );
+        if retried > 0 || up != down {
+            println!(
+                "  note: {retried} runs sent other than the {} messages expected (retries?), \
+                 {up} up, {down} down",
+                r.expected
+            );
+        }
+        json.push(serde_json::json!({
+            "mission": r.case.name,
+            "waypoints": r.case.waypoints,
+            "areas": r.case.areas,
+            "messages_up": up,
+            "messages_down": down,
+            "messages_expected_each_way": r.expected,
+            "runs": r.ms.len(),
+            "runs_with_other_message_count": retried,
+            "median_ms": med,
+            "p99_ms": p99,
+            "min_ms": min,
+            "max_ms": max,
+            "messages_per_second_both_directions_at_median": per_s,
+            "ms_per_uplink_message_at_median": per_message,
+            "samples_ms": r.ms,
+        }));
+    }
+    let growth = match (medians.get(&10), medians.get(&256)) {
+        (Some((t10, m10)), Some((t256, m256))) => {
+            let per = (t256 - t10) / (m256 - m10) as f64;
+            println!();
+            println!(
+                "Growth: 10 -> 256 waypoints adds {} waypoint messages and {:.2} ms: {per:.3} ms \
+                 per waypoint message (and its answer).",
+                m256 - m10,
+                t256 - t10
+            );
+            Some(per)
+        }
+        _ => None,
+    };
+    println!(
+        "Stop-and-wait (ICD §5): one message in flight, the next goes out when the answer is \
+         in, so the upload time is about (messages) x (round trip GCS -> UDP -> voting-monitoring \
+         -> iceoryx2 -> mission-data-handling -> iceoryx2 -> voting-monitoring -> UDP -> GCS); the \
+         per-frame processing (microseconds) is a small part of it. p99 is nearest-rank: with \
+         fewer than 100 runs it is the maximum."
+    );
+    println!("FCC launcher stopped with SIGTERM: {status:?}");
+
+    if bench_mode {
+        let target = binaries::build_dir()
+            .and_then(|d| d.parent().map(|p| p.to_path_buf()))
+            .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
+        let out = target.join("transfer");
+        std::fs::create_dir_all(&out).unwrap();
+        let path = out.join("results.json");
+        let doc = serde_json::json!({
+            "description": "upload request (validate, clear, waypoints, route, transmit, areas) \
+                            through the real FCC partitions and GcsLink over UDP loopback; \
+                            stop-and-wait, one message in flight (ICD §5)",
+            "runs": runs,
+            "warm_up_runs": warm_up,
+            "cpus": cpus,
+            "load_average_before": load_before,
+            "load_average_after": load_after,
+            "ms_per_waypoint_message_10_to_256": growth,
+            "missions": json,
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+        println!("written to {}", path.display());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
