@@ -412,6 +412,14 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
         };
         let mut deadline = None;
         loop {
+            // Data first: after a wake-up the sample is read before the notification is
+            // drained, so the drain's system calls are not on the frame's path.
+            if let Some(stamp) = take() {
+                return stamp;
+            }
+            // Drain, then look once more: a sample published between the look above and the
+            // drain would otherwise wait for the next notification.
+            listener.try_wait(|_| {}).expect("listener");
             if let Some(stamp) = take() {
                 return stamp;
             }
@@ -423,8 +431,6 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
             waitset
                 .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, TIMEOUT)
                 .expect("wait");
-            // Drain the notifications, or the WaitSet wakes at once next time.
-            listener.try_wait(|_| {}).expect("listener");
         }
     }
 }
