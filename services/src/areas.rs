@@ -151,13 +151,6 @@ impl AreaBuffer {
             areas: self.areas.clone(),
         })
     }
-
-    /// A buffer holding `list`.
-    pub fn from_list(list: &AreaList) -> Self {
-        Self {
-            areas: list.areas.clone(),
-        }
-    }
 }
 
 #[cfg(test)]

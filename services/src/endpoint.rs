@@ -217,9 +217,4 @@ impl Endpoint {
         let (envelope, message) = self.poll_outgoing()?;
         Some(wire::encode(&envelope, &message, buf))
     }
-
-    /// Whether messages wait to be sent.
-    pub fn has_outgoing(&self) -> bool {
-        !self.outbox.is_empty()
-    }
 }

@@ -174,11 +174,6 @@ impl Exchange {
         self.pending.is_none()
     }
 
-    /// The message that waits for an answer.
-    pub fn outstanding(&self) -> Option<&Message> {
-        self.pending.as_ref().map(|p| &p.message)
-    }
-
     /// Sends `message` through `endpoint` with "acknowledgement requested" and waits for its
     /// answer. A message still outstanding is given up.
     pub fn send(&mut self, endpoint: &mut Endpoint, now: Instant, message: Message) {

@@ -44,11 +44,6 @@ impl TimeStamper {
         self.last = Some(stamp);
         Ok(stamp)
     }
-
-    /// The last stamp issued.
-    pub const fn last(&self) -> Option<Timestamp> {
-        self.last
-    }
 }
 
 #[cfg(test)]
