@@ -23,6 +23,7 @@ pub mod guidance;
 pub mod mission;
 pub mod receiver;
 pub mod retry;
+pub mod safety_gateway;
 pub mod sampling;
 pub mod sender;
 pub mod time;

@@ -1,0 +1,562 @@
+//! Areas as GeoJSON (RFC 7946): a `FeatureCollection` whose features are the fly-zone and the
+//! no-fly-zones, so that areas drawn in any GIS tool (QGIS, geojson.io, ...) can be uploaded, and
+//! areas downloaded from the FCC can be looked at in one.
+//!
+//! # Format
+//!
+//! ```json
+//! {
+//!   "type": "FeatureCollection",
+//!   "features": [
+//!     {
+//!       "type": "Feature",
+//!       "properties": { "zone": "fly-zone", "area_id": 1 },
+//!       "geometry": {
+//!         "type": "Polygon",
+//!         "coordinates": [[[11.635, 48.255], [11.69, 48.255], [11.69, 48.285],
+//!                          [11.635, 48.285], [11.635, 48.255]]]
+//!       }
+//!     },
+//!     {
+//!       "type": "Feature",
+//!       "properties": {
+//!         "zone": "no-fly-zone", "area_id": 2, "radius_m": 296.06,
+//!         "lower_altitude_m": 0, "upper_altitude_m": 300, "altitude_type": "wgs84"
+//!       },
+//!       "geometry": { "type": "Point", "coordinates": [11.675, 48.268] }
+//!     }
+//!   ]
+//! }
+//! ```
+//!
+//! - Positions are GeoJSON's `[longitude, latitude]` (a third value, an altitude, is ignored).
+//! - A `Polygon` is one ring, closed as GeoJSON wants it (the last position repeats the first;
+//!   the repeat is dropped, a #2012 polygon is not closed; an unclosed ring is taken as it is).
+//!   A polygon with holes (more than one ring) is refused: an area has none (draw the hole as a
+//!   no-fly-zone of its own).
+//! - A circle is a `Point`, its centre, with the property `radius_m`; its #2012 border point is
+//!   placed due north of the centre at that distance on the sphere of radius 6 371 008.8 m, as
+//!   the mission file does. On export the radius is the haversine distance centre -> border,
+//!   to the millimetre.
+//! - Properties: `zone`, `"fly-zone"` or `"no-fly-zone"` (required); optional `area_id`
+//!   (1..=65534; features without one get the smallest IDs not given to another, in order),
+//!   `lower_altitude_m`, `upper_altitude_m`, `altitude_type` (`pressure`, `baro`, `agl`,
+//!   `wgs84`). Other properties (a name, a colour) are ignored.
+//! - Features of another geometry (`LineString`, `MultiPolygon`, ...) are not areas: they are
+//!   left out and reported as [`Note`]s, with their path, for the caller to refuse or warn.
+//!   A feature without geometry (`null`) is reported too.
+//! - The safety offset is not part of the file (it belongs to the mission: the mission file or
+//!   a command-line option).
+//!
+//! Whether the areas make a valid list (exactly one fly-zone, and it a polygon, at least three
+//! vertices) is left to validation, as for the mission file. A bad file is an error with the
+//! JSON path (e.g. `features[2].geometry.coordinates[0][3]`) and the reason, or with the line
+//! and column of a JSON syntax error.
+
+use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES};
+use missionlink_interfaces::wire::{
+    AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, PolygonVertices, Timestamp,
+};
+use missionlink_services::areas::{AreaBuffer, AreaList};
+use serde_json::{Map, Value, json};
+
+pub use crate::mission_file::MissionFileError as Error;
+use crate::qgc::{
+    At, altitude, degrees, due_north, field_error, haversine_m, latitude, longitude, metres,
+    millimetres, note, parse_json, pretty,
+};
+
+/// A feature left out, with its path and why (the type of the `.plan` import's notes).
+pub type Note = crate::qgc::Unsupported;
+
+const ALTITUDE_TYPES: [(&str, AltitudeType); 4] = [
+    ("pressure", AltitudeType::Pressure),
+    ("baro", AltitudeType::Baro),
+    ("agl", AltitudeType::Agl),
+    ("wgs84", AltitudeType::Wgs84),
+];
+
+/// One area read from a feature, before its ID is settled.
+struct Read {
+    path: String,
+    area_id: Option<u16>,
+    area: AreaPolygonLoopSegment,
+}
+
+/// The areas of a GeoJSON `FeatureCollection`, in feature order, and the features left out.
+pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
+    let root = parse_json(text)?;
+    let at = At::root(&root);
+    let type_at = at.field("type")?;
+    if type_at.string()? != "FeatureCollection" {
+        return Err(type_at.error(format!(
+            "{:?}: expected \"FeatureCollection\"",
+            type_at.value.as_str().unwrap_or_default()
+        )));
+    }
+    let mut notes = Vec::new();
+    let mut read: Vec<Read> = Vec::new();
+    for feature in at.field("features")?.items()? {
+        if let Some(r) = read_feature(&feature, &mut notes)? {
+            read.push(r);
+        }
+    }
+
+    // IDs: the given ones must be unique; the others take the smallest free ones.
+    let mut used: Vec<(u16, String)> = Vec::new();
+    for r in &read {
+        if let Some(id) = r.area_id {
+            if let Some((_, first)) = used.iter().find(|(u, _)| *u == id) {
+                return Err(field_error(
+                    format!("{}.properties.area_id", r.path),
+                    format!("area ID {id} is also {first}.properties.area_id"),
+                ));
+            }
+            used.push((id, r.path.clone()));
+        }
+    }
+    let mut buffer = AreaBuffer::new();
+    let mut next = 1u16;
+    for mut r in read {
+        let id = match r.area_id {
+            Some(id) => id,
+            None => {
+                while used.iter().any(|(u, _)| *u == next) {
+                    next = next.saturating_add(1);
+                }
+                used.push((next, r.path.clone()));
+                next
+            }
+        };
+        r.area.area_id = id;
+        buffer.store(&r.area).map_err(|_| {
+            field_error(
+                r.path.clone(),
+                format!("more than {MAX_AREAS} areas (the FCC's capacity)"),
+            )
+        })?;
+    }
+    Ok((buffer, notes))
+}
+
+fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>, Error> {
+    let type_at = feature.field("type")?;
+    if type_at.string()? != "Feature" {
+        return Err(type_at.error(format!(
+            "{:?}: expected \"Feature\"",
+            type_at.value.as_str().unwrap_or_default()
+        )));
+    }
+    let geometry = feature.field("geometry")?;
+    if geometry.value.is_null() {
+        notes.push(note(&feature.path, "no geometry: not an area, left out"));
+        return Ok(None);
+    }
+    let kind = geometry.field("type")?.string()?;
+    if kind != "Polygon" && kind != "Point" {
+        notes.push(note(
+            &feature.path,
+            format!("a {kind} is not an area (only Polygon, and Point with radius_m): left out"),
+        ));
+        return Ok(None);
+    }
+    let properties = feature.field("properties")?;
+    properties.object()?;
+    let zone_at = properties.field("zone")?;
+    let area_type = match zone_at.string()? {
+        "fly-zone" => AreaType::FlyZone,
+        "no-fly-zone" => AreaType::NoFlyZone,
+        other => {
+            return Err(zone_at.error(format!(
+                "{other:?} is not one of \"fly-zone\", \"no-fly-zone\""
+            )));
+        }
+    };
+    let area_id = match properties.opt("area_id") {
+        Some(id) => {
+            let v = id.integer()?;
+            Some(
+                u16::try_from(v)
+                    .ok()
+                    .filter(|v| (1..=65534).contains(v))
+                    .ok_or_else(|| id.error(format!("{v} is outside 1..=65534")))?,
+            )
+        }
+        None => None,
+    };
+    let bound = |key: &str| match properties.opt(key) {
+        Some(a) if !a.value.is_null() => altitude(&a.path, a.number()?).map(Some),
+        _ => Ok(None),
+    };
+    let lower_altitude = bound("lower_altitude_m")?;
+    let upper_altitude = bound("upper_altitude_m")?;
+    if let (Some(lo), Some(up)) = (lower_altitude, upper_altitude) {
+        if lo > up {
+            return Err(field_error(
+                format!("{}.upper_altitude_m", properties.path),
+                format!(
+                    "{} m is below lower_altitude_m ({} m)",
+                    up.metres(),
+                    lo.metres()
+                ),
+            ));
+        }
+    }
+    let altitude_type = match properties.opt("altitude_type") {
+        Some(t) if !t.value.is_null() => {
+            let word = t.string()?;
+            Some(
+                ALTITUDE_TYPES
+                    .iter()
+                    .find(|(w, _)| *w == word)
+                    .map(|(_, v)| *v)
+                    .ok_or_else(|| {
+                        t.error(format!(
+                            "{word:?} is not one of \"pressure\", \"baro\", \"agl\", \"wgs84\""
+                        ))
+                    })?,
+            )
+        }
+        _ => None,
+    };
+    let coordinates = geometry.field("coordinates")?;
+    let shape = if kind == "Polygon" {
+        let rings = coordinates.items()?;
+        let [ring] = rings.as_slice() else {
+            return Err(match rings.get(1) {
+                Some(hole) => hole
+                    .error("a hole: an area has none (draw the hole as a no-fly-zone of its own)"),
+                None => coordinates.error("no ring: a Polygon needs one"),
+            });
+        };
+        let mut vertices = Vec::new();
+        for p in ring.items()? {
+            vertices.push(position(&p)?);
+        }
+        if vertices.len() > 1 && vertices.first() == vertices.last() {
+            vertices.pop();
+        }
+        AreaShape::Polygon(PolygonVertices::from_slice(&vertices).map_err(|_| {
+            ring.error(format!(
+                "{} vertices, at most {MAX_POLYGON_VERTICES} fit a #2012",
+                vertices.len()
+            ))
+        })?)
+    } else {
+        let centre = position(&coordinates)?;
+        let radius_at = properties.field("radius_m")?;
+        let radius = radius_at.number()?;
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(radius_at.error(format!("{radius} m: the radius must be above 0")));
+        }
+        let border = due_north(centre, radius).ok_or_else(|| {
+            radius_at.error(format!("{radius} m north of the centre is beyond the pole"))
+        })?;
+        AreaShape::Circle { centre, border }
+    };
+    Ok(Some(Read {
+        path: feature.path.clone(),
+        area_id,
+        area: AreaPolygonLoopSegment {
+            time_stamp: Timestamp::default(),
+            area_id: 0,
+            area_type,
+            lower_altitude,
+            upper_altitude,
+            altitude_type,
+            shape,
+        },
+    }))
+}
+
+/// A GeoJSON position, `[longitude, latitude]` or `[longitude, latitude, altitude]`.
+fn position(at: &At<'_>) -> Result<GeoPoint, Error> {
+    let values = at.items()?;
+    let (lon, lat) = match values.as_slice() {
+        [lon, lat] | [lon, lat, _] => (lon, lat),
+        _ => {
+            return Err(at.error(format!(
+                "{} values, expected [longitude, latitude]",
+                values.len()
+            )));
+        }
+    };
+    Ok(GeoPoint {
+        latitude: latitude(&at.path, lat.number()?)?,
+        longitude: longitude(&at.path, lon.number()?)?,
+    })
+}
+
+/// The area list as a GeoJSON `FeatureCollection`, in list order (see the
+/// [module documentation](self)); every coordinate the shortest decimal of its wire value.
+pub fn export_areas(list: &AreaList) -> String {
+    let pair = |p: &GeoPoint| json!([degrees(p.longitude), degrees(p.latitude)]);
+    let features: Vec<Value> = list
+        .areas
+        .iter()
+        .map(|area| {
+            let mut properties = Map::new();
+            let zone = match area.area_type {
+                AreaType::FlyZone => "fly-zone",
+                AreaType::NoFlyZone => "no-fly-zone",
+            };
+            properties.insert("zone".into(), zone.into());
+            properties.insert("area_id".into(), area.area_id.into());
+            if let Some(a) = area.lower_altitude {
+                properties.insert("lower_altitude_m".into(), metres(a).into());
+            }
+            if let Some(a) = area.upper_altitude {
+                properties.insert("upper_altitude_m".into(), metres(a).into());
+            }
+            if let Some(t) = area.altitude_type {
+                let word = ALTITUDE_TYPES
+                    .iter()
+                    .find(|(_, v)| *v == t)
+                    .map_or("?", |(w, _)| w);
+                properties.insert("altitude_type".into(), word.into());
+            }
+            let geometry = match &area.shape {
+                AreaShape::Polygon(vertices) => {
+                    let mut ring: Vec<Value> = vertices.iter().map(pair).collect();
+                    if let Some(first) = vertices.first() {
+                        ring.push(pair(first));
+                    }
+                    json!({ "type": "Polygon", "coordinates": [ring] })
+                }
+                AreaShape::Circle { centre, border } => {
+                    properties.insert(
+                        "radius_m".into(),
+                        millimetres(haversine_m(*centre, *border)).into(),
+                    );
+                    json!({ "type": "Point", "coordinates": pair(centre) })
+                }
+            };
+            json!({ "type": "Feature", "properties": properties, "geometry": geometry })
+        })
+        .collect();
+    pretty(&json!({ "type": "FeatureCollection", "features": features }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mission_file::MissionFile;
+    use missionlink_interfaces::wire::SafetyOffset;
+
+    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+
+    fn mission_2_areas() -> AreaList {
+        let plan = MissionFile::parse(MISSION_2).unwrap().to_plan().unwrap();
+        plan.areas.assemble(3, plan.safety_offset).unwrap()
+    }
+
+    fn err(text: &str) -> String {
+        import_areas(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn demo_mission_2_areas_round_trip() {
+        let mut list = mission_2_areas();
+        // With altitude bounds too.
+        list.areas[2].lower_altitude = Some(missionlink_interfaces::wire::Altitude::ZERO);
+        list.areas[2].upper_altitude =
+            Some(missionlink_interfaces::wire::Altitude::from_metres(300.0).unwrap());
+        list.areas[2].altitude_type = Some(AltitudeType::Wgs84);
+        let text = export_areas(&list);
+        // GeoJSON order and closed rings.
+        assert!(text.contains("\"type\": \"FeatureCollection\""), "{text}");
+        assert!(text.contains(
+            "\"coordinates\": [\n                    [\n                        [\n                            11.635,\n                            48.255\n"
+        ), "{text}");
+        let value: Value = serde_json::from_str(&text).unwrap();
+        let ring = value["features"][0]["geometry"]["coordinates"][0]
+            .as_array()
+            .unwrap();
+        assert_eq!(ring.len(), 5);
+        assert_eq!(ring[0], ring[4]);
+        assert_eq!(value["features"][1]["geometry"]["type"], "Point");
+        let radius = value["features"][1]["properties"]["radius_m"]
+            .as_f64()
+            .unwrap();
+        assert!((radius - 296.06).abs() < 0.01, "{radius}");
+        assert_eq!(
+            value["features"][2]["properties"]["upper_altitude_m"],
+            300.0
+        );
+
+        let (buffer, notes) = import_areas(&text).unwrap();
+        assert!(notes.is_empty(), "{notes:?}");
+        let back = buffer.assemble(3, list.safety_offset).unwrap();
+        crate::qgc::tests::assert_same_areas(&back.areas, &list.areas);
+        for (a, b) in back.areas.iter().zip(&list.areas) {
+            assert_eq!(
+                (a.lower_altitude, a.upper_altitude, a.altitude_type),
+                (b.lower_altitude, b.upper_altitude, b.altitude_type)
+            );
+        }
+        // The circle's border is placed due north again, to the BAM4 step (about 9 mm): the
+        // radius is kept within that.
+        let again: Value = serde_json::from_str(&export_areas(&back)).unwrap();
+        let r2 = again["features"][1]["properties"]["radius_m"]
+            .as_f64()
+            .unwrap();
+        assert!((r2 - radius).abs() < 0.01, "{r2} {radius}");
+    }
+
+    #[test]
+    fn ids_are_given_or_assigned_and_other_geometries_are_reported() {
+        let text = r#"{"type": "FeatureCollection", "features": [
+          {"type": "Feature", "properties": {"zone": "no-fly-zone", "radius_m": 150},
+           "geometry": {"type": "Point", "coordinates": [11.66, 48.27, 500]}},
+          {"type": "Feature", "properties": {"name": "route"},
+           "geometry": {"type": "LineString", "coordinates": [[11.6, 48.2], [11.7, 48.3]]}},
+          {"type": "Feature", "properties": {"zone": "fly-zone", "area_id": 1},
+           "geometry": {"type": "Polygon",
+                        "coordinates": [[[11.6, 48.2], [11.7, 48.2], [11.7, 48.3], [11.6, 48.2]]]}},
+          {"type": "Feature", "properties": {}, "geometry": null}
+        ]}"#;
+        let (buffer, notes) = import_areas(text).unwrap();
+        let notes: Vec<String> = notes.iter().map(ToString::to_string).collect();
+        assert_eq!(
+            notes,
+            [
+                "features[1]: a LineString is not an area (only Polygon, and Point with \
+                 radius_m): left out",
+                "features[3]: no geometry: not an area, left out",
+            ]
+        );
+        let list = buffer.assemble(2, SafetyOffset::default()).unwrap();
+        assert_eq!(list.areas[0].area_id, 2, "1 is given to the fly-zone");
+        assert_eq!(list.areas[1].area_id, 1);
+        let AreaShape::Polygon(v) = &list.areas[1].shape else {
+            panic!()
+        };
+        assert_eq!(v.len(), 3, "the closing position is dropped");
+        assert_eq!(v[1], GeoPoint::from_degrees(48.2, 11.7).unwrap());
+        let AreaShape::Circle { centre, border } = list.areas[0].shape else {
+            panic!()
+        };
+        assert_eq!(centre, GeoPoint::from_degrees(48.27, 11.66).unwrap());
+        assert!((haversine_m(centre, border) - 150.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn bad_files_name_the_path() {
+        let polygon = |coordinates: &str, properties: &str| {
+            format!(
+                r#"{{"type": "FeatureCollection", "features": [
+                  {{"type": "Feature", "properties": {{"zone": "fly-zone"}},
+                   "geometry": {{"type": "Polygon", "coordinates": [[[11.6, 48.2], [11.7, 48.2], [11.7, 48.3]]]}}}},
+                  {{"type": "Feature", "properties": {{"zone": "no-fly-zone"}},
+                   "geometry": {{"type": "Point", "coordinates": [11.6, 48.2]}}}},
+                  {{"type": "Feature", "properties": {properties},
+                   "geometry": {{"type": "Polygon", "coordinates": {coordinates}}}}}]}}"#
+            )
+        };
+        let ring = "[[[11.6, 48.2], [11.7, 48.2], [11.7, 48.3], [11.65, 95], [11.6, 48.2]]]";
+        let nfz = r#"{"zone": "no-fly-zone"}"#;
+        let text = polygon(ring, nfz);
+        // features[1] (the Point) has no radius: named first.
+        assert_eq!(err(&text), "features[1].properties.radius_m: missing");
+        let fixed = text.replace(
+            r#"{"zone": "no-fly-zone"},
+                   "geometry": {"type": "Point""#,
+            r#"{"zone": "no-fly-zone", "radius_m": 100},
+                   "geometry": {"type": "Point""#,
+        );
+        assert_eq!(
+            err(&fixed),
+            "features[2].geometry.coordinates[0][3]: latitude 95 deg is outside -90..=90"
+        );
+        let with_radius = |c: &str, p: &str| {
+            polygon(c, p).replace(
+                r#"{"zone": "no-fly-zone"},
+                   "geometry": {"type": "Point""#,
+                r#"{"zone": "no-fly-zone", "radius_m": 100},
+                   "geometry": {"type": "Point""#,
+            )
+        };
+        let square = "[[11.6, 48.2], [11.7, 48.2], [11.7, 48.3], [11.6, 48.2]]";
+        let hole = "[[11.62, 48.22], [11.63, 48.22], [11.63, 48.23], [11.62, 48.22]]";
+        let cases: &[(String, &str)] = &[
+            (
+                with_radius(&format!("[{square}, {hole}]"), nfz),
+                "features[2].geometry.coordinates[1]: a hole: an area has none (draw the hole \
+                 as a no-fly-zone of its own)",
+            ),
+            (
+                with_radius("[[[11.6, 48.2], [11.7], [11.7, 48.3]]]", nfz),
+                "features[2].geometry.coordinates[0][1]: 1 values, expected [longitude, latitude]",
+            ),
+            (
+                with_radius(&format!("[{square}]"), r#"{"zone": "keep-out"}"#),
+                "features[2].properties.zone: \"keep-out\" is not one of \"fly-zone\", \
+                 \"no-fly-zone\"",
+            ),
+            (
+                with_radius(
+                    &format!("[{square}]"),
+                    r#"{"zone": "no-fly-zone", "area_id": 0}"#,
+                ),
+                "features[2].properties.area_id: 0 is outside 1..=65534",
+            ),
+            (
+                with_radius(
+                    &format!("[{square}]"),
+                    r#"{"zone": "no-fly-zone", "lower_altitude_m": 300, "upper_altitude_m": 0}"#,
+                ),
+                "features[2].properties.upper_altitude_m: 0 m is below lower_altitude_m (300 m)",
+            ),
+            (
+                with_radius(
+                    &format!("[{square}]"),
+                    r#"{"zone": "no-fly-zone", "altitude_type": "msl"}"#,
+                ),
+                "features[2].properties.altitude_type: \"msl\" is not one of \"pressure\", \
+                 \"baro\", \"agl\", \"wgs84\"",
+            ),
+            (
+                with_radius("[]", nfz),
+                "features[2].geometry.coordinates: no ring: a Polygon needs one",
+            ),
+            (
+                with_radius(
+                    &format!("[{square}]"),
+                    r#"{"zone": "no-fly-zone", "area_id": 3}"#,
+                )
+                .replace(
+                    r#"{"zone": "fly-zone"}"#,
+                    r#"{"zone": "fly-zone", "area_id": 3}"#,
+                ),
+                "features[2].properties.area_id: area ID 3 is also features[0].properties.area_id",
+            ),
+            (
+                r#"{"type": "Feature"}"#.to_owned(),
+                "type: \"Feature\": expected \"FeatureCollection\"",
+            ),
+        ];
+        for (text, expected) in cases {
+            assert_eq!(&err(text), expected);
+        }
+        // A negative radius.
+        let negative = with_radius(&format!("[{square}]"), nfz).replace("100}", "-5}");
+        assert_eq!(
+            err(&negative),
+            "features[1].properties.radius_m: -5 m: the radius must be above 0"
+        );
+        // Syntax: line and column.
+        match import_areas("{\"type\": \"FeatureCollection\",\n \"features\": [}\n") {
+            Err(Error::Syntax { line, column, .. }) => assert_eq!((line, column), (2, 15)),
+            other => panic!("{other:?}"),
+        }
+        // More than 60 vertices.
+        let many: Vec<String> = (0..62)
+            .map(|k| format!("[{}, 48.2]", 11.6 + f64::from(k) * 1e-3))
+            .collect();
+        let long = with_radius(&format!("[[{}]]", many.join(", ")), nfz);
+        assert_eq!(
+            err(&long),
+            "features[2].geometry.coordinates[0]: 62 vertices, at most 60 fit a #2012"
+        );
+    }
+}

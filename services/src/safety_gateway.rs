@@ -1,0 +1,2056 @@
+//! The safety gateway (paper §2.2; issue 6): every check a mission must pass on the GCS before
+//! it is uploaded. [`SafetyGateway::check`] reports **every** violation, each with a stable code
+//! ([`ViolationCode::code`]), the element concerned ([`Element`]), the margin in metres or the
+//! value against its limit, and a position for the map.
+//!
+//! # The checks
+//!
+//! - **Geographic** (`GEO-*`): every waypoint, every leg and, when
+//!   [`SafetyGateway::take_off_position_deg`] is given, the take-off point and the first leg from
+//!   there to the initial waypoint, must stay inside the fly-zone shrunk by the safety offset and
+//!   outside every no-fly-zone (polygon or circle) grown by the safety offset. The margin is the
+//!   signed closest approach in metres: positive = clear by that much, negative = that deep into
+//!   the forbidden band. Track-to-fix legs are straight segments; radius-to-fix legs are arcs
+//!   around their centre in their turn direction, from the FROM waypoint to the TO waypoint, with
+//!   the radius interpolated linearly from the start radius to the end radius (a true circle
+//!   when both are equal), sampled so that a chord deviates at most [`ARC_SAG_M`] from the arc.
+//!   - *Take-off point*: the plan carries no take-off position (the aircraft takes off where it
+//!     stands, a vertical climb to the take-off height). Unless the caller gives
+//!     `take_off_position_deg`, the route is taken to start at the initial waypoint, and the
+//!     take-off point is the initial waypoint, already checked as a waypoint.
+//!   - *Reverse route*: on a bidirectional route return-to-home flies every leg backwards; a
+//!     reversed track-to-fix leg is the same segment and a reversed radius-to-fix leg the same arc
+//!     in the other direction. The reversed legs are built and checked too; where they give the
+//!     same violation as the forward leg (same code and area, margin within
+//!     [`SAME_MARGIN_M`]), it is reported once on the forward [`Element::Leg`] with "also on the
+//!     reverse route"; anything else is reported on [`Element::ReverseLeg`].
+//!   - *One defect, one violation*: a leg that touches a waypoint already violating the same area
+//!     is reported only if the leg goes deeper than that waypoint by more than
+//!     [`SUBSUMED_M`] (a waypoint inside a no-fly-zone makes both its legs enter it; that is one
+//!     defect). Geographic checks against an area whose geometry is invalid are skipped: the
+//!     area's own violation says why.
+//! - **Area geometry** (`AREA-*`): polygons without repeated vertices, with non-zero area (not
+//!   all collinear) and simple (no self-intersection, `geo`'s [`Validation`]); circles with a
+//!   radius of at least [`MIN_CIRCLE_RADIUS_M`]; exactly one fly-zone, a polygon; each
+//!   no-fly-zone at least partly inside the fly-zone; lower altitude bound not above the upper;
+//!   every waypoint altitude inside the fly-zone's altitude bounds where given.
+//! - **Route** (`ROUTE-*`): radius-to-fix start and end radius equal within
+//!   [`AircraftProfile::rf_radius_tolerance_m`]; radius-to-fix radius not below the minimum turn
+//!   radius `r = v²/(g·tan(bank))` for the worst-case ground speed `v` = the leg's speed plus the
+//!   wind speed; waypoint speeds inside the envelope; waypoint altitudes not above the maximum;
+//!   take-off height inside its limits. Fly-by turns at waypoints are not checked against the
+//!   leg geometry (guidance anticipates them and they never leave the legs' neighbourhood by more
+//!   than the turn radius; see "not checked" below).
+//! - **Energy** (`ENERGY-*`, [`SafetyGateway::estimate_energy`]): vertical climb to the take-off
+//!   height at the climb rate and climb power; from there a vertical climb (or descent) to the
+//!   first waypoint's altitude when the route starts at the initial waypoint; every leg at its TO
+//!   waypoint's speed as airspeed with the power model [`AircraftProfile::cruise_power_w`], its
+//!   time from the ground speed along the track with the wind (per arc chord for radius-to-fix
+//!   legs); altitude gained on a leg costs climb power for `Δh / climb rate` on top (altitude
+//!   lost is not credited); the landing a vertical descent from the last waypoint's altitude at
+//!   the descent rate and descent power. Compared against usable energy × (1 − reserve). A leg
+//!   whose track cannot be held against the wind (crosswind ≥ airspeed, or no forward ground
+//!   speed) is its own violation (`ENERGY-TRACK`) and left out of the sum.
+//! - **Environment** (`ENV-*`): wind speed and temperature inside the profile's limits.
+//!
+//! # Projection and geometry
+//!
+//! All geometry is done in a local metric frame: an equirectangular projection about the centre
+//! of the fly-zone's bounding box (the first waypoint without a fly-zone), with the WGS-84
+//! meridional and prime-vertical radii of curvature at that latitude: `y = M(φ0)·Δφ`,
+//! `x = N(φ0)·cos φ0·Δλ`. North-south distances are exact to the ellipsoid's curvature over the
+//! extent; the east-west scale is off by about `tan φ0·|Δφ|`, which at 48° N is below 0.1 % within
+//! ±5 km north and south of the centre (the demo fly-zone spans ±1.7 km: below 0.03 %, under a
+//! metre). Great-circle track-to-fix legs are straight lines in this frame to well under a
+//! metre over legs of a few kilometres. Circle radii are the projected distance centre → border.
+//!
+//! Predicates and distances are the [`geo`] crate's, on [`geo::Polygon`] / [`geo::LineString`]
+//! in metres: [`Contains`] (point or path in the fly-zone), [`Intersects`] (path against a
+//! no-fly polygon, no-fly-zone against the fly-zone), [`Euclidean`] [`Distance`] (exact closest
+//! approach of a segment or polyline to a polygon, a ring or a circle's centre), [`ClosestPoint`]
+//! (where a path comes closest to a circle's centre), [`Validation`] (self-intersection),
+//! [`geo::Area`] and [`ConvexHull`] (zero area: a polygon whose hull has no area is collinear,
+//! one whose hull has area but which `geo` finds invalid crosses itself), [`Densify`] and [`Length`]. The safety offset is applied as a
+//! distance (the exact Minkowski offset, round corners) rather than with a buffered polygon, so
+//! no corner is approximated.
+//!
+//! # What is approximated
+//!
+//! - Radius-to-fix arcs: chords of at most [`ARC_SAG_M`] sagitta (margins within that).
+//! - The depth of a violation (a negative margin) of a path that crosses a polygon border, and
+//!   the reported closest-approach position, are taken over the path sampled every
+//!   [`SAMPLE_STEP_M`] metres (within half that). Whether a path violates, and every positive
+//!   margin, are exact in the projection.
+//! - Altitudes are heights above the take-off ground whatever their altitude type (as guidance
+//!   takes them); no terrain, no geoid. No-fly-zones are taken as unbounded in altitude
+//!   (conservative); only the fly-zone's altitude bounds are checked.
+//! - Waypoint speeds are taken as true airspeed (indicated ≈ true at these altitudes).
+//!
+//! # Not checked
+//!
+//! - Fly-by turn geometry at waypoints (the turn's cut of the corner against the areas, and the
+//!   turn radius against the leg lengths). A fly-by turn stays within `r·(1/cos(Δψ/2) − 1)` of
+//!   the waypoint, inside the corner; the safety offset is meant to cover it.
+//! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
+
+use core::fmt;
+
+use geo::{
+    Area as _, BoundingRect, Closest, ClosestPoint, Contains, ConvexHull, Coord, Densify, Distance,
+    Euclidean, Intersects, Length, LineString, Point, Polygon, Validation,
+};
+use missionlink_interfaces::wire::{
+    AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType, SpecificData, TurnDirection,
+};
+
+use crate::areas::AreaList;
+use crate::mission::{Mission, WaypointRecord};
+
+/// Standard gravity, m/s².
+const GRAVITY_MPS2: f64 = 9.806_65;
+/// WGS-84 semi-major axis, m.
+const WGS84_A_M: f64 = 6_378_137.0;
+/// WGS-84 first eccentricity squared.
+const WGS84_E2: f64 = 0.006_694_379_990_14;
+
+/// Largest distance between a radius-to-fix arc and its chords, metres.
+pub const ARC_SAG_M: f64 = 0.01;
+/// Sampling step along a path for violation depths and closest-approach positions, metres.
+pub const SAMPLE_STEP_M: f64 = 1.0;
+/// A leg reversed gives "the same" margin as forward within this, metres.
+pub const SAME_MARGIN_M: f64 = 0.5;
+/// A leg ending at a waypoint that violates the same area is reported only if it goes deeper
+/// than that waypoint by more than this, metres.
+pub const SUBSUMED_M: f64 = 1.0;
+/// Smallest circle radius accepted, metres.
+pub const MIN_CIRCLE_RADIUS_M: f64 = 1.0;
+/// Smallest polygon area accepted (below: collinear or degenerate), square metres.
+pub const MIN_POLYGON_AREA_M2: f64 = 1.0;
+/// Most samples on one arc.
+const MAX_ARC_SAMPLES: usize = 100_000;
+
+/// The aircraft's limits and its power model.
+///
+/// The [`Default`] is the demo eVTOL of the medical evacuation (the paper gives no figures;
+/// these are this project's plausible choice for a ~150 kg multicopter-type cargo eVTOL):
+///
+/// | field | default |
+/// |---|---|
+/// | speed envelope | 5 to 40 m/s |
+/// | bank limit | 30° (minimum turn radius 110 m at 25 m/s) |
+/// | take-off height | 10 to 100 m above ground |
+/// | maximum altitude | 150 m |
+/// | usable battery energy, reserve | 6000 Wh, 30 % |
+/// | climb rate, climb power | 3 m/s, 22 kW |
+/// | descent rate, descent power | 2 m/s, 12 kW |
+/// | cruise power | `P(v) = 8 kW + 20 W/(m/s)²·(v − 25 m/s)²` |
+/// | wind limit | 12 m/s |
+/// | temperature | −20 to 45 °C |
+/// | RF radius tolerance | 5 m |
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AircraftProfile {
+    /// Lowest commanded speed on a leg, m/s.
+    pub min_speed_mps: f64,
+    /// Highest commanded speed on a leg, m/s.
+    pub max_speed_mps: f64,
+    /// Bank angle limit, degrees (0 < bank < 90).
+    pub max_bank_deg: f64,
+    /// Lowest take-off height, metres above ground.
+    pub min_take_off_height_m: f64,
+    /// Highest take-off height, metres above ground.
+    pub max_take_off_height_m: f64,
+    /// Highest waypoint altitude, metres.
+    pub max_altitude_m: f64,
+    /// Usable battery energy, Wh.
+    pub usable_energy_wh: f64,
+    /// Fraction of the usable energy kept as reserve (0..1).
+    pub reserve_fraction: f64,
+    /// Vertical climb rate, m/s.
+    pub climb_rate_mps: f64,
+    /// Power in hover and vertical climb, W.
+    pub climb_power_w: f64,
+    /// Vertical descent rate, m/s.
+    pub descent_rate_mps: f64,
+    /// Power in vertical descent, W.
+    pub descent_power_w: f64,
+    /// Cruise power at the best-endurance speed, W.
+    pub cruise_min_power_w: f64,
+    /// Speed of least cruise power, m/s.
+    pub best_speed_mps: f64,
+    /// Cruise power growth away from the best speed, W/(m/s)².
+    pub cruise_power_k_w_per_mps2: f64,
+    /// Highest wind speed, m/s.
+    pub max_wind_mps: f64,
+    /// Lowest operating temperature, °C.
+    pub min_temperature_c: f64,
+    /// Highest operating temperature, °C.
+    pub max_temperature_c: f64,
+    /// Largest difference of a radius-to-fix leg's start and end radius, metres.
+    pub rf_radius_tolerance_m: f64,
+}
+
+impl Default for AircraftProfile {
+    fn default() -> Self {
+        Self {
+            min_speed_mps: 5.0,
+            max_speed_mps: 40.0,
+            max_bank_deg: 30.0,
+            min_take_off_height_m: 10.0,
+            max_take_off_height_m: 100.0,
+            max_altitude_m: 150.0,
+            usable_energy_wh: 6000.0,
+            reserve_fraction: 0.3,
+            climb_rate_mps: 3.0,
+            climb_power_w: 22_000.0,
+            descent_rate_mps: 2.0,
+            descent_power_w: 12_000.0,
+            cruise_min_power_w: 8_000.0,
+            best_speed_mps: 25.0,
+            cruise_power_k_w_per_mps2: 20.0,
+            max_wind_mps: 12.0,
+            min_temperature_c: -20.0,
+            max_temperature_c: 45.0,
+            rf_radius_tolerance_m: 5.0,
+        }
+    }
+}
+
+impl AircraftProfile {
+    /// Cruise power at airspeed `v`: `P_min + k·(v − v_best)²`, W.
+    pub fn cruise_power_w(&self, airspeed_mps: f64) -> f64 {
+        let dv = airspeed_mps - self.best_speed_mps;
+        self.cruise_min_power_w + self.cruise_power_k_w_per_mps2 * dv * dv
+    }
+
+    /// Minimum turn radius at ground speed `v` and the bank limit: `v²/(g·tan(bank))`, metres.
+    pub fn min_turn_radius_m(&self, speed_mps: f64) -> f64 {
+        speed_mps * speed_mps / (GRAVITY_MPS2 * self.max_bank_deg.to_radians().tan())
+    }
+
+    /// Energy the mission may use: usable energy minus the reserve, Wh.
+    pub fn energy_limit_wh(&self) -> f64 {
+        self.usable_energy_wh * (1.0 - self.reserve_fraction)
+    }
+}
+
+/// The conditions at the time of the flight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Environment {
+    /// Wind speed, m/s.
+    pub wind_speed_mps: f64,
+    /// Direction the wind blows from, degrees clockwise from true north.
+    pub wind_from_deg: f64,
+    /// Outside air temperature, °C.
+    pub temperature_c: f64,
+}
+
+impl Default for Environment {
+    /// Calm, 15 °C (ISA sea level).
+    fn default() -> Self {
+        Self {
+            wind_speed_mps: 0.0,
+            wind_from_deg: 0.0,
+            temperature_c: 15.0,
+        }
+    }
+}
+
+/// What a violation concerns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Element {
+    /// A waypoint, by number.
+    Waypoint(u16),
+    /// A leg, flown from `from` to `to` (`from` 0: from the take-off position).
+    Leg {
+        /// FROM waypoint number.
+        from: u16,
+        /// TO waypoint number.
+        to: u16,
+    },
+    /// A leg of the reverse route of a bidirectional route, flown from `from` to `to`.
+    ReverseLeg {
+        /// FROM waypoint number.
+        from: u16,
+        /// TO waypoint number.
+        to: u16,
+    },
+    /// The take-off (point or height).
+    TakeOff,
+    /// An area, by ID.
+    Area(u16),
+    /// The mission as a whole.
+    Mission,
+    /// The environment.
+    Environment,
+}
+
+impl fmt::Display for Element {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Waypoint(n) => write!(f, "waypoint {n}"),
+            Self::Leg { from, to } => write!(f, "leg {from}->{to}"),
+            Self::ReverseLeg { from, to } => write!(f, "reverse leg {from}->{to}"),
+            Self::TakeOff => f.write_str("take-off"),
+            Self::Area(id) => write!(f, "area {id}"),
+            Self::Mission => f.write_str("mission"),
+            Self::Environment => f.write_str("environment"),
+        }
+    }
+}
+
+/// One check that failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ViolationCode {
+    /// `GEO-FZ-WP`: a waypoint outside the fly-zone shrunk by the safety offset.
+    FlyZoneWaypoint,
+    /// `GEO-FZ-LEG`: a leg (line or arc) leaves the fly-zone shrunk by the safety offset.
+    FlyZoneLeg,
+    /// `GEO-FZ-TO`: the take-off point outside the fly-zone shrunk by the safety offset.
+    FlyZoneTakeOff,
+    /// `GEO-NFZ-WP`: a waypoint inside a no-fly-zone grown by the safety offset.
+    NoFlyZoneWaypoint,
+    /// `GEO-NFZ-LEG`: a leg (line or arc) enters a no-fly-zone grown by the safety offset.
+    NoFlyZoneLeg,
+    /// `GEO-NFZ-TO`: the take-off point inside a no-fly-zone grown by the safety offset.
+    NoFlyZoneTakeOff,
+    /// `AREA-SELF-INTERSECT`: a polygon's border crosses itself.
+    SelfIntersection,
+    /// `AREA-REPEATED-VERTEX`: a polygon has the same vertex twice.
+    RepeatedVertex,
+    /// `AREA-DEGENERATE`: a polygon with (nearly) zero area, its vertices collinear.
+    DegeneratePolygon,
+    /// `AREA-CIRCLE-RADIUS`: a circle whose radius is (nearly) zero.
+    CircleRadius,
+    /// `AREA-FZ-COUNT`: not exactly one fly-zone.
+    FlyZoneCount,
+    /// `AREA-FZ-SHAPE`: the fly-zone is not a polygon.
+    FlyZoneShape,
+    /// `AREA-NFZ-OUTSIDE`: a no-fly-zone entirely outside the fly-zone.
+    NoFlyZoneOutside,
+    /// `AREA-ALT-BOUNDS`: an area's lower altitude bound above its upper one.
+    AltitudeBounds,
+    /// `AREA-ALT`: a waypoint altitude outside the fly-zone's altitude bounds.
+    AreaAltitude,
+    /// `ROUTE-RF-RADIUS`: a radius-to-fix leg's start and end radius differ beyond tolerance.
+    RfRadiusMismatch,
+    /// `ROUTE-TURN-RADIUS`: a radius-to-fix radius below the minimum turn radius.
+    TurnRadius,
+    /// `ROUTE-SPEED-MIN`: a waypoint speed below the envelope.
+    SpeedLow,
+    /// `ROUTE-SPEED-MAX`: a waypoint speed above the envelope.
+    SpeedHigh,
+    /// `ROUTE-ALT-MAX`: a waypoint altitude above the aircraft's maximum.
+    AltitudeHigh,
+    /// `ROUTE-TOH-MIN`: take-off height below its limit.
+    TakeOffHeightLow,
+    /// `ROUTE-TOH-MAX`: take-off height above its limit.
+    TakeOffHeightHigh,
+    /// `ENERGY-BUDGET`: the estimated energy exceeds usable energy minus reserve.
+    EnergyBudget,
+    /// `ENERGY-TRACK`: a leg's track cannot be held against the wind.
+    TrackNotHeld,
+    /// `ENV-WIND`: wind above the limit.
+    Wind,
+    /// `ENV-TEMP`: temperature outside the limits.
+    Temperature,
+}
+
+impl ViolationCode {
+    /// The stable short code.
+    pub fn code(&self) -> &'static str {
+        match self {
+            Self::FlyZoneWaypoint => "GEO-FZ-WP",
+            Self::FlyZoneLeg => "GEO-FZ-LEG",
+            Self::FlyZoneTakeOff => "GEO-FZ-TO",
+            Self::NoFlyZoneWaypoint => "GEO-NFZ-WP",
+            Self::NoFlyZoneLeg => "GEO-NFZ-LEG",
+            Self::NoFlyZoneTakeOff => "GEO-NFZ-TO",
+            Self::SelfIntersection => "AREA-SELF-INTERSECT",
+            Self::RepeatedVertex => "AREA-REPEATED-VERTEX",
+            Self::DegeneratePolygon => "AREA-DEGENERATE",
+            Self::CircleRadius => "AREA-CIRCLE-RADIUS",
+            Self::FlyZoneCount => "AREA-FZ-COUNT",
+            Self::FlyZoneShape => "AREA-FZ-SHAPE",
+            Self::NoFlyZoneOutside => "AREA-NFZ-OUTSIDE",
+            Self::AltitudeBounds => "AREA-ALT-BOUNDS",
+            Self::AreaAltitude => "AREA-ALT",
+            Self::RfRadiusMismatch => "ROUTE-RF-RADIUS",
+            Self::TurnRadius => "ROUTE-TURN-RADIUS",
+            Self::SpeedLow => "ROUTE-SPEED-MIN",
+            Self::SpeedHigh => "ROUTE-SPEED-MAX",
+            Self::AltitudeHigh => "ROUTE-ALT-MAX",
+            Self::TakeOffHeightLow => "ROUTE-TOH-MIN",
+            Self::TakeOffHeightHigh => "ROUTE-TOH-MAX",
+            Self::EnergyBudget => "ENERGY-BUDGET",
+            Self::TrackNotHeld => "ENERGY-TRACK",
+            Self::Wind => "ENV-WIND",
+            Self::Temperature => "ENV-TEMP",
+        }
+    }
+}
+
+impl fmt::Display for ViolationCode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.code())
+    }
+}
+
+/// One violation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Violation {
+    /// Which check.
+    pub code: ViolationCode,
+    /// What it concerns.
+    pub element: Element,
+    /// Readable explanation.
+    pub detail: String,
+    /// Signed closest approach, metres (negative: that deep into the forbidden band).
+    pub margin_m: Option<f64>,
+    /// The value checked (unit in `detail`).
+    pub value: Option<f64>,
+    /// Its limit.
+    pub limit: Option<f64>,
+    /// Latitude and longitude (degrees) of the closest approach or of the element, for the map.
+    pub position: Option<(f64, f64)>,
+}
+
+impl fmt::Display for Violation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {}: {}", self.code, self.element, self.detail)?;
+        if let Some(m) = self.margin_m {
+            write!(f, "; margin {m:.1} m")?;
+        }
+        if let (Some(v), Some(l)) = (self.value, self.limit) {
+            write!(f, "; value {v:.2}, limit {l:.2}")?;
+        }
+        if let Some((lat, lon)) = self.position {
+            write!(f, " at ({lat:.6}, {lon:.6})")?;
+        }
+        Ok(())
+    }
+}
+
+/// Everything the gateway found against a mission.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Report {
+    /// Every violation, in check order: environment, areas, route, geography, energy.
+    pub violations: Vec<Violation>,
+}
+
+impl fmt::Display for Report {
+    /// One line per violation.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, v) in self.violations.iter().enumerate() {
+            if i > 0 {
+                f.write_str("\n")?;
+            }
+            write!(f, "{v}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The energy estimate of a mission, Wh.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EnergyEstimate {
+    /// Vertical climb to the take-off height and on to the first waypoint's altitude.
+    pub take_off_wh: f64,
+    /// Legs, with the climbs along them.
+    pub cruise_wh: f64,
+    /// Vertical descent from the last waypoint.
+    pub landing_wh: f64,
+    /// The sum.
+    pub total_wh: f64,
+    /// Usable energy minus the reserve.
+    pub limit_wh: f64,
+}
+
+/// The safety gateway.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SafetyGateway {
+    /// The aircraft.
+    pub profile: AircraftProfile,
+    /// The conditions.
+    pub environment: Environment,
+    /// Where the aircraft stands before take-off (latitude, longitude in degrees), if known; the
+    /// plan does not carry it. `None`: the route is taken to start at the initial waypoint.
+    pub take_off_position_deg: Option<(f64, f64)>,
+}
+
+impl crate::gcs::SafetyGateway for SafetyGateway {
+    type Report = Report;
+
+    fn check(&self, mission: &Mission, areas: &AreaList) -> Result<(), Report> {
+        let violations = self.violations(mission, areas);
+        if violations.is_empty() {
+            Ok(())
+        } else {
+            Err(Report { violations })
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The local frame.
+
+/// Equirectangular projection about a reference point, WGS-84 radii of curvature there.
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    lat0: f64,
+    lon0: f64,
+    m_per_deg_lat: f64,
+    m_per_deg_lon: f64,
+}
+
+impl Frame {
+    fn new(lat0: f64, lon0: f64) -> Self {
+        let phi = lat0.to_radians();
+        let w = (1.0 - WGS84_E2 * phi.sin().powi(2)).sqrt();
+        let meridional = WGS84_A_M * (1.0 - WGS84_E2) / (w * w * w);
+        let prime_vertical = WGS84_A_M / w;
+        Self {
+            lat0,
+            lon0,
+            m_per_deg_lat: meridional.to_radians(),
+            m_per_deg_lon: (prime_vertical * phi.cos()).to_radians(),
+        }
+    }
+
+    fn xy(&self, lat: f64, lon: f64) -> Coord {
+        let mut dlon = lon - self.lon0;
+        if dlon > 180.0 {
+            dlon -= 360.0;
+        } else if dlon < -180.0 {
+            dlon += 360.0;
+        }
+        Coord {
+            x: dlon * self.m_per_deg_lon,
+            y: (lat - self.lat0) * self.m_per_deg_lat,
+        }
+    }
+
+    fn point(&self, p: &GeoPoint) -> Coord {
+        self.xy(p.latitude.degrees(), p.longitude.degrees())
+    }
+
+    fn deg(&self, c: Coord) -> (f64, f64) {
+        (
+            self.lat0 + c.y / self.m_per_deg_lat,
+            self.lon0 + c.x / self.m_per_deg_lon,
+        )
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Areas in the frame.
+
+#[derive(Debug, Clone)]
+enum Shape {
+    Polygon(Polygon),
+    Circle { centre: Coord, radius: f64 },
+}
+
+#[derive(Debug, Clone)]
+struct Zone {
+    id: u16,
+    fly_zone: bool,
+    shape: Shape,
+    /// Geometry passed the area checks; geographic checks use only valid zones.
+    valid: bool,
+}
+
+/// Signed closest approach of a path to a zone's forbidden side, before the safety offset:
+/// positive = clear by that much. With the point where it is reached.
+fn zone_margin(zone: &Zone, path: &[Coord]) -> (f64, Coord) {
+    let ls = LineString::from(path.to_vec());
+    let fallback = path.first().copied().unwrap_or(Coord { x: 0.0, y: 0.0 });
+    match (&zone.shape, zone.fly_zone) {
+        (Shape::Circle { centre, radius }, false) => {
+            let c = Point::from(*centre);
+            let (d, at) = if path.len() < 2 {
+                (Euclidean.distance(&c, &Point::from(fallback)), fallback)
+            } else {
+                let at = match ls.closest_point(&c) {
+                    Closest::Intersection(p) | Closest::SinglePoint(p) => p.0,
+                    Closest::Indeterminate => fallback,
+                };
+                (Euclidean.distance(&c, &ls), at)
+            };
+            (d - radius, at)
+        }
+        (Shape::Polygon(poly), false) => {
+            let inside = if path.len() < 2 {
+                poly.intersects(&fallback)
+            } else {
+                poly.intersects(&ls)
+            };
+            let samples = sample(path);
+            if inside {
+                // Depth: the deepest sample inside, by its distance to the border.
+                let ring = poly.exterior();
+                let (depth, at) = samples
+                    .iter()
+                    .filter(|c| poly.contains(*c))
+                    .map(|c| (Euclidean.distance(&Point::from(*c), ring), *c))
+                    .fold(
+                        (0.0, fallback),
+                        |best, x| if x.0 > best.0 { x } else { best },
+                    );
+                (-depth, at)
+            } else {
+                let d = if path.len() < 2 {
+                    Euclidean.distance(&Point::from(fallback), poly)
+                } else {
+                    Euclidean.distance(&ls, poly)
+                };
+                (
+                    d,
+                    argmin(&samples, |c| Euclidean.distance(&Point::from(*c), poly)),
+                )
+            }
+        }
+        (Shape::Polygon(poly), true) => {
+            let ring = poly.exterior();
+            let contained = if path.len() < 2 {
+                poly.contains(&fallback)
+            } else {
+                poly.contains(&ls)
+            };
+            let samples = sample(path);
+            let signed = |c: &Coord| {
+                let d = Euclidean.distance(&Point::from(*c), ring);
+                if poly.contains(c) { d } else { -d }
+            };
+            let at = argmin(&samples, signed);
+            if contained {
+                let d = if path.len() < 2 {
+                    Euclidean.distance(&Point::from(fallback), ring)
+                } else {
+                    Euclidean.distance(&ls, ring)
+                };
+                (d, at)
+            } else {
+                (signed(&at).min(0.0), at)
+            }
+        }
+        // A circular fly-zone is reported as an area violation and not used.
+        (Shape::Circle { .. }, true) => (f64::INFINITY, fallback),
+    }
+}
+
+fn argmin(samples: &[Coord], f: impl Fn(&Coord) -> f64) -> Coord {
+    samples
+        .iter()
+        .map(|c| (f(c), *c))
+        .fold(None, |best: Option<(f64, Coord)>, x| match best {
+            Some(b) if b.0 <= x.0 => Some(b),
+            _ => Some(x),
+        })
+        .map(|(_, c)| c)
+        .unwrap_or(Coord { x: 0.0, y: 0.0 })
+}
+
+/// The path with extra points so that no two are more than [`SAMPLE_STEP_M`] apart.
+fn sample(path: &[Coord]) -> Vec<Coord> {
+    if path.len() < 2 {
+        return path.to_vec();
+    }
+    let ls = LineString::from(path.to_vec());
+    let length = Euclidean.length(&ls);
+    // Very long paths are sampled more coarsely rather than without bound.
+    let step = SAMPLE_STEP_M.max(length / 200_000.0);
+    Euclidean.densify(&ls, step).0
+}
+
+// ---------------------------------------------------------------------------------------------
+// Legs.
+
+#[derive(Debug, Clone)]
+struct Leg {
+    from: u16,
+    to: u16,
+    /// Index in the mission of the FROM waypoint (None: the take-off position).
+    from_index: Option<usize>,
+    to_index: usize,
+    path: Vec<Coord>,
+    reverse_path: Option<Vec<Coord>>,
+    speed_mps: f64,
+    climb_m: f64,
+}
+
+/// The arc from `start` to `end` around `centre` in `direction`, the radius going linearly from
+/// the start radius to the end radius, chords within [`ARC_SAG_M`].
+fn arc(start: Coord, end: Coord, centre: Coord, direction: TurnDirection) -> Vec<Coord> {
+    let (s, e) = (start - centre, end - centre);
+    let (rs, re) = (s.x.hypot(s.y), e.x.hypot(e.y));
+    let (ts, te) = (s.y.atan2(s.x), e.y.atan2(e.x));
+    let tau = core::f64::consts::TAU;
+    // Swept angle in the turn direction, in [0, 2π); angles grow counter-clockwise.
+    let sweep = match direction {
+        TurnDirection::Clockwise => (ts - te).rem_euclid(tau),
+        TurnDirection::CounterClockwise => (te - ts).rem_euclid(tau),
+    };
+    let r = rs.max(re);
+    if r < ARC_SAG_M || sweep <= 0.0 {
+        return vec![start, end];
+    }
+    let step = 2.0 * (1.0 - ARC_SAG_M / r).clamp(-1.0, 1.0).acos();
+    let n = ((sweep / step).ceil() as usize).clamp(1, MAX_ARC_SAMPLES);
+    let sign = match direction {
+        TurnDirection::Clockwise => -1.0,
+        TurnDirection::CounterClockwise => 1.0,
+    };
+    let mut points = Vec::with_capacity(n + 1);
+    points.push(start);
+    for i in 1..n {
+        let t = i as f64 / n as f64;
+        let theta = ts + sign * sweep * t;
+        let radius = rs + (re - rs) * t;
+        points.push(Coord {
+            x: centre.x + radius * theta.cos(),
+            y: centre.y + radius * theta.sin(),
+        });
+    }
+    points.push(end);
+    points
+}
+
+fn rf_centre(record: &WaypointRecord) -> Option<(GeoPoint, TurnDirection)> {
+    match record.rf_centre.map(|c| c.data) {
+        Some(SpecificData::RfCentre {
+            latitude,
+            longitude,
+            turn_direction,
+            ..
+        }) => Some((
+            GeoPoint {
+                latitude,
+                longitude,
+            },
+            turn_direction,
+        )),
+        _ => None,
+    }
+}
+
+fn position(record: &WaypointRecord) -> GeoPoint {
+    GeoPoint {
+        latitude: record.waypoint.latitude,
+        longitude: record.waypoint.longitude,
+    }
+}
+
+fn exceeds(value: f64, limit: f64) -> bool {
+    value.is_nan() || value > limit
+}
+
+fn below(value: f64, limit: f64) -> bool {
+    value.is_nan() || value < limit
+}
+
+fn flip(direction: TurnDirection) -> TurnDirection {
+    match direction {
+        TurnDirection::Clockwise => TurnDirection::CounterClockwise,
+        TurnDirection::CounterClockwise => TurnDirection::Clockwise,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks.
+
+struct Collector<'a> {
+    frame: &'a Frame,
+    out: Vec<Violation>,
+}
+
+impl Collector<'_> {
+    fn push(
+        &mut self,
+        code: ViolationCode,
+        element: Element,
+        detail: String,
+        value_limit: Option<(f64, f64)>,
+    ) {
+        self.out.push(Violation {
+            code,
+            element,
+            detail,
+            margin_m: None,
+            value: value_limit.map(|v| v.0),
+            limit: value_limit.map(|v| v.1),
+            position: None,
+        });
+    }
+
+    fn at(&mut self, c: Coord) {
+        let p = self.frame.deg(c);
+        if let Some(v) = self.out.last_mut() {
+            v.position = Some(p);
+        }
+    }
+}
+
+impl SafetyGateway {
+    /// A gateway for `profile` in `environment`, the route starting at the initial waypoint.
+    pub fn new(profile: AircraftProfile, environment: Environment) -> Self {
+        Self {
+            profile,
+            environment,
+            take_off_position_deg: None,
+        }
+    }
+
+    fn frame(mission: &Mission, areas: &AreaList) -> Frame {
+        let bbox = areas.fly_zone().and_then(|fz| match &fz.shape {
+            AreaShape::Polygon(v) => LineString::from(
+                v.iter()
+                    .map(|p| (p.longitude.degrees(), p.latitude.degrees()))
+                    .collect::<Vec<_>>(),
+            )
+            .bounding_rect(),
+            AreaShape::Circle { .. } => None,
+        });
+        match (bbox, mission.waypoints.first()) {
+            (Some(r), _) => {
+                let c = r.center();
+                Frame::new(c.y, c.x)
+            }
+            (None, Some(w)) => Frame::new(
+                w.waypoint.latitude.degrees(),
+                w.waypoint.longitude.degrees(),
+            ),
+            (None, None) => Frame::new(0.0, 0.0),
+        }
+    }
+
+    fn legs(&self, mission: &Mission, frame: &Frame) -> Vec<Leg> {
+        let bidirectional = mission.route.bidirectional;
+        let mut legs = Vec::new();
+        let mut previous: Option<(u16, Option<usize>, Coord, f64)> =
+            self.take_off_position_deg.map(|(lat, lon)| {
+                (
+                    0,
+                    None,
+                    frame.xy(lat, lon),
+                    mission.take_off_height().metres(),
+                )
+            });
+        for (i, record) in mission.waypoints.iter().enumerate() {
+            let w = &record.waypoint;
+            let here = frame.point(&position(record));
+            if let Some((from, from_index, start, start_alt)) = previous {
+                // The first leg from the take-off position is flown direct (guidance).
+                let centre = rf_centre(record)
+                    .filter(|_| w.leg_type == LegType::RadiusToFix && from_index.is_some());
+                let (path, reverse_path) = match centre {
+                    Some((c, dir)) => {
+                        let c = frame.point(&c);
+                        (
+                            arc(start, here, c, dir),
+                            bidirectional.then(|| arc(here, start, c, flip(dir))),
+                        )
+                    }
+                    None => (vec![start, here], bidirectional.then(|| vec![here, start])),
+                };
+                legs.push(Leg {
+                    from,
+                    to: w.waypoint_number,
+                    from_index,
+                    to_index: i,
+                    path,
+                    reverse_path: reverse_path.filter(|_| from_index.is_some()),
+                    speed_mps: w.speed.mps(),
+                    climb_m: (w.altitude.metres() - start_alt).max(0.0),
+                });
+            }
+            previous = Some((w.waypoint_number, Some(i), here, w.altitude.metres()));
+        }
+        legs
+    }
+
+    fn zones(&self, areas: &AreaList, frame: &Frame, c: &mut Collector<'_>) -> Vec<Zone> {
+        let mut zones = Vec::new();
+        let fly_zones: Vec<&AreaPolygonLoopSegment> = areas
+            .areas
+            .iter()
+            .filter(|a| a.area_type == AreaType::FlyZone)
+            .collect();
+        match fly_zones.as_slice() {
+            [] => c.push(
+                ViolationCode::FlyZoneCount,
+                Element::Mission,
+                "no fly-zone".into(),
+                Some((0.0, 1.0)),
+            ),
+            [_] => {}
+            [_, rest @ ..] => {
+                for extra in rest {
+                    c.push(
+                        ViolationCode::FlyZoneCount,
+                        Element::Area(extra.area_id),
+                        format!("a second fly-zone (area {})", extra.area_id),
+                        Some((fly_zones.len() as f64, 1.0)),
+                    );
+                }
+            }
+        }
+        for (n, area) in areas.areas.iter().enumerate() {
+            let id = area.area_id;
+            let fly_zone = area.area_type == AreaType::FlyZone;
+            if let (Some(lo), Some(hi)) = (area.lower_altitude, area.upper_altitude)
+                && lo.metres() > hi.metres()
+            {
+                c.push(
+                    ViolationCode::AltitudeBounds,
+                    Element::Area(id),
+                    format!(
+                        "lower altitude {} m above upper altitude {} m",
+                        lo.metres(),
+                        hi.metres()
+                    ),
+                    Some((lo.metres(), hi.metres())),
+                );
+            }
+            // Only the first fly-zone is used; further ones are reported above.
+            let first_fly_zone = fly_zone
+                && !areas
+                    .areas
+                    .iter()
+                    .take(n)
+                    .any(|a| a.area_type == AreaType::FlyZone);
+            let (shape, valid) = match &area.shape {
+                AreaShape::Circle { centre, border } => {
+                    let centre_xy = frame.point(centre);
+                    let radius = Euclidean
+                        .distance(&Point::from(centre_xy), &Point::from(frame.point(border)));
+                    let mut valid = true;
+                    if below(radius, MIN_CIRCLE_RADIUS_M) {
+                        c.push(
+                            ViolationCode::CircleRadius,
+                            Element::Area(id),
+                            format!("circle radius {radius:.2} m"),
+                            Some((radius, MIN_CIRCLE_RADIUS_M)),
+                        );
+                        c.at(centre_xy);
+                        valid = false;
+                    }
+                    if fly_zone {
+                        c.push(
+                            ViolationCode::FlyZoneShape,
+                            Element::Area(id),
+                            "the fly-zone is a circle; it must be a polygon".into(),
+                            None,
+                        );
+                        valid = false;
+                    }
+                    (
+                        Shape::Circle {
+                            centre: centre_xy,
+                            radius,
+                        },
+                        valid,
+                    )
+                }
+                AreaShape::Polygon(vertices) => {
+                    let coords: Vec<Coord> = vertices.iter().map(|p| frame.point(p)).collect();
+                    let poly = Polygon::new(LineString::from(coords.clone()), vec![]);
+                    // A figure-eight has zero signed area too; its hull has not.
+                    let hull_area = poly.convex_hull().unsigned_area();
+                    let repeated = vertices
+                        .iter()
+                        .enumerate()
+                        .find(|(i, p)| vertices.iter().skip(i + 1).any(|q| q == *p));
+                    let valid = if let Some((i, p)) = repeated {
+                        c.push(
+                            ViolationCode::RepeatedVertex,
+                            Element::Area(id),
+                            format!("vertex {} repeated", i + 1),
+                            None,
+                        );
+                        c.at(frame.point(p));
+                        false
+                    } else if !poly.is_valid() && !below(hull_area, MIN_POLYGON_AREA_M2) {
+                        c.push(
+                            ViolationCode::SelfIntersection,
+                            Element::Area(id),
+                            "the polygon's border crosses itself".into(),
+                            None,
+                        );
+                        false
+                    } else if below(hull_area, MIN_POLYGON_AREA_M2)
+                        || below(poly.unsigned_area(), MIN_POLYGON_AREA_M2)
+                    {
+                        let area = poly.unsigned_area();
+                        c.push(
+                            ViolationCode::DegeneratePolygon,
+                            Element::Area(id),
+                            format!("polygon area {area:.2} m² (collinear vertices)"),
+                            Some((area, MIN_POLYGON_AREA_M2)),
+                        );
+                        false
+                    } else {
+                        true
+                    };
+                    (Shape::Polygon(poly), valid)
+                }
+            };
+            if fly_zone && !first_fly_zone {
+                continue;
+            }
+            zones.push(Zone {
+                id,
+                fly_zone,
+                shape,
+                valid,
+            });
+        }
+        // No-fly-zones at least partly inside the fly-zone.
+        let fz = zones
+            .iter()
+            .find_map(|z| match (&z.shape, z.fly_zone, z.valid) {
+                (Shape::Polygon(p), true, true) => Some(p.clone()),
+                _ => None,
+            });
+        if let Some(fz) = fz {
+            for z in zones.iter().filter(|z| !z.fly_zone && z.valid) {
+                let (inside, gap, at) = match &z.shape {
+                    Shape::Circle { centre, radius } => {
+                        let d = Euclidean.distance(&Point::from(*centre), &fz);
+                        (d < *radius, d - radius, *centre)
+                    }
+                    Shape::Polygon(p) => {
+                        let at = p
+                            .exterior()
+                            .0
+                            .first()
+                            .copied()
+                            .unwrap_or(Coord { x: 0.0, y: 0.0 });
+                        (fz.intersects(p), Euclidean.distance(p, &fz), at)
+                    }
+                };
+                if !inside {
+                    c.push(
+                        ViolationCode::NoFlyZoneOutside,
+                        Element::Area(z.id),
+                        format!("no-fly-zone {} lies entirely outside the fly-zone", z.id),
+                        None,
+                    );
+                    if let Some(v) = c.out.last_mut() {
+                        v.margin_m = Some(gap);
+                    }
+                    c.at(at);
+                }
+            }
+        }
+        zones
+    }
+
+    fn check_route(
+        &self,
+        mission: &Mission,
+        areas: &AreaList,
+        legs: &[Leg],
+        c: &mut Collector<'_>,
+    ) {
+        let p = &self.profile;
+        let toh = mission.take_off_height().metres();
+        if below(toh, p.min_take_off_height_m) {
+            c.push(
+                ViolationCode::TakeOffHeightLow,
+                Element::TakeOff,
+                format!(
+                    "take-off height {toh} m below {} m",
+                    p.min_take_off_height_m
+                ),
+                Some((toh, p.min_take_off_height_m)),
+            );
+        }
+        if exceeds(toh, p.max_take_off_height_m) {
+            c.push(
+                ViolationCode::TakeOffHeightHigh,
+                Element::TakeOff,
+                format!(
+                    "take-off height {toh} m above {} m",
+                    p.max_take_off_height_m
+                ),
+                Some((toh, p.max_take_off_height_m)),
+            );
+        }
+        let fz = areas.fly_zone();
+        for record in &mission.waypoints {
+            let w = &record.waypoint;
+            let n = w.waypoint_number;
+            let here = c.frame.point(&position(record));
+            let (v, alt) = (w.speed.mps(), w.altitude.metres());
+            if below(v, p.min_speed_mps) {
+                c.push(
+                    ViolationCode::SpeedLow,
+                    Element::Waypoint(n),
+                    format!("speed {v} m/s below {} m/s", p.min_speed_mps),
+                    Some((v, p.min_speed_mps)),
+                );
+                c.at(here);
+            }
+            if exceeds(v, p.max_speed_mps) {
+                c.push(
+                    ViolationCode::SpeedHigh,
+                    Element::Waypoint(n),
+                    format!("speed {v} m/s above {} m/s", p.max_speed_mps),
+                    Some((v, p.max_speed_mps)),
+                );
+                c.at(here);
+            }
+            if exceeds(alt, p.max_altitude_m) {
+                c.push(
+                    ViolationCode::AltitudeHigh,
+                    Element::Waypoint(n),
+                    format!("altitude {alt} m above {} m", p.max_altitude_m),
+                    Some((alt, p.max_altitude_m)),
+                );
+                c.at(here);
+            }
+            if let Some(lo) = fz.and_then(|a| a.lower_altitude).map(|a| a.metres())
+                && below(alt, lo)
+            {
+                c.push(
+                    ViolationCode::AreaAltitude,
+                    Element::Waypoint(n),
+                    format!("altitude {alt} m below the fly-zone's lower bound {lo} m"),
+                    Some((alt, lo)),
+                );
+                c.at(here);
+            }
+            if let Some(hi) = fz.and_then(|a| a.upper_altitude).map(|a| a.metres())
+                && exceeds(alt, hi)
+            {
+                c.push(
+                    ViolationCode::AreaAltitude,
+                    Element::Waypoint(n),
+                    format!("altitude {alt} m above the fly-zone's upper bound {hi} m"),
+                    Some((alt, hi)),
+                );
+                c.at(here);
+            }
+        }
+        // Radius-to-fix legs.
+        for leg in legs {
+            let (Some(from_index), Some(to)) =
+                (leg.from_index, mission.waypoints.get(leg.to_index))
+            else {
+                continue;
+            };
+            let (Some(from), Some((centre, _))) =
+                (mission.waypoints.get(from_index), rf_centre(to))
+            else {
+                continue;
+            };
+            if to.waypoint.leg_type != LegType::RadiusToFix {
+                continue;
+            }
+            let centre = c.frame.point(&centre);
+            let rs = Euclidean.distance(
+                &Point::from(centre),
+                &Point::from(c.frame.point(&position(from))),
+            );
+            let re = Euclidean.distance(
+                &Point::from(centre),
+                &Point::from(c.frame.point(&position(to))),
+            );
+            let element = Element::Leg {
+                from: leg.from,
+                to: leg.to,
+            };
+            let diff = (rs - re).abs();
+            if exceeds(diff, p.rf_radius_tolerance_m) {
+                c.push(
+                    ViolationCode::RfRadiusMismatch,
+                    element,
+                    format!(
+                        "start radius {rs:.1} m and end radius {re:.1} m differ by {diff:.1} m"
+                    ),
+                    Some((diff, p.rf_radius_tolerance_m)),
+                );
+                c.at(centre);
+            }
+            let ground = leg.speed_mps + self.environment.wind_speed_mps.max(0.0);
+            let min_r = p.min_turn_radius_m(ground);
+            let r = rs.min(re);
+            if below(r, min_r) {
+                c.push(
+                    ViolationCode::TurnRadius,
+                    element,
+                    format!(
+                        "arc radius {r:.1} m below the minimum turn radius {min_r:.1} m at {ground:.1} m/s and {} deg bank",
+                        p.max_bank_deg
+                    ),
+                    Some((r, min_r)),
+                );
+                c.at(centre);
+            }
+        }
+    }
+
+    fn check_geography(
+        &self,
+        mission: &Mission,
+        offset: f64,
+        zones: &[Zone],
+        legs: &[Leg],
+        c: &mut Collector<'_>,
+    ) {
+        let zones: Vec<&Zone> = zones.iter().filter(|z| z.valid).collect();
+        let describe = |z: &Zone| {
+            if z.fly_zone {
+                format!("fly-zone {}", z.id)
+            } else {
+                format!("no-fly-zone {}", z.id)
+            }
+        };
+        let what = |z: &Zone| {
+            if z.fly_zone {
+                "outside the fly-zone shrunk by"
+            } else {
+                "inside no-fly-zone grown by"
+            }
+        };
+        // margins[waypoint index][zone index]
+        let mut margins: Vec<Vec<f64>> = Vec::with_capacity(mission.waypoints.len());
+        for record in &mission.waypoints {
+            let n = record.waypoint.waypoint_number;
+            let here = c.frame.point(&position(record));
+            let mut row = Vec::with_capacity(zones.len());
+            for z in &zones {
+                let (m, at) = zone_margin(z, &[here]);
+                let m = m - offset;
+                row.push(m);
+                if m < 0.0 {
+                    let code = if z.fly_zone {
+                        ViolationCode::FlyZoneWaypoint
+                    } else {
+                        ViolationCode::NoFlyZoneWaypoint
+                    };
+                    self.geo_violation(
+                        c,
+                        code,
+                        Element::Waypoint(n),
+                        m,
+                        at,
+                        format!(
+                            "waypoint {n} {} the safety offset {offset} m ({})",
+                            what(z),
+                            describe(z)
+                        ),
+                    );
+                }
+            }
+            margins.push(row);
+        }
+        if let Some((lat, lon)) = self.take_off_position_deg {
+            let here = c.frame.xy(lat, lon);
+            for z in &zones {
+                let (m, at) = zone_margin(z, &[here]);
+                let m = m - offset;
+                if m < 0.0 {
+                    let code = if z.fly_zone {
+                        ViolationCode::FlyZoneTakeOff
+                    } else {
+                        ViolationCode::NoFlyZoneTakeOff
+                    };
+                    self.geo_violation(
+                        c,
+                        code,
+                        Element::TakeOff,
+                        m,
+                        at,
+                        format!(
+                            "take-off point {} the safety offset {offset} m ({})",
+                            what(z),
+                            describe(z)
+                        ),
+                    );
+                }
+            }
+        }
+        for leg in legs {
+            for (zi, z) in zones.iter().enumerate() {
+                let endpoint_margin = [leg.from_index, Some(leg.to_index)]
+                    .iter()
+                    .flatten()
+                    .filter_map(|i| margins.get(*i).and_then(|row| row.get(zi)))
+                    .fold(f64::INFINITY, |a, b| a.min(*b));
+                let code = if z.fly_zone {
+                    ViolationCode::FlyZoneLeg
+                } else {
+                    ViolationCode::NoFlyZoneLeg
+                };
+                let subsumed = |m: f64| endpoint_margin < 0.0 && m >= endpoint_margin - SUBSUMED_M;
+                let (m, at) = zone_margin(z, &leg.path);
+                let m = m - offset;
+                let forward = m < 0.0 && !subsumed(m);
+                let reverse = leg.reverse_path.as_ref().map(|p| {
+                    let (rm, rat) = zone_margin(z, p);
+                    (rm - offset, rat)
+                });
+                let mut reverse_detail = "";
+                if let Some((rm, rat)) = reverse
+                    && rm < 0.0
+                    && !subsumed(rm)
+                {
+                    if forward && (rm - m).abs() <= SAME_MARGIN_M {
+                        reverse_detail = " (also on the reverse route)";
+                    } else {
+                        self.geo_violation(
+                            c,
+                            code,
+                            Element::ReverseLeg {
+                                from: leg.to,
+                                to: leg.from,
+                            },
+                            rm,
+                            rat,
+                            format!(
+                                "reverse leg {}->{} {} the safety offset {offset} m ({})",
+                                leg.to,
+                                leg.from,
+                                what(z),
+                                describe(z)
+                            ),
+                        );
+                    }
+                }
+                if forward {
+                    self.geo_violation(
+                        c,
+                        code,
+                        Element::Leg {
+                            from: leg.from,
+                            to: leg.to,
+                        },
+                        m,
+                        at,
+                        format!(
+                            "leg {}->{} {} the safety offset {offset} m ({}){reverse_detail}",
+                            leg.from,
+                            leg.to,
+                            what(z),
+                            describe(z)
+                        ),
+                    );
+                }
+            }
+        }
+    }
+
+    fn geo_violation(
+        &self,
+        c: &mut Collector<'_>,
+        code: ViolationCode,
+        element: Element,
+        margin: f64,
+        at: Coord,
+        detail: String,
+    ) {
+        c.push(code, element, detail, None);
+        if let Some(v) = c.out.last_mut() {
+            v.margin_m = Some(margin);
+        }
+        c.at(at);
+    }
+
+    /// The energy estimate (see the module documentation), with the legs whose track cannot be
+    /// held against the wind (left out of the sum).
+    fn energy(&self, mission: &Mission, legs: &[Leg]) -> (EnergyEstimate, Vec<(u16, u16, Coord)>) {
+        let p = &self.profile;
+        let env = &self.environment;
+        let toh = mission.take_off_height().metres().max(0.0);
+        let climb = |dh: f64| p.climb_power_w * dh.max(0.0) / p.climb_rate_mps / 3600.0;
+        let descend = |dh: f64| p.descent_power_w * dh.max(0.0) / p.descent_rate_mps / 3600.0;
+        let mut take_off_wh = climb(toh);
+        if self.take_off_position_deg.is_none()
+            && let Some(first) = mission.waypoints.first()
+        {
+            let dh = first.waypoint.altitude.metres() - toh;
+            take_off_wh += if dh >= 0.0 { climb(dh) } else { descend(-dh) };
+        }
+        // Wind vector (east, north) the air moves with.
+        let from = env.wind_from_deg.to_radians();
+        let wind = Coord {
+            x: -env.wind_speed_mps * from.sin(),
+            y: -env.wind_speed_mps * from.cos(),
+        };
+        let mut cruise_wh = 0.0;
+        let mut not_held = Vec::new();
+        for leg in legs {
+            let v = leg.speed_mps;
+            let mut seconds = 0.0;
+            let mut held = true;
+            for pair in leg.path.windows(2) {
+                let [a, b] = pair else { continue };
+                let d = *b - *a;
+                let len = d.x.hypot(d.y);
+                if len <= 0.0 {
+                    continue;
+                }
+                let t = Coord {
+                    x: d.x / len,
+                    y: d.y / len,
+                };
+                let along = wind.x * t.x + wind.y * t.y;
+                let cross = wind.x * t.y - wind.y * t.x;
+                let disc = v * v - cross * cross;
+                let ground = along + disc.max(0.0).sqrt();
+                if disc <= 0.0 || ground <= 0.1 {
+                    held = false;
+                    not_held.push((leg.from, leg.to, *a));
+                    break;
+                }
+                seconds += len / ground;
+            }
+            if held {
+                cruise_wh += p.cruise_power_w(v) * seconds / 3600.0 + climb(leg.climb_m);
+            }
+        }
+        let landing_wh = mission
+            .waypoints
+            .last()
+            .map(|w| descend(w.waypoint.altitude.metres()))
+            .unwrap_or(0.0);
+        let total_wh = take_off_wh + cruise_wh + landing_wh;
+        (
+            EnergyEstimate {
+                take_off_wh,
+                cruise_wh,
+                landing_wh,
+                total_wh,
+                limit_wh: p.energy_limit_wh(),
+            },
+            not_held,
+        )
+    }
+
+    /// The energy estimate of `mission` (the areas only set the projection).
+    pub fn estimate_energy(&self, mission: &Mission, areas: &AreaList) -> EnergyEstimate {
+        let frame = Self::frame(mission, areas);
+        let legs = self.legs(mission, &frame);
+        self.energy(mission, &legs).0
+    }
+
+    /// Every violation of `mission` in `areas` (empty: the mission passes).
+    pub fn violations(&self, mission: &Mission, areas: &AreaList) -> Vec<Violation> {
+        let frame = Self::frame(mission, areas);
+        let mut c = Collector {
+            frame: &frame,
+            out: Vec::new(),
+        };
+        let (p, env) = (&self.profile, &self.environment);
+        // Environment.
+        if exceeds(env.wind_speed_mps, p.max_wind_mps) {
+            c.push(
+                ViolationCode::Wind,
+                Element::Environment,
+                format!(
+                    "wind {} m/s above {} m/s",
+                    env.wind_speed_mps, p.max_wind_mps
+                ),
+                Some((env.wind_speed_mps, p.max_wind_mps)),
+            );
+        }
+        let t = env.temperature_c;
+        if below(t, p.min_temperature_c) {
+            c.push(
+                ViolationCode::Temperature,
+                Element::Environment,
+                format!("temperature {t} °C below {} °C", p.min_temperature_c),
+                Some((t, p.min_temperature_c)),
+            );
+        } else if exceeds(t, p.max_temperature_c) {
+            c.push(
+                ViolationCode::Temperature,
+                Element::Environment,
+                format!("temperature {t} °C above {} °C", p.max_temperature_c),
+                Some((t, p.max_temperature_c)),
+            );
+        }
+        // Areas.
+        let zones = self.zones(areas, &frame, &mut c);
+        // Route.
+        let legs = self.legs(mission, &frame);
+        self.check_route(mission, areas, &legs, &mut c);
+        // Geography.
+        self.check_geography(mission, areas.safety_offset.metres(), &zones, &legs, &mut c);
+        // Energy.
+        let (estimate, not_held) = self.energy(mission, &legs);
+        for (from, to, at) in not_held {
+            c.push(
+                ViolationCode::TrackNotHeld,
+                Element::Leg { from, to },
+                format!(
+                    "the track cannot be held against {} m/s wind from {} deg",
+                    env.wind_speed_mps, env.wind_from_deg
+                ),
+                None,
+            );
+            c.at(at);
+        }
+        if exceeds(estimate.total_wh, estimate.limit_wh) {
+            c.push(
+                ViolationCode::EnergyBudget,
+                Element::Mission,
+                format!(
+                    "estimated energy {:.0} Wh (take-off {:.0}, cruise {:.0}, landing {:.0}) above usable {:.0} Wh minus {:.0} % reserve",
+                    estimate.total_wh,
+                    estimate.take_off_wh,
+                    estimate.cruise_wh,
+                    estimate.landing_wh,
+                    p.usable_energy_wh,
+                    p.reserve_fraction * 100.0
+                ),
+                Some((estimate.total_wh, estimate.limit_wh)),
+            );
+        }
+        c.out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::areas::tests::{FLY_ZONE, circle, polygon};
+    use crate::gcs::SafetyGateway as _;
+    use missionlink_interfaces::wire::{
+        Altitude, Angle, SafetyOffset, Speed, Timestamp, TurnType, UaPositionWaypoint, UaRoute,
+        VehicleSpecificWaypoint,
+    };
+    use proptest::prelude::*;
+
+    const CCP: (f64, f64) = (48.275, 11.645);
+    const W1: (f64, f64) = (48.278, 11.658);
+    const ROLE2: (f64, f64) = (48.28, 11.68);
+    const TROL: (f64, f64) = (48.26, 11.66);
+    const RF_CENTRE: (f64, f64) = (48.27455, 11.66991);
+    const NFZ_POLYGON: [(f64, f64); 4] = [
+        (48.262, 11.640),
+        (48.262, 11.646),
+        (48.266, 11.646),
+        (48.266, 11.640),
+    ];
+
+    #[derive(Clone, Copy)]
+    struct Wp {
+        at: (f64, f64),
+        alt: f64,
+        speed: f64,
+        rf: Option<((f64, f64), TurnDirection)>,
+    }
+
+    fn tf(at: (f64, f64)) -> Wp {
+        Wp {
+            at,
+            alt: 120.0,
+            speed: 25.0,
+            rf: None,
+        }
+    }
+
+    fn rf(at: (f64, f64), centre: (f64, f64), dir: TurnDirection) -> Wp {
+        Wp {
+            rf: Some((centre, dir)),
+            ..tf(at)
+        }
+    }
+
+    /// Waypoints numbered 1, 2, ... in flight-plan order, the route starting at 1.
+    fn mission(take_off_height: f64, bidirectional: bool, wps: &[Wp]) -> Mission {
+        let mut waypoints = heapless::Vec::new();
+        for (i, w) in wps.iter().enumerate() {
+            let n = i as u16 + 1;
+            let next = if i + 1 == wps.len() { 0 } else { n + 1 };
+            let waypoint = UaPositionWaypoint {
+                time_stamp: Timestamp::default(),
+                waypoint_number: n,
+                latitude: Angle::from_degrees(w.at.0).unwrap(),
+                longitude: Angle::from_degrees(w.at.1).unwrap(),
+                location_type: None,
+                altitude: Altitude::from_metres(w.alt).unwrap(),
+                altitude_type: None,
+                altitude_change_behaviour: None,
+                speed: Speed::from_mps(w.speed).unwrap(),
+                speed_type: None,
+                next_waypoint: next,
+                turn_type: TurnType::FlyBy,
+                optional_messages: None,
+                leg_type: if w.rf.is_some() {
+                    LegType::RadiusToFix
+                } else {
+                    LegType::TrackToFix
+                },
+                limit_type: None,
+                loop_limit: None,
+                arrival_time: None,
+                activity_id: None,
+            };
+            let rf_centre = w.rf.map(|(c, dir)| VehicleSpecificWaypoint {
+                time_stamp: Timestamp::default(),
+                data: SpecificData::RfCentre {
+                    waypoint_number: n,
+                    latitude: Angle::from_degrees(c.0).unwrap(),
+                    longitude: Angle::from_degrees(c.1).unwrap(),
+                    turn_direction: dir,
+                },
+                activity_id: None,
+            });
+            waypoints
+                .push(WaypointRecord {
+                    waypoint,
+                    rf_centre,
+                })
+                .unwrap();
+        }
+        Mission {
+            take_off: VehicleSpecificWaypoint {
+                time_stamp: Timestamp::default(),
+                data: SpecificData::TakeOffHeight {
+                    height: Altitude::from_metres(take_off_height).unwrap(),
+                },
+                activity_id: None,
+            },
+            route: UaRoute {
+                time_stamp: Timestamp::default(),
+                initial_waypoint: 1,
+                route_id: None,
+                route_type: None,
+                bidirectional,
+            },
+            waypoints,
+            mission_id: None,
+        }
+    }
+
+    fn area_list(areas: &[AreaPolygonLoopSegment]) -> AreaList {
+        AreaList {
+            safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
+            areas: areas.iter().cloned().collect(),
+        }
+    }
+
+    fn fly_zone() -> AreaPolygonLoopSegment {
+        polygon(1, AreaType::FlyZone, &FLY_ZONE)
+    }
+
+    fn mission_2_areas() -> Vec<AreaPolygonLoopSegment> {
+        vec![
+            fly_zone(),
+            circle(2, (48.268, 11.675), (48.268, 11.679)),
+            polygon(3, AreaType::NoFlyZone, &NFZ_POLYGON),
+        ]
+    }
+
+    fn mission_1() -> Mission {
+        mission(30.0, false, &[tf(CCP)])
+    }
+
+    fn mission_2_with(w1: Wp, role2: Wp) -> Mission {
+        mission(30.0, true, &[tf(CCP), w1, role2])
+    }
+
+    fn mission_2() -> Mission {
+        mission_2_with(tf(W1), rf(ROLE2, RF_CENTRE, TurnDirection::Clockwise))
+    }
+
+    struct Case {
+        name: &'static str,
+        gateway: SafetyGateway,
+        mission: Mission,
+        areas: AreaList,
+        expected: Vec<(ViolationCode, Element)>,
+    }
+
+    fn case(
+        name: &'static str,
+        mission: Mission,
+        areas: &[AreaPolygonLoopSegment],
+        expected: &[(ViolationCode, Element)],
+    ) -> Case {
+        Case {
+            name,
+            gateway: SafetyGateway::default(),
+            mission,
+            areas: area_list(areas),
+            expected: expected.to_vec(),
+        }
+    }
+
+    fn leg(from: u16, to: u16) -> Element {
+        Element::Leg { from, to }
+    }
+
+    fn cases() -> Vec<Case> {
+        use ViolationCode as V;
+        let m2 = mission_2_areas();
+        let mut with_outside_nfz = m2.clone();
+        with_outside_nfz.push(circle(4, (48.30, 11.66), (48.30, 11.663)));
+        let bow_tie = [
+            (48.255, 11.635),
+            (48.285, 11.690),
+            (48.255, 11.690),
+            (48.285, 11.635),
+        ];
+        let mut self_intersecting = m2.clone();
+        self_intersecting[0] = polygon(1, AreaType::FlyZone, &bow_tie);
+        let mut repeated = m2.clone();
+        repeated[2] = polygon(
+            3,
+            AreaType::NoFlyZone,
+            &[
+                (48.262, 11.640),
+                (48.262, 11.646),
+                (48.266, 11.646),
+                (48.262, 11.646),
+            ],
+        );
+        let mut collinear = m2.clone();
+        collinear[2] = polygon(
+            3,
+            AreaType::NoFlyZone,
+            &[(48.262, 11.640), (48.263, 11.641), (48.264, 11.642)],
+        );
+        let mut bounded = fly_zone();
+        bounded.upper_altitude = Some(Altitude::from_metres(100.0).unwrap());
+        let mut gateway_small_battery = SafetyGateway::default();
+        gateway_small_battery.profile.usable_energy_wh = 600.0;
+        let windy = SafetyGateway::new(
+            AircraftProfile::default(),
+            Environment {
+                wind_speed_mps: 15.0,
+                wind_from_deg: 270.0,
+                temperature_c: 15.0,
+            },
+        );
+        let hot = SafetyGateway::new(
+            AircraftProfile::default(),
+            Environment {
+                temperature_c: 50.0,
+                ..Environment::default()
+            },
+        );
+        let from_trol = SafetyGateway {
+            take_off_position_deg: Some(TROL),
+            ..SafetyGateway::default()
+        };
+        let fast_w1 = Wp {
+            speed: 45.0,
+            ..tf(W1)
+        };
+        let role2_rf = rf(ROLE2, RF_CENTRE, TurnDirection::Clockwise);
+        vec![
+            case("demo mission 1", mission_1(), &[fly_zone()], &[]),
+            Case {
+                gateway: from_trol,
+                ..case("demo mission 1 from TROL", mission_1(), &[fly_zone()], &[])
+            },
+            case("demo mission 2", mission_2(), &m2, &[]),
+            case(
+                "demo mission 2, last leg track-to-fix",
+                mission_2_with(tf(W1), tf(ROLE2)),
+                &m2,
+                &[],
+            ),
+            case(
+                "leg cuts a no-fly-zone corner, both waypoints outside",
+                mission(
+                    30.0,
+                    true,
+                    &[
+                        tf(CCP),
+                        tf((48.268, 11.643)),
+                        tf((48.263, 11.650)),
+                        tf(W1),
+                        role2_rf,
+                    ],
+                ),
+                &m2,
+                &[(V::NoFlyZoneLeg, leg(2, 3))],
+            ),
+            case(
+                "RF arc bulges out of the fly-zone",
+                mission_2_with(
+                    tf(W1),
+                    rf(ROLE2, (48.279, 11.669), TurnDirection::Clockwise),
+                ),
+                &m2,
+                &[(V::FlyZoneLeg, leg(2, 3))],
+            ),
+            case(
+                "self-intersecting fly-zone",
+                mission_2(),
+                &self_intersecting,
+                &[(V::SelfIntersection, Element::Area(1))],
+            ),
+            case(
+                "no-fly-zone with a repeated vertex",
+                mission_2(),
+                &repeated,
+                &[(V::RepeatedVertex, Element::Area(3))],
+            ),
+            case(
+                "collinear no-fly-zone",
+                mission_2(),
+                &collinear,
+                &[(V::DegeneratePolygon, Element::Area(3))],
+            ),
+            Case {
+                gateway: gateway_small_battery,
+                ..case(
+                    "energy budget infeasible",
+                    mission_2(),
+                    &m2,
+                    &[(V::EnergyBudget, Element::Mission)],
+                )
+            },
+            case(
+                "turn too tight",
+                mission(
+                    30.0,
+                    true,
+                    &[
+                        tf(CCP),
+                        tf(W1),
+                        rf(
+                            (48.27854, 11.658809),
+                            (48.278, 11.658809),
+                            TurnDirection::Clockwise,
+                        ),
+                        tf(ROLE2),
+                    ],
+                ),
+                &m2,
+                &[(V::TurnRadius, leg(2, 3))],
+            ),
+            case(
+                "waypoint inside a no-fly-zone",
+                mission_2_with(tf((48.268, 11.675)), tf(ROLE2)),
+                &m2,
+                &[(V::NoFlyZoneWaypoint, Element::Waypoint(2))],
+            ),
+            case(
+                "RF start and end radii differ",
+                mission_2_with(
+                    tf(W1),
+                    rf(ROLE2, (48.27455, 11.67021), TurnDirection::Clockwise),
+                ),
+                &m2,
+                &[(V::RfRadiusMismatch, leg(2, 3))],
+            ),
+            case(
+                "speed above the envelope",
+                mission_2_with(fast_w1, role2_rf),
+                &m2,
+                &[(V::SpeedHigh, Element::Waypoint(2))],
+            ),
+            case(
+                "take-off height too high",
+                mission(150.0, true, &[tf(CCP), tf(W1), role2_rf]),
+                &m2,
+                &[(V::TakeOffHeightHigh, Element::TakeOff)],
+            ),
+            case(
+                "no-fly-zone completely outside the fly-zone",
+                mission_2(),
+                &with_outside_nfz,
+                &[(V::NoFlyZoneOutside, Element::Area(4))],
+            ),
+            case(
+                "waypoint above the fly-zone's upper altitude",
+                mission_1(),
+                &[bounded],
+                &[(V::AreaAltitude, Element::Waypoint(1))],
+            ),
+            Case {
+                gateway: windy,
+                ..case(
+                    "wind over the limit",
+                    mission_2(),
+                    &m2,
+                    &[(V::Wind, Element::Environment)],
+                )
+            },
+            Case {
+                gateway: hot,
+                ..case(
+                    "temperature over the limit",
+                    mission_2(),
+                    &m2,
+                    &[(V::Temperature, Element::Environment)],
+                )
+            },
+            Case {
+                gateway: windy,
+                ..case(
+                    "two defects: speed and wind",
+                    mission_2_with(fast_w1, role2_rf),
+                    &m2,
+                    &[
+                        (V::Wind, Element::Environment),
+                        (V::SpeedHigh, Element::Waypoint(2)),
+                    ],
+                )
+            },
+        ]
+    }
+
+    #[test]
+    fn safety_gateway_table() {
+        let mut failures = Vec::new();
+        for c in cases() {
+            let found: Vec<(ViolationCode, Element)> = match c.gateway.check(&c.mission, &c.areas) {
+                Ok(()) => vec![],
+                Err(report) => {
+                    assert!(!report.violations.is_empty(), "{}", c.name);
+                    report
+                        .violations
+                        .iter()
+                        .map(|v| (v.code, v.element))
+                        .collect()
+                }
+            };
+            let report = c.gateway.violations(&c.mission, &c.areas);
+            println!("{}:", c.name);
+            for v in &report {
+                println!("    {v}");
+            }
+            if found != c.expected {
+                failures.push(format!(
+                    "{}: expected {:?}, found {:?}",
+                    c.name, c.expected, found
+                ));
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    #[test]
+    fn safety_gateway_margins_and_positions() {
+        let g = SafetyGateway::default();
+        // The corner cut: the leg passes the corner (48.266, 11.646) inside by a few tens of
+        // metres plus the offset.
+        let m = mission(
+            30.0,
+            false,
+            &[tf(CCP), tf((48.268, 11.643)), tf((48.263, 11.650))],
+        );
+        let v = g.violations(&m, &area_list(&mission_2_areas()));
+        let [cut] = v.as_slice() else { panic!("{v:?}") };
+        let margin = cut.margin_m.unwrap();
+        assert!(margin < -25.0 && margin > -80.0, "{margin}");
+        let (lat, lon) = cut.position.unwrap();
+        assert!((lat - 48.266).abs() < 0.0005 && (lon - 11.646).abs() < 0.0005);
+        // A circle: the exact depth is radius + offset at the centre.
+        let m = mission_2_with(tf((48.268, 11.675)), tf(ROLE2));
+        let v = g.violations(&m, &area_list(&mission_2_areas()));
+        let radius = Frame::new(48.268, 11.675).xy(48.268, 11.679).x;
+        assert!(
+            (v[0].margin_m.unwrap() + radius + 25.0).abs() < 0.5,
+            "{v:?}"
+        );
+        // The report prints one line per violation.
+        let report = Report { violations: v };
+        assert_eq!(report.to_string().lines().count(), report.violations.len());
+    }
+
+    #[test]
+    fn safety_gateway_energy_estimate_of_mission_2() {
+        let g = SafetyGateway::default();
+        let e = g.estimate_energy(&mission_2(), &area_list(&mission_2_areas()));
+        // 10 s + 30 s of climb at 22 kW, ~3 km at 25 m/s at 8 kW, 60 s of descent at 12 kW.
+        assert!(e.total_wh > 600.0 && e.total_wh < 800.0, "{e:?}");
+        assert_eq!(e.limit_wh, 4200.0);
+        // Headwind on the whole route costs more than calm air.
+        let windy = SafetyGateway::new(
+            AircraftProfile::default(),
+            Environment {
+                wind_speed_mps: 10.0,
+                wind_from_deg: 90.0,
+                temperature_c: 15.0,
+            },
+        );
+        let w = windy.estimate_energy(&mission_2(), &area_list(&mission_2_areas()));
+        assert!(w.cruise_wh > e.cruise_wh, "{w:?} {e:?}");
+    }
+
+    #[test]
+    fn safety_gateway_codes_are_distinct() {
+        use ViolationCode as V;
+        let all = [
+            V::FlyZoneWaypoint,
+            V::FlyZoneLeg,
+            V::FlyZoneTakeOff,
+            V::NoFlyZoneWaypoint,
+            V::NoFlyZoneLeg,
+            V::NoFlyZoneTakeOff,
+            V::SelfIntersection,
+            V::RepeatedVertex,
+            V::DegeneratePolygon,
+            V::CircleRadius,
+            V::FlyZoneCount,
+            V::FlyZoneShape,
+            V::NoFlyZoneOutside,
+            V::AltitudeBounds,
+            V::AreaAltitude,
+            V::RfRadiusMismatch,
+            V::TurnRadius,
+            V::SpeedLow,
+            V::SpeedHigh,
+            V::AltitudeHigh,
+            V::TakeOffHeightLow,
+            V::TakeOffHeightHigh,
+            V::EnergyBudget,
+            V::TrackNotHeld,
+            V::Wind,
+            V::Temperature,
+        ];
+        let codes: std::collections::HashSet<&str> = all.iter().map(|c| c.code()).collect();
+        assert_eq!(codes.len(), all.len());
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Waypoints well inside the fly-zone and far from both no-fly-zones (the box
+        /// 48.270..48.282 N, 11.640..11.660 E: over 400 m from every border) give no violation.
+        #[test]
+        fn safety_gateway_waypoints_well_inside_pass(
+            a in (48.270f64..48.282, 11.640f64..11.660),
+            b in (48.270f64..48.282, 11.640f64..11.660),
+            bidirectional in any::<bool>(),
+        ) {
+            let m = mission(30.0, bidirectional, &[tf(CCP), tf(a), tf(b)]);
+            let v = SafetyGateway::default().violations(&m, &area_list(&mission_2_areas()));
+            prop_assert!(v.is_empty(), "{:?}", v);
+        }
+
+        /// A waypoint at distance d from the circular no-fly-zone's centre violates it exactly
+        /// when d < radius + offset (away from the boundary by more than the sampling).
+        #[test]
+        fn safety_gateway_circle_boundary(bearing in 0.0f64..360.0, d in 150.0f64..500.0) {
+            let frame = Frame::new(48.268, 11.675);
+            let radius = frame.xy(48.268, 11.679).x;
+            prop_assume!((d - radius - 25.0).abs() > 0.1);
+            let t = bearing.to_radians();
+            let at = frame.deg(Coord { x: d * t.sin(), y: d * t.cos() });
+            let m = mission(30.0, false, &[tf(at)]);
+            let areas = area_list(&mission_2_areas());
+            let frame_used = SafetyGateway::frame(&m, &areas);
+            let r_used = Euclidean.distance(
+                &Point::from(frame_used.xy(48.268, 11.675)),
+                &Point::from(frame_used.xy(48.268, 11.679)),
+            );
+            let d_used = Euclidean.distance(
+                &Point::from(frame_used.xy(48.268, 11.675)),
+                &Point::from(frame_used.xy(at.0, at.1)),
+            );
+            let v = SafetyGateway::default().violations(&m, &areas);
+            let inside = v.iter().any(|v| v.code == ViolationCode::NoFlyZoneWaypoint);
+            prop_assert_eq!(inside, d_used < r_used + 25.0, "{:?}", v);
+        }
+    }
+}
