@@ -10,7 +10,7 @@ use std::time::Duration;
 use clap::{Parser, Subcommand};
 use missionlink_interfaces::wire::{
     AreaTransferMode, AreaTransmissionCommand, ExecuteCommand, Message, MissionExecuteCommand,
-    Timestamp,
+    SafetyOffset, Timestamp,
 };
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
 use missionlink_partitions::gcs_link::{GcsLink, describe_from_to_next};
@@ -18,7 +18,9 @@ use missionlink_partitions::inspect::{
     MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
 use missionlink_partitions::mission_file::MissionFile;
-use missionlink_services::gcs::{GcsEvent, MissionPlan, ValidatedPlan, WithoutGateway};
+use missionlink_partitions::{geojson, map, profile, qgc};
+use missionlink_services::gcs::{GcsEvent, MissionPlan, ValidatedPlan};
+use missionlink_services::safety_gateway::{SafetyGateway, Violation};
 
 /// Ground control station of missionlink: STANAG 4586 mission and area transfer.
 #[derive(Debug, Parser)]
@@ -32,19 +34,48 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Check a mission file: assemble the waypoint and area lists and apply the checks of ICD §7
-    /// (and the safety gateway). Exit status 0 only for a valid mission.
+    /// Check a mission file: assemble the waypoint and area lists (ICD §7), then run the safety
+    /// gateway and print every violation. Exit status 0 only for a feasible mission.
     Validate {
-        /// Mission file (TOML, see missions/).
+        /// Mission file: our TOML (.toml) or a QGroundControl plan (.plan).
         file: PathBuf,
+        /// One JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        safety: SafetyArgs,
     },
-    /// Validate, then upload the waypoints, then the areas (paper Figure 11).
+    /// Validate (the safety gateway included), then upload the waypoints, then the areas (paper
+    /// Figure 11). An infeasible mission is refused with the report; nothing is sent.
     Upload {
-        /// Mission file (TOML).
+        /// Mission file (.toml or .plan).
         file: PathBuf,
         /// Edit the active mission: send no clear, only the waypoints of the file change.
         #[arg(long)]
         edit: bool,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Draw the mission as SVG: areas with their safety offsets, waypoints, legs and arcs, the
+    /// take-off, and every violation of the safety gateway in red.
+    Map {
+        /// Mission file (.toml or .plan).
+        file: PathBuf,
+        /// Where to write the SVG.
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Convert a mission between formats, by extension: .toml (ours), .plan (QGroundControl),
+    /// .geojson (the areas only, as output).
+    Convert {
+        /// Mission file to read (.toml or .plan).
+        input: PathBuf,
+        /// File to write (.toml, .plan or .geojson).
+        output: PathBuf,
+        #[command(flatten)]
+        safety: SafetyArgs,
     },
     /// Download the active mission and areas; print them, or write a mission file.
     Download {
@@ -159,16 +190,130 @@ fn encode(json: Vec<String>, out: &mut impl Write) -> io::Result<bool> {
     Ok(all_ok)
 }
 
-type Link = GcsLink<WithoutGateway>;
+type Link = GcsLink<SafetyGateway>;
 
-fn open(config: &Config) -> Result<Link, String> {
-    GcsLink::open(config, WithoutGateway).map_err(|e| e.to_string())
+fn open(config: &Config, gateway: SafetyGateway) -> Result<Link, String> {
+    GcsLink::open(config, gateway).map_err(|e| e.to_string())
 }
 
-fn read_plan(file: &Path) -> Result<MissionPlan, String> {
-    MissionFile::read(file)
-        .and_then(|f| f.to_plan())
-        .map_err(|e| format!("{}: {e}", file.display()))
+/// The safety gateway's inputs (paper §2.2) and the sources of areas.
+#[derive(Debug, Clone, Default, clap::Args)]
+struct SafetyArgs {
+    /// Aircraft profile (TOML; default: the demo eVTOL, see partitions/src/profile.rs).
+    #[arg(long, value_name = "FILE")]
+    profile: Option<PathBuf>,
+    /// Environment (TOML: wind_speed_mps, wind_from_deg, temperature_c; default calm, 15 C).
+    #[arg(long, value_name = "FILE")]
+    environment: Option<PathBuf>,
+    /// Wind speed in m/s (overrides the environment file).
+    #[arg(long, value_name = "M/S")]
+    wind_mps: Option<f64>,
+    /// Direction the wind blows from, degrees (overrides the environment file).
+    #[arg(long, value_name = "DEG")]
+    wind_from_deg: Option<f64>,
+    /// Outside air temperature in C (overrides the environment file).
+    #[arg(long, value_name = "C")]
+    temperature_c: Option<f64>,
+    /// Take the areas from this GeoJSON file instead of the mission file.
+    #[arg(long, value_name = "FILE")]
+    areas: Option<PathBuf>,
+    /// Safety offset in metres for areas from a .plan or GeoJSON file (they carry none).
+    #[arg(long, value_name = "M")]
+    safety_offset_m: Option<f64>,
+}
+
+impl SafetyArgs {
+    fn gateway(&self) -> Result<SafetyGateway, String> {
+        let profile = profile::aircraft(self.profile.as_deref())?;
+        let mut environment = profile::environment(self.environment.as_deref())?;
+        if let Some(v) = self.wind_mps {
+            environment.wind_speed_mps = v;
+        }
+        if let Some(v) = self.wind_from_deg {
+            environment.wind_from_deg = v;
+        }
+        if let Some(v) = self.temperature_c {
+            environment.temperature_c = v;
+        }
+        Ok(SafetyGateway::new(profile, environment))
+    }
+}
+
+fn note(file: &Path, n: &impl std::fmt::Display) {
+    eprintln!("{}: note: {n}", file.display());
+}
+
+/// Reads a mission by its extension, with the areas of `--areas` if given. Items a .plan holds
+/// that this system does not fly are printed as notes, each with its index.
+fn read_plan(file: &Path, safety: &SafetyArgs) -> Result<MissionPlan, String> {
+    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", file.display());
+    let mut plan = match file.extension().and_then(|e| e.to_str()) {
+        Some("plan") => {
+            let text = std::fs::read_to_string(file).map_err(|e| at(&e))?;
+            let options = qgc::ImportOptions {
+                safety_offset_m: safety.safety_offset_m.unwrap_or(0.0),
+                ..Default::default()
+            };
+            let import = qgc::import_plan(&text, &options).map_err(|e| at(&e))?;
+            for n in &import.notes {
+                note(file, n);
+            }
+            import.plan
+        }
+        Some("toml") => MissionFile::read(file)
+            .and_then(|f| f.to_plan())
+            .map_err(|e| at(&e))?,
+        _ => {
+            return Err(at(
+                &"a mission file is .toml (missionlink) or .plan (QGroundControl)",
+            ));
+        }
+    };
+    if let Some(areas) = &safety.areas {
+        let text =
+            std::fs::read_to_string(areas).map_err(|e| format!("{}: {e}", areas.display()))?;
+        let (buffer, notes) =
+            geojson::import_areas(&text).map_err(|e| format!("{}: {e}", areas.display()))?;
+        for n in &notes {
+            note(areas, n);
+        }
+        plan.areas = buffer;
+    }
+    if let Some(m) = safety.safety_offset_m {
+        plan.safety_offset = SafetyOffset::from_metres(m).map_err(|e| e.to_string())?;
+    }
+    Ok(plan)
+}
+
+/// The lists of ICD §7, assembled with the FCC's own code.
+fn assemble(plan: &MissionPlan, file: &Path) -> Result<ValidatedPlan, String> {
+    let n = u16::try_from(plan.mission.len()).map_err(|_| "too many waypoints".to_owned())?;
+    let mission = plan
+        .mission
+        .assemble(Some(n), plan.mission_id)
+        .map_err(|r| {
+            format!(
+                "{}: the waypoint list is invalid (ICD §7): {r}",
+                file.display()
+            )
+        })?;
+    let areas = plan
+        .areas
+        .assemble(plan.areas.len() as u8, plan.safety_offset)
+        .map_err(|r| format!("{}: the area list is invalid (ICD §7): {r}", file.display()))?;
+    Ok(ValidatedPlan { mission, areas })
+}
+
+fn violation_json(v: &Violation) -> serde_json::Value {
+    serde_json::json!({
+        "code": v.code.code(),
+        "element": v.element.to_string(),
+        "detail": v.detail,
+        "margin_m": v.margin_m,
+        "value": v.value,
+        "limit": v.limit,
+        "position": v.position.map(|(lat, lon)| [lat, lon]),
+    })
 }
 
 /// Runs the link until the request ends; prints progress on a terminal.
@@ -212,40 +357,128 @@ fn summary(plan: &ValidatedPlan) -> String {
 
 fn mission_command(config: &Config, command: Command) -> Result<(), String> {
     match command {
-        Command::Validate { file } => {
-            let plan = read_plan(&file)?;
-            let gcs = missionlink_services::gcs::GroundStation::new(
-                missionlink_services::gcs::GcsConfig {
-                    endpoint: missionlink_services::endpoint::EndpointConfig {
-                        local_id: config.ids.gcs,
-                        peer_id: config.ids.fcc,
-                        utc_at_zero: Default::default(),
-                        sampling_window: config.timing.transfer_timeout(),
-                    },
-                    ack_timeout: config.timing.ack_timeout(),
-                    transfer_timeout: config.timing.transfer_timeout(),
-                },
-                WithoutGateway,
-            );
-            let valid = gcs
-                .validate(&plan)
-                .map_err(|e| format!("{}: {e}", file.display()))?;
-            println!("{}: valid. {}", file.display(), summary(&valid));
-            Ok(())
+        Command::Validate { file, json, safety } => {
+            let gateway = safety.gateway()?;
+            let plan = read_plan(&file, &safety)?;
+            let valid = match assemble(&plan, &file) {
+                Ok(v) => v,
+                Err(e) if json => {
+                    println!(
+                        "{}",
+                        serde_json::json!({ "file": file, "feasible": false, "error": e })
+                    );
+                    return Err(e);
+                }
+                Err(e) => return Err(e),
+            };
+            let violations = gateway.violations(&valid.mission, &valid.areas);
+            let energy = gateway.estimate_energy(&valid.mission, &valid.areas);
+            if json {
+                println!(
+                    "{}",
+                    serde_json::json!({
+                        "file": file,
+                        "feasible": violations.is_empty(),
+                        "summary": summary(&valid),
+                        "energy_wh": { "total": energy.total_wh, "limit": energy.limit_wh },
+                        "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
+                    })
+                );
+            } else {
+                println!("{}: {}", file.display(), summary(&valid));
+                println!(
+                    "  energy: {:.0} Wh needed of {:.0} Wh usable after the reserve",
+                    energy.total_wh, energy.limit_wh
+                );
+                for v in &violations {
+                    println!("  {v}");
+                }
+            }
+            if violations.is_empty() {
+                if !json {
+                    println!("  feasible: every check of the safety gateway passes");
+                }
+                Ok(())
+            } else {
+                Err(format!(
+                    "{}: infeasible: {} violation{}",
+                    file.display(),
+                    violations.len(),
+                    if violations.len() == 1 { "" } else { "s" }
+                ))
+            }
         }
-        Command::Upload { file, edit } => {
-            let plan = read_plan(&file)?;
-            let mut link = open(config)?;
+        Command::Upload { file, edit, safety } => {
+            let plan = read_plan(&file, &safety)?;
+            let mut link = open(config, safety.gateway()?)?;
             let now = link.now();
             link.station()
                 .upload(now, &plan, !edit)
-                .map_err(|e| format!("{}: {e}", file.display()))?;
+                .map_err(|e| format!("{}: {e}; nothing was sent", file.display()))?;
             finish(&mut link)?;
             println!("upload complete: waypoints and areas are active on the FCC");
             Ok(())
         }
+        Command::Map {
+            file,
+            output,
+            safety,
+        } => {
+            let gateway = safety.gateway()?;
+            let plan = read_plan(&file, &safety)?;
+            let valid = assemble(&plan, &file)?;
+            let markers: Vec<map::Marker> = gateway
+                .violations(&valid.mission, &valid.areas)
+                .iter()
+                .map(|v| map::Marker {
+                    code: v.code.code().to_owned(),
+                    label: v.to_string(),
+                    position: v.position,
+                })
+                .collect();
+            let title = file
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            std::fs::write(&output, map::render(&valid, &markers, &title))
+                .map_err(|e| format!("{}: {e}", output.display()))?;
+            println!(
+                "{} written: {} violation{} marked",
+                output.display(),
+                markers.len(),
+                if markers.len() == 1 { "" } else { "s" }
+            );
+            Ok(())
+        }
+        Command::Convert {
+            input,
+            output,
+            safety,
+        } => {
+            let plan = read_plan(&input, &safety)?;
+            let valid = assemble(&plan, &input)?;
+            let text = match output.extension().and_then(|e| e.to_str()) {
+                Some("toml") => MissionFile::from_plan(&valid).to_toml(),
+                Some("plan") => {
+                    let (text, notes) = qgc::export_plan(&valid, &qgc::ExportOptions::default());
+                    for n in &notes {
+                        note(&output, n);
+                    }
+                    text
+                }
+                Some("geojson" | "json") => geojson::export_areas(&valid.areas),
+                _ => {
+                    return Err(format!(
+                        "{}: write .toml, .plan or .geojson",
+                        output.display()
+                    ));
+                }
+            };
+            std::fs::write(&output, text).map_err(|e| format!("{}: {e}", output.display()))?;
+            println!("{} written", output.display());
+            Ok(())
+        }
         Command::Download { output } => {
-            let mut link = open(config)?;
+            let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
             link.station().download(now).map_err(|e| e.to_string())?;
             let plan = finish(&mut link)?.ok_or("the download ended without lists")?;
@@ -258,7 +491,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             Ok(())
         }
         Command::Clear => {
-            let mut link = open(config)?;
+            let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
             link.station()
                 .clear_mission(now)
@@ -288,7 +521,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
                 }
                 .into(),
             };
-            let mut link = open(config)?;
+            let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
             link.station()
                 .command(now, message)
@@ -298,7 +531,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             Ok(())
         }
         Command::Monitor { seconds } => {
-            let mut link = open(config)?;
+            let mut link = open(config, SafetyGateway::default())?;
             let limit = seconds.map_or(Duration::MAX, Duration::from_secs);
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
             for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
