@@ -2,7 +2,7 @@
 //!
 //! It starts the FCC (the `fcc` launcher and its four partitions, separate processes sharing
 //! iceoryx2 services under a fresh prefix, on free UDP ports), then acts as the GCS: validates
-//! and uploads mission 1 (TROL to CCP) with its fly-zone and prints the message sequence as the
+//! (ICD §7 and the safety gateway with the demo eVTOL's profile) and uploads mission 1 (TROL to CCP) with its fly-zone and prints the message sequence as the
 //! paper's Figure 15 does; executes it (time-scaled) and prints each FROM-TO-NEXT change; uploads
 //! the richer mission 2 (radius-to-fix leg, circle and polygon no-fly-zones, bidirectional route)
 //! once the aircraft has landed, flies it; downloads mission and areas and shows that they equal
@@ -24,7 +24,8 @@ use missionlink_partitions::config::Config;
 use missionlink_partitions::gcs_link::{Direction, GcsLink, Logged, describe_from_to_next};
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::mission_file::MissionFile;
-use missionlink_services::gcs::{GcsError, GcsEvent, MissionPlan, ValidatedPlan, WithoutGateway};
+use missionlink_services::gcs::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
+use missionlink_services::safety_gateway::{Report, SafetyGateway};
 use missionlink_services::retry::AttemptFailure;
 
 const MISSION_1: &str = include_str!("../../../missions/mission-1.toml");
@@ -42,7 +43,7 @@ struct Args {
     bin_dir: Option<PathBuf>,
 }
 
-type Link = GcsLink<WithoutGateway>;
+type Link = GcsLink<SafetyGateway>;
 
 /// Free UDP ports on loopback, so the demo never meets another FCC.
 fn free_ports() -> Result<[SocketAddr; 4], String> {
@@ -135,7 +136,7 @@ fn plan(text: &str, name: &str) -> Result<MissionPlan, String> {
 }
 
 /// Runs the link until the request in progress ends; prints FROM-TO-NEXT changes meanwhile.
-fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<core::convert::Infallible>> {
+fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<Report>> {
     link.finish(|event| {
         if let GcsEvent::FromToNext(f) = event {
             println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
@@ -279,7 +280,7 @@ fn run(args: &Args) -> Result<(), String> {
         config.ipc.service_prefix, args.time_scale
     );
     let mut fcc = Fcc::start(&bin_dir, &config_file)?;
-    let mut link = GcsLink::open(&config, WithoutGateway).map_err(|e| e.to_string())?;
+    let mut link = GcsLink::open(&config, SafetyGateway::default()).map_err(|e| e.to_string())?;
     link.enable_log();
     // Let the partitions open their services; the GCS's retry would cover a slow start too.
     std::thread::sleep(Duration::from_millis(500));
@@ -293,7 +294,7 @@ fn run(args: &Args) -> Result<(), String> {
         .validate(&mission_1)
         .map_err(|e| e.to_string())?;
     println!(
-        "  valid: {} waypoint, {} area",
+        "  valid (ICD §7 and the safety gateway: geography, geometry, route, energy): {} waypoint, {} area",
         valid_1.mission.waypoints.len(),
         valid_1.areas.areas.len()
     );
