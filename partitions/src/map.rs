@@ -32,7 +32,7 @@
 //! initial waypoint "take-off" with that height. The leg type of the initial waypoint (the leg
 //! that would end there) is not drawn: no leg leads to it.
 
-use std::f64::consts::TAU;
+use missionlink_services::local_frame::{Coord, LocalFrame, arc};
 use std::fmt::Write as _;
 
 use missionlink_interfaces::wire::{
@@ -53,9 +53,9 @@ pub struct Marker {
     pub position: Option<(f64, f64)>,
 }
 
-/// Mean Earth radius (IUGG), metres.
-const EARTH_RADIUS_M: f64 = 6_371_008.8;
-
+/// Largest distance of an arc's chords from the arc as drawn (a quarter metre is far below a
+/// pixel at map scales).
+const ARC_SAG_DRAWN_M: f64 = 0.25;
 const WIDTH: f64 = 1000.0;
 const HEIGHT: f64 = 800.0;
 /// The map frame: left, top, right, bottom.
@@ -101,34 +101,24 @@ fn unit(a: P) -> Option<P> {
     (l > 1e-9).then(|| mul(a, 1.0 / l))
 }
 
-/// The local equirectangular projection about (`lat0`, `lon0`).
+/// The gateway's local frame (`services::local_frame`), with the map's point type.
 #[derive(Debug, Clone, Copy)]
-struct Projection {
-    lat0: f64,
-    lon0: f64,
-    cos0: f64,
-}
+struct Projection(LocalFrame);
 
 impl Projection {
     fn new(lat0: f64, lon0: f64) -> Self {
-        Self {
-            lat0,
-            lon0,
-            cos0: lat0.to_radians().cos(),
-        }
+        Self(LocalFrame::new(lat0, lon0))
     }
 
     /// Metres east and north of the centre.
     fn local(&self, lat: f64, lon: f64) -> P {
-        let dlon = (lon - self.lon0 + 180.0).rem_euclid(360.0) - 180.0;
-        (
-            EARTH_RADIUS_M * dlon.to_radians() * self.cos0,
-            EARTH_RADIUS_M * (lat - self.lat0).to_radians(),
-        )
+        let c = self.0.xy(lat, lon);
+        (c.x, c.y)
     }
 
     fn point(&self, p: &GeoPoint) -> P {
-        self.local(p.latitude.degrees(), p.longitude.degrees())
+        let c = self.0.point(p);
+        (c.x, c.y)
     }
 }
 
@@ -274,29 +264,14 @@ fn bounds(points: impl IntoIterator<Item = P>) -> Option<(P, P)> {
         })
 }
 
-/// The radius-to-fix arc from `start` to `end` around `centre` in `direction`, sampled every
-/// 2.5 degrees or finer; the first and last points are exactly `start` and `end`.
+/// The radius-to-fix arc as drawn: the gateway's arc (`services::local_frame::arc`), with
+/// chords within [`ARC_SAG_DRAWN_M`], in the map's point type.
 fn arc_points(centre: P, start: P, end: P, direction: TurnDirection) -> Vec<P> {
-    let (s, e) = (sub(start, centre), sub(end, centre));
-    let (a0, a1) = (s.1.atan2(s.0), e.1.atan2(e.0));
-    let (r0, r1) = (len(s), len(e));
-    // Angles counter-clockwise from east; a clockwise turn decreases the angle.
-    let sign = match direction {
-        TurnDirection::Clockwise => -1.0,
-        TurnDirection::CounterClockwise => 1.0,
-    };
-    let sweep = (sign * (a1 - a0)).rem_euclid(TAU);
-    let steps = ((sweep / TAU * 144.0).ceil() as usize).max(8);
-    let mut out = Vec::with_capacity(steps + 1);
-    out.push(start);
-    for k in 1..steps {
-        let t = k as f64 / steps as f64;
-        let a = a0 + sign * sweep * t;
-        let r = r0 + (r1 - r0) * t;
-        out.push(add(centre, (r * a.cos(), r * a.sin())));
-    }
-    out.push(end);
-    out
+    let c = |p: P| Coord { x: p.0, y: p.1 };
+    arc(c(start), c(end), c(centre), direction, ARC_SAG_DRAWN_M)
+        .into_iter()
+        .map(|p| (p.x, p.y))
+        .collect()
 }
 
 /// XML-escapes text for element content and attribute values.
@@ -1044,7 +1019,11 @@ fn legend(svg: &mut String, proj: &Projection) {
     y += 30.0;
     for line in [
         "Local equirectangular projection".to_owned(),
-        format!("about {:.5}°, {:.5}°,", proj.lat0, proj.lon0),
+        format!(
+            "about {:.5}°, {:.5}°,",
+            proj.0.origin().0,
+            proj.0.origin().1
+        ),
         "north up".to_owned(),
         "Dashed offsets: miter approximation".to_owned(),
     ] {

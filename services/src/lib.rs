@@ -20,6 +20,7 @@ pub mod fcc;
 pub mod from_to_next;
 pub mod gcs;
 pub mod guidance;
+pub mod local_frame;
 pub mod mission;
 pub mod receiver;
 pub mod retry;

@@ -93,6 +93,7 @@
 //!   the waypoint, inside the corner; the safety offset is meant to cover it.
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
+use crate::local_frame::{LocalFrame, arc};
 use core::fmt;
 
 use geo::{
@@ -109,9 +110,7 @@ use crate::mission::{Mission, WaypointRecord};
 /// Standard gravity, m/s².
 const GRAVITY_MPS2: f64 = 9.806_65;
 /// WGS-84 semi-major axis, m.
-const WGS84_A_M: f64 = 6_378_137.0;
 /// WGS-84 first eccentricity squared.
-const WGS84_E2: f64 = 0.006_694_379_990_14;
 
 /// Largest distance between a radius-to-fix arc and its chords, metres.
 pub const ARC_SAG_M: f64 = 0.01;
@@ -127,7 +126,6 @@ pub const MIN_CIRCLE_RADIUS_M: f64 = 1.0;
 /// Smallest polygon area accepted (below: collinear or degenerate), square metres.
 pub const MIN_POLYGON_AREA_M2: f64 = 1.0;
 /// Most samples on one arc.
-const MAX_ARC_SAMPLES: usize = 100_000;
 
 /// The aircraft's limits and its power model.
 ///
@@ -493,54 +491,6 @@ impl crate::gcs::SafetyGateway for SafetyGateway {
 // ---------------------------------------------------------------------------------------------
 // The local frame.
 
-/// Equirectangular projection about a reference point, WGS-84 radii of curvature there.
-#[derive(Debug, Clone, Copy)]
-struct Frame {
-    lat0: f64,
-    lon0: f64,
-    m_per_deg_lat: f64,
-    m_per_deg_lon: f64,
-}
-
-impl Frame {
-    fn new(lat0: f64, lon0: f64) -> Self {
-        let phi = lat0.to_radians();
-        let w = (1.0 - WGS84_E2 * phi.sin().powi(2)).sqrt();
-        let meridional = WGS84_A_M * (1.0 - WGS84_E2) / (w * w * w);
-        let prime_vertical = WGS84_A_M / w;
-        Self {
-            lat0,
-            lon0,
-            m_per_deg_lat: meridional.to_radians(),
-            m_per_deg_lon: (prime_vertical * phi.cos()).to_radians(),
-        }
-    }
-
-    fn xy(&self, lat: f64, lon: f64) -> Coord {
-        let mut dlon = lon - self.lon0;
-        if dlon > 180.0 {
-            dlon -= 360.0;
-        } else if dlon < -180.0 {
-            dlon += 360.0;
-        }
-        Coord {
-            x: dlon * self.m_per_deg_lon,
-            y: (lat - self.lat0) * self.m_per_deg_lat,
-        }
-    }
-
-    fn point(&self, p: &GeoPoint) -> Coord {
-        self.xy(p.latitude.degrees(), p.longitude.degrees())
-    }
-
-    fn deg(&self, c: Coord) -> (f64, f64) {
-        (
-            self.lat0 + c.y / self.m_per_deg_lat,
-            self.lon0 + c.x / self.m_per_deg_lon,
-        )
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 // Areas in the frame.
 
@@ -678,43 +628,6 @@ struct Leg {
     climb_m: f64,
 }
 
-/// The arc from `start` to `end` around `centre` in `direction`, the radius going linearly from
-/// the start radius to the end radius, chords within [`ARC_SAG_M`].
-fn arc(start: Coord, end: Coord, centre: Coord, direction: TurnDirection) -> Vec<Coord> {
-    let (s, e) = (start - centre, end - centre);
-    let (rs, re) = (s.x.hypot(s.y), e.x.hypot(e.y));
-    let (ts, te) = (s.y.atan2(s.x), e.y.atan2(e.x));
-    let tau = core::f64::consts::TAU;
-    // Swept angle in the turn direction, in [0, 2π); angles grow counter-clockwise.
-    let sweep = match direction {
-        TurnDirection::Clockwise => (ts - te).rem_euclid(tau),
-        TurnDirection::CounterClockwise => (te - ts).rem_euclid(tau),
-    };
-    let r = rs.max(re);
-    if r < ARC_SAG_M || sweep <= 0.0 {
-        return vec![start, end];
-    }
-    let step = 2.0 * (1.0 - ARC_SAG_M / r).clamp(-1.0, 1.0).acos();
-    let n = ((sweep / step).ceil() as usize).clamp(1, MAX_ARC_SAMPLES);
-    let sign = match direction {
-        TurnDirection::Clockwise => -1.0,
-        TurnDirection::CounterClockwise => 1.0,
-    };
-    let mut points = Vec::with_capacity(n + 1);
-    points.push(start);
-    for i in 1..n {
-        let t = i as f64 / n as f64;
-        let theta = ts + sign * sweep * t;
-        let radius = rs + (re - rs) * t;
-        points.push(Coord {
-            x: centre.x + radius * theta.cos(),
-            y: centre.y + radius * theta.sin(),
-        });
-    }
-    points.push(end);
-    points
-}
-
 fn rf_centre(record: &WaypointRecord) -> Option<(GeoPoint, TurnDirection)> {
     match record.rf_centre.map(|c| c.data) {
         Some(SpecificData::RfCentre {
@@ -759,7 +672,7 @@ fn flip(direction: TurnDirection) -> TurnDirection {
 // The checks.
 
 struct Collector<'a> {
-    frame: &'a Frame,
+    frame: &'a LocalFrame,
     out: Vec<Violation>,
 }
 
@@ -800,7 +713,7 @@ impl SafetyGateway {
         }
     }
 
-    fn frame(mission: &Mission, areas: &AreaList) -> Frame {
+    fn frame(mission: &Mission, areas: &AreaList) -> LocalFrame {
         let bbox = areas.fly_zone().and_then(|fz| match &fz.shape {
             AreaShape::Polygon(v) => LineString::from(
                 v.iter()
@@ -813,17 +726,17 @@ impl SafetyGateway {
         match (bbox, mission.waypoints.first()) {
             (Some(r), _) => {
                 let c = r.center();
-                Frame::new(c.y, c.x)
+                LocalFrame::new(c.y, c.x)
             }
-            (None, Some(w)) => Frame::new(
+            (None, Some(w)) => LocalFrame::new(
                 w.waypoint.latitude.degrees(),
                 w.waypoint.longitude.degrees(),
             ),
-            (None, None) => Frame::new(0.0, 0.0),
+            (None, None) => LocalFrame::new(0.0, 0.0),
         }
     }
 
-    fn legs(&self, mission: &Mission, frame: &Frame) -> Vec<Leg> {
+    fn legs(&self, mission: &Mission, frame: &LocalFrame) -> Vec<Leg> {
         let bidirectional = mission.route.bidirectional;
         let mut legs = Vec::new();
         let mut previous: Option<(u16, Option<usize>, Coord, f64)> =
@@ -846,8 +759,8 @@ impl SafetyGateway {
                     Some((c, dir)) => {
                         let c = frame.point(&c);
                         (
-                            arc(start, here, c, dir),
-                            bidirectional.then(|| arc(here, start, c, flip(dir))),
+                            arc(start, here, c, dir, ARC_SAG_M),
+                            bidirectional.then(|| arc(here, start, c, flip(dir), ARC_SAG_M)),
                         )
                     }
                     None => (vec![start, here], bidirectional.then(|| vec![here, start])),
@@ -868,7 +781,7 @@ impl SafetyGateway {
         legs
     }
 
-    fn zones(&self, areas: &AreaList, frame: &Frame, c: &mut Collector<'_>) -> Vec<Zone> {
+    fn zones(&self, areas: &AreaList, frame: &LocalFrame, c: &mut Collector<'_>) -> Vec<Zone> {
         let mut zones = Vec::new();
         let fly_zones: Vec<&AreaPolygonLoopSegment> = areas
             .areas
@@ -1947,7 +1860,7 @@ mod tests {
         // A circle: the exact depth is radius + offset at the centre.
         let m = mission_2_with(tf((48.268, 11.675)), tf(ROLE2));
         let v = g.violations(&m, &area_list(&mission_2_areas()));
-        let radius = Frame::new(48.268, 11.675).xy(48.268, 11.679).x;
+        let radius = LocalFrame::new(48.268, 11.675).xy(48.268, 11.679).x;
         assert!(
             (v[0].margin_m.unwrap() + radius + 25.0).abs() < 0.5,
             "{v:?}"
@@ -2032,7 +1945,7 @@ mod tests {
         /// when d < radius + offset (away from the boundary by more than the sampling).
         #[test]
         fn safety_gateway_circle_boundary(bearing in 0.0f64..360.0, d in 150.0f64..500.0) {
-            let frame = Frame::new(48.268, 11.675);
+            let frame = LocalFrame::new(48.268, 11.675);
             let radius = frame.xy(48.268, 11.679).x;
             prop_assume!((d - radius - 25.0).abs() > 0.1);
             let t = bearing.to_radians();
