@@ -109,8 +109,6 @@ use crate::mission::{Mission, WaypointRecord};
 
 /// Standard gravity, m/s².
 const GRAVITY_MPS2: f64 = 9.806_65;
-/// WGS-84 semi-major axis, m.
-/// WGS-84 first eccentricity squared.
 
 /// Largest distance between a radius-to-fix arc and its chords, metres.
 pub const ARC_SAG_M: f64 = 0.01;
@@ -125,7 +123,6 @@ pub const SUBSUMED_M: f64 = 1.0;
 pub const MIN_CIRCLE_RADIUS_M: f64 = 1.0;
 /// Smallest polygon area accepted (below: collinear or degenerate), square metres.
 pub const MIN_POLYGON_AREA_M2: f64 = 1.0;
-/// Most samples on one arc.
 
 /// The aircraft's limits and its power model.
 ///

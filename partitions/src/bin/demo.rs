@@ -25,8 +25,8 @@ use missionlink_partitions::gcs_link::{Direction, GcsLink, Logged, describe_from
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::mission_file::MissionFile;
 use missionlink_services::gcs::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
-use missionlink_services::safety_gateway::{Report, SafetyGateway};
 use missionlink_services::retry::AttemptFailure;
+use missionlink_services::safety_gateway::{Report, SafetyGateway};
 
 const MISSION_1: &str = include_str!("../../../missions/mission-1.toml");
 const MISSION_2: &str = include_str!("../../../missions/mission-2.toml");
