@@ -61,6 +61,44 @@ pub struct MissionPlan {
     pub mission_id: Option<Text<20>>,
 }
 
+/// Why a plan does not assemble into the lists of ICD §7.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InvalidPlan {
+    /// The waypoint list, with the reason.
+    Mission(Reason),
+    /// The area list, with the reason.
+    Areas(Reason),
+}
+
+impl fmt::Display for InvalidPlan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Mission(r) => write!(f, "the waypoint list is invalid (ICD §7): {r}"),
+            Self::Areas(r) => write!(f, "the area list is invalid (ICD §7): {r}"),
+        }
+    }
+}
+
+impl std::error::Error for InvalidPlan {}
+
+impl MissionPlan {
+    /// The first step of a validation request: both lists assembled with the FCC's own
+    /// assembly (ICD §7), the plan's counts as the announced counts.
+    pub fn assemble(&self) -> Result<ValidatedPlan, InvalidPlan> {
+        let announced = u16::try_from(self.mission.len())
+            .map_err(|_| InvalidPlan::Mission(Reason::Capacity))?;
+        let mission = self
+            .mission
+            .assemble(Some(announced), self.mission_id)
+            .map_err(InvalidPlan::Mission)?;
+        let areas = self
+            .areas
+            .assemble(self.areas.len() as u8, self.safety_offset)
+            .map_err(InvalidPlan::Areas)?;
+        Ok(ValidatedPlan { mission, areas })
+    }
+}
+
 /// The lists a validation request produced.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ValidatedPlan {
@@ -252,20 +290,14 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// The validation request: assembles both lists with the FCC's assembly (ICD §7) and runs
     /// the safety gateway.
     pub fn validate(&self, plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<G::Report>> {
-        let announced = u16::try_from(plan.mission.len())
-            .map_err(|_| GcsError::InvalidMission(Reason::Capacity))?;
-        let mission = plan
-            .mission
-            .assemble(Some(announced), plan.mission_id)
-            .map_err(GcsError::InvalidMission)?;
-        let areas = plan
-            .areas
-            .assemble(plan.areas.len() as u8, plan.safety_offset)
-            .map_err(GcsError::InvalidAreas)?;
+        let valid = plan.assemble().map_err(|e| match e {
+            InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
+            InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
+        })?;
         self.gateway
-            .check(&mission, &areas)
+            .check(&valid.mission, &valid.areas)
             .map_err(GcsError::Gateway)?;
-        Ok(ValidatedPlan { mission, areas })
+        Ok(valid)
     }
 
     /// The upload request: validation first, then the waypoints (after a clear when `clear`,

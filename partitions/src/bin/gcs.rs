@@ -287,21 +287,8 @@ fn read_plan(file: &Path, safety: &SafetyArgs) -> Result<MissionPlan, String> {
 
 /// The lists of ICD §7, assembled with the FCC's own code.
 fn assemble(plan: &MissionPlan, file: &Path) -> Result<ValidatedPlan, String> {
-    let n = u16::try_from(plan.mission.len()).map_err(|_| "too many waypoints".to_owned())?;
-    let mission = plan
-        .mission
-        .assemble(Some(n), plan.mission_id)
-        .map_err(|r| {
-            format!(
-                "{}: the waypoint list is invalid (ICD §7): {r}",
-                file.display()
-            )
-        })?;
-    let areas = plan
-        .areas
-        .assemble(plan.areas.len() as u8, plan.safety_offset)
-        .map_err(|r| format!("{}: the area list is invalid (ICD §7): {r}", file.display()))?;
-    Ok(ValidatedPlan { mission, areas })
+    plan.assemble()
+        .map_err(|e| format!("{}: {e}", file.display()))
 }
 
 fn violation_json(v: &Violation) -> serde_json::Value {
