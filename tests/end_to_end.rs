@@ -245,3 +245,33 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
     assert_eq!(vm.counters["checksum_mismatch"], 2, "{:?}", vm.counters);
     assert_eq!(vm.counters["rejected_frames"], 4, "{:?}", vm.counters);
 }
+
+#[test]
+fn partitions_stop_when_the_launcher_is_killed() {
+    let (_config, dir) = unique_config("orphans");
+    let mut fcc = Process::start(&dir, "fcc");
+    wait_for_log(&fcc, "guidance-stub up", Duration::from_secs(20));
+    let pids: Vec<i32> = fcc
+        .log_text()
+        .lines()
+        .filter(|l| l.contains(" started ") || l.contains("started partition"))
+        .filter_map(|l| l.split("pid=").nth(1))
+        .filter_map(|p| p.trim().parse().ok())
+        .collect();
+    assert_eq!(pids.len(), 4, "{}", fcc.log_text());
+    fcc.child.kill().unwrap();
+    fcc.child.wait().unwrap();
+    // Gone, or a zombie waiting for init to reap it: either way no longer running.
+    let running = |pid: &i32| {
+        std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| {
+            s.rsplit(')')
+                .next()
+                .is_some_and(|rest| !rest.trim_start().starts_with('Z'))
+        })
+    };
+    let left = eventually(Duration::from_secs(5), || {
+        (!pids.iter().any(running)).then_some(())
+    });
+    assert!(left.is_some(), "partitions outlived the launcher: {pids:?}");
+    assert!(fcc.log_text().contains("the launcher is gone: stopping"));
+}

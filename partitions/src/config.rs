@@ -370,6 +370,10 @@ pub struct ConfigArgs {
     /// Directory for the latency summaries written at shutdown.
     #[arg(long, value_name = "DIR")]
     pub summary_dir: Option<PathBuf>,
+    /// End when the parent process ends (the launcher passes it, so that its partitions do not
+    /// outlive it even after a `kill -9` of the launcher).
+    #[arg(long, hide = true)]
+    pub exit_with_parent: bool,
 }
 
 impl ConfigArgs {
@@ -418,7 +422,11 @@ impl ConfigArgs {
     /// The flags that reproduce `config` for a child process (the launcher passes its resolved
     /// configuration on this way, as one file).
     pub fn for_file(path: &Path) -> Vec<String> {
-        vec!["--config".to_owned(), path.display().to_string()]
+        vec![
+            "--config".to_owned(),
+            path.display().to_string(),
+            "--exit-with-parent".to_owned(),
+        ]
     }
 }
 

@@ -100,6 +100,9 @@ pub fn partition_main(
 ) -> std::process::ExitCode {
     crate::init_logging();
     crate::ipc::quiet_iceoryx2_log();
+    if args.exit_with_parent {
+        watch_parent(name);
+    }
     let config = match args.resolve() {
         Ok(c) => c,
         Err(e) => {
@@ -113,5 +116,31 @@ pub fn partition_main(
             tracing::error!(%e, "{name} failed");
             std::process::ExitCode::FAILURE
         }
+    }
+}
+
+/// Sends this process SIGTERM once its parent is gone (the process is re-parented and its parent
+/// ID changes), so it stops through its normal shutdown path: a safe stand-in for
+/// PR_SET_PDEATHSIG, which would need unsafe code in the launcher.
+fn watch_parent(name: &str) {
+    let parent = rustix::process::getppid();
+    let name = name.to_owned();
+    let spawned = std::thread::Builder::new()
+        .name("watch-parent".to_owned())
+        .spawn(move || {
+            loop {
+                std::thread::sleep(Duration::from_millis(100));
+                if rustix::process::getppid() != parent {
+                    tracing::warn!(partition = %name, "the launcher is gone: stopping");
+                    let _ = rustix::process::kill_process(
+                        rustix::process::getpid(),
+                        rustix::process::Signal::TERM,
+                    );
+                    return;
+                }
+            }
+        });
+    if let Err(e) = spawned {
+        tracing::warn!(%e, "cannot watch the parent process");
     }
 }
