@@ -27,13 +27,13 @@ use missionlink_interfaces::wire::{
     LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset, SpecificData, Timestamp,
     UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_services::areas::AreaBuffer;
-use missionlink_services::endpoint::{EndpointConfig, OUTBOX_CAPACITY};
-use missionlink_services::fcc::{FccConfig, MissionDataHandling};
-use missionlink_services::mission::MissionBuffer;
-use missionlink_services::sampling::{MessageSampler, Sample};
-use missionlink_services::sender::mission_command;
-use missionlink_services::time::Instant;
+use missionlink_services::link::endpoint::{EndpointConfig, OUTBOX_CAPACITY};
+use missionlink_services::link::sampling::{MessageSampler, Sample};
+use missionlink_services::link::time::Instant;
+use missionlink_services::mission_data_handling::{FccConfig, MissionDataHandling};
+use missionlink_services::transfer::areas::AreaBuffer;
+use missionlink_services::transfer::mission::MissionBuffer;
+use missionlink_services::transfer::sender::mission_command;
 
 mod common;
 

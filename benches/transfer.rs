@@ -21,6 +21,7 @@ mod common;
 
 use std::time::{Duration, Instant};
 
+use missionlink_gcs::gcs_link::Direction;
 use missionlink_interfaces::capacity::MAX_POLYGON_VERTICES;
 use missionlink_interfaces::wire::{
     self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint,
@@ -28,10 +29,9 @@ use missionlink_interfaces::wire::{
     UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
 use missionlink_partitions::binaries;
-use missionlink_partitions::gcs_link::Direction;
-use missionlink_services::areas::AreaBuffer;
-use missionlink_services::gcs::MissionPlan;
-use missionlink_services::mission::MissionBuffer;
+use missionlink_services::ground_station::MissionPlan;
+use missionlink_services::transfer::areas::AreaBuffer;
+use missionlink_services::transfer::mission::MissionBuffer;
 
 const DEFAULT_RUNS: usize = 30;
 const WARM_UP_RUNS: usize = 2;

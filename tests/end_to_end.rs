@@ -11,8 +11,8 @@ use iceoryx2::prelude::ipc;
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMode};
 use missionlink_partitions::ipc::Ipc;
-use missionlink_services::gcs::{GcsError, Phase};
-use missionlink_services::sender::mission_command;
+use missionlink_services::ground_station::{GcsError, Phase};
+use missionlink_services::transfer::sender::mission_command;
 
 fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
     a.generation == b.generation
@@ -132,7 +132,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     while link
         .log
         .iter()
-        .filter(|l| l.direction == missionlink_partitions::gcs_link::Direction::Up)
+        .filter(|l| l.direction == missionlink_gcs::gcs_link::Direction::Up)
         .count()
         < 4
     {

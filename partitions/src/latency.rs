@@ -107,7 +107,7 @@ pub fn log(partition: &str, recorders: &[&Recorder]) {
     }
 }
 
-/// Writes `<dir>/<partition>.json`.
+/// Writes `<dir>/<partition>.toml` (TOML, like the configuration: the FCC links no JSON code).
 pub fn write_summary(
     dir: &Path,
     partition: &str,
@@ -122,16 +122,28 @@ pub fn write_summary(
             .map(|(k, v)| ((*k).to_owned(), *v))
             .collect(),
     };
-    let path = dir.join(format!("{partition}.json"));
-    let result = std::fs::create_dir_all(dir).and_then(|()| {
-        std::fs::write(
-            &path,
-            serde_json::to_vec_pretty(&summary).unwrap_or_default(),
-        )
-    });
+    let path = dir.join(format!("{partition}.toml"));
+    let result = toml::to_string(&summary)
+        .map_err(std::io::Error::other)
+        .and_then(|text| std::fs::create_dir_all(dir).and_then(|()| std::fs::write(&path, text)));
     if let Err(e) = result {
         tracing::warn!(path = %path.display(), %e, "cannot write the latency summary");
     }
+}
+
+/// The summaries in `dir`, sorted by partition; files that do not read as a summary are
+/// skipped.
+pub fn read_summaries(dir: &Path) -> Vec<Summary> {
+    let mut out: Vec<Summary> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "toml"))
+        .filter_map(|e| std::fs::read_to_string(e.path()).ok())
+        .filter_map(|text| toml::from_str(&text).ok())
+        .collect();
+    out.sort_by(|a, b| a.partition.cmp(&b.partition));
+    out
 }
 
 #[cfg(test)]
@@ -151,5 +163,19 @@ mod tests {
         assert!((p.max_us - 1000.0).abs() < 1.0, "{p}");
         r.record_between(0, 5);
         assert_eq!(r.percentiles().count, 1000, "unset start is not recorded");
+    }
+
+    #[test]
+    fn summary_round_trip_through_the_file() {
+        let dir = std::env::temp_dir().join(format!("missionlink-summary-{}", std::process::id()));
+        let mut r = Recorder::new("hop");
+        r.record(2_000);
+        write_summary(&dir, "voting-monitoring", &[&r], &[("stale", 3)]);
+        let read = read_summaries(&dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(read.len(), 1);
+        assert_eq!(read[0].partition, "voting-monitoring");
+        assert_eq!(read[0].latencies[0].count, 1);
+        assert_eq!(read[0].counters.get("stale"), Some(&3));
     }
 }

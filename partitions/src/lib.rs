@@ -1,6 +1,6 @@
-//! The drivers of missionlink: the FCC partitions, the fcc launcher and the gcs tool. They move
+//! The FCC of missionlink: the drivers of the four partitions and the fcc launcher. They move
 //! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
-//! in `missionlink-services`.
+//! in `missionlink-services`. No ground tooling is linked here (that is `missionlink-gcs`).
 #![cfg_attr(
     not(test),
     deny(
@@ -14,15 +14,8 @@
 pub mod binaries;
 pub mod clock;
 pub mod config;
-pub mod gcs_link;
-pub mod geojson;
-pub mod inspect;
 pub mod ipc;
 pub mod latency;
-pub mod map;
-pub mod mission_file;
-pub mod profile;
-pub mod qgc;
 pub mod runtime;
 pub mod state;
 pub mod udp;

@@ -15,9 +15,9 @@ use missionlink_interfaces::wire::{
     self, AreaTransferMode, AreaTransmissionCommand, Envelope, MAX_FRAME_LEN, Message,
     MissionPlanMode, Timestamp,
 };
-use missionlink_services::areas::{AreaBuffer, AreaList};
-use missionlink_services::mission::{Mission, MissionBuffer};
-use missionlink_services::sender::mission_command;
+use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
+use missionlink_services::transfer::mission::{Mission, MissionBuffer};
+use missionlink_services::transfer::sender::mission_command;
 
 const WAYPOINT_LIST: &str = "waypoint-list.frames";
 const AREA_LIST: &str = "area-list.frames";

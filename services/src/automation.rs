@@ -21,7 +21,7 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::{ExecuteCommand, Reason};
 
-use crate::time::Instant;
+use crate::link::time::Instant;
 
 /// Whether system automation accepts `command` now (ICD §4, #50000): execute needs a valid
 /// waypoint and area list and the aircraft on the ground (`WrongState`); return to home needs a

@@ -62,7 +62,7 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::{GeoPoint, LegType, TurnDirection, TurnType};
 
-use crate::time::Instant;
+use crate::link::time::Instant;
 
 /// Longest sub-step of the integration, simulated seconds.
 pub const MAX_SUB_STEP_S: f64 = 0.05;

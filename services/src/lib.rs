@@ -13,20 +13,13 @@
 // allocates nothing; enums that carry one are large by design.
 #![allow(clippy::large_enum_variant)]
 
-pub mod areas;
 pub mod automation;
-pub mod endpoint;
-pub mod fcc;
 pub mod from_to_next;
-pub mod gcs;
+pub mod geofence;
+pub mod ground_station;
 pub mod guidance;
-pub mod local_frame;
-pub mod mission;
-pub mod receiver;
-pub mod retry;
+pub mod link;
+pub mod mission_data_handling;
 pub mod safety_gateway;
-pub mod sampling;
-pub mod sender;
-pub mod time;
-pub mod time_stamp;
+pub mod transfer;
 pub mod voting;

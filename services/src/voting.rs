@@ -31,8 +31,8 @@ use heapless::Vec;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Timestamp};
 
-use crate::sampling::{MessageSampler, Sample};
-use crate::time::Instant;
+use crate::link::sampling::{MessageSampler, Sample};
+use crate::link::time::Instant;
 
 /// Messages one step considers at most; the rest of the step is dropped and counted as
 /// [`VotingStats::overflow`]. As deep as the frame queues between the partitions

@@ -12,7 +12,7 @@ mod support;
 
 use std::time::Duration;
 
-use missionlink_services::gcs::GcsEvent;
+use missionlink_services::ground_station::GcsEvent;
 use support::*;
 
 fn random_faults(rng: &mut Rng, max_loss: f64) -> Faults {

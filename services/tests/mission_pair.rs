@@ -6,11 +6,11 @@ mod support;
 use std::time::Duration;
 
 use missionlink_interfaces::wire::{Message, Reason};
-use missionlink_services::gcs::{GcsError, GcsEvent};
-use missionlink_services::retry::AttemptFailure;
+use missionlink_services::ground_station::{GcsError, GcsEvent};
+use missionlink_services::link::retry::AttemptFailure;
 use support::*;
 
-fn upload(pair: &mut Pair, plan: &missionlink_services::gcs::MissionPlan, clear: bool) {
+fn upload(pair: &mut Pair, plan: &missionlink_services::ground_station::MissionPlan, clear: bool) {
     let now = pair.now;
     pair.gcs.upload(now, plan, clear).unwrap();
     pair.run_until_standby(Duration::from_secs(60));
@@ -279,9 +279,9 @@ fn from_to_next_reaches_the_gcs_on_every_change_only() {
 
 #[test]
 fn the_safety_gateway_can_refuse_and_then_nothing_is_sent() {
-    use missionlink_services::areas::AreaList;
-    use missionlink_services::gcs::{GroundStation, SafetyGateway};
-    use missionlink_services::mission::Mission;
+    use missionlink_services::ground_station::{GroundStation, SafetyGateway};
+    use missionlink_services::transfer::areas::AreaList;
+    use missionlink_services::transfer::mission::Mission;
 
     /// Refuses missions with more than `max` waypoints.
     struct MaxWaypoints(usize);
@@ -296,7 +296,7 @@ fn the_safety_gateway_can_refuse_and_then_nothing_is_sent() {
     }
     let mut gcs = GroundStation::new(gcs_config(), MaxWaypoints(2));
     assert!(gcs.validate(&mission_1()).is_ok());
-    let now = missionlink_services::time::Instant::ZERO;
+    let now = missionlink_services::link::time::Instant::ZERO;
     assert_eq!(
         gcs.upload(now, &mission_2(), true),
         Err(GcsError::Gateway("3 waypoints, at most 2".to_owned()))

@@ -12,9 +12,9 @@ use std::time::Duration;
 use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN};
-use missionlink_services::fcc::MissionDataHandling;
-use missionlink_services::gcs::{GcsEvent, GroundStation, WithoutGateway};
-use missionlink_services::time::Instant;
+use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
+use missionlink_services::link::time::Instant;
+use missionlink_services::mission_data_handling::MissionDataHandling;
 use missionlink_services::voting::Voter;
 use support::*;
 

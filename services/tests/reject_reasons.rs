@@ -9,10 +9,10 @@ use missionlink_interfaces::wire::{
     LegType, MAX_FRAME_LEN, Message, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
     Text, Timestamp,
 };
-use missionlink_services::endpoint::Endpoint;
-use missionlink_services::fcc::MissionDataHandling;
-use missionlink_services::sender::mission_command;
-use missionlink_services::time::Instant;
+use missionlink_services::link::endpoint::Endpoint;
+use missionlink_services::link::time::Instant;
+use missionlink_services::mission_data_handling::MissionDataHandling;
+use missionlink_services::transfer::sender::mission_command;
 use support::*;
 
 /// The FCC driven by hand: a GCS endpoint stamps and encodes, the FCC answers.
@@ -59,9 +59,9 @@ impl Rig {
     /// Uploads demo mission 2 and its areas.
     fn with_mission_2(mut self) -> Self {
         let plan = mission_2();
-        let gcs = missionlink_services::gcs::GroundStation::new(
+        let gcs = missionlink_services::ground_station::GroundStation::new(
             gcs_config(),
-            missionlink_services::gcs::WithoutGateway,
+            missionlink_services::ground_station::WithoutGateway,
         );
         let valid = gcs.validate(&plan).unwrap();
         self.accepted(mission_command(MissionPlanMode::ClearMission, None, None));

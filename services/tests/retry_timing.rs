@@ -11,10 +11,10 @@ use missionlink_interfaces::wire::{
     AckType, ExecuteCommand, MAX_FRAME_LEN, Message, MessageAcknowledgement, MessageType,
     MissionExecuteCommand, Reason, Timestamp,
 };
-use missionlink_services::endpoint::Endpoint;
-use missionlink_services::gcs::{GcsError, GcsEvent, GroundStation, WithoutGateway};
-use missionlink_services::retry::{AttemptFailure, Subject};
-use missionlink_services::time::Instant;
+use missionlink_services::ground_station::{GcsError, GcsEvent, GroundStation, WithoutGateway};
+use missionlink_services::link::endpoint::Endpoint;
+use missionlink_services::link::retry::{AttemptFailure, Subject};
+use missionlink_services::link::time::Instant;
 use support::*;
 
 fn execute() -> Message {
@@ -190,7 +190,7 @@ fn an_upload_that_loses_its_link_names_the_message_after_the_retry() {
     assert_eq!(pair.fcc.active_mission(), None);
     assert!(pair.fcc_events.iter().any(|e| matches!(
         e,
-        missionlink_services::fcc::FccEvent::UploadAbandoned { .. }
+        missionlink_services::mission_data_handling::FccEvent::UploadAbandoned { .. }
     )));
 }
 

@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use missionlink_gcs::gcs_link::GcsLink;
+use missionlink_gcs::mission_file::MissionFile;
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
-use missionlink_partitions::gcs_link::GcsLink;
 use missionlink_partitions::latency::Summary;
-use missionlink_partitions::mission_file::MissionFile;
-use missionlink_services::gcs::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
+use missionlink_services::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 
 pub type Link = GcsLink<WithoutGateway>;
 pub type Error = GcsError<core::convert::Infallible>;
@@ -137,15 +137,5 @@ pub fn download(link: &mut Link) -> Result<ValidatedPlan, Error> {
 
 /// The summaries the partitions wrote at shutdown.
 pub fn summaries(dir: &Path) -> Vec<Summary> {
-    let mut out = Vec::new();
-    for entry in std::fs::read_dir(dir.join("latency"))
-        .into_iter()
-        .flatten()
-        .flatten()
-    {
-        if let Ok(text) = std::fs::read_to_string(entry.path()) {
-            out.push(serde_json::from_str(&text).unwrap());
-        }
-    }
-    out
+    missionlink_partitions::latency::read_summaries(&dir.join("latency"))
 }

@@ -20,8 +20,8 @@ use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::latency::{self, Recorder};
 use missionlink_partitions::runtime::{Report, Shutdown, partition_main, wait};
 use missionlink_partitions::state;
-use missionlink_services::endpoint::EndpointConfig;
-use missionlink_services::fcc::{FccConfig, FccEvent, MissionDataHandling};
+use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_services::mission_data_handling::{FccConfig, FccEvent, MissionDataHandling};
 
 /// Mission data handling of the FCC.
 #[derive(Debug, Parser)]

@@ -14,12 +14,14 @@ use missionlink_interfaces::wire::{
     SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnDirection, TurnType,
     UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_services::areas::AreaBuffer;
-use missionlink_services::endpoint::EndpointConfig;
-use missionlink_services::fcc::{FccConfig, FccEvent, MissionDataHandling};
-use missionlink_services::gcs::{GcsConfig, GcsEvent, GroundStation, MissionPlan, WithoutGateway};
-use missionlink_services::mission::MissionBuffer;
-use missionlink_services::time::Instant;
+use missionlink_services::ground_station::{
+    GcsConfig, GcsEvent, GroundStation, MissionPlan, WithoutGateway,
+};
+use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_services::link::time::Instant;
+use missionlink_services::mission_data_handling::{FccConfig, FccEvent, MissionDataHandling};
+use missionlink_services::transfer::areas::AreaBuffer;
+use missionlink_services::transfer::mission::MissionBuffer;
 use missionlink_services::voting::Voter;
 
 pub const ACK_TIMEOUT: Duration = Duration::from_millis(500);

@@ -94,9 +94,9 @@ use missionlink_interfaces::wire::{
     PolygonVertices, SafetyOffset, SpecificData, Speed, SpeedType, Timestamp, TurnType,
     UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_services::areas::AreaBuffer;
-use missionlink_services::gcs::{MissionPlan, ValidatedPlan};
-use missionlink_services::mission::MissionBuffer;
+use missionlink_services::ground_station::{MissionPlan, ValidatedPlan};
+use missionlink_services::transfer::areas::AreaBuffer;
+use missionlink_services::transfer::mission::MissionBuffer;
 use serde_json::{Map, Value, json};
 
 pub use crate::mission_file::EARTH_RADIUS_M;
@@ -1362,7 +1362,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::mission_file::MissionFile;
     use missionlink_interfaces::wire::Reason;
-    use missionlink_services::mission::Mission;
+    use missionlink_services::transfer::mission::Mission;
 
     const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 

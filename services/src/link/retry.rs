@@ -15,8 +15,8 @@ use missionlink_interfaces::wire::{
     SpecificData, Timestamp,
 };
 
-use crate::endpoint::Endpoint;
-use crate::time::Instant;
+use crate::link::endpoint::Endpoint;
+use crate::link::time::Instant;
 
 /// The kind of answer a message waits for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

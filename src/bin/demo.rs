@@ -15,21 +15,21 @@ use std::process::{Child, Command, ExitCode};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
+use missionlink_gcs::gcs_link::{Direction, GcsLink, Logged, describe_from_to_next};
+use missionlink_gcs::mission_file::MissionFile;
 use missionlink_interfaces::wire::{
     AckType, ExecuteCommand, Message, MessageType, MissionExecuteCommand, Reason, SpecificData,
     Timestamp,
 };
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
-use missionlink_partitions::gcs_link::{Direction, GcsLink, Logged, describe_from_to_next};
-use missionlink_partitions::latency::Summary;
-use missionlink_partitions::mission_file::MissionFile;
-use missionlink_services::gcs::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
-use missionlink_services::retry::AttemptFailure;
+use missionlink_partitions::latency;
+use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
+use missionlink_services::link::retry::AttemptFailure;
 use missionlink_services::safety_gateway::{Report, SafetyGateway};
 
-const MISSION_1: &str = include_str!("../../../missions/mission-1.toml");
-const MISSION_2: &str = include_str!("../../../missions/mission-2.toml");
+const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
+const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 
 /// The paper's demo, end to end.
 #[derive(Debug, Parser)]
@@ -355,21 +355,11 @@ fn run(args: &Args) -> Result<(), String> {
         "6. Shut down; per-frame latency of the partitions (a debug build is several times slower than --release)"
     );
     fcc.stop();
-    let mut files: Vec<PathBuf> = std::fs::read_dir(run_dir.join("latency"))
-        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
-    files.sort();
     println!(
         "  {:<22} {:<45} {:>6} {:>9} {:>9} {:>9} {:>9}",
         "partition", "measured", "frames", "p50 us", "p99 us", "p99.9 us", "max us"
     );
-    for file in files {
-        let Ok(text) = std::fs::read_to_string(&file) else {
-            continue;
-        };
-        let Ok(summary) = serde_json::from_str::<Summary>(&text) else {
-            continue;
-        };
+    for summary in latency::read_summaries(&run_dir.join("latency")) {
         for l in summary.latencies.iter().filter(|l| l.count > 0) {
             println!(
                 "  {:<22} {:<45} {:>6} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",

@@ -19,13 +19,13 @@ use missionlink_interfaces::wire::{
     Timestamp,
 };
 
-use crate::areas::{AreaBuffer, AreaList};
-use crate::endpoint::{Endpoint, EndpointConfig, Inbound};
-use crate::mission::{Mission, MissionBuffer};
-use crate::receiver::{AreaReceiver, MissionReceiver, Received};
-use crate::retry::ExchangeError;
-use crate::sender::{Script, SenderEvent, TransferSender, mission_command};
-use crate::time::Instant;
+use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
+use crate::link::retry::ExchangeError;
+use crate::link::time::Instant;
+use crate::transfer::areas::{AreaBuffer, AreaList};
+use crate::transfer::mission::{Mission, MissionBuffer};
+use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received};
+use crate::transfer::sender::{Script, SenderEvent, TransferSender, mission_command};
 
 /// The safety gateway hook (paper §2.2): a mission is uploaded only if every check passes. The
 /// gateway itself (geometry, energy, environment) plugs in here.
@@ -339,7 +339,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// Clears the active mission: #13000 mode 1, then mode 2 with 0 waypoints (see
-    /// [`crate::fcc`]).
+    /// [`crate::mission_data_handling`]).
     pub fn clear_mission(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
         if !self.is_standby() {
             return Err(GcsError::Busy);

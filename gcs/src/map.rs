@@ -32,13 +32,13 @@
 //! initial waypoint "take-off" with that height. The leg type of the initial waypoint (the leg
 //! that would end there) is not drawn: no leg leads to it.
 
-use missionlink_services::local_frame::{Coord, LocalFrame, arc};
+use missionlink_services::geofence::local_frame::{Coord, LocalFrame, arc};
 use std::fmt::Write as _;
 
 use missionlink_interfaces::wire::{
     AreaShape, AreaType, GeoPoint, LegType, SpecificData, TurnDirection,
 };
-use missionlink_services::gcs::ValidatedPlan;
+use missionlink_services::ground_station::ValidatedPlan;
 
 /// A mark the map draws in red: a violation the safety gateway reported (its code, a label, and
 /// where).
@@ -1100,8 +1100,8 @@ mod tests {
     use crate::mission_file::MissionFile;
     use missionlink_interfaces::defaults;
     use missionlink_interfaces::wire::Timestamp;
-    use missionlink_services::endpoint::EndpointConfig;
-    use missionlink_services::gcs::{GcsConfig, GroundStation, WithoutGateway};
+    use missionlink_services::ground_station::{GcsConfig, GroundStation, WithoutGateway};
+    use missionlink_services::link::endpoint::EndpointConfig;
 
     const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
     const MISSION_2: &str = include_str!("../../missions/mission-2.toml");

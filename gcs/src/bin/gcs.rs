@@ -8,18 +8,18 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Parser, Subcommand};
+use missionlink_gcs::gcs_link::{GcsLink, describe_from_to_next};
+use missionlink_gcs::inspect::{
+    MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
+};
+use missionlink_gcs::mission_file::MissionFile;
+use missionlink_gcs::{geojson, map, profile, qgc};
 use missionlink_interfaces::wire::{
     AreaTransferMode, AreaTransmissionCommand, ExecuteCommand, Message, MissionExecuteCommand,
     SafetyOffset, Timestamp,
 };
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
-use missionlink_partitions::gcs_link::{GcsLink, describe_from_to_next};
-use missionlink_partitions::inspect::{
-    MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
-};
-use missionlink_partitions::mission_file::MissionFile;
-use missionlink_partitions::{geojson, map, profile, qgc};
-use missionlink_services::gcs::{GcsEvent, MissionPlan, ValidatedPlan};
+use missionlink_services::ground_station::{GcsEvent, MissionPlan, ValidatedPlan};
 use missionlink_services::safety_gateway::{SafetyGateway, Violation};
 
 /// Ground control station of missionlink: STANAG 4586 mission and area transfer.

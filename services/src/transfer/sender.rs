@@ -1,7 +1,7 @@
 //! The sender of a transfer, one implementation for both directions (paper §3.2, inverted use;
 //! ICD §5.6): the GCS uploads with it what the FCC downloads with it. A transfer is a script of
 //! messages sent one at a time, each after the answer to the one before (ICD §5), through the
-//! one timeout-and-retry mechanism of [`crate::retry`].
+//! one timeout-and-retry mechanism of [`crate::link::retry`].
 //!
 //! | script | sent by | messages (ICD) |
 //! |---|---|---|
@@ -20,11 +20,11 @@ use missionlink_interfaces::wire::{
     TransferStatus,
 };
 
-use crate::areas::AreaList;
-use crate::endpoint::Endpoint;
-use crate::mission::Mission;
-use crate::retry::{Exchange, ExchangeError, Outcome};
-use crate::time::Instant;
+use crate::link::endpoint::Endpoint;
+use crate::link::retry::{Exchange, ExchangeError, Outcome};
+use crate::link::time::Instant;
+use crate::transfer::areas::AreaList;
+use crate::transfer::mission::Mission;
 
 /// What a transfer sends.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -52,7 +52,7 @@ pub enum Script {
         list: AreaList,
     },
     /// GCS to FCC: #13000 mode 1 clear, then #13000 mode 2 with Waypoint Number 0, which
-    /// activates the empty list (see [`crate::fcc`]).
+    /// activates the empty list (see [`crate::mission_data_handling`]).
     MissionClear,
     /// One message and its answer.
     Request(Message),

@@ -7,16 +7,16 @@ use std::time::Duration;
 
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
-use missionlink_services::endpoint::EndpointConfig;
-use missionlink_services::gcs::{
+use missionlink_services::ground_station::{
     GcsConfig, GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
 };
-use missionlink_services::time::Instant;
+use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_services::link::time::Instant;
 use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 
-use crate::clock::DriverClock;
-use crate::config::Config;
-use crate::udp::{LinkError, LinkPair, MAX_DATAGRAM};
+use missionlink_partitions::clock::DriverClock;
+use missionlink_partitions::config::Config;
+use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM};
 
 /// Which way a logged message went.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

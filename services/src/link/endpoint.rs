@@ -4,7 +4,7 @@
 //! time stamps (ICD §3).
 //!
 //! Which function handles a fresh message (the moding of §3.1.2) is decided by the owner of the
-//! endpoint: [`crate::fcc::MissionDataHandling`] on the FCC, [`crate::gcs::GroundStation`] on
+//! endpoint: [`crate::mission_data_handling::MissionDataHandling`] on the FCC, [`crate::ground_station::GroundStation`] on
 //! the GCS.
 
 use core::time::Duration;
@@ -15,9 +15,9 @@ use missionlink_interfaces::wire::{
     MessageError, Reason, Timestamp,
 };
 
-use crate::sampling::{MessageSampler, Sample};
-use crate::time::{Instant, UtcClock};
-use crate::time_stamp::TimeStamper;
+use crate::link::sampling::{MessageSampler, Sample};
+use crate::link::time::{Instant, UtcClock};
+use crate::link::time_stamp::TimeStamper;
 
 /// Messages the outgoing queue holds. A driver drains it after every call into the core; a
 /// call queues at most an acknowledgement and the next message of each transfer.

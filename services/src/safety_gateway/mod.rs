@@ -93,7 +93,7 @@
 //!   the waypoint, inside the corner; the safety offset is meant to cover it.
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
-use crate::local_frame::{LocalFrame, arc};
+use crate::geofence::local_frame::{LocalFrame, arc};
 use core::fmt;
 
 use geo::{
@@ -104,8 +104,8 @@ use missionlink_interfaces::wire::{
     AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType, SpecificData, TurnDirection,
 };
 
-use crate::areas::AreaList;
-use crate::mission::{Mission, WaypointRecord};
+use crate::transfer::areas::AreaList;
+use crate::transfer::mission::{Mission, WaypointRecord};
 
 /// Standard gravity, m/s².
 const GRAVITY_MPS2: f64 = 9.806_65;
@@ -472,7 +472,7 @@ pub struct SafetyGateway {
     pub take_off_position_deg: Option<(f64, f64)>,
 }
 
-impl crate::gcs::SafetyGateway for SafetyGateway {
+impl crate::ground_station::SafetyGateway for SafetyGateway {
     type Report = Report;
 
     fn check(&self, mission: &Mission, areas: &AreaList) -> Result<(), Report> {
@@ -1425,8 +1425,8 @@ impl SafetyGateway {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::areas::tests::{FLY_ZONE, circle, polygon};
-    use crate::gcs::SafetyGateway as _;
+    use crate::ground_station::SafetyGateway as _;
+    use crate::transfer::areas::tests::{FLY_ZONE, circle, polygon};
     use missionlink_interfaces::wire::{
         Altitude, Angle, SafetyOffset, Speed, Timestamp, TurnType, UaPositionWaypoint, UaRoute,
         VehicleSpecificWaypoint,

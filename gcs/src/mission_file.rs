@@ -151,9 +151,9 @@ use missionlink_interfaces::wire::{
     LocationType, PolygonVertices, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text,
     Timestamp, TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_services::areas::AreaBuffer;
-use missionlink_services::gcs::{MissionPlan, ValidatedPlan};
-use missionlink_services::mission::{MissionBuffer, WaypointRecord};
+use missionlink_services::ground_station::{MissionPlan, ValidatedPlan};
+use missionlink_services::transfer::areas::AreaBuffer;
+use missionlink_services::transfer::mission::{MissionBuffer, WaypointRecord};
 use serde::{Deserialize, Deserializer, Serialize};
 use toml::value::Datetime;
 
@@ -1013,8 +1013,10 @@ mod tests {
     use super::*;
     use missionlink_interfaces::defaults;
     use missionlink_interfaces::wire::Reason;
-    use missionlink_services::endpoint::EndpointConfig;
-    use missionlink_services::gcs::{GcsConfig, GcsError, GroundStation, WithoutGateway};
+    use missionlink_services::ground_station::{
+        GcsConfig, GcsError, GroundStation, WithoutGateway,
+    };
+    use missionlink_services::link::endpoint::EndpointConfig;
 
     const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
     const MISSION_2: &str = include_str!("../../missions/mission-2.toml");

@@ -13,7 +13,7 @@ use core::time::Duration;
 use heapless::index_map::FnvIndexMap;
 use missionlink_interfaces::wire::Timestamp;
 
-use crate::time::Instant;
+use crate::link::time::Instant;
 
 /// (Source ID, Message Type) pairs remembered at once: the 12 message types of the ICD from a
 /// few peers.

@@ -57,7 +57,7 @@ use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES};
 use missionlink_interfaces::wire::{
     AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, PolygonVertices, Timestamp,
 };
-use missionlink_services::areas::{AreaBuffer, AreaList};
+use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use serde_json::{Map, Value, json};
 
 pub use crate::mission_file::MissionFileError as Error;

@@ -23,7 +23,7 @@
 //! the ICD's "empties ... the active list" meets the rule above: a full upload that fails after
 //! its clear would otherwise leave the FCC without its mission. To clear the active mission, a
 //! GCS sends the clear and then #13000 mode 2 with Waypoint Number 0, which activates the empty
-//! list ([`crate::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
+//! list ([`crate::transfer::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
 //! nothing.
 
 use core::time::Duration;
@@ -38,15 +38,15 @@ use missionlink_interfaces::wire::{
     SafetyOffset, Timestamp,
 };
 
-use crate::areas::AreaList;
 use crate::automation;
-use crate::endpoint::{Endpoint, EndpointConfig, Inbound};
 use crate::from_to_next::FromToNextReporter;
-use crate::mission::Mission;
-use crate::receiver::{AreaReceiver, MissionReceiver, Received};
-use crate::retry::ExchangeError;
-use crate::sender::{Script, SenderEvent, TransferSender};
-use crate::time::Instant;
+use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
+use crate::link::retry::ExchangeError;
+use crate::link::time::Instant;
+use crate::transfer::areas::AreaList;
+use crate::transfer::mission::Mission;
+use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received};
+use crate::transfer::sender::{Script, SenderEvent, TransferSender};
 
 /// Settings of mission data handling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -15,9 +15,9 @@ use missionlink_interfaces::wire::{
     AreaTransferMode, Message, MissionPlanMode, Reason, SafetyOffset, TransferStatus,
 };
 
-use crate::areas::{AreaBuffer, AreaList};
-use crate::mission::{Mission, MissionBuffer};
-use crate::time::Instant;
+use crate::link::time::Instant;
+use crate::transfer::areas::{AreaBuffer, AreaList};
+use crate::transfer::mission::{Mission, MissionBuffer};
 
 /// What a receiver made of a message it accepted.
 ///
@@ -33,7 +33,7 @@ pub enum Received {
     /// The peer cancelled or aborted the transfer (with its reason, where it gave one).
     Abandoned(Option<Reason>),
     /// The closing message activates the empty list: #13000 mode 2 with Waypoint Number 0
-    /// after a clear (how this project clears the active mission, see [`crate::fcc`]).
+    /// after a clear (how this project clears the active mission, see [`crate::mission_data_handling`]).
     Emptied,
 }
 

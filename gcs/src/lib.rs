@@ -1,0 +1,25 @@
+//! The ground segment of missionlink: everything the GCS needs and the FCC never links.
+//!
+//! - [`gcs_link`]: the GCS link driver, the sans-IO GCS logic
+//!   ([`missionlink_services::ground_station`]) over the two UDP links.
+//! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
+//!   export; [`geojson`]: areas as GeoJSON.
+//! - [`map`]: the mission map as SVG; [`inspect`]: the frame inspector; [`profile`]: the
+//!   aircraft profile and environment the safety gateway checks against.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing
+    )
+)]
+
+pub mod gcs_link;
+pub mod geojson;
+pub mod inspect;
+pub mod map;
+pub mod mission_file;
+pub mod profile;
+pub mod qgc;

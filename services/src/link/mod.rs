@@ -1,0 +1,9 @@
+//! The link functions both ends share (paper §3.1.1-§3.1.4): preprocessing and acknowledgement
+//! in the [`endpoint`], message [`sampling`], timeout and [`retry`], the sender's
+//! [`time_stamp`]s, and the [`time`] the driver injects.
+
+pub mod endpoint;
+pub mod retry;
+pub mod sampling;
+pub mod time;
+pub mod time_stamp;
