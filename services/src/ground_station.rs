@@ -15,13 +15,14 @@ use std::collections::VecDeque;
 
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, EncodeError, Envelope,
-    FrameError, FromToNext, Message, MessageType, MissionPlanMode, Reason, SafetyOffset, Text,
-    Timestamp,
+    ExecuteCommand, FrameError, FromToNext, Message, MessageType, MissionExecuteCommand,
+    MissionPlanMode, Reason, SafetyOffset, Text, Timestamp,
 };
 
 use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
+use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::{AreaBuffer, AreaList};
 use crate::transfer::mission::{Mission, MissionBuffer};
 use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received};
@@ -236,6 +237,24 @@ pub enum GcsEvent<R> {
     FromToNext(FromToNext),
 }
 
+/// The timers of the GCS logic: the sender's and each download receiver's deadline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GcsTimer {
+    /// The ack timeout of the message in flight (ICD §1: 500 ms).
+    Sender = 0,
+    /// The transfer timeout of the mission download (ICD §1: 3 s).
+    MissionDownload = 1,
+    /// The transfer timeout of the area download.
+    AreaDownload = 2,
+}
+
+impl Timer<3> for GcsTimer {
+    const ALL: [Self; 3] = [Self::Sender, Self::MissionDownload, Self::AreaDownload];
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum State {
     Standby,
@@ -258,6 +277,7 @@ pub struct GroundStation<G: SafetyGateway> {
     area_download: AreaReceiver,
     downloaded_mission: Option<Mission>,
     events: VecDeque<GcsEvent<G::Report>>,
+    timers: TimerTable<GcsTimer, 3>,
 }
 
 impl<G: SafetyGateway> GroundStation<G> {
@@ -274,6 +294,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             area_download: AreaReceiver::new(config.transfer_timeout),
             downloaded_mission: None,
             events: VecDeque::new(),
+            timers: TimerTable::new(),
         }
     }
 
@@ -285,6 +306,14 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// Whether the logic is in standby (no request in progress).
     pub fn is_standby(&self) -> bool {
         self.state == State::Standby
+    }
+
+    fn ensure_standby(&self) -> Result<(), GcsError<G::Report>> {
+        if self.is_standby() {
+            Ok(())
+        } else {
+            Err(GcsError::Busy)
+        }
     }
 
     /// The validation request: assembles both lists with the FCC's assembly (ICD §7) and runs
@@ -308,9 +337,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         plan: &MissionPlan,
         clear: bool,
     ) -> Result<(), GcsError<G::Report>> {
-        if !self.is_standby() {
-            return Err(GcsError::Busy);
-        }
+        self.ensure_standby()?;
         let ValidatedPlan { mission, areas } = self.validate(plan)?;
         self.areas_to_upload = Some(areas);
         self.start(
@@ -323,9 +350,7 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// The download request: the mission (#13000 mode 3), then the areas (#2011 mode 3).
     pub fn download(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
-        if !self.is_standby() {
-            return Err(GcsError::Busy);
-        }
+        self.ensure_standby()?;
         self.downloaded_mission = None;
         self.mission_download.abandon(None);
         self.area_download.abandon();
@@ -341,18 +366,42 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// Clears the active mission: #13000 mode 1, then mode 2 with 0 waypoints (see
     /// [`crate::mission_data_handling`]).
     pub fn clear_mission(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
-        if !self.is_standby() {
-            return Err(GcsError::Busy);
-        }
+        self.ensure_standby()?;
         self.start(now, State::Commanding, Script::MissionClear);
         Ok(())
     }
 
-    /// A single command: #2011 mode 6 clear areas, #50000 execute.
-    pub fn command(&mut self, now: Instant, message: Message) -> Result<(), GcsError<G::Report>> {
-        if !self.is_standby() {
-            return Err(GcsError::Busy);
-        }
+    /// Clears the active area list: #2011 mode 6 (ICD §4). The FCC refuses it while
+    /// trajectory generation is active or an area transfer is in progress.
+    pub fn clear_areas(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
+        let clear = AreaTransmissionCommand {
+            time_stamp: Timestamp::default(),
+            mode: AreaTransferMode::ClearAreas,
+            loop_count: None,
+            area_id: None,
+            safety_offset: None,
+            activity_id: None,
+        };
+        self.command(now, clear.into())
+    }
+
+    /// #50000 Mission Execute Command (ICD §4): execute the active mission, return to home or
+    /// land. The FCC accepts it by the rule of [`crate::automation::check_command`].
+    pub fn execute(
+        &mut self,
+        now: Instant,
+        command: ExecuteCommand,
+    ) -> Result<(), GcsError<G::Report>> {
+        let execute = MissionExecuteCommand {
+            time_stamp: Timestamp::default(),
+            command,
+        };
+        self.command(now, execute.into())
+    }
+
+    /// A single command and its answer.
+    fn command(&mut self, now: Instant, message: Message) -> Result<(), GcsError<G::Report>> {
+        self.ensure_standby()?;
         self.start(now, State::Commanding, Script::Request(message));
         Ok(())
     }
@@ -365,6 +414,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             &mut self.endpoint,
             now,
         ));
+        self.update_timers();
     }
 
     fn finish(&mut self, event: GcsEvent<G::Report>) {
@@ -396,6 +446,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         } = self.endpoint.receive(now, bytes)?
         {
             self.route(now, &message, ack_requested);
+            self.update_timers();
         }
         Ok(())
     }
@@ -582,28 +633,54 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// When [`GroundStation::handle_timeout`] must be called next.
-    pub fn poll_timeout(&self) -> Option<Instant> {
-        [
+    /// Copies the sender's and the receivers' deadlines into the timer table, after any call
+    /// that may have started, advanced or ended a transfer.
+    fn update_timers(&mut self) {
+        self.timers.set_or_stop(
+            GcsTimer::Sender,
             self.sender.as_ref().and_then(TransferSender::poll_timeout),
+        );
+        self.timers.set_or_stop(
+            GcsTimer::MissionDownload,
             self.mission_download.poll_timeout(),
-            self.area_download.poll_timeout(),
-        ]
-        .into_iter()
-        .flatten()
-        .min()
+        );
+        self.timers
+            .set_or_stop(GcsTimer::AreaDownload, self.area_download.poll_timeout());
     }
 
-    /// Timers: retries, and the download's transfer timeout.
+    /// When [`GroundStation::handle_timeout`] must be called next.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.timers.next_timeout()
+    }
+
+    /// The timers due at `now` fire: retries, and the download's transfer timeout.
     pub fn handle_timeout(&mut self, now: Instant) {
-        if let Some(event) = self
-            .sender
-            .as_mut()
-            .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
-        {
-            self.sender_event(now, event);
+        for timer in GcsTimer::ALL {
+            // Checked one by one: a timer that fires may end the request, and with it the
+            // other timers.
+            if self.timers.is_expired(timer, now) {
+                self.fire(timer, now);
+            }
         }
-        if self.mission_download.timed_out(now) || self.area_download.timed_out(now) {
+        self.update_timers();
+    }
+
+    fn fire(&mut self, timer: GcsTimer, now: Instant) {
+        let timed_out = match timer {
+            GcsTimer::Sender => {
+                if let Some(event) = self
+                    .sender
+                    .as_mut()
+                    .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
+                {
+                    self.sender_event(now, event);
+                }
+                None
+            }
+            GcsTimer::MissionDownload => self.mission_download.handle_timeout(now),
+            GcsTimer::AreaDownload => self.area_download.handle_timeout(now),
+        };
+        if timed_out.is_some() {
             let phase = self.phase();
             self.fail(GcsError::Timeout { phase });
         }

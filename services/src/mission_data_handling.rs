@@ -43,9 +43,10 @@ use crate::from_to_next::FromToNextReporter;
 use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
+use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::AreaList;
 use crate::transfer::mission::Mission;
-use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received};
+use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received, TransferTimedOut};
 use crate::transfer::sender::{Script, SenderEvent, TransferSender};
 
 /// Settings of mission data handling.
@@ -111,6 +112,32 @@ pub enum DataKind {
 /// Events the queue holds; the driver drains it after every call.
 pub const EVENT_CAPACITY: usize = 8;
 
+/// The timers of mission data handling, one per transfer: each mirrors the deadline of the
+/// sender or receiver that runs the transfer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FccTimer {
+    /// The ack timeout of the mission download message in flight (ICD §1: 500 ms).
+    MissionDownload = 0,
+    /// The ack timeout of the area download message in flight.
+    AreaDownload = 1,
+    /// The transfer timeout of the mission upload (ICD §1: 3 s).
+    MissionUpload = 2,
+    /// The transfer timeout of the area upload.
+    AreaUpload = 3,
+}
+
+impl Timer<4> for FccTimer {
+    const ALL: [Self; 4] = [
+        Self::MissionDownload,
+        Self::AreaDownload,
+        Self::MissionUpload,
+        Self::AreaUpload,
+    ];
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
 /// Mission data handling of the FCC.
 #[derive(Debug, Clone)]
 pub struct MissionDataHandling {
@@ -130,6 +157,7 @@ pub struct MissionDataHandling {
     waypoint_list: WaypointListPayload,
     area_list: AreaListPayload,
     from_to_next: FromToNextReporter,
+    timers: TimerTable<FccTimer, 4>,
 }
 
 impl MissionDataHandling {
@@ -151,6 +179,7 @@ impl MissionDataHandling {
             waypoint_list: WaypointListPayload::EMPTY,
             area_list: AreaListPayload::EMPTY,
             from_to_next: FromToNextReporter::new(),
+            timers: TimerTable::new(),
         }
     }
 
@@ -183,6 +212,7 @@ impl MissionDataHandling {
             },
         };
         self.active_areas = areas;
+        self.update_timers();
     }
 
     /// The generation of the active waypoint list and of the active area list.
@@ -267,6 +297,7 @@ impl MissionDataHandling {
         } = self.endpoint.receive(now, bytes)?
         {
             self.route(now, &message, ack_requested);
+            self.update_timers();
         }
         Ok(())
     }
@@ -581,53 +612,71 @@ impl MissionDataHandling {
         )
     }
 
-    /// When [`MissionDataHandling::handle_timeout`] must be called next.
-    pub fn poll_timeout(&self) -> Option<Instant> {
-        [
-            self.mission_download
-                .as_ref()
-                .and_then(TransferSender::poll_timeout),
-            self.area_download
-                .as_ref()
-                .and_then(TransferSender::poll_timeout),
-            self.mission_upload.poll_timeout(),
-            self.area_upload.poll_timeout(),
-        ]
-        .into_iter()
-        .flatten()
-        .min()
+    /// Copies the deadline of every transfer into the timer table, after any call that may have
+    /// started, advanced or ended one.
+    fn update_timers(&mut self) {
+        let download =
+            |s: &Option<TransferSender>| s.as_ref().and_then(TransferSender::poll_timeout);
+        self.timers
+            .set_or_stop(FccTimer::MissionDownload, download(&self.mission_download));
+        self.timers
+            .set_or_stop(FccTimer::AreaDownload, download(&self.area_download));
+        self.timers
+            .set_or_stop(FccTimer::MissionUpload, self.mission_upload.poll_timeout());
+        self.timers
+            .set_or_stop(FccTimer::AreaUpload, self.area_upload.poll_timeout());
     }
 
-    /// Timers: download retries, upload transfer timeouts.
+    /// When [`MissionDataHandling::handle_timeout`] must be called next.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.timers.next_timeout()
+    }
+
+    /// The timers due at `now` fire: download retries, upload transfer timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        for kind in [DataKind::Mission, DataKind::Areas] {
-            let slot = match kind {
-                DataKind::Mission => &mut self.mission_download,
-                DataKind::Areas => &mut self.area_download,
-            };
-            if let Some(event) = slot
-                .as_mut()
-                .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
-            {
-                self.download_event(kind, event);
+        for timer in FccTimer::ALL {
+            // Checked one by one: a timer that fires may end another transfer.
+            if self.timers.is_expired(timer, now) {
+                self.fire(timer, now);
             }
         }
-        if self.mission_upload.timed_out(now) {
-            self.mission_upload.abandon(self.active_mission.as_ref());
-            tracing::warn!("mission upload abandoned: nothing heard for the transfer timeout");
-            self.event(FccEvent::UploadAbandoned {
-                kind: DataKind::Mission,
-                reason: None,
-            });
+        self.update_timers();
+    }
+
+    fn fire(&mut self, timer: FccTimer, now: Instant) {
+        match timer {
+            FccTimer::MissionDownload | FccTimer::AreaDownload => {
+                let (kind, slot) = match timer {
+                    FccTimer::MissionDownload => (DataKind::Mission, &mut self.mission_download),
+                    _ => (DataKind::Areas, &mut self.area_download),
+                };
+                if let Some(event) = slot
+                    .as_mut()
+                    .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
+                {
+                    self.download_event(kind, event);
+                }
+            }
+            FccTimer::MissionUpload => {
+                if let Some(t) = self.mission_upload.handle_timeout(now) {
+                    self.upload_timed_out(DataKind::Mission, t);
+                }
+            }
+            FccTimer::AreaUpload => {
+                if let Some(t) = self.area_upload.handle_timeout(now) {
+                    self.upload_timed_out(DataKind::Areas, t);
+                }
+            }
         }
-        if self.area_upload.timed_out(now) {
-            self.area_upload.abandon();
-            tracing::warn!("area upload abandoned: nothing heard for the transfer timeout");
-            self.event(FccEvent::UploadAbandoned {
-                kind: DataKind::Areas,
-                reason: None,
-            });
-        }
+    }
+
+    fn upload_timed_out(&mut self, kind: DataKind, timed_out: TransferTimedOut) {
+        tracing::warn!(
+            ?kind,
+            last_heard = ?timed_out.last_heard,
+            "upload abandoned: nothing heard for the transfer timeout"
+        );
+        self.event(FccEvent::UploadAbandoned { kind, reason: None });
     }
 
     /// The next message to send.

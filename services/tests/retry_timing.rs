@@ -8,22 +8,15 @@ use std::time::Duration;
 
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    AckType, ExecuteCommand, MAX_FRAME_LEN, Message, MessageAcknowledgement, MessageType,
-    MissionExecuteCommand, Reason, Timestamp,
+    AckType, AreaTransferMode, AreaTransmissionCommand, AreaType, ExecuteCommand, MAX_FRAME_LEN,
+    Message, MessageAcknowledgement, MessageType, Reason, SafetyOffset, Timestamp,
 };
 use missionlink_services::ground_station::{GcsError, GcsEvent, GroundStation, WithoutGateway};
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::retry::{AttemptFailure, Subject};
 use missionlink_services::link::time::Instant;
+use missionlink_services::mission_data_handling::{DataKind, FccEvent, MissionDataHandling};
 use support::*;
-
-fn execute() -> Message {
-    MissionExecuteCommand {
-        time_stamp: Timestamp::default(),
-        command: ExecuteCommand::Execute,
-    }
-    .into()
-}
 
 fn sent(gcs: &mut GroundStation<WithoutGateway>) -> Vec<Message> {
     std::iter::from_fn(|| gcs.poll_outgoing().map(|(_, m)| m)).collect()
@@ -36,7 +29,7 @@ fn at(ms: u64) -> Instant {
 #[test]
 fn resend_at_the_ack_timeout_with_a_new_time_stamp_then_abort() {
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
-    gcs.command(at(0), execute()).unwrap();
+    gcs.execute(at(0), ExecuteCommand::Execute).unwrap();
     let first = sent(&mut gcs);
     assert_eq!(first.len(), 1);
     assert_eq!(gcs.poll_timeout(), Some(at(500)));
@@ -98,7 +91,7 @@ fn answer(original: &Message, ack_type: AckType, reason: Reason, at_ms: u64) -> 
 #[test]
 fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
-    gcs.command(at(0), execute()).unwrap();
+    gcs.execute(at(0), ExecuteCommand::Execute).unwrap();
     let first = sent(&mut gcs).remove(0);
 
     gcs.handle_frame(
@@ -137,7 +130,7 @@ fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
 #[test]
 fn a_timeout_then_an_acceptance_of_either_attempt_succeeds() {
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
-    gcs.command(at(0), execute()).unwrap();
+    gcs.execute(at(0), ExecuteCommand::Execute).unwrap();
     let first = sent(&mut gcs).remove(0);
     gcs.handle_timeout(at(500));
     assert_eq!(sent(&mut gcs).len(), 1);
@@ -221,4 +214,76 @@ fn a_download_abandoned_when_the_fcc_falls_silent() {
         ),
         "{events:?}"
     );
+}
+
+/// `message` from the GCS, stamped and encoded with "acknowledgement requested".
+fn from_gcs(gcs: &mut Endpoint, now: Instant, message: impl Into<Message>) -> Vec<u8> {
+    gcs.send(now, message.into(), true);
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let len = gcs.poll_transmit(&mut buf).unwrap().unwrap();
+    buf[..len].to_vec()
+}
+
+fn initiate_area_upload(loop_count: u8) -> AreaTransmissionCommand {
+    AreaTransmissionCommand {
+        time_stamp: Timestamp::default(),
+        mode: AreaTransferMode::InitiateUpload,
+        loop_count: Some(loop_count),
+        area_id: None,
+        safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
+        activity_id: None,
+    }
+}
+
+#[test]
+fn the_fcc_abandons_an_upload_at_the_transfer_timeout_not_before() {
+    let mut fcc = MissionDataHandling::new(fcc_config());
+    let mut gcs = Endpoint::new(endpoint(defaults::GCS_ID, defaults::FCC_ID));
+    assert_eq!(fcc.poll_timeout(), None, "no transfer, no timer");
+
+    fcc.handle_frame(at(10), &from_gcs(&mut gcs, at(10), initiate_area_upload(2)))
+        .unwrap();
+    assert_eq!(fcc.poll_timeout(), Some(at(3010)));
+    // Every message of the transfer restarts the transfer timeout.
+    let fly_zone = polygon(1, AreaType::FlyZone, &FLY_ZONE);
+    fcc.handle_frame(at(1000), &from_gcs(&mut gcs, at(1000), fly_zone))
+        .unwrap();
+    assert_eq!(fcc.poll_timeout(), Some(at(4000)));
+    while fcc.poll_outgoing().is_some() {}
+
+    fcc.handle_timeout(at(3999));
+    assert_eq!(fcc.poll_event(), None, "nothing at the timeout - 1 ms");
+    assert_eq!(fcc.poll_timeout(), Some(at(4000)));
+
+    fcc.handle_timeout(at(4000));
+    assert_eq!(
+        fcc.poll_event(),
+        Some(FccEvent::UploadAbandoned {
+            kind: DataKind::Areas,
+            reason: None
+        }),
+        "abandoned at the timeout"
+    );
+    assert_eq!(fcc.poll_timeout(), None);
+    assert!(
+        fcc.poll_outgoing().is_none(),
+        "the FCC sends nothing for it"
+    );
+    assert_eq!(fcc.active_areas(), None);
+}
+
+#[test]
+fn a_stray_area_outside_a_transfer_starts_no_timer() {
+    let mut fcc = MissionDataHandling::new(fcc_config());
+    let mut gcs = Endpoint::new(endpoint(defaults::GCS_ID, defaults::FCC_ID));
+    let fly_zone = polygon(1, AreaType::FlyZone, &FLY_ZONE);
+    fcc.handle_frame(at(10), &from_gcs(&mut gcs, at(10), fly_zone))
+        .unwrap();
+    let Some((_, Message::MessageAcknowledgement(ack))) = fcc.poll_outgoing() else {
+        panic!("no answer");
+    };
+    assert_eq!(ack.reject_reason, Some(Reason::WrongState));
+    assert_eq!(fcc.poll_timeout(), None);
+    fcc.handle_timeout(at(10) + TRANSFER_TIMEOUT);
+    assert_eq!(fcc.poll_event(), None, "no upload to abandon");
 }

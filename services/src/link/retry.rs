@@ -17,6 +17,7 @@ use missionlink_interfaces::wire::{
 
 use crate::link::endpoint::Endpoint;
 use crate::link::time::Instant;
+use crate::link::timer::{Timer, TimerTable};
 
 /// The kind of answer a message waits for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -138,7 +139,6 @@ struct Pending {
     expected: Expected,
     /// Time stamps of the first attempt and, after a retry, of the second.
     stamps: [Option<Timestamp>; 2],
-    deadline: Instant,
     first_failure: Option<AttemptFailure>,
 }
 
@@ -153,11 +153,27 @@ pub enum Outcome {
     Failed(ExchangeError),
 }
 
+/// The timer of an [`Exchange`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExchangeTimer {
+    /// The ack timeout of the attempt in flight (ICD §1: 500 ms).
+    Ack = 0,
+}
+
+impl Timer<1> for ExchangeTimer {
+    const ALL: [Self; 1] = [Self::Ack];
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
 /// One message in flight and its timer.
 #[derive(Debug, Clone)]
 pub struct Exchange {
     ack_timeout: Duration,
     pending: Option<Pending>,
+    /// Set while a message waits for its answer.
+    timers: TimerTable<ExchangeTimer, 1>,
 }
 
 impl Exchange {
@@ -166,6 +182,7 @@ impl Exchange {
         Self {
             ack_timeout,
             pending: None,
+            timers: TimerTable::new(),
         }
     }
 
@@ -184,25 +201,31 @@ impl Exchange {
             expected: Expected::of(&message),
             message,
             stamps: [Some(ts), None],
-            deadline: now + self.ack_timeout,
             first_failure: None,
         });
+        self.timers.set(ExchangeTimer::Ack, now + self.ack_timeout);
     }
 
     /// Gives up the outstanding message without error (the transfer was cancelled).
     pub fn cancel(&mut self) {
+        self.settle();
+    }
+
+    /// No message waits any more: nothing to time out.
+    fn settle(&mut self) {
         self.pending = None;
+        self.timers.stop(ExchangeTimer::Ack);
     }
 
     /// When [`Exchange::handle_timeout`] must be called.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.pending.as_ref().map(|p| p.deadline)
+        self.timers.next_timeout()
     }
 
-    /// The ack timeout has passed at `now`: retry, or fail after the retry.
+    /// The ack timeout has passed at `now`: retry, or fail after the retry. `None` before the
+    /// deadline.
     pub fn handle_timeout(&mut self, endpoint: &mut Endpoint, now: Instant) -> Option<Outcome> {
-        let deadline = self.pending.as_ref()?.deadline;
-        if now < deadline {
+        if !self.timers.is_expired(ExchangeTimer::Ack, now) {
             return None;
         }
         Some(self.fail_attempt(endpoint, now, AttemptFailure::Timeout))
@@ -251,7 +274,7 @@ impl Exchange {
         };
         Some(match verdict {
             Ok(()) => {
-                self.pending = None;
+                self.settle();
                 Outcome::Accepted(answer.clone())
             }
             Err(failure) => self.fail_attempt(endpoint, now, failure),
@@ -265,6 +288,7 @@ impl Exchange {
         failure: AttemptFailure,
     ) -> Outcome {
         let Some(pending) = self.pending.as_mut() else {
+            self.timers.stop(ExchangeTimer::Ack);
             return Outcome::Retried(failure);
         };
         match pending.first_failure {
@@ -273,8 +297,8 @@ impl Exchange {
                 let ts = endpoint.send(now, pending.message.clone(), true);
                 pending.message.set_time_stamp(ts);
                 pending.stamps[1] = Some(ts);
-                pending.deadline = now + self.ack_timeout;
                 pending.first_failure = Some(failure);
+                self.timers.set(ExchangeTimer::Ack, now + self.ack_timeout);
                 tracing::info!(
                     message = pending.message.message_type() as u16,
                     %failure,
@@ -289,7 +313,7 @@ impl Exchange {
                     first,
                     second: failure,
                 };
-                self.pending = None;
+                self.settle();
                 tracing::warn!(%error, "exchange failed");
                 Outcome::Failed(error)
             }

@@ -16,6 +16,7 @@ use missionlink_interfaces::wire::{
 };
 
 use crate::link::time::Instant;
+use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::{AreaBuffer, AreaList};
 use crate::transfer::mission::{Mission, MissionBuffer};
 
@@ -37,13 +38,84 @@ pub enum Received {
     Emptied,
 }
 
+/// A transfer a receiver abandoned because the peer fell silent for the transfer timeout
+/// (ICD §1: 3 s; ICD §5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TransferTimedOut {
+    /// When the peer was last heard.
+    pub last_heard: Instant,
+}
+
+/// The timer of a receiver.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReceiverTimer {
+    /// The transfer timeout, restarted by every message of the transfer.
+    Transfer = 0,
+}
+
+impl Timer<1> for ReceiverTimer {
+    const ALL: [Self; 1] = [Self::Transfer];
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// The silence watch both receivers keep: when the peer was last heard in an open transfer, and
+/// the timer that abandons the transfer after the transfer timeout.
+#[derive(Debug, Clone)]
+struct Silence {
+    last_heard: Option<Instant>,
+    timers: TimerTable<ReceiverTimer, 1>,
+    transfer_timeout: Duration,
+}
+
+impl Silence {
+    const fn new(transfer_timeout: Duration) -> Self {
+        Self {
+            last_heard: None,
+            timers: TimerTable::new(),
+            transfer_timeout,
+        }
+    }
+
+    /// The peer spoke at `now`: the transfer is open and its timeout restarts.
+    fn heard(&mut self, now: Instant) {
+        self.last_heard = Some(now);
+        self.timers
+            .set(ReceiverTimer::Transfer, now + self.transfer_timeout);
+    }
+
+    /// The transfer is closed: nothing to time out.
+    fn close(&mut self) {
+        self.last_heard = None;
+        self.timers.stop(ReceiverTimer::Transfer);
+    }
+
+    fn is_open(&self) -> bool {
+        self.last_heard.is_some()
+    }
+
+    fn poll_timeout(&self) -> Option<Instant> {
+        self.timers.next_timeout()
+    }
+
+    /// `Some` (and closed) when the transfer timeout has passed at `now`.
+    fn expire(&mut self, now: Instant) -> Option<TransferTimedOut> {
+        if !self.timers.is_expired(ReceiverTimer::Transfer, now) {
+            return None;
+        }
+        let last_heard = self.last_heard?;
+        self.close();
+        Some(TransferTimedOut { last_heard })
+    }
+}
+
 /// Receives missions: a mission upload on the FCC, a mission download on the GCS.
 #[derive(Debug, Clone)]
 pub struct MissionReceiver {
     buffer: MissionBuffer,
     complete: Option<Mission>,
-    last_heard: Option<Instant>,
-    transfer_timeout: Duration,
+    silence: Silence,
 }
 
 impl MissionReceiver {
@@ -52,44 +124,48 @@ impl MissionReceiver {
         Self {
             buffer: MissionBuffer::new(),
             complete: None,
-            last_heard: None,
-            transfer_timeout,
+            silence: Silence::new(transfer_timeout),
         }
     }
 
     /// Whether a transfer is in progress (something arrived and it is neither complete nor
     /// abandoned).
     pub fn in_transfer(&self) -> bool {
-        self.last_heard.is_some()
+        self.silence.is_open()
     }
 
     /// Starts a transfer (the GCS's download request was accepted) with an empty buffer.
     pub fn begin(&mut self, now: Instant) {
         self.buffer.clear();
-        self.last_heard = Some(now);
+        self.silence.heard(now);
     }
 
     /// Ends the transfer in progress and resets the buffer to `base` (the active mission, or
     /// nothing): an abandoned edit must not leak into the next one.
     pub fn abandon(&mut self, base: Option<&Mission>) {
-        self.last_heard = None;
+        self.silence.close();
         self.buffer = base.map(MissionBuffer::from_mission).unwrap_or_default();
     }
 
     /// Empties the buffer (#13000 mode 1; the owner checks guidance first).
     pub fn clear(&mut self, now: Instant) {
         self.buffer.clear();
-        self.last_heard = Some(now);
+        self.silence.heard(now);
     }
 
-    /// When the transfer in progress times out.
+    /// When [`MissionReceiver::handle_timeout`] must be called: the transfer timeout of the
+    /// transfer in progress.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.last_heard.map(|t| t + self.transfer_timeout)
+        self.silence.poll_timeout()
     }
 
-    /// Whether the transfer in progress has timed out at `now`.
-    pub fn timed_out(&self, now: Instant) -> bool {
-        self.poll_timeout().is_some_and(|deadline| now >= deadline)
+    /// The transfer timeout may have passed at `now`: the transfer in progress is abandoned
+    /// and the buffer emptied (the owner's next transfer starts from its active mission).
+    /// `None` before the deadline or without a transfer.
+    pub fn handle_timeout(&mut self, now: Instant) -> Option<TransferTimedOut> {
+        let timed_out = self.silence.expire(now)?;
+        self.abandon(None);
+        Some(timed_out)
     }
 
     /// The mission the last [`Received::Complete`] assembled.
@@ -100,24 +176,24 @@ impl MissionReceiver {
     /// Handles mission data: #13006, #13002, #13001, #13000 mode 2 transmit, #14000. The
     /// answer to the message is `Ok` (acknowledge type 2) or the reason (type 3).
     pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
-        self.last_heard = Some(now);
+        self.silence.heard(now);
         match message {
             Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
                 if c.waypoint_number == Some(0) {
                     if !self.buffer.is_empty() {
                         return Err(Reason::CountMismatch);
                     }
-                    self.last_heard = None;
+                    self.silence.close();
                     return Ok(Received::Emptied);
                 }
                 self.complete = Some(self.buffer.assemble(c.waypoint_number, c.mission_id)?);
-                self.last_heard = None;
+                self.silence.close();
                 Ok(Received::Complete)
             }
             Message::MissionUploadDownloadStatus(s) => match s.status {
                 TransferStatus::Complete => {
                     self.complete = Some(self.buffer.assemble(None, s.mission_id)?);
-                    self.last_heard = None;
+                    self.silence.close();
                     Ok(Received::Complete)
                 }
                 TransferStatus::Aborted => {
@@ -138,8 +214,7 @@ pub struct AreaReceiver {
     complete: Option<AreaList>,
     /// Loop count and safety offset of the opening message, while a transfer is open.
     open: Option<(u8, SafetyOffset)>,
-    last_heard: Option<Instant>,
-    transfer_timeout: Duration,
+    silence: Silence,
 }
 
 impl AreaReceiver {
@@ -149,8 +224,7 @@ impl AreaReceiver {
             buffer: AreaBuffer::new(),
             complete: None,
             open: None,
-            last_heard: None,
-            transfer_timeout,
+            silence: Silence::new(transfer_timeout),
         }
     }
 
@@ -164,17 +238,21 @@ impl AreaReceiver {
     pub fn abandon(&mut self) {
         self.buffer = AreaBuffer::new();
         self.open = None;
-        self.last_heard = None;
+        self.silence.close();
     }
 
-    /// When the transfer in progress times out.
+    /// When [`AreaReceiver::handle_timeout`] must be called: the transfer timeout of the
+    /// transfer in progress.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.last_heard.map(|t| t + self.transfer_timeout)
+        self.silence.poll_timeout()
     }
 
-    /// Whether the transfer in progress has timed out at `now`.
-    pub fn timed_out(&self, now: Instant) -> bool {
-        self.poll_timeout().is_some_and(|deadline| now >= deadline)
+    /// The transfer timeout may have passed at `now`: the transfer in progress is abandoned
+    /// with what it stored. `None` before the deadline or without a transfer.
+    pub fn handle_timeout(&mut self, now: Instant) -> Option<TransferTimedOut> {
+        let timed_out = self.silence.expire(now)?;
+        self.abandon();
+        Some(timed_out)
     }
 
     /// The area list the last [`Received::Complete`] assembled.
@@ -185,7 +263,18 @@ impl AreaReceiver {
     /// Handles area data: #2011 mode 1 (opens, FCC) or #3013 ready (opens, GCS), #2012, #2011
     /// mode 2 (closes, FCC) or mode 4 (closes, GCS), #2011 mode 5 cancel.
     pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
-        self.last_heard = Some(now);
+        let received = self.route(message);
+        // The transfer timeout runs exactly while a transfer is open: a stray message outside
+        // one starts no timer.
+        if self.open.is_some() {
+            self.silence.heard(now);
+        } else {
+            self.silence.close();
+        }
+        received
+    }
+
+    fn route(&mut self, message: &Message) -> Result<Received, Reason> {
         let opening = match message {
             Message::AreaTransmissionCommand(c) => match c.mode {
                 AreaTransferMode::InitiateUpload => Some((
