@@ -18,8 +18,7 @@ use clap::Parser;
 use missionlink_gcs::gcs_link::{Direction, GcsLink, Logged, describe_from_to_next};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_interfaces::wire::{
-    AckType, ExecuteCommand, Message, MessageType, MissionExecuteCommand, Reason, SpecificData,
-    Timestamp,
+    AckType, ExecuteCommand, Message, MessageType, Reason, SpecificData,
 };
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
@@ -187,12 +186,8 @@ fn upload(
 
 fn execute(link: &mut Link) -> Result<(), String> {
     let now = link.now();
-    let message = MissionExecuteCommand {
-        time_stamp: Timestamp::default(),
-        command: ExecuteCommand::Execute,
-    };
     link.station()
-        .command(now, message.into())
+        .execute(now, ExecuteCommand::Execute)
         .map_err(|e| e.to_string())?;
     finish(link).map(|_| ()).map_err(|e| e.to_string())
 }

@@ -14,10 +14,7 @@ use missionlink_gcs::inspect::{
 };
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_gcs::{geojson, map, profile, qgc};
-use missionlink_interfaces::wire::{
-    AreaTransferMode, AreaTransmissionCommand, ExecuteCommand, Message, MissionExecuteCommand,
-    SafetyOffset, Timestamp,
-};
+use missionlink_interfaces::wire::{ExecuteCommand, SafetyOffset};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
 use missionlink_services::ground_station::{GcsEvent, MissionPlan, ValidatedPlan};
 use missionlink_services::safety_gateway::{SafetyGateway, Violation};
@@ -488,31 +485,16 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             Ok(())
         }
         Command::ClearAreas | Command::Execute | Command::Rth | Command::Land => {
-            let message: Message = match command {
-                Command::ClearAreas => AreaTransmissionCommand {
-                    time_stamp: Timestamp::default(),
-                    mode: AreaTransferMode::ClearAreas,
-                    loop_count: None,
-                    area_id: None,
-                    safety_offset: None,
-                    activity_id: None,
-                }
-                .into(),
-                other => MissionExecuteCommand {
-                    time_stamp: Timestamp::default(),
-                    command: match other {
-                        Command::Execute => ExecuteCommand::Execute,
-                        Command::Rth => ExecuteCommand::ReturnToHome,
-                        _ => ExecuteCommand::Land,
-                    },
-                }
-                .into(),
-            };
             let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
-            link.station()
-                .command(now, message)
-                .map_err(|e| e.to_string())?;
+            let station = link.station();
+            match command {
+                Command::ClearAreas => station.clear_areas(now),
+                Command::Execute => station.execute(now, ExecuteCommand::Execute),
+                Command::Rth => station.execute(now, ExecuteCommand::ReturnToHome),
+                _ => station.execute(now, ExecuteCommand::Land),
+            }
+            .map_err(|e| e.to_string())?;
             finish(&mut link)?;
             println!("accepted by the FCC");
             Ok(())
