@@ -100,6 +100,26 @@ impl MissionPlan {
     }
 }
 
+/// The Mission ID as the one-line descriptions quote it (empty when none).
+fn quoted_mission_id(f: &mut fmt::Formatter<'_>, id: Option<Text<20>>) -> fmt::Result {
+    write!(f, "{:?}", id.as_ref().map_or("", |t| t.as_str()))
+}
+
+/// One line, before assembly: `plan "MEDEVAC-2": 3 waypoints, 3 areas, safety offset 25.0 m`.
+impl fmt::Display for MissionPlan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("plan ")?;
+        quoted_mission_id(f, self.mission_id)?;
+        write!(
+            f,
+            ": {} waypoints, {} areas, safety offset {:.1} m",
+            self.mission.len(),
+            self.areas.len(),
+            self.safety_offset.metres()
+        )
+    }
+}
+
 /// The lists a validation request produced.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ValidatedPlan {
@@ -107,6 +127,39 @@ pub struct ValidatedPlan {
     pub mission: Mission,
     /// The area list.
     pub areas: AreaList,
+}
+
+/// One line, the route in flight-plan order: `mission "MEDEVAC-2": take-off 30.0 m, 3 waypoints
+/// (1 -> 2 -> 3), route bidirectional; 3 areas, safety offset 25.0 m`.
+impl fmt::Display for ValidatedPlan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let m = &self.mission;
+        f.write_str("mission ")?;
+        quoted_mission_id(f, m.mission_id)?;
+        write!(
+            f,
+            ": take-off {:.1} m, {} waypoints (",
+            m.take_off_height().metres(),
+            m.waypoints.len()
+        )?;
+        for (i, record) in m.waypoints.iter().enumerate() {
+            if i > 0 {
+                f.write_str(" -> ")?;
+            }
+            write!(f, "{}", record.waypoint.waypoint_number)?;
+        }
+        write!(
+            f,
+            "), route {}; {} areas, safety offset {:.1} m",
+            if m.route.bidirectional {
+                "bidirectional"
+            } else {
+                "one-way"
+            },
+            self.areas.areas.len(),
+            self.areas.safety_offset.metres()
+        )
+    }
 }
 
 /// Settings of the GCS logic.

@@ -304,3 +304,23 @@ fn the_safety_gateway_can_refuse_and_then_nothing_is_sent() {
     assert!(gcs.poll_outgoing().is_none());
     assert!(gcs.is_standby());
 }
+
+#[test]
+fn plans_describe_themselves_in_one_line() {
+    let plan = mission_2();
+    assert_eq!(
+        plan.to_string(),
+        r#"plan "MEDEVAC-2": 3 waypoints, 3 areas, safety offset 25.0 m"#
+    );
+    let valid = Pair::new(1).gcs.validate(&plan).unwrap();
+    // The wording of `gcs validate` (README).
+    assert_eq!(
+        valid.to_string(),
+        r#"mission "MEDEVAC-2": take-off 30.0 m, 3 waypoints (1 -> 2 -> 3), route bidirectional; 3 areas, safety offset 25.0 m"#
+    );
+    let one = Pair::new(1).gcs.validate(&mission_1()).unwrap();
+    assert_eq!(
+        one.to_string(),
+        r#"mission "MEDEVAC-1": take-off 30.0 m, 1 waypoints (1), route one-way; 1 areas, safety offset 25.0 m"#
+    );
+}

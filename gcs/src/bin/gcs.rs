@@ -314,31 +314,6 @@ fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, String> {
     outcome.map_err(|e| e.to_string())
 }
 
-fn summary(plan: &ValidatedPlan) -> String {
-    let m = &plan.mission;
-    let route: Vec<String> = m
-        .waypoints
-        .iter()
-        .map(|r| r.waypoint.waypoint_number.to_string())
-        .collect();
-    format!(
-        "mission {:?}: take-off {:.1} m, {} waypoints ({}), route {}; {} areas, safety offset {:.1} m",
-        m.mission_id
-            .map(|t| t.as_str().to_owned())
-            .unwrap_or_default(),
-        m.take_off_height().metres(),
-        m.waypoints.len(),
-        route.join(" -> "),
-        if m.route.bidirectional {
-            "bidirectional"
-        } else {
-            "one-way"
-        },
-        plan.areas.areas.len(),
-        plan.areas.safety_offset.metres(),
-    )
-}
-
 fn mission_command(config: &Config, command: Command) -> Result<(), String> {
     match command {
         Command::Validate { file, json, safety } => {
@@ -363,13 +338,13 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
                     serde_json::json!({
                         "file": file,
                         "feasible": violations.is_empty(),
-                        "summary": summary(&valid),
+                        "summary": valid.to_string(),
                         "energy_wh": { "total": energy.total_wh, "limit": energy.limit_wh },
                         "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
                     })
                 );
             } else {
-                println!("{}: {}", file.display(), summary(&valid));
+                println!("{}: {valid}", file.display());
                 println!(
                     "  energy: {:.0} Wh needed of {:.0} Wh usable after the reserve",
                     energy.total_wh, energy.limit_wh
@@ -466,7 +441,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             let now = link.now();
             link.station().download(now).map_err(|e| e.to_string())?;
             let plan = finish(&mut link)?.ok_or("the download ended without lists")?;
-            println!("downloaded {}", summary(&plan));
+            println!("downloaded {plan}");
             if let Some(path) = output {
                 std::fs::write(&path, MissionFile::from_plan(&plan).to_toml())
                     .map_err(|e| format!("{}: {e}", path.display()))?;
