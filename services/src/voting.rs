@@ -8,7 +8,8 @@
 //!   to back) goes through the wrapper rules ([`wire::frames`]), the addressing rules
 //!   ([`Frame::check_addressing`]) and the message rules ([`Frame::message`]). A frame that
 //!   breaks a wrapper or addressing rule is dropped and counted by cause: it is never processed
-//!   and never acknowledged. A message that breaks a message rule but whose time stamp could be
+//!   and never acknowledged. The log hears of it at most once a second per cause
+//!   ([`crate::link::rejects`]), so a flood of bad datagrams cannot flood the log. A message that breaks a message rule but whose time stamp could be
 //!   read is still forwarded, because mission data handling must answer it with #17000 type 3
 //!   and the reason; without a readable time stamp nobody can answer it, so it is dropped.
 //! - **Newest wins (paper §2.4; ICD §3 "Time stamps are identities").** Message sampling
@@ -29,8 +30,9 @@ use core::time::Duration;
 
 use heapless::Vec;
 use missionlink_interfaces::contracts::Link;
-use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Timestamp};
+use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Reason, Timestamp};
 
+use crate::link::rejects::{Cause, FrameCause, LogLimiter, REASONS};
 use crate::link::sampling::{MessageSampler, Sample};
 use crate::link::time::Instant;
 
@@ -43,7 +45,7 @@ pub const VOTING_STEP_MESSAGES: usize = 64;
 /// What the voter did since it was created. Every message of every datagram lands in exactly
 /// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames`, `unreadable_messages`,
 /// `overflow`.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct VotingStats {
     /// Messages forwarded, per link: `[direct, LTE]` (includes `rejected_messages_forwarded`).
     pub forwarded: [u64; 2],
@@ -83,19 +85,55 @@ pub struct VotingStats {
 
 impl VotingStats {
     /// Counts a frame rejected at the wrapper or by addressing, by cause.
-    fn count_rejected(&mut self, error: &FrameError) {
+    fn count_rejected(&mut self, cause: FrameCause) {
         self.rejected_frames += 1;
-        let cause = match error {
-            FrameError::TooShort { .. } => &mut self.too_short,
-            FrameError::LengthOutOfRange { .. } => &mut self.length_out_of_range,
-            FrameError::LengthMismatch { .. } => &mut self.length_mismatch,
-            FrameError::InvalidChecksumLength => &mut self.invalid_checksum_length,
-            FrameError::ChecksumMismatch { .. } => &mut self.checksum_mismatch,
-            FrameError::UnsupportedVersion { .. } => &mut self.unsupported_version,
-            FrameError::WrongDestination { .. } => &mut self.wrong_destination,
-            FrameError::UnknownSource { .. } => &mut self.unknown_source,
-        };
-        *cause += 1;
+        *self.by_cause_mut(cause) += 1;
+    }
+
+    /// The counter of `cause` (the one mapping of causes to fields).
+    fn by_cause_mut(&mut self, cause: FrameCause) -> &mut u64 {
+        match cause {
+            FrameCause::TooShort => &mut self.too_short,
+            FrameCause::LengthOutOfRange => &mut self.length_out_of_range,
+            FrameCause::LengthMismatch => &mut self.length_mismatch,
+            FrameCause::InvalidChecksumLength => &mut self.invalid_checksum_length,
+            FrameCause::ChecksumMismatch => &mut self.checksum_mismatch,
+            FrameCause::UnsupportedVersion => &mut self.unsupported_version,
+            FrameCause::WrongDestination => &mut self.wrong_destination,
+            FrameCause::UnknownSource => &mut self.unknown_source,
+        }
+    }
+
+    /// Frames rejected for `cause`.
+    pub fn rejected(&self, cause: FrameCause) -> u64 {
+        // Read through the one mapping of causes to fields, on a copy.
+        *{ *self }.by_cause_mut(cause)
+    }
+
+    /// Every counter by name, for a summary (the frame causes under [`Cause::name`]).
+    pub fn counters(&self) -> impl Iterator<Item = (&'static str, u64)> + '_ {
+        let [direct, lte] = self.forwarded;
+        [
+            ("forwarded_direct", direct),
+            ("forwarded_lte", lte),
+            ("duplicates", self.duplicates),
+            ("stale", self.stale),
+            ("rejected_frames", self.rejected_frames),
+        ]
+        .into_iter()
+        .chain(
+            FrameCause::ALL
+                .into_iter()
+                .map(|cause| (cause.name(), self.rejected(cause))),
+        )
+        .chain([
+            (
+                "rejected_messages_forwarded",
+                self.rejected_messages_forwarded,
+            ),
+            ("unreadable_messages", self.unreadable_messages),
+            ("overflow", self.overflow),
+        ])
     }
 
     /// Counts a forwarded message on its link.
@@ -150,6 +188,25 @@ pub struct Voter {
     peer_id: u32,
     sampler: MessageSampler,
     stats: VotingStats,
+    frame_log: LogLimiter<FrameCause, 8>,
+    unreadable_log: LogLimiter<Reason, REASONS>,
+    overflow_log: LogLimiter<StepFull, 1>,
+}
+
+/// The cause of [`VotingStats::overflow`], logged like a rejection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum StepFull {
+    Overflow = 0,
+}
+
+impl Cause<1> for StepFull {
+    const ALL: [Self; 1] = [Self::Overflow];
+    fn index(self) -> usize {
+        self as usize
+    }
+    fn name(self) -> &'static str {
+        "overflow"
+    }
 }
 
 impl Voter {
@@ -162,6 +219,9 @@ impl Voter {
             peer_id,
             sampler: MessageSampler::new(sampling_window),
             stats: VotingStats::default(),
+            frame_log: LogLimiter::new(),
+            unreadable_log: LogLimiter::new(),
+            overflow_log: LogLimiter::new(),
         }
     }
 
@@ -182,14 +242,14 @@ impl Voter {
             if datagram.is_empty() {
                 // The walker yields nothing for no bytes, but ICD §2 still calls an empty
                 // datagram shorter than the header: count it, so a peer sending them is seen.
-                if self.admit(&mut considered, link) {
-                    self.reject(link, FrameError::TooShort { len: 0 });
+                if self.admit(now, &mut considered, link) {
+                    self.reject(now, link, FrameError::TooShort { len: 0 });
                 }
                 continue;
             }
             for item in wire::frames(datagram) {
                 let arrival = considered;
-                if !self.admit(&mut considered, link) {
+                if !self.admit(now, &mut considered, link) {
                     continue;
                 }
                 let checked = item.and_then(|frame| {
@@ -198,9 +258,9 @@ impl Voter {
                         .map(|()| frame)
                 });
                 match checked {
-                    Err(error) => self.reject(link, error),
+                    Err(error) => self.reject(now, link, error),
                     Ok(frame) => {
-                        if let Some(candidate) = self.candidate(link, frame, arrival) {
+                        if let Some(candidate) = self.candidate(now, link, frame, arrival) {
                             // `admit` keeps the count within the capacity, so this never fails;
                             // should it, the message is accounted for rather than lost silently.
                             if candidates.push(candidate).is_err() {
@@ -234,32 +294,52 @@ impl Voter {
         &self.stats
     }
 
+    /// Log lines about rejected frames, unreadable messages and full steps so far (at most one
+    /// per cause per [`crate::link::rejects::LOG_INTERVAL`]).
+    pub fn reject_log_lines(&self) -> u64 {
+        self.frame_log.lines() + self.unreadable_log.lines() + self.overflow_log.lines()
+    }
+
     /// Counts one more message of the step; `false` (and counted as overflow) once the step
     /// has had [`VOTING_STEP_MESSAGES`].
-    fn admit(&mut self, considered: &mut usize, link: Link) -> bool {
+    fn admit(&mut self, now: Instant, considered: &mut usize, link: Link) -> bool {
         if *considered >= VOTING_STEP_MESSAGES {
             self.stats.overflow += 1;
-            tracing::warn!(
-                ?link,
-                limit = VOTING_STEP_MESSAGES,
-                "voting step full: message dropped"
-            );
+            if let Some(dropped) = self.overflow_log.admit(StepFull::Overflow, now) {
+                tracing::warn!(
+                    ?link,
+                    limit = VOTING_STEP_MESSAGES,
+                    dropped,
+                    "voting steps full: messages dropped since the last line"
+                );
+            }
             return false;
         }
         *considered += 1;
         true
     }
 
-    /// Drops a frame by a rule of ICD §2: counted and logged, never processed.
-    fn reject(&mut self, link: Link, error: FrameError) {
-        self.stats.count_rejected(&error);
-        tracing::warn!(?link, %error, "frame rejected");
+    /// Drops a frame by a rule of ICD §2: counted, logged at most once a second per cause,
+    /// never processed.
+    fn reject(&mut self, now: Instant, link: Link, error: FrameError) {
+        let cause = FrameCause::of(&error);
+        self.stats.count_rejected(cause);
+        if let Some(rejected) = self.frame_log.admit(cause, now) {
+            tracing::warn!(
+                ?link,
+                cause = cause.name(),
+                rejected,
+                last = %error,
+                "frames rejected since the last line of this cause"
+            );
+        }
     }
 
     /// Decodes the message of a frame that passed the wrapper and addressing rules; `None` when
     /// it is dropped because its time stamp cannot be read.
     fn candidate<'a>(
         &mut self,
+        now: Instant,
         link: Link,
         frame: Frame<'a>,
         arrival: usize,
@@ -270,7 +350,17 @@ impl Voter {
                 Some(time_stamp) => (time_stamp, Some(error)),
                 None => {
                     self.stats.unreadable_messages += 1;
-                    tracing::warn!(?link, %error, "message without readable time stamp dropped");
+                    let reason = error.reason();
+                    if let Some(dropped) = self.unreadable_log.admit(reason, now) {
+                        tracing::warn!(
+                            ?link,
+                            reason = reason.name(),
+                            dropped,
+                            last = %error,
+                            "messages without readable time stamp dropped since the last line \
+                             of this reason"
+                        );
+                    }
                     return None;
                 }
             },

@@ -140,3 +140,43 @@ fn faults_on_both_links_never_leave_a_partial_list() {
         tally.failed_new_new
     );
 }
+
+#[test]
+fn a_flood_of_bad_frames_on_both_links_is_counted_in_full_and_logged_once_a_second_per_cause() {
+    use missionlink_interfaces::contracts::Link;
+    use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
+    use missionlink_services::link::rejects::FrameCause;
+    use missionlink_services::link::time::Instant;
+    use missionlink_services::voting::Voter;
+
+    const N: u64 = 10_000;
+    let mut voter = Voter::new(FCC_ID, GCS_ID, TRANSFER_TIMEOUT);
+    let mut forwarded = 0;
+    // 10,000 steps 100 us apart, one simulated second: a short and an all-zero datagram each.
+    for i in 0..N {
+        let now = Instant::from_micros(100 * i);
+        voter.vote_step(
+            now,
+            &[(Link::Direct, &[0xff; 7]), (Link::Lte, &[0x00; 40])],
+            |_, _| forwarded += 1,
+        );
+    }
+    assert_eq!(forwarded, 0);
+    let stats = voter.stats();
+    assert_eq!(stats.rejected_frames, 2 * N);
+    assert_eq!(stats.rejected(FrameCause::TooShort), N);
+    let counters: std::collections::HashMap<_, _> = stats.counters().collect();
+    assert_eq!(counters["rejected_frames"], 2 * N);
+    assert_eq!(counters["too_short"], N);
+    // Zeros: Message Length 0.
+    assert_eq!(counters["length_out_of_range"], N);
+    // Two causes in one simulated second: two lines.
+    assert_eq!(voter.reject_log_lines(), 2);
+    // One more second later, one more line per cause.
+    voter.vote_step(
+        Instant::from_millis(2000),
+        &[(Link::Direct, &[0xff; 7]), (Link::Lte, &[0x00; 40])],
+        |_, _| forwarded += 1,
+    );
+    assert_eq!(voter.reject_log_lines(), 4);
+}

@@ -124,28 +124,8 @@ fn run(config: &Config) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     tracing::info!(stats = ?voter.stats(), "voting at shutdown");
-    let v = voter.stats();
-    report.finish(
-        &[&received, &downlink_hop, &turnaround],
-        &[
-            ("forwarded_direct", v.forwarded[0]),
-            ("forwarded_lte", v.forwarded[1]),
-            ("duplicates", v.duplicates),
-            ("stale", v.stale),
-            ("rejected_frames", v.rejected_frames),
-            ("too_short", v.too_short),
-            ("length_out_of_range", v.length_out_of_range),
-            ("length_mismatch", v.length_mismatch),
-            ("invalid_checksum_length", v.invalid_checksum_length),
-            ("checksum_mismatch", v.checksum_mismatch),
-            ("unsupported_version", v.unsupported_version),
-            ("wrong_destination", v.wrong_destination),
-            ("unknown_source", v.unknown_source),
-            ("rejected_messages_forwarded", v.rejected_messages_forwarded),
-            ("unreadable_messages", v.unreadable_messages),
-            ("overflow", v.overflow),
-        ],
-    );
+    let counters: Vec<_> = voter.stats().counters().collect();
+    report.finish(&[&received, &downlink_hop, &turnaround], &counters);
     Ok(())
 }
 

@@ -15,6 +15,7 @@ use missionlink_interfaces::wire::{
     MessageError, Reason, Timestamp,
 };
 
+use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter, REASONS};
 use crate::link::sampling::{MessageSampler, Sample};
 use crate::link::time::{Instant, UtcClock};
 use crate::link::time_stamp::TimeStamper;
@@ -65,16 +66,33 @@ pub enum Inbound {
 /// Counters of an endpoint, for monitoring.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct EndpointStats {
-    /// Frames rejected at the wrapper (ICD §2).
-    pub rejected_frames: u64,
-    /// Messages rejected by ICD §3 or §4.
-    pub rejected_messages: u64,
+    /// Frames rejected at the wrapper or by addressing (ICD §2), by cause.
+    pub rejected_frames: ByCause<FrameCause, 8>,
+    /// Messages rejected by ICD §3 or §4, by the reason of ICD §6.
+    pub rejected_messages: ByCause<Reason, REASONS>,
     /// Copies dropped by sampling.
     pub dropped_copies: u64,
     /// Messages queued for sending.
     pub queued: u64,
     /// Messages lost because the driver did not drain the queue.
     pub outbox_overflow: u64,
+}
+
+impl EndpointStats {
+    /// Every counter by name, for a summary: the totals of rejected frames and messages, then
+    /// each cause.
+    pub fn counters(&self) -> impl Iterator<Item = (&'static str, u64)> + '_ {
+        [("rejected_frames", self.rejected_frames.total())]
+            .into_iter()
+            .chain(self.rejected_frames.counters())
+            .chain([("rejected_messages", self.rejected_messages.total())])
+            .chain(self.rejected_messages.counters())
+            .chain([
+                ("dropped_copies", self.dropped_copies),
+                ("queued", self.queued),
+                ("outbox_overflow", self.outbox_overflow),
+            ])
+    }
 }
 
 /// One end of the link.
@@ -86,6 +104,8 @@ pub struct Endpoint {
     sampler: MessageSampler,
     outbox: Deque<Outgoing, OUTBOX_CAPACITY>,
     stats: EndpointStats,
+    frame_log: LogLimiter<FrameCause, 8>,
+    message_log: LogLimiter<Reason, REASONS>,
 }
 
 impl Endpoint {
@@ -98,6 +118,8 @@ impl Endpoint {
             sampler: MessageSampler::new(config.sampling_window),
             outbox: Deque::new(),
             stats: EndpointStats::default(),
+            frame_log: LogLimiter::new(),
+            message_log: LogLimiter::new(),
         }
     }
 
@@ -111,15 +133,22 @@ impl Endpoint {
         &self.stats
     }
 
+    /// Log lines about rejected frames and messages so far (at most one per cause per
+    /// [`crate::link::rejects::LOG_INTERVAL`]).
+    pub fn reject_log_lines(&self) -> u64 {
+        self.frame_log.lines() + self.message_log.lines()
+    }
+
     /// Preprocesses one message (wrapper to checksum) received at `now`. A frame error is
-    /// returned for the driver to count and log; it is never answered (ICD §2).
+    /// counted by cause, logged at most once a second per cause, and returned; it is never
+    /// answered (ICD §2).
     pub fn receive(&mut self, now: Instant, bytes: &[u8]) -> Result<Inbound, FrameError> {
         let frame = Frame::new_checked(bytes)
             .and_then(|f| {
                 f.check_addressing(self.config.local_id, self.config.peer_id)
                     .map(|()| f)
             })
-            .inspect_err(|_| self.stats.rejected_frames += 1)?;
+            .inspect_err(|error| self.reject_frame(now, error))?;
         let ack_requested = frame.properties().ack_requested();
         let source = frame.source_id();
         let message_type = frame.message_type();
@@ -152,10 +181,31 @@ impl Endpoint {
                         self.acknowledge(now, message_type, ts, Err(error.reason()));
                     }
                 }
-                self.stats.rejected_messages += 1;
-                tracing::warn!(%error, "message rejected");
+                let reason = error.reason();
+                self.stats.rejected_messages.add(reason);
+                if let Some(rejected) = self.message_log.admit(reason, now) {
+                    tracing::warn!(
+                        reason = reason.name(),
+                        rejected,
+                        last = %error,
+                        "messages rejected since the last line of this reason"
+                    );
+                }
                 Ok(Inbound::Rejected(error))
             }
+        }
+    }
+
+    fn reject_frame(&mut self, now: Instant, error: &FrameError) {
+        let cause = FrameCause::of(error);
+        self.stats.rejected_frames.add(cause);
+        if let Some(rejected) = self.frame_log.admit(cause, now) {
+            tracing::warn!(
+                cause = cause.name(),
+                rejected,
+                last = %error,
+                "frames rejected since the last line of this cause"
+            );
         }
     }
 
@@ -216,5 +266,157 @@ impl Endpoint {
     pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
         let (envelope, message) = self.poll_outgoing()?;
         Some(wire::encode(&envelope, &message, buf))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::{Arc, Mutex};
+
+    use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
+    use missionlink_interfaces::wire::{
+        ChecksumWidth, ExecuteCommand, MAX_FRAME_LEN, MissionExecuteCommand, frame::checksum,
+    };
+
+    use super::*;
+    use crate::link::rejects::LOG_INTERVAL;
+
+    fn config(local_id: u32, peer_id: u32) -> EndpointConfig {
+        EndpointConfig {
+            local_id,
+            peer_id,
+            utc_at_zero: Timestamp::from_millis(848_577_600_000).unwrap(),
+            sampling_window: Duration::from_secs(3),
+        }
+    }
+
+    /// A log line as the capture saw it: when (simulated), the cause or reason, the count.
+    #[derive(Debug, Clone, PartialEq, Eq)]
+    struct Line {
+        at: Instant,
+        cause: std::string::String,
+        rejected: u64,
+    }
+
+    /// A tracing subscriber that keeps every event, stamped with the simulated time.
+    #[derive(Clone, Default)]
+    struct Capture {
+        now: Arc<Mutex<Instant>>,
+        lines: Arc<Mutex<Vec<Line>>>,
+    }
+
+    #[derive(Default)]
+    struct Fields {
+        cause: std::string::String,
+        rejected: u64,
+    }
+
+    impl tracing::field::Visit for Fields {
+        fn record_u64(&mut self, field: &tracing::field::Field, value: u64) {
+            if field.name() == "rejected" {
+                self.rejected = value;
+            }
+        }
+        fn record_str(&mut self, field: &tracing::field::Field, value: &str) {
+            if matches!(field.name(), "cause" | "reason") {
+                self.cause = value.into();
+            }
+        }
+        fn record_debug(&mut self, _: &tracing::field::Field, _: &dyn core::fmt::Debug) {}
+    }
+
+    impl tracing::Subscriber for Capture {
+        fn enabled(&self, _: &tracing::Metadata<'_>) -> bool {
+            true
+        }
+        fn new_span(&self, _: &tracing::span::Attributes<'_>) -> tracing::span::Id {
+            tracing::span::Id::from_u64(1)
+        }
+        fn record(&self, _: &tracing::span::Id, _: &tracing::span::Record<'_>) {}
+        fn record_follows_from(&self, _: &tracing::span::Id, _: &tracing::span::Id) {}
+        fn event(&self, event: &tracing::Event<'_>) {
+            let mut fields = Fields::default();
+            event.record(&mut fields);
+            let at = *self.now.lock().unwrap();
+            self.lines.lock().unwrap().push(Line {
+                at,
+                cause: fields.cause,
+                rejected: fields.rejected,
+            });
+        }
+        fn enter(&self, _: &tracing::span::Id) {}
+        fn exit(&self, _: &tracing::span::Id) {}
+    }
+
+    /// A #50000 from the GCS, freshly stamped at `now`.
+    fn execute(gcs: &mut Endpoint, now: Instant) -> std::vec::Vec<u8> {
+        let message = MissionExecuteCommand {
+            time_stamp: Timestamp::default(),
+            command: ExecuteCommand::Execute,
+        };
+        gcs.send(now, message.into(), false);
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let len = gcs.poll_transmit(&mut buf).unwrap().unwrap();
+        buf[..len].to_vec()
+    }
+
+    #[test]
+    fn a_flood_of_bad_input_is_counted_in_full_and_logged_once_a_second_per_cause() {
+        const N: u64 = 3000;
+        let step = Duration::from_millis(1);
+        let mut fcc = Endpoint::new(config(FCC_ID, GCS_ID));
+        let mut gcs = Endpoint::new(config(GCS_ID, FCC_ID));
+        let capture = Capture::default();
+        tracing::subscriber::with_default(capture.clone(), || {
+            let mut now = Instant::from_millis(5);
+            for _ in 0..N {
+                *capture.now.lock().unwrap() = now;
+                let good = execute(&mut gcs, now);
+                // Wrapper: a corrupted checksum, and a frame cut short of its header.
+                let mut corrupted = good.clone();
+                *corrupted.last_mut().unwrap() ^= 0x5a;
+                assert!(fcc.receive(now, &corrupted).is_err());
+                assert!(fcc.receive(now, &good[..10]).is_err());
+                // Message: Command 9 is no #50000 command (ICD §4), under a sound checksum.
+                let mut unsupported = good;
+                let data_end = unsupported.len() - 4;
+                unsupported[data_end - 1] = 9;
+                let sum = checksum(&unsupported[..data_end], ChecksumWidth::Four);
+                unsupported[data_end..].copy_from_slice(&sum.to_be_bytes());
+                assert!(matches!(
+                    fcc.receive(now, &unsupported),
+                    Ok(Inbound::Rejected(_))
+                ));
+                now = now + step;
+            }
+        });
+        let stats = fcc.stats();
+        assert_eq!(stats.rejected_frames.get(FrameCause::ChecksumMismatch), N);
+        assert_eq!(stats.rejected_frames.get(FrameCause::TooShort), N);
+        assert_eq!(stats.rejected_frames.total(), 2 * N);
+        assert_eq!(stats.rejected_messages.get(Reason::Unsupported), N);
+        assert_eq!(stats.rejected_messages.total(), N);
+        let counters: std::collections::HashMap<_, _> = stats.counters().collect();
+        assert_eq!(counters["rejected_frames"], 2 * N);
+        assert_eq!(counters["checksum_mismatch"], N);
+        assert_eq!(counters["reason_unsupported"], N);
+
+        let lines = capture.lines.lock().unwrap().clone();
+        assert_eq!(lines.len() as u64, fcc.reject_log_lines());
+        // N ms of flood: lines at 0 s, 1 s and 2 s of it, per cause.
+        for cause in ["checksum_mismatch", "too_short", "reason_unsupported"] {
+            let of_cause: std::vec::Vec<_> = lines.iter().filter(|l| l.cause == cause).collect();
+            assert_eq!(of_cause.len(), 3, "{cause}: {of_cause:?}");
+            for pair in of_cause.windows(2) {
+                assert!(pair[1].at - pair[0].at >= LOG_INTERVAL, "{pair:?}");
+            }
+            // Each line counts what happened since the one before: all but the last second's
+            // rejections after the last line are accounted for.
+            let logged: u64 = of_cause.iter().map(|l| l.rejected).sum();
+            assert_eq!(of_cause[0].rejected, 1);
+            assert_eq!(of_cause[1].rejected, 1000);
+            assert_eq!(logged, 2001);
+        }
+        assert_eq!(lines.len(), 9, "{lines:?}");
     }
 }
