@@ -8,6 +8,10 @@
 //! Inverted use (paper §3.2; ICD §5.6): the GCS uploads with the FCC's download sender and
 //! downloads with the FCC's upload receivers ([`TransferSender`], [`MissionReceiver`],
 //! [`AreaReceiver`]).
+//!
+//! Their deadlines are the slots of one [`TimerTable`] ([`GcsTimer`]). Commands are typed:
+//! [`GroundStation::clear_areas`] and [`GroundStation::execute`] build #2011 mode 6 and #50000,
+//! so no tool writes a message by hand.
 
 use core::fmt;
 use core::time::Duration;

@@ -18,6 +18,10 @@
 //! Active lists change only when a complete new list is valid; a failed or abandoned transfer
 //! leaves them as they were. Steady-state handling allocates nothing.
 //!
+//! The deadlines of the transfers (the download messages' ack timeouts, the uploads' transfer
+//! timeouts) are the slots of one [`TimerTable`] ([`FccTimer`]): `poll_timeout` is its earliest
+//! deadline, and `handle_timeout` fires the transfers whose timers are due.
+//!
 //! The clear of ICD §5.1 step 1 (#13000 mode 1) empties the waypoint buffer at once, but the
 //! active list only with the #13000 mode 2 that closes the transfer. This project's choice where
 //! the ICD's "empties ... the active list" meets the rule above: a full upload that fails after
