@@ -18,9 +18,9 @@ use core::time::Duration;
 use std::collections::VecDeque;
 
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, EncodeError, Envelope,
-    ExecuteCommand, FrameError, FromToNext, Message, MessageType, MissionExecuteCommand,
-    MissionPlanMode, Reason, SafetyOffset, Text, Timestamp,
+    AreaDownloadStatus, AreaTransferMode, EncodeError, Envelope, ExecuteCommand, FrameError,
+    FromToNext, Message, MessageType, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
+    Text, Timestamp,
 };
 
 use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
@@ -30,7 +30,7 @@ use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::{AreaBuffer, AreaList};
 use crate::transfer::mission::{Mission, MissionBuffer};
 use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received};
-use crate::transfer::sender::{Script, SenderEvent, TransferSender, mission_command};
+use crate::transfer::sender::{Script, SenderEvent, TransferSender, area_request, mission_command};
 
 /// The safety gateway hook (paper §2.2): a mission is uploaded only if every check passes. The
 /// gateway itself (geometry, energy, environment) plugs in here.
@@ -431,15 +431,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// Clears the active area list: #2011 mode 6 (ICD §4). The FCC refuses it while
     /// trajectory generation is active or an area transfer is in progress.
     pub fn clear_areas(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
-        let clear = AreaTransmissionCommand {
-            time_stamp: Timestamp::default(),
-            mode: AreaTransferMode::ClearAreas,
-            loop_count: None,
-            area_id: None,
-            safety_offset: None,
-            activity_id: None,
-        };
-        self.command(now, clear.into())
+        self.command(now, area_request(AreaTransferMode::ClearAreas, None))
     }
 
     /// #50000 Mission Execute Command (ICD §4): execute the active mission, return to home or
@@ -630,18 +622,11 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     fn request_areas(&mut self, now: Instant, mission: Mission) {
         self.downloaded_mission = Some(mission);
-        let request = AreaTransmissionCommand {
-            time_stamp: Timestamp::default(),
-            mode: AreaTransferMode::InitiateDownload,
-            loop_count: None,
-            area_id: Some(0),
-            safety_offset: None,
-            activity_id: None,
-        };
+        let request = area_request(AreaTransferMode::InitiateDownload, Some(0));
         self.start(
             now,
             State::Downloading(Phase::AreaDownload),
-            Script::Request(request.into()),
+            Script::Request(request),
         );
     }
 

@@ -189,17 +189,9 @@ impl Script {
                 }
                 .into(),
             ),
-            Self::AreaUpload { .. } | Self::AreaDownload { .. } => Some(
-                AreaTransmissionCommand {
-                    time_stamp: ts0(),
-                    mode: AreaTransferMode::Cancel,
-                    loop_count: None,
-                    area_id: None,
-                    safety_offset: None,
-                    activity_id: None,
-                }
-                .into(),
-            ),
+            Self::AreaUpload { .. } | Self::AreaDownload { .. } => {
+                Some(area_request(AreaTransferMode::Cancel, None))
+            }
             Self::Request(_) => None,
         }
     }
@@ -217,6 +209,20 @@ pub fn mission_command(
         mode,
         waypoint_number,
         route_id: None,
+        activity_id: None,
+    }
+    .into()
+}
+
+/// A #2011 of `mode` that carries no list: cancel, clear areas, or the download request (which
+/// names the area to start from, ICD §5.4).
+pub fn area_request(mode: AreaTransferMode, area_id: Option<u16>) -> Message {
+    AreaTransmissionCommand {
+        time_stamp: ts0(),
+        mode,
+        loop_count: None,
+        area_id,
+        safety_offset: None,
         activity_id: None,
     }
     .into()
