@@ -61,8 +61,9 @@
 //! `x = N(φ0)·cos φ0·Δλ`. North-south distances are exact to the ellipsoid's curvature over the
 //! extent; the east-west scale is off by about `tan φ0·|Δφ|`, which at 48° N is below 0.1 % within
 //! ±5 km north and south of the centre (the demo fly-zone spans ±1.7 km: below 0.03 %, under a
-//! metre). Great-circle track-to-fix legs are straight lines in this frame to well under a
-//! metre over legs of a few kilometres. Circle radii are the projected distance centre → border.
+//! metre). Geodesic track-to-fix legs are straight lines in this frame to well under a
+//! metre over legs of a few kilometres. A circle's radius is the geodesic distance centre → border
+//! ([`earth::distance_m`], as everywhere), drawn about the projected centre.
 //!
 //! Predicates and distances are the [`geo`] crate's, on [`geo::Polygon`] / [`geo::LineString`]
 //! in metres: [`Contains`] (point or path in the fly-zone), [`Intersects`] (path against a
@@ -93,6 +94,7 @@
 //!   the waypoint, inside the corner; the safety offset is meant to cover it.
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
+use crate::geofence::earth;
 use crate::geofence::local_frame::{LocalFrame, arc};
 use core::fmt;
 
@@ -831,8 +833,8 @@ impl SafetyGateway {
             let (shape, valid) = match &area.shape {
                 AreaShape::Circle { centre, border } => {
                     let centre_xy = frame.point(centre);
-                    let radius = Euclidean
-                        .distance(&Point::from(centre_xy), &Point::from(frame.point(border)));
+                    // The radius every module gives a circle: the geodesic centre -> border.
+                    let radius = earth::distance_m(*centre, *border);
                     let mut valid = true;
                     if below(radius, MIN_CIRCLE_RADIUS_M) {
                         c.push(
