@@ -11,8 +11,9 @@
 //! markers (those without a position are drawn nowhere else). Above: the title, the mission ID
 //! and the waypoint and area counts. A scale bar (metres) and a north arrow sit on the map.
 //!
-//! Projection: local equirectangular about the centre of the fly-zone's bounding box
-//! (`x = R·Δλ·cos φ0`, `y = R·Δφ`, R the mean Earth radius), north up. Over a few kilometres
+//! Projection: the safety gateway's local frame (`services::geofence::local_frame`),
+//! equirectangular about the centre of the fly-zone's bounding box with the WGS-84 radii of
+//! curvature there (`x = N(φ0)·cos φ0·Δλ`, `y = M(φ0)·Δφ`), north up. Over a few kilometres
 //! its distortion is far below a pixel. The map fits the fly-zone (and anything lying outside
 //! it, say a violating waypoint) with a margin into the map frame.
 //!
@@ -21,8 +22,8 @@
 //!   local projection (the miter offset of the edges, with very sharp corners clamped); it is
 //!   exact for the straight edges of convex polygons but does not round the corners as a true
 //!   buffer would, nor repair a concave outline that the offset folds over;
-//! - circles are drawn with the radius measured in the local projection (centre to border
-//!   vertex), the offset circles with radius ± offset;
+//! - circles are drawn about their projected centre with their geodesic radius (centre to border
+//!   point, as the safety gateway takes it), the offset circles with radius ± offset;
 //! - radius-to-fix arcs are polylines sampled every few degrees around the RF centre, starting
 //!   and ending exactly at the waypoints; if the two ends are not at the same distance from the
 //!   centre, the radius changes linearly along the arc.
@@ -32,6 +33,7 @@
 //! initial waypoint "take-off" with that height. The leg type of the initial waypoint (the leg
 //! that would end there) is not drawn: no leg leads to it.
 
+use missionlink_services::geofence::earth;
 use missionlink_services::geofence::local_frame::{Coord, LocalFrame, arc};
 use std::fmt::Write as _;
 
@@ -468,10 +470,10 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
                     Shape::Polygon(vertices.iter().map(|v| proj.point(v)).collect())
                 }
                 AreaShape::Circle { centre, border } => {
-                    let c = proj.point(centre);
+                    // The radius the safety gateway checks: the geodesic centre -> border.
                     Shape::Circle {
-                        centre: c,
-                        radius: len(sub(proj.point(border), c)),
+                        centre: proj.point(centre),
+                        radius: earth::distance_m(*centre, *border),
                     }
                 }
             },
