@@ -88,13 +88,7 @@ struct Read {
 pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
     let root = parse_json(text)?;
     let at = At::root(&root);
-    let type_at = at.field("type")?;
-    if type_at.string()? != "FeatureCollection" {
-        return Err(type_at.error(format!(
-            "{:?}: expected \"FeatureCollection\"",
-            type_at.value.as_str().unwrap_or_default()
-        )));
-    }
+    at.expect_string("type", "FeatureCollection")?;
     let mut notes = Vec::new();
     let mut read: Vec<Read> = Vec::new();
     for feature in at.field("features")?.items()? {
@@ -141,13 +135,7 @@ pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
 }
 
 fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>, Error> {
-    let type_at = feature.field("type")?;
-    if type_at.string()? != "Feature" {
-        return Err(type_at.error(format!(
-            "{:?}: expected \"Feature\"",
-            type_at.value.as_str().unwrap_or_default()
-        )));
-    }
+    feature.expect_string("type", "Feature")?;
     let geometry = feature.field("geometry")?;
     if geometry.value.is_null() {
         notes.push(note(&feature.path, "no geometry: not an area, left out"));
@@ -329,7 +317,7 @@ mod tests {
     use missionlink_interfaces::wire::SafetyOffset;
     use missionlink_services::geofence::earth;
 
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+    use crate::mission_file::tests::MISSION_2;
 
     fn mission_2_areas() -> AreaList {
         let plan = MissionFile::parse(MISSION_2).unwrap().to_plan().unwrap();

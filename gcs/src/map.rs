@@ -1099,31 +1099,7 @@ fn violations(svg: &mut String, markers: &[Marker]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mission_file::MissionFile;
-    use missionlink_interfaces::defaults;
-    use missionlink_interfaces::wire::Timestamp;
-    use missionlink_services::ground_station::{GcsConfig, GroundStation, WithoutGateway};
-    use missionlink_services::link::endpoint::EndpointConfig;
-
-    const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
-
-    fn validated(text: &str) -> ValidatedPlan {
-        let config = GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: defaults::GCS_ID,
-                peer_id: defaults::FCC_ID,
-                utc_at_zero: Timestamp::default(),
-                sampling_window: defaults::TRANSFER_TIMEOUT,
-            },
-            ack_timeout: defaults::ACK_TIMEOUT,
-            transfer_timeout: defaults::TRANSFER_TIMEOUT,
-        };
-        let plan = MissionFile::parse(text).unwrap().to_plan().unwrap();
-        GroundStation::new(config, WithoutGateway)
-            .validate(&plan)
-            .unwrap()
-    }
+    use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
 
     fn example_markers() -> Vec<Marker> {
         vec![
@@ -1298,7 +1274,7 @@ mod tests {
     }
 
     /// Writes docs/mission-2.svg, and an example with markers to the temporary directory:
-    /// `cargo test -p missionlink-partitions map::tests::write_maps -- --ignored`.
+    /// `cargo test -p missionlink-gcs map::tests::write_maps -- --ignored`.
     #[test]
     #[ignore = "generator: writes docs/mission-2.svg"]
     fn write_maps() {
@@ -1317,7 +1293,7 @@ mod tests {
         let committed = std::fs::read_to_string(DOCS_MAP).unwrap();
         assert!(
             committed == docs_map(),
-            "docs/mission-2.svg is stale: cargo test -p missionlink-partitions map::tests::write_maps -- --ignored"
+            "docs/mission-2.svg is stale: cargo test -p missionlink-gcs map::tests::write_maps -- --ignored"
         );
     }
 }

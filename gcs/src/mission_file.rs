@@ -927,38 +927,21 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// The demo missions and their validated plans, for the tests of every module of the crate.
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use missionlink_interfaces::defaults;
     use missionlink_interfaces::wire::{Angle, Reason};
     use missionlink_services::geofence::earth;
-    use missionlink_services::ground_station::{
-        GcsConfig, GcsError, GroundStation, WithoutGateway,
-    };
-    use missionlink_services::link::endpoint::EndpointConfig;
+    use missionlink_services::ground_station::InvalidPlan;
 
-    const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+    pub(crate) const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
+    pub(crate) const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 
-    /// The GCS validation request (ICD §7, no safety gateway).
-    fn validate(plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<core::convert::Infallible>> {
-        let config = GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: defaults::GCS_ID,
-                peer_id: defaults::FCC_ID,
-                utc_at_zero: Timestamp::default(),
-                sampling_window: defaults::TRANSFER_TIMEOUT,
-            },
-            ack_timeout: defaults::ACK_TIMEOUT,
-            transfer_timeout: defaults::TRANSFER_TIMEOUT,
-        };
-        GroundStation::new(config, WithoutGateway).validate(plan)
-    }
-
-    fn validated(text: &str) -> ValidatedPlan {
+    /// The plan of `text`, assembled as the GCS validation request does (ICD §7).
+    pub(crate) fn validated(text: &str) -> ValidatedPlan {
         let file = MissionFile::parse(text).unwrap();
-        validate(&file.to_plan().unwrap()).unwrap()
+        file.to_plan().unwrap().assemble().unwrap()
     }
 
     /// `text` with each `(from, to)` replaced once; every `from` must occur.
@@ -1098,7 +1081,7 @@ mod tests {
         let text = file.to_toml();
         let parsed = MissionFile::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert_eq!(parsed, file, "{text}");
-        let again = validate(&parsed.to_plan().unwrap()).unwrap();
+        let again = parsed.to_plan().unwrap().assemble().unwrap();
         assert_eq!(&again, v, "{text}");
         assert_eq!(MissionFile::from_plan(&again).to_toml(), text);
     }
@@ -1246,7 +1229,7 @@ mod tests {
         for (name, text) in &cases {
             let file = MissionFile::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             let plan = file.to_plan().unwrap_or_else(|e| panic!("{name}: {e}"));
-            let v = validate(&plan).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let v = plan.assemble().unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_round_trip(&v);
         }
 
@@ -1602,8 +1585,8 @@ mod tests {
         );
         let plan = MissionFile::parse(&text).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidAreas(Reason::BadGeometry)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Areas(Reason::BadGeometry)
         );
     }
 
@@ -1613,8 +1596,8 @@ mod tests {
         let broken = edit(MISSION_2, &[("next = 3 ", "next = 9 ")]);
         let plan = MissionFile::parse(&broken).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidMission(Reason::BrokenChain)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Mission(Reason::BrokenChain)
         );
         let no_centre = edit(
             MISSION_2,
@@ -1626,8 +1609,8 @@ mod tests {
         );
         let plan = MissionFile::parse(&no_centre).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidMission(Reason::MissingRfCentre)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Mission(Reason::MissingRfCentre)
         );
         let round_fz = edit(
             MISSION_2,
@@ -1641,8 +1624,8 @@ mod tests {
         );
         let plan = MissionFile::parse(&round_fz).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidAreas(Reason::BadGeometry)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Areas(Reason::BadGeometry)
         );
     }
 

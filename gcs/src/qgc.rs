@@ -1241,6 +1241,15 @@ impl<'a> At<'a> {
         })
     }
 
+    /// The string field `key`, which must be `expected`.
+    pub(crate) fn expect_string(&self, key: &str, expected: &str) -> Result<(), MissionFileError> {
+        let at = self.field(key)?;
+        match at.string()? {
+            s if s == expected => Ok(()),
+            other => Err(at.error(format!("{other:?}: expected {expected:?}"))),
+        }
+    }
+
     pub(crate) fn string(&self) -> Result<&'a str, MissionFileError> {
         self.value
             .as_str()
@@ -1269,11 +1278,10 @@ pub(crate) fn note(path: impl Into<String>, reason: impl Into<String>) -> Unsupp
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::mission_file::MissionFile;
     use missionlink_interfaces::wire::Reason;
     use missionlink_services::transfer::mission::Mission;
 
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+    use crate::mission_file::tests::{MISSION_2, validated};
 
     /// A real file saved by QGroundControl, kept in the repository (`missions/qgc/`, copied
     /// from the shared mission documents).
@@ -1483,22 +1491,9 @@ pub(crate) mod tests {
         assert_eq!(n[2], pos(38.7508358, -77.496979));
     }
 
-    fn validated_mission_2() -> ValidatedPlan {
-        let plan = MissionFile::parse(MISSION_2).unwrap().to_plan().unwrap();
-        let mission = plan
-            .mission
-            .assemble(Some(plan.mission.len() as u16), plan.mission_id)
-            .unwrap();
-        let areas = plan
-            .areas
-            .assemble(plan.areas.len() as u8, plan.safety_offset)
-            .unwrap();
-        ValidatedPlan { mission, areas }
-    }
-
     #[test]
     fn export_then_import_gives_back_waypoints_and_areas() {
-        let original = validated_mission_2();
+        let original = validated(MISSION_2);
         let home = Home {
             latitude_deg: 48.2748,
             longitude_deg: 11.6449,
