@@ -12,11 +12,11 @@ use missionlink_services::ground_station::{
 };
 use missionlink_services::link::endpoint::EndpointConfig;
 use missionlink_services::link::time::Instant;
-use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
+use missionlink_services::voting::Voter;
 
 use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::config::Config;
-use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM};
+use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
 
 /// Which way a logged message went.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +46,10 @@ pub struct GcsLink<G: SafetyGateway> {
     station: GroundStation<G>,
     clock: DriverClock,
     started: std::time::Instant,
+    /// One pump's datagrams, copied out of the socket buffer: as many slots as
+    /// [`LinkPair::receive`] reads, so every datagram it reads reaches the voter (the voter
+    /// counts what a step cannot hold). Allocated once.
+    slots: Vec<[u8; MAX_DATAGRAM]>,
     /// Every message sent and every voted message received, when logging is on.
     pub log: Vec<Logged>,
     logging: bool,
@@ -84,6 +88,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             station,
             clock,
             started: std::time::Instant::now(),
+            slots: vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE],
             log: Vec::new(),
             logging: false,
         })
@@ -156,23 +161,27 @@ impl<G: SafetyGateway> GcsLink<G> {
                 }
             }
         }
-        let mut slots = [[0u8; MAX_DATAGRAM]; 8];
-        let mut lens: heapless::Vec<(Link, usize), 8> = heapless::Vec::new();
+        let slots = &mut self.slots;
+        let mut lens: heapless::Vec<(Link, usize), MAX_READS_PER_RECEIVE> = heapless::Vec::new();
         let mut buf = [0u8; MAX_DATAGRAM];
         self.links.receive(&mut buf, |link, datagram, _| {
             let slot = slots
                 .get_mut(lens.len())
                 .and_then(|s| s.get_mut(..datagram.len()));
-            if let Some(slot) = slot {
-                slot.copy_from_slice(datagram);
-                let _ = lens.push((link, datagram.len()));
+            // `receive` reads at most MAX_READS_PER_RECEIVE datagrams of at most MAX_DATAGRAM
+            // bytes, so there is always a slot; should there not be, say so.
+            match slot {
+                Some(slot) if lens.push((link, datagram.len())).is_ok() => {
+                    slot.copy_from_slice(datagram)
+                }
+                _ => tracing::error!(?link, "no slot for a received datagram: dropped"),
             }
         });
         let now = self.clock.now();
         if !lens.is_empty() {
-            let mut arrivals: heapless::Vec<(Link, &[u8]), VOTING_STEP_MESSAGES> =
+            let mut arrivals: heapless::Vec<(Link, &[u8]), MAX_READS_PER_RECEIVE> =
                 heapless::Vec::new();
-            for (slot, (link, len)) in slots.iter().zip(&lens) {
+            for (slot, (link, len)) in self.slots.iter().zip(&lens) {
                 let _ = arrivals.push((*link, slot.get(..*len).unwrap_or_default()));
             }
             let station = &mut self.station;
@@ -184,6 +193,8 @@ impl<G: SafetyGateway> GcsLink<G> {
                     received.push(m);
                 }
             });
+            // The arrivals borrow the slots; recording needs all of `self`.
+            drop(arrivals);
             for m in received {
                 self.record(Direction::Down, m);
             }
@@ -255,4 +266,75 @@ pub fn describe_from_to_next(f: &missionlink_interfaces::wire::FromToNext) -> St
         point(f.to.waypoint_number, f.to.latitude, f.to.longitude),
         point(f.next.waypoint_number, f.next.latitude, f.next.longitude),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::net::UdpSocket;
+
+    use missionlink_interfaces::wire::{AckType, Envelope, MessageAcknowledgement, Timestamp};
+    use missionlink_services::ground_station::WithoutGateway;
+
+    /// A #17000 from the FCC stamped `ms`: every one a message of its own to the voter.
+    fn ack(config: &Config, ms: u64) -> Vec<u8> {
+        let message = Message::from(MessageAcknowledgement {
+            time_stamp: Timestamp::from_millis(ms).unwrap(),
+            original_time_stamp: Timestamp::from_millis(1).unwrap(),
+            original_message_type: 13002,
+            ack_type: AckType::Completed,
+            reject_reason: None,
+        });
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let len = wire::encode(
+            &Envelope::new(config.ids.fcc, config.ids.gcs),
+            &message,
+            &mut buf,
+        )
+        .unwrap();
+        buf[..len].to_vec()
+    }
+
+    /// A burst of more datagrams than the pump once had slots for (8) all reach the voter and
+    /// the GCS logic: none is read and then dropped.
+    #[test]
+    fn a_burst_of_datagrams_is_handled_whole() {
+        let fcc_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let fcc_lte = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let mut config = Config::default();
+        config.links.gcs_direct = "127.0.0.1:0".parse().unwrap();
+        config.links.gcs_lte = "127.0.0.1:0".parse().unwrap();
+        config.links.fcc_direct = fcc_direct.local_addr().unwrap();
+        config.links.fcc_lte = fcc_lte.local_addr().unwrap();
+        let mut link = GcsLink::open(&config, WithoutGateway).unwrap();
+        link.enable_log();
+        let [gcs_direct, gcs_lte] = link.links.sockets().map(|s| s.local_addr().unwrap());
+
+        // Within what one receive reads from one socket, and three times the old slot count.
+        const BURST: u64 = 25;
+        for ms in 1000..1000 + BURST {
+            let frame = ack(&config, ms);
+            fcc_direct.send_to(&frame, gcs_direct).unwrap();
+            fcc_lte.send_to(&frame, gcs_lte).unwrap();
+        }
+        let down = |link: &GcsLink<WithoutGateway>| {
+            link.log
+                .iter()
+                .filter(|l| l.direction == Direction::Down)
+                .count() as u64
+        };
+        // Pumps until every message came down; a datagram read and dropped never comes, so the
+        // bound ends the test with the count that arrived.
+        for _ in 0..100 {
+            if down(&link) == BURST {
+                break;
+            }
+            link.pump(Duration::from_millis(20));
+        }
+        assert_eq!(down(&link), BURST);
+        let stats = link.voter.stats();
+        assert_eq!(stats.forwarded[0] + stats.forwarded[1], BURST);
+        assert_eq!(stats.duplicates, BURST, "every LTE copy was read and voted");
+        assert_eq!(stats.overflow, 0);
+    }
 }

@@ -20,7 +20,7 @@
 //!     {
 //!       "type": "Feature",
 //!       "properties": {
-//!         "zone": "no-fly-zone", "area_id": 2, "radius_m": 296.06,
+//!         "zone": "no-fly-zone", "area_id": 2, "radius_m": 296.947,
 //!         "lower_altitude_m": 0, "upper_altitude_m": 300, "altitude_type": "wgs84"
 //!       },
 //!       "geometry": { "type": "Point", "coordinates": [11.675, 48.268] }
@@ -35,8 +35,8 @@
 //!   A polygon with holes (more than one ring) is refused: an area has none (draw the hole as a
 //!   no-fly-zone of its own).
 //! - A circle is a `Point`, its centre, with the property `radius_m`; its #2012 border point is
-//!   placed due north of the centre at that distance on the sphere of radius 6 371 008.8 m, as
-//!   the mission file does. On export the radius is the haversine distance centre -> border,
+//!   placed due north of the centre at that geodesic distance on WGS-84, as the mission file
+//!   does. On export the radius is the geodesic distance centre -> border,
 //!   to the millimetre.
 //! - Properties: `zone`, `"fly-zone"` or `"no-fly-zone"` (required); optional `area_id`
 //!   (1..=65534; features without one get the smallest IDs not given to another, in order),
@@ -61,9 +61,10 @@ use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use serde_json::{Map, Value, json};
 
 pub use crate::mission_file::MissionFileError as Error;
-use crate::qgc::{
-    At, altitude, degrees, due_north, field_error, haversine_m, latitude, longitude, metres,
-    millimetres, note, parse_json, pretty,
+use crate::qgc::{At, note, parse_json, pretty};
+use crate::values::{
+    altitude, altitude_bounds, border_due_north, degrees, field_error, latitude, longitude, metres,
+    radius_mm,
 };
 
 /// A feature left out, with its path and why (the type of the `.plan` import's notes).
@@ -87,13 +88,7 @@ struct Read {
 pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
     let root = parse_json(text)?;
     let at = At::root(&root);
-    let type_at = at.field("type")?;
-    if type_at.string()? != "FeatureCollection" {
-        return Err(type_at.error(format!(
-            "{:?}: expected \"FeatureCollection\"",
-            type_at.value.as_str().unwrap_or_default()
-        )));
-    }
+    at.expect_string("type", "FeatureCollection")?;
     let mut notes = Vec::new();
     let mut read: Vec<Read> = Vec::new();
     for feature in at.field("features")?.items()? {
@@ -140,13 +135,7 @@ pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
 }
 
 fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>, Error> {
-    let type_at = feature.field("type")?;
-    if type_at.string()? != "Feature" {
-        return Err(type_at.error(format!(
-            "{:?}: expected \"Feature\"",
-            type_at.value.as_str().unwrap_or_default()
-        )));
-    }
+    feature.expect_string("type", "Feature")?;
     let geometry = feature.field("geometry")?;
     if geometry.value.is_null() {
         notes.push(note(&feature.path, "no geometry: not an area, left out"));
@@ -190,18 +179,11 @@ fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>,
     };
     let lower_altitude = bound("lower_altitude_m")?;
     let upper_altitude = bound("upper_altitude_m")?;
-    if let (Some(lo), Some(up)) = (lower_altitude, upper_altitude) {
-        if lo > up {
-            return Err(field_error(
-                format!("{}.upper_altitude_m", properties.path),
-                format!(
-                    "{} m is below lower_altitude_m ({} m)",
-                    up.metres(),
-                    lo.metres()
-                ),
-            ));
-        }
-    }
+    altitude_bounds(
+        &format!("{}.upper_altitude_m", properties.path),
+        lower_altitude,
+        upper_altitude,
+    )?;
     let altitude_type = match properties.opt("altitude_type") {
         Some(t) if !t.value.is_null() => {
             let word = t.string()?;
@@ -245,13 +227,7 @@ fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>,
     } else {
         let centre = position(&coordinates)?;
         let radius_at = properties.field("radius_m")?;
-        let radius = radius_at.number()?;
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(radius_at.error(format!("{radius} m: the radius must be above 0")));
-        }
-        let border = due_north(centre, radius).ok_or_else(|| {
-            radius_at.error(format!("{radius} m north of the centre is beyond the pole"))
-        })?;
+        let border = border_due_north(&radius_at.path, centre, radius_at.number()?)?;
         AreaShape::Circle { centre, border }
     };
     Ok(Some(Read {
@@ -324,10 +300,7 @@ pub fn export_areas(list: &AreaList) -> String {
                     json!({ "type": "Polygon", "coordinates": [ring] })
                 }
                 AreaShape::Circle { centre, border } => {
-                    properties.insert(
-                        "radius_m".into(),
-                        millimetres(haversine_m(*centre, *border)).into(),
-                    );
+                    properties.insert("radius_m".into(), radius_mm(*centre, *border).into());
                     json!({ "type": "Point", "coordinates": pair(centre) })
                 }
             };
@@ -342,8 +315,9 @@ mod tests {
     use super::*;
     use crate::mission_file::MissionFile;
     use missionlink_interfaces::wire::SafetyOffset;
+    use missionlink_services::geofence::earth;
 
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+    use crate::mission_file::tests::MISSION_2;
 
     fn mission_2_areas() -> AreaList {
         let plan = MissionFile::parse(MISSION_2).unwrap().to_plan().unwrap();
@@ -378,7 +352,10 @@ mod tests {
         let radius = value["features"][1]["properties"]["radius_m"]
             .as_f64()
             .unwrap();
-        assert!((radius - 296.06).abs() < 0.01, "{radius}");
+        // The geodesic centre -> border on WGS-84: 0.004° of longitude at 48.268° N (the sphere
+        // of the mean radius said 296.06 m; the ellipsoid's east-west radius of curvature there
+        // is 0.3 % longer).
+        assert!((radius - 296.947).abs() < 0.0005, "{radius}");
         assert_eq!(
             value["features"][2]["properties"]["upper_altitude_m"],
             300.0
@@ -437,7 +414,7 @@ mod tests {
             panic!()
         };
         assert_eq!(centre, GeoPoint::from_degrees(48.27, 11.66).unwrap());
-        assert!((haversine_m(centre, border) - 150.0).abs() < 0.01);
+        assert!((earth::distance_m(centre, border) - 150.0).abs() < 0.01);
     }
 
     #[test]

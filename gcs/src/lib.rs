@@ -23,3 +23,4 @@ pub mod map;
 pub mod mission_file;
 pub mod profile;
 pub mod qgc;
+mod values;

@@ -11,8 +11,9 @@
 //! markers (those without a position are drawn nowhere else). Above: the title, the mission ID
 //! and the waypoint and area counts. A scale bar (metres) and a north arrow sit on the map.
 //!
-//! Projection: local equirectangular about the centre of the fly-zone's bounding box
-//! (`x = R·Δλ·cos φ0`, `y = R·Δφ`, R the mean Earth radius), north up. Over a few kilometres
+//! Projection: the safety gateway's local frame (`services::geofence::local_frame`),
+//! equirectangular about the centre of the fly-zone's bounding box with the WGS-84 radii of
+//! curvature there (`x = N(φ0)·cos φ0·Δλ`, `y = M(φ0)·Δφ`), north up. Over a few kilometres
 //! its distortion is far below a pixel. The map fits the fly-zone (and anything lying outside
 //! it, say a violating waypoint) with a margin into the map frame.
 //!
@@ -21,8 +22,8 @@
 //!   local projection (the miter offset of the edges, with very sharp corners clamped); it is
 //!   exact for the straight edges of convex polygons but does not round the corners as a true
 //!   buffer would, nor repair a concave outline that the offset folds over;
-//! - circles are drawn with the radius measured in the local projection (centre to border
-//!   vertex), the offset circles with radius ± offset;
+//! - circles are drawn about their projected centre with their geodesic radius (centre to border
+//!   point, as the safety gateway takes it), the offset circles with radius ± offset;
 //! - radius-to-fix arcs are polylines sampled every few degrees around the RF centre, starting
 //!   and ending exactly at the waypoints; if the two ends are not at the same distance from the
 //!   centre, the radius changes linearly along the arc.
@@ -32,6 +33,7 @@
 //! initial waypoint "take-off" with that height. The leg type of the initial waypoint (the leg
 //! that would end there) is not drawn: no leg leads to it.
 
+use missionlink_services::geofence::earth;
 use missionlink_services::geofence::local_frame::{Coord, LocalFrame, arc};
 use std::fmt::Write as _;
 
@@ -468,10 +470,10 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
                     Shape::Polygon(vertices.iter().map(|v| proj.point(v)).collect())
                 }
                 AreaShape::Circle { centre, border } => {
-                    let c = proj.point(centre);
+                    // The radius the safety gateway checks: the geodesic centre -> border.
                     Shape::Circle {
-                        centre: c,
-                        radius: len(sub(proj.point(border), c)),
+                        centre: proj.point(centre),
+                        radius: earth::distance_m(*centre, *border),
                     }
                 }
             },
@@ -1097,31 +1099,7 @@ fn violations(svg: &mut String, markers: &[Marker]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mission_file::MissionFile;
-    use missionlink_interfaces::defaults;
-    use missionlink_interfaces::wire::Timestamp;
-    use missionlink_services::ground_station::{GcsConfig, GroundStation, WithoutGateway};
-    use missionlink_services::link::endpoint::EndpointConfig;
-
-    const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
-
-    fn validated(text: &str) -> ValidatedPlan {
-        let config = GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: defaults::GCS_ID,
-                peer_id: defaults::FCC_ID,
-                utc_at_zero: Timestamp::default(),
-                sampling_window: defaults::TRANSFER_TIMEOUT,
-            },
-            ack_timeout: defaults::ACK_TIMEOUT,
-            transfer_timeout: defaults::TRANSFER_TIMEOUT,
-        };
-        let plan = MissionFile::parse(text).unwrap().to_plan().unwrap();
-        GroundStation::new(config, WithoutGateway)
-            .validate(&plan)
-            .unwrap()
-    }
+    use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
 
     fn example_markers() -> Vec<Marker> {
         vec![
@@ -1296,7 +1274,7 @@ mod tests {
     }
 
     /// Writes docs/mission-2.svg, and an example with markers to the temporary directory:
-    /// `cargo test -p missionlink-partitions map::tests::write_maps -- --ignored`.
+    /// `cargo test -p missionlink-gcs map::tests::write_maps -- --ignored`.
     #[test]
     #[ignore = "generator: writes docs/mission-2.svg"]
     fn write_maps() {
@@ -1315,7 +1293,7 @@ mod tests {
         let committed = std::fs::read_to_string(DOCS_MAP).unwrap();
         assert!(
             committed == docs_map(),
-            "docs/mission-2.svg is stale: cargo test -p missionlink-partitions map::tests::write_maps -- --ignored"
+            "docs/mission-2.svg is stale: cargo test -p missionlink-gcs map::tests::write_maps -- --ignored"
         );
     }
 }

@@ -125,7 +125,8 @@
 //! connects to the first) or `circle`; optional `lower_altitude_m`, `upper_altitude_m`,
 //! `altitude_type`. A circle is `centre` plus either `border` (a point on the border: exact,
 //! what a download writes) or `radius_m` (on input only: the border point is then placed due
-//! north of the centre at that great-circle distance, on a sphere of radius 6 371 008.8 m). The
+//! north of the centre at that geodesic distance on WGS-84, the one Earth model of
+//! `services::geofence::earth`). The
 //! areas are uploaded in the order listed, and a download gives them back in that order.
 //!
 //! # Checks
@@ -147,9 +148,9 @@ use std::path::{Path, PathBuf};
 
 use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
 use missionlink_interfaces::wire::{
-    Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType,
-    LocationType, PolygonVertices, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text,
-    Timestamp, TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+    AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType, LocationType,
+    PolygonVertices, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp,
+    TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
 use missionlink_services::ground_station::{MissionPlan, ValidatedPlan};
 use missionlink_services::transfer::areas::AreaBuffer;
@@ -157,8 +158,10 @@ use missionlink_services::transfer::mission::{MissionBuffer, WaypointRecord};
 use serde::{Deserialize, Deserializer, Serialize};
 use toml::value::Datetime;
 
-/// Radius of the sphere on which `radius_m` of a circle is measured: the IUGG mean Earth radius.
-pub const EARTH_RADIUS_M: f64 = 6_371_008.8;
+use crate::values::{
+    altitude, altitude_bounds, border_due_north, degrees, field_error, latitude, longitude, metres,
+    point, shortest,
+};
 
 /// A mission file: one mission plan in the format of the [module documentation](self).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -355,13 +358,6 @@ impl fmt::Display for MissionFileError {
 }
 
 impl std::error::Error for MissionFileError {}
-
-fn field_error(path: impl Into<String>, reason: impl Into<String>) -> MissionFileError {
-    MissionFileError::Field {
-        path: path.into(),
-        reason: reason.into(),
-    }
-}
 
 impl MissionFile {
     /// Reads a mission file from TOML text. Checks syntax, types, required and unknown keys;
@@ -637,18 +633,7 @@ impl AreaEntry {
         let upper_altitude = optional(self.upper_altitude_m, |m| {
             altitude(&at("upper_altitude_m"), m)
         })?;
-        if let (Some(lo), Some(up)) = (lower_altitude, upper_altitude) {
-            if lo > up {
-                return Err(field_error(
-                    at("upper_altitude_m"),
-                    format!(
-                        "{} m is below lower_altitude_m ({} m)",
-                        up.metres(),
-                        lo.metres()
-                    ),
-                ));
-            }
-        }
+        altitude_bounds(&at("upper_altitude_m"), lower_altitude, upper_altitude)?;
         let shape = match (&self.polygon, &self.circle) {
             (Some(vertices), None) => {
                 if vertices.len() > MAX_POLYGON_VERTICES {
@@ -662,17 +647,19 @@ impl AreaEntry {
                 }
                 let mut points = PolygonVertices::new();
                 for (k, v) in vertices.iter().enumerate() {
-                    let p = point(&at(&format!("polygon[{k}]")), *v)?;
+                    let [lat, lon] = *v;
+                    let p = point(&at(&format!("polygon[{k}]")), lat, lon)?;
                     // The length was checked above.
                     let _ = points.push(p);
                 }
                 AreaShape::Polygon(points)
             }
             (None, Some(circle)) => {
-                let centre = point(&at("circle.centre"), circle.centre)?;
+                let [lat, lon] = circle.centre;
+                let centre = point(&at("circle.centre"), lat, lon)?;
                 let border = match (circle.border, circle.radius_m) {
-                    (Some(b), None) => point(&at("circle.border"), b)?,
-                    (None, Some(r)) => due_north(&at("circle.radius_m"), centre, r)?,
+                    (Some([lat, lon]), None) => point(&at("circle.border"), lat, lon)?,
+                    (None, Some(r)) => border_due_north(&at("circle.radius_m"), centre, r)?,
                     (Some(_), Some(_)) => {
                         return Err(field_error(
                             at("circle"),
@@ -769,57 +756,6 @@ fn text<const N: usize>(path: &str, s: &str) -> Result<Text<N>, MissionFileError
     Text::new(s).map_err(|e| field_error(path, format!("{s:?}: {e}")))
 }
 
-fn latitude(path: &str, degrees: f64) -> Result<Angle, MissionFileError> {
-    Angle::from_degrees(degrees)
-        .ok()
-        .filter(|a| a.is_latitude())
-        .ok_or_else(|| field_error(path, format!("latitude {degrees} deg is outside -90..=90")))
-}
-
-fn longitude(path: &str, degrees: f64) -> Result<Angle, MissionFileError> {
-    Angle::from_degrees(degrees).map_err(|_| {
-        field_error(
-            path,
-            format!("longitude {degrees} deg is outside -180..=180"),
-        )
-    })
-}
-
-fn point(path: &str, [lat, lon]: [f64; 2]) -> Result<GeoPoint, MissionFileError> {
-    Ok(GeoPoint {
-        latitude: latitude(path, lat)?,
-        longitude: longitude(path, lon)?,
-    })
-}
-
-fn altitude(path: &str, metres: f64) -> Result<Altitude, MissionFileError> {
-    Altitude::from_metres(metres).map_err(|e| field_error(path, e.to_string()))
-}
-
-/// The border point `radius` metres due north of `centre` (along its meridian).
-fn due_north(path: &str, centre: GeoPoint, radius: f64) -> Result<GeoPoint, MissionFileError> {
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(field_error(
-            path,
-            format!("{radius} m: the radius must be above 0"),
-        ));
-    }
-    let latitude = centre.latitude.degrees() + (radius / EARTH_RADIUS_M).to_degrees();
-    let latitude = Angle::from_degrees(latitude)
-        .ok()
-        .filter(|a| a.is_latitude())
-        .ok_or_else(|| {
-            field_error(
-                path,
-                format!("{radius} m north of the centre is beyond the pole"),
-            )
-        })?;
-    Ok(GeoPoint {
-        latitude,
-        longitude: centre.longitude,
-    })
-}
-
 /// A TOML date-time with offset (RFC 3339) as a time stamp.
 fn timestamp(path: &str, t: &Datetime) -> Result<Timestamp, MissionFileError> {
     let (Some(date), Some(time), Some(offset)) = (t.date, t.time, t.offset) else {
@@ -889,23 +825,6 @@ fn date_time<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Datetime>, D::Err
             other.type_str()
         ))),
     }
-}
-
-/// The shortest decimal (fewest fraction digits) of `exact` that `same` accepts as the same
-/// wire value; `exact` itself when none is shorter.
-fn shortest(exact: f64, same: impl Fn(f64) -> bool) -> f64 {
-    (0..=17)
-        .filter_map(|digits| format!("{exact:.digits$}").parse::<f64>().ok())
-        .find(|v| same(*v))
-        .unwrap_or(exact)
-}
-
-fn degrees(a: Angle) -> f64 {
-    shortest(a.degrees(), |d| Angle::from_degrees(d) == Ok(a))
-}
-
-fn metres(a: Altitude) -> f64 {
-    shortest(a.metres(), |m| Altitude::from_metres(m) == Ok(a))
 }
 
 fn store(
@@ -1008,37 +927,21 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
+/// The demo missions and their validated plans, for the tests of every module of the crate.
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use missionlink_interfaces::defaults;
-    use missionlink_interfaces::wire::Reason;
-    use missionlink_services::ground_station::{
-        GcsConfig, GcsError, GroundStation, WithoutGateway,
-    };
-    use missionlink_services::link::endpoint::EndpointConfig;
+    use missionlink_interfaces::wire::{Angle, Reason};
+    use missionlink_services::geofence::earth;
+    use missionlink_services::ground_station::InvalidPlan;
 
-    const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+    pub(crate) const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
+    pub(crate) const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 
-    /// The GCS validation request (ICD §7, no safety gateway).
-    fn validate(plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<core::convert::Infallible>> {
-        let config = GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: defaults::GCS_ID,
-                peer_id: defaults::FCC_ID,
-                utc_at_zero: Timestamp::default(),
-                sampling_window: defaults::TRANSFER_TIMEOUT,
-            },
-            ack_timeout: defaults::ACK_TIMEOUT,
-            transfer_timeout: defaults::TRANSFER_TIMEOUT,
-        };
-        GroundStation::new(config, WithoutGateway).validate(plan)
-    }
-
-    fn validated(text: &str) -> ValidatedPlan {
+    /// The plan of `text`, assembled as the GCS validation request does (ICD §7).
+    pub(crate) fn validated(text: &str) -> ValidatedPlan {
         let file = MissionFile::parse(text).unwrap();
-        validate(&file.to_plan().unwrap()).unwrap()
+        file.to_plan().unwrap().assemble().unwrap()
     }
 
     /// `text` with each `(from, to)` replaced once; every `from` must occur.
@@ -1178,7 +1081,7 @@ mod tests {
         let text = file.to_toml();
         let parsed = MissionFile::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert_eq!(parsed, file, "{text}");
-        let again = validate(&parsed.to_plan().unwrap()).unwrap();
+        let again = parsed.to_plan().unwrap().assemble().unwrap();
         assert_eq!(&again, v, "{text}");
         assert_eq!(MissionFile::from_plan(&again).to_toml(), text);
     }
@@ -1326,7 +1229,7 @@ mod tests {
         for (name, text) in &cases {
             let file = MissionFile::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             let plan = file.to_plan().unwrap_or_else(|e| panic!("{name}: {e}"));
-            let v = validate(&plan).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let v = plan.assemble().unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_round_trip(&v);
         }
 
@@ -1397,8 +1300,7 @@ mod tests {
         };
         assert_eq!(centre, point(48.268, 11.675));
         assert_eq!(border.longitude, centre.longitude);
-        let metres =
-            (border.latitude.degrees() - centre.latitude.degrees()).to_radians() * EARTH_RADIUS_M;
+        let metres = earth::distance_m(centre, border);
         // One BAM4 step of latitude is about 9.3 mm.
         assert!((metres - 296.07).abs() < 0.01, "{metres}");
         // Exported, the circle has its exact border point and no radius.
@@ -1683,8 +1585,8 @@ mod tests {
         );
         let plan = MissionFile::parse(&text).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidAreas(Reason::BadGeometry)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Areas(Reason::BadGeometry)
         );
     }
 
@@ -1694,8 +1596,8 @@ mod tests {
         let broken = edit(MISSION_2, &[("next = 3 ", "next = 9 ")]);
         let plan = MissionFile::parse(&broken).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidMission(Reason::BrokenChain)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Mission(Reason::BrokenChain)
         );
         let no_centre = edit(
             MISSION_2,
@@ -1707,8 +1609,8 @@ mod tests {
         );
         let plan = MissionFile::parse(&no_centre).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidMission(Reason::MissingRfCentre)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Mission(Reason::MissingRfCentre)
         );
         let round_fz = edit(
             MISSION_2,
@@ -1722,8 +1624,8 @@ mod tests {
         );
         let plan = MissionFile::parse(&round_fz).unwrap().to_plan().unwrap();
         assert_eq!(
-            validate(&plan).unwrap_err(),
-            GcsError::InvalidAreas(Reason::BadGeometry)
+            plan.assemble().unwrap_err(),
+            InvalidPlan::Areas(Reason::BadGeometry)
         );
     }
 

@@ -140,9 +140,11 @@ mod tests {
 
     #[test]
     fn a_file_overrides_what_it_names_and_errors_name_line_and_column() {
-        let dir = std::env::temp_dir().join(format!("profile-test-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("a.toml");
+        let dir = tempfile::Builder::new()
+            .prefix("profile-test-")
+            .tempdir()
+            .unwrap();
+        let p = dir.path().join("a.toml");
         std::fs::write(&p, "max_wind_mps = 20.0\n").unwrap();
         let a = aircraft(Some(&p)).unwrap();
         assert_eq!(a.max_wind_mps, 20.0);

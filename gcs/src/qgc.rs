@@ -62,7 +62,7 @@
 //!
 //! Inclusion polygons are the fly-zone (exactly one: a second one is reported and left out),
 //! exclusion polygons and circles are no-fly-zones (a circle's border point is placed due north
-//! of its centre at the radius, on the sphere of [`EARTH_RADIUS_M`]). An inclusion circle is
+//! of its centre at the radius, a geodesic on WGS-84). An inclusion circle is
 //! not a fly-zone the ICD carries (a polygon): when there is no inclusion polygon it is
 //! approximated by the inscribed polygon of 60 vertices (on the safe side: at most
 //! `r (1 - cos 3°)`, 1.4 m per km of radius, inside the circle) and reported; otherwise it is
@@ -80,7 +80,7 @@
 //! speed is also `cruiseSpeed` and `hoverSpeed`), every waypoint in flight-plan order (AGL in
 //! frame 3, WGS-84 in frame 0), a land at the last waypoint, the planned home, the geofence (the
 //! fly-zone an inclusion polygon, no-fly polygons exclusion polygons, no-fly circles exclusion
-//! circles whose radius is the haversine distance centre -> border point, to the millimetre)
+//! circles whose radius is the geodesic distance centre -> border point, to the millimetre)
 //! and no rally points. What QGC cannot hold is returned as notes: radius-to-fix legs
 //! (written as track-to-fix), fly-over turns, true airspeed (written as airspeed), pressure,
 //! baro or absent altitude types (written as AMSL), the bidirectional route, mission and route
@@ -90,7 +90,7 @@
 
 use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
 use missionlink_interfaces::wire::{
-    Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType,
+    Altitude, AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType,
     PolygonVertices, SafetyOffset, SpecificData, Speed, SpeedType, Timestamp, TurnType,
     UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
@@ -99,8 +99,12 @@ use missionlink_services::transfer::areas::AreaBuffer;
 use missionlink_services::transfer::mission::MissionBuffer;
 use serde_json::{Map, Value, json};
 
-pub use crate::mission_file::EARTH_RADIUS_M;
 use crate::mission_file::MissionFileError;
+use crate::values::{
+    altitude, border_due_north, degrees, field_error, latitude, longitude, metres, point, radius,
+    radius_mm,
+};
+use missionlink_services::geofence::earth;
 
 /// Something in a file that the ICD cannot carry, or carries only approximately: where (the
 /// JSON path, e.g. `mission.items[4]`) and why.
@@ -379,7 +383,7 @@ fn import_items(
                         home.latitude_deg,
                         home.longitude_deg,
                     )?;
-                    let d = haversine_m(home_point, position);
+                    let d = earth::distance_m(home_point, position);
                     if d > 1.0 {
                         notes.push(note(
                             &item.path,
@@ -748,14 +752,9 @@ fn import_fence(
             longitude: longitude(&lon.path, lon.number()?)?,
         };
         let radius_at = circle.field("radius")?;
-        let radius = radius_at.number()?;
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(radius_at.error(format!("{radius} m: the radius must be above 0")));
-        }
+        let radius = radius(&radius_at.path, radius_at.number()?)?;
         if !inclusion {
-            let border = due_north(centre, radius).ok_or_else(|| {
-                radius_at.error(format!("{radius} m north of the centre is beyond the pole"))
-            })?;
+            let border = border_due_north(&radius_at.path, centre, radius)?;
             no_fly.push((AreaShape::Circle { centre, border }, c.path.clone()));
         } else if let Some((_, first)) = &fly_zone {
             notes.push(note(
@@ -817,8 +816,11 @@ fn import_fence(
 fn inscribed_polygon(centre: GeoPoint, radius: f64) -> Option<PolygonVertices> {
     let mut v = PolygonVertices::new();
     for k in 0..MAX_POLYGON_VERTICES {
-        let bearing = core::f64::consts::TAU * k as f64 / MAX_POLYGON_VERTICES as f64;
-        v.push(destination(centre, bearing, radius)?).ok()?;
+        let bearing = 360.0 * k as f64 / MAX_POLYGON_VERTICES as f64;
+        v.push(earth::geo_point(earth::destination(
+            centre, bearing, radius,
+        ))?)
+        .ok()?;
     }
     Some(v)
 }
@@ -1010,7 +1012,7 @@ pub fn export_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (String, Ve
             AreaShape::Circle { centre, border } => circles.push(json!({
                 "circle": {
                     "center": [degrees(centre.latitude), degrees(centre.longitude)],
-                    "radius": millimetres(haversine_m(*centre, *border)),
+                    "radius": radius_mm(*centre, *border),
                 },
                 "inclusion": inclusion,
                 "version": 1,
@@ -1239,6 +1241,15 @@ impl<'a> At<'a> {
         })
     }
 
+    /// The string field `key`, which must be `expected`.
+    pub(crate) fn expect_string(&self, key: &str, expected: &str) -> Result<(), MissionFileError> {
+        let at = self.field(key)?;
+        match at.string()? {
+            s if s == expected => Ok(()),
+            other => Err(at.error(format!("{other:?}: expected {expected:?}"))),
+        }
+    }
+
     pub(crate) fn string(&self) -> Result<&'a str, MissionFileError> {
         self.value
             .as_str()
@@ -1257,13 +1268,6 @@ fn kind(value: &Value) -> String {
     }
 }
 
-pub(crate) fn field_error(path: impl Into<String>, reason: impl Into<String>) -> MissionFileError {
-    MissionFileError::Field {
-        path: path.into(),
-        reason: reason.into(),
-    }
-}
-
 pub(crate) fn note(path: impl Into<String>, reason: impl Into<String>) -> Unsupported {
     Unsupported {
         path: path.into(),
@@ -1271,100 +1275,13 @@ pub(crate) fn note(path: impl Into<String>, reason: impl Into<String>) -> Unsupp
     }
 }
 
-// ---- Values and geodesy (shared with the GeoJSON module) ----
-
-pub(crate) fn latitude(path: &str, degrees: f64) -> Result<Angle, MissionFileError> {
-    Angle::from_degrees(degrees)
-        .ok()
-        .filter(|a| a.is_latitude())
-        .ok_or_else(|| field_error(path, format!("latitude {degrees} deg is outside -90..=90")))
-}
-
-pub(crate) fn longitude(path: &str, degrees: f64) -> Result<Angle, MissionFileError> {
-    Angle::from_degrees(degrees).map_err(|_| {
-        field_error(
-            path,
-            format!("longitude {degrees} deg is outside -180..=180"),
-        )
-    })
-}
-
-pub(crate) fn point(path: &str, lat: f64, lon: f64) -> Result<GeoPoint, MissionFileError> {
-    Ok(GeoPoint {
-        latitude: latitude(path, lat)?,
-        longitude: longitude(path, lon)?,
-    })
-}
-
-pub(crate) fn altitude(path: &str, metres: f64) -> Result<Altitude, MissionFileError> {
-    Altitude::from_metres(metres).map_err(|e| field_error(path, e.to_string()))
-}
-
-/// Great-circle distance on the sphere of [`EARTH_RADIUS_M`] (haversine).
-pub fn haversine_m(a: GeoPoint, b: GeoPoint) -> f64 {
-    let (la1, la2) = (a.latitude.radians(), b.latitude.radians());
-    let dlat = la2 - la1;
-    let dlon = b.longitude.radians() - a.longitude.radians();
-    let h = (dlat / 2.0).sin().powi(2) + la1.cos() * la2.cos() * (dlon / 2.0).sin().powi(2);
-    2.0 * EARTH_RADIUS_M * h.sqrt().min(1.0).asin()
-}
-
-/// The point `distance` metres from `start` on the initial `bearing` (radians from north,
-/// clockwise), on the sphere.
-pub(crate) fn destination(start: GeoPoint, bearing: f64, distance: f64) -> Option<GeoPoint> {
-    let d = distance / EARTH_RADIUS_M;
-    let (la1, lo1) = (start.latitude.radians(), start.longitude.radians());
-    let la2 = (la1.sin() * d.cos() + la1.cos() * d.sin() * bearing.cos()).asin();
-    let lo2 = lo1 + (bearing.sin() * d.sin() * la1.cos()).atan2(d.cos() - la1.sin() * la2.sin());
-    let lo2 =
-        (lo2 + core::f64::consts::PI).rem_euclid(core::f64::consts::TAU) - core::f64::consts::PI;
-    Some(GeoPoint {
-        latitude: Angle::from_radians(la2).ok()?,
-        longitude: Angle::from_radians(lo2).ok()?,
-    })
-}
-
-/// The border point `radius` metres due north of `centre`, as `mission_file` places it; `None`
-/// beyond the pole.
-pub(crate) fn due_north(centre: GeoPoint, radius: f64) -> Option<GeoPoint> {
-    let lat = centre.latitude.degrees() + (radius / EARTH_RADIUS_M).to_degrees();
-    Some(GeoPoint {
-        latitude: Angle::from_degrees(lat).ok().filter(|a| a.is_latitude())?,
-        longitude: centre.longitude,
-    })
-}
-
-/// `metres` rounded to the millimetre (a radius written to a file).
-pub(crate) fn millimetres(metres: f64) -> f64 {
-    (metres * 1000.0).round() / 1000.0
-}
-
-/// The shortest decimal (fewest fraction digits) of `exact` that `same` accepts.
-fn shortest(exact: f64, same: impl Fn(f64) -> bool) -> f64 {
-    (0..=17)
-        .filter_map(|digits| format!("{exact:.digits$}").parse::<f64>().ok())
-        .find(|v| same(*v))
-        .unwrap_or(exact)
-}
-
-/// The angle in degrees, the shortest decimal that gives it back.
-pub(crate) fn degrees(a: Angle) -> f64 {
-    shortest(a.degrees(), |d| Angle::from_degrees(d) == Ok(a))
-}
-
-/// The altitude in metres, the shortest decimal that gives it back.
-pub(crate) fn metres(a: Altitude) -> f64 {
-    shortest(a.metres(), |m| Altitude::from_metres(m) == Ok(a))
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::mission_file::MissionFile;
     use missionlink_interfaces::wire::Reason;
     use missionlink_services::transfer::mission::Mission;
 
-    const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+    use crate::mission_file::tests::{MISSION_2, validated};
 
     /// A real file saved by QGroundControl, kept in the repository (`missions/qgc/`, copied
     /// from the shared mission documents).
@@ -1574,22 +1491,9 @@ pub(crate) mod tests {
         assert_eq!(n[2], pos(38.7508358, -77.496979));
     }
 
-    fn validated_mission_2() -> ValidatedPlan {
-        let plan = MissionFile::parse(MISSION_2).unwrap().to_plan().unwrap();
-        let mission = plan
-            .mission
-            .assemble(Some(plan.mission.len() as u16), plan.mission_id)
-            .unwrap();
-        let areas = plan
-            .areas
-            .assemble(plan.areas.len() as u8, plan.safety_offset)
-            .unwrap();
-        ValidatedPlan { mission, areas }
-    }
-
     #[test]
     fn export_then_import_gives_back_waypoints_and_areas() {
-        let original = validated_mission_2();
+        let original = validated(MISSION_2);
         let home = Home {
             latitude_deg: 48.2748,
             longitude_deg: 11.6449,
@@ -1685,7 +1589,10 @@ pub(crate) mod tests {
                     },
                 ) => {
                     assert_eq!(centre, c);
-                    let (r1, r2) = (haversine_m(*centre, *border), haversine_m(*c, *b));
+                    let (r1, r2) = (
+                        earth::distance_m(*centre, *border),
+                        earth::distance_m(*c, *b),
+                    );
                     assert!((r1 - r2).abs() < 0.02, "{r1} {r2}");
                 }
                 other => panic!("{other:?}"),
@@ -1788,12 +1695,12 @@ pub(crate) mod tests {
         assert_eq!(ring.len(), 60);
         assert!(
             ring.iter()
-                .all(|p| (haversine_m(centre, *p) - 5000.0).abs() < 0.01)
+                .all(|p| (earth::distance_m(centre, *p) - 5000.0).abs() < 0.01)
         );
         let AreaShape::Circle { border, .. } = list.areas[2].shape else {
             panic!()
         };
-        assert!((haversine_m(pos(47.41, 8.55), border) - 200.0).abs() < 0.01);
+        assert!((earth::distance_m(pos(47.41, 8.55), border) - 200.0).abs() < 0.01);
     }
 
     #[test]

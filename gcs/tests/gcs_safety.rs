@@ -27,20 +27,23 @@ fn repo(path: &str) -> String {
         .to_string()
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gcs-safety-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A directory of the test's own, named after the test (and unique to this process and run), removed
+/// when dropped: tests run in parallel, so no two may share a file name.
+fn scratch(test: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("gcs-safety-{test}-{}-", std::process::id()))
+        .tempdir()
+        .unwrap()
 }
 
-/// Demo mission 2 with waypoint 2 (W1) moved into the circular no-fly-zone.
-fn broken_mission() -> PathBuf {
+/// Demo mission 2 with waypoint 2 (W1) moved into the circular no-fly-zone, written into `dir`.
+fn broken_mission(dir: &Path) -> PathBuf {
     let good = std::fs::read_to_string(repo("missions/mission-2.toml")).unwrap();
     let broken = good
         .replace("latitude_deg = 48.278\n", "latitude_deg = 48.2685\n")
         .replace("longitude_deg = 11.658\n", "longitude_deg = 11.675\n");
     assert_ne!(good, broken, "W1 is where the test expects it");
-    let path = scratch("broken.toml");
+    let path = dir.join("broken.toml");
     std::fs::write(&path, broken).unwrap();
     path
 }
@@ -61,7 +64,8 @@ fn the_demo_missions_are_feasible() {
 
 #[test]
 fn a_broken_copy_names_every_defect_and_fails() {
-    let broken = broken_mission();
+    let dir = scratch("names-every-defect");
+    let broken = broken_mission(dir.path());
     let o = gcs(&["validate", broken.to_str().unwrap(), "--wind-mps", "14"]);
     assert_eq!(o.status.code(), Some(1));
     let out = text(&o.stdout);
@@ -99,7 +103,8 @@ fn upload_refuses_an_infeasible_mission_and_sends_nothing() {
     // Two sockets stand in for the FCC's links: nothing may arrive on them.
     let direct = UdpSocket::bind("127.0.0.1:0").unwrap();
     let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
-    let broken = broken_mission();
+    let dir = scratch("upload-refuses");
+    let broken = broken_mission(dir.path());
     let o = gcs(&[
         "--fcc-direct",
         &direct.local_addr().unwrap().to_string(),
@@ -130,7 +135,8 @@ fn upload_refuses_an_infeasible_mission_and_sends_nothing() {
 
 #[test]
 fn the_map_marks_the_violations() {
-    let good = scratch("good.svg");
+    let dir = scratch("map-marks");
+    let good = dir.path().join("good.svg");
     let o = gcs(&[
         "map",
         &repo("missions/mission-2.toml"),
@@ -142,8 +148,8 @@ fn the_map_marks_the_violations() {
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     assert!(!svg.contains("GEO-NFZ-WP"));
 
-    let bad = scratch("bad.svg");
-    let broken = broken_mission();
+    let bad = dir.path().join("bad.svg");
+    let broken = broken_mission(dir.path());
     let o = gcs(&["map", broken.to_str().unwrap(), "-o", bad.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(
@@ -157,8 +163,9 @@ fn the_map_marks_the_violations() {
 
 #[test]
 fn convert_to_plan_and_geojson_and_validate_from_them() {
-    let plan = scratch("mission-2.plan");
-    let areas = scratch("areas.geojson");
+    let dir = scratch("convert");
+    let plan = dir.path().join("mission-2.plan");
+    let areas = dir.path().join("areas.geojson");
     let m2 = repo("missions/mission-2.toml");
     for out in [&plan, &areas] {
         let o = gcs(&["convert", &m2, out.to_str().unwrap()]);

@@ -32,6 +32,9 @@ impl SynchronousMultiplexing for SocketFd {}
 /// Datagrams read per socket per wake-up at most, so one flooded link cannot starve the other.
 pub const MAX_READS_PER_WAKE: usize = 32;
 
+/// Datagrams one [`LinkPair::receive`] hands over at most: [`MAX_READS_PER_WAKE`] per socket.
+pub const MAX_READS_PER_RECEIVE: usize = 2 * MAX_READS_PER_WAKE;
+
 /// Largest datagram read: a few 548-byte frames back to back.
 pub const MAX_DATAGRAM: usize = 2048;
 

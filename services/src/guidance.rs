@@ -9,10 +9,9 @@
 //! Stepping allocates nothing: the lists are the fixed payload arrays; only a new area list
 //! builds (and caches) its polygons.
 //!
-//! Geometry comes from the [`geo`] crate rather than hand-written predicates: point-in-polygon
-//! is [`geo::Contains`] on a [`geo::Polygon`] in longitude/latitude degrees (edges straight in
-//! degrees, fine for areas of a few kilometres), and distances, bearings and destinations are
-//! [`geo::Haversine`]'s (a sphere of the IUGG mean radius).
+//! Point-in-polygon is [`geo::Contains`] on a [`geo::Polygon`] in longitude/latitude degrees
+//! (edges straight in degrees, fine for areas of a few kilometres); distances, bearings and
+//! destinations are the geodesics of the one Earth model, WGS-84 ([`crate::geofence::earth`]).
 //!
 //! # The model and its simplifications
 //!
@@ -26,7 +25,7 @@
 //!   distance flown towards the TO waypoint's altitude, without a vertical rate limit.
 //! - **Speed**: the TO waypoint's commanded speed is flown as ground speed at once (no wind, no
 //!   acceleration); a waypoint with speed 0 is flown at [`FALLBACK_SPEED_MPS`].
-//! - **Track-to-fix legs** are flown as a great circle (haversine bearing and destination) from
+//! - **Track-to-fix legs** are flown as a geodesic (WGS-84 bearing and destination) from
 //!   the current position to the TO waypoint; after a fly-by turn that is a direct-to, so the
 //!   aircraft does not re-join the line between the two waypoints.
 //! - **Radius-to-fix legs** are flown in polar coordinates around the centre, in the turn
@@ -52,16 +51,17 @@
 //!   old list is kept until the automation state's `flown_waypoint_list` names the new
 //!   generation; then the new list's route starts from its first waypoint (FROM 0).
 //! - **Areas**: the fly-zone and the no-fly-zones are 2-D: altitude bounds and the safety offset
-//!   are not applied. A circle's radius is the haversine distance centre -> border point.
+//!   are not applied. A circle's radius is the geodesic distance centre -> border point.
 //!   Leaving the fly-zone and entering a no-fly-zone are logged once, on the change.
 
-use geo::{Bearing, Contains, Destination, Distance, Haversine, LineString, Point, Polygon};
+use geo::{Contains, LineString, Point, Polygon};
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload, PolygonArea,
     WaypointEntry, WaypointListPayload,
 };
-use missionlink_interfaces::wire::{GeoPoint, LegType, TurnDirection, TurnType};
+use missionlink_interfaces::wire::{LegType, TurnDirection, TurnType};
 
+use crate::geofence::earth::{bearing_deg, destination, distance_m, point};
 use crate::link::time::Instant;
 
 /// Longest sub-step of the integration, simulated seconds.
@@ -154,7 +154,7 @@ impl GuidanceConfig {
 /// The geometry of the leg to the TO waypoint.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Leg {
-    /// A great circle from the current position to the TO waypoint.
+    /// A geodesic from the current position to the TO waypoint.
     Direct,
     /// An arc around `centre` (lon/lat) ending at the TO waypoint; clockwise = right turn.
     Arc { centre: Point<f64>, clockwise: bool },
@@ -214,11 +214,7 @@ impl Areas {
                 .iter()
                 .map(|c| {
                     let centre = point(c.centre);
-                    (
-                        c.area_id,
-                        centre,
-                        Haversine.distance(centre, point(c.border)),
-                    )
+                    (c.area_id, centre, distance_m(centre, point(c.border)))
                 })
                 .collect(),
         }
@@ -237,7 +233,7 @@ impl Areas {
             .or_else(|| {
                 self.no_fly_circles
                     .iter()
-                    .find(|(_, c, r)| Haversine.distance(*c, p) <= *r)
+                    .find(|(_, c, r)| distance_m(*c, p) <= *r)
                     .map(|(id, _, _)| *id)
             })
             .unwrap_or(0)
@@ -253,11 +249,6 @@ fn polygon(area: &PolygonArea) -> Option<Polygon<f64>> {
             .collect();
         Polygon::new(ring, Vec::new())
     })
-}
-
-/// A wire position as a geo point (x = longitude, y = latitude, degrees).
-fn point(g: GeoPoint) -> Point<f64> {
-    Point::new(g.longitude.degrees(), g.latitude.degrees())
 }
 
 /// Angle to go from bearing `from` to bearing `to` in the turn direction, 0..360 deg.
@@ -293,13 +284,13 @@ fn arc_state(
     p: Point<f64>,
     to: Point<f64>,
 ) -> Option<ArcState> {
-    let rho = Haversine.distance(centre, p);
-    let r = Haversine.distance(centre, to);
+    let rho = distance_m(centre, p);
+    let r = distance_m(centre, to);
     if rho < MIN_ARC_RADIUS_M || r < MIN_ARC_RADIUS_M {
         return None;
     }
-    let theta = Haversine.bearing(centre, p);
-    let alpha = angle_to_go(theta, Haversine.bearing(centre, to), clockwise);
+    let theta = bearing_deg(centre, p);
+    let alpha = angle_to_go(theta, bearing_deg(centre, to), clockwise);
     Some(ArcState {
         rho,
         theta,
@@ -521,7 +512,7 @@ impl Guidance {
         } else if reversed {
             waypoints
                 .iter()
-                .map(|w| Haversine.distance(self.position, point(w.position)))
+                .map(|w| distance_m(self.position, point(w.position)))
                 .enumerate()
                 .min_by(|a, b| a.1.total_cmp(&b.1))
                 .map(|(i, _)| i)
@@ -715,7 +706,7 @@ impl Guidance {
 
     /// Distance to go to `target` along the current leg, metres.
     fn remaining(&self, target: Point<f64>) -> f64 {
-        let straight = Haversine.distance(self.position, target);
+        let straight = distance_m(self.position, target);
         if straight <= REACHED_M {
             return 0.0;
         }
@@ -754,11 +745,11 @@ impl Guidance {
                 } else {
                     a.theta - dtheta
                 };
-                self.position = Haversine.destination(centre, theta.rem_euclid(360.0), a.rho + dr);
+                self.position = destination(centre, theta.rem_euclid(360.0), a.rho + dr);
             }
             None => {
-                let bearing = Haversine.bearing(self.position, target);
-                self.position = Haversine.destination(self.position, bearing, distance);
+                let bearing = bearing_deg(self.position, target);
+                self.position = destination(self.position, bearing, distance);
             }
         }
     }
@@ -775,14 +766,12 @@ impl Guidance {
             return 0.0;
         };
         let inbound = match self.route.leg {
-            Leg::Arc { centre, clockwise }
-                if Haversine.distance(centre, to) >= MIN_ARC_RADIUS_M =>
-            {
-                tangent(Haversine.bearing(centre, to), clockwise)
+            Leg::Arc { centre, clockwise } if distance_m(centre, to) >= MIN_ARC_RADIUS_M => {
+                tangent(bearing_deg(centre, to), clockwise)
             }
-            // Final course of the great circle from here: the reverse of the initial bearing
-            // from the waypoint back to here.
-            _ => Haversine.bearing(to, self.position) + 180.0,
+            // Final course of the geodesic from here: the reverse of the initial bearing from
+            // the waypoint back to here.
+            _ => bearing_deg(to, self.position) + 180.0,
         };
         let arc_out = match self.leg_into(next) {
             Leg::Arc { centre, clockwise } => {
@@ -792,10 +781,7 @@ impl Guidance {
         };
         let (outbound, next_length) = match arc_out {
             Some((a, clockwise)) => (tangent(a.theta, clockwise), a.alpha.to_radians() * a.r),
-            None => (
-                Haversine.bearing(to, next_point),
-                Haversine.distance(to, next_point),
-            ),
+            None => (bearing_deg(to, next_point), distance_m(to, next_point)),
         };
         let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
         let cap = next_length / 2.0;
@@ -836,7 +822,7 @@ mod tests {
     use core::time::Duration;
 
     use missionlink_interfaces::contracts::{CircleArea, PolygonArea};
-    use missionlink_interfaces::wire::{Altitude, AltitudeType, Speed};
+    use missionlink_interfaces::wire::{Altitude, AltitudeType, GeoPoint, Speed};
 
     use super::*;
 
@@ -1040,7 +1026,7 @@ mod tests {
     fn unwrapped_bearings(centre: Point<f64>, points: &[Point<f64>]) -> Vec<f64> {
         let mut out: Vec<f64> = Vec::with_capacity(points.len());
         for p in points {
-            let b = Haversine.bearing(centre, *p);
+            let b = bearing_deg(centre, *p);
             out.push(match out.last() {
                 Some(prev) => prev + ((b - prev + 180.0).rem_euclid(360.0) - 180.0),
                 None => b,
@@ -1086,10 +1072,10 @@ mod tests {
         s.phase(FlightPhase::Cruise);
         let start = s.log.len();
         let (p, steps) = s.run_until(2000, |p| p.route_complete);
-        let leg = Haversine.distance(pt(TROL), pt(CCP));
+        let leg = distance_m(pt(TROL), pt(CCP));
         assert!((leg - 2004.0).abs() < 5.0, "{leg}");
         assert!((secs(steps) - leg / SPEED).abs() <= 0.1 + 1e-9, "{steps}");
-        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+        assert!(distance_m(here(&p), pt(CCP)) < 0.01);
         assert_eq!(p.altitude_m, 120.0);
         assert_eq!(p.from_to_next(), (1, 0, 0));
         assert_eq!(s.triples(start), [(0, 1, 0), (1, 0, 0)]);
@@ -1101,7 +1087,7 @@ mod tests {
         // Hovers at CCP.
         let p = s.step();
         assert_eq!(p.ground_speed_mps, 0.0);
-        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+        assert!(distance_m(here(&p), pt(CCP)) < 0.01);
 
         s.phase(FlightPhase::Landing);
         let (p, steps) = s.run_until(2000, |p| p.on_ground);
@@ -1113,14 +1099,14 @@ mod tests {
         let p = s.step();
         assert!(p.on_ground);
         assert_eq!(p.from_to_next(), (0, 0, 0));
-        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+        assert!(distance_m(here(&p), pt(CCP)) < 0.01);
     }
 
     /// Expected fly-by anticipation at W1 of mission 2: TF inbound from CCP, tangent of the
     /// clockwise arc outbound.
     fn w1_anticipation() -> f64 {
-        let inbound = Haversine.bearing(pt(W1), pt(CCP)) + 180.0;
-        let outbound = Haversine.bearing(pt(RF_CENTRE), pt(W1)) + 90.0;
+        let inbound = bearing_deg(pt(W1), pt(CCP)) + 180.0;
+        let outbound = bearing_deg(pt(RF_CENTRE), pt(W1)) + 90.0;
         let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
         let r = SPEED * SPEED / (9.80665 * 25f64.to_radians().tan());
         r * (turn / 2.0).to_radians().tan()
@@ -1135,7 +1121,7 @@ mod tests {
         assert_eq!(s.log.last().unwrap().from_to_next(), (0, 1, 2));
         s.phase(FlightPhase::Cruise);
         let (p, _) = s.run_until(3000, |p| p.route_complete);
-        assert!(Haversine.distance(here(&p), pt(ROLE2)) < 0.01);
+        assert!(distance_m(here(&p), pt(ROLE2)) < 0.01);
         assert_eq!(p.altitude_m, 120.0);
         assert_eq!(
             s.triples(start),
@@ -1150,18 +1136,18 @@ mod tests {
         s: &Sim,
         on_leg: impl Fn(&GuidanceProgressPayload) -> bool,
     ) -> (Vec<f64>, Vec<Point<f64>>) {
-        let radius = Haversine.distance(pt(RF_CENTRE), pt(ROLE2));
+        let radius = distance_m(pt(RF_CENTRE), pt(ROLE2));
         let points: Vec<_> = s.log.iter().filter(|p| on_leg(p)).map(here).collect();
         let rel = points
             .iter()
-            .map(|p| (Haversine.distance(pt(RF_CENTRE), *p) - radius).abs() / radius)
+            .map(|p| (distance_m(pt(RF_CENTRE), *p) - radius).abs() / radius)
             .collect();
         (rel, points)
     }
 
     #[test]
     fn mission2_fly_by_tf_then_rf_arc() {
-        let radius = Haversine.distance(pt(RF_CENTRE), pt(ROLE2));
+        let radius = distance_m(pt(RF_CENTRE), pt(ROLE2));
         assert!((radius - 962.0).abs() < 2.0, "{radius}");
         let (s, start) = fly_mission2(TurnType::FlyBy);
 
@@ -1171,12 +1157,12 @@ mod tests {
         let before = &s.log[switch - 1];
         let anticipation = w1_anticipation();
         assert!((55.0..65.0).contains(&anticipation), "{anticipation}");
-        let left_at = Haversine.distance(here(before), pt(W1));
+        let left_at = distance_m(here(before), pt(W1));
         assert!(
             (left_at - anticipation).abs() <= 2.0 * SPEED * DT.as_secs_f64(),
             "switched {left_at} m before W1, anticipation {anticipation} m"
         );
-        let tf = Haversine.distance(pt(CCP), pt(W1));
+        let tf = distance_m(pt(CCP), pt(W1));
         let flown = secs(switch - leg_start);
         assert!(
             ((tf - anticipation) / SPEED - flown).abs() <= 0.2,
@@ -1212,8 +1198,8 @@ mod tests {
         // The leg switched at W1: the sample after it is at most one step's travel past it,
         // the one before still short of it.
         let step_travel = SPEED * DT.as_secs_f64();
-        assert!(Haversine.distance(here(&s.log[switch]), pt(W1)) <= step_travel + 0.01);
-        assert!(Haversine.distance(here(&s.log[switch - 1]), pt(W1)) > 0.01);
+        assert!(distance_m(here(&s.log[switch]), pt(W1)) <= step_travel + 0.01);
+        assert!(distance_m(here(&s.log[switch - 1]), pt(W1)) > 0.01);
         // Starting on the circle, the whole arc stays within 2 % of the radius.
         let (rel, points) = rf_leg(&s, |p| p.to == 3);
         let worst = rel.iter().cloned().fold(0.0, f64::max);
@@ -1229,7 +1215,7 @@ mod tests {
         let start = s.log.len();
         let (p, _) = s.run_until(3000, |p| p.route_complete);
         assert!(
-            Haversine.distance(here(&p), pt(CCP)) < 0.01,
+            distance_m(here(&p), pt(CCP)) < 0.01,
             "ends at the initial waypoint"
         );
         assert_eq!(s.triples(start), [(3, 2, 1), (2, 1, 0), (1, 0, 0)]);
@@ -1257,7 +1243,7 @@ mod tests {
         assert_eq!(p.from_to_next(), (1, 2, 1));
         let (p, _) = s.run_until(3000, |p| p.route_complete);
         assert_eq!(s.triples(start), [(1, 2, 1), (2, 1, 0), (1, 0, 0)]);
-        assert!(Haversine.distance(here(&p), pt(CCP)) < 0.01);
+        assert!(distance_m(here(&p), pt(CCP)) < 0.01);
 
         // A route that is not bidirectional is not reversed.
         let mut l = mission2(3, TurnType::FlyBy);
@@ -1279,7 +1265,7 @@ mod tests {
         let start = s.log.len();
         let (p, _) = s.run_until(3000, |p| p.route_complete);
         assert_eq!(s.triples(start), [(1, 2, 0), (2, 0, 0)]);
-        assert!(Haversine.distance(here(&p), pt(W1)) < 0.01);
+        assert!(distance_m(here(&p), pt(W1)) < 0.01);
     }
 
     #[test]
@@ -1322,7 +1308,7 @@ mod tests {
         let p = s.step();
         assert_eq!((p.waypoint_list, p.from_to_next()), (2, (0, 1, 2)));
         let (p, _) = s.run_until(5000, |p| p.route_complete);
-        assert!(Haversine.distance(here(&p), pt(ROLE2)) < 0.01);
+        assert!(distance_m(here(&p), pt(ROLE2)) < 0.01);
 
         // On the ground a new list is taken at once.
         s.phase(FlightPhase::Landing);
@@ -1357,14 +1343,15 @@ mod tests {
             (true, 0)
         );
 
-        // Fly into the circle: detected at its border (radius = haversine centre -> border).
-        let radius = Haversine.distance(pt(NFZ_CENTRE), pt(NFZ_BORDER));
-        assert!((radius - 296.0).abs() < 1.0, "{radius}");
+        // Fly into the circle: detected at its border (radius = geodesic centre -> border).
+        let radius = distance_m(pt(NFZ_CENTRE), pt(NFZ_BORDER));
+        // 0.004° of longitude at 48.268° N on WGS-84 (the sphere of the mean radius said 296.06).
+        assert!((radius - 296.95).abs() < 0.01, "{radius}");
         s.take_off();
         s.phase(FlightPhase::Cruise);
         let (p, _) = s.run_until(2000, |p| p.in_no_fly_zone != 0);
         assert_eq!(p.in_no_fly_zone, 2);
-        let d = Haversine.distance(here(&p), pt(NFZ_CENTRE));
+        let d = distance_m(here(&p), pt(NFZ_CENTRE));
         assert!(
             d <= radius && d > radius - SPEED * DT.as_secs_f64() - 0.01,
             "{d}"

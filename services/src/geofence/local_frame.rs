@@ -1,6 +1,7 @@
 //! A local metric frame for the geometry of a mission: an equirectangular projection about a
-//! reference point with the WGS-84 radii of curvature there (east-west error about
-//! tan(lat0) x |dlat|: under 0.03 % over the demo area), and the radius-to-fix arc in it.
+//! reference point with the radii of curvature there of the WGS-84 ellipsoid of
+//! [`super::earth`] (east-west error about tan(lat0) x |dlat|: under 0.03 % over the demo area),
+//! and the radius-to-fix arc in it.
 //!
 //! The safety gateway checks, and the map draws, in this one frame, so the map shows the
 //! geometry that was checked.
@@ -8,10 +9,7 @@
 pub use geo::Coord;
 use missionlink_interfaces::wire::{GeoPoint, TurnDirection};
 
-/// WGS-84 semi-major axis.
-const WGS84_A_M: f64 = 6_378_137.0;
-/// WGS-84 first eccentricity squared.
-const WGS84_E2: f64 = 0.006_694_379_990_14;
+use super::earth::{WGS84_A_M, WGS84_E2};
 /// Samples of one arc at most, whatever the sagitta asked.
 const MAX_ARC_SAMPLES: usize = 100_000;
 
