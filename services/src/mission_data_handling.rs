@@ -322,11 +322,8 @@ impl MissionDataHandling {
             );
         }
         if let Err(reason) = outcome {
-            tracing::info!(
-                message = message.message_type() as u16,
-                %reason,
-                "message refused"
-            );
+            self.endpoint
+                .refused(now, message.message_type() as u16, reason);
         }
     }
 

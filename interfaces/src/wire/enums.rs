@@ -97,7 +97,7 @@ wire_enum! {
     /// #13002 field 13, Waypoint Type: the ARINC 424 leg type of the leg that ends at the
     /// waypoint.
     pub enum LegType {
-        /// Track-to-fix: a great-circle line.
+        /// Track-to-fix: a geodesic line (WGS-84).
         TrackToFix = 0,
         /// Radius-to-fix: an arc around a centre given by #13006 type 2.
         RadiusToFix = 1,

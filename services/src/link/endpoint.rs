@@ -70,6 +70,9 @@ pub struct EndpointStats {
     pub rejected_frames: ByCause<FrameCause, 8>,
     /// Messages rejected by ICD §3 or §4, by the reason of ICD §6.
     pub rejected_messages: ByCause<Reason, REASONS>,
+    /// Valid messages the owner refused in its state (wrong state, busy, guidance active: the
+    /// answer is #17000 type 3 with the reason), counted by [`Endpoint::refused`].
+    pub refused_messages: u64,
     /// Copies dropped by sampling.
     pub dropped_copies: u64,
     /// Messages queued for sending.
@@ -88,6 +91,7 @@ impl EndpointStats {
             .chain([("rejected_messages", self.rejected_messages.total())])
             .chain(self.rejected_messages.counters())
             .chain([
+                ("refused_messages", self.refused_messages),
                 ("dropped_copies", self.dropped_copies),
                 ("queued", self.queued),
                 ("outbox_overflow", self.outbox_overflow),
@@ -106,6 +110,7 @@ pub struct Endpoint {
     stats: EndpointStats,
     frame_log: LogLimiter<FrameCause, 8>,
     message_log: LogLimiter<Reason, REASONS>,
+    refusal_log: LogLimiter<Reason, REASONS>,
 }
 
 impl Endpoint {
@@ -120,6 +125,7 @@ impl Endpoint {
             stats: EndpointStats::default(),
             frame_log: LogLimiter::new(),
             message_log: LogLimiter::new(),
+            refusal_log: LogLimiter::new(),
         }
     }
 
@@ -133,10 +139,10 @@ impl Endpoint {
         &self.stats
     }
 
-    /// Log lines about rejected frames and messages so far (at most one per cause per
-    /// [`crate::link::rejects::LOG_INTERVAL`]).
+    /// Log lines about rejected frames and messages and refused messages so far (at most one
+    /// per cause per [`crate::link::rejects::LOG_INTERVAL`]).
     pub fn reject_log_lines(&self) -> u64 {
-        self.frame_log.lines() + self.message_log.lines()
+        self.frame_log.lines() + self.message_log.lines() + self.refusal_log.lines()
     }
 
     /// Preprocesses one message (wrapper to checksum) received at `now`. A frame error is
@@ -193,6 +199,21 @@ impl Endpoint {
                 }
                 Ok(Inbound::Rejected(error))
             }
+        }
+    }
+
+    /// The owner refused a valid message of `message_type` with `reason` (the moding of paper
+    /// §3.1.2): counted, and logged at most once a second per reason, like the rejections, so a
+    /// peer repeating a refused request costs a counter, not a log line each.
+    pub fn refused(&mut self, now: Instant, message_type: u16, reason: Reason) {
+        self.stats.refused_messages = self.stats.refused_messages.saturating_add(1);
+        if let Some(refused) = self.refusal_log.admit(reason, now) {
+            tracing::info!(
+                cause = reason.name(),
+                rejected = refused,
+                last_message = message_type,
+                "messages refused since the last line of this reason"
+            );
         }
     }
 
@@ -418,5 +439,31 @@ mod tests {
             assert_eq!(logged, 2001);
         }
         assert_eq!(lines.len(), 9, "{lines:?}");
+    }
+
+    #[test]
+    fn refused_requests_are_counted_in_full_and_logged_once_a_second_per_reason() {
+        let mut fcc = Endpoint::new(config(FCC_ID, GCS_ID));
+        let capture = Capture::default();
+        tracing::subscriber::with_default(capture.clone(), || {
+            // 2.5 s of clears refused while guidance flies, one every millisecond.
+            for ms in 0..2500u64 {
+                let now = Instant::from_millis(ms);
+                *capture.now.lock().unwrap() = now;
+                fcc.refused(now, 13000, Reason::GuidanceActive);
+            }
+        });
+        assert_eq!(fcc.stats().refused_messages, 2500);
+        let lines = capture.lines.lock().unwrap().clone();
+        assert_eq!(lines.len(), 3, "{lines:?}");
+        assert_eq!(fcc.reject_log_lines(), 3);
+        assert!(lines.iter().all(|l| l.cause == "reason_guidance_active"));
+        assert_eq!(
+            lines
+                .iter()
+                .map(|l| l.rejected)
+                .collect::<std::vec::Vec<_>>(),
+            [1, 1000, 1000]
+        );
     }
 }
