@@ -33,7 +33,7 @@
 //!
 //! [latency]
 //! report_interval_s = 0           # 0: report at shutdown and on SIGUSR1 only
-//! summary_dir = "/tmp/stats"      # optional: each partition writes <name>.json at shutdown
+//! summary_dir = "/tmp/stats"      # optional: each partition writes <name>.toml at shutdown
 //!
 //! [launcher]
 //! restart_delay_ms = 200
@@ -198,7 +198,7 @@ impl Default for Guidance {
 pub struct Latency {
     /// Log the percentiles every this many seconds; 0: only at shutdown and on SIGUSR1.
     pub report_interval_s: u64,
-    /// Where each partition writes `<name>.json` with its percentiles at shutdown.
+    /// Where each partition writes `<name>.toml` with its percentiles at shutdown.
     pub summary_dir: Option<PathBuf>,
 }
 
