@@ -17,12 +17,15 @@
 //! The payload sizes are 64 B, 548 B (the largest STANAG frame, `MAX_FRAME_LEN`) and the size of
 //! `WaypointListPayload` (the full waypoint list, 8216 B with 256 waypoints). The transports:
 //!
-//! 1. `iox2-event`: iceoryx2 publish-subscribe as the partitions use it (`ipc::Service`, the
-//!    QoS of `fcc/link/uplink`): the sender copies the frame into a loaned sample, sends it and
-//!    notifies an event service of the same name; the receiver sleeps in a `WaitSet` on the
-//!    listener, drains it on wake-up and takes the sample (zero-copy: it reads the stamp in place).
-//! 2. `iox2-poll`: the same without the event service; the receiver spins on
-//!    `subscriber.receive()` (and the sender spins for the reply).
+//! 1. `iox2-event`: iceoryx2 publish-subscribe through the partitions' own IPC code
+//!    (`missionlink_partitions::ipc` on `ipc::Service`, the services and QoS of
+//!    `fcc/link/uplink` and `fcc/link/downlink`): the sender copies the frame into a loaned
+//!    sample, sends it and notifies the event service of the same name (`Publisher::send`); the
+//!    receiver sleeps in the partitions' `WaitSet` (`runtime::waitset`, `Control::wait`) on the
+//!    listener and takes the sample as they do (`Subscriber::take_all`: zero-copy, it reads the
+//!    stamp in place).
+//! 2. `iox2-poll`: the same ports, publishing without the notification (`Publisher::publish`);
+//!    the receiver spins on `Subscriber::for_each` (and the sender spins for the reply).
 //! 3. `uds`: a Unix domain datagram socket (abstract address), blocking `recv_from`.
 //! 4. `udp`: UDP over loopback, blocking `recv_from`.
 //! 5. `shm-floor`: the floor of any shared-memory transport: the stamp alone, stored into an
@@ -68,14 +71,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use hdrhistogram::Histogram;
-use iceoryx2::port::listener::Listener;
-use iceoryx2::port::notifier::Notifier;
-use iceoryx2::port::publisher::Publisher;
-use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_partitions::clock::monotonic_ns;
+use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
+use missionlink_partitions::runtime::{self, Control};
 use serde_json::{Value, json};
 
 /// Recorded frames per transport and size unless `--frames` says otherwise.
@@ -305,122 +306,59 @@ impl<const FILL: usize> Stamped for StampedFrame<FILL> {
 
 type S = ipc::Service;
 
-/// One side of an iceoryx2 ping-pong: a publisher of `Out` and a subscriber of `In`, with a
-/// notifier and a listener when event-driven.
+/// One side of an iceoryx2 ping-pong through the shipping IPC code
+/// (`missionlink_partitions::ipc`): frames go out on the service of `fcc/link/uplink` or
+/// `fcc/link/downlink` (the frame queues' QoS) under a prefix of the run, replies on the other.
 struct Iox2End<Out: Stamped, In: Stamped> {
-    publisher: Publisher<S, Out, ()>,
-    subscriber: Subscriber<S, In, ()>,
-    notifier: Option<Notifier<S>>,
-    listener: Option<Listener<S>>,
+    publisher: Publisher<S, Out>,
+    subscriber: Subscriber<S, In>,
+    event: bool,
     /// Dropped last: the node owns the ports' resources.
-    _node: Node<S>,
-}
-
-fn service_name(run: &Run, direction: &str) -> ServiceName {
-    format!("missionlink-latency-{}/{direction}", run.id)
-        .as_str()
-        .try_into()
-        .expect("valid service name")
-}
-
-/// The publish-subscribe service `name` with the partitions' frame-queue QoS (that of
-/// `fcc/link/uplink`: no history, 64 samples deep, never overwritten).
-fn pubsub<T: Stamped>(
-    node: &Node<S>,
-    name: &ServiceName,
-) -> iceoryx2::service::port_factory::publish_subscribe::PortFactory<S, T, ()> {
-    let qos = FccService::Uplink.qos();
-    node.service_builder(name)
-        .publish_subscribe::<T>()
-        .history_size(qos.history_size)
-        .subscriber_max_buffer_size(qos.subscriber_max_buffer_size)
-        .max_publishers(qos.max_publishers)
-        .max_subscribers(qos.max_subscribers)
-        .enable_safe_overflow(qos.safe_overflow)
-        .open_or_create()
-        .expect("publish-subscribe service")
+    _ipc: Ipc<S>,
 }
 
 impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
-    fn open(run: &Run, node_name: &str, out: &str, input: &str, event: bool) -> Self {
-        let node = NodeBuilder::new()
-            .name(&node_name.try_into().expect("valid node name"))
-            // Ctrl-C ends the bench, also in a spinning loop.
-            .signal_handling_mode(SignalHandlingMode::Disabled)
-            .create::<S>()
-            .expect("iceoryx2 node");
-        node.try_cleanup_dead_nodes();
-        let publisher = pubsub::<Out>(&node, &service_name(run, out))
-            .publisher_builder()
-            .create()
-            .expect("publisher");
-        let subscriber = pubsub::<In>(&node, &service_name(run, input))
-            .subscriber_builder()
-            .create()
-            .expect("subscriber");
-        let qos = FccService::Uplink.qos();
-        let events = |direction: &str| {
-            node.service_builder(&service_name(run, direction))
-                .event()
-                .max_notifiers(qos.max_publishers)
-                .max_listeners(qos.max_subscribers)
-                .open_or_create()
-                .expect("event service")
-        };
-        let (notifier, listener) = if event {
-            (
-                Some(events(out).notifier_builder().create().expect("notifier")),
-                Some(events(input).listener_builder().create().expect("listener")),
-            )
-        } else {
-            (None, None)
-        };
+    fn open(run: &Run, node_name: &str, out: FccService, input: FccService, event: bool) -> Self {
+        let prefix = format!("missionlink-latency-{}", run.id);
+        let ipc = Ipc::<S>::open(node_name, &prefix).expect("iceoryx2 node");
         Self {
-            publisher,
-            subscriber,
-            notifier,
-            listener,
-            _node: node,
+            publisher: ipc.publisher(out).expect("publisher"),
+            subscriber: ipc.subscriber(input).expect("subscriber"),
+            event,
+            _ipc: ipc,
         }
     }
 
-    /// Copies `value` into a loaned sample, sends it, and notifies when event-driven (what
-    /// `partitions::ipc::Publisher::send` does).
+    /// Copies `value` into a loaned sample and sends it; event-driven, notifies too (what every
+    /// partition does); polling, only publishes.
     fn send(&self, value: &Out) {
-        self.publisher
-            .loan_uninit()
-            .expect("loan")
-            .write_payload(*value)
-            .send()
-            .expect("send");
-        if let Some(notifier) = &self.notifier {
-            notifier.notify().expect("notify");
+        if self.event {
+            self.publisher.send(value).expect("send");
+        } else {
+            self.publisher.publish(value).expect("publish");
         }
     }
 
-    /// The stamp of the next sample: event-driven, sleeping in `waitset` until notified;
-    /// polling, spinning on `receive()`.
+    /// The stamp of the next sample, read in place: event-driven, as the partitions take their
+    /// frames (`take_all`: data first, then the drain, then a second look) sleeping in
+    /// `waitset` until notified; polling, spinning on the subscriber.
     fn receive(&self, waitset: &WaitSet<S>) -> u64 {
         let take = || {
+            let mut stamp = None;
             self.subscriber
-                .receive()
-                .expect("receive")
-                .map(|sample| sample.payload().stamp())
+                .for_each(|sample| stamp = Some(sample.stamp()));
+            stamp
         };
-        let Some(listener) = &self.listener else {
+        if !self.event {
             return spin(take);
-        };
+        }
+        let control = Control::new();
         let mut deadline = None;
         loop {
-            // Data first: after a wake-up the sample is read before the notification is
-            // drained, so the drain's system calls are not on the frame's path.
-            if let Some(stamp) = take() {
-                return stamp;
-            }
-            // Drain, then look once more: a sample published between the look above and the
-            // drain would otherwise wait for the next notification.
-            listener.try_wait(|_| {}).expect("listener");
-            if let Some(stamp) = take() {
+            let mut stamp = None;
+            self.subscriber
+                .take_all(|sample| stamp = Some(sample.stamp()));
+            if let Some(stamp) = stamp {
                 return stamp;
             }
             let deadline = *deadline.get_or_insert_with(|| Instant::now() + TIMEOUT);
@@ -428,20 +366,25 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
                 Instant::now() < deadline,
                 "nothing for {TIMEOUT:?}: peer gone"
             );
-            waitset
-                .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, TIMEOUT)
-                .expect("wait");
+            control.wait(waitset, false, TIMEOUT).expect("wait");
         }
     }
 }
 
 fn iox2_sender<F: Stamped>(run: &Run, event: bool) {
-    let end = Iox2End::<F, Frame64>::open(run, "latency-sender", "ping", "pong", event);
-    let waitset = WaitSetBuilder::new().create::<S>().expect("waitset");
-    let _guard = end
-        .listener
-        .as_ref()
-        .map(|l| waitset.attach_notification(l).expect("attach"));
+    let end = Iox2End::<F, Frame64>::open(
+        run,
+        "latency-sender",
+        FccService::Uplink,
+        FccService::Downlink,
+        event,
+    );
+    let waitset = runtime::waitset::<S>().expect("waitset");
+    let _guard = event.then(|| {
+        waitset
+            .attach_notification(end.subscriber.listener())
+            .expect("attach")
+    });
     let mut frame = F::zeroed();
     drive_sender(
         run,
@@ -454,12 +397,19 @@ fn iox2_sender<F: Stamped>(run: &Run, event: bool) {
 }
 
 fn iox2_receiver<F: Stamped>(run: &Run, event: bool) -> Histogram<u64> {
-    let end = Iox2End::<Frame64, F>::open(run, "latency-receiver", "pong", "ping", event);
-    let waitset = WaitSetBuilder::new().create::<S>().expect("waitset");
-    let _guard = end
-        .listener
-        .as_ref()
-        .map(|l| waitset.attach_notification(l).expect("attach"));
+    let end = Iox2End::<Frame64, F>::open(
+        run,
+        "latency-receiver",
+        FccService::Downlink,
+        FccService::Uplink,
+        event,
+    );
+    let waitset = runtime::waitset::<S>().expect("waitset");
+    let _guard = event.then(|| {
+        waitset
+            .attach_notification(end.subscriber.listener())
+            .expect("attach")
+    });
     announce_ready("");
     let mut reply = Frame64::zeroed();
     drive_receiver(

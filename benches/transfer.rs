@@ -211,8 +211,8 @@ fn main() {
 
     let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
     let load_before = load_average();
-    let (config, dir) = common::unique_config("bench-transfer");
-    let mut fcc = common::Process::start(&dir, "fcc");
+    let mut rig = common::Rig::new("bench-transfer");
+    let mut fcc = rig.start("fcc");
     for partition in [
         "voting-monitoring",
         "mission-data-handling",
@@ -221,7 +221,7 @@ fn main() {
     ] {
         common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
     }
-    let mut link = common::gcs(&config);
+    let mut link = rig.gcs(&mut fcc);
     link.enable_log();
 
     let mut results = Vec::new();
@@ -259,8 +259,7 @@ fn main() {
         results.push(result);
     }
     let load_after = load_average();
-    fcc.stop();
-    let status = fcc.child.wait().ok();
+    let status = fcc.stop().ok();
 
     println!();
     println!(
@@ -372,5 +371,5 @@ fn main() {
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
         println!("written to {}", path.display());
     }
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&rig.dir);
 }

@@ -11,6 +11,7 @@ use iceoryx2::prelude::ipc;
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMode};
 use missionlink_partitions::ipc::Ipc;
+use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::ground_station::{GcsError, Phase};
 use missionlink_services::transfer::sender::mission_command;
 
@@ -44,10 +45,10 @@ fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T>
 
 #[test]
 fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_lists() {
-    let (config, dir) = unique_config("roundtrip");
-    let fcc = Process::start(&dir, "fcc");
+    let mut rig = Rig::new("roundtrip");
+    let mut fcc = rig.start("fcc");
     wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
-    let mut link = gcs(&config);
+    let mut link = rig.gcs(&mut fcc);
     for file in ["mission-1.toml", "mission-2.toml"] {
         let plan = plan(file);
         let valid = link.station().validate(&plan).unwrap();
@@ -59,19 +60,20 @@ fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_list
 
 #[test]
 fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
-    let (config, dir) = unique_config("late-guidance");
-    let vm = Process::start(&dir, "voting-monitoring");
-    let mdh = Process::start(&dir, "mission-data-handling");
-    let _sa = Process::start(&dir, "system-automation");
+    let mut rig = Rig::new("late-guidance");
+    let mut vm = rig.start("voting-monitoring");
+    let mdh = rig.start("mission-data-handling");
+    let _sa = rig.start("system-automation");
     wait_for_log(&vm, "voting-monitoring up", Duration::from_secs(20));
     wait_for_log(&mdh, "mission-data-handling up", Duration::from_secs(20));
-    let mut link = gcs(&config);
+    let mut link = rig.gcs(&mut vm);
+    let config = rig.config.clone();
     let plan = plan("mission-2.toml");
     let valid = link.station().validate(&plan).unwrap();
     upload(&mut link, &plan).unwrap();
 
     // Guidance starts after the lists were published: the history of the services gives them.
-    let guidance = Process::start(&dir, "guidance-stub");
+    let guidance = rig.start("guidance-stub");
     wait_for_log(
         &guidance,
         "waypoint list received generation=1 waypoints=3",
@@ -99,10 +101,11 @@ fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
 
 #[test]
 fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_lists() {
-    let (config, dir) = unique_config("kill9");
-    let fcc = Process::start(&dir, "fcc");
+    let mut rig = Rig::new("kill9");
+    let mut fcc = rig.start("fcc");
     wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
-    let mut link = gcs(&config);
+    let mut link = rig.gcs(&mut fcc);
+    let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
     let mission_2 = plan("mission-2.toml");
     let valid_1 = link.station().validate(&mission_1).unwrap();
@@ -196,10 +199,11 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
 
 #[test]
 fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_counted() {
-    let (config, dir) = unique_config("bad-frames");
-    let mut fcc = Process::start(&dir, "fcc");
+    let mut rig = Rig::new("bad-frames");
+    let mut fcc = rig.start("fcc");
     wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
-    let mut link = gcs(&config);
+    let mut link = rig.gcs(&mut fcc);
+    let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
     let valid = link.station().validate(&mission_1).unwrap();
     upload(&mut link, &mission_1).unwrap();
@@ -235,8 +239,8 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
     std::thread::sleep(Duration::from_millis(300));
     assert_eq!(download(&mut link).unwrap(), valid, "nothing changed");
 
-    fcc.stop();
-    let summaries = summaries(&dir);
+    fcc.stop().unwrap();
+    let summaries = rig.summaries();
     let vm = summaries
         .iter()
         .find(|s| s.partition == "voting-monitoring")
@@ -247,9 +251,15 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
 }
 
 #[test]
-fn partitions_stop_when_the_launcher_is_killed() {
-    let (_config, dir) = unique_config("orphans");
-    let mut fcc = Process::start(&dir, "fcc");
+fn partitions_stop_and_nothing_is_left_in_the_temp_directory_when_the_launcher_is_killed() {
+    let rig = Rig::new("orphans");
+    // The launcher's and its partitions' temporary directory: empty at the end.
+    let tmp = rig.dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let mut command = FccProcess::command(&bin_dir(), "fcc", &rig.config).unwrap();
+    command.env("TMPDIR", &tmp);
+    let log = rig.dir.join("fcc.log");
+    let mut fcc = FccProcess::spawn(command, &rig.config, Some(&log)).unwrap();
     wait_for_log(&fcc, "guidance-stub up", Duration::from_secs(20));
     let pids: Vec<i32> = fcc
         .log_text()
@@ -259,8 +269,7 @@ fn partitions_stop_when_the_launcher_is_killed() {
         .filter_map(|p| p.trim().parse().ok())
         .collect();
     assert_eq!(pids.len(), 4, "{}", fcc.log_text());
-    fcc.child.kill().unwrap();
-    fcc.child.wait().unwrap();
+    fcc.kill().unwrap();
     // Gone, or a zombie waiting for init to reap it: either way no longer running.
     let running = |pid: &i32| {
         std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| {
@@ -274,4 +283,30 @@ fn partitions_stop_when_the_launcher_is_killed() {
     });
     assert!(left.is_some(), "partitions outlived the launcher: {pids:?}");
     assert!(fcc.log_text().contains("the launcher is gone: stopping"));
+    let left_behind: Vec<_> = std::fs::read_dir(&tmp)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(left_behind.is_empty(), "{left_behind:?}");
+}
+
+#[test]
+fn sigusr1_logs_the_latency_percentiles_and_the_partition_keeps_running() {
+    let rig = Rig::new("usr1");
+    let mut automation = rig.start("system-automation");
+    wait_for_log(&automation, "system-automation up", Duration::from_secs(20));
+    let pid = rustix::process::Pid::from_raw(automation.id() as i32).unwrap();
+    // Two reports: the second can only come from a process that went on after the first.
+    for n in 1..=2 {
+        rustix::process::kill_process(pid, rustix::process::Signal::USR1).unwrap();
+        wait_for_logs(
+            &automation,
+            "latency command: accepted to carried out",
+            n,
+            Duration::from_secs(10),
+        );
+    }
+    assert_eq!(automation.try_wait().unwrap(), None, "still running");
+    let status = automation.stop().unwrap();
+    assert!(status.success(), "{status:?}\n{}", automation.log_text());
 }

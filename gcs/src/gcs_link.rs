@@ -64,6 +64,12 @@ impl<G: SafetyGateway> GcsLink<G> {
             config.links.fcc_direct,
             config.links.fcc_lte,
         )?;
+        Ok(Self::with_links(config, links, gateway))
+    }
+
+    /// Over links the caller bound already (the demo and the tests bind port 0 themselves and
+    /// hand the FCC the ports they got); `config` gives the IDs and timeouts.
+    pub fn with_links(config: &Config, links: LinkPair, gateway: G) -> Self {
         let clock = DriverClock::start();
         let station = GroundStation::new(
             GcsConfig {
@@ -78,7 +84,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             },
             gateway,
         );
-        Ok(Self {
+        Self {
             links,
             voter: Voter::new(
                 config.ids.gcs,
@@ -91,7 +97,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             slots: vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE],
             log: Vec::new(),
             logging: false,
-        })
+        }
     }
 
     /// Logs every message from now on.

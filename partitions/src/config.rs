@@ -8,7 +8,8 @@
 //! fcc = 0x0B000001          # vehicle ID
 //!
 //! [links]
-//! fcc_direct = "127.0.0.1:4586"   # the FCC receives the direct link here
+//! fcc_direct = "127.0.0.1:4586"   # the FCC receives the direct link here (port 0: the system
+//!                                 # chooses; voting-monitoring announces it, see `state`)
 //! gcs_direct = "127.0.0.1:4587"
 //! fcc_lte = "127.0.0.1:4588"
 //! gcs_lte = "127.0.0.1:4589"
@@ -32,7 +33,7 @@
 //!
 //! [latency]
 //! report_interval_s = 0           # 0: report at shutdown and on SIGUSR1 only
-//! summary_dir = "/tmp/stats"      # optional: each partition writes <name>.json at shutdown
+//! summary_dir = "/tmp/stats"      # optional: each partition writes <name>.toml at shutdown
 //!
 //! [launcher]
 //! restart_delay_ms = 200
@@ -70,11 +71,13 @@ impl Default for Ids {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Links {
-    /// The FCC receives the direct link here.
+    /// The FCC receives the direct link here. Port 0: the system chooses one when
+    /// voting-monitoring binds it, which announces it in the state directory
+    /// (`state::BoundLinks`) and binds it again after a restart.
     pub fcc_direct: SocketAddr,
     /// The GCS receives the direct link here.
     pub gcs_direct: SocketAddr,
-    /// The FCC receives the LTE link here.
+    /// The FCC receives the LTE link here (port 0 as for `fcc_direct`).
     pub fcc_lte: SocketAddr,
     /// The GCS receives the LTE link here.
     pub gcs_lte: SocketAddr,
@@ -195,7 +198,7 @@ impl Default for Guidance {
 pub struct Latency {
     /// Log the percentiles every this many seconds; 0: only at shutdown and on SIGUSR1.
     pub report_interval_s: u64,
-    /// Where each partition writes `<name>.json` with its percentiles at shutdown.
+    /// Where each partition writes `<name>.toml` with its percentiles at shutdown.
     pub summary_dir: Option<PathBuf>,
 }
 
@@ -328,14 +331,35 @@ pub fn parse_id(s: &str) -> Result<u32, String> {
     .map_err(|e| format!("{s:?} is not a 32-bit ID: {e}"))
 }
 
+/// The environment variable naming the configuration file (`--config`).
+pub const CONFIG_FILE_ENV: &str = "MISSIONLINK_CONFIG";
+/// The environment variable of the service-name prefix (`--prefix`).
+pub const PREFIX_ENV: &str = "MISSIONLINK_PREFIX";
+/// The environment variable carrying a whole configuration as TOML text: how the launcher, the
+/// demo and the tests hand a resolved configuration to a child process, with no file that a
+/// `kill -9` could leave behind.
+pub const CONFIG_TOML_ENV: &str = "MISSIONLINK_CONFIG_TOML";
+
+/// Hands `config` to the child process `command` starts: as TOML in [`CONFIG_TOML_ENV`], and
+/// without the inherited variables of `--config` and `--prefix`, which would override it.
+pub fn hand_to(command: &mut std::process::Command, config: &Config) {
+    command
+        .env(CONFIG_TOML_ENV, config.to_toml())
+        .env_remove(CONFIG_FILE_ENV)
+        .env_remove(PREFIX_ENV);
+}
+
 /// The flags every binary takes: a configuration file and overrides of its most used settings.
 #[derive(Debug, Clone, Default, Args)]
 pub struct ConfigArgs {
     /// Configuration file (TOML); every setting has a built-in default.
-    #[arg(long, value_name = "FILE", env = "MISSIONLINK_CONFIG")]
+    #[arg(long, value_name = "FILE", env = CONFIG_FILE_ENV)]
     pub config: Option<PathBuf>,
+    /// A whole configuration as TOML text, in place of `--config` (see [`hand_to`]).
+    #[arg(long, hide = true, value_name = "TOML", env = CONFIG_TOML_ENV)]
+    pub config_toml: Option<String>,
     /// Prefix of the iceoryx2 service names.
-    #[arg(long, value_name = "PREFIX", env = "MISSIONLINK_PREFIX")]
+    #[arg(long, value_name = "PREFIX", env = PREFIX_ENV)]
     pub prefix: Option<String>,
     /// GCS (CUCS) ID.
     #[arg(long, value_parser = parse_id)]
@@ -377,9 +401,13 @@ pub struct ConfigArgs {
 }
 
 impl ConfigArgs {
-    /// The file's configuration (or the defaults) with the flags applied.
+    /// The configuration handed over as TOML, else the file's (or the defaults), with the
+    /// flags applied.
     pub fn resolve(&self) -> Result<Config, ConfigError> {
-        let mut c = Config::load(self.config.as_deref())?;
+        let mut c = match &self.config_toml {
+            Some(text) => Config::parse(text, Path::new(CONFIG_TOML_ENV))?,
+            None => Config::load(self.config.as_deref())?,
+        };
         if let Some(p) = &self.prefix {
             c.ipc.service_prefix = p.clone();
         }
@@ -418,16 +446,6 @@ impl ConfigArgs {
         }
         Ok(c)
     }
-
-    /// The flags that reproduce `config` for a child process (the launcher passes its resolved
-    /// configuration on this way, as one file).
-    pub fn for_file(path: &Path) -> Vec<String> {
-        vec![
-            "--config".to_owned(),
-            path.display().to_string(),
-            "--exit-with-parent".to_owned(),
-        ]
-    }
 }
 
 #[cfg(test)]
@@ -464,5 +482,21 @@ mod tests {
         assert!(text.starts_with("fcc.toml:3:7: "), "{text}");
         let e = Config::parse("[timing]\nack_timeout = 5\n", Path::new("f")).unwrap_err();
         assert!(e.to_string().contains("unknown field `ack_timeout`"), "{e}");
+    }
+
+    #[test]
+    fn a_configuration_handed_over_as_toml_replaces_the_file_and_flags_still_apply() {
+        let mut handed = Config::default();
+        handed.ipc.service_prefix = "handed".to_owned();
+        handed.guidance.time_scale = 7.0;
+        let args = ConfigArgs {
+            config: Some(PathBuf::from("/nonexistent/missionlink.toml")),
+            config_toml: Some(handed.to_toml()),
+            fcc_id: Some(5),
+            ..ConfigArgs::default()
+        };
+        let resolved = args.resolve().unwrap();
+        handed.ids.fcc = 5;
+        assert_eq!(resolved, handed);
     }
 }

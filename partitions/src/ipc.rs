@@ -168,8 +168,16 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
 }
 
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
-    /// Publishes `value` (copied into shared memory once) and wakes the subscribers.
+    /// Publishes `value` (copied into shared memory once) and wakes the subscribers: what every
+    /// partition does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
+        self.publish(value)?;
+        self.notify()
+    }
+
+    /// Publishes `value` without waking anyone: for subscribers that poll (the polling
+    /// transport of benches/latency.rs); [`Publisher::notify`] wakes them later.
+    pub fn publish(&self, value: &T) -> Result<(), IpcError> {
         let sample = self
             .publisher
             .loan_uninit()
@@ -178,6 +186,11 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
             .write_payload(*value)
             .send()
             .map_err(|e| err(format_args!("send on {}", self.service), e))?;
+        Ok(())
+    }
+
+    /// Wakes the subscribers sleeping on this service's event.
+    pub fn notify(&self) -> Result<(), IpcError> {
         self.notifier
             .notify()
             .map_err(|e| err(format_args!("notify on {}", self.service), e))?;
@@ -231,6 +244,16 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
                 }
             }
         }
+    }
+
+    /// Hands every waiting sample to `f`, drains the notifications, then looks once more: the
+    /// drain's system calls stay off the path of a sample that is already there, and a sample
+    /// published between the first look and the drain is not left for the next wake-up
+    /// (benches/latency.rs measures the difference). Returns how many samples there were.
+    pub fn take_all(&self, mut f: impl FnMut(&T)) -> usize {
+        let first = self.for_each(&mut f);
+        self.drain_notifications();
+        first + self.for_each(f)
     }
 
     /// The newest waiting sample, copied (state services: only the latest matters).

@@ -1,5 +1,5 @@
 //! Per-frame latency of a partition, in HDR histograms (nanoseconds, 3 significant digits):
-//! percentiles p50, p99, p99.9 and max, logged at shutdown and on SIGUSR1, and written as JSON
+//! percentiles p50, p99, p99.9 and max, logged at shutdown and on SIGUSR1, and written as TOML
 //! for the demo and the benchmarks.
 
 use std::path::Path;

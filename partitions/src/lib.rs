@@ -1,6 +1,10 @@
 //! The FCC of missionlink: the drivers of the four partitions and the fcc launcher. They move
 //! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
 //! in `missionlink-services`. No ground tooling is linked here (that is `missionlink-gcs`).
+//!
+//! Each partition's loop is a library function generic over the iceoryx2 service type
+//! (`voting_monitoring::run::<S>` and so on): the binaries run it on `ipc::Service`, the tests
+//! in one process on `local::Service`, and a [`runtime::Control`] stops it from another thread.
 #![cfg_attr(
     not(test),
     deny(
@@ -14,11 +18,16 @@
 pub mod binaries;
 pub mod clock;
 pub mod config;
+pub mod guidance_stub;
 pub mod ipc;
 pub mod latency;
+pub mod launcher;
+pub mod mission_data_handling;
 pub mod runtime;
 pub mod state;
+pub mod system_automation;
 pub mod udp;
+pub mod voting_monitoring;
 
 /// Installs the `tracing` subscriber of every binary: human-readable lines on stderr, filtered by
 /// `RUST_LOG` (default `info`), so stdout carries only the tool's output.

@@ -1,84 +1,232 @@
-//! What every partition's event loop shares: sleeping in the WaitSet (or spinning with
-//! `--poll`) until data, a deadline or a termination request; latency reports on an interval, on
-//! SIGUSR1 and at shutdown.
+//! What every partition's event loop shares: the [`Control`] that starts and stops a loop (from
+//! another thread, or by SIGINT/SIGTERM), sleeping in the WaitSet (or spinning with `--poll`)
+//! until data, a deadline or a stop, latency reports on an interval, on SIGUSR1 and at shutdown,
+//! and the `main` of every partition binary.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
 use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 
-use crate::config::{Config, ConfigArgs};
+use crate::config::{Config, ConfigArgs, ConfigError};
+use crate::ipc::IpcError;
 use crate::latency::{self, Recorder};
+use crate::udp::LinkError;
 
-/// Waits for the next event: data on an attachment, `timeout`, or (with `poll`) not at all.
-/// `false` when the process was asked to terminate (SIGINT, SIGTERM).
-pub fn wait<S: Service>(
-    waitset: &WaitSet<S>,
-    poll: bool,
-    timeout: Duration,
-) -> Result<bool, WaitSetRunError> {
-    let timeout = if poll { Duration::ZERO } else { timeout };
-    let result =
-        waitset.wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)?;
-    Ok(!matches!(
-        result,
-        WaitSetRunResult::TerminationRequest | WaitSetRunResult::Interrupt
-    ))
-}
+/// The longest a loop sleeps before it looks at its stop flag: a [`Control::stop`] from another
+/// thread ends the loop within this (SIGINT/SIGTERM wake the WaitSet at once).
+pub const STOP_LATENCY: Duration = Duration::from_millis(50);
 
-/// SIGUSR1 asks a partition to log its latency percentiles now.
+/// Why a partition loop ended with an error.
 #[derive(Debug)]
-pub struct Shutdown {
-    report: Arc<AtomicBool>,
+pub enum PartitionError {
+    /// iceoryx2 refused a node, service or port, or a sample could not be sent.
+    Ipc(IpcError),
+    /// The WaitSet could not be created, attached to or waited on.
+    WaitSet(String),
+    /// A UDP link could not be set up.
+    Link(LinkError),
+    /// The configuration cannot work (for example a peer address without a port).
+    Config(String),
+    /// A signal handler could not be installed.
+    Signals(std::io::Error),
 }
 
-impl Shutdown {
-    /// Installs the SIGUSR1 handler.
-    pub fn install() -> std::io::Result<Self> {
-        let report = Arc::new(AtomicBool::new(false));
-        signal_hook::flag::register(signal_hook::consts::SIGUSR1, Arc::clone(&report))?;
-        Ok(Self { report })
+impl std::fmt::Display for PartitionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Ipc(e) => write!(f, "iceoryx2: {e}"),
+            Self::WaitSet(e) => write!(f, "WaitSet: {e}"),
+            Self::Link(e) => write!(f, "link: {e}"),
+            Self::Config(e) => write!(f, "configuration: {e}"),
+            Self::Signals(e) => write!(f, "signal handler: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PartitionError {}
+
+impl From<IpcError> for PartitionError {
+    fn from(e: IpcError) -> Self {
+        Self::Ipc(e)
+    }
+}
+
+impl From<LinkError> for PartitionError {
+    fn from(e: LinkError) -> Self {
+        Self::Link(e)
+    }
+}
+
+impl PartitionError {
+    /// A WaitSet error (the iceoryx2 error types have `Debug` only).
+    pub fn waitset(e: impl std::fmt::Debug) -> Self {
+        Self::WaitSet(format!("{e:?}"))
+    }
+}
+
+/// Starts and stops a partition loop and asks it for reports: the loop says when its ports are
+/// open ([`Control::wait_ready`]), ends within [`STOP_LATENCY`] of [`Control::stop`] and logs
+/// its latency percentiles after [`Control::request_report`]. In a process,
+/// [`Control::handle_signals`] makes SIGINT and SIGTERM stop it and SIGUSR1 ask for a report.
+/// Cloning gives another handle to the same loop.
+#[derive(Debug, Clone, Default)]
+pub struct Control {
+    stop: Arc<AtomicBool>,
+    report: Arc<AtomicBool>,
+    ready: Arc<(Mutex<bool>, Condvar)>,
+}
+
+impl Control {
+    /// A control of a loop not started yet.
+    pub fn new() -> Self {
+        Self::default()
     }
 
-    /// Whether SIGUSR1 arrived since the last call.
-    pub fn report_requested(&self) -> bool {
+    /// Asks the loop to end.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether the loop was asked to end.
+    pub fn stop_requested(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    /// Asks the loop to log its latency percentiles now.
+    pub fn request_report(&self) {
+        self.report.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a report was asked for since the last call.
+    pub fn take_report_request(&self) -> bool {
         self.report.swap(false, Ordering::Relaxed)
     }
+
+    /// The signals of a partition process: SIGINT and SIGTERM stop the loop, SIGUSR1 asks for a
+    /// report. These are this process's handlers, not iceoryx2's: the WaitSets run with its
+    /// signal handling disabled ([`waitset`]), since iceoryx2's handler takes SIGUSR1 as well
+    /// and any signal would end the wait as if it were a termination request.
+    pub fn handle_signals(&self) -> Result<(), PartitionError> {
+        for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+            signal_hook::flag::register(signal, Arc::clone(&self.stop))
+                .map_err(PartitionError::Signals)?;
+        }
+        self.report_on_sigusr1()
+    }
+
+    fn report_on_sigusr1(&self) -> Result<(), PartitionError> {
+        signal_hook::flag::register(signal_hook::consts::SIGUSR1, Arc::clone(&self.report))
+            .map_err(PartitionError::Signals)?;
+        Ok(())
+    }
+
+    /// Called by the loop once its ports are open and it is about to wait.
+    pub fn set_ready(&self) {
+        let (ready, changed) = &*self.ready;
+        if let Ok(mut r) = ready.lock() {
+            *r = true;
+            changed.notify_all();
+        }
+    }
+
+    /// Waits until the loop is ready; `false` when `limit` passed first.
+    pub fn wait_ready(&self, limit: Duration) -> bool {
+        let (ready, changed) = &*self.ready;
+        let Ok(guard) = ready.lock() else {
+            return false;
+        };
+        changed
+            .wait_timeout_while(guard, limit, |r| !*r)
+            .is_ok_and(|(r, _)| *r)
+    }
+
+    /// Waits for the next event: data on an attachment, `timeout` (at most [`STOP_LATENCY`]),
+    /// a signal, or with `poll` not at all. `false` when the loop must end.
+    pub fn wait<S: Service>(
+        &self,
+        waitset: &WaitSet<S>,
+        poll: bool,
+        timeout: Duration,
+    ) -> Result<bool, WaitSetRunError> {
+        if self.stop_requested() {
+            return Ok(false);
+        }
+        let timeout = if poll {
+            Duration::ZERO
+        } else {
+            timeout.min(STOP_LATENCY)
+        };
+        let result = waitset
+            .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)?;
+        Ok(keeps_running(result) && !self.stop_requested())
+    }
 }
 
-/// Periodic latency reports and the summary file at shutdown.
+/// A WaitSet for a partition loop, with iceoryx2's signal handling disabled (see
+/// [`Control::handle_signals`]).
+pub fn waitset<S: Service>() -> Result<WaitSet<S>, PartitionError> {
+    WaitSetBuilder::new()
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<S>()
+        .map_err(PartitionError::waitset)
+}
+
+/// Whether a loop goes on after the WaitSet returned `result`. `Interrupt` means that a signal
+/// interrupted the wait, SIGUSR1 asking for a report too: the loop goes on and looks at its
+/// [`Control`]. Only a termination request (reported by a WaitSet with iceoryx2's signal
+/// handling on) ends it.
+fn keeps_running(result: WaitSetRunResult) -> bool {
+    !matches!(result, WaitSetRunResult::TerminationRequest)
+}
+
+/// Periodic latency reports (on the configured interval and when the [`Control`] asks) and the
+/// summary file at shutdown.
 #[derive(Debug)]
 pub struct Report {
     partition: &'static str,
     interval: Option<Duration>,
     last: Instant,
     summary_dir: Option<PathBuf>,
+    control: Control,
 }
 
 impl Report {
-    /// Reports of `partition` as `config` says.
-    pub fn new(config: &Config, partition: &'static str) -> Self {
+    /// Reports of `partition` as `config` says and `control` asks.
+    pub fn new(config: &Config, partition: &'static str, control: &Control) -> Self {
         Self {
             partition,
             interval: (config.latency.report_interval_s > 0)
                 .then(|| Duration::from_secs(config.latency.report_interval_s)),
             last: Instant::now(),
             summary_dir: config.latency.summary_dir.clone(),
+            control: control.clone(),
         }
     }
 
-    /// Whether the report interval has passed (then it starts again).
+    /// Whether a report is due: the interval has passed (then it starts again) or one was
+    /// asked for.
     pub fn due(&mut self) -> bool {
+        let requested = self.control.take_report_request();
         match self.interval {
             Some(i) if self.last.elapsed() >= i => {
                 self.last = Instant::now();
                 true
             }
-            _ => false,
+            _ => requested,
         }
+    }
+
+    /// Logs `recorders` if a report is due (see [`Report::due`]); `true` when it did.
+    pub fn log_if_due(&mut self, recorders: &[&Recorder]) -> bool {
+        let due = self.due();
+        if due {
+            latency::log(self.partition, recorders);
+        }
+        due
     }
 
     /// Logs the recorders and writes the summary file with the counters, if configured (at
@@ -91,12 +239,13 @@ impl Report {
     }
 }
 
-/// The `main` of every partition: logging, the configuration (exit status 2 when it is wrong),
-/// then `run` (exit status 1 with the error when it fails).
-pub fn partition_main(
+/// The `main` of every partition binary: logging, the configuration (exit status 2 when it is
+/// wrong), then `run` with a [`Control`] driven by the signals (exit status 1 with the error when
+/// it fails).
+pub fn partition_main<E: std::fmt::Display>(
     name: &str,
     args: &ConfigArgs,
-    run: impl FnOnce(&Config) -> Result<(), Box<dyn std::error::Error>>,
+    run: impl FnOnce(&Config, &Control) -> Result<(), E>,
 ) -> std::process::ExitCode {
     crate::init_logging();
     crate::ipc::quiet_iceoryx2_log();
@@ -105,18 +254,26 @@ pub fn partition_main(
     }
     let config = match args.resolve() {
         Ok(c) => c,
-        Err(e) => {
-            tracing::error!(%e, "configuration");
-            return std::process::ExitCode::from(2);
-        }
+        Err(e) => return config_error(&e),
     };
-    match run(&config) {
+    let control = Control::new();
+    if let Err(e) = control.handle_signals() {
+        tracing::error!(%e, "{name} failed");
+        return std::process::ExitCode::FAILURE;
+    }
+    match run(&config, &control) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             tracing::error!(%e, "{name} failed");
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// Logs a configuration error; exit status 2.
+pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
+    tracing::error!(%e, "configuration");
+    std::process::ExitCode::from(2)
 }
 
 /// Sends this process SIGTERM once its parent is gone (the process is re-parented and its parent
@@ -142,5 +299,50 @@ fn watch_parent(name: &str) {
         });
     if let Err(e) = spawned {
         tracing::warn!(%e, "cannot watch the parent process");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_a_termination_request_ends_a_loop() {
+        // SIGUSR1 interrupts the WaitSet's wait (`Interrupt`); the loop must go on and report.
+        assert!(keeps_running(WaitSetRunResult::Interrupt));
+        assert!(keeps_running(WaitSetRunResult::AllEventsHandled));
+        assert!(keeps_running(WaitSetRunResult::StopRequest));
+        assert!(!keeps_running(WaitSetRunResult::TerminationRequest));
+    }
+
+    #[test]
+    fn sigusr1_asks_for_a_report_and_the_wait_goes_on() {
+        let control = Control::new();
+        control.report_on_sigusr1().unwrap();
+        let waitset = waitset::<iceoryx2::prelude::local::Service>().unwrap();
+        let _tick = waitset.attach_interval(Duration::from_millis(1)).unwrap();
+        // Thread-directed: handled before `raise` returns.
+        signal_hook::low_level::raise(signal_hook::consts::SIGUSR1).unwrap();
+        assert!(control.take_report_request());
+        assert!(!control.take_report_request(), "one request, one report");
+        assert!(
+            control
+                .wait(&waitset, false, Duration::from_millis(1))
+                .unwrap()
+        );
+    }
+
+    #[test]
+    fn a_stopped_control_ends_the_wait_and_ready_is_seen_by_other_handles() {
+        let control = Control::new();
+        let other = control.clone();
+        assert!(!other.wait_ready(Duration::ZERO));
+        control.set_ready();
+        assert!(other.wait_ready(Duration::ZERO));
+        let waitset = waitset::<iceoryx2::prelude::local::Service>().unwrap();
+        let _tick = waitset.attach_interval(Duration::from_millis(1)).unwrap();
+        assert!(control.wait(&waitset, true, Duration::ZERO).unwrap());
+        other.stop();
+        assert!(!control.wait(&waitset, true, Duration::ZERO).unwrap());
     }
 }

@@ -7,9 +7,16 @@
 //! #2012 areas and #2011 upload complete for the area list. Frames keep every field, and reading
 //! them back goes through the same assembly as an upload. A file is replaced atomically (write,
 //! then rename), so a crash mid-write leaves the previous list.
+//!
+//! Voting-monitoring announces here where it bound the FCC's ends of the links
+//! ([`BoundLinks`], `links.toml`): with port 0 in the configuration the system chooses them, the
+//! GCS (the demo, the tests) reads them here, and a restarted voting-monitoring binds the same
+//! ports again so the GCS keeps talking to them.
 
 use std::io;
+use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use missionlink_interfaces::wire::{
     self, AreaTransferMode, AreaTransmissionCommand, Envelope, MAX_FRAME_LEN, Message,
@@ -21,6 +28,64 @@ use missionlink_services::transfer::sender::mission_command;
 
 const WAYPOINT_LIST: &str = "waypoint-list.frames";
 const AREA_LIST: &str = "area-list.frames";
+const LINKS: &str = "links.toml";
+
+/// Where voting-monitoring bound the FCC's ends of the two links.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundLinks {
+    /// The FCC receives the direct link here.
+    pub fcc_direct: SocketAddr,
+    /// The FCC receives the LTE link here.
+    pub fcc_lte: SocketAddr,
+}
+
+impl BoundLinks {
+    /// Points `config`'s FCC ends at these (for the GCS that talks to this FCC).
+    pub fn apply(&self, config: &mut crate::config::Config) {
+        config.links.fcc_direct = self.fcc_direct;
+        config.links.fcc_lte = self.fcc_lte;
+    }
+}
+
+/// Announces `links` in `dir` (atomically: a reader sees the old file or the new one).
+pub fn save_links(dir: &Path, links: &BoundLinks) -> io::Result<()> {
+    let text = toml::to_string(links).map_err(io::Error::other)?;
+    write_atomically(&dir.join(LINKS), text.as_bytes())
+}
+
+/// The links announced in `dir`, if any.
+pub fn load_links(dir: &Path) -> Option<BoundLinks> {
+    let text = std::fs::read_to_string(dir.join(LINKS)).ok()?;
+    toml::from_str(&text).ok()
+}
+
+/// Removes the announcement in `dir`, so that the next one read is a new one.
+pub fn forget_links(dir: &Path) -> io::Result<()> {
+    match std::fs::remove_file(dir.join(LINKS)) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Waits until links are announced in `dir` (the file is polled), for at most `limit`, while
+/// `alive` says the announcing process may still come.
+pub fn wait_for_links(
+    dir: &Path,
+    limit: Duration,
+    mut alive: impl FnMut() -> bool,
+) -> Option<BoundLinks> {
+    let end = Instant::now() + limit;
+    loop {
+        if let Some(links) = load_links(dir) {
+            return Some(links);
+        }
+        if Instant::now() >= end || !alive() {
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
 
 /// The directory of one FCC instance's state (`<temp>/missionlink-state/<prefix>` unless
 /// configured).

@@ -38,6 +38,41 @@ pub const MAX_READS_PER_RECEIVE: usize = 2 * MAX_READS_PER_WAKE;
 /// Largest datagram read: a few 548-byte frames back to back.
 pub const MAX_DATAGRAM: usize = 2048;
 
+/// A node's two ends bound on loopback to ports the system chose, before the peer's ends are
+/// known: the GCS of the demo and of the tests binds these, hands their addresses to the FCC it
+/// starts, then [`LocalEnds::connect`]s them to the ports the FCC announces. No port is freed
+/// and bound again, so nothing else on the machine can take it in between.
+#[derive(Debug)]
+pub struct LocalEnds {
+    direct: UdpSocket,
+    lte: UdpSocket,
+}
+
+impl LocalEnds {
+    /// Binds both ends on 127.0.0.1, port 0.
+    pub fn bind_loopback() -> Result<Self, LinkError> {
+        let any = SocketAddr::from(([127, 0, 0, 1], 0));
+        Ok(Self {
+            direct: bind(any, "direct")?,
+            lte: bind(any, "LTE")?,
+        })
+    }
+
+    /// Where the direct and the LTE end are bound.
+    pub fn addrs(&self) -> Result<[SocketAddr; 2], LinkError> {
+        addrs(&self.direct, &self.lte)
+    }
+
+    /// The link pair to the peer's ends.
+    pub fn connect(
+        self,
+        peer_direct: SocketAddr,
+        peer_lte: SocketAddr,
+    ) -> Result<LinkPair, LinkError> {
+        LinkPair::from_sockets(self.direct, self.lte, peer_direct, peer_lte)
+    }
+}
+
 /// The direct and the LTE socket of one node, and where the peer receives.
 #[derive(Debug)]
 pub struct LinkPair {
@@ -61,27 +96,55 @@ impl fmt::Display for LinkError {
 
 impl std::error::Error for LinkError {}
 
-fn bind(addr: SocketAddr, link: &str) -> Result<(UdpSocket, SocketFd), LinkError> {
-    let socket = UdpSocket::bind(addr)
-        .map_err(|e| LinkError(format!("cannot bind the {link} link to {addr}: {e}")))?;
+fn bind(addr: SocketAddr, link: &str) -> Result<UdpSocket, LinkError> {
+    UdpSocket::bind(addr)
+        .map_err(|e| LinkError(format!("cannot bind the {link} link to {addr}: {e}")))
+}
+
+fn addrs(direct: &UdpSocket, lte: &UdpSocket) -> Result<[SocketAddr; 2], LinkError> {
+    let addr = |s: &UdpSocket, link: &str| {
+        s.local_addr()
+            .map_err(|e| LinkError(format!("{link} link: {e}")))
+    };
+    Ok([addr(direct, "direct")?, addr(lte, "LTE")?])
+}
+
+fn attachable(socket: &UdpSocket, link: &str) -> Result<SocketFd, LinkError> {
     socket
         .set_nonblocking(true)
         .map_err(|e| LinkError(format!("{link} link: {e}")))?;
-    let fd = FileDescriptor::non_owning_new(socket.as_raw_fd())
-        .ok_or_else(|| LinkError(format!("{link} link: no file descriptor")))?;
-    Ok((socket, SocketFd(fd)))
+    FileDescriptor::non_owning_new(socket.as_raw_fd())
+        .map(SocketFd)
+        .ok_or_else(|| LinkError(format!("{link} link: no file descriptor")))
 }
 
 impl LinkPair {
-    /// Binds the local ends; frames go to the peer's ends.
+    /// Binds the local ends (port 0: the system chooses, see [`LinkPair::local_addrs`]); frames
+    /// go to the peer's ends.
     pub fn bind(
         local_direct: SocketAddr,
         local_lte: SocketAddr,
         peer_direct: SocketAddr,
         peer_lte: SocketAddr,
     ) -> Result<Self, LinkError> {
-        let (direct, direct_fd) = bind(local_direct, "direct")?;
-        let (lte, lte_fd) = bind(local_lte, "LTE")?;
+        Self::from_sockets(
+            bind(local_direct, "direct")?,
+            bind(local_lte, "LTE")?,
+            peer_direct,
+            peer_lte,
+        )
+    }
+
+    /// Over sockets the caller bound already (so that the process that binds a port is the one
+    /// that chose it: no port is freed and bound again by someone else).
+    pub fn from_sockets(
+        direct: UdpSocket,
+        lte: UdpSocket,
+        peer_direct: SocketAddr,
+        peer_lte: SocketAddr,
+    ) -> Result<Self, LinkError> {
+        let direct_fd = attachable(&direct, "direct")?;
+        let lte_fd = attachable(&lte, "LTE")?;
         Ok(Self {
             direct,
             lte,
@@ -90,6 +153,11 @@ impl LinkPair {
             peer_direct,
             peer_lte,
         })
+    }
+
+    /// Where the direct and the LTE socket are bound.
+    pub fn local_addrs(&self) -> Result<[SocketAddr; 2], LinkError> {
+        addrs(&self.direct, &self.lte)
     }
 
     /// The direct and the LTE socket (to poll them outside a WaitSet).

@@ -1,7 +1,7 @@
 //! `demo`: the paper's medical evacuation demo (section 4), end to end, with no configuration.
 //!
 //! It starts the FCC (the `fcc` launcher and its four partitions, separate processes sharing
-//! iceoryx2 services under a fresh prefix, on free UDP ports), then acts as the GCS: validates
+//! iceoryx2 services under a fresh prefix, on UDP ports the system chooses), then acts as the GCS: validates
 //! (ICD §7 and the safety gateway with the demo eVTOL's profile) and uploads mission 1 (TROL to CCP) with its fly-zone and prints the message sequence as the
 //! paper's Figure 15 does; executes it (time-scaled) and prints each FROM-TO-NEXT change; uploads
 //! the richer mission 2 (radius-to-fix leg, circle and polygon no-fly-zones, bidirectional route)
@@ -9,9 +9,8 @@
 //! the upload; prints the per-frame latency percentiles of every partition; shuts all down.
 //! Exit status 0 on success, 1 with the error otherwise.
 
-use std::net::{SocketAddr, UdpSocket};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitCode};
+use std::path::PathBuf;
+use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
@@ -21,8 +20,9 @@ use missionlink_interfaces::wire::{
     AckType, ExecuteCommand, Message, MessageType, Reason, SpecificData,
 };
 use missionlink_partitions::binaries;
-use missionlink_partitions::config::Config;
 use missionlink_partitions::latency;
+use missionlink_partitions::launcher::{self, FccProcess};
+use missionlink_partitions::udp::LocalEnds;
 use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
 use missionlink_services::link::retry::AttemptFailure;
 use missionlink_services::safety_gateway::{Report, SafetyGateway};
@@ -43,20 +43,6 @@ struct Args {
 }
 
 type Link = GcsLink<SafetyGateway>;
-
-/// Free UDP ports on loopback, so the demo never meets another FCC.
-fn free_ports() -> Result<[SocketAddr; 4], String> {
-    let sockets: Vec<UdpSocket> = (0..4)
-        .map(|_| UdpSocket::bind("127.0.0.1:0"))
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("no free UDP port: {e}"))?;
-    let addrs: Vec<SocketAddr> = sockets
-        .iter()
-        .map(|s| s.local_addr())
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    Ok([addrs[0], addrs[1], addrs[2], addrs[3]])
-}
 
 fn describe(m: &Message) -> String {
     let t = m.message_type();
@@ -211,39 +197,6 @@ fn fly(link: &mut Link, limit: Duration) -> Result<(), String> {
     }
 }
 
-struct Fcc {
-    child: Child,
-}
-
-impl Fcc {
-    fn start(bin_dir: &Path, config_file: &Path) -> Result<Self, String> {
-        let child = Command::new(bin_dir.join("fcc"))
-            .args(["--config", &config_file.display().to_string()])
-            .env(
-                "RUST_LOG",
-                std::env::var("RUST_LOG").unwrap_or_else(|_| "warn".to_owned()),
-            )
-            .spawn()
-            .map_err(|e| format!("cannot start {}: {e}", bin_dir.join("fcc").display()))?;
-        Ok(Self { child })
-    }
-
-    fn stop(&mut self) {
-        if let Some(pid) = rustix::process::Pid::from_raw(self.child.id() as i32) {
-            let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
-        }
-        let _ = self.child.wait();
-    }
-}
-
-impl Drop for Fcc {
-    fn drop(&mut self) {
-        if matches!(self.child.try_wait(), Ok(None)) {
-            self.stop();
-        }
-    }
-}
-
 fn run(args: &Args) -> Result<(), String> {
     let started = Instant::now();
     let bin_dir = args
@@ -254,28 +207,30 @@ fn run(args: &Args) -> Result<(), String> {
     let bin_dir = binaries::ensure(&bin_dir, &binaries::FCC_BINARIES)?;
     let run_dir = std::env::temp_dir().join(format!("missionlink-demo-{}", std::process::id()));
     std::fs::create_dir_all(&run_dir).map_err(|e| e.to_string())?;
-    let [fcc_direct, gcs_direct, fcc_lte, gcs_lte] = free_ports()?;
-    let mut config = Config::default();
-    config.ipc.service_prefix = format!("demo-{}", std::process::id());
-    config.ipc.state_dir = Some(run_dir.join("state"));
-    config.links.fcc_direct = fcc_direct;
-    config.links.gcs_direct = gcs_direct;
-    config.links.fcc_lte = fcc_lte;
-    config.links.gcs_lte = gcs_lte;
+    // The GCS binds its ends (port 0) and tells the FCC; voting-monitoring binds the FCC's and
+    // announces them: every port is chosen by the process that binds it.
+    let gcs_ends = LocalEnds::bind_loopback().map_err(|e| e.to_string())?;
+    let prefix = format!("demo-{}", std::process::id());
+    let mut config =
+        launcher::local_config(&run_dir, prefix, &gcs_ends).map_err(|e| e.to_string())?;
     config.guidance.time_scale = args.time_scale;
-    config.latency.summary_dir = Some(run_dir.join("latency"));
-    let config_file = run_dir.join("fcc.toml");
-    std::fs::write(&config_file, config.to_toml()).map_err(|e| e.to_string())?;
 
     println!(
         "missionlink demo: medical evacuation after Heimsch et al. (Aerospace 2024), section 4"
     );
+    let mut fcc =
+        FccProcess::start(&bin_dir, launcher::NAME, &config, None).map_err(|e| e.to_string())?;
+    fcc.links(Duration::from_secs(20))
+        .ok_or("the FCC did not announce its links")?
+        .apply(&mut config);
     println!(
-        "FCC: 4 partitions, iceoryx2 prefix {:?}; links: direct {fcc_direct}, LTE {fcc_lte}; time scale {}x\n",
-        config.ipc.service_prefix, args.time_scale
+        "FCC: 4 partitions, iceoryx2 prefix {:?}; links: direct {}, LTE {}; time scale {}x\n",
+        config.ipc.service_prefix, config.links.fcc_direct, config.links.fcc_lte, args.time_scale
     );
-    let mut fcc = Fcc::start(&bin_dir, &config_file)?;
-    let mut link = GcsLink::open(&config, SafetyGateway::default()).map_err(|e| e.to_string())?;
+    let links = gcs_ends
+        .connect(config.links.fcc_direct, config.links.fcc_lte)
+        .map_err(|e| e.to_string())?;
+    let mut link = GcsLink::with_links(&config, links, SafetyGateway::default());
     link.enable_log();
     // Let the partitions open their services; the GCS's retry would cover a slow start too.
     std::thread::sleep(Duration::from_millis(500));
@@ -349,7 +304,7 @@ fn run(args: &Args) -> Result<(), String> {
     println!(
         "6. Shut down; per-frame latency of the partitions (a debug build is several times slower than --release)"
     );
-    fcc.stop();
+    fcc.stop().map_err(|e| e.to_string())?;
     println!(
         "  {:<22} {:<45} {:>6} {:>9} {:>9} {:>9} {:>9}",
         "partition", "measured", "frames", "p50 us", "p99 us", "p99.9 us", "max us"

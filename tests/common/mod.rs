@@ -1,10 +1,10 @@
 //! Running the real binaries: an FCC (the launcher and its partitions) under a prefix, ports
 //! and state directory of its own, so tests run in parallel; and the GCS over UDP in the test.
+//! The GCS binds its ends itself (port 0) and the FCC's voting-monitoring binds and announces
+//! its own: every port is chosen by the process that binds it.
 #![allow(dead_code)]
 
-use std::net::{SocketAddr, UdpSocket};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::GcsLink;
@@ -12,10 +12,13 @@ use missionlink_gcs::mission_file::MissionFile;
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
+use missionlink_partitions::launcher::{self, FccProcess};
+use missionlink_partitions::udp::LocalEnds;
 use missionlink_services::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 
 pub type Link = GcsLink<WithoutGateway>;
 pub type Error = GcsError<core::convert::Infallible>;
+pub type Process = FccProcess;
 
 /// The directory of the partition binaries, built if missing.
 pub fn bin_dir() -> PathBuf {
@@ -23,92 +26,82 @@ pub fn bin_dir() -> PathBuf {
     binaries::ensure(&dir, &binaries::FCC_BINARIES).expect("partition binaries")
 }
 
-fn free_ports() -> [SocketAddr; 4] {
-    let sockets: Vec<UdpSocket> = (0..4)
-        .map(|_| UdpSocket::bind("127.0.0.1:0").unwrap())
-        .collect();
-    let a: Vec<SocketAddr> = sockets.iter().map(|s| s.local_addr().unwrap()).collect();
-    [a[0], a[1], a[2], a[3]]
+/// One test's FCC setup: a configuration no other test shares (prefix, GCS ports, state and
+/// summary directories) in a directory of its own.
+pub struct Rig {
+    pub config: Config,
+    pub dir: PathBuf,
+    gcs_ends: Option<LocalEnds>,
 }
 
-/// A configuration no other test shares: prefix, ports, state and summary directories.
-pub fn unique_config(test: &str) -> (Config, PathBuf) {
-    let dir = std::env::temp_dir().join(format!("missionlink-test-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let [fcc_direct, gcs_direct, fcc_lte, gcs_lte] = free_ports();
-    let mut c = Config::default();
-    c.ipc.service_prefix = format!("test-{test}-{}", std::process::id());
-    c.ipc.state_dir = Some(dir.join("state"));
-    c.links.fcc_direct = fcc_direct;
-    c.links.gcs_direct = gcs_direct;
-    c.links.fcc_lte = fcc_lte;
-    c.links.gcs_lte = gcs_lte;
-    c.guidance.time_scale = 50.0;
-    c.latency.summary_dir = Some(dir.join("latency"));
-    c.launcher.restart_delay_ms = 100;
-    std::fs::write(dir.join("fcc.toml"), c.to_toml()).unwrap();
-    (c, dir)
-}
+impl Rig {
+    pub fn new(test: &str) -> Self {
+        let dir =
+            std::env::temp_dir().join(format!("missionlink-test-{test}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let gcs_ends = LocalEnds::bind_loopback().unwrap();
+        let prefix = format!("test-{test}-{}", std::process::id());
+        let mut config = launcher::local_config(&dir, prefix, &gcs_ends).unwrap();
+        config.guidance.time_scale = 50.0;
+        config.launcher.restart_delay_ms = 100;
+        Self {
+            config,
+            dir,
+            gcs_ends: Some(gcs_ends),
+        }
+    }
 
-/// A process of ours, stopped with SIGTERM when dropped.
-pub struct Process {
-    pub child: Child,
-    pub log: PathBuf,
-}
+    /// Starts `binary` under the rig's configuration, its log in `<dir>/<binary>.log`.
+    pub fn start(&self, binary: &str) -> Process {
+        let log = self.dir.join(format!("{binary}.log"));
+        FccProcess::start(&bin_dir(), binary, &self.config, Some(&log)).unwrap()
+    }
 
-impl Process {
-    /// Starts `binary --config <dir>/fcc.toml`, stderr into `<dir>/<binary>.log`.
-    pub fn start(dir: &Path, binary: &str) -> Self {
-        let log = dir.join(format!("{binary}.log"));
-        let child = Command::new(bin_dir().join(binary))
-            .args(["--config", &dir.join("fcc.toml").display().to_string()])
-            .env("RUST_LOG", "info")
-            .stdout(Stdio::null())
-            .stderr(std::fs::File::create(&log).unwrap())
-            .spawn()
+    /// Waits for `fcc` (the launcher or voting-monitoring) to announce its ports and points the
+    /// configuration at them.
+    pub fn learn_links(&mut self, fcc: &mut Process) {
+        let links = fcc
+            .links(Duration::from_secs(20))
+            .unwrap_or_else(|| panic!("no links announced:\n{}", fcc.log_text()));
+        links.apply(&mut self.config);
+    }
+
+    /// The GCS over the rig's GCS ends, talking to the ports `fcc` announced (once per rig).
+    pub fn gcs(&mut self, fcc: &mut Process) -> Link {
+        self.learn_links(fcc);
+        let ends = self.gcs_ends.take().expect("one GCS per rig");
+        let links = ends
+            .connect(self.config.links.fcc_direct, self.config.links.fcc_lte)
             .unwrap();
-        Self { child, log }
+        GcsLink::with_links(&self.config, links, WithoutGateway)
     }
 
-    pub fn log_text(&self) -> String {
-        std::fs::read_to_string(&self.log).unwrap_or_default()
-    }
-
-    pub fn stop(&mut self) {
-        if let Some(pid) = rustix::process::Pid::from_raw(self.child.id() as i32) {
-            let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
-        }
-        let _ = self.child.wait();
+    /// The summaries the partitions wrote at shutdown.
+    pub fn summaries(&self) -> Vec<Summary> {
+        missionlink_partitions::latency::read_summaries(&self.dir.join("latency"))
     }
 }
 
-impl Drop for Process {
-    fn drop(&mut self) {
-        if matches!(self.child.try_wait(), Ok(None)) {
-            self.stop();
-        }
-    }
-}
-
-/// Waits until `log` says `text`, or panics after `limit`.
+/// Waits until `process`'s log says `text`, or panics after `limit`.
 pub fn wait_for_log(process: &Process, text: &str, limit: Duration) {
+    wait_for_logs(process, text, 1, limit);
+}
+
+/// Waits until `process`'s log says `text` `times` times, or panics after `limit`.
+pub fn wait_for_logs(process: &Process, text: &str, times: usize, limit: Duration) {
     let end = Instant::now() + limit;
     while Instant::now() < end {
-        if process.log_text().contains(text) {
+        if process.log_text().matches(text).count() >= times {
             return;
         }
         std::thread::sleep(Duration::from_millis(20));
     }
     panic!(
-        "{} never logged {text:?}:\n{}",
-        process.log.display(),
+        "{:?} never logged {text:?} {times} times:\n{}",
+        process.log_path(),
         process.log_text()
     );
-}
-
-pub fn gcs(config: &Config) -> Link {
-    GcsLink::open(config, WithoutGateway).unwrap()
 }
 
 pub fn plan(file: &str) -> MissionPlan {
@@ -133,9 +126,4 @@ pub fn download(link: &mut Link) -> Result<ValidatedPlan, Error> {
     let now = link.now();
     link.station().download(now)?;
     finish(link).map(|p| p.expect("lists"))
-}
-
-/// The summaries the partitions wrote at shutdown.
-pub fn summaries(dir: &Path) -> Vec<Summary> {
-    missionlink_partitions::latency::read_summaries(&dir.join("latency"))
 }

@@ -1,0 +1,135 @@
+//! Guidance stub: the FCC partition that stands in for flight guidance in the rig, a thin
+//! driver around `services::guidance::Guidance`. It flies the active waypoint and area lists
+//! with a simple kinematic model when system automation says so, time-scaled for demos, and
+//! publishes FROM / TO / NEXT and the position on `fcc/guidance/progress`. It reports when the
+//! position leaves the fly-zone or enters a no-fly-zone.
+
+use std::time::Duration;
+
+use iceoryx2::port::listener::Listener;
+use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::{
+    AreaListPayload, AutomationStatePayload, FccService, GuidanceProgressPayload,
+    WaypointListPayload,
+};
+use missionlink_services::guidance::{Guidance, GuidanceConfig};
+
+use crate::clock::DriverClock;
+use crate::config::Config;
+use crate::ipc::Ipc;
+use crate::runtime::{self, Control, PartitionError, Report};
+
+/// The partition's name (binary, node, summary).
+pub const NAME: &str = "guidance-stub";
+
+/// Progress is published on every change and at least this often.
+const REPUBLISH: Duration = Duration::from_secs(1);
+
+/// Whether `next` differs from `last` in anything but the counters (sequence, time).
+fn changed(last: Option<&GuidanceProgressPayload>, next: &GuidanceProgressPayload) -> bool {
+    let without_counters = |p: &GuidanceProgressPayload| GuidanceProgressPayload {
+        sequence: 0,
+        time_ns: 0,
+        ..*p
+    };
+    last.is_none_or(|last| without_counters(last) != without_counters(next))
+}
+
+/// Runs the guidance stub on the service type `S` until `control` or a termination request
+/// stops it.
+pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), PartitionError>
+where
+    Listener<S>: SynchronousMultiplexing,
+{
+    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let waypoints = ipc.subscriber::<WaypointListPayload>(FccService::WaypointList)?;
+    let areas = ipc.subscriber::<AreaListPayload>(FccService::AreaList)?;
+    let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
+    let progress = ipc.publisher::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
+
+    let g = &config.guidance;
+    let mut guidance = Guidance::new(GuidanceConfig {
+        start_latitude_deg: g.start_latitude_deg,
+        start_longitude_deg: g.start_longitude_deg,
+        climb_rate_mps: g.climb_rate_mps,
+        descent_rate_mps: g.descent_rate_mps,
+        time_scale: g.time_scale,
+        ..GuidanceConfig::default()
+    });
+    let clock = DriverClock::start();
+    let interval = Duration::from_millis(g.update_interval_ms.max(1));
+
+    let waitset = runtime::waitset::<S>()?;
+    let mut guards = Vec::new();
+    for listener in [
+        waypoints.listener(),
+        areas.listener(),
+        automation.listener(),
+    ] {
+        guards.push(
+            waitset
+                .attach_notification(listener)
+                .map_err(PartitionError::waitset)?,
+        );
+    }
+    let _tick = waitset
+        .attach_interval(interval)
+        .map_err(PartitionError::waitset)?;
+    let mut report = Report::new(config, NAME, control);
+    tracing::info!(
+        prefix = %config.ipc.service_prefix,
+        time_scale = g.time_scale,
+        "guidance-stub up"
+    );
+    control.set_ready();
+
+    let mut last_published: Option<GuidanceProgressPayload> = None;
+    let mut last_sent = std::time::Instant::now();
+    while control
+        .wait(&waitset, config.ipc.poll, interval)
+        .map_err(PartitionError::waitset)?
+    {
+        waypoints.drain_notifications();
+        areas.drain_notifications();
+        automation.drain_notifications();
+        waypoints.for_each(|list| {
+            tracing::info!(
+                generation = list.generation,
+                waypoints = list.count,
+                "waypoint list received"
+            );
+            guidance.set_waypoint_list(list);
+        });
+        areas.for_each(|list| {
+            tracing::info!(
+                generation = list.generation,
+                areas = list.area_count(),
+                "area list received"
+            );
+            guidance.set_area_list(list);
+        });
+        if let Some(state) = automation.latest() {
+            guidance.set_automation(&state);
+        }
+        let p = guidance.step(clock.now());
+        if changed(last_published.as_ref(), &p) || last_sent.elapsed() >= REPUBLISH {
+            progress.send(&p)?;
+            last_published = Some(p);
+            last_sent = std::time::Instant::now();
+        }
+        progress.update_connections();
+        if report.log_if_due(&[]) {
+            tracing::info!(
+                latitude = p.latitude_deg,
+                longitude = p.longitude_deg,
+                altitude = p.altitude_m,
+                from = p.from,
+                to = p.to,
+                next = p.next,
+                "position"
+            );
+        }
+    }
+    report.finish(&[], &[]);
+    Ok(())
+}

@@ -1,0 +1,313 @@
+//! The `fcc` launcher and [`FccProcess`], the one way to run an FCC binary as a child process.
+//!
+//! The launcher starts the four partitions as child processes with one configuration (the
+//! resolved settings, handed over in the environment: no file a `kill -9` could leave behind),
+//! restarts a partition that dies (a log line names it and its exit status), and on SIGINT,
+//! SIGTERM or [`Control::stop`] stops them all: SIGTERM first, SIGKILL for one that has not
+//! ended within the grace period, guidance first and the links last.
+//!
+//! [`FccProcess`] serves the demo and the cross-process tests: it starts the launcher (or one
+//! partition) under a configuration, reads the ports voting-monitoring announces, and stops it
+//! with SIGTERM.
+
+use std::io;
+use std::os::unix::process::ExitStatusExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitCode, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::config::{self, Config, ConfigArgs};
+use crate::runtime::{Control, PartitionError, config_error};
+use crate::state::{self, BoundLinks};
+use crate::udp::{LinkError, LocalEnds};
+use crate::{guidance_stub, mission_data_handling, system_automation, voting_monitoring};
+
+/// The partitions, in start order.
+pub const PARTITIONS: [&str; 4] = [
+    voting_monitoring::NAME,
+    mission_data_handling::NAME,
+    system_automation::NAME,
+    guidance_stub::NAME,
+];
+
+/// The launcher's name (binary).
+pub const NAME: &str = "fcc";
+
+/// How long a partition may take to end after SIGTERM.
+const GRACE: Duration = Duration::from_secs(5);
+const SUPERVISION_PERIOD: Duration = Duration::from_millis(20);
+
+/// The flag that makes a partition end with its parent (see `runtime::partition_main`).
+const EXIT_WITH_PARENT: &str = "--exit-with-parent";
+
+struct Partition {
+    name: &'static str,
+    child: Option<Child>,
+    restart_at: Option<Instant>,
+}
+
+fn signal(child: &Child, signal: rustix::process::Signal) {
+    if let Some(pid) = i32::try_from(child.id())
+        .ok()
+        .and_then(rustix::process::Pid::from_raw)
+    {
+        let _ = rustix::process::kill_process(pid, signal);
+    }
+}
+
+/// Sends SIGTERM, waits up to `grace`, then SIGKILL; the exit status.
+fn terminate(child: &mut Child, grace: Duration) -> io::Result<ExitStatus> {
+    signal(child, rustix::process::Signal::TERM);
+    let deadline = Instant::now() + grace;
+    loop {
+        match child.try_wait()? {
+            Some(status) => return Ok(status),
+            None if Instant::now() < deadline => std::thread::sleep(SUPERVISION_PERIOD),
+            None => {
+                child.kill()?;
+                return child.wait();
+            }
+        }
+    }
+}
+
+/// An exit status for a log line.
+pub fn describe(status: ExitStatus) -> String {
+    match (status.code(), status.signal()) {
+        (Some(code), _) => format!("exit code {code}"),
+        (None, Some(signal)) => format!("killed by signal {signal}"),
+        _ => status.to_string(),
+    }
+}
+
+/// Supervises the partitions of `bin_dir` under `config` until `control` (or SIGINT/SIGTERM,
+/// with [`Control::handle_signals`]) stops it.
+pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), PartitionError> {
+    let restart_delay = Duration::from_millis(config.launcher.restart_delay_ms);
+    let mut partitions: Vec<Partition> = PARTITIONS
+        .iter()
+        .map(|name| Partition {
+            name,
+            child: None,
+            restart_at: Some(Instant::now()),
+        })
+        .collect();
+    tracing::info!(
+        prefix = %config.ipc.service_prefix,
+        direct = %config.links.fcc_direct,
+        lte = %config.links.fcc_lte,
+        "starting the FCC partitions"
+    );
+    control.set_ready();
+    while !control.stop_requested() {
+        for p in &mut partitions {
+            if let Some(child) = p.child.as_mut() {
+                if let Ok(Some(status)) = child.try_wait() {
+                    tracing::error!(
+                        partition = p.name,
+                        status = %describe(status),
+                        "partition died; restarting in {} ms",
+                        restart_delay.as_millis()
+                    );
+                    p.child = None;
+                    p.restart_at = Some(Instant::now() + restart_delay);
+                }
+            }
+            if p.restart_at.is_some_and(|t| Instant::now() >= t) {
+                p.restart_at = None;
+                let mut command = Command::new(bin_dir.join(p.name));
+                command.arg(EXIT_WITH_PARENT);
+                config::hand_to(&mut command, config);
+                match command.spawn() {
+                    Ok(child) => {
+                        tracing::info!(partition = p.name, pid = child.id(), "started");
+                        p.child = Some(child);
+                    }
+                    Err(e) => {
+                        tracing::error!(partition = p.name, %e, "cannot start; retrying");
+                        p.restart_at = Some(Instant::now() + restart_delay);
+                    }
+                }
+            }
+        }
+        std::thread::sleep(SUPERVISION_PERIOD);
+    }
+    tracing::info!("stopping the FCC partitions");
+    for p in partitions.iter_mut().rev() {
+        if let Some(mut child) = p.child.take() {
+            match terminate(&mut child, GRACE) {
+                Ok(status) if status.signal() == Some(9) => {
+                    tracing::warn!(partition = p.name, "did not stop in time: killed");
+                }
+                Ok(status) => {
+                    tracing::info!(partition = p.name, status = %describe(status), "stopped")
+                }
+                Err(e) => tracing::warn!(partition = p.name, %e, "cannot stop"),
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The `main` of `fcc`: the configuration (exit status 2 when it is wrong), `--print-config`,
+/// then [`run`] until SIGINT or SIGTERM.
+pub fn main(args: &ConfigArgs, bin_dir: Option<PathBuf>, print_config: bool) -> ExitCode {
+    crate::init_logging();
+    let config = match args.resolve() {
+        Ok(c) => c,
+        Err(e) => return config_error(&e),
+    };
+    if print_config {
+        print!("{}", config.to_toml());
+        return ExitCode::SUCCESS;
+    }
+    let Some(bin_dir) = bin_dir.or_else(crate::binaries::build_dir) else {
+        tracing::error!("cannot find the partition binaries: give --bin-dir");
+        return ExitCode::from(2);
+    };
+    let control = Control::new();
+    let result = control
+        .handle_signals()
+        .and_then(|()| run(&config, &bin_dir, &control));
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            tracing::error!(%e, "fcc launcher failed");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The configuration of a local FCC of its own (the demo's, a test's): service prefix `prefix`,
+/// state and latency summaries under `dir` (`state/`, `latency/`), the GCS's ends as `gcs` bound
+/// them, the FCC's ends on port 0 of loopback (voting-monitoring chooses and announces them:
+/// read them with [`FccProcess::links`]).
+pub fn local_config(dir: &Path, prefix: String, gcs: &LocalEnds) -> Result<Config, LinkError> {
+    let [direct, lte] = gcs.addrs()?;
+    let any = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
+    let mut config = Config::default();
+    config.links.gcs_direct = direct;
+    config.links.gcs_lte = lte;
+    config.links.fcc_direct = any;
+    config.links.fcc_lte = any;
+    config.ipc.service_prefix = prefix;
+    config.ipc.state_dir = Some(dir.join("state"));
+    config.latency.summary_dir = Some(dir.join("latency"));
+    Ok(config)
+}
+
+/// An FCC binary (the `fcc` launcher or one partition) running as a child process under a
+/// configuration handed over in its environment; stopped with SIGTERM when dropped.
+#[derive(Debug)]
+pub struct FccProcess {
+    child: Child,
+    log: Option<PathBuf>,
+    state_dir: PathBuf,
+}
+
+impl FccProcess {
+    /// Starts `binary` of `bin_dir` with `config` (see [`FccProcess::command`] and
+    /// [`FccProcess::spawn`]).
+    pub fn start(
+        bin_dir: &Path,
+        binary: &str,
+        config: &Config,
+        log: Option<&Path>,
+    ) -> io::Result<Self> {
+        Self::spawn(Self::command(bin_dir, binary, config)?, config, log)
+    }
+
+    /// The command that starts `binary` of `bin_dir` with `config`, to add to before
+    /// [`FccProcess::spawn`]. Starting the launcher or voting-monitoring removes a previous
+    /// announcement of the links, so that [`FccProcess::links`] reads this one's.
+    pub fn command(bin_dir: &Path, binary: &str, config: &Config) -> io::Result<Command> {
+        if binary == NAME || binary == voting_monitoring::NAME {
+            state::forget_links(&config.ipc.state_dir())?;
+        }
+        let mut command = Command::new(bin_dir.join(binary));
+        config::hand_to(&mut command, config);
+        Ok(command)
+    }
+
+    /// Spawns `command` (from [`FccProcess::command`] with `config`). Its log goes to `log` (at
+    /// `info` unless `RUST_LOG` says otherwise) or, without one, to this process's stderr (at
+    /// `warn` unless `RUST_LOG` says otherwise).
+    pub fn spawn(mut command: Command, config: &Config, log: Option<&Path>) -> io::Result<Self> {
+        let default_level = if log.is_some() { "info" } else { "warn" };
+        command.env(
+            "RUST_LOG",
+            std::env::var("RUST_LOG").unwrap_or_else(|_| default_level.to_owned()),
+        );
+        if let Some(path) = log {
+            command
+                .stdout(Stdio::null())
+                .stderr(std::fs::File::create(path)?);
+        }
+        let child = command.spawn().map_err(|e| {
+            io::Error::new(
+                e.kind(),
+                format!(
+                    "cannot start {}: {e}",
+                    command.get_program().to_string_lossy()
+                ),
+            )
+        })?;
+        Ok(Self {
+            child,
+            log: log.map(Path::to_path_buf),
+            state_dir: config.ipc.state_dir(),
+        })
+    }
+
+    /// The process ID.
+    pub fn id(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// What it logged so far (empty without a log file).
+    pub fn log_text(&self) -> String {
+        self.log
+            .as_deref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .unwrap_or_default()
+    }
+
+    /// The log file, if any.
+    pub fn log_path(&self) -> Option<&Path> {
+        self.log.as_deref()
+    }
+
+    /// The FCC's ends of the links as voting-monitoring announced them, waiting for the
+    /// announcement up to `limit`; `None` when it did not come or the process ended.
+    pub fn links(&mut self, limit: Duration) -> Option<BoundLinks> {
+        let child = &mut self.child;
+        state::wait_for_links(&self.state_dir, limit, || {
+            matches!(child.try_wait(), Ok(None))
+        })
+    }
+
+    /// The exit status, if it has ended.
+    pub fn try_wait(&mut self) -> io::Result<Option<ExitStatus>> {
+        self.child.try_wait()
+    }
+
+    /// Stops it with SIGTERM (SIGKILL after a grace period) and returns its exit status.
+    pub fn stop(&mut self) -> io::Result<ExitStatus> {
+        match self.child.try_wait()? {
+            Some(status) => Ok(status),
+            None => terminate(&mut self.child, GRACE * 2),
+        }
+    }
+
+    /// Kills it with SIGKILL (as a crash would) and reaps it.
+    pub fn kill(&mut self) -> io::Result<ExitStatus> {
+        self.child.kill()?;
+        self.child.wait()
+    }
+}
+
+impl Drop for FccProcess {
+    fn drop(&mut self) {
+        let _ = self.stop();
+    }
+}

@@ -1,0 +1,219 @@
+//! Mission data handling: the FCC partition of paper §3.1, a thin driver around
+//! `services::mission_data_handling::MissionDataHandling`. It consumes voted uplink frames, the
+//! automation state and guidance progress; it publishes the frames the core transmits on the
+//! downlink, the active waypoint and area lists (history 1: late joiners get them) and accepted
+//! #50000 commands. After a restart it resumes with the lists it published last, so guidance
+//! never sees them change.
+
+use std::time::Duration;
+
+use iceoryx2::port::listener::Listener;
+use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::{
+    AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FramePayload,
+    GuidanceProgressPayload, Link, WaypointListPayload,
+};
+use missionlink_interfaces::wire::MAX_FRAME_LEN;
+use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_services::mission_data_handling::{FccConfig, FccEvent, MissionDataHandling};
+
+use crate::clock::{DriverClock, monotonic_ns};
+use crate::config::Config;
+use crate::ipc::{Ipc, Publisher};
+use crate::latency::Recorder;
+use crate::runtime::{self, Control, PartitionError, Report};
+use crate::state;
+
+/// The partition's name (binary, node, summary).
+pub const NAME: &str = "mission-data-handling";
+
+/// How often late subscribers are connected to the list histories.
+const CONNECT_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Runs mission data handling on the service type `S` until `control` or a termination request
+/// stops it.
+pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), PartitionError>
+where
+    Listener<S>: SynchronousMultiplexing,
+{
+    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let uplink = ipc.subscriber::<FramePayload>(FccService::Uplink)?;
+    let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
+    let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
+    let downlink = ipc.publisher::<FramePayload>(FccService::Downlink)?;
+    let commands = ipc.publisher::<AutomationCommandPayload>(FccService::AutomationCommand)?;
+    let waypoint_list = ipc.publisher::<WaypointListPayload>(FccService::WaypointList)?;
+    let area_list = ipc.publisher::<AreaListPayload>(FccService::AreaList)?;
+
+    let clock = DriverClock::start();
+    let mut core = MissionDataHandling::new(FccConfig {
+        endpoint: EndpointConfig {
+            local_id: config.ids.fcc,
+            peer_id: config.ids.gcs,
+            utc_at_zero: clock.utc_at_zero(),
+            sampling_window: config.timing.transfer_timeout(),
+        },
+        ack_timeout: config.timing.ack_timeout(),
+        transfer_timeout: config.timing.transfer_timeout(),
+    });
+    // Resume with the lists of a previous instance and publish them again, so late joiners
+    // find them; their generations are unchanged, so guidance sees no change.
+    let state_dir = config.ipc.state_dir();
+    let mission = state::load_mission(&state_dir);
+    let areas = state::load_areas(&state_dir);
+    if mission.is_some() || areas.is_some() {
+        let (m, mg) = mission.unwrap_or((None, 0));
+        let (a, ag) = areas.unwrap_or((None, 0));
+        core.resume(m, mg, a, ag);
+        waypoint_list.send(core.waypoint_list())?;
+        area_list.send(core.area_list())?;
+        tracing::info!(
+            waypoint_list = mg,
+            area_list = ag,
+            dir = %state_dir.display(),
+            "resumed with the lists active before the restart"
+        );
+    }
+
+    let mut hop = Recorder::new("uplink: shared-memory hop");
+    let mut handled = Recorder::new("uplink: UDP receive to handled");
+    let mut processing = Recorder::new("uplink: frame processing");
+    let mut command_sequence = 0u64;
+
+    let waitset = runtime::waitset::<S>()?;
+    let _g1 = waitset
+        .attach_notification(uplink.listener())
+        .map_err(PartitionError::waitset)?;
+    let _g2 = waitset
+        .attach_notification(automation.listener())
+        .map_err(PartitionError::waitset)?;
+    let _g3 = waitset
+        .attach_notification(progress.listener())
+        .map_err(PartitionError::waitset)?;
+    let _tick = waitset
+        .attach_interval(CONNECT_INTERVAL)
+        .map_err(PartitionError::waitset)?;
+    let mut report = Report::new(config, NAME, control);
+    tracing::info!(prefix = %config.ipc.service_prefix, "mission-data-handling up");
+    control.set_ready();
+
+    let mut frame = [0u8; MAX_FRAME_LEN];
+    let mut timeout = CONNECT_INTERVAL;
+    while control
+        .wait(&waitset, config.ipc.poll, timeout)
+        .map_err(PartitionError::waitset)?
+    {
+        if let Some(state) = automation.latest() {
+            core.set_automation_state(&state);
+        }
+        uplink.take_all(|f| {
+            let start = monotonic_ns();
+            hop.record_between(f.published_ns, start);
+            // A rejected frame is counted by the core, by cause; it is never answered (ICD §2).
+            let _ = core.handle_frame(clock.at(start), f.frame());
+            let end = monotonic_ns();
+            processing.record(end.saturating_sub(start));
+            handled.record_between(f.origin_ns, end);
+            // The frame whose handling produced the answers: its receive time starts the
+            // turnaround that voting-monitoring measures.
+            transmit(&mut core, &downlink, &mut frame, f.origin_ns);
+        });
+        automation.drain_notifications();
+        progress.drain_notifications();
+        if let Some(p) = progress.latest() {
+            core.handle_progress(clock.now(), &p);
+        }
+        let now = clock.now();
+        if core.poll_timeout().is_some_and(|t| t <= now) {
+            core.handle_timeout(now);
+        }
+        transmit(&mut core, &downlink, &mut frame, 0);
+        while let Some(event) = core.poll_event() {
+            match event {
+                FccEvent::MissionActivated { .. } | FccEvent::MissionCleared => {
+                    let generation = core.generations().0;
+                    if let Err(e) =
+                        state::save_mission(&state_dir, core.active_mission(), generation)
+                    {
+                        tracing::error!(%e, "cannot save the waypoint list");
+                    }
+                    tracing::info!(
+                        generation = core.waypoint_list().generation,
+                        waypoints = core.waypoint_list().count,
+                        "waypoint list published"
+                    );
+                    waypoint_list.send(core.waypoint_list())?;
+                }
+                FccEvent::AreasActivated { .. } | FccEvent::AreasCleared => {
+                    let generation = core.generations().1;
+                    if let Err(e) = state::save_areas(&state_dir, core.active_areas(), generation) {
+                        tracing::error!(%e, "cannot save the area list");
+                    }
+                    tracing::info!(
+                        generation = core.area_list().generation,
+                        areas = core.area_list().area_count(),
+                        "area list published"
+                    );
+                    area_list.send(core.area_list())?;
+                }
+                FccEvent::Execute(command) => {
+                    command_sequence += 1;
+                    commands.send(&AutomationCommandPayload {
+                        sequence: command_sequence,
+                        accepted_ns: monotonic_ns(),
+                        command: command as u8,
+                        reserved: [0; 7],
+                    })?;
+                    tracing::info!(?command, "command for system automation");
+                }
+                other => tracing::info!(event = ?other, "mission data handling"),
+            }
+        }
+        waypoint_list.update_connections();
+        area_list.update_connections();
+        timeout = core
+            .poll_timeout()
+            .map_or(CONNECT_INTERVAL, |t| t.saturating_since(clock.now()))
+            .min(CONNECT_INTERVAL);
+        report.log_if_due(&[&hop, &handled, &processing]);
+    }
+    tracing::info!(stats = ?core.endpoint().stats(), "endpoint at shutdown");
+    report.finish(
+        &[&hop, &handled, &processing],
+        &core.endpoint().stats().counters().collect::<Vec<_>>(),
+    );
+    Ok(())
+}
+
+/// Publishes on the downlink every frame the core transmits (the driver moves bytes only: the
+/// core encodes). `origin_ns` is the receive time of the frame being answered, 0 for none.
+fn transmit<S: Service>(
+    core: &mut MissionDataHandling,
+    downlink: &Publisher<S, FramePayload>,
+    buf: &mut [u8; MAX_FRAME_LEN],
+    origin_ns: u64,
+) {
+    while let Some(encoded) = core.poll_transmit(buf) {
+        let len = match encoded {
+            Ok(len) => len,
+            Err(e) => {
+                tracing::error!(%e, "the core could not encode a downlink message");
+                continue;
+            }
+        };
+        let origin = if origin_ns == 0 {
+            monotonic_ns()
+        } else {
+            origin_ns
+        };
+        let Some(mut payload) =
+            FramePayload::new(Link::Both, buf.get(..len).unwrap_or_default(), origin)
+        else {
+            continue;
+        };
+        payload.published_ns = monotonic_ns();
+        if let Err(e) = downlink.send(&payload) {
+            tracing::error!(%e, "downlink frame lost");
+        }
+    }
+}

@@ -1,0 +1,103 @@
+//! System automation: the FCC partition of paper §2.5, a thin driver around
+//! `services::automation::SystemAutomation`. It follows the active lists and guidance's
+//! progress, carries out the #50000 commands mission data handling accepted, and publishes the
+//! flight phase and which functions are active (`fcc/automation/state`, history 1). A restarted
+//! automation adopts the phase guidance's progress shows, so it never drops an aircraft in the
+//! air back to "on ground".
+
+use std::time::Duration;
+
+use iceoryx2::port::listener::Listener;
+use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::{
+    AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService,
+    GuidanceProgressPayload, WaypointListPayload,
+};
+use missionlink_services::automation::SystemAutomation;
+
+use crate::clock::{DriverClock, monotonic_ns};
+use crate::config::Config;
+use crate::ipc::Ipc;
+use crate::latency::Recorder;
+use crate::runtime::{self, Control, PartitionError, Report};
+
+/// The partition's name (binary, node, summary).
+pub const NAME: &str = "system-automation";
+
+/// How often late subscribers are connected to the state's history.
+const CONNECT_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Runs system automation on the service type `S` until `control` or a termination request
+/// stops it.
+pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), PartitionError>
+where
+    Listener<S>: SynchronousMultiplexing,
+{
+    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let waypoints = ipc.subscriber::<WaypointListPayload>(FccService::WaypointList)?;
+    let areas = ipc.subscriber::<AreaListPayload>(FccService::AreaList)?;
+    let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
+    let commands = ipc.subscriber::<AutomationCommandPayload>(FccService::AutomationCommand)?;
+    let state = ipc.publisher::<AutomationStatePayload>(FccService::AutomationState)?;
+
+    let clock = DriverClock::start();
+    // A restarted automation resumes from guidance's progress (see `handle_progress`).
+    let mut automation = SystemAutomation::new();
+    let mut command_latency = Recorder::new("command: accepted to carried out");
+
+    let waitset = runtime::waitset::<S>()?;
+    let mut guards = Vec::new();
+    for listener in [
+        waypoints.listener(),
+        areas.listener(),
+        progress.listener(),
+        commands.listener(),
+    ] {
+        guards.push(
+            waitset
+                .attach_notification(listener)
+                .map_err(PartitionError::waitset)?,
+        );
+    }
+    let _tick = waitset
+        .attach_interval(CONNECT_INTERVAL)
+        .map_err(PartitionError::waitset)?;
+    let mut report = Report::new(config, NAME, control);
+    tracing::info!(prefix = %config.ipc.service_prefix, "system-automation up");
+    control.set_ready();
+
+    while control
+        .wait(&waitset, config.ipc.poll, CONNECT_INTERVAL)
+        .map_err(PartitionError::waitset)?
+    {
+        waypoints.drain_notifications();
+        areas.drain_notifications();
+        progress.drain_notifications();
+        commands.drain_notifications();
+        if let Some(list) = waypoints.latest() {
+            automation.handle_waypoint_list(&list);
+        }
+        if let Some(list) = areas.latest() {
+            automation.handle_area_list(&list);
+        }
+        let now = clock.now();
+        commands.for_each(|c| match c.command() {
+            Some(command) => match automation.handle_command(now, command) {
+                Ok(()) => command_latency.record_between(c.accepted_ns, monotonic_ns()),
+                // Mission data handling checked the same rule; the state changed in between.
+                Err(reason) => tracing::warn!(?command, %reason, "command refused"),
+            },
+            None => tracing::warn!(command = c.command, "unknown command"),
+        });
+        if let Some(p) = progress.latest() {
+            automation.handle_progress(now, &p);
+        }
+        if automation.take_changed() {
+            state.send(automation.state())?;
+        }
+        state.update_connections();
+        report.log_if_due(&[&command_latency]);
+    }
+    report.finish(&[&command_latency], &[]);
+    Ok(())
+}

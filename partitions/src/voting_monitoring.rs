@@ -1,0 +1,187 @@
+//! Voting-monitoring: the FCC partition that owns the two data links (paper §2.4). It votes
+//! every step's datagrams from the direct and the LTE link (integrity and validity checks of ICD
+//! §2, newest by time stamp, the direct link on a tie, never waiting for the other link),
+//! publishes the voted uplink frames on `fcc/link/uplink`, and sends every frame of
+//! `fcc/link/downlink` on both links.
+//!
+//! It binds the FCC's ends of the links itself (port 0 in the configuration: the system chooses)
+//! and announces where in the state directory ([`state::BoundLinks`]); after a restart it binds
+//! the announced ports again, so the GCS keeps talking to the same ones.
+
+use std::net::{SocketAddr, UdpSocket};
+use std::path::Path;
+use std::time::Duration;
+
+use iceoryx2::port::listener::Listener;
+use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::{FccService, FramePayload, Link};
+use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
+
+use crate::clock::{DriverClock, monotonic_ns};
+use crate::config::Config;
+use crate::ipc::Ipc;
+use crate::latency::Recorder;
+use crate::runtime::{self, Control, PartitionError, Report};
+use crate::state::{self, BoundLinks};
+use crate::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
+
+// Every datagram one receive hands over is a candidate of the vote: none is read and dropped.
+const _: () = assert!(MAX_READS_PER_RECEIVE <= VOTING_STEP_MESSAGES);
+
+/// The partition's name (binary, node, summary).
+pub const NAME: &str = "voting-monitoring";
+
+/// The longest sleep without data (nothing else is due).
+const IDLE_WAIT: Duration = Duration::from_secs(1);
+
+/// Binds `configured`, or with port 0 the port announced before (a restart), else one the
+/// system chooses.
+fn bind(
+    configured: SocketAddr,
+    announced: Option<SocketAddr>,
+    link: &str,
+) -> Result<UdpSocket, LinkError> {
+    if configured.port() == 0 {
+        if let Some(previous) = announced.filter(|a| a.ip() == configured.ip()) {
+            match UdpSocket::bind(previous) {
+                Ok(socket) => return Ok(socket),
+                Err(e) => {
+                    tracing::warn!(%previous, %e, "{link} link: the announced port is taken; choosing another")
+                }
+            }
+        }
+    }
+    UdpSocket::bind(configured)
+        .map_err(|e| LinkError(format!("cannot bind the {link} link to {configured}: {e}")))
+}
+
+/// Binds the FCC's ends as `config` says and announces them in `state_dir`.
+fn open_links(config: &Config, state_dir: &Path) -> Result<LinkPair, PartitionError> {
+    let l = &config.links;
+    for (peer, name) in [(l.gcs_direct, "gcs_direct"), (l.gcs_lte, "gcs_lte")] {
+        if peer.port() == 0 {
+            return Err(PartitionError::Config(format!(
+                "links.{name} = {peer}: the FCC must know the port the GCS receives on"
+            )));
+        }
+    }
+    let announced = state::load_links(state_dir);
+    let links = LinkPair::from_sockets(
+        bind(l.fcc_direct, announced.map(|a| a.fcc_direct), "direct")?,
+        bind(l.fcc_lte, announced.map(|a| a.fcc_lte), "LTE")?,
+        l.gcs_direct,
+        l.gcs_lte,
+    )?;
+    let [fcc_direct, fcc_lte] = links.local_addrs()?;
+    let bound = BoundLinks {
+        fcc_direct,
+        fcc_lte,
+    };
+    if announced != Some(bound) {
+        state::save_links(state_dir, &bound).map_err(|e| {
+            PartitionError::Config(format!(
+                "cannot announce the links in {}: {e}",
+                state_dir.display()
+            ))
+        })?;
+    }
+    Ok(links)
+}
+
+/// Runs voting-monitoring on the service type `S` until `control` or a termination request
+/// stops it.
+pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), PartitionError>
+where
+    Listener<S>: SynchronousMultiplexing,
+{
+    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let uplink = ipc.publisher::<FramePayload>(FccService::Uplink)?;
+    let downlink = ipc.subscriber::<FramePayload>(FccService::Downlink)?;
+    let links = open_links(config, &config.ipc.state_dir())?;
+    let clock = DriverClock::start();
+    let mut voter = Voter::new(
+        config.ids.fcc,
+        config.ids.gcs,
+        config.timing.transfer_timeout(),
+    );
+    let mut received = Recorder::new("uplink: UDP receive to published");
+    let mut downlink_hop = Recorder::new("downlink: shared-memory hop");
+    let mut turnaround = Recorder::new("FCC turnaround: UDP receive to answer sent");
+    let mut sequence = 0u64;
+
+    let waitset = runtime::waitset::<S>()?;
+    let [direct_fd, lte_fd] = links.attachments();
+    let _g1 = waitset
+        .attach_notification(direct_fd)
+        .map_err(PartitionError::waitset)?;
+    let _g2 = waitset
+        .attach_notification(lte_fd)
+        .map_err(PartitionError::waitset)?;
+    let _g3 = waitset
+        .attach_notification(downlink.listener())
+        .map_err(PartitionError::waitset)?;
+    let mut report = Report::new(config, NAME, control);
+    let [direct, lte] = links.local_addrs()?;
+    tracing::info!(%direct, %lte, prefix = %config.ipc.service_prefix, "voting-monitoring up");
+    control.set_ready();
+
+    // One step's datagrams, copied out of the socket buffer into slots allocated once.
+    let mut slots = vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE];
+    let mut step: heapless::Vec<(Link, usize, u64), MAX_READS_PER_RECEIVE> = heapless::Vec::new();
+    let mut buf = [0u8; MAX_DATAGRAM];
+    while control
+        .wait(&waitset, config.ipc.poll, IDLE_WAIT)
+        .map_err(PartitionError::waitset)?
+    {
+        // The answers first: they are the turnaround's path.
+        downlink.take_all(|frame| {
+            downlink_hop.record_between(frame.published_ns, monotonic_ns());
+            links.send_both(frame.frame());
+            turnaround.record_between(frame.origin_ns, monotonic_ns());
+        });
+        step.clear();
+        links.receive(&mut buf, |link, datagram, at| {
+            let slot = slots
+                .get_mut(step.len())
+                .and_then(|s| s.get_mut(..datagram.len()));
+            if let Some(slot) = slot {
+                slot.copy_from_slice(datagram);
+                let _ = step.push((link, datagram.len(), at));
+            }
+        });
+        if !step.is_empty() {
+            let mut arrivals: heapless::Vec<(Link, &[u8]), MAX_READS_PER_RECEIVE> =
+                heapless::Vec::new();
+            for (slot, (link, len, _)) in slots.iter().zip(&step) {
+                let _ = arrivals.push((*link, slot.get(..*len).unwrap_or_default()));
+            }
+            voter.vote_step(clock.now(), &arrivals, |link, frame| {
+                // The datagram the frame lies in gives its receive time.
+                let origin = arrivals
+                    .iter()
+                    .zip(&step)
+                    .find(|((_, d), _)| d.as_ptr_range().contains(&frame.as_ptr()))
+                    .map_or(0, |(_, (_, _, at))| *at);
+                let Some(mut payload) = FramePayload::new(link, frame, origin) else {
+                    return;
+                };
+                sequence += 1;
+                payload.sequence = sequence;
+                payload.published_ns = monotonic_ns();
+                match uplink.send(&payload) {
+                    Ok(()) => received.record_between(origin, monotonic_ns()),
+                    Err(e) => tracing::error!(%e, "uplink frame lost"),
+                }
+            });
+        }
+        if report.log_if_due(&[&received, &downlink_hop, &turnaround]) {
+            tracing::info!(stats = ?voter.stats(), "voting");
+        }
+    }
+    tracing::info!(stats = ?voter.stats(), "voting at shutdown");
+    report.finish(
+        &[&received, &downlink_hop, &turnaround],
+        &voter.stats().counters().collect::<Vec<_>>(),
+    );
+    Ok(())
+}

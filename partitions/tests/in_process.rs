@@ -1,0 +1,465 @@
+//! Each partition's loop in one process, on `iceoryx2::prelude::local::Service`: the partition
+//! runs on a thread of the test, the test plays its neighbours through its own node, and a
+//! `Control` stops it. Every test has its own service prefix and state directory. The
+//! cross-process tests of the real binaries are in the root package's `tests/`.
+
+use std::net::UdpSocket;
+use std::path::PathBuf;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use iceoryx2::prelude::local;
+use missionlink_interfaces::contracts::{
+    AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FlightPhase,
+    FramePayload, GuidanceProgressPayload, Link, WaypointListPayload,
+};
+use missionlink_interfaces::wire::{
+    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, Envelope,
+    ExecuteCommand, GeoPoint, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, PolygonVertices,
+    RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnType,
+    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+};
+use missionlink_partitions::clock::DriverClock;
+use missionlink_partitions::config::Config;
+use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
+use missionlink_partitions::runtime::{self, Control, PartitionError};
+use missionlink_partitions::{
+    guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
+};
+use missionlink_services::ground_station::{
+    GcsConfig, GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
+};
+use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_services::transfer::areas::AreaBuffer;
+use missionlink_services::transfer::mission::MissionBuffer;
+use missionlink_services::transfer::sender::mission_command;
+
+type S = local::Service;
+type Loop = fn(&Config, &Control) -> Result<(), PartitionError>;
+
+/// How long any condition may take before the test fails (generous: the machine is shared).
+const LIMIT: Duration = Duration::from_secs(20);
+
+/// A configuration no other test shares: prefix and state directory.
+fn config(test: &str) -> Config {
+    let dir: PathBuf =
+        std::env::temp_dir().join(format!("missionlink-inproc-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut c = Config::default();
+    c.ipc.service_prefix = format!("inproc-{test}-{}", std::process::id());
+    c.ipc.state_dir = Some(dir.join("state"));
+    c
+}
+
+/// A partition loop on a thread of the test.
+struct Running {
+    control: Control,
+    thread: Option<JoinHandle<Result<(), PartitionError>>>,
+}
+
+impl Running {
+    fn start(run: Loop, config: &Config) -> Self {
+        let control = Control::new();
+        let (c, config) = (control.clone(), config.clone());
+        let thread = std::thread::spawn(move || run(&config, &c));
+        assert!(control.wait_ready(LIMIT), "the partition did not start");
+        Self {
+            control,
+            thread: Some(thread),
+        }
+    }
+
+    /// Stops the loop and checks that it ended without an error.
+    fn stop(mut self) {
+        self.control.stop();
+        if let Some(thread) = self.thread.take() {
+            thread.join().unwrap().unwrap();
+        }
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        self.control.stop();
+    }
+}
+
+/// Waits for `f` to give a value, sleeping in a WaitSet on `subscriber`'s listener; fails the
+/// test after [`LIMIT`].
+fn next<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static, R>(
+    subscriber: &Subscriber<S, T>,
+    f: impl FnMut(&T) -> Option<R>,
+) -> R {
+    within(subscriber, LIMIT, f).unwrap_or_else(|| panic!("nothing came on {subscriber:?}"))
+}
+
+/// As [`next`], `None` after `limit`.
+fn within<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static, R>(
+    subscriber: &Subscriber<S, T>,
+    limit: Duration,
+    mut f: impl FnMut(&T) -> Option<R>,
+) -> Option<R> {
+    let waitset = runtime::waitset::<S>().unwrap();
+    let _guard = waitset.attach_notification(subscriber.listener()).unwrap();
+    let control = Control::new();
+    let end = Instant::now() + limit;
+    loop {
+        let mut found = None;
+        subscriber.take_all(|v| {
+            if found.is_none() {
+                found = f(v);
+            }
+        });
+        if found.is_some() || Instant::now() >= end {
+            return found;
+        }
+        control
+            .wait(&waitset, false, Duration::from_millis(20))
+            .unwrap();
+    }
+}
+
+// ---- A small mission: take-off height, two waypoints, a bidirectional route, a fly-zone ----
+
+fn waypoint(number: u16, next: u16, lat: f64, lon: f64) -> Message {
+    UaPositionWaypoint {
+        time_stamp: Timestamp::default(),
+        waypoint_number: number,
+        latitude: Angle::from_degrees(lat).unwrap(),
+        longitude: Angle::from_degrees(lon).unwrap(),
+        location_type: None,
+        altitude: Altitude::from_metres(120.0).unwrap(),
+        altitude_type: Some(AltitudeType::Wgs84),
+        altitude_change_behaviour: None,
+        speed: Speed::from_mps(25.0).unwrap(),
+        speed_type: Some(SpeedType::IndicatedAirspeed),
+        next_waypoint: next,
+        turn_type: TurnType::FlyBy,
+        optional_messages: None,
+        leg_type: LegType::TrackToFix,
+        limit_type: None,
+        loop_limit: None,
+        arrival_time: None,
+        activity_id: None,
+    }
+    .into()
+}
+
+fn plan() -> MissionPlan {
+    let mut mission = MissionBuffer::new();
+    let messages: [Message; 4] = [
+        VehicleSpecificWaypoint {
+            time_stamp: Timestamp::default(),
+            data: SpecificData::TakeOffHeight {
+                height: Altitude::from_metres(30.0).unwrap(),
+            },
+            activity_id: None,
+        }
+        .into(),
+        waypoint(1, 2, 48.275, 11.645),
+        waypoint(2, 0, 48.278, 11.658),
+        UaRoute {
+            time_stamp: Timestamp::default(),
+            initial_waypoint: 1,
+            route_id: None,
+            route_type: Some(RouteType::Flight),
+            bidirectional: true,
+        }
+        .into(),
+    ];
+    for m in &messages {
+        mission.store(m).unwrap();
+    }
+    let mut corners = PolygonVertices::new();
+    for (lat, lon) in [
+        (48.255, 11.635),
+        (48.255, 11.690),
+        (48.285, 11.690),
+        (48.285, 11.635),
+    ] {
+        corners
+            .push(GeoPoint::from_degrees(lat, lon).unwrap())
+            .unwrap();
+    }
+    let mut areas = AreaBuffer::new();
+    areas
+        .store(&AreaPolygonLoopSegment {
+            time_stamp: Timestamp::default(),
+            area_id: 1,
+            area_type: AreaType::FlyZone,
+            lower_altitude: None,
+            upper_altitude: None,
+            altitude_type: None,
+            shape: AreaShape::Polygon(corners),
+        })
+        .unwrap();
+    MissionPlan {
+        mission,
+        areas,
+        safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
+        mission_id: Some(Text::new("IN-PROCESS").unwrap()),
+    }
+}
+
+fn valid() -> ValidatedPlan {
+    plan().assemble().unwrap()
+}
+
+#[test]
+fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_the_downlink() {
+    let config = config("mdh");
+    let partition = Running::start(mission_data_handling::run::<S>, &config);
+    let ipc = Ipc::<S>::open("gcs-side", &config.ipc.service_prefix).unwrap();
+    let uplink: Publisher<S, FramePayload> = ipc.publisher(FccService::Uplink).unwrap();
+    let downlink: Subscriber<S, FramePayload> = ipc.subscriber(FccService::Downlink).unwrap();
+    let waypoints: Subscriber<S, WaypointListPayload> =
+        ipc.subscriber(FccService::WaypointList).unwrap();
+    let areas: Subscriber<S, AreaListPayload> = ipc.subscriber(FccService::AreaList).unwrap();
+
+    // The GCS logic plays the ground, its frames carried over the uplink service.
+    let clock = DriverClock::start();
+    let mut gcs = GroundStation::new(
+        GcsConfig {
+            endpoint: EndpointConfig {
+                local_id: config.ids.gcs,
+                peer_id: config.ids.fcc,
+                utc_at_zero: clock.utc_at_zero(),
+                sampling_window: config.timing.transfer_timeout(),
+            },
+            ack_timeout: config.timing.ack_timeout(),
+            transfer_timeout: config.timing.transfer_timeout(),
+        },
+        WithoutGateway,
+    );
+    gcs.upload(clock.now(), &plan(), true).unwrap();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let mut answers = 0;
+    let outcome = loop {
+        while let Some(len) = gcs.poll_transmit(&mut buf) {
+            let frame = buf.get(..len.unwrap()).unwrap();
+            uplink
+                .send(&FramePayload::new(Link::Direct, frame, 0).unwrap())
+                .unwrap();
+        }
+        if let Some(event) = gcs.poll_event() {
+            if !matches!(event, GcsEvent::Progress { .. }) {
+                break event;
+            }
+            continue;
+        }
+        if gcs.poll_timeout().is_some_and(|t| t <= clock.now()) {
+            gcs.handle_timeout(clock.now());
+            continue;
+        }
+        // The next answer, or the GCS's next timer.
+        let until_timer = gcs
+            .poll_timeout()
+            .map_or(LIMIT, |t| t.saturating_since(clock.now()));
+        if let Some(frame) = within(&downlink, until_timer, |f| Some(*f)) {
+            answers += 1;
+            assert_eq!(
+                frame.link(),
+                Some(Link::Both),
+                "answers go out on both links"
+            );
+            gcs.handle_frame(clock.now(), frame.frame()).unwrap();
+        }
+    };
+    assert_eq!(outcome, GcsEvent::UploadComplete);
+    assert!(answers >= 6, "an answer per uplink message: {answers}");
+
+    let valid = valid();
+    let list = next(&waypoints, |l| (l.generation > 0).then_some(*l));
+    let expected = valid.mission.to_payload(list.generation);
+    assert_eq!(list.count, 2);
+    assert_eq!(list.waypoints(), expected.waypoints());
+    assert_eq!(list.take_off_height, expected.take_off_height);
+    let area_list = next(&areas, |l| (l.generation > 0).then_some(*l));
+    assert_eq!(area_list.area_count(), 1);
+    assert_eq!(
+        area_list.fly_zone,
+        valid.areas.to_payload(area_list.generation).fly_zone
+    );
+    // Kept for a restart.
+    let dir = config.ipc.state_dir();
+    assert!(state::load_mission(&dir).is_some_and(|(m, _)| m == Some(valid.mission)));
+    partition.stop();
+}
+
+#[test]
+fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_and_keeps_its_ports()
+ {
+    let mut config = config("vm");
+    let gcs_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let gcs_lte = UdpSocket::bind("127.0.0.1:0").unwrap();
+    for s in [&gcs_direct, &gcs_lte] {
+        s.set_read_timeout(Some(LIMIT)).unwrap();
+    }
+    config.links.gcs_direct = gcs_direct.local_addr().unwrap();
+    config.links.gcs_lte = gcs_lte.local_addr().unwrap();
+    config.links.fcc_direct = "127.0.0.1:0".parse().unwrap();
+    config.links.fcc_lte = "127.0.0.1:0".parse().unwrap();
+
+    let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
+    let uplink: Subscriber<S, FramePayload> = ipc.subscriber(FccService::Uplink).unwrap();
+    let downlink: Publisher<S, FramePayload> = ipc.publisher(FccService::Downlink).unwrap();
+    let partition = Running::start(voting_monitoring::run::<S>, &config);
+    let dir = config.ipc.state_dir();
+    let links = state::load_links(&dir).expect("the bound ports are announced");
+    assert_ne!(links.fcc_direct.port(), 0);
+    assert_ne!(links.fcc_lte.port(), 0);
+
+    // The same message on both links, then a newer one on LTE: the duplicate is dropped, so
+    // the newer one is the next frame on the uplink.
+    let frame = |ms: u64| {
+        let mut m = mission_command(MissionPlanMode::ClearMission, None, None);
+        m.set_time_stamp(Timestamp::from_millis(900_000_000_000 + ms).unwrap());
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let envelope = Envelope::new(config.ids.gcs, config.ids.fcc).with_ack(true);
+        let len = wire::encode(&envelope, &m, &mut buf).unwrap();
+        buf[..len].to_vec()
+    };
+    let (first, second) = (frame(1), frame(2));
+    let from_gcs = UdpSocket::bind("127.0.0.1:0").unwrap();
+    from_gcs.send_to(&first, links.fcc_direct).unwrap();
+    let voted = next(&uplink, |f| Some(*f));
+    assert_eq!(voted.frame(), &first[..]);
+    assert_eq!(voted.link(), Some(Link::Direct));
+    from_gcs.send_to(&first, links.fcc_lte).unwrap();
+    from_gcs.send_to(&second, links.fcc_lte).unwrap();
+    let voted = next(&uplink, |f| Some(*f));
+    assert_eq!(
+        voted.frame(),
+        &second[..],
+        "the duplicate was not forwarded"
+    );
+    assert_eq!(voted.link(), Some(Link::Lte));
+
+    // A downlink frame goes out on both links.
+    downlink
+        .send(&FramePayload::new(Link::Both, &second, 0).unwrap())
+        .unwrap();
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    for socket in [&gcs_direct, &gcs_lte] {
+        let (len, from) = socket.recv_from(&mut buf).unwrap();
+        assert_eq!(&buf[..len], &second[..]);
+        assert!(from == links.fcc_direct || from == links.fcc_lte, "{from}");
+    }
+
+    // Restarted, it binds the announced ports again.
+    partition.stop();
+    let partition = Running::start(voting_monitoring::run::<S>, &config);
+    assert_eq!(state::load_links(&dir), Some(links));
+    partition.stop();
+}
+
+#[test]
+fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
+    let config = config("sa");
+    let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
+    let state: Subscriber<S, AutomationStatePayload> =
+        ipc.subscriber(FccService::AutomationState).unwrap();
+    let waypoints: Publisher<S, WaypointListPayload> =
+        ipc.publisher(FccService::WaypointList).unwrap();
+    let areas: Publisher<S, AreaListPayload> = ipc.publisher(FccService::AreaList).unwrap();
+    let commands: Publisher<S, AutomationCommandPayload> =
+        ipc.publisher(FccService::AutomationCommand).unwrap();
+    let progress: Publisher<S, GuidanceProgressPayload> =
+        ipc.publisher(FccService::GuidanceProgress).unwrap();
+    let partition = Running::start(system_automation::run::<S>, &config);
+    let command = |sequence, command: ExecuteCommand| {
+        commands
+            .send(&AutomationCommandPayload {
+                sequence,
+                accepted_ns: 0,
+                command: command as u8,
+                reserved: [0; 7],
+            })
+            .unwrap();
+    };
+    let phase = |s: &AutomationStatePayload| s.flight_phase();
+
+    let first = next(&state, |s| Some(*s));
+    assert_eq!(phase(&first), Some(FlightPhase::OnGround));
+    let valid = valid();
+    waypoints.send(&valid.mission.to_payload(1)).unwrap();
+    areas.send(&valid.areas.to_payload(1)).unwrap();
+    // Until automation has seen the lists an execute is refused; it is sent again until taken.
+    let end = Instant::now() + LIMIT;
+    let mut sequence = 0;
+    let take_off = loop {
+        assert!(Instant::now() < end, "execute never carried out");
+        sequence += 1;
+        command(sequence, ExecuteCommand::Execute);
+        let taken = within(&state, Duration::from_millis(200), |s| {
+            (phase(s) == Some(FlightPhase::TakeOff)).then_some(*s)
+        });
+        if let Some(state_now) = taken {
+            break state_now;
+        }
+    };
+    assert_eq!(take_off.flown_waypoint_list, 1);
+    assert!(take_off.trajectory_generation_active);
+
+    // In the air an execute is refused and a return to home carried out, in queue order: one
+    // state change, not two.
+    command(sequence + 1, ExecuteCommand::Execute);
+    command(sequence + 2, ExecuteCommand::ReturnToHome);
+    let home = next(&state, |s| s.route_reversed.then_some(*s));
+    assert_eq!(home.sequence, take_off.sequence + 1, "{home:?}");
+    assert_eq!(phase(&home), Some(FlightPhase::TakeOff));
+
+    // Guidance reports the climb complete: cruise.
+    let mut climbed = GuidanceProgressPayload::IDLE;
+    climbed.on_ground = false;
+    climbed.climb_complete = true;
+    climbed.waypoint_list = 1;
+    progress.send(&climbed).unwrap();
+    let cruise = next(&state, |s| {
+        (phase(s) == Some(FlightPhase::Cruise)).then_some(*s)
+    });
+    assert!(cruise.trajectory_generation_active);
+    partition.stop();
+}
+
+#[test]
+fn guidance_stub_flies_the_list_and_publishes_its_progress() {
+    let mut config = config("guidance");
+    config.guidance.time_scale = 50.0;
+    let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
+    let waypoints: Publisher<S, WaypointListPayload> =
+        ipc.publisher(FccService::WaypointList).unwrap();
+    let areas: Publisher<S, AreaListPayload> = ipc.publisher(FccService::AreaList).unwrap();
+    let automation: Publisher<S, AutomationStatePayload> =
+        ipc.publisher(FccService::AutomationState).unwrap();
+    let progress: Subscriber<S, GuidanceProgressPayload> =
+        ipc.subscriber(FccService::GuidanceProgress).unwrap();
+    let partition = Running::start(guidance_stub::run::<S>, &config);
+
+    let idle = next(&progress, |p| Some(*p));
+    assert!(idle.on_ground);
+    let valid = valid();
+    waypoints.send(&valid.mission.to_payload(1)).unwrap();
+    areas.send(&valid.areas.to_payload(1)).unwrap();
+    let mut state = AutomationStatePayload::ON_GROUND;
+    state.sequence = 1;
+    state.flown_waypoint_list = 1;
+    state.flight_phase = FlightPhase::TakeOff as u8;
+    state.trajectory_generation_active = true;
+    automation.send(&state).unwrap();
+    let climbed = next(&progress, |p| p.climb_complete.then_some(*p));
+    assert!(!climbed.on_ground);
+    assert_eq!(climbed.waypoint_list, 1);
+
+    state.sequence = 2;
+    state.flight_phase = FlightPhase::Cruise as u8;
+    automation.send(&state).unwrap();
+    // FROM-TO-NEXT along the route 1 -> 2, then the end of the route.
+    let on_route = next(&progress, |p| (p.to == 1).then_some(*p));
+    assert_eq!(on_route.next, 2);
+    assert!(on_route.inside_fly_zone);
+    let second_leg = next(&progress, |p| (p.from == 1 && p.to == 2).then_some(*p));
+    assert_eq!(second_leg.next, 0);
+    next(&progress, |p| p.route_complete.then_some(()));
+    partition.stop();
+}
