@@ -1098,27 +1098,15 @@ fn violations(svg: &mut String, markers: &[Marker]) {
 mod tests {
     use super::*;
     use crate::mission_file::MissionFile;
-    use missionlink_interfaces::defaults;
-    use missionlink_interfaces::wire::Timestamp;
-    use missionlink_services::ground_station::{GcsConfig, GroundStation, WithoutGateway};
-    use missionlink_services::link::endpoint::EndpointConfig;
+    use missionlink_services::ground_station::{GroundStation, WithoutGateway};
+    use missionlink_services::testkit;
 
     const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
     const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 
     fn validated(text: &str) -> ValidatedPlan {
-        let config = GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: defaults::GCS_ID,
-                peer_id: defaults::FCC_ID,
-                utc_at_zero: Timestamp::default(),
-                sampling_window: defaults::TRANSFER_TIMEOUT,
-            },
-            ack_timeout: defaults::ACK_TIMEOUT,
-            transfer_timeout: defaults::TRANSFER_TIMEOUT,
-        };
         let plan = MissionFile::parse(text).unwrap().to_plan().unwrap();
-        GroundStation::new(config, WithoutGateway)
+        GroundStation::new(testkit::gcs_config(), WithoutGateway)
             .validate(&plan)
             .unwrap()
     }

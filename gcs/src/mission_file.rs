@@ -1011,29 +1011,16 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_interfaces::defaults;
     use missionlink_interfaces::wire::Reason;
-    use missionlink_services::ground_station::{
-        GcsConfig, GcsError, GroundStation, WithoutGateway,
-    };
-    use missionlink_services::link::endpoint::EndpointConfig;
+    use missionlink_services::ground_station::{GcsError, GroundStation, WithoutGateway};
+    use missionlink_services::testkit;
 
     const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
     const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 
     /// The GCS validation request (ICD §7, no safety gateway).
     fn validate(plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<core::convert::Infallible>> {
-        let config = GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: defaults::GCS_ID,
-                peer_id: defaults::FCC_ID,
-                utc_at_zero: Timestamp::default(),
-                sampling_window: defaults::TRANSFER_TIMEOUT,
-            },
-            ack_timeout: defaults::ACK_TIMEOUT,
-            transfer_timeout: defaults::TRANSFER_TIMEOUT,
-        };
-        GroundStation::new(config, WithoutGateway).validate(plan)
+        GroundStation::new(testkit::gcs_config(), WithoutGateway).validate(plan)
     }
 
     fn validated(text: &str) -> ValidatedPlan {
