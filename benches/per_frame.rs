@@ -83,6 +83,11 @@ fn fcc_uploading() -> MissionDataHandling {
     fcc
 }
 
+/// Mission data handling uploading, the frames to give it and a buffer for its answers.
+fn uploading() -> (MissionDataHandling, Upload, [u8; MAX_FRAME_LEN]) {
+    (fcc_uploading(), Upload::new(), [0u8; MAX_FRAME_LEN])
+}
+
 /// Takes the one queued answer and checks it accepts a message of `original_type`.
 fn expect_completed(fcc: &mut MissionDataHandling, original_type: u16) {
     match fcc.poll_outgoing() {
@@ -138,9 +143,7 @@ fn frame_benches(c: &mut Criterion) {
     // Handle a chunk of frames, timed, then drain their acknowledgements, untimed (and the other
     // way round for the encode).
     group.bench_function("handle", |b| {
-        let mut fcc = fcc_uploading();
-        let mut upload = Upload::new();
-        let mut out = [0u8; MAX_FRAME_LEN];
+        let (mut fcc, mut upload, mut out) = uploading();
         b.iter_custom(|iters| {
             in_chunks(iters, |chunk| {
                 let frames: Vec<_> = (0..chunk).map(|_| upload.next_frame()).collect();
@@ -156,9 +159,7 @@ fn frame_benches(c: &mut Criterion) {
     });
 
     group.bench_function("ack_encode", |b| {
-        let mut fcc = fcc_uploading();
-        let mut upload = Upload::new();
-        let mut out = [0u8; MAX_FRAME_LEN];
+        let (mut fcc, mut upload, mut out) = uploading();
         b.iter_custom(|iters| {
             in_chunks(iters, |chunk| {
                 for _ in 0..chunk {
@@ -175,9 +176,7 @@ fn frame_benches(c: &mut Criterion) {
     });
 
     group.bench_function("frame_total", |b| {
-        let mut fcc = fcc_uploading();
-        let mut upload = Upload::new();
-        let mut out = [0u8; MAX_FRAME_LEN];
+        let (mut fcc, mut upload, mut out) = uploading();
         b.iter_batched(
             || upload.next_frame(),
             |(now, frame)| {
@@ -190,8 +189,7 @@ fn frame_benches(c: &mut Criterion) {
     group.finish();
 
     // Every frame above was accepted: the same path, checked once outside the measurement.
-    let mut fcc = fcc_uploading();
-    let mut upload = Upload::new();
+    let (mut fcc, mut upload, _) = uploading();
     for _ in 0..3 * WAYPOINTS {
         let (now, frame) = upload.next_frame();
         fcc.handle_frame(now, &frame).expect("frame accepted");

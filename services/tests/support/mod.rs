@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{self, AckType, MAX_FRAME_LEN, Message, SpecificData};
+use missionlink_interfaces::wire::{AckType, Envelope, Message, SpecificData};
 use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
@@ -114,32 +114,29 @@ impl Pair {
 
     /// Puts what both sides want to send on both links of its direction.
     fn drain_outgoing(&mut self) {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some((envelope, message)) = self.gcs.poll_outgoing() {
-            let len = wire::encode(&envelope, &message, &mut buf).unwrap();
-            self.sent.push(Sent {
-                at: self.now,
-                direction: Direction::Up,
-                message,
-                ack_requested: envelope.ack_requested,
-            });
-            for (i, link) in [Link::Direct, Link::Lte].into_iter().enumerate() {
-                let faults = self.uplink[i];
-                self.transmit(Direction::Up, link, faults, &buf[..len]);
-            }
+        while let Some(outgoing) = self.gcs.poll_outgoing() {
+            self.send(Direction::Up, outgoing);
         }
-        while let Some((envelope, message)) = self.fcc.poll_outgoing() {
-            let len = wire::encode(&envelope, &message, &mut buf).unwrap();
-            self.sent.push(Sent {
-                at: self.now,
-                direction: Direction::Down,
-                message,
-                ack_requested: envelope.ack_requested,
-            });
-            for (i, link) in [Link::Direct, Link::Lte].into_iter().enumerate() {
-                let faults = self.downlink[i];
-                self.transmit(Direction::Down, link, faults, &buf[..len]);
-            }
+        while let Some(outgoing) = self.fcc.poll_outgoing() {
+            self.send(Direction::Down, outgoing);
+        }
+    }
+
+    /// Records one message and puts its frame on the direct and the LTE link of `direction`.
+    fn send(&mut self, direction: Direction, (envelope, message): (Envelope, Message)) {
+        let bytes = frame(&envelope, &message);
+        self.sent.push(Sent {
+            at: self.now,
+            direction,
+            message,
+            ack_requested: envelope.ack_requested,
+        });
+        let faults = match direction {
+            Direction::Up => self.uplink,
+            Direction::Down => self.downlink,
+        };
+        for (link, faults) in [Link::Direct, Link::Lte].into_iter().zip(faults) {
+            self.transmit(direction, link, faults, &bytes);
         }
     }
 
