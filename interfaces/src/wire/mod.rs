@@ -8,7 +8,7 @@ macro_rules! wire_enum {
     (
         $(#[$meta:meta])*
         pub enum $name:ident {
-            $( $(#[$vmeta:meta])* $variant:ident = $value:literal ),+ $(,)?
+            $( $(#[$vmeta:meta])* $variant:ident = $value:literal => $word:literal ),+ $(,)?
         }
     ) => {
         $(#[$meta])*
@@ -26,6 +26,13 @@ macro_rules! wire_enum {
         impl $name {
             /// Every value, in wire order.
             pub const ALL: &'static [Self] = &[$(Self::$variant),+];
+
+            /// The value's name in the ICD's table, as the messages' `Display` writes it.
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $( Self::$variant => $word, )+
+                }
+            }
         }
 
         impl TryFrom<u8> for $name {

@@ -1,6 +1,8 @@
 //! #3012 Area Status Alert (ICD §4, icd use): the FCC's answer to #2011 mode 2 upload complete,
 //! instead of a #17000 (ICD §5.3).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::AreaListStatus;
 use crate::wire::error::{EncodeError, MessageError, Reason};
@@ -52,9 +54,25 @@ impl MessageBody for AreaStatusAlert {
     }
 }
 
+/// `#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas`.
+impl fmt::Display for AreaStatusAlert {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: status {} {}",
+            Self::TYPE,
+            self.status as u8,
+            self.status.name()
+        )?;
+        super::reason(f, self.reason)?;
+        write!(f, ", {} areas", self.loop_count)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #3012: the area list of 3 areas is valid, every field present; FCC to GCS, no ack.
@@ -104,5 +122,35 @@ mod tests {
     #[test]
     fn physical() {
         assert_eq!(repr().time_stamp.to_string(), "2026-11-21T12:00:00.350Z");
+    }
+
+    #[test]
+    fn display() {
+        let m = repr();
+        assert_eq!(
+            m.to_string(),
+            "#3012 Area Status Alert: status 1 valid, 3 areas"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#3012 Area Status Alert: status 1 valid, 3 areas"
+        );
+    }
+
+    #[test]
+    fn display_invalid() {
+        let m = AreaStatusAlert {
+            status: AreaListStatus::Invalid,
+            reason: Some(Reason::BadGeometry),
+            ..repr()
+        };
+        assert_eq!(
+            m.to_string(),
+            "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas"
+        );
     }
 }

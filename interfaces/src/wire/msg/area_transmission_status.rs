@@ -1,6 +1,8 @@
 //! #3013 Area Transmission Status (ICD §4, icd): the FCC's answer to #2011 mode 3 initiate
 //! download, instead of a #17000 (ICD §5.4).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::AreaDownloadStatus;
 use crate::wire::error::{EncodeError, MessageError};
@@ -62,9 +64,26 @@ impl MessageBody for AreaTransmissionStatus {
     }
 }
 
+/// `#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m`.
+impl fmt::Display for AreaTransmissionStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: status {} {}, {} areas (",
+            Self::TYPE,
+            self.status as u8,
+            self.status.name(),
+            self.loop_count
+        )?;
+        super::areas(f, self.area_id)?;
+        write!(f, "), safety offset {:.1} m", self.safety_offset.metres())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #3013: ready to send all 3 areas; FCC to GCS, ack.
@@ -118,5 +137,18 @@ mod tests {
         assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:00:05.000Z");
         assert_eq!(m.safety_offset.raw(), 250);
         assert_eq!(m.safety_offset.metres(), 25.0);
+    }
+
+    #[test]
+    fn display() {
+        let m = repr();
+        assert_eq!(
+            m.to_string(),
+            "#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m"
+        );
     }
 }

@@ -1,5 +1,7 @@
 //! #50000 Mission Execute Command (ICD §4, private range): execute, return to home, land.
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::ExecuteCommand;
 use crate::wire::error::{EncodeError, MessageError};
@@ -44,9 +46,23 @@ impl MessageBody for MissionExecuteCommand {
     }
 }
 
+/// `#50000 Mission Execute Command: command 1 execute`.
+impl fmt::Display for MissionExecuteCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: command {} {}",
+            Self::TYPE,
+            self.command as u8,
+            self.command.name()
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #50000 command 1 execute; GCS to FCC, ack.
@@ -91,5 +107,18 @@ mod tests {
     #[test]
     fn physical() {
         assert_eq!(repr().time_stamp.to_string(), "2026-11-21T12:03:00.000Z");
+    }
+
+    #[test]
+    fn display() {
+        let m = repr();
+        assert_eq!(
+            m.to_string(),
+            "#50000 Mission Execute Command: command 1 execute"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#50000 Mission Execute Command: command 1 execute"
+        );
     }
 }

@@ -1,5 +1,7 @@
 //! #14000 Mission Upload/Download Status (ICD §4): closes a mission download (ICD §5.2 step 5).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::{MissionPlanMode, TransferStatus};
 use crate::wire::error::{EncodeError, MessageError, Reason};
@@ -78,9 +80,32 @@ impl MessageBody for MissionUploadDownloadStatus {
     }
 }
 
+/// `#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission`.
+impl fmt::Display for MissionUploadDownloadStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: status {} {}",
+            Self::TYPE,
+            self.status as u8,
+            self.status.name()
+        )?;
+        super::reason(f, self.reason)?;
+        if let Some(p) = self.percent_complete {
+            write!(f, ", {p} %")?;
+        }
+        if let Some(m) = self.mode {
+            write!(f, ", mode {} {}", m as u8, m.name())?;
+        }
+        super::optional(f, "mission", self.mission_id.as_ref().map(Text::as_str))?;
+        super::optional(f, "waypoint request", self.waypoint_request)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #14000: download of mission 2 complete, every field present; FCC to GCS, ack.
@@ -140,5 +165,39 @@ mod tests {
         let m = repr();
         assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:02:00.000Z");
         assert_eq!(m.mission_id.unwrap().as_str(), "MEDEVAC-2");
+    }
+
+    #[test]
+    fn display() {
+        let m = repr();
+        assert_eq!(
+            m.to_string(),
+            "#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission, mission MEDEVAC-2, waypoint request 3"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission, mission MEDEVAC-2, waypoint request 3"
+        );
+    }
+
+    #[test]
+    fn display_aborted() {
+        let m = MissionUploadDownloadStatus {
+            mission_id: None,
+            status: TransferStatus::Aborted,
+            percent_complete: None,
+            waypoint_request: None,
+            mode: None,
+            reason: Some(Reason::Busy),
+            ..repr()
+        };
+        assert_eq!(
+            m.to_string(),
+            "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))"
+        );
     }
 }

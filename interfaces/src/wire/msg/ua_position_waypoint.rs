@@ -1,7 +1,9 @@
 //! #13002 UA Position Waypoint (ICD §4, std field order, Ed 4): one waypoint of the flight plan.
 //! Waypoint Number and Next Waypoint define the plan; the order of upload is free.
 
-use super::{MessageBody, MessageType, is_waypoint_number, latitude, reader};
+use core::fmt;
+
+use super::{GeoPoint, MessageBody, MessageType, is_waypoint_number, latitude, reader};
 use crate::wire::enums::{AltitudeType, LegType, LocationType, SpeedType, TurnType};
 use crate::wire::error::{EncodeError, MessageError};
 use crate::wire::field::{Altitude, Angle, Speed, Timestamp, U3};
@@ -142,9 +144,41 @@ impl MessageBody for UaPositionWaypoint {
     }
 }
 
+/// `#13002 UA Position Waypoint: waypoint 2: 48.275000 N 11.645000 E, 120.0 m WGS-84, 25.0 m/s
+/// indicated airspeed, fly-by, track-to-fix, next 3` (`last` for Next Waypoint 0).
+impl fmt::Display for UaPositionWaypoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let at = GeoPoint {
+            latitude: self.latitude,
+            longitude: self.longitude,
+        };
+        write!(
+            f,
+            "{}: waypoint {}: {at}, {:.1} m",
+            Self::TYPE,
+            self.waypoint_number,
+            self.altitude.metres()
+        )?;
+        if let Some(t) = self.altitude_type {
+            write!(f, " {}", t.name())?;
+        }
+        write!(f, ", {:.1} m/s", self.speed.mps())?;
+        if let Some(t) = self.speed_type {
+            write!(f, " {}", t.name())?;
+        }
+        write!(f, ", {}, {}", self.turn_type.name(), self.leg_type.name())?;
+        super::optional(f, "arrival", self.arrival_time)?;
+        match self.next_waypoint {
+            0 => f.write_str(", last"),
+            next => write!(f, ", next {next}"),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13002 ROLE2, waypoint 3 of mission 2 (radius-to-fix, last), all 18 fields; GCS to FCC, ack.
@@ -233,6 +267,45 @@ mod tests {
         assert_eq!(
             m.arrival_time.unwrap().to_string(),
             "2026-11-21T12:06:00.000Z"
+        );
+    }
+
+    #[test]
+    fn display() {
+        let m = repr();
+        assert_eq!(
+            m.to_string(),
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, radius-to-fix, arrival 2026-11-21T12:06:00.000Z, last"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, radius-to-fix, arrival 2026-11-21T12:06:00.000Z, last"
+        );
+    }
+
+    #[test]
+    fn display_mandatory_fields_only() {
+        let m = UaPositionWaypoint {
+            location_type: None,
+            altitude_type: None,
+            altitude_change_behaviour: None,
+            speed_type: None,
+            next_waypoint: 4,
+            optional_messages: None,
+            leg_type: LegType::TrackToFix,
+            limit_type: None,
+            loop_limit: None,
+            arrival_time: None,
+            activity_id: None,
+            ..repr()
+        };
+        assert_eq!(
+            m.to_string(),
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m, 25.0 m/s, fly-by, track-to-fix, next 4"
+        );
+        assert_eq!(
+            Message::from(m).to_string(),
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m, 25.0 m/s, fly-by, track-to-fix, next 4"
         );
     }
 }
