@@ -65,7 +65,7 @@ impl fmt::Display for AreaStatusAlert {
             self.status.name()
         )?;
         super::reason(f, self.reason)?;
-        write!(f, ", {} areas", self.loop_count)
+        super::count(f, self.loop_count.into(), "area")
     }
 }
 
@@ -151,6 +151,18 @@ mod tests {
         assert_eq!(
             Message::from(m).to_string(),
             "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas"
+        );
+    }
+
+    #[test]
+    fn display_one_area() {
+        let m = AreaStatusAlert {
+            loop_count: 1,
+            ..repr()
+        };
+        assert_eq!(
+            m.to_string(),
+            "#3012 Area Status Alert: status 1 valid, 1 area"
         );
     }
 }

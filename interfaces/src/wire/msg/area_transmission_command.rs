@@ -91,7 +91,7 @@ impl fmt::Display for AreaTransmissionCommand {
             self.mode.name()
         )?;
         if let Some(n) = self.loop_count {
-            write!(f, ", {n} areas")?;
+            super::count(f, n.into(), "area")?;
         }
         // Area ID only means something to a download request (mode 3).
         if let (AreaTransferMode::InitiateDownload, Some(id)) = (self.mode, self.area_id) {

@@ -69,12 +69,13 @@ impl fmt::Display for AreaTransmissionStatus {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{}: status {} {}, {} areas (",
+            "{}: status {} {}",
             Self::TYPE,
             self.status as u8,
-            self.status.name(),
-            self.loop_count
+            self.status.name()
         )?;
+        super::count(f, self.loop_count.into(), "area")?;
+        f.write_str(" (")?;
         super::areas(f, self.area_id)?;
         write!(f, "), safety offset {:.1} m", self.safety_offset.metres())
     }

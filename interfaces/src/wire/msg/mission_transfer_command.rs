@@ -87,7 +87,7 @@ impl fmt::Display for MissionTransferCommand {
             self.mode.name()
         )?;
         if let Some(n) = self.waypoint_number {
-            write!(f, ", {n} waypoints")?;
+            super::count(f, n, "waypoint")?;
         }
         super::optional(f, "mission", self.mission_id.as_ref().map(Text::as_str))?;
         super::optional(f, "route", self.route_id.as_ref().map(Text::as_str))

@@ -138,6 +138,12 @@ fn reason(f: &mut fmt::Formatter<'_>, reason: Option<super::error::Reason>) -> f
     }
 }
 
+/// `, 1 <thing>` or `, <n> <thing>s`: a count of waypoints or areas.
+fn count(f: &mut fmt::Formatter<'_>, n: u16, thing: &str) -> fmt::Result {
+    let s = if n == 1 { "" } else { "s" };
+    write!(f, ", {n} {thing}{s}")
+}
+
 /// `all areas` for Area ID 0 (#2011 mode 3, #3013), else `area <id>`.
 fn areas(f: &mut fmt::Formatter<'_>, area_id: u16) -> fmt::Result {
     match area_id {
