@@ -33,6 +33,15 @@ macro_rules! wire_enum {
                     $( Self::$variant => $word, )+
                 }
             }
+
+            /// The value with its number, `2 transmit mission`, as the messages' `Display`
+            /// writes the field their meaning hangs on (mode, type, status, command).
+            pub const fn numbered(self) -> $crate::wire::Numbered {
+                $crate::wire::Numbered {
+                    number: self as u8,
+                    name: self.name(),
+                }
+            }
         }
 
         impl TryFrom<u8> for $name {
@@ -57,6 +66,21 @@ macro_rules! wire_enum {
             }
         }
     };
+}
+
+/// An enumerated value with its number and its name in the ICD, displayed `2 transmit mission`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Numbered {
+    /// The value on the wire.
+    pub number: u8,
+    /// The value's name in the ICD's table.
+    pub name: &'static str,
+}
+
+impl core::fmt::Display for Numbered {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{} {}", self.number, self.name)
+    }
 }
 
 pub mod enums;

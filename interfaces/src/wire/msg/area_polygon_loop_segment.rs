@@ -242,7 +242,6 @@ impl fmt::Display for AreaPolygonLoopSegment {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #2012 the demo fly-zone: polygon of 4 corners, every field present; GCS to FCC, ack.
@@ -402,27 +401,17 @@ mod tests {
 
     #[test]
     fn display_polygon() {
-        let m = repr_polygon();
-        assert_eq!(
-            m.to_string(),
-            "#2012 Area Polygon Loop Segment: area 1 fly-zone, polygon of 4 vertices, 0.0 m to 300.0 m WGS-84"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#2012 Area Polygon Loop Segment: area 1 fly-zone, polygon of 4 vertices, 0.0 m to 300.0 m WGS-84"
+        super::super::assert_display(
+            repr_polygon(),
+            "#2012 Area Polygon Loop Segment: area 1 fly-zone, polygon of 4 vertices, 0.0 m to 300.0 m WGS-84",
         );
     }
 
     #[test]
     fn display_circle() {
-        let m = repr_circle();
-        assert_eq!(
-            m.to_string(),
-            "#2012 Area Polygon Loop Segment: area 2 no-fly-zone, circle around 48.268000 N 11.675000 E through 48.268000 N 11.679000 E"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#2012 Area Polygon Loop Segment: area 2 no-fly-zone, circle around 48.268000 N 11.675000 E through 48.268000 N 11.679000 E"
+        super::super::assert_display(
+            repr_circle(),
+            "#2012 Area Polygon Loop Segment: area 2 no-fly-zone, circle around 48.268000 N 11.675000 E through 48.268000 N 11.679000 E",
         );
     }
 }

@@ -57,13 +57,7 @@ impl MessageBody for AreaStatusAlert {
 /// `#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas`.
 impl fmt::Display for AreaStatusAlert {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: status {} {}",
-            Self::TYPE,
-            self.status as u8,
-            self.status.name()
-        )?;
+        write!(f, "{}: status {}", Self::TYPE, self.status.numbered())?;
         super::reason(f, self.reason)?;
         super::count(f, self.loop_count.into(), "area")
     }
@@ -72,7 +66,6 @@ impl fmt::Display for AreaStatusAlert {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #3012: the area list of 3 areas is valid, every field present; FCC to GCS, no ack.
@@ -126,31 +119,18 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#3012 Area Status Alert: status 1 valid, 3 areas"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#3012 Area Status Alert: status 1 valid, 3 areas"
-        );
+        super::super::assert_display(repr(), "#3012 Area Status Alert: status 1 valid, 3 areas");
     }
 
     #[test]
     fn display_invalid() {
-        let m = AreaStatusAlert {
-            status: AreaListStatus::Invalid,
-            reason: Some(Reason::BadGeometry),
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas"
+        super::super::assert_display(
+            AreaStatusAlert {
+                status: AreaListStatus::Invalid,
+                reason: Some(Reason::BadGeometry),
+                ..repr()
+            },
+            "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas",
         );
     }
 
@@ -160,9 +140,6 @@ mod tests {
             loop_count: 1,
             ..repr()
         };
-        assert_eq!(
-            m.to_string(),
-            "#3012 Area Status Alert: status 1 valid, 1 area"
-        );
+        super::super::assert_display(m, "#3012 Area Status Alert: status 1 valid, 1 area");
     }
 }

@@ -83,13 +83,7 @@ impl MessageBody for AreaTransmissionCommand {
 /// `#2011 Area Transmission Command: mode 1 initiate upload, 3 areas, safety offset 25.0 m`.
 impl fmt::Display for AreaTransmissionCommand {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: mode {} {}",
-            Self::TYPE,
-            self.mode as u8,
-            self.mode.name()
-        )?;
+        write!(f, "{}: mode {}", Self::TYPE, self.mode.numbered())?;
         if let Some(n) = self.loop_count {
             super::count(f, n.into(), "area")?;
         }
@@ -108,7 +102,6 @@ impl fmt::Display for AreaTransmissionCommand {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #2011 mode 1: initiate upload of 3 areas, every field present; GCS to FCC, ack.
@@ -169,33 +162,23 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#2011 Area Transmission Command: mode 1 initiate upload, 3 areas, safety offset 25.0 m"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#2011 Area Transmission Command: mode 1 initiate upload, 3 areas, safety offset 25.0 m"
+        super::super::assert_display(
+            repr(),
+            "#2011 Area Transmission Command: mode 1 initiate upload, 3 areas, safety offset 25.0 m",
         );
     }
 
     #[test]
     fn display_download() {
-        let m = AreaTransmissionCommand {
-            mode: AreaTransferMode::InitiateDownload,
-            loop_count: None,
-            area_id: Some(2),
-            safety_offset: None,
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#2011 Area Transmission Command: mode 3 initiate download, area 2"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#2011 Area Transmission Command: mode 3 initiate download, area 2"
+        super::super::assert_display(
+            AreaTransmissionCommand {
+                mode: AreaTransferMode::InitiateDownload,
+                loop_count: None,
+                area_id: Some(2),
+                safety_offset: None,
+                ..repr()
+            },
+            "#2011 Area Transmission Command: mode 3 initiate download, area 2",
         );
     }
 }

@@ -67,13 +67,7 @@ impl MessageBody for AreaTransmissionStatus {
 /// `#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m`.
 impl fmt::Display for AreaTransmissionStatus {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: status {} {}",
-            Self::TYPE,
-            self.status as u8,
-            self.status.name()
-        )?;
+        write!(f, "{}: status {}", Self::TYPE, self.status.numbered())?;
         super::count(f, self.loop_count.into(), "area")?;
         f.write_str(" (")?;
         super::areas(f, self.area_id)?;
@@ -84,7 +78,6 @@ impl fmt::Display for AreaTransmissionStatus {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #3013: ready to send all 3 areas; FCC to GCS, ack.
@@ -142,14 +135,9 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m"
+        super::super::assert_display(
+            repr(),
+            "#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m",
         );
     }
 }

@@ -212,7 +212,6 @@ impl fmt::Display for FromToNext {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #4001 on mission 2: FROM CCP (1), TO W1 (2), NEXT ROLE2 (3), all 21 fields; FCC to GCS, no ack.
@@ -339,33 +338,23 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#4001 FROM-TO-NEXT Waypoint States: FROM 1 (48.275000 N 11.645000 E), TO 2 (48.278000 N 11.658000 E), NEXT 3 (48.280000 N 11.680000 E)"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#4001 FROM-TO-NEXT Waypoint States: FROM 1 (48.275000 N 11.645000 E), TO 2 (48.278000 N 11.658000 E), NEXT 3 (48.280000 N 11.680000 E)"
+        super::super::assert_display(
+            repr(),
+            "#4001 FROM-TO-NEXT Waypoint States: FROM 1 (48.275000 N 11.645000 E), TO 2 (48.278000 N 11.658000 E), NEXT 3 (48.280000 N 11.680000 E)",
         );
     }
 
     #[test]
     fn display_last_leg() {
-        let m = {
-            let mut m = repr();
-            m.from = FromWaypointState::default();
-            m.next.waypoint_number = Some(0);
-            m.to.latitude = None;
-            m
-        };
-        assert_eq!(
-            m.to_string(),
-            "#4001 FROM-TO-NEXT Waypoint States: FROM -, TO 2, NEXT -"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#4001 FROM-TO-NEXT Waypoint States: FROM -, TO 2, NEXT -"
+        super::super::assert_display(
+            {
+                let mut m = repr();
+                m.from = FromWaypointState::default();
+                m.next.waypoint_number = Some(0);
+                m.to.latitude = None;
+                m
+            },
+            "#4001 FROM-TO-NEXT Waypoint States: FROM -, TO 2, NEXT -",
         );
     }
 }

@@ -68,13 +68,7 @@ impl MessageBody for MessageAcknowledgement {
 /// `#17000 Message Acknowledgement: type 3 rejected (BrokenChain (9)), of #13000`.
 impl fmt::Display for MessageAcknowledgement {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: type {} {}",
-            Self::TYPE,
-            self.ack_type as u8,
-            self.ack_type.name()
-        )?;
+        write!(f, "{}: type {}", Self::TYPE, self.ack_type.numbered())?;
         super::reason(f, self.reject_reason)?;
         write!(f, ", of #{}", self.original_message_type)
     }
@@ -83,7 +77,6 @@ impl fmt::Display for MessageAcknowledgement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #17000: the FCC rejects the #13000 of 12:01:00.600Z (BrokenChain); FCC to GCS, no ack.
@@ -147,32 +140,22 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#17000 Message Acknowledgement: type 3 rejected (BrokenChain (9)), of #13000"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#17000 Message Acknowledgement: type 3 rejected (BrokenChain (9)), of #13000"
+        super::super::assert_display(
+            repr(),
+            "#17000 Message Acknowledgement: type 3 rejected (BrokenChain (9)), of #13000",
         );
     }
 
     #[test]
     fn display_completed() {
-        let m = MessageAcknowledgement {
-            ack_type: AckType::Completed,
-            reject_reason: None,
-            original_message_type: 13002,
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#17000 Message Acknowledgement: type 2 completed, of #13002"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#17000 Message Acknowledgement: type 2 completed, of #13002"
+        super::super::assert_display(
+            MessageAcknowledgement {
+                ack_type: AckType::Completed,
+                reject_reason: None,
+                original_message_type: 13002,
+                ..repr()
+            },
+            "#17000 Message Acknowledgement: type 2 completed, of #13002",
         );
     }
 }

@@ -49,20 +49,13 @@ impl MessageBody for MissionExecuteCommand {
 /// `#50000 Mission Execute Command: command 1 execute`.
 impl fmt::Display for MissionExecuteCommand {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: command {} {}",
-            Self::TYPE,
-            self.command as u8,
-            self.command.name()
-        )
+        write!(f, "{}: command {}", Self::TYPE, self.command.numbered())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #50000 command 1 execute; GCS to FCC, ack.
@@ -111,14 +104,6 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#50000 Mission Execute Command: command 1 execute"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#50000 Mission Execute Command: command 1 execute"
-        );
+        super::super::assert_display(repr(), "#50000 Mission Execute Command: command 1 execute");
     }
 }

@@ -79,13 +79,7 @@ impl MessageBody for MissionTransferCommand {
 /// `#13000 Mission Transfer Command: mode 2 transmit mission, 2 waypoints, mission MEDEVAC-1`.
 impl fmt::Display for MissionTransferCommand {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: mode {} {}",
-            Self::TYPE,
-            self.mode as u8,
-            self.mode.name()
-        )?;
+        write!(f, "{}: mode {}", Self::TYPE, self.mode.numbered())?;
         if let Some(n) = self.waypoint_number {
             super::count(f, n, "waypoint")?;
         }
@@ -97,7 +91,6 @@ impl fmt::Display for MissionTransferCommand {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13000 mode 2 transmit mission 1 (TROL, CCP), every field present; GCS to FCC, ack.
@@ -164,33 +157,23 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#13000 Mission Transfer Command: mode 2 transmit mission, 2 waypoints, mission MEDEVAC-1, route TROL-CCP"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13000 Mission Transfer Command: mode 2 transmit mission, 2 waypoints, mission MEDEVAC-1, route TROL-CCP"
+        super::super::assert_display(
+            repr(),
+            "#13000 Mission Transfer Command: mode 2 transmit mission, 2 waypoints, mission MEDEVAC-1, route TROL-CCP",
         );
     }
 
     #[test]
     fn display_clear() {
-        let m = MissionTransferCommand {
-            mission_id: None,
-            mode: MissionPlanMode::ClearMission,
-            waypoint_number: None,
-            route_id: None,
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#13000 Mission Transfer Command: mode 1 clear mission"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13000 Mission Transfer Command: mode 1 clear mission"
+        super::super::assert_display(
+            MissionTransferCommand {
+                mission_id: None,
+                mode: MissionPlanMode::ClearMission,
+                waypoint_number: None,
+                route_id: None,
+                ..repr()
+            },
+            "#13000 Mission Transfer Command: mode 1 clear mission",
         );
     }
 }

@@ -83,19 +83,13 @@ impl MessageBody for MissionUploadDownloadStatus {
 /// `#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission`.
 impl fmt::Display for MissionUploadDownloadStatus {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{}: status {} {}",
-            Self::TYPE,
-            self.status as u8,
-            self.status.name()
-        )?;
+        write!(f, "{}: status {}", Self::TYPE, self.status.numbered())?;
         super::reason(f, self.reason)?;
         if let Some(p) = self.percent_complete {
             write!(f, ", {p} %")?;
         }
         if let Some(m) = self.mode {
-            write!(f, ", mode {} {}", m as u8, m.name())?;
+            write!(f, ", mode {}", m.numbered())?;
         }
         super::optional(f, "mission", self.mission_id.as_ref().map(Text::as_str))?;
         super::optional(f, "waypoint request", self.waypoint_request)
@@ -105,7 +99,6 @@ impl fmt::Display for MissionUploadDownloadStatus {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #14000: download of mission 2 complete, every field present; FCC to GCS, ack.
@@ -169,35 +162,25 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission, mission MEDEVAC-2, waypoint request 3"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission, mission MEDEVAC-2, waypoint request 3"
+        super::super::assert_display(
+            repr(),
+            "#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission, mission MEDEVAC-2, waypoint request 3",
         );
     }
 
     #[test]
     fn display_aborted() {
-        let m = MissionUploadDownloadStatus {
-            mission_id: None,
-            status: TransferStatus::Aborted,
-            percent_complete: None,
-            waypoint_request: None,
-            mode: None,
-            reason: Some(Reason::Busy),
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))"
+        super::super::assert_display(
+            MissionUploadDownloadStatus {
+                mission_id: None,
+                status: TransferStatus::Aborted,
+                percent_complete: None,
+                waypoint_request: None,
+                mode: None,
+                reason: Some(Reason::Busy),
+                ..repr()
+            },
+            "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))",
         );
     }
 }

@@ -299,6 +299,14 @@ messages! {
     MissionExecuteCommand = 50000, "Mission Execute Command";
 }
 
+/// Display check shared by the message modules: `message` and the [`Message`] holding it both
+/// read `expected`.
+#[cfg(test)]
+pub(crate) fn assert_display(message: impl fmt::Display + Into<Message>, expected: &str) {
+    assert_eq!(message.to_string(), expected);
+    assert_eq!(message.into().to_string(), expected, "as a Message");
+}
+
 /// Golden-frame check shared by the message modules: `frame` decodes to `envelope` and
 /// `message`, and encoding them into a buffer pre-filled with 0xa5 writes exactly `frame` and
 /// nothing past it.

@@ -178,7 +178,6 @@ impl fmt::Display for UaPositionWaypoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13002 ROLE2, waypoint 3 of mission 2 (radius-to-fix, last), all 18 fields; GCS to FCC, ack.
@@ -272,40 +271,20 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, radius-to-fix, arrival 2026-11-21T12:06:00.000Z, last"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, radius-to-fix, arrival 2026-11-21T12:06:00.000Z, last"
+        super::super::assert_display(
+            repr(),
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, radius-to-fix, arrival 2026-11-21T12:06:00.000Z, last",
         );
     }
 
     #[test]
-    fn display_mandatory_fields_only() {
-        let m = UaPositionWaypoint {
-            location_type: None,
-            altitude_type: None,
-            altitude_change_behaviour: None,
-            speed_type: None,
-            next_waypoint: 4,
-            optional_messages: None,
-            leg_type: LegType::TrackToFix,
-            limit_type: None,
-            loop_limit: None,
-            arrival_time: None,
-            activity_id: None,
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m, 25.0 m/s, fly-by, track-to-fix, next 4"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m, 25.0 m/s, fly-by, track-to-fix, next 4"
+    fn display_without_the_optional_fields() {
+        let mut m = repr();
+        (m.altitude_type, m.speed_type, m.arrival_time) = (None, None, None);
+        (m.next_waypoint, m.leg_type) = (4, LegType::TrackToFix);
+        super::super::assert_display(
+            m,
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m, 25.0 m/s, fly-by, track-to-fix, next 4",
         );
     }
 }

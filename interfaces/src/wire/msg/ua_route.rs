@@ -94,7 +94,6 @@ impl fmt::Display for UaRoute {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13001 route of mission 1, every field present, bidirectional; GCS to FCC, ack.
@@ -155,32 +154,22 @@ mod tests {
 
     #[test]
     fn display() {
-        let m = repr();
-        assert_eq!(
-            m.to_string(),
-            "#13001 UA Route: initial waypoint 1, bidirectional, flight, route TROL-CCP"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13001 UA Route: initial waypoint 1, bidirectional, flight, route TROL-CCP"
+        super::super::assert_display(
+            repr(),
+            "#13001 UA Route: initial waypoint 1, bidirectional, flight, route TROL-CCP",
         );
     }
 
     #[test]
     fn display_one_way() {
-        let m = UaRoute {
-            route_id: None,
-            route_type: None,
-            bidirectional: false,
-            ..repr()
-        };
-        assert_eq!(
-            m.to_string(),
-            "#13001 UA Route: initial waypoint 1, one-way"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13001 UA Route: initial waypoint 1, one-way"
+        super::super::assert_display(
+            UaRoute {
+                route_id: None,
+                route_type: None,
+                bidirectional: false,
+                ..repr()
+            },
+            "#13001 UA Route: initial waypoint 1, one-way",
         );
     }
 }

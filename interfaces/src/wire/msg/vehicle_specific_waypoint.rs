@@ -175,7 +175,6 @@ impl fmt::Display for VehicleSpecificWaypoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::Message;
     use crate::wire::{ChecksumWidth, Envelope};
 
     /// #13006 type 1: take-off height 30 m, no activity ID; GCS to FCC, ack.
@@ -294,27 +293,17 @@ mod tests {
 
     #[test]
     fn display_take_off_height() {
-        let m = repr_take_off();
-        assert_eq!(
-            m.to_string(),
-            "#13006 Vehicle Specific Waypoint: take-off height 30.0 m"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13006 Vehicle Specific Waypoint: take-off height 30.0 m"
+        super::super::assert_display(
+            repr_take_off(),
+            "#13006 Vehicle Specific Waypoint: take-off height 30.0 m",
         );
     }
 
     #[test]
     fn display_rf_centre() {
-        let m = repr_rf_centre();
-        assert_eq!(
-            m.to_string(),
-            "#13006 Vehicle Specific Waypoint: RF centre of waypoint 3: 48.274550 N 11.669910 E, clockwise"
-        );
-        assert_eq!(
-            Message::from(m).to_string(),
-            "#13006 Vehicle Specific Waypoint: RF centre of waypoint 3: 48.274550 N 11.669910 E, clockwise"
+        super::super::assert_display(
+            repr_rf_centre(),
+            "#13006 Vehicle Specific Waypoint: RF centre of waypoint 3: 48.274550 N 11.669910 E, clockwise",
         );
     }
 }
