@@ -191,6 +191,19 @@ impl Pair {
         due
     }
 
+    /// Votes the frames of `queue` due at `now` (paper §2.4) and hands each winner to `handle`.
+    fn deliver(
+        queue: &mut Vec<InFlight>,
+        voter: &mut Voter,
+        now: Instant,
+        mut handle: impl FnMut(&[u8]),
+    ) {
+        let due = Self::take_due(queue, now);
+        let arrivals: Vec<(Link, &[u8])> =
+            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
+        voter.vote_step(now, &arrivals, |_, frame| handle(frame));
+    }
+
     /// Advances to the next event and handles it. `false` when nothing is left to happen.
     pub fn step(&mut self) -> bool {
         self.drain_outgoing();
@@ -200,19 +213,12 @@ impl Pair {
         self.now = self.now.max(next);
         let now = self.now;
 
-        let due = Self::take_due(&mut self.to_fcc, now);
-        let arrivals: Vec<(Link, &[u8])> =
-            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
         let fcc = &mut self.fcc;
-        self.fcc_voter.vote_step(now, &arrivals, |_, frame| {
+        Self::deliver(&mut self.to_fcc, &mut self.fcc_voter, now, |frame| {
             let _ = fcc.handle_frame(now, frame);
         });
-
-        let due = Self::take_due(&mut self.to_gcs, now);
-        let arrivals: Vec<(Link, &[u8])> =
-            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
         let gcs = &mut self.gcs;
-        self.gcs_voter.vote_step(now, &arrivals, |_, frame| {
+        Self::deliver(&mut self.to_gcs, &mut self.gcs_voter, now, |frame| {
             let _ = gcs.handle_frame(now, frame);
         });
 
