@@ -20,51 +20,36 @@ use std::hint::black_box;
 use std::time::{Duration, Instant as WallClock};
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use missionlink_interfaces::capacity::{MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
+use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    self, AckType, Altitude, AreaPolygonLoopSegment, AreaShape, AreaType, Envelope, GeoPoint,
-    LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset, SpecificData, Timestamp,
-    UaRoute, VehicleSpecificWaypoint,
+    self, AckType, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset,
+    UaPositionWaypoint,
 };
-use missionlink_services::link::endpoint::{EndpointConfig, OUTBOX_CAPACITY};
+use missionlink_services::link::endpoint::OUTBOX_CAPACITY;
 use missionlink_services::link::sampling::{MessageSampler, Sample};
 use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::{FccConfig, MissionDataHandling};
+use missionlink_services::mission_data_handling::MissionDataHandling;
+use missionlink_services::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
 use missionlink_services::transfer::areas::AreaBuffer;
 use missionlink_services::transfer::mission::MissionBuffer;
 use missionlink_services::transfer::sender::mission_command;
 
-mod common;
-
-/// 2026-11-21T12:00:00Z, the UTC time of instant zero.
-const UTC_AT_ZERO_MS: u64 = 848_577_600_000;
-const TRANSFER_TIMEOUT: Duration = Duration::from_secs(3);
 const WAYPOINTS: u16 = MAX_WAYPOINTS as u16;
-
-fn ts(ms: u64) -> Timestamp {
-    Timestamp::from_millis(ms).expect("fits a U5")
-}
 
 /// Waypoint `n` of a 256-waypoint ring: all 18 fields (as the wire bench), track-to-fix.
 fn waypoint(n: u16, stamp_ms: u64) -> Message {
-    let mut m = common::waypoint();
-    if let Message::UaPositionWaypoint(w) = &mut m {
-        w.waypoint_number = n;
-        w.next_waypoint = n % WAYPOINTS + 1;
-        w.leg_type = LegType::TrackToFix;
-        w.latitude = wire::Angle::from_degrees(48.26 + f64::from(n) * 1e-4).expect("latitude");
+    let full = testkit::full_waypoint();
+    let latitude = wire::Angle::from_degrees(48.26 + f64::from(n) * 1e-4).expect("latitude");
+    UaPositionWaypoint {
+        time_stamp: ts(stamp_ms),
+        waypoint_number: n,
+        next_waypoint: n % WAYPOINTS + 1,
+        leg_type: LegType::TrackToFix,
+        latitude,
+        ..full
     }
-    m.set_time_stamp(ts(stamp_ms));
-    m
-}
-
-/// `message` as the GCS sends it to the FCC, acknowledgement requested.
-fn uplink_frame(message: &Message) -> ([u8; MAX_FRAME_LEN], usize) {
-    let envelope = Envelope::new(defaults::GCS_ID, defaults::FCC_ID).with_ack(true);
-    let mut buf = [0u8; MAX_FRAME_LEN];
-    let len = wire::encode(&envelope, message, &mut buf).expect("encodes");
-    (buf, len)
+    .into()
 }
 
 /// The #13002 frames of an upload, one per call: numbers 1..=256 round and round, time stamps
@@ -79,33 +64,28 @@ impl Upload {
         Self { count: 0 }
     }
 
-    fn next_frame(&mut self) -> (Instant, [u8; MAX_FRAME_LEN], usize) {
+    fn next_frame(&mut self) -> (Instant, Vec<u8>) {
         self.count += 1;
         let n = (self.count % u64::from(WAYPOINTS)) as u16 + 1;
-        let (buf, len) = uplink_frame(&waypoint(n, UTC_AT_ZERO_MS + self.count));
-        (Instant::from_millis(self.count), buf, len)
+        let frame = uplink(&waypoint(n, UTC_AT_ZERO_MS + self.count));
+        (Instant::from_millis(self.count), frame)
     }
 }
 
 /// Mission data handling with an upload in progress: it has received (and answered) a clear.
 fn fcc_uploading() -> MissionDataHandling {
-    let mut fcc = MissionDataHandling::new(FccConfig {
-        endpoint: EndpointConfig {
-            local_id: defaults::FCC_ID,
-            peer_id: defaults::GCS_ID,
-            utc_at_zero: ts(UTC_AT_ZERO_MS),
-            sampling_window: TRANSFER_TIMEOUT,
-        },
-        ack_timeout: Duration::from_millis(500),
-        transfer_timeout: TRANSFER_TIMEOUT,
-    });
+    let mut fcc = MissionDataHandling::new(testkit::fcc_config());
     let mut clear = mission_command(MissionPlanMode::ClearMission, None, None);
     clear.set_time_stamp(ts(UTC_AT_ZERO_MS));
-    let (buf, len) = uplink_frame(&clear);
-    fcc.handle_frame(Instant::ZERO, &buf[..len])
+    fcc.handle_frame(Instant::ZERO, &uplink(&clear))
         .expect("clear accepted");
     expect_completed(&mut fcc, 13000);
     fcc
+}
+
+/// Mission data handling uploading, the frames to give it and a buffer for its answers.
+fn uploading() -> (MissionDataHandling, Upload, [u8; MAX_FRAME_LEN]) {
+    (fcc_uploading(), Upload::new(), [0u8; MAX_FRAME_LEN])
 }
 
 /// Takes the one queued answer and checks it accepts a message of `original_type`.
@@ -120,19 +100,31 @@ fn expect_completed(fcc: &mut MissionDataHandling, original_type: u16) {
     assert!(fcc.poll_outgoing().is_none());
 }
 
+/// The time `chunk` gives for `iters` frames, in chunks of at most OUTBOX_CAPACITY: the outgoing
+/// queue holds that many answers, so each chunk handles its frames and drains their answers,
+/// one of the two timed (`chunk` returns the time of that part).
+fn in_chunks(iters: u64, mut chunk: impl FnMut(usize) -> Duration) -> Duration {
+    let mut total = Duration::ZERO;
+    let mut left = iters;
+    while left > 0 {
+        let n = left.min(OUTBOX_CAPACITY as u64);
+        total += chunk(n as usize);
+        left -= n;
+    }
+    total
+}
+
 fn frame_benches(c: &mut Criterion) {
     let mut group = c.benchmark_group("13002");
     group
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
 
-    let (frame, len) = uplink_frame(&waypoint(1, UTC_AT_ZERO_MS + 1));
-    group.bench_function("decode", |b| {
-        b.iter(|| wire::decode(black_box(&frame[..len])))
-    });
+    let frame = uplink(&waypoint(1, UTC_AT_ZERO_MS + 1));
+    group.bench_function("decode", |b| b.iter(|| wire::decode(black_box(&frame))));
 
     group.bench_function("sampling", |b| {
-        let mut sampler = MessageSampler::new(TRANSFER_TIMEOUT);
+        let mut sampler = MessageSampler::new(defaults::TRANSFER_TIMEOUT);
         let mut count = 0u64;
         b.iter_batched(
             || {
@@ -148,62 +140,47 @@ fn frame_benches(c: &mut Criterion) {
         )
     });
 
-    // The outgoing queue holds OUTBOX_CAPACITY messages: handle that many frames, timed, then
-    // drain their acknowledgements, untimed (and the other way round for the encode).
+    // Handle a chunk of frames, timed, then drain their acknowledgements, untimed (and the other
+    // way round for the encode).
     group.bench_function("handle", |b| {
-        let mut fcc = fcc_uploading();
-        let mut upload = Upload::new();
-        let mut out = [0u8; MAX_FRAME_LEN];
+        let (mut fcc, mut upload, mut out) = uploading();
         b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            let mut left = iters;
-            while left > 0 {
-                let chunk = left.min(OUTBOX_CAPACITY as u64) as usize;
+            in_chunks(iters, |chunk| {
                 let frames: Vec<_> = (0..chunk).map(|_| upload.next_frame()).collect();
                 let start = WallClock::now();
-                for (now, buf, len) in &frames {
-                    let _ = black_box(fcc.handle_frame(*now, black_box(&buf[..*len])));
+                for (now, frame) in &frames {
+                    let _ = black_box(fcc.handle_frame(*now, black_box(frame)));
                 }
-                total += start.elapsed();
+                let elapsed = start.elapsed();
                 while fcc.poll_transmit(&mut out).is_some() {}
-                left -= chunk as u64;
-            }
-            total
+                elapsed
+            })
         })
     });
 
     group.bench_function("ack_encode", |b| {
-        let mut fcc = fcc_uploading();
-        let mut upload = Upload::new();
-        let mut out = [0u8; MAX_FRAME_LEN];
+        let (mut fcc, mut upload, mut out) = uploading();
         b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            let mut left = iters;
-            while left > 0 {
-                let chunk = left.min(OUTBOX_CAPACITY as u64) as usize;
+            in_chunks(iters, |chunk| {
                 for _ in 0..chunk {
-                    let (now, buf, len) = upload.next_frame();
-                    fcc.handle_frame(now, &buf[..len]).expect("frame accepted");
+                    let (now, frame) = upload.next_frame();
+                    fcc.handle_frame(now, &frame).expect("frame accepted");
                 }
                 let start = WallClock::now();
                 for _ in 0..chunk {
                     let _ = black_box(fcc.poll_transmit(black_box(&mut out)));
                 }
-                total += start.elapsed();
-                left -= chunk as u64;
-            }
-            total
+                start.elapsed()
+            })
         })
     });
 
     group.bench_function("frame_total", |b| {
-        let mut fcc = fcc_uploading();
-        let mut upload = Upload::new();
-        let mut out = [0u8; MAX_FRAME_LEN];
+        let (mut fcc, mut upload, mut out) = uploading();
         b.iter_batched(
             || upload.next_frame(),
-            |(now, buf, len)| {
-                let _ = fcc.handle_frame(now, black_box(&buf[..len]));
+            |(now, frame)| {
+                let _ = fcc.handle_frame(now, black_box(&frame));
                 black_box(fcc.poll_transmit(&mut out))
             },
             BatchSize::SmallInput,
@@ -212,106 +189,25 @@ fn frame_benches(c: &mut Criterion) {
     group.finish();
 
     // Every frame above was accepted: the same path, checked once outside the measurement.
-    let mut fcc = fcc_uploading();
-    let mut upload = Upload::new();
+    let (mut fcc, mut upload, _) = uploading();
     for _ in 0..3 * WAYPOINTS {
-        let (now, buf, len) = upload.next_frame();
-        fcc.handle_frame(now, &buf[..len]).expect("frame accepted");
+        let (now, frame) = upload.next_frame();
+        fcc.handle_frame(now, &frame).expect("frame accepted");
         expect_completed(&mut fcc, 13002);
     }
 }
 
-/// A small deterministic RNG (xorshift64*) for the shuffle.
-fn shuffle<T>(items: &mut [T], mut seed: u64) {
-    for i in (1..items.len()).rev() {
-        seed ^= seed >> 12;
-        seed ^= seed << 25;
-        seed ^= seed >> 27;
-        let j = (seed.wrapping_mul(0x2545_F491_4F6C_DD1D) % (i as u64 + 1)) as usize;
-        items.swap(i, j);
-    }
-}
-
-/// 256 waypoints chained 1 -> 2 -> ... -> 256, stored in shuffled order, with take-off height
-/// and route.
+/// 256 waypoints chained 1 -> 2 -> ... -> 256 with take-off height and route, stored in
+/// shuffled order.
 fn mission_buffer() -> MissionBuffer {
-    let mut messages: Vec<Message> = (1..=WAYPOINTS)
-        .map(|n| {
-            let mut m = waypoint(n, UTC_AT_ZERO_MS + u64::from(n));
-            if let Message::UaPositionWaypoint(w) = &mut m {
-                w.next_waypoint = if n == WAYPOINTS { 0 } else { n + 1 };
-            }
-            m
-        })
-        .collect();
-    messages.push(
-        VehicleSpecificWaypoint {
-            time_stamp: Timestamp::default(),
-            data: SpecificData::TakeOffHeight {
-                height: Altitude::from_metres(30.0).expect("height"),
-            },
-            activity_id: None,
-        }
-        .into(),
-    );
-    messages.push(
-        UaRoute {
-            time_stamp: Timestamp::default(),
-            initial_waypoint: 1,
-            route_id: None,
-            route_type: Some(wire::RouteType::Flight),
-            bidirectional: false,
-        }
-        .into(),
-    );
-    shuffle(&mut messages, 0x9E37_79B9_7F4A_7C15);
-    let mut buffer = MissionBuffer::new();
-    for m in &messages {
-        buffer.store(m).expect("stored");
-    }
-    buffer
+    let mut messages = testkit::zigzag(WAYPOINTS);
+    testkit::Rng::new(0x9E37_79B9_7F4A_7C15).shuffle(&mut messages);
+    testkit::mission_buffer(&messages)
 }
 
-/// A no-fly-zone: a circle of `radius_deg` (latitude degrees) around `centre` as a 60-vertex
-/// polygon.
-fn no_fly_zone(id: u16, centre: (f64, f64), radius_deg: f64) -> AreaPolygonLoopSegment {
-    let mut vertices = wire::PolygonVertices::new();
-    let lon_scale = 1.0 / centre.0.to_radians().cos();
-    for i in 0..MAX_POLYGON_VERTICES {
-        let a = i as f64 / MAX_POLYGON_VERTICES as f64 * std::f64::consts::TAU;
-        let p = GeoPoint::from_degrees(
-            centre.0 + radius_deg * a.sin(),
-            centre.1 + radius_deg * lon_scale * a.cos(),
-        )
-        .expect("vertex");
-        vertices.push(p).expect("capacity");
-    }
-    AreaPolygonLoopSegment {
-        time_stamp: Timestamp::default(),
-        area_id: id,
-        area_type: AreaType::NoFlyZone,
-        lower_altitude: None,
-        upper_altitude: None,
-        altitude_type: None,
-        shape: AreaShape::Polygon(vertices),
-    }
-}
-
-/// The fly-zone (60 vertices) and 10 no-fly-zones of 60 vertices inside it.
+/// The fly-zone and 10 no-fly-zones of 60 vertices inside it.
 fn area_buffer() -> AreaBuffer {
-    let Message::AreaPolygonLoopSegment(fly_zone) = common::polygon() else {
-        unreachable!("common::polygon is a #2012")
-    };
-    let mut buffer = AreaBuffer::new();
-    buffer.store(&fly_zone).expect("stored");
-    for k in 0..10u16 {
-        let lat = 48.266 + 0.008 * f64::from(k / 5);
-        let lon = 11.648 + 0.0075 * f64::from(k % 5);
-        buffer
-            .store(&no_fly_zone(k + 2, (lat, lon), 0.0012))
-            .expect("stored");
-    }
-    buffer
+    testkit::area_buffer(&testkit::eleven_areas())
 }
 
 fn assembly_benches(c: &mut Criterion) {

@@ -22,128 +22,12 @@ mod common;
 use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
-use missionlink_interfaces::capacity::MAX_POLYGON_VERTICES;
-use missionlink_interfaces::wire::{
-    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint,
-    LegType, Message, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnType,
-    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
-};
 use missionlink_partitions::binaries;
 use missionlink_services::ground_station::MissionPlan;
-use missionlink_services::transfer::areas::AreaBuffer;
-use missionlink_services::transfer::mission::MissionBuffer;
+use missionlink_services::testkit;
 
 const DEFAULT_RUNS: usize = 30;
 const WARM_UP_RUNS: usize = 2;
-/// The demo fly-zone rectangle: 48.255..48.285 N, 11.635..11.690 E.
-const CENTRE: (f64, f64) = (48.270, 11.6625);
-
-fn waypoint(number: u16, next: u16, lat: f64, lon: f64) -> Message {
-    UaPositionWaypoint {
-        time_stamp: Timestamp::default(),
-        waypoint_number: number,
-        latitude: Angle::from_degrees(lat).unwrap(),
-        longitude: Angle::from_degrees(lon).unwrap(),
-        location_type: None,
-        altitude: Altitude::from_metres(120.0).unwrap(),
-        altitude_type: Some(AltitudeType::Wgs84),
-        altitude_change_behaviour: None,
-        speed: Speed::from_mps(25.0).unwrap(),
-        speed_type: Some(SpeedType::IndicatedAirspeed),
-        next_waypoint: next,
-        turn_type: TurnType::FlyBy,
-        optional_messages: None,
-        leg_type: LegType::TrackToFix,
-        limit_type: None,
-        loop_limit: None,
-        arrival_time: None,
-        activity_id: None,
-    }
-    .into()
-}
-
-/// A closed curve of 60 vertices around `centre` with semi-axes in degrees of latitude and
-/// longitude.
-fn ellipse(
-    id: u16,
-    area_type: AreaType,
-    centre: (f64, f64),
-    axes: (f64, f64),
-) -> AreaPolygonLoopSegment {
-    let mut vertices = wire::PolygonVertices::new();
-    for i in 0..MAX_POLYGON_VERTICES {
-        let a = i as f64 / MAX_POLYGON_VERTICES as f64 * std::f64::consts::TAU;
-        let p = GeoPoint::from_degrees(centre.0 + axes.0 * a.sin(), centre.1 + axes.1 * a.cos())
-            .unwrap();
-        vertices.push(p).unwrap();
-    }
-    AreaPolygonLoopSegment {
-        time_stamp: Timestamp::default(),
-        area_id: id,
-        area_type,
-        lower_altitude: None,
-        upper_altitude: None,
-        altitude_type: None,
-        shape: AreaShape::Polygon(vertices),
-    }
-}
-
-/// `n` waypoints zig-zagging west to east inside the fly-zone (track-to-fix, 120 m, 25 m/s),
-/// the fly-zone as a 60-vertex ellipse inside the demo rectangle, and ten 60-vertex no-fly-zone
-/// circles (about 130 m radius) inside it.
-fn generated(n: u16) -> MissionPlan {
-    let mut mission = MissionBuffer::new();
-    let take_off: Message = VehicleSpecificWaypoint {
-        time_stamp: Timestamp::default(),
-        data: SpecificData::TakeOffHeight {
-            height: Altitude::from_metres(30.0).unwrap(),
-        },
-        activity_id: None,
-    }
-    .into();
-    mission.store(&take_off).unwrap();
-    for i in 0..n {
-        let lat = if i % 2 == 0 { 48.262 } else { 48.278 };
-        let lon = 11.645 + 0.035 * f64::from(i) / f64::from((n - 1).max(1));
-        let next = if i + 1 == n { 0 } else { i + 2 };
-        mission.store(&waypoint(i + 1, next, lat, lon)).unwrap();
-    }
-    let route: Message = UaRoute {
-        time_stamp: Timestamp::default(),
-        initial_waypoint: 1,
-        route_id: None,
-        route_type: Some(wire::RouteType::Flight),
-        bidirectional: false,
-    }
-    .into();
-    mission.store(&route).unwrap();
-
-    let mut areas = AreaBuffer::new();
-    areas
-        .store(&ellipse(1, AreaType::FlyZone, CENTRE, (0.0145, 0.027)))
-        .unwrap();
-    let lon_scale = 1.0 / CENTRE.0.to_radians().cos();
-    for k in 0..10u16 {
-        let centre = (
-            48.266 + 0.008 * f64::from(k / 5),
-            11.648 + 0.0075 * f64::from(k % 5),
-        );
-        areas
-            .store(&ellipse(
-                k + 2,
-                AreaType::NoFlyZone,
-                centre,
-                (0.0012, 0.0012 * lon_scale),
-            ))
-            .unwrap();
-    }
-    MissionPlan {
-        mission,
-        areas,
-        safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
-        mission_id: Some(Text::new(&format!("BENCH-{n}")).unwrap()),
-    }
-}
 
 struct Case {
     name: String,
@@ -205,7 +89,7 @@ fn main() {
             name: format!("generated-{n}"),
             waypoints: usize::from(n),
             areas: 11,
-            plan: generated(n),
+            plan: testkit::generated_plan(n),
         });
     }
 

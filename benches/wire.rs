@@ -7,9 +7,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, Message};
-
-mod common;
-use common::{polygon, waypoint};
+use missionlink_services::testkit::{full_polygon, full_waypoint};
 
 fn bench_message(c: &mut Criterion, name: &str, message: &Message) {
     let envelope = Envelope::new(0x0A00_0001, 0x0B00_0001).with_ack(true);
@@ -28,8 +26,8 @@ fn bench_message(c: &mut Criterion, name: &str, message: &Message) {
 }
 
 fn wire_benches(c: &mut Criterion) {
-    bench_message(c, "13002_ua_position_waypoint", &waypoint());
-    bench_message(c, "2012_polygon_60_vertices", &polygon());
+    bench_message(c, "13002_ua_position_waypoint", &full_waypoint().into());
+    bench_message(c, "2012_polygon_60_vertices", &full_polygon().into());
 }
 
 criterion_group!(benches, wire_benches);

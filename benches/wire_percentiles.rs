@@ -8,8 +8,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, Message};
-
-mod common;
+use missionlink_services::testkit::{full_polygon, full_waypoint};
 
 const BATCH: u32 = 32;
 const SAMPLES: usize = 50_000;
@@ -65,6 +64,6 @@ fn main() {
         "ns per call, {SAMPLES} samples of {BATCH} calls\n{:<36} {:>9} {:>9} {:>9} {:>9}",
         "", "p50", "p99", "p99.9", "max"
     );
-    bench_message("#13002", &common::waypoint());
-    bench_message("#2012 60 vertices", &common::polygon());
+    bench_message("#13002", &full_waypoint().into());
+    bench_message("#2012 60 vertices", &full_polygon().into());
 }

@@ -255,25 +255,6 @@ impl<G: SafetyGateway> GcsLink<G> {
     }
 }
 
-/// One line for a #4001: FROM, TO and NEXT with their positions where given.
-pub fn describe_from_to_next(f: &missionlink_interfaces::wire::FromToNext) -> String {
-    let point = |n: Option<u16>,
-                 lat: Option<missionlink_interfaces::wire::Angle>,
-                 lon: Option<missionlink_interfaces::wire::Angle>| match (
-        n, lat, lon,
-    ) {
-        (Some(0) | None, _, _) => "-".to_owned(),
-        (Some(n), Some(la), Some(lo)) => format!("{n} ({:.5}, {:.5})", la.degrees(), lo.degrees()),
-        (Some(n), _, _) => n.to_string(),
-    };
-    format!(
-        "FROM {}  TO {}  NEXT {}",
-        point(f.from.waypoint_number, f.from.latitude, f.from.longitude),
-        point(f.to.waypoint_number, f.to.latitude, f.to.longitude),
-        point(f.next.waypoint_number, f.next.latitude, f.next.longitude),
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1335,6 +1335,16 @@ pub(crate) mod tests {
             .collect()
     }
 
+    /// `m`'s waypoints are `expected`, altitudes within [`close`].
+    fn assert_rows(m: &Mission, expected: &[Row]) {
+        let got = rows(m);
+        assert_eq!(got.len(), expected.len());
+        for (g, e) in got.iter().zip(expected) {
+            assert!(close(g.1, e.1), "{g:?} {e:?}");
+            assert_eq!((g.0, g.2, g.3, g.4, g.5), (e.0, e.2, e.3, e.4, e.5));
+        }
+    }
+
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() < 0.011
     }
@@ -1402,12 +1412,7 @@ pub(crate) mod tests {
             // The land (items[9]) at the altitude of the waypoint before.
             (pos(47.3943051, 8.5455), 40.0, Agl, 18.0, ground, FlyOver),
         ];
-        let got = rows(&m);
-        assert_eq!(got.len(), expected.len());
-        for (g, e) in got.iter().zip(&expected) {
-            assert!(close(g.1, e.1), "{g:?} {e:?}");
-            assert_eq!((g.0, g.2, g.3, g.4, g.5), (e.0, e.2, e.3, e.4, e.5));
-        }
+        assert_rows(&m, &expected);
         assert!(
             m.waypoints
                 .iter()
@@ -1457,12 +1462,7 @@ pub(crate) mod tests {
             (pos(47.4194578, 8.5189587), 15.0, Agl, 10.0, ground, FlyBy),
             (pos(47.3996949, 8.5455), 15.0, Agl, 10.0, ground, FlyOver),
         ];
-        let got = rows(&m);
-        assert_eq!(got.len(), expected.len());
-        for (g, e) in got.iter().zip(&expected) {
-            assert!(close(g.1, e.1), "{g:?} {e:?}");
-            assert_eq!((g.0, g.2, g.3, g.4, g.5), (e.0, e.2, e.3, e.4, e.5));
-        }
+        assert_rows(&m, &expected);
     }
 
     #[test]

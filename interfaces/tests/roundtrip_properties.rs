@@ -670,6 +670,15 @@ proptest! {
         prop_assert_eq!(encode(&e, &m), frame.to_vec());
     }
 
+    /// Every message describes itself on one line that starts with its type and ICD name.
+    #[test]
+    fn display_is_one_line_naming_the_message(message in message()) {
+        let line = message.to_string();
+        let t = message.message_type();
+        prop_assert!(line.starts_with(&format!("#{} {}: ", t as u16, t.name())), "{}", line);
+        prop_assert!(!line.contains('\n'), "{}", line);
+    }
+
     /// A buffer too small for the frame is refused, never overrun.
     #[test]
     fn encode_into_a_short_buffer_is_refused(

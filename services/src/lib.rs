@@ -21,5 +21,7 @@ pub mod guidance;
 pub mod link;
 pub mod mission_data_handling;
 pub mod safety_gateway;
+#[cfg(any(test, feature = "testkit"))]
+pub mod testkit;
 pub mod transfer;
 pub mod voting;

@@ -416,46 +416,25 @@ impl Voter {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testkit::{self, ts};
     use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
     use missionlink_interfaces::wire::{
-        AckType, Altitude, Angle, BROADCAST_ID, Envelope, LegType, MAX_FRAME_LEN, Message,
-        MessageAcknowledgement, Speed, TurnType, UaPositionWaypoint, frame::checksum,
+        AckType, BROADCAST_ID, Envelope, LegType, Message, MessageAcknowledgement,
+        UaPositionWaypoint, frame::checksum,
     };
 
     const WINDOW: Duration = Duration::from_secs(3);
 
-    fn ts(ms: u64) -> Timestamp {
-        Timestamp::from_millis(ms).unwrap()
-    }
-
-    /// A valid #13002 (waypoint `number`) stamped `stamp`.
+    /// A valid #13002 (waypoint `number`, the last) stamped `stamp`.
     fn waypoint(stamp: u64, number: u16) -> UaPositionWaypoint {
         UaPositionWaypoint {
             time_stamp: ts(stamp),
-            waypoint_number: number,
-            latitude: Angle::from_degrees(48.275).unwrap(),
-            longitude: Angle::from_degrees(11.645).unwrap(),
-            location_type: None,
-            altitude: Altitude::from_metres(120.0).unwrap(),
-            altitude_type: None,
-            altitude_change_behaviour: None,
-            speed: Speed::from_mps(25.0).unwrap(),
-            speed_type: None,
-            next_waypoint: 0,
-            turn_type: TurnType::FlyBy,
-            optional_messages: None,
-            leg_type: LegType::TrackToFix,
-            limit_type: None,
-            loop_limit: None,
-            arrival_time: None,
-            activity_id: None,
+            ..testkit::waypoint(number, 0, testkit::CCP, LegType::TrackToFix)
         }
     }
 
     fn encode(envelope: Envelope, message: impl Into<Message>) -> std::vec::Vec<u8> {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        let len = wire::encode(&envelope, &message.into(), &mut buf).unwrap();
-        buf[..len].to_vec()
+        testkit::frame(&envelope, &message.into())
     }
 
     /// An uplink #13002 from the GCS to the FCC.

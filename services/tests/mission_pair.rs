@@ -185,8 +185,7 @@ fn invalid_plan_is_refused_before_anything_is_sent() {
             &waypoint(
                 1,
                 7,
-                48.275,
-                11.645,
+                (48.275, 11.645),
                 missionlink_interfaces::wire::LegType::TrackToFix,
             )
             .into(),

@@ -134,7 +134,7 @@ const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
 #[test]
 fn malformed() {
     let mut rig = Rig::new();
-    let mut w = waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix);
+    let mut w = waypoint(1, 0, (48.275, 11.645), LegType::TrackToFix);
     w.waypoint_number = 0;
     assert_eq!(rig.reason(w), Some(Reason::Malformed));
 }
@@ -204,10 +204,10 @@ fn capacity() {
     );
     // A 257th waypoint in the buffer.
     for n in 1..=256u16 {
-        rig.accepted(waypoint(n, n + 1, 48.27, 11.66, LegType::TrackToFix));
+        rig.accepted(waypoint(n, n + 1, (48.27, 11.66), LegType::TrackToFix));
     }
     assert_eq!(
-        rig.reason(waypoint(999, 0, 48.27, 11.66, LegType::TrackToFix)),
+        rig.reason(waypoint(999, 0, (48.27, 11.66), LegType::TrackToFix)),
         Some(Reason::Capacity)
     );
 }
@@ -220,7 +220,7 @@ fn wrong_state() {
     assert_eq!(reason_of(&answers), None);
     assert!(answers.len() >= 2, "the download starts: {answers:?}");
     assert_eq!(
-        rig.reason(waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix)),
+        rig.reason(waypoint(1, 0, (48.275, 11.645), LegType::TrackToFix)),
         Some(Reason::WrongState)
     );
     // Execute without an active area list.
@@ -271,7 +271,7 @@ fn broken_chain() {
     let mut rig = Rig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned();
     // An edit: waypoint 2 now points at 9, which does not exist.
-    rig.accepted(waypoint(2, 9, 48.278, 11.658, LegType::TrackToFix));
+    rig.accepted(waypoint(2, 9, (48.278, 11.658), LegType::TrackToFix));
     assert_eq!(
         rig.reason(mission_command(
             MissionPlanMode::TransmitMission,
@@ -288,7 +288,7 @@ fn missing_initial() {
     let mut rig = Rig::new();
     rig.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
     rig.accepted(take_off(30.0));
-    rig.accepted(waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix));
+    rig.accepted(waypoint(1, 0, (48.275, 11.645), LegType::TrackToFix));
     rig.accepted(route(5, false));
     assert_eq!(
         rig.reason(mission_command(
@@ -306,7 +306,7 @@ fn missing_rf_centre() {
     let mut rig = Rig::new();
     rig.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
     rig.accepted(take_off(30.0));
-    rig.accepted(waypoint(1, 0, 48.275, 11.645, LegType::RadiusToFix));
+    rig.accepted(waypoint(1, 0, (48.275, 11.645), LegType::RadiusToFix));
     rig.accepted(route(1, false));
     assert_eq!(
         rig.reason(mission_command(
@@ -346,7 +346,7 @@ fn bad_geometry() {
 fn busy() {
     let mut rig = Rig::new().with_mission_2();
     // An upload is in progress: a download request must wait.
-    rig.accepted(waypoint(2, 3, 48.278, 11.658, LegType::TrackToFix));
+    rig.accepted(waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix));
     assert_eq!(
         rig.reason(mission_command(MissionPlanMode::ReceiveMission, None, None)),
         Some(Reason::Busy)
@@ -367,7 +367,7 @@ fn busy() {
 fn an_edit_changes_only_the_waypoints_sent() {
     let mut rig = Rig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned().unwrap();
-    let mut w2 = waypoint(2, 3, 48.278, 11.658, LegType::TrackToFix);
+    let mut w2 = waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix);
     w2.altitude = wire::Altitude::from_metres(150.0).unwrap();
     rig.accepted(w2);
     // Not active before the transmit.
@@ -390,13 +390,13 @@ fn an_edit_changes_only_the_waypoints_sent() {
 fn an_abandoned_edit_leaves_nothing_behind() {
     let mut rig = Rig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned().unwrap();
-    rig.accepted(waypoint(2, 9, 48.278, 11.658, LegType::TrackToFix));
+    rig.accepted(waypoint(2, 9, (48.278, 11.658), LegType::TrackToFix));
     // The GCS falls silent: after the transfer timeout the edit is dropped.
     rig.now = rig.now + TRANSFER_TIMEOUT;
     rig.fcc.handle_timeout(rig.now);
     // A later edit of waypoint 3 alone is assembled on the active mission, not on the
     // abandoned edit of waypoint 2.
-    rig.accepted(waypoint(3, 0, 48.280, 11.680, LegType::RadiusToFix));
+    rig.accepted(waypoint(3, 0, (48.280, 11.680), LegType::RadiusToFix));
     rig.accepted(mission_command(
         MissionPlanMode::TransmitMission,
         Some(3),

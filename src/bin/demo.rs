@@ -14,11 +14,9 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use missionlink_gcs::gcs_link::{Direction, GcsLink, Logged, describe_from_to_next};
+use missionlink_gcs::gcs_link::{Direction, GcsLink, Logged};
 use missionlink_gcs::mission_file::MissionFile;
-use missionlink_interfaces::wire::{
-    AckType, ExecuteCommand, Message, MessageType, Reason, SpecificData,
-};
+use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
 use missionlink_partitions::latency;
 use missionlink_partitions::launcher::{self, FccProcess};
@@ -44,54 +42,6 @@ struct Args {
 
 type Link = GcsLink<SafetyGateway>;
 
-fn describe(m: &Message) -> String {
-    let t = m.message_type();
-    let detail = match m {
-        Message::MessageAcknowledgement(a) => {
-            let of = MessageType::try_from(a.original_message_type)
-                .map_or(a.original_message_type.to_string(), |t| {
-                    format!("#{}", t as u16)
-                });
-            match a.ack_type {
-                AckType::Completed => format!("type 2 completed, of {of}"),
-                AckType::Rejected => format!(
-                    "type 3 rejected ({}), of {of}",
-                    a.reject_reason.unwrap_or(Reason::None)
-                ),
-                other => format!("{other:?} of {of}"),
-            }
-        }
-        Message::MissionTransferCommand(c) => format!("{:?}", c.mode),
-        Message::AreaTransmissionCommand(c) => format!("{:?}", c.mode),
-        Message::VehicleSpecificWaypoint(v) => match v.data {
-            SpecificData::TakeOffHeight { height } => format!("take-off height {height:?}"),
-            SpecificData::RfCentre {
-                waypoint_number, ..
-            } => format!("RF centre of waypoint {waypoint_number}"),
-        },
-        Message::UaPositionWaypoint(w) => format!(
-            "waypoint {} -> {} ({:?})",
-            w.waypoint_number, w.next_waypoint, w.leg_type
-        ),
-        Message::UaRoute(r) => format!(
-            "initial waypoint {}, {}",
-            r.initial_waypoint,
-            if r.bidirectional {
-                "bidirectional"
-            } else {
-                "one-way"
-            }
-        ),
-        Message::AreaPolygonLoopSegment(a) => format!("area {} {:?}", a.area_id, a.area_type),
-        Message::AreaStatusAlert(a) => format!("{:?}", a.status),
-        Message::AreaTransmissionStatus(s) => format!("{:?}, {} areas", s.status, s.loop_count),
-        Message::MissionUploadDownloadStatus(s) => format!("{:?}", s.status),
-        Message::MissionExecuteCommand(c) => format!("{:?}", c.command),
-        Message::FromToNext(_) => String::new(),
-    };
-    format!("#{:<5} {:<32} {detail}", t as u16, t.name())
-}
-
 /// The message sequence of `log` from `from`, as the paper's Figure 15 lists a transfer.
 fn print_sequence(log: &[Logged], from: usize) {
     let Some(start) = log.get(from).map(|l| l.at) else {
@@ -109,7 +59,7 @@ fn print_sequence(log: &[Logged], from: usize) {
         println!(
             "  {:>7.1} ms  {dir}  {}",
             (l.at - start).as_secs_f64() * 1000.0,
-            describe(&l.message)
+            l.message
         );
     }
 }
@@ -124,7 +74,7 @@ fn plan(text: &str, name: &str) -> Result<MissionPlan, String> {
 fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<Report>> {
     link.finish(|event| {
         if let GcsEvent::FromToNext(f) = event {
-            println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
+            println!("  {f}");
         }
     })
 }
@@ -160,7 +110,7 @@ fn upload(
                 }
                 link.run_until(Duration::from_millis(500), |event| {
                     if let GcsEvent::FromToNext(f) = event {
-                        println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
+                        println!("  {f}");
                     }
                     false
                 });
@@ -182,7 +132,7 @@ fn execute(link: &mut Link) -> Result<(), String> {
 fn fly(link: &mut Link, limit: Duration) -> Result<(), String> {
     let done = link.run_until(limit, |event| match event {
         GcsEvent::FromToNext(f) => {
-            println!("  FROM-TO-NEXT  {}", describe_from_to_next(f));
+            println!("  {f}");
             f.to.waypoint_number == Some(0) && f.from.waypoint_number.is_some_and(|n| n != 0)
         }
         _ => false,

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Parser, Subcommand};
-use missionlink_gcs::gcs_link::{GcsLink, describe_from_to_next};
+use missionlink_gcs::gcs_link::GcsLink;
 use missionlink_gcs::inspect::{
     MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
@@ -485,7 +485,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             while start.elapsed() < limit && !stop.load(std::sync::atomic::Ordering::Relaxed) {
                 link.run_until(Duration::from_millis(200), |event| {
                     if let GcsEvent::FromToNext(f) = event {
-                        println!("{}", describe_from_to_next(f));
+                        println!("{f}");
                     }
                     false
                 });

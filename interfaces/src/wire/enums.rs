@@ -6,15 +6,15 @@ wire_enum! {
     /// #17000 field 3, Acknowledgement Type.
     pub enum AckType {
         /// Received.
-        Received = 0,
+        Received = 0 => "received",
         /// Partially received.
-        PartiallyReceived = 1,
+        PartiallyReceived = 1 => "partially received",
         /// Completed (success).
-        Completed = 2,
+        Completed = 2 => "completed",
         /// Rejected (failure), with a reason.
-        Rejected = 3,
+        Rejected = 3 => "rejected",
         /// Receive failed.
-        ReceiveFailed = 4,
+        ReceiveFailed = 4 => "receive failed",
     }
 }
 
@@ -23,13 +23,13 @@ wire_enum! {
     /// implemented here.
     pub enum MissionPlanMode {
         /// Clear the waypoint buffer and the active list.
-        ClearMission = 1,
+        ClearMission = 1 => "clear mission",
         /// Assemble the waypoint list from the buffer, validate and activate it.
-        TransmitMission = 2,
+        TransmitMission = 2 => "transmit mission",
         /// Download the active mission to the GCS.
-        ReceiveMission = 3,
+        ReceiveMission = 3 => "receive mission",
         /// Cancel the transfer in progress.
-        CancelTransfer = 5,
+        CancelTransfer = 5 => "cancel transfer",
     }
 }
 
@@ -37,15 +37,15 @@ wire_enum! {
     /// #13001 field 3, Route Type.
     pub enum RouteType {
         /// Launch.
-        Launch = 0,
+        Launch = 0 => "launch",
         /// Approach.
-        Approach = 1,
+        Approach = 1 => "approach",
         /// Flight.
-        Flight = 2,
+        Flight = 2 => "flight",
         /// Contingency A.
-        ContingencyA = 3,
+        ContingencyA = 3 => "contingency A",
         /// Contingency B.
-        ContingencyB = 4,
+        ContingencyB = 4 => "contingency B",
     }
 }
 
@@ -53,7 +53,7 @@ wire_enum! {
     /// #13002 field 4, Location Type. Relative locations (1) are `Unsupported`.
     pub enum LocationType {
         /// Absolute latitude and longitude.
-        Absolute = 0,
+        Absolute = 0 => "absolute",
     }
 }
 
@@ -61,13 +61,13 @@ wire_enum! {
     /// Altitude Type of #13002, #2012 and #4001.
     pub enum AltitudeType {
         /// Pressure altitude.
-        Pressure = 0,
+        Pressure = 0 => "pressure",
         /// Barometric altitude.
-        Baro = 1,
+        Baro = 1 => "baro",
         /// Above ground level.
-        Agl = 2,
+        Agl = 2 => "AGL",
         /// Height above the WGS-84 ellipsoid.
-        Wgs84 = 3,
+        Wgs84 = 3 => "WGS-84",
     }
 }
 
@@ -75,11 +75,11 @@ wire_enum! {
     /// Speed Type of #13002 and #4001.
     pub enum SpeedType {
         /// Indicated airspeed.
-        IndicatedAirspeed = 0,
+        IndicatedAirspeed = 0 => "indicated airspeed",
         /// True airspeed.
-        TrueAirspeed = 1,
+        TrueAirspeed = 1 => "true airspeed",
         /// Ground speed.
-        GroundSpeed = 2,
+        GroundSpeed = 2 => "ground speed",
     }
 }
 
@@ -87,9 +87,9 @@ wire_enum! {
     /// #13002 field 11, Turn Type.
     pub enum TurnType {
         /// Fly-by: turn short of the waypoint.
-        FlyBy = 0,
+        FlyBy = 0 => "fly-by",
         /// Fly-over: pass over the waypoint, then turn.
-        FlyOver = 1,
+        FlyOver = 1 => "fly-over",
     }
 }
 
@@ -98,9 +98,9 @@ wire_enum! {
     /// waypoint.
     pub enum LegType {
         /// Track-to-fix: a geodesic line (WGS-84).
-        TrackToFix = 0,
+        TrackToFix = 0 => "track-to-fix",
         /// Radius-to-fix: an arc around a centre given by #13006 type 2.
-        RadiusToFix = 1,
+        RadiusToFix = 1 => "radius-to-fix",
     }
 }
 
@@ -108,9 +108,9 @@ wire_enum! {
     /// #13006 field 6, Turn Direction of a radius-to-fix leg.
     pub enum TurnDirection {
         /// Clockwise (right turn).
-        Clockwise = 0,
+        Clockwise = 0 => "clockwise",
         /// Counter-clockwise (left turn).
-        CounterClockwise = 1,
+        CounterClockwise = 1 => "counter-clockwise",
     }
 }
 
@@ -118,11 +118,11 @@ wire_enum! {
     /// #14000 field 2, Status of a mission upload or download.
     pub enum TransferStatus {
         /// In progress.
-        InProgress = 0,
+        InProgress = 0 => "in progress",
         /// Complete.
-        Complete = 1,
+        Complete = 1 => "complete",
         /// Aborted, with a reason.
-        Aborted = 2,
+        Aborted = 2 => "aborted",
     }
 }
 
@@ -130,17 +130,17 @@ wire_enum! {
     /// #2011 field 1, Area Transfer Mode.
     pub enum AreaTransferMode {
         /// Initiate upload: Area Loop Count areas follow.
-        InitiateUpload = 1,
+        InitiateUpload = 1 => "initiate upload",
         /// Upload complete: assemble and validate the area list.
-        UploadComplete = 2,
+        UploadComplete = 2 => "upload complete",
         /// Initiate download.
-        InitiateDownload = 3,
+        InitiateDownload = 3 => "initiate download",
         /// Download complete.
-        DownloadComplete = 4,
+        DownloadComplete = 4 => "download complete",
         /// Cancel the transfer in progress.
-        Cancel = 5,
+        Cancel = 5 => "cancel",
         /// Clear the areas.
-        ClearAreas = 6,
+        ClearAreas = 6 => "clear areas",
     }
 }
 
@@ -148,9 +148,9 @@ wire_enum! {
     /// #2012 field 2, Area Type.
     pub enum AreaType {
         /// Stay-in: the fly-zone (FZ).
-        FlyZone = 0,
+        FlyZone = 0 => "fly-zone",
         /// Keep-out: a no-fly-zone (NFZ).
-        NoFlyZone = 1,
+        NoFlyZone = 1 => "no-fly-zone",
     }
 }
 
@@ -158,9 +158,9 @@ wire_enum! {
     /// #3012 field 2, Status of the assembled area list.
     pub enum AreaListStatus {
         /// Area list invalid (upload failed), with a reason.
-        Invalid = 0,
+        Invalid = 0 => "invalid",
         /// Area list valid and active (upload succeeded).
-        Valid = 1,
+        Valid = 1 => "valid",
     }
 }
 
@@ -168,9 +168,9 @@ wire_enum! {
     /// #3013 field 4, Status of an area download.
     pub enum AreaDownloadStatus {
         /// Ready: the areas follow.
-        Ready = 0,
+        Ready = 0 => "ready",
         /// Aborted.
-        Aborted = 2,
+        Aborted = 2 => "aborted",
     }
 }
 
@@ -178,10 +178,10 @@ wire_enum! {
     /// #50000 field 1, Command.
     pub enum ExecuteCommand {
         /// Take off and fly the active mission.
-        Execute = 1,
+        Execute = 1 => "execute",
         /// Fly the route backwards to its start (bidirectional routes only).
-        ReturnToHome = 2,
+        ReturnToHome = 2 => "return to home",
         /// Land at the next waypoint.
-        Land = 3,
+        Land = 3 => "land",
     }
 }

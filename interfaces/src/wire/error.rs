@@ -15,34 +15,34 @@ wire_enum! {
     /// Reject reasons of ICD §6, carried in #17000 field 4, #14000 field 6 and #3012 field 3.
     pub enum Reason {
         /// Accepted.
-        None = 0,
+        None = 0 => "none",
         /// Fields out of range or inconsistent.
-        Malformed = 1,
+        Malformed = 1 => "malformed",
         /// A mandatory field is absent.
-        MissingField = 2,
+        MissingField = 2 => "missing field",
         /// A presence-vector bit beyond the defined fields.
-        UnknownField = 3,
+        UnknownField = 3 => "unknown field",
         /// A value this system does not implement (relative location, unknown mode).
-        Unsupported = 4,
+        Unsupported = 4 => "unsupported",
         /// More waypoints, areas or vertices than the FCC holds.
-        Capacity = 5,
+        Capacity = 5 => "capacity",
         /// Message not expected now (e.g. #13002 during a download).
-        WrongState = 6,
+        WrongState = 6 => "wrong state",
         /// Clear refused while trajectory generation is active.
-        GuidanceActive = 7,
+        GuidanceActive = 7 => "guidance active",
         /// Assembled count differs from the announced count.
-        CountMismatch = 8,
+        CountMismatch = 8 => "count mismatch",
         /// Next Waypoint refers to a missing waypoint, or the plan loops.
-        BrokenChain = 9,
+        BrokenChain = 9 => "broken chain",
         /// The initial waypoint is not in the list.
-        MissingInitial = 10,
+        MissingInitial = 10 => "missing initial",
         /// An RF waypoint has no #13006 centre.
-        MissingRfCentre = 11,
+        MissingRfCentre = 11 => "missing RF centre",
         /// Polygon with fewer than 3 vertices, circle without 2 points or zero radius, no or
         /// several fly-zones.
-        BadGeometry = 12,
+        BadGeometry = 12 => "bad geometry",
         /// Another transfer is in progress.
-        Busy = 13,
+        Busy = 13 => "busy",
     }
 }
 

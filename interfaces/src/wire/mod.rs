@@ -8,7 +8,7 @@ macro_rules! wire_enum {
     (
         $(#[$meta:meta])*
         pub enum $name:ident {
-            $( $(#[$vmeta:meta])* $variant:ident = $value:literal ),+ $(,)?
+            $( $(#[$vmeta:meta])* $variant:ident = $value:literal => $word:literal ),+ $(,)?
         }
     ) => {
         $(#[$meta])*
@@ -26,6 +26,22 @@ macro_rules! wire_enum {
         impl $name {
             /// Every value, in wire order.
             pub const ALL: &'static [Self] = &[$(Self::$variant),+];
+
+            /// The value's name in the ICD's table, as the messages' `Display` writes it.
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $( Self::$variant => $word, )+
+                }
+            }
+
+            /// The value with its number, `2 transmit mission`, as the messages' `Display`
+            /// writes the field their meaning hangs on (mode, type, status, command).
+            pub const fn numbered(self) -> $crate::wire::Numbered {
+                $crate::wire::Numbered {
+                    number: self as u8,
+                    name: self.name(),
+                }
+            }
         }
 
         impl TryFrom<u8> for $name {
@@ -50,6 +66,21 @@ macro_rules! wire_enum {
             }
         }
     };
+}
+
+/// An enumerated value with its number and its name in the ICD, displayed `2 transmit mission`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Numbered {
+    /// The value on the wire.
+    pub number: u8,
+    /// The value's name in the ICD's table.
+    pub name: &'static str,
+}
+
+impl core::fmt::Display for Numbered {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{} {}", self.number, self.name)
+    }
 }
 
 pub mod enums;

@@ -692,24 +692,14 @@ impl SafetyGateway {
 mod tests {
     use super::*;
     use crate::ground_station::SafetyGateway as _;
-    use crate::transfer::areas::tests::{FLY_ZONE, circle, polygon};
-    use missionlink_interfaces::wire::{
-        Altitude, Angle, SafetyOffset, Speed, Timestamp, TurnType, UaPositionWaypoint, UaRoute,
-        VehicleSpecificWaypoint,
-    };
+    use crate::testkit::{self, CCP, FLY_ZONE, NFZ_POLYGON, circle, polygon};
+    use missionlink_interfaces::wire::{Altitude, SafetyOffset, Speed, UaPositionWaypoint};
     use proptest::prelude::*;
 
-    const CCP: (f64, f64) = (48.275, 11.645);
     const W1: (f64, f64) = (48.278, 11.658);
     const ROLE2: (f64, f64) = (48.28, 11.68);
     const TROL: (f64, f64) = (48.26, 11.66);
     const RF_CENTRE: (f64, f64) = (48.27455, 11.66991);
-    const NFZ_POLYGON: [(f64, f64); 4] = [
-        (48.262, 11.640),
-        (48.262, 11.646),
-        (48.266, 11.646),
-        (48.266, 11.640),
-    ];
 
     #[derive(Clone, Copy)]
     struct Wp {
@@ -741,40 +731,17 @@ mod tests {
         for (i, w) in wps.iter().enumerate() {
             let n = i as u16 + 1;
             let next = if i + 1 == wps.len() { 0 } else { n + 1 };
-            let waypoint = UaPositionWaypoint {
-                time_stamp: Timestamp::default(),
-                waypoint_number: n,
-                latitude: Angle::from_degrees(w.at.0).unwrap(),
-                longitude: Angle::from_degrees(w.at.1).unwrap(),
-                location_type: None,
-                altitude: Altitude::from_metres(w.alt).unwrap(),
-                altitude_type: None,
-                altitude_change_behaviour: None,
-                speed: Speed::from_mps(w.speed).unwrap(),
-                speed_type: None,
-                next_waypoint: next,
-                turn_type: TurnType::FlyBy,
-                optional_messages: None,
-                leg_type: if w.rf.is_some() {
-                    LegType::RadiusToFix
-                } else {
-                    LegType::TrackToFix
-                },
-                limit_type: None,
-                loop_limit: None,
-                arrival_time: None,
-                activity_id: None,
+            let leg = if w.rf.is_some() {
+                LegType::RadiusToFix
+            } else {
+                LegType::TrackToFix
             };
-            let rf_centre = w.rf.map(|(c, dir)| VehicleSpecificWaypoint {
-                time_stamp: Timestamp::default(),
-                data: SpecificData::RfCentre {
-                    waypoint_number: n,
-                    latitude: Angle::from_degrees(c.0).unwrap(),
-                    longitude: Angle::from_degrees(c.1).unwrap(),
-                    turn_direction: dir,
-                },
-                activity_id: None,
-            });
+            let waypoint = UaPositionWaypoint {
+                altitude: Altitude::from_metres(w.alt).unwrap(),
+                speed: Speed::from_mps(w.speed).unwrap(),
+                ..testkit::waypoint(n, next, w.at, leg)
+            };
+            let rf_centre = w.rf.map(|(centre, dir)| testkit::rf_centre(n, centre, dir));
             waypoints
                 .push(WaypointRecord {
                     waypoint,
@@ -783,20 +750,8 @@ mod tests {
                 .unwrap();
         }
         Mission {
-            take_off: VehicleSpecificWaypoint {
-                time_stamp: Timestamp::default(),
-                data: SpecificData::TakeOffHeight {
-                    height: Altitude::from_metres(take_off_height).unwrap(),
-                },
-                activity_id: None,
-            },
-            route: UaRoute {
-                time_stamp: Timestamp::default(),
-                initial_waypoint: 1,
-                route_id: None,
-                route_type: None,
-                bidirectional,
-            },
+            take_off: testkit::take_off(take_off_height),
+            route: testkit::route(1, bidirectional),
             waypoints,
             mission_id: None,
         }

@@ -154,76 +154,16 @@ impl AreaBuffer {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
-    use missionlink_interfaces::wire::{GeoPoint, PolygonVertices};
-
-    pub(crate) fn polygon(
-        id: u16,
-        area_type: AreaType,
-        corners: &[(f64, f64)],
-    ) -> AreaPolygonLoopSegment {
-        let mut v = PolygonVertices::new();
-        for (lat, lon) in corners {
-            v.push(GeoPoint::from_degrees(*lat, *lon).unwrap()).unwrap();
-        }
-        AreaPolygonLoopSegment {
-            time_stamp: Timestamp::default(),
-            area_id: id,
-            area_type,
-            lower_altitude: None,
-            upper_altitude: None,
-            altitude_type: None,
-            shape: AreaShape::Polygon(v),
-        }
-    }
-
-    pub(crate) fn circle(
-        id: u16,
-        centre: (f64, f64),
-        border: (f64, f64),
-    ) -> AreaPolygonLoopSegment {
-        AreaPolygonLoopSegment {
-            time_stamp: Timestamp::default(),
-            area_id: id,
-            area_type: AreaType::NoFlyZone,
-            lower_altitude: None,
-            upper_altitude: None,
-            altitude_type: None,
-            shape: AreaShape::Circle {
-                centre: GeoPoint::from_degrees(centre.0, centre.1).unwrap(),
-                border: GeoPoint::from_degrees(border.0, border.1).unwrap(),
-            },
-        }
-    }
-
-    pub(crate) const FLY_ZONE: [(f64, f64); 4] = [
-        (48.255, 11.635),
-        (48.255, 11.690),
-        (48.285, 11.690),
-        (48.285, 11.635),
-    ];
-
-    fn buffer(areas: &[AreaPolygonLoopSegment]) -> AreaBuffer {
-        let mut b = AreaBuffer::new();
-        for a in areas {
-            b.store(a).unwrap();
-        }
-        b
-    }
+    use crate::testkit::{FLY_ZONE, NFZ_POLYGON, area_buffer as buffer, circle, polygon};
 
     #[test]
     fn circles_are_kept_apart_from_polygons() {
-        let nfz = [
-            (48.262, 11.640),
-            (48.262, 11.646),
-            (48.266, 11.646),
-            (48.266, 11.640),
-        ];
         let b = buffer(&[
             circle(3, (48.268, 11.675), (48.268, 11.679)),
             polygon(1, AreaType::FlyZone, &FLY_ZONE),
-            polygon(2, AreaType::NoFlyZone, &nfz),
+            polygon(2, AreaType::NoFlyZone, &NFZ_POLYGON),
         ]);
         let list = b
             .assemble(3, SafetyOffset::from_metres(25.0).unwrap())

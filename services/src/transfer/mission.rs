@@ -259,74 +259,30 @@ impl MissionBuffer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_interfaces::wire::{Angle, Speed, TurnDirection, TurnType};
+    use crate::testkit::{self, mission_buffer as buffer};
+    use missionlink_interfaces::wire::TurnDirection;
 
-    pub(crate) fn waypoint(number: u16, next: u16, leg: LegType) -> Message {
+    /// Waypoint `number` (stamped `number` ms, so that a test sees time stamps dropped), north
+    /// of the previous one.
+    fn waypoint(number: u16, next: u16, leg: LegType) -> Message {
+        let at = (48.27 + f64::from(number) * 0.001, 11.65);
         UaPositionWaypoint {
             time_stamp: Timestamp::from_millis(u64::from(number)).unwrap(),
-            waypoint_number: number,
-            latitude: Angle::from_degrees(48.27 + f64::from(number) * 0.001).unwrap(),
-            longitude: Angle::from_degrees(11.65).unwrap(),
-            location_type: None,
-            altitude: Altitude::from_metres(120.0).unwrap(),
-            altitude_type: None,
-            altitude_change_behaviour: None,
-            speed: Speed::from_mps(25.0).unwrap(),
-            speed_type: None,
-            next_waypoint: next,
-            turn_type: TurnType::FlyBy,
-            optional_messages: None,
-            leg_type: leg,
-            limit_type: None,
-            loop_limit: None,
-            arrival_time: None,
-            activity_id: None,
+            ..testkit::waypoint(number, next, at, leg)
         }
         .into()
     }
 
     fn take_off() -> Message {
-        VehicleSpecificWaypoint {
-            time_stamp: Timestamp::default(),
-            data: SpecificData::TakeOffHeight {
-                height: Altitude::from_metres(30.0).unwrap(),
-            },
-            activity_id: None,
-        }
-        .into()
+        testkit::take_off(30.0).into()
     }
 
     fn rf_centre(number: u16) -> Message {
-        VehicleSpecificWaypoint {
-            time_stamp: Timestamp::default(),
-            data: SpecificData::RfCentre {
-                waypoint_number: number,
-                latitude: Angle::from_degrees(48.27455).unwrap(),
-                longitude: Angle::from_degrees(11.66991).unwrap(),
-                turn_direction: TurnDirection::Clockwise,
-            },
-            activity_id: None,
-        }
-        .into()
+        testkit::rf_centre(number, (48.27455, 11.66991), TurnDirection::Clockwise).into()
     }
 
     fn route(initial: u16) -> Message {
-        UaRoute {
-            time_stamp: Timestamp::default(),
-            initial_waypoint: initial,
-            route_id: None,
-            route_type: None,
-            bidirectional: true,
-        }
-        .into()
-    }
-
-    fn buffer(messages: &[Message]) -> MissionBuffer {
-        let mut b = MissionBuffer::new();
-        for m in messages {
-            b.store(m).unwrap();
-        }
-        b
+        testkit::route(initial, true).into()
     }
 
     fn numbers(m: &Mission) -> std::vec::Vec<u16> {

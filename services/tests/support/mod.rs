@@ -9,55 +9,20 @@ use std::time::Duration;
 
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{
-    self, AckType, Altitude, AltitudeType, Angle, AreaType, LegType, MAX_FRAME_LEN, Message,
-    SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnDirection, TurnType,
-    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
-};
-use missionlink_services::ground_station::{
-    GcsConfig, GcsEvent, GroundStation, MissionPlan, WithoutGateway,
-};
-use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_interfaces::wire::{AckType, Envelope, Message, SpecificData};
+use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
 use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::{FccConfig, FccEvent, MissionDataHandling};
-use missionlink_services::transfer::areas::AreaBuffer;
-use missionlink_services::transfer::mission::MissionBuffer;
+use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
 use missionlink_services::voting::Voter;
 
-pub const ACK_TIMEOUT: Duration = Duration::from_millis(500);
-pub const TRANSFER_TIMEOUT: Duration = Duration::from_secs(3);
+// The fixtures (configurations, messages, areas, the demo missions, the seeded RNG) come from
+// the testkit that every test and bench shares.
+pub use missionlink_services::testkit::*;
 
-/// 2026-11-21T12:00:00Z, the UTC time of instant zero in every test.
-pub fn utc_at_zero() -> Timestamp {
-    Timestamp::from_millis(848_577_600_000).unwrap()
-}
-
-/// A small, fast, seeded RNG (xorshift64*): the same seed gives the same run.
-#[derive(Debug, Clone)]
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn chance(&mut self, p: f64) -> bool {
-        self.unit() < p
-    }
-    /// Uniform in lo..=hi.
-    pub fn range(&mut self, lo: u64, hi: u64) -> u64 {
-        lo + self.next_u64() % (hi - lo + 1)
-    }
-}
+/// How long a sender waits for an answer (ICD §1).
+pub const ACK_TIMEOUT: Duration = defaults::ACK_TIMEOUT;
+/// How long a transfer waits for its peer (ICD §1).
+pub const TRANSFER_TIMEOUT: Duration = defaults::TRANSFER_TIMEOUT;
 
 /// The faults of one link in one direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -127,31 +92,6 @@ pub struct Pair {
     pub fcc_events: Vec<FccEvent>,
 }
 
-pub fn endpoint(local_id: u32, peer_id: u32) -> EndpointConfig {
-    EndpointConfig {
-        local_id,
-        peer_id,
-        utc_at_zero: utc_at_zero(),
-        sampling_window: TRANSFER_TIMEOUT,
-    }
-}
-
-pub fn fcc_config() -> FccConfig {
-    FccConfig {
-        endpoint: endpoint(defaults::FCC_ID, defaults::GCS_ID),
-        ack_timeout: ACK_TIMEOUT,
-        transfer_timeout: TRANSFER_TIMEOUT,
-    }
-}
-
-pub fn gcs_config() -> GcsConfig {
-    GcsConfig {
-        endpoint: endpoint(defaults::GCS_ID, defaults::FCC_ID),
-        ack_timeout: ACK_TIMEOUT,
-        transfer_timeout: TRANSFER_TIMEOUT,
-    }
-}
-
 impl Pair {
     pub fn new(seed: u64) -> Self {
         Self {
@@ -174,32 +114,29 @@ impl Pair {
 
     /// Puts what both sides want to send on both links of its direction.
     fn drain_outgoing(&mut self) {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some((envelope, message)) = self.gcs.poll_outgoing() {
-            let len = wire::encode(&envelope, &message, &mut buf).unwrap();
-            self.sent.push(Sent {
-                at: self.now,
-                direction: Direction::Up,
-                message,
-                ack_requested: envelope.ack_requested,
-            });
-            for (i, link) in [Link::Direct, Link::Lte].into_iter().enumerate() {
-                let faults = self.uplink[i];
-                self.transmit(Direction::Up, link, faults, &buf[..len]);
-            }
+        while let Some(outgoing) = self.gcs.poll_outgoing() {
+            self.send(Direction::Up, outgoing);
         }
-        while let Some((envelope, message)) = self.fcc.poll_outgoing() {
-            let len = wire::encode(&envelope, &message, &mut buf).unwrap();
-            self.sent.push(Sent {
-                at: self.now,
-                direction: Direction::Down,
-                message,
-                ack_requested: envelope.ack_requested,
-            });
-            for (i, link) in [Link::Direct, Link::Lte].into_iter().enumerate() {
-                let faults = self.downlink[i];
-                self.transmit(Direction::Down, link, faults, &buf[..len]);
-            }
+        while let Some(outgoing) = self.fcc.poll_outgoing() {
+            self.send(Direction::Down, outgoing);
+        }
+    }
+
+    /// Records one message and puts its frame on the direct and the LTE link of `direction`.
+    fn send(&mut self, direction: Direction, (envelope, message): (Envelope, Message)) {
+        let bytes = frame(&envelope, &message);
+        self.sent.push(Sent {
+            at: self.now,
+            direction,
+            message,
+            ack_requested: envelope.ack_requested,
+        });
+        let faults = match direction {
+            Direction::Up => self.uplink,
+            Direction::Down => self.downlink,
+        };
+        for (link, faults) in [Link::Direct, Link::Lte].into_iter().zip(faults) {
+            self.transmit(direction, link, faults, &bytes);
         }
     }
 
@@ -254,6 +191,19 @@ impl Pair {
         due
     }
 
+    /// Votes the frames of `queue` due at `now` (paper §2.4) and hands each winner to `handle`.
+    fn deliver(
+        queue: &mut Vec<InFlight>,
+        voter: &mut Voter,
+        now: Instant,
+        mut handle: impl FnMut(&[u8]),
+    ) {
+        let due = Self::take_due(queue, now);
+        let arrivals: Vec<(Link, &[u8])> =
+            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
+        voter.vote_step(now, &arrivals, |_, frame| handle(frame));
+    }
+
     /// Advances to the next event and handles it. `false` when nothing is left to happen.
     pub fn step(&mut self) -> bool {
         self.drain_outgoing();
@@ -263,19 +213,12 @@ impl Pair {
         self.now = self.now.max(next);
         let now = self.now;
 
-        let due = Self::take_due(&mut self.to_fcc, now);
-        let arrivals: Vec<(Link, &[u8])> =
-            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
         let fcc = &mut self.fcc;
-        self.fcc_voter.vote_step(now, &arrivals, |_, frame| {
+        Self::deliver(&mut self.to_fcc, &mut self.fcc_voter, now, |frame| {
             let _ = fcc.handle_frame(now, frame);
         });
-
-        let due = Self::take_due(&mut self.to_gcs, now);
-        let arrivals: Vec<(Link, &[u8])> =
-            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
         let gcs = &mut self.gcs;
-        self.gcs_voter.vote_step(now, &arrivals, |_, frame| {
+        Self::deliver(&mut self.to_gcs, &mut self.gcs_voter, now, |frame| {
             let _ = gcs.handle_frame(now, frame);
         });
 
@@ -366,163 +309,4 @@ pub fn describe(m: &Message) -> String {
         Message::MissionUploadDownloadStatus(s) => format!("14000 {:?}", s.status),
         other => format!("{}", other.message_type() as u16),
     }
-}
-
-// ---- The demo missions of ../shared/missions (README there) ----
-
-pub fn waypoint(number: u16, next: u16, lat: f64, lon: f64, leg: LegType) -> UaPositionWaypoint {
-    UaPositionWaypoint {
-        time_stamp: Timestamp::default(),
-        waypoint_number: number,
-        latitude: Angle::from_degrees(lat).unwrap(),
-        longitude: Angle::from_degrees(lon).unwrap(),
-        location_type: None,
-        altitude: Altitude::from_metres(120.0).unwrap(),
-        altitude_type: Some(AltitudeType::Wgs84),
-        altitude_change_behaviour: None,
-        speed: Speed::from_mps(25.0).unwrap(),
-        speed_type: Some(SpeedType::IndicatedAirspeed),
-        next_waypoint: next,
-        turn_type: TurnType::FlyBy,
-        optional_messages: (leg == LegType::RadiusToFix).then_some(1),
-        leg_type: leg,
-        limit_type: None,
-        loop_limit: None,
-        arrival_time: None,
-        activity_id: None,
-    }
-}
-
-pub fn take_off(height_m: f64) -> VehicleSpecificWaypoint {
-    VehicleSpecificWaypoint {
-        time_stamp: Timestamp::default(),
-        data: SpecificData::TakeOffHeight {
-            height: Altitude::from_metres(height_m).unwrap(),
-        },
-        activity_id: None,
-    }
-}
-
-pub fn rf_centre(number: u16, lat: f64, lon: f64, dir: TurnDirection) -> VehicleSpecificWaypoint {
-    VehicleSpecificWaypoint {
-        time_stamp: Timestamp::default(),
-        data: SpecificData::RfCentre {
-            waypoint_number: number,
-            latitude: Angle::from_degrees(lat).unwrap(),
-            longitude: Angle::from_degrees(lon).unwrap(),
-            turn_direction: dir,
-        },
-        activity_id: None,
-    }
-}
-
-pub fn route(initial: u16, bidirectional: bool) -> UaRoute {
-    UaRoute {
-        time_stamp: Timestamp::default(),
-        initial_waypoint: initial,
-        route_id: None,
-        route_type: Some(wire::RouteType::Flight),
-        bidirectional,
-    }
-}
-
-pub use missionlink_interfaces::wire::AreaPolygonLoopSegment;
-
-pub fn polygon(id: u16, area_type: AreaType, corners: &[(f64, f64)]) -> AreaPolygonLoopSegment {
-    let mut v = wire::PolygonVertices::new();
-    for (lat, lon) in corners {
-        v.push(wire::GeoPoint::from_degrees(*lat, *lon).unwrap())
-            .unwrap();
-    }
-    AreaPolygonLoopSegment {
-        time_stamp: Timestamp::default(),
-        area_id: id,
-        area_type,
-        lower_altitude: None,
-        upper_altitude: None,
-        altitude_type: None,
-        shape: wire::AreaShape::Polygon(v),
-    }
-}
-
-pub fn circle(id: u16, centre: (f64, f64), border: (f64, f64)) -> AreaPolygonLoopSegment {
-    AreaPolygonLoopSegment {
-        time_stamp: Timestamp::default(),
-        area_id: id,
-        area_type: AreaType::NoFlyZone,
-        lower_altitude: None,
-        upper_altitude: None,
-        altitude_type: None,
-        shape: wire::AreaShape::Circle {
-            centre: wire::GeoPoint::from_degrees(centre.0, centre.1).unwrap(),
-            border: wire::GeoPoint::from_degrees(border.0, border.1).unwrap(),
-        },
-    }
-}
-
-pub const FLY_ZONE: [(f64, f64); 4] = [
-    (48.255, 11.635),
-    (48.255, 11.690),
-    (48.285, 11.690),
-    (48.285, 11.635),
-];
-
-fn plan(messages: &[Message], areas: &[AreaPolygonLoopSegment], mission_id: &str) -> MissionPlan {
-    let mut mission = MissionBuffer::new();
-    for m in messages {
-        mission.store(m).unwrap();
-    }
-    let mut area_buffer = AreaBuffer::new();
-    for a in areas {
-        area_buffer.store(a).unwrap();
-    }
-    MissionPlan {
-        mission,
-        areas: area_buffer,
-        safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
-        mission_id: Some(Text::new(mission_id).unwrap()),
-    }
-}
-
-/// Demo mission 1: TROL to CCP, one waypoint (CCP), take-off 30 m, its fly-zone.
-pub fn mission_1() -> MissionPlan {
-    plan(
-        &[
-            take_off(30.0).into(),
-            waypoint(1, 0, 48.275, 11.645, LegType::TrackToFix).into(),
-            route(1, false).into(),
-        ],
-        &[polygon(1, AreaType::FlyZone, &FLY_ZONE)],
-        "MEDEVAC-1",
-    )
-}
-
-/// Demo mission 2, the richer variant: CCP -> W1 (track-to-fix) -> ROLE2 (radius-to-fix,
-/// clockwise), bidirectional, the fly-zone, a circular and a polygonal no-fly-zone.
-pub fn mission_2() -> MissionPlan {
-    plan(
-        &[
-            take_off(30.0).into(),
-            waypoint(3, 0, 48.280, 11.680, LegType::RadiusToFix).into(),
-            rf_centre(3, 48.27455, 11.66991, TurnDirection::Clockwise).into(),
-            waypoint(1, 2, 48.275, 11.645, LegType::TrackToFix).into(),
-            waypoint(2, 3, 48.278, 11.658, LegType::TrackToFix).into(),
-            route(1, true).into(),
-        ],
-        &[
-            polygon(1, AreaType::FlyZone, &FLY_ZONE),
-            circle(2, (48.268, 11.675), (48.268, 11.679)),
-            polygon(
-                3,
-                AreaType::NoFlyZone,
-                &[
-                    (48.262, 11.640),
-                    (48.262, 11.646),
-                    (48.266, 11.646),
-                    (48.266, 11.640),
-                ],
-            ),
-        ],
-        "MEDEVAC-2",
-    )
 }

@@ -1,6 +1,8 @@
 //! #2012 Area Polygon Loop Segment (ICD §4, icd): one whole area, a fly-zone or no-fly-zone,
 //! polygon or circle (ICD §5.3, §5.4).
 
+use core::fmt;
+
 use zerocopy::byteorder::big_endian::I32;
 use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
 
@@ -205,6 +207,38 @@ impl MessageBody for AreaPolygonLoopSegment {
     }
 }
 
+/// `#2012 Area Polygon Loop Segment: area 1 fly-zone, polygon of 4 vertices, 0.0 m to 300.0 m
+/// WGS-84`; a circle gives its centre and border point.
+impl fmt::Display for AreaPolygonLoopSegment {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: area {} {}",
+            Self::TYPE,
+            self.area_id,
+            self.area_type.name()
+        )?;
+        match &self.shape {
+            AreaShape::Polygon(vertices) => write!(f, ", polygon of {} vertices", vertices.len())?,
+            AreaShape::Circle { centre, border } => {
+                write!(f, ", circle around {centre} through {border}")?
+            }
+        }
+        match (self.lower_altitude, self.upper_altitude) {
+            (Some(lower), Some(upper)) => {
+                write!(f, ", {:.1} m to {:.1} m", lower.metres(), upper.metres())?
+            }
+            (Some(lower), None) => write!(f, ", above {:.1} m", lower.metres())?,
+            (None, Some(upper)) => write!(f, ", below {:.1} m", upper.metres())?,
+            (None, None) => {}
+        }
+        match self.altitude_type {
+            Some(t) => write!(f, " {}", t.name()),
+            None => Ok(()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -363,5 +397,21 @@ mod tests {
         };
         assert_degrees(centre, 48.268, 11.675);
         assert_degrees(border, 48.268, 11.679);
+    }
+
+    #[test]
+    fn display_polygon() {
+        super::super::assert_display(
+            repr_polygon(),
+            "#2012 Area Polygon Loop Segment: area 1 fly-zone, polygon of 4 vertices, 0.0 m to 300.0 m WGS-84",
+        );
+    }
+
+    #[test]
+    fn display_circle() {
+        super::super::assert_display(
+            repr_circle(),
+            "#2012 Area Polygon Loop Segment: area 2 no-fly-zone, circle around 48.268000 N 11.675000 E through 48.268000 N 11.679000 E",
+        );
     }
 }

@@ -1,6 +1,8 @@
 //! #3012 Area Status Alert (ICD §4, icd use): the FCC's answer to #2011 mode 2 upload complete,
 //! instead of a #17000 (ICD §5.3).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::AreaListStatus;
 use crate::wire::error::{EncodeError, MessageError, Reason};
@@ -49,6 +51,15 @@ impl MessageBody for AreaStatusAlert {
 
     fn time_stamp(&self) -> Timestamp {
         self.time_stamp
+    }
+}
+
+/// `#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas`.
+impl fmt::Display for AreaStatusAlert {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: status {}", Self::TYPE, self.status.numbered())?;
+        super::reason(f, self.reason)?;
+        super::count(f, self.loop_count.into(), "area")
     }
 }
 
@@ -104,5 +115,31 @@ mod tests {
     #[test]
     fn physical() {
         assert_eq!(repr().time_stamp.to_string(), "2026-11-21T12:00:00.350Z");
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(repr(), "#3012 Area Status Alert: status 1 valid, 3 areas");
+    }
+
+    #[test]
+    fn display_invalid() {
+        super::super::assert_display(
+            AreaStatusAlert {
+                status: AreaListStatus::Invalid,
+                reason: Some(Reason::BadGeometry),
+                ..repr()
+            },
+            "#3012 Area Status Alert: status 0 invalid (BadGeometry (12)), 3 areas",
+        );
+    }
+
+    #[test]
+    fn display_one_area() {
+        let m = AreaStatusAlert {
+            loop_count: 1,
+            ..repr()
+        };
+        super::super::assert_display(m, "#3012 Area Status Alert: status 1 valid, 1 area");
     }
 }

@@ -1,6 +1,8 @@
 //! #2011 Area Transmission Command (ICD §4, icd): opens, closes, cancels and clears area
 //! transfers (ICD §5.3, §5.4).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::AreaTransferMode;
 use crate::wire::error::{EncodeError, MessageError};
@@ -78,6 +80,25 @@ impl MessageBody for AreaTransmissionCommand {
     }
 }
 
+/// `#2011 Area Transmission Command: mode 1 initiate upload, 3 areas, safety offset 25.0 m`.
+impl fmt::Display for AreaTransmissionCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: mode {}", Self::TYPE, self.mode.numbered())?;
+        if let Some(n) = self.loop_count {
+            super::count(f, n.into(), "area")?;
+        }
+        // Area ID only means something to a download request (mode 3).
+        if let (AreaTransferMode::InitiateDownload, Some(id)) = (self.mode, self.area_id) {
+            f.write_str(", ")?;
+            super::areas(f, id)?;
+        }
+        if let Some(offset) = self.safety_offset {
+            write!(f, ", safety offset {:.1} m", offset.metres())?;
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,5 +158,27 @@ mod tests {
         let offset = m.safety_offset.unwrap();
         assert_eq!(offset.raw(), 250);
         assert_eq!(offset.metres(), 25.0);
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#2011 Area Transmission Command: mode 1 initiate upload, 3 areas, safety offset 25.0 m",
+        );
+    }
+
+    #[test]
+    fn display_download() {
+        super::super::assert_display(
+            AreaTransmissionCommand {
+                mode: AreaTransferMode::InitiateDownload,
+                loop_count: None,
+                area_id: Some(2),
+                safety_offset: None,
+                ..repr()
+            },
+            "#2011 Area Transmission Command: mode 3 initiate download, area 2",
+        );
     }
 }

@@ -1,6 +1,8 @@
 //! #3013 Area Transmission Status (ICD §4, icd): the FCC's answer to #2011 mode 3 initiate
 //! download, instead of a #17000 (ICD §5.4).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::AreaDownloadStatus;
 use crate::wire::error::{EncodeError, MessageError};
@@ -62,6 +64,17 @@ impl MessageBody for AreaTransmissionStatus {
     }
 }
 
+/// `#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m`.
+impl fmt::Display for AreaTransmissionStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: status {}", Self::TYPE, self.status.numbered())?;
+        super::count(f, self.loop_count.into(), "area")?;
+        f.write_str(" (")?;
+        super::areas(f, self.area_id)?;
+        write!(f, "), safety offset {:.1} m", self.safety_offset.metres())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -118,5 +131,13 @@ mod tests {
         assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:00:05.000Z");
         assert_eq!(m.safety_offset.raw(), 250);
         assert_eq!(m.safety_offset.metres(), 25.0);
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#3013 Area Transmission Status: status 0 ready, 3 areas (all areas), safety offset 25.0 m",
+        );
     }
 }

@@ -1,7 +1,9 @@
 //! #4001 FROM-TO-NEXT Waypoint States (ICD §4, std field order; paper §3.1.7): where the aircraft
 //! comes from, flies to and goes next. Sent on every change of the triple, never acknowledged.
 
-use super::{MessageBody, MessageType, latitude, reader};
+use core::fmt;
+
+use super::{GeoPoint, MessageBody, MessageType, latitude, reader};
 use crate::wire::enums::{AltitudeType, SpeedType};
 use crate::wire::error::{EncodeError, MessageError};
 use crate::wire::field::{Altitude, Angle, Speed, Timestamp};
@@ -162,6 +164,51 @@ impl MessageBody for FromToNext {
     }
 }
 
+/// `<number> (<position>)`, the number alone without a position, `-` for none (0 or absent).
+fn state(
+    f: &mut fmt::Formatter<'_>,
+    label: &str,
+    number: Option<u16>,
+    latitude: Option<Angle>,
+    longitude: Option<Angle>,
+) -> fmt::Result {
+    match (number, latitude, longitude) {
+        (Some(0) | None, _, _) => write!(f, "{label} -"),
+        (Some(n), Some(latitude), Some(longitude)) => write!(
+            f,
+            "{label} {n} ({})",
+            GeoPoint {
+                latitude,
+                longitude
+            }
+        ),
+        (Some(n), _, _) => write!(f, "{label} {n}"),
+    }
+}
+
+/// `#4001 FROM-TO-NEXT Waypoint States: FROM 1 (48.275000 N 11.645000 E), TO 2 (...), NEXT -`.
+impl fmt::Display for FromToNext {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: ", Self::TYPE)?;
+        let (from, to, next) = (&self.from, &self.to, &self.next);
+        state(
+            f,
+            "FROM",
+            from.waypoint_number,
+            from.latitude,
+            from.longitude,
+        )?;
+        state(f, ", TO", to.waypoint_number, to.latitude, to.longitude)?;
+        state(
+            f,
+            ", NEXT",
+            next.waypoint_number,
+            next.latitude,
+            next.longitude,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -286,6 +333,28 @@ mod tests {
                 "2026-11-21T12:05:20.000Z",
                 "2026-11-21T12:06:00.000Z"
             ]
+        );
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#4001 FROM-TO-NEXT Waypoint States: FROM 1 (48.275000 N 11.645000 E), TO 2 (48.278000 N 11.658000 E), NEXT 3 (48.280000 N 11.680000 E)",
+        );
+    }
+
+    #[test]
+    fn display_last_leg() {
+        super::super::assert_display(
+            {
+                let mut m = repr();
+                m.from = FromWaypointState::default();
+                m.next.waypoint_number = Some(0);
+                m.to.latitude = None;
+                m
+            },
+            "#4001 FROM-TO-NEXT Waypoint States: FROM -, TO 2, NEXT -",
         );
     }
 }

@@ -1,6 +1,8 @@
 //! #17000 Message Acknowledgement (ICD §4, std structure, field 4 icd): the answer to every
 //! message sent with "acknowledgement requested" (ICD §5).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::AckType;
 use crate::wire::error::{EncodeError, MessageError, Reason};
@@ -60,6 +62,15 @@ impl MessageBody for MessageAcknowledgement {
 
     fn time_stamp(&self) -> Timestamp {
         self.time_stamp
+    }
+}
+
+/// `#17000 Message Acknowledgement: type 3 rejected (BrokenChain (9)), of #13000`.
+impl fmt::Display for MessageAcknowledgement {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: type {}", Self::TYPE, self.ack_type.numbered())?;
+        super::reason(f, self.reject_reason)?;
+        write!(f, ", of #{}", self.original_message_type)
     }
 }
 
@@ -124,6 +135,27 @@ mod tests {
         assert_eq!(
             m.original_message_type,
             MessageType::MissionTransferCommand as u16
+        );
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#17000 Message Acknowledgement: type 3 rejected (BrokenChain (9)), of #13000",
+        );
+    }
+
+    #[test]
+    fn display_completed() {
+        super::super::assert_display(
+            MessageAcknowledgement {
+                ack_type: AckType::Completed,
+                reject_reason: None,
+                original_message_type: 13002,
+                ..repr()
+            },
+            "#17000 Message Acknowledgement: type 2 completed, of #13002",
         );
     }
 }

@@ -1,5 +1,7 @@
 //! #50000 Mission Execute Command (ICD §4, private range): execute, return to home, land.
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::ExecuteCommand;
 use crate::wire::error::{EncodeError, MessageError};
@@ -41,6 +43,13 @@ impl MessageBody for MissionExecuteCommand {
 
     fn time_stamp(&self) -> Timestamp {
         self.time_stamp
+    }
+}
+
+/// `#50000 Mission Execute Command: command 1 execute`.
+impl fmt::Display for MissionExecuteCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: command {}", Self::TYPE, self.command.numbered())
     }
 }
 
@@ -91,5 +100,10 @@ mod tests {
     #[test]
     fn physical() {
         assert_eq!(repr().time_stamp.to_string(), "2026-11-21T12:03:00.000Z");
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(repr(), "#50000 Mission Execute Command: command 1 execute");
     }
 }

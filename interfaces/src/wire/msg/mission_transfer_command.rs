@@ -1,6 +1,8 @@
 //! #13000 Mission Transfer Command (ICD §4): clear, transmit (assemble and activate), receive
 //! (download) and cancel (ICD §5.1, §5.2).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::MissionPlanMode;
 use crate::wire::error::{EncodeError, MessageError};
@@ -74,6 +76,18 @@ impl MessageBody for MissionTransferCommand {
     }
 }
 
+/// `#13000 Mission Transfer Command: mode 2 transmit mission, 2 waypoints, mission MEDEVAC-1`.
+impl fmt::Display for MissionTransferCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: mode {}", Self::TYPE, self.mode.numbered())?;
+        if let Some(n) = self.waypoint_number {
+            super::count(f, n, "waypoint")?;
+        }
+        super::optional(f, "mission", self.mission_id.as_ref().map(Text::as_str))?;
+        super::optional(f, "route", self.route_id.as_ref().map(Text::as_str))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,5 +153,27 @@ mod tests {
         assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.600Z");
         assert_eq!(m.mission_id.unwrap().as_str(), "MEDEVAC-1");
         assert_eq!(m.route_id.unwrap().as_str(), "TROL-CCP");
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#13000 Mission Transfer Command: mode 2 transmit mission, 2 waypoints, mission MEDEVAC-1, route TROL-CCP",
+        );
+    }
+
+    #[test]
+    fn display_clear() {
+        super::super::assert_display(
+            MissionTransferCommand {
+                mission_id: None,
+                mode: MissionPlanMode::ClearMission,
+                waypoint_number: None,
+                route_id: None,
+                ..repr()
+            },
+            "#13000 Mission Transfer Command: mode 1 clear mission",
+        );
     }
 }

@@ -1,5 +1,7 @@
 //! #14000 Mission Upload/Download Status (ICD §4): closes a mission download (ICD §5.2 step 5).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::{MissionPlanMode, TransferStatus};
 use crate::wire::error::{EncodeError, MessageError, Reason};
@@ -78,6 +80,22 @@ impl MessageBody for MissionUploadDownloadStatus {
     }
 }
 
+/// `#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission`.
+impl fmt::Display for MissionUploadDownloadStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: status {}", Self::TYPE, self.status.numbered())?;
+        super::reason(f, self.reason)?;
+        if let Some(p) = self.percent_complete {
+            write!(f, ", {p} %")?;
+        }
+        if let Some(m) = self.mode {
+            write!(f, ", mode {}", m.numbered())?;
+        }
+        super::optional(f, "mission", self.mission_id.as_ref().map(Text::as_str))?;
+        super::optional(f, "waypoint request", self.waypoint_request)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,5 +158,29 @@ mod tests {
         let m = repr();
         assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:02:00.000Z");
         assert_eq!(m.mission_id.unwrap().as_str(), "MEDEVAC-2");
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#14000 Mission Upload/Download Status: status 1 complete, 100 %, mode 3 receive mission, mission MEDEVAC-2, waypoint request 3",
+        );
+    }
+
+    #[test]
+    fn display_aborted() {
+        super::super::assert_display(
+            MissionUploadDownloadStatus {
+                mission_id: None,
+                status: TransferStatus::Aborted,
+                percent_complete: None,
+                waypoint_request: None,
+                mode: None,
+                reason: Some(Reason::Busy),
+                ..repr()
+            },
+            "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))",
+        );
     }
 }

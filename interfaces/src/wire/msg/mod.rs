@@ -4,6 +4,13 @@
 //!
 //! Encode does not validate: it writes what the value holds, so tests and tools can produce the
 //! invalid messages a peer might send. Decode is where the rules live.
+//!
+//! Every message is `Display`ed on one line (after smoltcp's `Repr`s), so that no tool writes its
+//! own description: `#<type> <ICD name>: <what it says>`, values in physical units, enumerated
+//! values as the ICD's table names them, the discriminating one with its number (`mode 2
+//! transmit mission`), optional fields only where present, time stamps left out (a log line
+//! carries its own time). For example `#13002 UA Position Waypoint: waypoint 2: 48.275000 N
+//! 11.645000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, track-to-fix, next 3`.
 
 mod area_polygon_loop_segment;
 mod area_status_alert;
@@ -30,6 +37,8 @@ pub use mission_upload_download_status::MissionUploadDownloadStatus;
 pub use ua_position_waypoint::UaPositionWaypoint;
 pub use ua_route::UaRoute;
 pub use vehicle_specific_waypoint::{SpecificData, VehicleSpecificWaypoint};
+
+use core::fmt;
 
 use iceoryx2::prelude::ZeroCopySend;
 
@@ -89,6 +98,57 @@ impl GeoPoint {
             latitude,
             longitude: Angle::from_degrees(longitude)?,
         })
+    }
+}
+
+/// Degrees with six decimals (about 0.1 m) and the hemisphere: `48.275000 N 11.645000 E`.
+impl fmt::Display for GeoPoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (lat, lon) = (self.latitude.degrees(), self.longitude.degrees());
+        let ns = if lat < 0.0 { 'S' } else { 'N' };
+        let ew = if lon < 0.0 { 'W' } else { 'E' };
+        write!(f, "{:.6} {ns} {:.6} {ew}", lat.abs(), lon.abs())
+    }
+}
+
+/// `#13002 UA Position Waypoint`: the number and the name of the ICD.
+impl fmt::Display for MessageType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "#{} {}", *self as u16, self.name())
+    }
+}
+
+/// Writes `, <label> <value>` where an optional field is present (the messages' `Display`).
+fn optional<T: fmt::Display>(
+    f: &mut fmt::Formatter<'_>,
+    label: &str,
+    value: Option<T>,
+) -> fmt::Result {
+    match value {
+        Some(v) => write!(f, ", {label} {v}"),
+        None => Ok(()),
+    }
+}
+
+/// ` (<reason>)` where a reject reason other than `None` is given.
+fn reason(f: &mut fmt::Formatter<'_>, reason: Option<super::error::Reason>) -> fmt::Result {
+    match reason {
+        Some(r) if r != super::error::Reason::None => write!(f, " ({r})"),
+        _ => Ok(()),
+    }
+}
+
+/// `, 1 <thing>` or `, <n> <thing>s`: a count of waypoints or areas.
+fn count(f: &mut fmt::Formatter<'_>, n: u16, thing: &str) -> fmt::Result {
+    let s = if n == 1 { "" } else { "s" };
+    write!(f, ", {n} {thing}{s}")
+}
+
+/// `all areas` for Area ID 0 (#2011 mode 3, #3013), else `area <id>`.
+fn areas(f: &mut fmt::Formatter<'_>, area_id: u16) -> fmt::Result {
+    match area_id {
+        0 => f.write_str("all areas"),
+        id => write!(f, "area {id}"),
     }
 }
 
@@ -205,6 +265,15 @@ macro_rules! messages {
             }
         }
 
+        /// One line: the message's own `Display`.
+        impl fmt::Display for Message {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                match self {
+                    $( Self::$variant(m) => fmt::Display::fmt(m, f), )+
+                }
+            }
+        }
+
         $(
             impl From<$variant> for Message {
                 fn from(m: $variant) -> Self {
@@ -230,6 +299,14 @@ messages! {
     MissionExecuteCommand = 50000, "Mission Execute Command";
 }
 
+/// Display check shared by the message modules: `message` and the [`Message`] holding it both
+/// read `expected`.
+#[cfg(test)]
+pub(crate) fn assert_display(message: impl fmt::Display + Into<Message>, expected: &str) {
+    assert_eq!(message.to_string(), expected);
+    assert_eq!(message.into().to_string(), expected, "as a Message");
+}
+
 /// Golden-frame check shared by the message modules: `frame` decodes to `envelope` and
 /// `message`, and encoding them into a buffer pre-filled with 0xa5 writes exactly `frame` and
 /// nothing past it.
@@ -247,4 +324,28 @@ pub(crate) fn assert_golden(frame: &[u8], envelope: super::frame::Envelope, mess
         buf[len..].iter().all(|&b| b == 0xa5),
         "emit wrote past the frame"
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positions_name_their_hemisphere() {
+        let p = |lat, lon| GeoPoint::from_degrees(lat, lon).unwrap().to_string();
+        assert_eq!(p(48.275, 11.645), "48.275000 N 11.645000 E");
+        assert_eq!(p(-33.8688, -151.2093), "33.868800 S 151.209300 W");
+        assert_eq!(p(0.0, 0.0), "0.000000 N 0.000000 E");
+    }
+
+    #[test]
+    fn message_types_show_number_and_icd_name() {
+        assert_eq!(
+            MessageType::MissionUploadDownloadStatus.to_string(),
+            "#14000 Mission Upload/Download Status"
+        );
+        for t in MessageType::ALL {
+            assert!(t.to_string().ends_with(t.name()), "{t}");
+        }
+    }
 }

@@ -1,7 +1,9 @@
 //! #13002 UA Position Waypoint (ICD §4, std field order, Ed 4): one waypoint of the flight plan.
 //! Waypoint Number and Next Waypoint define the plan; the order of upload is free.
 
-use super::{MessageBody, MessageType, is_waypoint_number, latitude, reader};
+use core::fmt;
+
+use super::{GeoPoint, MessageBody, MessageType, is_waypoint_number, latitude, reader};
 use crate::wire::enums::{AltitudeType, LegType, LocationType, SpeedType, TurnType};
 use crate::wire::error::{EncodeError, MessageError};
 use crate::wire::field::{Altitude, Angle, Speed, Timestamp, U3};
@@ -142,6 +144,37 @@ impl MessageBody for UaPositionWaypoint {
     }
 }
 
+/// `#13002 UA Position Waypoint: waypoint 2: 48.275000 N 11.645000 E, 120.0 m WGS-84, 25.0 m/s
+/// indicated airspeed, fly-by, track-to-fix, next 3` (`last` for Next Waypoint 0).
+impl fmt::Display for UaPositionWaypoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let at = GeoPoint {
+            latitude: self.latitude,
+            longitude: self.longitude,
+        };
+        write!(
+            f,
+            "{}: waypoint {}: {at}, {:.1} m",
+            Self::TYPE,
+            self.waypoint_number,
+            self.altitude.metres()
+        )?;
+        if let Some(t) = self.altitude_type {
+            write!(f, " {}", t.name())?;
+        }
+        write!(f, ", {:.1} m/s", self.speed.mps())?;
+        if let Some(t) = self.speed_type {
+            write!(f, " {}", t.name())?;
+        }
+        write!(f, ", {}, {}", self.turn_type.name(), self.leg_type.name())?;
+        super::optional(f, "arrival", self.arrival_time)?;
+        match self.next_waypoint {
+            0 => f.write_str(", last"),
+            next => write!(f, ", next {next}"),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -233,6 +266,25 @@ mod tests {
         assert_eq!(
             m.arrival_time.unwrap().to_string(),
             "2026-11-21T12:06:00.000Z"
+        );
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m WGS-84, 25.0 m/s indicated airspeed, fly-by, radius-to-fix, arrival 2026-11-21T12:06:00.000Z, last",
+        );
+    }
+
+    #[test]
+    fn display_without_the_optional_fields() {
+        let mut m = repr();
+        (m.altitude_type, m.speed_type, m.arrival_time) = (None, None, None);
+        (m.next_waypoint, m.leg_type) = (4, LegType::TrackToFix);
+        super::super::assert_display(
+            m,
+            "#13002 UA Position Waypoint: waypoint 3: 48.280000 N 11.680000 E, 120.0 m, 25.0 m/s, fly-by, track-to-fix, next 4",
         );
     }
 }

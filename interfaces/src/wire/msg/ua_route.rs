@@ -1,6 +1,8 @@
 //! #13001 UA Route (ICD §4): route properties, the initial waypoint and whether the route is
 //! bidirectional (ICD §5.1 step 4).
 
+use core::fmt;
+
 use super::{MessageBody, MessageType, is_waypoint_number, reader};
 use crate::wire::enums::RouteType;
 use crate::wire::error::{EncodeError, MessageError};
@@ -68,6 +70,27 @@ impl MessageBody for UaRoute {
     }
 }
 
+/// `#13001 UA Route: initial waypoint 1, bidirectional, flight, route TROL-CCP`.
+impl fmt::Display for UaRoute {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: initial waypoint {}, {}",
+            Self::TYPE,
+            self.initial_waypoint,
+            if self.bidirectional {
+                "bidirectional"
+            } else {
+                "one-way"
+            }
+        )?;
+        if let Some(t) = self.route_type {
+            write!(f, ", {}", t.name())?;
+        }
+        super::optional(f, "route", self.route_id.as_ref().map(Text::as_str))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -127,5 +150,26 @@ mod tests {
         let m = repr();
         assert_eq!(m.time_stamp.to_string(), "2026-11-21T12:01:00.500Z");
         assert_eq!(m.route_id.unwrap().as_str(), "TROL-CCP");
+    }
+
+    #[test]
+    fn display() {
+        super::super::assert_display(
+            repr(),
+            "#13001 UA Route: initial waypoint 1, bidirectional, flight, route TROL-CCP",
+        );
+    }
+
+    #[test]
+    fn display_one_way() {
+        super::super::assert_display(
+            UaRoute {
+                route_id: None,
+                route_type: None,
+                bidirectional: false,
+                ..repr()
+            },
+            "#13001 UA Route: initial waypoint 1, one-way",
+        );
     }
 }

@@ -1,7 +1,9 @@
 //! #13006 Vehicle Specific Waypoint (ICD §4, icd): the take-off height (type 1) and the centre
 //! and turn direction of a radius-to-fix leg (type 2).
 
-use super::{MessageBody, MessageType, is_waypoint_number, latitude, reader};
+use core::fmt;
+
+use super::{GeoPoint, MessageBody, MessageType, is_waypoint_number, latitude, reader};
 use crate::wire::enums::TurnDirection;
 use crate::wire::error::{Cause, EncodeError, MessageError};
 use crate::wire::field::{Altitude, Angle, Timestamp, U3};
@@ -143,6 +145,33 @@ impl MessageBody for VehicleSpecificWaypoint {
     }
 }
 
+/// `#13006 Vehicle Specific Waypoint: take-off height 30.0 m`, or `RF centre of waypoint 3:
+/// 48.274550 N 11.669910 E, clockwise`.
+impl fmt::Display for VehicleSpecificWaypoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: ", Self::TYPE)?;
+        match self.data {
+            SpecificData::TakeOffHeight { height } => {
+                write!(f, "take-off height {:.1} m", height.metres())
+            }
+            SpecificData::RfCentre {
+                waypoint_number,
+                latitude,
+                longitude,
+                turn_direction,
+            } => write!(
+                f,
+                "RF centre of waypoint {waypoint_number}: {}, {}",
+                GeoPoint {
+                    latitude,
+                    longitude
+                },
+                turn_direction.name()
+            ),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -260,5 +289,21 @@ mod tests {
         assert!((longitude.degrees() - 11.66991).abs() < Angle::LSB_DEGREES);
         assert_eq!(Angle::from_degrees(48.27455).unwrap(), latitude);
         assert_eq!(Angle::from_degrees(11.66991).unwrap(), longitude);
+    }
+
+    #[test]
+    fn display_take_off_height() {
+        super::super::assert_display(
+            repr_take_off(),
+            "#13006 Vehicle Specific Waypoint: take-off height 30.0 m",
+        );
+    }
+
+    #[test]
+    fn display_rf_centre() {
+        super::super::assert_display(
+            repr_rf_centre(),
+            "#13006 Vehicle Specific Waypoint: RF centre of waypoint 3: 48.274550 N 11.669910 E, clockwise",
+        );
     }
 }

@@ -1,0 +1,502 @@
+//! Fixtures shared by every test and benchmark of the workspace (after rust-mavlink's
+//! `mavlink/tests/test_shared/mod.rs`; DESIGN.md, "Examples to follow"), so that no waypoint
+//! literal, area helper, demo mission or endpoint configuration is written twice.
+//!
+//! Compiled in this crate's own tests and, for other crates' tests and benches, behind the cargo
+//! feature `testkit` (`missionlink-services = { workspace = true, features = ["testkit"] }` in
+//! `[dev-dependencies]`). No flight or ground binary enables it.
+//!
+//! What it holds:
+//! - time and configuration: [`UTC_AT_ZERO_MS`], [`ts`], [`endpoint`], [`fcc_config`],
+//!   [`gcs_config`] (the defaults of ICD §1, instant zero at 2026-11-21T12:00:00Z);
+//! - messages: [`waypoint`] (the 18-field #13002 with the values every test uses),
+//!   [`full_waypoint`] (every optional field present, as the wire benches encode it),
+//!   [`take_off`], [`rf_centre`], [`route`];
+//! - areas: [`polygon`], [`circle`], [`ellipse`] (a 60-vertex polygon), [`full_polygon`],
+//!   [`FLY_ZONE`], [`NFZ_POLYGON`], [`eleven_areas`];
+//! - missions and plans: [`mission_buffer`], [`area_buffer`], [`plan`], [`mission_1`] and
+//!   [`mission_2`] (the demo missions of `missions/`), [`zigzag`] and [`generated_plan`] (N
+//!   waypoints with 11 areas);
+//! - frames and randomness: [`frame`], [`uplink`], [`Rng`] (seeded, so a run repeats).
+//!
+//! Every constructor takes values the tests choose and builds them with `expect`: a fixture that
+//! does not build is a broken test, not outside input, so this module (test-only code) allows
+//! what the crate denies elsewhere.
+#![allow(
+    clippy::expect_used,
+    reason = "test-only fixtures: the values are literals the tests choose, a failure is a broken test"
+)]
+
+use missionlink_interfaces::capacity::MAX_POLYGON_VERTICES;
+use missionlink_interfaces::defaults;
+use missionlink_interfaces::wire::{
+    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, Envelope,
+    GeoPoint, LegType, LocationType, MAX_FRAME_LEN, Message, PolygonVertices, RouteType,
+    SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnDirection, TurnType, U3,
+    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+};
+
+use crate::ground_station::{GcsConfig, MissionPlan};
+use crate::link::endpoint::EndpointConfig;
+use crate::mission_data_handling::FccConfig;
+use crate::transfer::areas::AreaBuffer;
+use crate::transfer::mission::MissionBuffer;
+
+// ---- Time and configuration ----
+
+/// 2026-11-21T12:00:00Z in milliseconds since 2000-01-01: the UTC time of instant zero in every
+/// test and bench.
+pub const UTC_AT_ZERO_MS: u64 = 848_577_600_000;
+
+/// The time stamp `ms` milliseconds after 2000-01-01 (ICD §3, U5).
+pub fn ts(ms: u64) -> Timestamp {
+    Timestamp::from_millis(ms).expect("a time stamp fits a U5")
+}
+
+/// The UTC time of instant zero, [`UTC_AT_ZERO_MS`].
+pub fn utc_at_zero() -> Timestamp {
+    ts(UTC_AT_ZERO_MS)
+}
+
+/// An endpoint from `local_id` to `peer_id`: instant zero at [`UTC_AT_ZERO_MS`], sampling over
+/// the transfer timeout of ICD §1.
+pub fn endpoint(local_id: u32, peer_id: u32) -> EndpointConfig {
+    EndpointConfig {
+        local_id,
+        peer_id,
+        utc_at_zero: utc_at_zero(),
+        sampling_window: defaults::TRANSFER_TIMEOUT,
+    }
+}
+
+/// Mission data handling with the IDs and timeouts of ICD §1.
+pub fn fcc_config() -> FccConfig {
+    FccConfig {
+        endpoint: endpoint(defaults::FCC_ID, defaults::GCS_ID),
+        ack_timeout: defaults::ACK_TIMEOUT,
+        transfer_timeout: defaults::TRANSFER_TIMEOUT,
+    }
+}
+
+/// The GCS logic with the IDs and timeouts of ICD §1.
+pub fn gcs_config() -> GcsConfig {
+    GcsConfig {
+        endpoint: endpoint(defaults::GCS_ID, defaults::FCC_ID),
+        ack_timeout: defaults::ACK_TIMEOUT,
+        transfer_timeout: defaults::TRANSFER_TIMEOUT,
+    }
+}
+
+// ---- Messages ----
+
+fn angle(degrees: f64) -> Angle {
+    Angle::from_degrees(degrees).expect("an angle in range")
+}
+
+fn point(at: (f64, f64)) -> GeoPoint {
+    GeoPoint::from_degrees(at.0, at.1).expect("a position in range")
+}
+
+fn altitude(metres: f64) -> Altitude {
+    Altitude::from_metres(metres).expect("an altitude in range")
+}
+
+/// #13002 waypoint `number` at `at` (latitude, longitude in degrees), followed by `next` (0 =
+/// last), ending a leg of type `leg`: 120 m WGS-84, 25 m/s indicated airspeed, fly-by, time
+/// stamp 0; a radius-to-fix waypoint announces its #13006 centre (Optional Messages bit 0).
+/// Change any other field with struct update syntax: `UaPositionWaypoint { time_stamp: ..,
+/// ..waypoint(..) }`.
+pub fn waypoint(number: u16, next: u16, at: (f64, f64), leg: LegType) -> UaPositionWaypoint {
+    UaPositionWaypoint {
+        time_stamp: Timestamp::default(),
+        waypoint_number: number,
+        latitude: angle(at.0),
+        longitude: angle(at.1),
+        location_type: None,
+        altitude: altitude(120.0),
+        altitude_type: Some(AltitudeType::Wgs84),
+        altitude_change_behaviour: None,
+        speed: Speed::from_mps(25.0).expect("a speed in range"),
+        speed_type: Some(SpeedType::IndicatedAirspeed),
+        next_waypoint: next,
+        turn_type: TurnType::FlyBy,
+        optional_messages: (leg == LegType::RadiusToFix).then_some(1),
+        leg_type: leg,
+        limit_type: None,
+        loop_limit: None,
+        arrival_time: None,
+        activity_id: None,
+    }
+}
+
+/// #13002 with all 18 fields present (waypoint 2 at CCP, radius-to-fix, next 3), stamped at
+/// instant zero: what the wire benches encode and decode.
+pub fn full_waypoint() -> UaPositionWaypoint {
+    UaPositionWaypoint {
+        time_stamp: utc_at_zero(),
+        location_type: Some(LocationType::Absolute),
+        altitude_change_behaviour: Some(0),
+        limit_type: Some(0),
+        loop_limit: Some(0),
+        arrival_time: Some(ts(UTC_AT_ZERO_MS + 100_000)),
+        activity_id: U3::new(7),
+        ..waypoint(2, 3, CCP, LegType::RadiusToFix)
+    }
+}
+
+/// #13006 type 1: the take-off height in metres.
+pub fn take_off(height_m: f64) -> VehicleSpecificWaypoint {
+    VehicleSpecificWaypoint {
+        time_stamp: Timestamp::default(),
+        data: SpecificData::TakeOffHeight {
+            height: altitude(height_m),
+        },
+        activity_id: None,
+    }
+}
+
+/// #13006 type 2: the centre `at` of the radius-to-fix leg ending at waypoint `number`.
+pub fn rf_centre(number: u16, at: (f64, f64), direction: TurnDirection) -> VehicleSpecificWaypoint {
+    VehicleSpecificWaypoint {
+        time_stamp: Timestamp::default(),
+        data: SpecificData::RfCentre {
+            waypoint_number: number,
+            latitude: angle(at.0),
+            longitude: angle(at.1),
+            turn_direction: direction,
+        },
+        activity_id: None,
+    }
+}
+
+/// #13001: a flight route starting at `initial`.
+pub fn route(initial: u16, bidirectional: bool) -> UaRoute {
+    UaRoute {
+        time_stamp: Timestamp::default(),
+        initial_waypoint: initial,
+        route_id: None,
+        route_type: Some(RouteType::Flight),
+        bidirectional,
+    }
+}
+
+// ---- Areas ----
+
+/// CCP, the casualty collection point: waypoint 1 of the demo missions.
+pub const CCP: (f64, f64) = (48.275, 11.645);
+
+/// The demo fly-zone rectangle: 48.255..48.285 N, 11.635..11.690 E.
+pub const FLY_ZONE: [(f64, f64); 4] = [
+    (48.255, 11.635),
+    (48.255, 11.690),
+    (48.285, 11.690),
+    (48.285, 11.635),
+];
+
+/// The polygonal no-fly-zone of demo mission 2, inside [`FLY_ZONE`].
+pub const NFZ_POLYGON: [(f64, f64); 4] = [
+    (48.262, 11.640),
+    (48.262, 11.646),
+    (48.266, 11.646),
+    (48.266, 11.640),
+];
+
+/// #2012: a polygon of `corners` (latitude, longitude in degrees), no altitudes.
+pub fn polygon(id: u16, area_type: AreaType, corners: &[(f64, f64)]) -> AreaPolygonLoopSegment {
+    let mut vertices = PolygonVertices::new();
+    for &corner in corners {
+        vertices
+            .push(point(corner))
+            .expect("at most MAX_POLYGON_VERTICES corners");
+    }
+    AreaPolygonLoopSegment {
+        time_stamp: Timestamp::default(),
+        area_id: id,
+        area_type,
+        lower_altitude: None,
+        upper_altitude: None,
+        altitude_type: None,
+        shape: AreaShape::Polygon(vertices),
+    }
+}
+
+/// #2012: a circular no-fly-zone around `centre` through `border`.
+pub fn circle(id: u16, centre: (f64, f64), border: (f64, f64)) -> AreaPolygonLoopSegment {
+    AreaPolygonLoopSegment {
+        time_stamp: Timestamp::default(),
+        area_id: id,
+        area_type: AreaType::NoFlyZone,
+        lower_altitude: None,
+        upper_altitude: None,
+        altitude_type: None,
+        shape: AreaShape::Circle {
+            centre: point(centre),
+            border: point(border),
+        },
+    }
+}
+
+/// #2012: a closed curve of [`MAX_POLYGON_VERTICES`] vertices around `centre`, semi-axes
+/// `axes` in degrees of latitude and longitude (the largest #2012 of an upload).
+pub fn ellipse(
+    id: u16,
+    area_type: AreaType,
+    centre: (f64, f64),
+    axes: (f64, f64),
+) -> AreaPolygonLoopSegment {
+    let corners: Vec<(f64, f64)> = (0..MAX_POLYGON_VERTICES)
+        .map(|i| {
+            let a = i as f64 / MAX_POLYGON_VERTICES as f64 * core::f64::consts::TAU;
+            (centre.0 + axes.0 * a.sin(), centre.1 + axes.1 * a.cos())
+        })
+        .collect();
+    polygon(id, area_type, &corners)
+}
+
+/// A fly-zone #2012 of 60 vertices with every optional field present (0 to 300 m WGS-84),
+/// stamped at instant zero: what the wire benches encode and decode.
+pub fn full_polygon() -> AreaPolygonLoopSegment {
+    AreaPolygonLoopSegment {
+        time_stamp: utc_at_zero(),
+        lower_altitude: Some(altitude(0.0)),
+        upper_altitude: Some(altitude(300.0)),
+        altitude_type: Some(AltitudeType::Wgs84),
+        ..ellipse(1, AreaType::FlyZone, (48.27, 11.66), (0.01, 0.015))
+    }
+}
+
+/// The largest area list: a 60-vertex elliptic fly-zone inside the demo rectangle (area 1) and
+/// ten 60-vertex no-fly-zone circles of about 130 m radius inside it (areas 2 to 11).
+pub fn eleven_areas() -> Vec<AreaPolygonLoopSegment> {
+    const CENTRE: (f64, f64) = (48.270, 11.6625);
+    let lon_scale = 1.0 / CENTRE.0.to_radians().cos();
+    let mut areas = vec![ellipse(1, AreaType::FlyZone, CENTRE, (0.0145, 0.027))];
+    areas.extend((0..10u16).map(|k| {
+        let centre = (
+            48.266 + 0.008 * f64::from(k / 5),
+            11.648 + 0.0075 * f64::from(k % 5),
+        );
+        ellipse(
+            k + 2,
+            AreaType::NoFlyZone,
+            centre,
+            (0.0012, 0.0012 * lon_scale),
+        )
+    }));
+    areas
+}
+
+// ---- Missions and plans ----
+
+/// A waypoint buffer holding `messages`, stored in the order given.
+pub fn mission_buffer(messages: &[Message]) -> MissionBuffer {
+    let mut buffer = MissionBuffer::new();
+    for m in messages {
+        buffer.store(m).expect("a mission message the buffer holds");
+    }
+    buffer
+}
+
+/// An area buffer holding `areas`, stored in the order given.
+pub fn area_buffer(areas: &[AreaPolygonLoopSegment]) -> AreaBuffer {
+    let mut buffer = AreaBuffer::new();
+    for a in areas {
+        buffer.store(a).expect("an area the buffer holds");
+    }
+    buffer
+}
+
+/// A plan of `messages` and `areas`, safety offset 25 m, named `mission_id`.
+pub fn plan(
+    messages: &[Message],
+    areas: &[AreaPolygonLoopSegment],
+    mission_id: &str,
+) -> MissionPlan {
+    MissionPlan {
+        mission: mission_buffer(messages),
+        areas: area_buffer(areas),
+        safety_offset: SafetyOffset::from_metres(25.0).expect("an offset in range"),
+        mission_id: Some(Text::new(mission_id).expect("a mission ID of at most 20 bytes")),
+    }
+}
+
+/// Demo mission 1 (`missions/mission-1.toml`): TROL to CCP, one waypoint (CCP), take-off 30 m,
+/// its fly-zone.
+pub fn mission_1() -> MissionPlan {
+    plan(
+        &[
+            take_off(30.0).into(),
+            waypoint(1, 0, CCP, LegType::TrackToFix).into(),
+            route(1, false).into(),
+        ],
+        &[polygon(1, AreaType::FlyZone, &FLY_ZONE)],
+        "MEDEVAC-1",
+    )
+}
+
+/// Demo mission 2 (`missions/mission-2.toml`), the richer variant: CCP -> W1 (track-to-fix) ->
+/// ROLE2 (radius-to-fix, clockwise), bidirectional, the fly-zone, a circular and a polygonal
+/// no-fly-zone.
+pub fn mission_2() -> MissionPlan {
+    plan(
+        &[
+            take_off(30.0).into(),
+            waypoint(3, 0, (48.280, 11.680), LegType::RadiusToFix).into(),
+            rf_centre(3, (48.27455, 11.66991), TurnDirection::Clockwise).into(),
+            waypoint(1, 2, CCP, LegType::TrackToFix).into(),
+            waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix).into(),
+            route(1, true).into(),
+        ],
+        &[
+            polygon(1, AreaType::FlyZone, &FLY_ZONE),
+            circle(2, (48.268, 11.675), (48.268, 11.679)),
+            polygon(3, AreaType::NoFlyZone, &NFZ_POLYGON),
+        ],
+        "MEDEVAC-2",
+    )
+}
+
+/// The messages of an `n`-waypoint mission (1 <= n <= 65534): take-off 30 m, waypoints 1 -> 2
+/// -> ... -> n zig-zagging west to east inside the demo fly-zone (track-to-fix), a one-way
+/// route from 1.
+pub fn zigzag(n: u16) -> Vec<Message> {
+    let mut messages = vec![take_off(30.0).into()];
+    messages.extend((0..n).map(|i| {
+        let lat = if i % 2 == 0 { 48.262 } else { 48.278 };
+        let lon = 11.645 + 0.035 * f64::from(i) / f64::from(n.saturating_sub(1).max(1));
+        let next = if i + 1 == n { 0 } else { i + 2 };
+        Message::from(waypoint(i + 1, next, (lat, lon), LegType::TrackToFix))
+    }));
+    messages.push(route(1, false).into());
+    messages
+}
+
+/// [`zigzag`] with [`eleven_areas`], named `GENERATED-<n>`.
+pub fn generated_plan(n: u16) -> MissionPlan {
+    plan(&zigzag(n), &eleven_areas(), &format!("GENERATED-{n}"))
+}
+
+// ---- Frames and randomness ----
+
+/// `message` encoded in a frame of `envelope`.
+pub fn frame(envelope: &Envelope, message: &Message) -> Vec<u8> {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let len = wire::encode(envelope, message, &mut buf).expect("a message that encodes");
+    buf.get(..len)
+        .expect("encode returns a length within the buffer")
+        .to_vec()
+}
+
+/// `message` as the GCS sends it to the FCC, acknowledgement requested.
+pub fn uplink(message: &Message) -> Vec<u8> {
+    frame(
+        &Envelope::new(defaults::GCS_ID, defaults::FCC_ID).with_ack(true),
+        message,
+    )
+}
+
+/// A small, fast, seeded RNG (xorshift64*): the same seed gives the same run.
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// An RNG started from `seed` (any value, 0 included).
+    pub fn new(seed: u64) -> Self {
+        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// True with probability `p`.
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+
+    /// Uniform in `lo..=hi` (`lo <= hi`).
+    pub fn range(&mut self, lo: u64, hi: u64) -> u64 {
+        lo + self.next_u64() % (hi - lo + 1)
+    }
+
+    /// Shuffles `items` in place (Fisher-Yates).
+    pub fn shuffle<T>(&mut self, items: &mut [T]) {
+        for i in (1..items.len()).rev() {
+            let j = (self.next_u64() % (i as u64 + 1)) as usize;
+            items.swap(i, j);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demo_missions_assemble_as_their_files_say() {
+        let m1 = mission_1();
+        let m = m1.mission.assemble(Some(1), None).unwrap();
+        assert_eq!(m.waypoints.len(), 1);
+        assert_eq!(m.take_off_height().metres(), 30.0);
+        let m2 = mission_2();
+        let m = m2.mission.assemble(Some(3), None).unwrap();
+        let numbers: Vec<u16> = m
+            .waypoints
+            .iter()
+            .map(|r| r.waypoint.waypoint_number)
+            .collect();
+        assert_eq!(numbers, [1, 2, 3]);
+        assert!(m.waypoints[2].rf_centre.is_some());
+        let areas = m2.areas.assemble(3, m2.safety_offset).unwrap();
+        assert_eq!(areas.areas.len(), 3);
+    }
+
+    #[test]
+    fn generated_plans_have_n_waypoints_and_eleven_areas_of_60_vertices() {
+        for n in [1u16, 2, 256] {
+            let p = generated_plan(n);
+            let m = p.mission.assemble(Some(n), None).unwrap();
+            assert_eq!(m.waypoints.len(), usize::from(n));
+            let list = p.areas.assemble(11, p.safety_offset).unwrap();
+            assert_eq!(list.to_payload(1).no_fly_polygon_count, 10);
+            for a in &list.areas {
+                let AreaShape::Polygon(v) = &a.shape else {
+                    panic!("area {} is not a polygon", a.area_id)
+                };
+                assert_eq!(v.len(), MAX_POLYGON_VERTICES);
+            }
+        }
+    }
+
+    #[test]
+    fn full_messages_carry_every_field_through_the_wire() {
+        let w: Message = full_waypoint().into();
+        let p: Message = full_polygon().into();
+        for m in [w, p] {
+            let (envelope, decoded) = wire::decode(&uplink(&m)).unwrap();
+            assert!(envelope.ack_requested);
+            assert_eq!(decoded, m);
+        }
+        assert!(full_waypoint().arrival_time.is_some());
+    }
+
+    #[test]
+    fn rng_repeats_its_seed_and_shuffles_a_permutation() {
+        let (mut a, mut b) = (Rng::new(7), Rng::new(7));
+        assert_eq!(a.next_u64(), b.next_u64());
+        let mut items: Vec<u16> = (0..100).collect();
+        a.shuffle(&mut items);
+        assert_ne!(items, (0..100).collect::<Vec<_>>());
+        items.sort_unstable();
+        assert_eq!(items, (0..100).collect::<Vec<_>>());
+    }
+}
