@@ -110,7 +110,7 @@ impl VotingStats {
         *{ *self }.by_cause_mut(cause)
     }
 
-    /// Every counter by name, for a summary (the frame causes under [`Cause::name`]).
+    /// Every counter by name, for a summary (the frame causes under [`Cause::counter_name`]).
     pub fn counters(&self) -> impl Iterator<Item = (&'static str, u64)> + '_ {
         let [direct, lte] = self.forwarded;
         [
@@ -124,7 +124,7 @@ impl VotingStats {
         .chain(
             FrameCause::ALL
                 .into_iter()
-                .map(|cause| (cause.name(), self.rejected(cause))),
+                .map(|cause| (cause.counter_name(), self.rejected(cause))),
         )
         .chain([
             (
@@ -204,7 +204,7 @@ impl Cause<1> for StepFull {
     fn index(self) -> usize {
         self as usize
     }
-    fn name(self) -> &'static str {
+    fn counter_name(self) -> &'static str {
         "overflow"
     }
 }
@@ -327,7 +327,7 @@ impl Voter {
         if let Some(rejected) = self.frame_log.admit(cause, now) {
             tracing::warn!(
                 ?link,
-                cause = cause.name(),
+                cause = cause.counter_name(),
                 rejected,
                 last = %error,
                 "frames rejected since the last line of this cause"
@@ -354,7 +354,7 @@ impl Voter {
                     if let Some(dropped) = self.unreadable_log.admit(reason, now) {
                         tracing::warn!(
                             ?link,
-                            reason = reason.name(),
+                            reason = reason.counter_name(),
                             dropped,
                             last = %error,
                             "messages without readable time stamp dropped since the last line \

@@ -191,7 +191,7 @@ impl Endpoint {
                 self.stats.rejected_messages.add(reason);
                 if let Some(rejected) = self.message_log.admit(reason, now) {
                     tracing::warn!(
-                        reason = reason.name(),
+                        reason = reason.counter_name(),
                         rejected,
                         last = %error,
                         "messages rejected since the last line of this reason"
@@ -209,7 +209,7 @@ impl Endpoint {
         self.stats.refused_messages = self.stats.refused_messages.saturating_add(1);
         if let Some(refused) = self.refusal_log.admit(reason, now) {
             tracing::info!(
-                cause = reason.name(),
+                cause = reason.counter_name(),
                 rejected = refused,
                 last_message = message_type,
                 "messages refused since the last line of this reason"
@@ -222,7 +222,7 @@ impl Endpoint {
         self.stats.rejected_frames.add(cause);
         if let Some(rejected) = self.frame_log.admit(cause, now) {
             tracing::warn!(
-                cause = cause.name(),
+                cause = cause.counter_name(),
                 rejected,
                 last = %error,
                 "frames rejected since the last line of this cause"

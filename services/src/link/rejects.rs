@@ -27,7 +27,7 @@ pub trait Cause<const N: usize>: Copy + Eq + fmt::Debug + 'static {
     fn index(self) -> usize;
 
     /// The counter's name in summaries (snake case, unique among the counters of a partition).
-    fn name(self) -> &'static str;
+    fn counter_name(self) -> &'static str;
 }
 
 /// The rule of ICD §2 a frame breaks: a [`FrameError`] without the values it reports.
@@ -84,7 +84,7 @@ impl Cause<8> for FrameCause {
         self as usize
     }
 
-    fn name(self) -> &'static str {
+    fn counter_name(self) -> &'static str {
         match self {
             Self::TooShort => "too_short",
             Self::LengthOutOfRange => "length_out_of_range",
@@ -127,7 +127,7 @@ impl Cause<REASONS> for Reason {
         self as usize
     }
 
-    fn name(self) -> &'static str {
+    fn counter_name(self) -> &'static str {
         match self {
             Self::None => "reason_none",
             Self::Malformed => "reason_malformed",
@@ -185,9 +185,10 @@ impl<C: Cause<N>, const N: usize> ByCause<C, N> {
         C::ALL.into_iter().map(|cause| (cause, self.get(cause)))
     }
 
-    /// Every counter by its [`Cause::name`], for a summary.
+    /// Every counter by its [`Cause::counter_name`], for a summary.
     pub fn counters(&self) -> impl Iterator<Item = (&'static str, u64)> + '_ {
-        self.iter().map(|(cause, count)| (cause.name(), count))
+        self.iter()
+            .map(|(cause, count)| (cause.counter_name(), count))
     }
 }
 
@@ -273,7 +274,7 @@ mod tests {
         let mut names = std::collections::HashSet::new();
         for (i, cause) in C::ALL.into_iter().enumerate() {
             assert_eq!(cause.index(), i, "{cause:?}");
-            assert!(names.insert(cause.name()), "{cause:?}: name twice");
+            assert!(names.insert(cause.counter_name()), "{cause:?}: name twice");
         }
     }
 
