@@ -54,7 +54,9 @@
 //!
 //! Results: a table per payload size on stdout, all numbers as JSON in
 //! `target/latency/results.json` and a plot in `target/latency/latency.svg`.
-
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 #![allow(
     unsafe_code,
     reason = "the shared-memory floor maps a file and views two of its cache lines as atomics"

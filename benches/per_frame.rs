@@ -15,6 +15,9 @@
 //! The #13002 frames of an upload carry waypoint numbers rotating through 1..=256 (the buffer
 //! never overflows: a number sent again overwrites) and rising time stamps (sampling never drops
 //! them). Run with `cargo bench --bench per_frame`.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::hint::black_box;
 use std::time::{Duration, Instant as WallClock};

@@ -15,6 +15,9 @@
 //! ```
 //!
 //! Without `--bench` (`cargo test --benches`) it makes one run per mission and writes nothing.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 
 #[path = "../tests/common/mod.rs"]
 mod common;

@@ -2,6 +2,9 @@
 //! with all 18 fields, and #2012 Area Polygon Loop Segment with 60 vertices (the largest frame of
 //! a mission upload). Each iteration handles one whole frame: wrapper, presence vector, fields,
 //! checksum. Run with `cargo bench --bench wire`.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::hint::black_box;
 

@@ -5,15 +5,6 @@
 //! - [`contracts`]: the iceoryx2 payloads and service names between the FCC partitions
 //!   (`DESIGN.md`, "Contracts between partitions").
 //! - [`capacity`]: the fixed capacities both share; [`defaults`]: the defaults of ICD §1.
-#![cfg_attr(
-    not(test),
-    deny(
-        clippy::unwrap_used,
-        clippy::expect_used,
-        clippy::panic,
-        clippy::indexing_slicing
-    )
-)]
 
 pub mod capacity;
 pub mod contracts;

@@ -4,6 +4,9 @@
 //! Every frame is built by hand from the ICD tables (16-byte header of §2, message data of §3
 //! and §4, 4-byte byte-sum checksum), never by the library's encoder, so these tests also pin
 //! the wire layout.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use missionlink_interfaces::wire::{
     self, AckType, Altitude, AltitudeType, Angle, AreaDownloadStatus, AreaListStatus,

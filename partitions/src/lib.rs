@@ -5,15 +5,6 @@
 //! Each partition's loop is a library function generic over the iceoryx2 service type
 //! (`voting_monitoring::run::<S>` and so on): the binaries run it on `ipc::Service`, the tests
 //! in one process on `local::Service`, and a [`runtime::Control`] stops it from another thread.
-#![cfg_attr(
-    not(test),
-    deny(
-        clippy::unwrap_used,
-        clippy::expect_used,
-        clippy::panic,
-        clippy::indexing_slicing
-    )
-)]
 
 pub mod binaries;
 pub mod clock;

@@ -2,6 +2,9 @@
 //! runs on a thread of the test, the test plays its neighbours through its own node, and a
 //! `Control` stops it. Every test has its own service prefix and state directory. The
 //! cross-process tests of the real binaries are in the root package's `tests/`.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::net::UdpSocket;
 use std::path::PathBuf;

@@ -48,7 +48,7 @@ fn print_sequence(log: &[Logged], from: usize) {
         return;
     };
     println!("      time   direction  message");
-    for l in &log[from..] {
+    for l in log.get(from..).unwrap_or_default() {
         if matches!(l.message, Message::FromToNext(_)) {
             continue;
         }
@@ -219,7 +219,10 @@ fn run(args: &Args) -> Result<(), String> {
         .validate(&mission_2)
         .map_err(|e| e.to_string())?;
     let (took, from) = upload(&mut link, &mission_2, Duration::from_secs(120))?;
-    let sent = link.log[from..]
+    let sent = link
+        .log
+        .get(from..)
+        .unwrap_or_default()
         .iter()
         .filter(|l| l.direction == Direction::Up)
         .count();
