@@ -1,5 +1,5 @@
 //! The safety gateway (paper §2.2; issue 6): every check a mission must pass on the GCS before
-//! it is uploaded. [`SafetyGateway::check`] reports **every** violation, each with a stable code
+//! it is uploaded. [`SafetyGateway::violations`] reports **every** violation, each with a stable code
 //! ([`ViolationCode::code`]), the element concerned ([`Element`]), the margin in metres or the
 //! value against its limit, and a position for the map.
 //!
