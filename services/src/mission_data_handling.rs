@@ -39,8 +39,8 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionStatus,
-    EncodeError, Envelope, ExecuteCommand, FrameError, Message, MissionPlanMode, Reason,
-    SafetyOffset, Timestamp,
+    EncodeError, ExecuteCommand, FrameError, Message, MissionPlanMode, Reason, SafetyOffset,
+    Timestamp,
 };
 
 use crate::automation;
@@ -534,11 +534,6 @@ impl MissionDataHandling {
             "upload abandoned: nothing heard for the transfer timeout"
         );
         self.event(FccEvent::UploadAbandoned { kind, reason: None });
-    }
-
-    /// The next message to send.
-    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
-        self.endpoint.poll_outgoing()
     }
 
     /// Encodes the next message to send into `buf`; returns the frame length.

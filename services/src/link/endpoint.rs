@@ -294,8 +294,10 @@ impl Endpoint {
         self.send(now, ack.into(), false);
     }
 
-    /// The next message to send, with its envelope.
-    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
+    /// The next message to send, with its envelope. Drivers take frames from
+    /// [`Endpoint::poll_transmit`]; the message itself is for the GCS logic's own
+    /// `poll_outgoing`.
+    pub(crate) fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
         let out = self.outbox.pop_front()?;
         let envelope =
             Envelope::new(self.config.local_id, self.config.peer_id).with_ack(out.ack_requested);
