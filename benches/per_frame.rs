@@ -33,7 +33,7 @@ use missionlink_services::link::endpoint::OUTBOX_CAPACITY;
 use missionlink_services::link::sampling::{MessageSampler, Sample};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
+use missionlink_services::testkit::{self, Transmit, UTC_AT_ZERO_MS, ts, uplink};
 use missionlink_services::transfer::areas::AreaBuffer;
 use missionlink_services::transfer::mission::MissionBuffer;
 use missionlink_services::transfer::sender::mission_command;
@@ -93,14 +93,13 @@ fn uploading() -> (MissionDataHandling, Upload, [u8; MAX_FRAME_LEN]) {
 
 /// Takes the one queued answer and checks it accepts a message of `original_type`.
 fn expect_completed(fcc: &mut MissionDataHandling, original_type: u16) {
-    match fcc.poll_outgoing() {
-        Some((_, Message::MessageAcknowledgement(a))) => {
+    match fcc.messages().as_slice() {
+        [Message::MessageAcknowledgement(a)] => {
             assert_eq!(a.ack_type, AckType::Completed, "{a:?}");
             assert_eq!(a.original_message_type, original_type);
         }
-        other => panic!("expected a #17000, got {other:?}"),
+        other => panic!("expected one #17000, got {other:?}"),
     }
-    assert!(fcc.poll_outgoing().is_none());
 }
 
 /// The time `chunk` gives for `iters` frames, in chunks of at most OUTBOX_CAPACITY: the outgoing

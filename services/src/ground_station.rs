@@ -9,7 +9,8 @@
 //! downloads with the FCC's upload receivers ([`TransferSender`], [`MissionReceiver`],
 //! [`AreaReceiver`]).
 //!
-//! Their deadlines are the slots of one [`TimerTable`] ([`GcsTimer`]). Commands are typed:
+//! Their deadlines are the slots of one [`TimerTable`] ([`GcsTimer`]), kept in step with them as
+//! on the FCC (`link::composite::Composite`). Commands are typed:
 //! [`GroundStation::clear_areas`] and [`GroundStation::execute`] build #2011 mode 6 and #50000,
 //! so no tool writes a message by hand.
 
@@ -23,7 +24,8 @@ use missionlink_interfaces::wire::{
     Text, Timestamp,
 };
 
-use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
+use crate::link::composite::Composite;
+use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
 use crate::link::timer::{Timer, TimerTable};
@@ -489,135 +491,31 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// Handles one downlink message (wrapper to checksum) received at `now`.
     pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
-        if let Inbound::Message {
-            message,
-            ack_requested,
-        } = self.endpoint.receive(now, bytes)?
-        {
-            self.route(now, &message, ack_requested);
-            self.update_timers();
-        }
-        Ok(())
+        self.receive_frame(now, bytes)
     }
 
-    fn route(&mut self, now: Instant, message: &Message, ack: bool) {
-        // An answer to what the GCS sent?
-        if let Some(event) = self
-            .sender
-            .as_mut()
-            .and_then(|s| s.handle_answer(&mut self.endpoint, now, message))
-        {
-            self.sender_event(now, event);
-            // A ready #3013 answers the area download request and opens the download: it goes
-            // on to the receiver below.
-            if !matches!(message, Message::AreaTransmissionStatus(s) if s.status == AreaDownloadStatus::Ready)
-            {
-                return;
-            }
+    /// Answers one message of the download of `phase` with its receiver's `outcome`, and fails
+    /// the request when the FCC abandoned the download or the receiver refused the message that
+    /// closes it (`closing`); a refused message in between is only answered, the FCC resends
+    /// it. `true` when the download is complete, for the caller to take the list.
+    fn downloaded(
+        &mut self,
+        now: Instant,
+        message: &Message,
+        ack: bool,
+        phase: Phase,
+        outcome: Result<Received, Reason>,
+        closing: bool,
+    ) -> bool {
+        self.endpoint.answer(now, message, ack, outcome.map(|_| ()));
+        match outcome {
+            Ok(Received::Complete) => return true,
+            Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted { phase, reason }),
+            Ok(Received::Stored | Received::Emptied) => {}
+            Err(reason) if closing => self.fail(GcsError::InvalidDownload { phase, reason }),
+            Err(_) => {}
         }
-        match message {
-            Message::FromToNext(ftn) => {
-                self.events.push_back(GcsEvent::FromToNext(*ftn));
-            }
-            Message::MessageAcknowledgement(_) | Message::AreaStatusAlert(_) => {
-                tracing::debug!("answer to nothing outstanding (late or duplicate)");
-            }
-            Message::VehicleSpecificWaypoint(_)
-            | Message::UaPositionWaypoint(_)
-            | Message::UaRoute(_)
-            | Message::MissionUploadDownloadStatus(_)
-                if self.state == State::Downloading(Phase::MissionDownload) =>
-            {
-                // The FCC may start before its acceptance of the request arrives (the links
-                // reorder): the first mission message opens the download as well.
-                if !self.mission_download.in_transfer() {
-                    self.sender = None;
-                    self.mission_download.begin(now);
-                }
-                let outcome = self.mission_download.handle(now, message);
-                self.answer(
-                    now,
-                    message,
-                    ack,
-                    outcome.as_ref().map(|_| ()).map_err(|r| *r),
-                );
-                match outcome {
-                    Ok(Received::Complete) => match self.mission_download.take() {
-                        Some(mission) => self.request_areas(now, mission),
-                        None => self.fail(GcsError::InvalidDownload {
-                            phase: Phase::MissionDownload,
-                            reason: Reason::WrongState,
-                        }),
-                    },
-                    Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted {
-                        phase: Phase::MissionDownload,
-                        reason,
-                    }),
-                    Ok(Received::Stored | Received::Emptied) => {}
-                    Err(reason) if matches!(message, Message::MissionUploadDownloadStatus(_)) => {
-                        self.fail(GcsError::InvalidDownload {
-                            phase: Phase::MissionDownload,
-                            reason,
-                        });
-                    }
-                    Err(_) => {}
-                }
-            }
-            Message::AreaTransmissionStatus(_)
-            | Message::AreaPolygonLoopSegment(_)
-            | Message::AreaTransmissionCommand(_)
-                if self.state == State::Downloading(Phase::AreaDownload) =>
-            {
-                let outcome = self.area_download.handle(now, message);
-                self.answer(
-                    now,
-                    message,
-                    ack,
-                    outcome.as_ref().map(|_| ()).map_err(|r| *r),
-                );
-                match outcome {
-                    Ok(Received::Complete) => {
-                        match (self.downloaded_mission.take(), self.area_download.take()) {
-                            (Some(mission), Some(areas)) => {
-                                self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
-                                    mission,
-                                    areas,
-                                })))
-                            }
-                            _ => self.fail(GcsError::InvalidDownload {
-                                phase: Phase::AreaDownload,
-                                reason: Reason::WrongState,
-                            }),
-                        }
-                    }
-                    Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted {
-                        phase: Phase::AreaDownload,
-                        reason,
-                    }),
-                    Ok(Received::Stored | Received::Emptied) => {}
-                    Err(reason) if matches!(message, Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::DownloadComplete) =>
-                    {
-                        self.fail(GcsError::InvalidDownload {
-                            phase: Phase::AreaDownload,
-                            reason,
-                        });
-                    }
-                    Err(_) => {}
-                }
-            }
-            _ => self.answer(now, message, ack, Err(Reason::WrongState)),
-        }
-    }
-
-    fn answer(&mut self, now: Instant, message: &Message, ack: bool, outcome: Result<(), Reason>) {
-        if ack {
-            self.endpoint.acknowledge(
-                now,
-                message.message_type() as u16,
-                message.time_stamp(),
-                outcome,
-            );
-        }
+        false
     }
 
     fn request_areas(&mut self, now: Instant, mission: Mission) {
@@ -675,21 +573,6 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// Copies the sender's and the receivers' deadlines into the timer table, after any call
-    /// that may have started, advanced or ended a transfer.
-    fn update_timers(&mut self) {
-        self.timers.set_or_stop(
-            GcsTimer::Sender,
-            self.sender.as_ref().and_then(TransferSender::poll_timeout),
-        );
-        self.timers.set_or_stop(
-            GcsTimer::MissionDownload,
-            self.mission_download.poll_timeout(),
-        );
-        self.timers
-            .set_or_stop(GcsTimer::AreaDownload, self.area_download.poll_timeout());
-    }
-
     /// When [`GroundStation::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.timers.next_timeout()
@@ -697,14 +580,40 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// The timers due at `now` fire: retries, and the download's transfer timeout.
     pub fn handle_timeout(&mut self, now: Instant) {
-        for timer in GcsTimer::ALL {
-            // Checked one by one: a timer that fires may end the request, and with it the
-            // other timers.
-            if self.timers.is_expired(timer, now) {
-                self.fire(timer, now);
-            }
+        self.fire_expired(now);
+    }
+
+    /// The next message to send.
+    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
+        self.endpoint.poll_outgoing()
+    }
+
+    /// Encodes the next message to send into `buf`; returns the frame length.
+    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.endpoint.poll_transmit(buf)
+    }
+
+    /// The next event for the operator.
+    pub fn poll_event(&mut self) -> Option<GcsEvent<G::Report>> {
+        self.events.pop_front()
+    }
+}
+
+impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
+    fn timers(&mut self) -> &mut TimerTable<GcsTimer, 3> {
+        &mut self.timers
+    }
+
+    fn endpoint(&mut self) -> &mut Endpoint {
+        &mut self.endpoint
+    }
+
+    fn deadline(&self, timer: GcsTimer) -> Option<Instant> {
+        match timer {
+            GcsTimer::Sender => self.sender.as_ref().and_then(TransferSender::poll_timeout),
+            GcsTimer::MissionDownload => self.mission_download.poll_timeout(),
+            GcsTimer::AreaDownload => self.area_download.poll_timeout(),
         }
-        self.update_timers();
     }
 
     fn fire(&mut self, timer: GcsTimer, now: Instant) {
@@ -728,19 +637,78 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// The next message to send.
-    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
-        self.endpoint.poll_outgoing()
-    }
-
-    /// Encodes the next message to send into `buf`; returns the frame length.
-    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
-        self.endpoint.poll_transmit(buf)
-    }
-
-    /// The next event for the operator.
-    pub fn poll_event(&mut self) -> Option<GcsEvent<G::Report>> {
-        self.events.pop_front()
+    fn route(&mut self, now: Instant, message: &Message, ack: bool) {
+        // An answer to what the GCS sent?
+        if let Some(event) = self
+            .sender
+            .as_mut()
+            .and_then(|s| s.handle_answer(&mut self.endpoint, now, message))
+        {
+            self.sender_event(now, event);
+            // A ready #3013 answers the area download request and opens the download: it goes
+            // on to the receiver below.
+            if !matches!(message, Message::AreaTransmissionStatus(s) if s.status == AreaDownloadStatus::Ready)
+            {
+                return;
+            }
+        }
+        match message {
+            Message::FromToNext(ftn) => {
+                self.events.push_back(GcsEvent::FromToNext(*ftn));
+            }
+            Message::MessageAcknowledgement(_) | Message::AreaStatusAlert(_) => {
+                tracing::debug!("answer to nothing outstanding (late or duplicate)");
+            }
+            Message::VehicleSpecificWaypoint(_)
+            | Message::UaPositionWaypoint(_)
+            | Message::UaRoute(_)
+            | Message::MissionUploadDownloadStatus(_)
+                if self.state == State::Downloading(Phase::MissionDownload) =>
+            {
+                // The FCC may start before its acceptance of the request arrives (the links
+                // reorder): the first mission message opens the download as well.
+                if !self.mission_download.in_transfer() {
+                    self.sender = None;
+                    self.mission_download.begin(now);
+                }
+                let outcome = self.mission_download.handle(now, message);
+                let closing = matches!(message, Message::MissionUploadDownloadStatus(_));
+                if self.downloaded(now, message, ack, Phase::MissionDownload, outcome, closing) {
+                    match self.mission_download.take() {
+                        Some(mission) => self.request_areas(now, mission),
+                        None => self.fail(GcsError::InvalidDownload {
+                            phase: Phase::MissionDownload,
+                            reason: Reason::WrongState,
+                        }),
+                    }
+                }
+            }
+            Message::AreaTransmissionStatus(_)
+            | Message::AreaPolygonLoopSegment(_)
+            | Message::AreaTransmissionCommand(_)
+                if self.state == State::Downloading(Phase::AreaDownload) =>
+            {
+                let outcome = self.area_download.handle(now, message);
+                let closing = matches!(message, Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::DownloadComplete);
+                if self.downloaded(now, message, ack, Phase::AreaDownload, outcome, closing) {
+                    match (self.downloaded_mission.take(), self.area_download.take()) {
+                        (Some(mission), Some(areas)) => {
+                            self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
+                                mission,
+                                areas,
+                            })))
+                        }
+                        _ => self.fail(GcsError::InvalidDownload {
+                            phase: Phase::AreaDownload,
+                            reason: Reason::WrongState,
+                        }),
+                    }
+                }
+            }
+            _ => self
+                .endpoint
+                .answer(now, message, ack, Err(Reason::WrongState)),
+        }
     }
 }
 

@@ -19,8 +19,9 @@
 //! leaves them as they were. Steady-state handling allocates nothing.
 //!
 //! The deadlines of the transfers (the download messages' ack timeouts, the uploads' transfer
-//! timeouts) are the slots of one [`TimerTable`] ([`FccTimer`]): `poll_timeout` is its earliest
-//! deadline, and `handle_timeout` fires the transfers whose timers are due.
+//! timeouts) are the slots of one [`TimerTable`] ([`FccTimer`]), kept in step with the transfers
+//! as in the GCS logic (`link::composite::Composite`): `poll_timeout` is its earliest deadline,
+//! and `handle_timeout` fires the transfers whose timers are due.
 //!
 //! The clear of ICD §5.1 step 1 (#13000 mode 1) empties the waypoint buffer at once, but the
 //! active list only with the #13000 mode 2 that closes the transfer. This project's choice where
@@ -38,13 +39,14 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionStatus,
-    EncodeError, Envelope, ExecuteCommand, FrameError, Message, MissionPlanMode, Reason,
-    SafetyOffset, Timestamp,
+    EncodeError, ExecuteCommand, FrameError, Message, MissionPlanMode, Reason, SafetyOffset,
+    Timestamp,
 };
 
 use crate::automation;
 use crate::from_to_next::FromToNextReporter;
-use crate::link::endpoint::{Endpoint, EndpointConfig, Inbound};
+use crate::link::composite::Composite;
+use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
 use crate::link::timer::{Timer, TimerTable};
@@ -295,110 +297,12 @@ impl MissionDataHandling {
     /// Handles one uplink message (wrapper to checksum) received at `now`. A frame error is
     /// returned for the driver to count and log; it is never answered (ICD §2).
     pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
-        if let Inbound::Message {
-            message,
-            ack_requested,
-        } = self.endpoint.receive(now, bytes)?
-        {
-            self.route(now, &message, ack_requested);
-            self.update_timers();
-        }
-        Ok(())
+        self.receive_frame(now, bytes)
     }
 
     fn event(&mut self, e: FccEvent) {
         if self.events.push_back(e).is_err() {
             tracing::error!("event queue full: the driver does not drain it");
-        }
-    }
-
-    fn answer(&mut self, now: Instant, message: &Message, ack: bool, outcome: Result<(), Reason>) {
-        if ack {
-            self.endpoint.acknowledge(
-                now,
-                message.message_type() as u16,
-                message.time_stamp(),
-                outcome,
-            );
-        }
-        if let Err(reason) = outcome {
-            self.endpoint
-                .refused(now, message.message_type() as u16, reason);
-        }
-    }
-
-    /// The moding of paper §3.1.2.
-    fn route(&mut self, now: Instant, message: &Message, ack: bool) {
-        match message {
-            Message::MessageAcknowledgement(_) => self.download_answer(now, message),
-            Message::MissionTransferCommand(c) => match c.mode {
-                MissionPlanMode::ClearMission => {
-                    let outcome = self.clear_mission(now);
-                    self.answer(now, message, ack, outcome);
-                }
-                MissionPlanMode::TransmitMission => {
-                    let outcome = self.mission_data(now, message);
-                    self.answer(now, message, ack, outcome);
-                }
-                MissionPlanMode::ReceiveMission => self.start_mission_download(now, message, ack),
-                MissionPlanMode::CancelTransfer => {
-                    self.cancel(DataKind::Mission);
-                    self.answer(now, message, ack, Ok(()));
-                }
-            },
-            Message::UaRoute(_)
-            | Message::UaPositionWaypoint(_)
-            | Message::VehicleSpecificWaypoint(_) => {
-                let outcome = self.mission_data(now, message);
-                self.answer(now, message, ack, outcome);
-            }
-            Message::AreaTransmissionCommand(c) => match c.mode {
-                AreaTransferMode::InitiateUpload => {
-                    let outcome = if self.area_download.is_some() {
-                        Err(Reason::Busy)
-                    } else {
-                        self.area_upload.handle(now, message).map(|_| ())
-                    };
-                    self.answer(now, message, ack, outcome);
-                }
-                // Answered by #3012 instead of #17000 (ICD §5.3 step 3).
-                AreaTransferMode::UploadComplete => self.complete_area_upload(now, message),
-                // Answered by #3013 instead of #17000 (ICD §5.4 step 1).
-                AreaTransferMode::InitiateDownload => self.start_area_download(now),
-                AreaTransferMode::Cancel => {
-                    self.cancel(DataKind::Areas);
-                    self.answer(now, message, ack, Ok(()));
-                }
-                AreaTransferMode::ClearAreas => {
-                    let outcome = self.clear_areas();
-                    self.answer(now, message, ack, outcome);
-                }
-                AreaTransferMode::DownloadComplete => {
-                    self.answer(now, message, ack, Err(Reason::WrongState));
-                }
-            },
-            Message::AreaPolygonLoopSegment(_) => {
-                let outcome = if self.area_download.is_some() {
-                    Err(Reason::WrongState)
-                } else {
-                    self.area_upload.handle(now, message).map(|_| ())
-                };
-                self.answer(now, message, ack, outcome);
-            }
-            Message::MissionExecuteCommand(c) => {
-                let outcome = self.check_execute(c.command);
-                if outcome.is_ok() {
-                    self.event(FccEvent::Execute(c.command));
-                }
-                self.answer(now, message, ack, outcome);
-            }
-            // Messages the FCC sends, never receives.
-            Message::FromToNext(_)
-            | Message::MissionUploadDownloadStatus(_)
-            | Message::AreaStatusAlert(_)
-            | Message::AreaTransmissionStatus(_) => {
-                self.answer(now, message, ack, Err(Reason::WrongState));
-            }
         }
     }
 
@@ -509,7 +413,7 @@ impl MissionDataHandling {
         } else {
             Ok(())
         };
-        self.answer(now, message, ack, outcome);
+        self.endpoint.answer(now, message, ack, outcome);
         if let (Ok(()), Some(mission)) = (outcome, self.active_mission.clone()) {
             self.mission_download = Some(TransferSender::start(
                 Script::MissionDownload { mission },
@@ -613,21 +517,6 @@ impl MissionDataHandling {
         )
     }
 
-    /// Copies the deadline of every transfer into the timer table, after any call that may have
-    /// started, advanced or ended one.
-    fn update_timers(&mut self) {
-        let download =
-            |s: &Option<TransferSender>| s.as_ref().and_then(TransferSender::poll_timeout);
-        self.timers
-            .set_or_stop(FccTimer::MissionDownload, download(&self.mission_download));
-        self.timers
-            .set_or_stop(FccTimer::AreaDownload, download(&self.area_download));
-        self.timers
-            .set_or_stop(FccTimer::MissionUpload, self.mission_upload.poll_timeout());
-        self.timers
-            .set_or_stop(FccTimer::AreaUpload, self.area_upload.poll_timeout());
-    }
-
     /// When [`MissionDataHandling::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.timers.next_timeout()
@@ -635,13 +524,47 @@ impl MissionDataHandling {
 
     /// The timers due at `now` fire: download retries, upload transfer timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
-        for timer in FccTimer::ALL {
-            // Checked one by one: a timer that fires may end another transfer.
-            if self.timers.is_expired(timer, now) {
-                self.fire(timer, now);
-            }
+        self.fire_expired(now);
+    }
+
+    fn upload_timed_out(&mut self, kind: DataKind, timed_out: TransferTimedOut) {
+        tracing::warn!(
+            ?kind,
+            last_heard = ?timed_out.last_heard,
+            "upload abandoned: nothing heard for the transfer timeout"
+        );
+        self.event(FccEvent::UploadAbandoned { kind, reason: None });
+    }
+
+    /// Encodes the next message to send into `buf`; returns the frame length.
+    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.endpoint.poll_transmit(buf)
+    }
+
+    /// The next event for the driver.
+    pub fn poll_event(&mut self) -> Option<FccEvent> {
+        self.events.pop_front()
+    }
+}
+
+impl Composite<FccTimer, 4> for MissionDataHandling {
+    fn timers(&mut self) -> &mut TimerTable<FccTimer, 4> {
+        &mut self.timers
+    }
+
+    fn endpoint(&mut self) -> &mut Endpoint {
+        &mut self.endpoint
+    }
+
+    fn deadline(&self, timer: FccTimer) -> Option<Instant> {
+        let download =
+            |s: &Option<TransferSender>| s.as_ref().and_then(TransferSender::poll_timeout);
+        match timer {
+            FccTimer::MissionDownload => download(&self.mission_download),
+            FccTimer::AreaDownload => download(&self.area_download),
+            FccTimer::MissionUpload => self.mission_upload.poll_timeout(),
+            FccTimer::AreaUpload => self.area_upload.poll_timeout(),
         }
-        self.update_timers();
     }
 
     fn fire(&mut self, timer: FccTimer, now: Instant) {
@@ -671,27 +594,80 @@ impl MissionDataHandling {
         }
     }
 
-    fn upload_timed_out(&mut self, kind: DataKind, timed_out: TransferTimedOut) {
-        tracing::warn!(
-            ?kind,
-            last_heard = ?timed_out.last_heard,
-            "upload abandoned: nothing heard for the transfer timeout"
-        );
-        self.event(FccEvent::UploadAbandoned { kind, reason: None });
-    }
-
-    /// The next message to send.
-    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
-        self.endpoint.poll_outgoing()
-    }
-
-    /// Encodes the next message to send into `buf`; returns the frame length.
-    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
-        self.endpoint.poll_transmit(buf)
-    }
-
-    /// The next event for the driver.
-    pub fn poll_event(&mut self) -> Option<FccEvent> {
-        self.events.pop_front()
+    /// The moding of paper §3.1.2.
+    fn route(&mut self, now: Instant, message: &Message, ack: bool) {
+        match message {
+            Message::MessageAcknowledgement(_) => self.download_answer(now, message),
+            Message::MissionTransferCommand(c) => match c.mode {
+                MissionPlanMode::ClearMission => {
+                    let outcome = self.clear_mission(now);
+                    self.endpoint.answer(now, message, ack, outcome);
+                }
+                MissionPlanMode::TransmitMission => {
+                    let outcome = self.mission_data(now, message);
+                    self.endpoint.answer(now, message, ack, outcome);
+                }
+                MissionPlanMode::ReceiveMission => self.start_mission_download(now, message, ack),
+                MissionPlanMode::CancelTransfer => {
+                    self.cancel(DataKind::Mission);
+                    self.endpoint.answer(now, message, ack, Ok(()));
+                }
+            },
+            Message::UaRoute(_)
+            | Message::UaPositionWaypoint(_)
+            | Message::VehicleSpecificWaypoint(_) => {
+                let outcome = self.mission_data(now, message);
+                self.endpoint.answer(now, message, ack, outcome);
+            }
+            Message::AreaTransmissionCommand(c) => match c.mode {
+                AreaTransferMode::InitiateUpload => {
+                    let outcome = if self.area_download.is_some() {
+                        Err(Reason::Busy)
+                    } else {
+                        self.area_upload.handle(now, message).map(|_| ())
+                    };
+                    self.endpoint.answer(now, message, ack, outcome);
+                }
+                // Answered by #3012 instead of #17000 (ICD §5.3 step 3).
+                AreaTransferMode::UploadComplete => self.complete_area_upload(now, message),
+                // Answered by #3013 instead of #17000 (ICD §5.4 step 1).
+                AreaTransferMode::InitiateDownload => self.start_area_download(now),
+                AreaTransferMode::Cancel => {
+                    self.cancel(DataKind::Areas);
+                    self.endpoint.answer(now, message, ack, Ok(()));
+                }
+                AreaTransferMode::ClearAreas => {
+                    let outcome = self.clear_areas();
+                    self.endpoint.answer(now, message, ack, outcome);
+                }
+                AreaTransferMode::DownloadComplete => {
+                    self.endpoint
+                        .answer(now, message, ack, Err(Reason::WrongState));
+                }
+            },
+            Message::AreaPolygonLoopSegment(_) => {
+                let outcome = if self.area_download.is_some() {
+                    Err(Reason::WrongState)
+                } else {
+                    self.area_upload.handle(now, message).map(|_| ())
+                };
+                self.endpoint.answer(now, message, ack, outcome);
+            }
+            Message::MissionExecuteCommand(c) => {
+                let outcome = self.check_execute(c.command);
+                if outcome.is_ok() {
+                    self.event(FccEvent::Execute(c.command));
+                }
+                self.endpoint.answer(now, message, ack, outcome);
+            }
+            // Messages the FCC sends, never receives.
+            Message::FromToNext(_)
+            | Message::MissionUploadDownloadStatus(_)
+            | Message::AreaStatusAlert(_)
+            | Message::AreaTransmissionStatus(_) => {
+                self.endpoint
+                    .answer(now, message, ack, Err(Reason::WrongState));
+            }
+        }
     }
 }

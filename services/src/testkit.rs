@@ -17,7 +17,8 @@
 //! - missions and plans: [`mission_buffer`], [`area_buffer`], [`plan`], [`mission_1`] and
 //!   [`mission_2`] (the demo missions of `missions/`), [`zigzag`] and [`generated_plan`] (N
 //!   waypoints with 11 areas);
-//! - frames and randomness: [`frame`], [`uplink`], [`Rng`] (seeded, so a run repeats).
+//! - frames and randomness: [`frame`], [`uplink`], [`Transmit`] (what a machine sends, taken
+//!   through its `poll_transmit`), [`decoded`], [`Rng`] (seeded, so a run repeats).
 //!
 //! Every constructor takes values the tests choose and builds them with `expect`: a fixture that
 //! does not build is a broken test, not outside input, so this module (test-only code) allows
@@ -30,15 +31,15 @@
 use missionlink_interfaces::capacity::MAX_POLYGON_VERTICES;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, Envelope,
-    GeoPoint, LegType, LocationType, MAX_FRAME_LEN, Message, PolygonVertices, RouteType,
+    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, EncodeError,
+    Envelope, GeoPoint, LegType, LocationType, MAX_FRAME_LEN, Message, PolygonVertices, RouteType,
     SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnDirection, TurnType, U3,
     UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
 
-use crate::ground_station::{GcsConfig, MissionPlan};
-use crate::link::endpoint::EndpointConfig;
-use crate::mission_data_handling::FccConfig;
+use crate::ground_station::{GcsConfig, GroundStation, MissionPlan, SafetyGateway};
+use crate::link::endpoint::{Endpoint, EndpointConfig};
+use crate::mission_data_handling::{FccConfig, MissionDataHandling};
 use crate::transfer::areas::AreaBuffer;
 use crate::transfer::mission::MissionBuffer;
 
@@ -393,6 +394,58 @@ pub fn uplink(message: &Message) -> Vec<u8> {
         &Envelope::new(defaults::GCS_ID, defaults::FCC_ID).with_ack(true),
         message,
     )
+}
+
+/// Whatever has frames to send through `poll_transmit`: the two machines and a bare endpoint.
+/// Tests and benches take frames as a driver does (DESIGN.md, after quinn-proto's
+/// `tests/util.rs`): encoded by the machine into a buffer, the bytes moved, never re-encoded.
+pub trait Transmit {
+    /// The machine's own `poll_transmit`: the next frame into `buf`, its length.
+    fn transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>>;
+
+    /// Every frame ready to send, in order.
+    fn frames(&mut self) -> Vec<Vec<u8>> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        std::iter::from_fn(|| {
+            let len = self
+                .transmit(&mut buf)?
+                .expect("an outgoing message that encodes");
+            Some(
+                buf.get(..len)
+                    .expect("poll_transmit returns a length within the buffer")
+                    .to_vec(),
+            )
+        })
+        .collect()
+    }
+
+    /// The messages of every frame ready to send, in order (for checks on what was sent).
+    fn messages(&mut self) -> Vec<Message> {
+        self.frames().iter().map(|f| decoded(f).1).collect()
+    }
+}
+
+impl<G: SafetyGateway> Transmit for GroundStation<G> {
+    fn transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.poll_transmit(buf)
+    }
+}
+
+impl Transmit for MissionDataHandling {
+    fn transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.poll_transmit(buf)
+    }
+}
+
+impl Transmit for Endpoint {
+    fn transmit(&mut self, buf: &mut [u8]) -> Option<Result<usize, EncodeError>> {
+        self.poll_transmit(buf)
+    }
+}
+
+/// The envelope and the message of a frame a machine sent.
+pub fn decoded(frame: &[u8]) -> (Envelope, Message) {
+    wire::decode(frame).expect("a frame the machine encoded decodes")
 }
 
 /// A small, fast, seeded RNG (xorshift64*): the same seed gives the same run.

@@ -32,7 +32,7 @@ use heapless::Vec;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Reason, Timestamp};
 
-use crate::link::rejects::{Cause, FrameCause, LogLimiter, REASONS};
+use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter, REASONS};
 use crate::link::sampling::{MessageSampler, Sample};
 use crate::link::time::Instant;
 
@@ -43,7 +43,7 @@ use crate::link::time::Instant;
 pub const VOTING_STEP_MESSAGES: usize = 64;
 
 /// What the voter did since it was created. Every message of every datagram lands in exactly
-/// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames`, `unreadable_messages`,
+/// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames` (by cause), `unreadable_messages`,
 /// `overflow`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct VotingStats {
@@ -54,25 +54,9 @@ pub struct VotingStats {
     /// Copies dropped because a newer message of the same source and type was already
     /// forwarded (a delayed duplicate or a reordered frame).
     pub stale: u64,
-    /// Frames dropped by a rule of ICD §2, all causes; the sum of the eight counters below.
-    pub rejected_frames: u64,
-    /// [`FrameError::TooShort`]: fewer bytes than the wrapper header (an empty datagram too).
-    pub too_short: u64,
-    /// [`FrameError::LengthOutOfRange`]: Message Length 0 or above 528.
-    pub length_out_of_range: u64,
-    /// [`FrameError::LengthMismatch`]: Message Length and checksum width disagree with the
-    /// datagram.
-    pub length_mismatch: u64,
-    /// [`FrameError::InvalidChecksumLength`]: checksum length code 11.
-    pub invalid_checksum_length: u64,
-    /// [`FrameError::ChecksumMismatch`]: wrong checksum.
-    pub checksum_mismatch: u64,
-    /// [`FrameError::UnsupportedVersion`]: IDD version outside 30..=40.
-    pub unsupported_version: u64,
-    /// [`FrameError::WrongDestination`]: neither this node nor broadcast.
-    pub wrong_destination: u64,
-    /// [`FrameError::UnknownSource`]: not the configured peer.
-    pub unknown_source: u64,
+    /// Frames dropped by a rule of ICD §2, by cause (as [`crate::link::endpoint::EndpointStats`]
+    /// counts them).
+    pub rejected_frames: ByCause<FrameCause, 8>,
     /// Messages that break a rule of ICD §3 or §4 but carry a readable time stamp: forwarded
     /// (and counted in `forwarded` too) so that mission data handling rejects them with #17000.
     pub rejected_messages_forwarded: u64,
@@ -84,33 +68,8 @@ pub struct VotingStats {
 }
 
 impl VotingStats {
-    /// Counts a frame rejected at the wrapper or by addressing, by cause.
-    fn count_rejected(&mut self, cause: FrameCause) {
-        self.rejected_frames += 1;
-        *self.by_cause_mut(cause) += 1;
-    }
-
-    /// The counter of `cause` (the one mapping of causes to fields).
-    fn by_cause_mut(&mut self, cause: FrameCause) -> &mut u64 {
-        match cause {
-            FrameCause::TooShort => &mut self.too_short,
-            FrameCause::LengthOutOfRange => &mut self.length_out_of_range,
-            FrameCause::LengthMismatch => &mut self.length_mismatch,
-            FrameCause::InvalidChecksumLength => &mut self.invalid_checksum_length,
-            FrameCause::ChecksumMismatch => &mut self.checksum_mismatch,
-            FrameCause::UnsupportedVersion => &mut self.unsupported_version,
-            FrameCause::WrongDestination => &mut self.wrong_destination,
-            FrameCause::UnknownSource => &mut self.unknown_source,
-        }
-    }
-
-    /// Frames rejected for `cause`.
-    pub fn rejected(&self, cause: FrameCause) -> u64 {
-        // Read through the one mapping of causes to fields, on a copy.
-        *{ *self }.by_cause_mut(cause)
-    }
-
-    /// Every counter by name, for a summary (the frame causes under [`Cause::counter_name`]).
+    /// Every counter by name, for a summary: the total of rejected frames, then each cause
+    /// under its [`Cause::counter_name`].
     pub fn counters(&self) -> impl Iterator<Item = (&'static str, u64)> + '_ {
         let [direct, lte] = self.forwarded;
         [
@@ -118,14 +77,10 @@ impl VotingStats {
             ("forwarded_lte", lte),
             ("duplicates", self.duplicates),
             ("stale", self.stale),
-            ("rejected_frames", self.rejected_frames),
+            ("rejected_frames", self.rejected_frames.total()),
         ]
         .into_iter()
-        .chain(
-            FrameCause::ALL
-                .into_iter()
-                .map(|cause| (cause.counter_name(), self.rejected(cause))),
-        )
+        .chain(self.rejected_frames.counters())
         .chain([
             (
                 "rejected_messages_forwarded",
@@ -323,7 +278,7 @@ impl Voter {
     /// never processed.
     fn reject(&mut self, now: Instant, link: Link, error: FrameError) {
         let cause = FrameCause::of(&error);
-        self.stats.count_rejected(cause);
+        self.stats.rejected_frames.add(cause);
         if let Some(rejected) = self.frame_log.admit(cause, now) {
             tracing::warn!(
                 ?link,
@@ -497,6 +452,17 @@ mod tests {
         out
     }
 
+    /// Rejected-frame counters with `counts` of each cause.
+    fn rejected(counts: &[(FrameCause, u64)]) -> ByCause<FrameCause, 8> {
+        let mut by_cause = ByCause::new();
+        for &(cause, n) in counts {
+            for _ in 0..n {
+                by_cause.add(cause);
+            }
+        }
+        by_cause
+    }
+
     fn stats(forwarded: [u64; 2]) -> VotingStats {
         VotingStats {
             forwarded,
@@ -667,22 +633,57 @@ mod tests {
         assert_eq!(
             v.stats(),
             &VotingStats {
-                rejected_frames: 10,
-                too_short: 2,
-                length_out_of_range: 2,
-                length_mismatch: 1,
-                invalid_checksum_length: 1,
-                checksum_mismatch: 1,
-                unsupported_version: 1,
-                wrong_destination: 1,
-                unknown_source: 1,
+                rejected_frames: rejected(&[
+                    (FrameCause::TooShort, 2),
+                    (FrameCause::LengthOutOfRange, 2),
+                    (FrameCause::LengthMismatch, 1),
+                    (FrameCause::InvalidChecksumLength, 1),
+                    (FrameCause::ChecksumMismatch, 1),
+                    (FrameCause::UnsupportedVersion, 1),
+                    (FrameCause::WrongDestination, 1),
+                    (FrameCause::UnknownSource, 1),
+                ]),
                 ..VotingStats::default()
             }
         );
+        assert_eq!(v.stats().rejected_frames.total(), 10);
         // A rejected frame does not occupy its key: the sound copy still goes through.
         assert_eq!(
             step(&mut v, Instant::from_millis(2), &[(Link::Lte, &good)]),
             [(Link::Lte, good)]
+        );
+    }
+
+    #[test]
+    fn counters_list_every_counter_under_its_summary_name() {
+        let mut v = fcc();
+        let good = uplink(100);
+        step(
+            &mut v,
+            Instant::from_millis(1),
+            &[(Link::Direct, &good), (Link::Lte, &good), (Link::Lte, &[])],
+        );
+        let counters: std::vec::Vec<_> = v.stats().counters().collect();
+        assert_eq!(
+            counters,
+            [
+                ("forwarded_direct", 1),
+                ("forwarded_lte", 0),
+                ("duplicates", 1),
+                ("stale", 0),
+                ("rejected_frames", 1),
+                ("too_short", 1),
+                ("length_out_of_range", 0),
+                ("length_mismatch", 0),
+                ("invalid_checksum_length", 0),
+                ("checksum_mismatch", 0),
+                ("unsupported_version", 0),
+                ("wrong_destination", 0),
+                ("unknown_source", 0),
+                ("rejected_messages_forwarded", 0),
+                ("unreadable_messages", 0),
+                ("overflow", 0),
+            ]
         );
     }
 
@@ -707,7 +708,10 @@ mod tests {
             &[(Link::Direct, &down), (Link::Direct, &up)],
         );
         assert_eq!(out, [(Link::Direct, down)]);
-        assert_eq!(v.stats().wrong_destination, 1);
+        assert_eq!(
+            v.stats().rejected_frames.get(FrameCause::WrongDestination),
+            1
+        );
     }
 
     #[test]
@@ -791,8 +795,8 @@ mod tests {
             &[(Link::Direct, &datagram)],
         );
         assert_eq!(out, [(Link::Direct, a)]);
-        assert_eq!(v.stats().too_short, 1);
-        assert_eq!(v.stats().rejected_frames, 1);
+        assert_eq!(v.stats().rejected_frames.get(FrameCause::TooShort), 1);
+        assert_eq!(v.stats().rejected_frames.total(), 1);
     }
 
     #[test]
@@ -824,7 +828,10 @@ mod tests {
             vec![(Link::Lte, &junk[..]); VOTING_STEP_MESSAGES];
         arrivals.push((Link::Direct, &frames[0]));
         assert!(step(&mut v, Instant::from_millis(1), &arrivals).is_empty());
-        assert_eq!(v.stats().too_short, VOTING_STEP_MESSAGES as u64);
+        assert_eq!(
+            v.stats().rejected_frames.get(FrameCause::TooShort),
+            VOTING_STEP_MESSAGES as u64
+        );
         assert_eq!(v.stats().overflow, 1);
         // The next step starts empty.
         assert_eq!(

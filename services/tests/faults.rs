@@ -166,8 +166,8 @@ fn a_flood_of_bad_frames_on_both_links_is_counted_in_full_and_logged_once_a_seco
     }
     assert_eq!(forwarded, 0);
     let stats = voter.stats();
-    assert_eq!(stats.rejected_frames, 2 * N);
-    assert_eq!(stats.rejected(FrameCause::TooShort), N);
+    assert_eq!(stats.rejected_frames.total(), 2 * N);
+    assert_eq!(stats.rejected_frames.get(FrameCause::TooShort), N);
     let counters: std::collections::HashMap<_, _> = stats.counters().collect();
     assert_eq!(counters["rejected_frames"], 2 * N);
     assert_eq!(counters["too_short"], N);

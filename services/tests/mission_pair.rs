@@ -9,7 +9,7 @@ mod support;
 use std::time::Duration;
 
 use missionlink_interfaces::wire::{Message, Reason};
-use missionlink_services::ground_station::{GcsError, GcsEvent};
+use missionlink_services::ground_station::{GcsError, GcsEvent, ValidatedPlan};
 use missionlink_services::link::retry::AttemptFailure;
 use support::*;
 
@@ -17,6 +17,18 @@ fn upload(pair: &mut Pair, plan: &missionlink_services::ground_station::MissionP
     let now = pair.now;
     pair.gcs.upload(now, plan, clear).unwrap();
     pair.run_until_standby(Duration::from_secs(60));
+}
+
+/// Downloads the FCC's lists; what arrived, once the download completed.
+fn download(pair: &mut Pair) -> ValidatedPlan {
+    let now = pair.now;
+    pair.gcs.download(now).unwrap();
+    pair.run_until_standby(Duration::from_secs(60));
+    let events = pair.take_gcs_events();
+    let Some(GcsEvent::DownloadComplete(downloaded)) = events.last() else {
+        panic!("download did not complete: {events:?}");
+    };
+    (**downloaded).clone()
 }
 
 fn sequence(pair: &Pair, from: usize) -> Vec<String> {
@@ -78,15 +90,8 @@ fn demo_mission_1_upload_and_download_follow_icd_5_message_by_message() {
     assert_eq!(pair.now.micros(), 16 * 2_000);
 
     let before = pair.sent.len();
-    let now = pair.now;
-    pair.gcs.download(now).unwrap();
-    pair.run_until_standby(Duration::from_secs(60));
-    let events = pair.take_gcs_events();
-    let Some(GcsEvent::DownloadComplete(downloaded)) = events.last() else {
-        panic!("download did not complete: {events:?}");
-    };
     // ICD §5.2: every field equal.
-    assert_eq!(**downloaded, expected);
+    assert_eq!(download(&mut pair), expected);
     assert_eq!(
         sequence(&pair, before),
         [
@@ -153,14 +158,7 @@ fn mission_2_with_rf_leg_circle_and_polygon_round_trips() {
         ]
     );
 
-    let now = pair.now;
-    pair.gcs.download(now).unwrap();
-    pair.run_until_standby(Duration::from_secs(60));
-    let events = pair.take_gcs_events();
-    let Some(GcsEvent::DownloadComplete(downloaded)) = events.last() else {
-        panic!("download did not complete: {events:?}");
-    };
-    assert_eq!(**downloaded, expected);
+    assert_eq!(download(&mut pair), expected);
 }
 
 #[test]
@@ -303,7 +301,7 @@ fn the_safety_gateway_can_refuse_and_then_nothing_is_sent() {
         gcs.upload(now, &mission_2(), true),
         Err(GcsError::Gateway("3 waypoints, at most 2".to_owned()))
     );
-    assert!(gcs.poll_outgoing().is_none());
+    assert!(gcs.frames().is_empty());
     assert!(gcs.is_standby());
 }
 

@@ -14,7 +14,7 @@ use std::time::Duration;
 
 use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{self, MAX_FRAME_LEN};
+use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
@@ -82,8 +82,8 @@ fn the_fcc_frame_path_allocates_nothing() {
     let mut downloading = false;
     loop {
         now = now + Duration::from_millis(2);
-        while let Some((envelope, message)) = gcs.poll_outgoing() {
-            let len = wire::encode(&envelope, &message, &mut up).unwrap();
+        while let Some(len) = gcs.poll_transmit(&mut up) {
+            let len = len.unwrap();
             // The FCC side: voting of both links' copies, mission data handling, the answers.
             let ((), n) = counted(|| {
                 let arrivals = [(Link::Direct, &up[..len]), (Link::Lte, &up[..len])];

@@ -45,7 +45,7 @@ impl Rig {
 
     fn send_raw(&mut self, frame: &[u8]) -> Vec<Message> {
         self.fcc.handle_frame(self.now, frame).unwrap();
-        std::iter::from_fn(|| self.fcc.poll_outgoing().map(|(_, m)| m)).collect()
+        self.fcc.messages()
     }
 
     /// The reason of the FCC's answer to `message` (None when accepted).

@@ -21,10 +21,6 @@ use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{DataKind, FccEvent, MissionDataHandling};
 use support::*;
 
-fn sent(gcs: &mut GroundStation<WithoutGateway>) -> Vec<Message> {
-    std::iter::from_fn(|| gcs.poll_outgoing().map(|(_, m)| m)).collect()
-}
-
 fn at(ms: u64) -> Instant {
     Instant::from_millis(ms)
 }
@@ -33,15 +29,15 @@ fn at(ms: u64) -> Instant {
 fn resend_at_the_ack_timeout_with_a_new_time_stamp_then_abort() {
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
     gcs.execute(at(0), ExecuteCommand::Execute).unwrap();
-    let first = sent(&mut gcs);
+    let first = gcs.messages();
     assert_eq!(first.len(), 1);
     assert_eq!(gcs.poll_timeout(), Some(at(500)));
 
     gcs.handle_timeout(at(499));
-    assert!(sent(&mut gcs).is_empty(), "no resend at timeout - 1 ms");
+    assert!(gcs.messages().is_empty(), "no resend at timeout - 1 ms");
 
     gcs.handle_timeout(at(500));
-    let second = sent(&mut gcs);
+    let second = gcs.messages();
     assert_eq!(second.len(), 1, "resend at the timeout");
     assert_eq!(second[0].message_type(), MessageType::MissionExecuteCommand);
     assert!(
@@ -55,11 +51,11 @@ fn resend_at_the_ack_timeout_with_a_new_time_stamp_then_abort() {
     assert_eq!(gcs.poll_timeout(), Some(at(1000)));
 
     gcs.handle_timeout(at(999));
-    assert!(sent(&mut gcs).is_empty());
+    assert!(gcs.messages().is_empty());
     assert!(gcs.poll_event().is_none());
 
     gcs.handle_timeout(at(1000));
-    assert!(sent(&mut gcs).is_empty(), "no third attempt");
+    assert!(gcs.messages().is_empty(), "no third attempt");
     let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = gcs.poll_event() else {
         panic!("no abort after the second timeout");
     };
@@ -95,14 +91,14 @@ fn answer(original: &Message, ack_type: AckType, reason: Reason, at_ms: u64) -> 
 fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
     gcs.execute(at(0), ExecuteCommand::Execute).unwrap();
-    let first = sent(&mut gcs).remove(0);
+    let first = gcs.messages().remove(0);
 
     gcs.handle_frame(
         at(10),
         &answer(&first, AckType::Rejected, Reason::WrongState, 10),
     )
     .unwrap();
-    let second = sent(&mut gcs);
+    let second = gcs.messages();
     assert_eq!(second.len(), 1, "resend at once after a rejection");
     assert!(second[0].time_stamp() > first.time_stamp());
     assert_eq!(gcs.poll_timeout(), Some(at(510)), "a fresh ack timeout");
@@ -113,7 +109,7 @@ fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
         &answer(&first, AckType::Rejected, Reason::WrongState, 11),
     )
     .unwrap();
-    assert!(sent(&mut gcs).is_empty());
+    assert!(gcs.messages().is_empty());
     assert!(gcs.poll_event().is_none());
 
     gcs.handle_frame(
@@ -121,7 +117,7 @@ fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
         &answer(&second[0], AckType::Rejected, Reason::WrongState, 30),
     )
     .unwrap();
-    assert!(sent(&mut gcs).is_empty(), "no third attempt");
+    assert!(gcs.messages().is_empty(), "no third attempt");
     let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = gcs.poll_event() else {
         panic!("no abort after the second rejection");
     };
@@ -134,9 +130,9 @@ fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
 fn a_timeout_then_an_acceptance_of_either_attempt_succeeds() {
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
     gcs.execute(at(0), ExecuteCommand::Execute).unwrap();
-    let first = sent(&mut gcs).remove(0);
+    let first = gcs.messages().remove(0);
     gcs.handle_timeout(at(500));
-    assert_eq!(sent(&mut gcs).len(), 1);
+    assert_eq!(gcs.messages().len(), 1);
     // The acceptance of the first attempt arrives late: the command was carried out.
     gcs.handle_frame(
         at(600),
@@ -252,7 +248,7 @@ fn the_fcc_abandons_an_upload_at_the_transfer_timeout_not_before() {
     fcc.handle_frame(at(1000), &from_gcs(&mut gcs, at(1000), fly_zone))
         .unwrap();
     assert_eq!(fcc.poll_timeout(), Some(at(4000)));
-    while fcc.poll_outgoing().is_some() {}
+    assert_eq!(fcc.messages().len(), 2, "one answer per message");
 
     fcc.handle_timeout(at(3999));
     assert_eq!(fcc.poll_event(), None, "nothing at the timeout - 1 ms");
@@ -268,10 +264,7 @@ fn the_fcc_abandons_an_upload_at_the_transfer_timeout_not_before() {
         "abandoned at the timeout"
     );
     assert_eq!(fcc.poll_timeout(), None);
-    assert!(
-        fcc.poll_outgoing().is_none(),
-        "the FCC sends nothing for it"
-    );
+    assert!(fcc.frames().is_empty(), "the FCC sends nothing for it");
     assert_eq!(fcc.active_areas(), None);
 }
 
@@ -282,7 +275,7 @@ fn a_stray_area_outside_a_transfer_starts_no_timer() {
     let fly_zone = polygon(1, AreaType::FlyZone, &FLY_ZONE);
     fcc.handle_frame(at(10), &from_gcs(&mut gcs, at(10), fly_zone))
         .unwrap();
-    let Some((_, Message::MessageAcknowledgement(ack))) = fcc.poll_outgoing() else {
+    let [Message::MessageAcknowledgement(ack)] = fcc.messages()[..] else {
         panic!("no answer");
     };
     assert_eq!(ack.reject_reason, Some(Reason::WrongState));

@@ -252,6 +252,25 @@ impl Endpoint {
         ts
     }
 
+    /// Answers a received `message` with #17000 when its sender asked for it (`ack_requested`),
+    /// as [`Endpoint::acknowledge`].
+    pub fn answer(
+        &mut self,
+        now: Instant,
+        message: &Message,
+        ack_requested: bool,
+        outcome: Result<(), Reason>,
+    ) {
+        if ack_requested {
+            self.acknowledge(
+                now,
+                message.message_type() as u16,
+                message.time_stamp(),
+                outcome,
+            );
+        }
+    }
+
     /// Answers the message `(original_type, original_time_stamp)` with #17000: type 2 when
     /// `outcome` is `Ok`, type 3 with the reason when not (paper §3.1.3).
     pub fn acknowledge(
@@ -275,8 +294,10 @@ impl Endpoint {
         self.send(now, ack.into(), false);
     }
 
-    /// The next message to send, with its envelope.
-    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
+    /// The next message to send, with its envelope. Drivers take frames from
+    /// [`Endpoint::poll_transmit`]; the message itself is for the GCS logic's own
+    /// `poll_outgoing`.
+    pub(crate) fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
         let out = self.outbox.pop_front()?;
         let envelope =
             Envelope::new(self.config.local_id, self.config.peer_id).with_ack(out.ack_requested);

@@ -1,7 +1,9 @@
 //! The timer table (after quinn-proto's `connection/timer.rs`): every deadline of a state machine
 //! in one fixed array indexed by the machine's own `enum` of timers, so that "when must I be woken"
 //! is [`TimerTable::next_timeout`] and "what is due" is [`TimerTable::expired`], instead of
-//! deadlines kept in loose fields and combined by hand in each `poll_timeout`.
+//! deadlines kept in loose fields and combined by hand in each `poll_timeout`. The machines made
+//! of transfers keep their tables in step with the transfers through
+//! `crate::link::composite::Composite`.
 //!
 //! The state machines of ICD §5 have few timers (the ack timeout of a message in flight, the
 //! transfer timeout of a receiver, one per transfer in a composite); the table holds them inline

@@ -1,5 +1,6 @@
 //! A GCS and an FCC stepped through simulated time over two simulated links (after quinn-proto's
-//! `tests/util.rs` `Pair`): every frame goes out on the direct and the LTE link, each link with
+//! `tests/util.rs` `Pair`): the pair takes each side's frames from its `poll_transmit` and only
+//! moves the bytes; every frame goes out on the direct and the LTE link, each link with
 //! its own loss, duplication and latency (random latency reorders), drawn from a seeded RNG. The
 //! receiving side votes each step's arrivals (paper §2.4) before its logic sees them, as the
 //! partitions do.
@@ -9,7 +10,7 @@ use std::time::Duration;
 
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{AckType, Envelope, Message, SpecificData};
+use missionlink_interfaces::wire::{AckType, Message, SpecificData};
 use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
@@ -112,19 +113,21 @@ impl Pair {
         }
     }
 
-    /// Puts what both sides want to send on both links of its direction.
+    /// Puts the frames both sides have to send (from their `poll_transmit`) on both links of
+    /// their direction.
     fn drain_outgoing(&mut self) {
-        while let Some(outgoing) = self.gcs.poll_outgoing() {
-            self.send(Direction::Up, outgoing);
+        for bytes in self.gcs.frames() {
+            self.send(Direction::Up, bytes);
         }
-        while let Some(outgoing) = self.fcc.poll_outgoing() {
-            self.send(Direction::Down, outgoing);
+        for bytes in self.fcc.frames() {
+            self.send(Direction::Down, bytes);
         }
     }
 
-    /// Records one message and puts its frame on the direct and the LTE link of `direction`.
-    fn send(&mut self, direction: Direction, (envelope, message): (Envelope, Message)) {
-        let bytes = frame(&envelope, &message);
+    /// Records one frame's message and puts the frame on the direct and the LTE link of
+    /// `direction`.
+    fn send(&mut self, direction: Direction, bytes: Vec<u8>) {
+        let (envelope, message) = decoded(&bytes);
         self.sent.push(Sent {
             at: self.now,
             direction,
