@@ -1,7 +1,8 @@
 //! What every partition's event loop shares: the [`Control`] that starts and stops a loop (from
 //! another thread, or by SIGINT/SIGTERM), sleeping in the WaitSet (or spinning with `--poll`)
-//! until data, a deadline or a stop, latency reports on an interval, on SIGUSR1 and at shutdown,
-//! and the `main` of every partition binary.
+//! until data, a deadline or a stop ([`run_loop`], the one loop skeleton every partition runs),
+//! latency reports on an interval, on SIGUSR1 and at shutdown, and the `main` of every partition
+//! binary.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -173,6 +174,60 @@ pub fn waitset<S: Service>() -> Result<WaitSet<S>, PartitionError> {
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<S>()
         .map_err(PartitionError::waitset)
+}
+
+/// Something a partition loop sleeps on: an iceoryx2 listener or a socket
+/// (`udp::SocketFd`). A trait of its own so that listeners and sockets share one slice.
+pub trait Attachment: SynchronousMultiplexing + std::fmt::Debug {}
+
+impl<T: SynchronousMultiplexing + std::fmt::Debug + ?Sized> Attachment for T {}
+
+/// What wakes a partition loop besides a stop.
+#[derive(Debug, Clone, Copy)]
+pub struct Wake<'a> {
+    /// The listeners and sockets whose data wakes it.
+    pub on: &'a [&'a dyn Attachment],
+    /// Periodic work (connecting late subscribers, stepping a model), if any.
+    pub every: Option<Duration>,
+    /// The longest first sleep; after it each step says how long the next may be.
+    pub first_timeout: Duration,
+}
+
+/// The event loop of every partition: attaches `wake` to a [`waitset`], logs "`name` up",
+/// tells `control` it is ready, then calls `step` after every wake-up until `control` or a
+/// termination request stops it. `step` does the partition's work, may log through the
+/// [`Report`], and returns how long the loop may sleep next. Returns the report, for the
+/// caller's [`Report::finish`] with its final counters.
+pub fn run_loop<S: Service>(
+    name: &'static str,
+    config: &Config,
+    control: &Control,
+    wake: Wake<'_>,
+    mut step: impl FnMut(&mut Report) -> Result<Duration, PartitionError>,
+) -> Result<Report, PartitionError> {
+    let waitset = waitset::<S>()?;
+    let _guards = wake
+        .on
+        .iter()
+        .map(|a| waitset.attach_notification(*a))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(PartitionError::waitset)?;
+    let _tick = wake
+        .every
+        .map(|every| waitset.attach_interval(every))
+        .transpose()
+        .map_err(PartitionError::waitset)?;
+    let mut report = Report::new(config, name, control);
+    tracing::info!(prefix = %config.ipc.service_prefix, "{name} up");
+    control.set_ready();
+    let mut timeout = wake.first_timeout;
+    while control
+        .wait(&waitset, config.ipc.poll, timeout)
+        .map_err(PartitionError::waitset)?
+    {
+        timeout = step(&mut report)?;
+    }
+    Ok(report)
 }
 
 /// Whether a loop goes on after the WaitSet returned `result`. `Interrupt` means that a signal
