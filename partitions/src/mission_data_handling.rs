@@ -14,8 +14,7 @@ use missionlink_interfaces::contracts::{
     GuidanceProgressPayload, Link, WaypointListPayload,
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
-use missionlink_services::link::endpoint::EndpointConfig;
-use missionlink_services::mission_data_handling::{FccConfig, FccEvent, MissionDataHandling};
+use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
@@ -46,16 +45,7 @@ where
     let area_list = ipc.publisher::<AreaListPayload>(FccService::AreaList)?;
 
     let clock = DriverClock::start();
-    let mut core = MissionDataHandling::new(FccConfig {
-        endpoint: EndpointConfig {
-            local_id: config.ids.fcc,
-            peer_id: config.ids.gcs,
-            utc_at_zero: clock.utc_at_zero(),
-            sampling_window: config.timing.transfer_timeout(),
-        },
-        ack_timeout: config.timing.ack_timeout(),
-        transfer_timeout: config.timing.transfer_timeout(),
-    });
+    let mut core = MissionDataHandling::new(config.fcc_core(clock.utc_at_zero()));
     // Resume with the lists of a previous instance and publish them again, so late joiners
     // find them; their generations are unchanged, so guidance sees no change.
     let state_dir = config.ipc.state_dir();
