@@ -329,6 +329,18 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
         }
     }
 
+    /// Runs `f` with the partitions' WaitSet, attached to the subscriber's listener when
+    /// event-driven (polling never waits in it).
+    fn with_waitset<R>(&self, f: impl FnOnce(&WaitSet<S>) -> R) -> R {
+        let waitset = runtime::waitset::<S>().expect("waitset");
+        let _guard = self.event.then(|| {
+            waitset
+                .attach_notification(self.subscriber.listener())
+                .expect("attach")
+        });
+        f(&waitset)
+    }
+
     /// Copies `value` into a loaned sample and sends it; event-driven, notifies too (what every
     /// partition does); polling, only publishes.
     fn send(&self, value: &Out) {
@@ -379,21 +391,17 @@ fn iox2_sender<F: Stamped>(run: &Run, event: bool) {
         FccService::Downlink,
         event,
     );
-    let waitset = runtime::waitset::<S>().expect("waitset");
-    let _guard = event.then(|| {
-        waitset
-            .attach_notification(end.subscriber.listener())
-            .expect("attach")
-    });
     let mut frame = F::zeroed();
-    drive_sender(
-        run,
-        |stamp| {
-            frame.set_stamp(stamp);
-            end.send(&frame);
-        },
-        || end.receive(&waitset),
-    );
+    end.with_waitset(|waitset| {
+        drive_sender(
+            run,
+            |stamp| {
+                frame.set_stamp(stamp);
+                end.send(&frame);
+            },
+            || end.receive(waitset),
+        );
+    });
 }
 
 fn iox2_receiver<F: Stamped>(run: &Run, event: bool) -> Histogram<u64> {
@@ -404,22 +412,18 @@ fn iox2_receiver<F: Stamped>(run: &Run, event: bool) -> Histogram<u64> {
         FccService::Uplink,
         event,
     );
-    let waitset = runtime::waitset::<S>().expect("waitset");
-    let _guard = event.then(|| {
-        waitset
-            .attach_notification(end.subscriber.listener())
-            .expect("attach")
-    });
-    announce_ready("");
     let mut reply = Frame64::zeroed();
-    drive_receiver(
-        run,
-        || end.receive(&waitset),
-        |stamp| {
-            reply.set_stamp(stamp);
-            end.send(&reply);
-        },
-    )
+    end.with_waitset(|waitset| {
+        announce_ready("");
+        drive_receiver(
+            run,
+            || end.receive(waitset),
+            |stamp| {
+                reply.set_stamp(stamp);
+                end.send(&reply);
+            },
+        )
+    })
 }
 
 /// Runs the iceoryx2 side `role` with the frame type of the run's size.
