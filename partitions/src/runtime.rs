@@ -15,6 +15,7 @@ use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 use crate::config::{Config, ConfigArgs, ConfigError};
 use crate::ipc::IpcError;
 use crate::latency::{self, Recorder};
+use crate::state;
 use crate::udp::LinkError;
 
 /// The longest a loop sleeps before it looks at its stop flag: a [`Control::stop`] from another
@@ -79,6 +80,8 @@ pub struct Control {
     stop: Arc<AtomicBool>,
     report: Arc<AtomicBool>,
     ready: Arc<(Mutex<bool>, Condvar)>,
+    /// Where and under which name readiness is announced to other processes, if it is.
+    announce: Option<(PathBuf, String)>,
 }
 
 impl Control {
@@ -125,12 +128,34 @@ impl Control {
         Ok(())
     }
 
+    /// A control that also announces the loop's readiness in the state directory `dir` as
+    /// `name` ([`state::announce_ready`]), for the processes that wait for a partition process
+    /// to be up; [`Control::forget_ready`] withdraws it.
+    pub fn announcing_ready(mut self, dir: PathBuf, name: &str) -> Self {
+        self.announce = Some((dir, name.to_owned()));
+        self
+    }
+
     /// Called by the loop once its ports are open and it is about to wait.
     pub fn set_ready(&self) {
         let (ready, changed) = &*self.ready;
         if let Ok(mut r) = ready.lock() {
             *r = true;
             changed.notify_all();
+        }
+        if let Some((dir, name)) = &self.announce {
+            if let Err(e) = state::announce_ready(dir, name) {
+                tracing::warn!(%e, dir = %dir.display(), "cannot announce readiness");
+            }
+        }
+    }
+
+    /// Withdraws the announcement of [`Control::announcing_ready`] (at shutdown).
+    pub fn forget_ready(&self) {
+        if let Some((dir, name)) = &self.announce {
+            if let Err(e) = state::forget_ready(dir, name) {
+                tracing::warn!(%e, dir = %dir.display(), "cannot withdraw the readiness");
+            }
         }
     }
 
@@ -295,8 +320,8 @@ impl Report {
 }
 
 /// The `main` of every partition binary: logging, the configuration (exit status 2 when it is
-/// wrong), then `run` with a [`Control`] driven by the signals (exit status 1 with the error when
-/// it fails).
+/// wrong), then `run` with a [`Control`] driven by the signals that announces the partition's
+/// readiness in the state directory while it runs (exit status 1 with the error when it fails).
 pub fn partition_main<E: std::fmt::Display>(
     name: &str,
     args: &ConfigArgs,
@@ -311,12 +336,14 @@ pub fn partition_main<E: std::fmt::Display>(
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
-    let control = Control::new();
+    let control = Control::new().announcing_ready(config.ipc.state_dir(), name);
     if let Err(e) = control.handle_signals() {
         tracing::error!(%e, "{name} failed");
         return std::process::ExitCode::FAILURE;
     }
-    match run(&config, &control) {
+    let result = run(&config, &control);
+    control.forget_ready();
+    match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             tracing::error!(%e, "{name} failed");
