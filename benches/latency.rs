@@ -331,6 +331,18 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
         }
     }
 
+    /// Runs `f` with the partitions' WaitSet, attached to the subscriber's listener when
+    /// event-driven (polling never waits in it).
+    fn with_waitset<R>(&self, f: impl FnOnce(&WaitSet<S>) -> R) -> R {
+        let waitset = runtime::waitset::<S>().expect("waitset");
+        let _guard = self.event.then(|| {
+            waitset
+                .attach_notification(self.subscriber.listener())
+                .expect("attach")
+        });
+        f(&waitset)
+    }
+
     /// Copies `value` into a loaned sample and sends it; event-driven, notifies too (what every
     /// partition does); polling, only publishes.
     fn send(&self, value: &Out) {
@@ -381,21 +393,17 @@ fn iox2_sender<F: Stamped>(run: &Run, event: bool) {
         FccService::Downlink,
         event,
     );
-    let waitset = runtime::waitset::<S>().expect("waitset");
-    let _guard = event.then(|| {
-        waitset
-            .attach_notification(end.subscriber.listener())
-            .expect("attach")
-    });
     let mut frame = F::zeroed();
-    drive_sender(
-        run,
-        |stamp| {
-            frame.set_stamp(stamp);
-            end.send(&frame);
-        },
-        || end.receive(&waitset),
-    );
+    end.with_waitset(|waitset| {
+        drive_sender(
+            run,
+            |stamp| {
+                frame.set_stamp(stamp);
+                end.send(&frame);
+            },
+            || end.receive(waitset),
+        );
+    });
 }
 
 fn iox2_receiver<F: Stamped>(run: &Run, event: bool) -> Histogram<u64> {
@@ -406,22 +414,18 @@ fn iox2_receiver<F: Stamped>(run: &Run, event: bool) -> Histogram<u64> {
         FccService::Uplink,
         event,
     );
-    let waitset = runtime::waitset::<S>().expect("waitset");
-    let _guard = event.then(|| {
-        waitset
-            .attach_notification(end.subscriber.listener())
-            .expect("attach")
-    });
-    announce_ready("");
     let mut reply = Frame64::zeroed();
-    drive_receiver(
-        run,
-        || end.receive(&waitset),
-        |stamp| {
-            reply.set_stamp(stamp);
-            end.send(&reply);
-        },
-    )
+    end.with_waitset(|waitset| {
+        announce_ready("");
+        drive_receiver(
+            run,
+            || end.receive(waitset),
+            |stamp| {
+                reply.set_stamp(stamp);
+                end.send(&reply);
+            },
+        )
+    })
 }
 
 /// Runs the iceoryx2 side `role` with the frame type of the run's size.
@@ -444,8 +448,103 @@ fn iox2(run: &Run, role: Role, event: bool) -> Option<Histogram<u64>> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3: Unix domain datagram socket
+// 3 and 4: datagram sockets
 // ---------------------------------------------------------------------------------------------
+
+/// What the Unix domain and the UDP socket share: both sides of a datagram transport are written
+/// once, over this.
+trait Datagram {
+    type Addr;
+    fn send(&self, buf: &[u8]) -> std::io::Result<usize>;
+    fn recv(&self, buf: &mut [u8]) -> std::io::Result<usize>;
+    fn recv_from(&self, buf: &mut [u8]) -> std::io::Result<(usize, Self::Addr)>;
+    fn connect_to(&self, peer: &Self::Addr) -> std::io::Result<()>;
+    fn set_read_timeout(&self, timeout: Option<Duration>) -> std::io::Result<()>;
+}
+
+impl Datagram for UnixDatagram {
+    type Addr = SocketAddr;
+    fn send(&self, buf: &[u8]) -> std::io::Result<usize> {
+        UnixDatagram::send(self, buf)
+    }
+    fn recv(&self, buf: &mut [u8]) -> std::io::Result<usize> {
+        UnixDatagram::recv(self, buf)
+    }
+    fn recv_from(&self, buf: &mut [u8]) -> std::io::Result<(usize, SocketAddr)> {
+        UnixDatagram::recv_from(self, buf)
+    }
+    fn connect_to(&self, peer: &SocketAddr) -> std::io::Result<()> {
+        self.connect_addr(peer)
+    }
+    fn set_read_timeout(&self, timeout: Option<Duration>) -> std::io::Result<()> {
+        UnixDatagram::set_read_timeout(self, timeout)
+    }
+}
+
+impl Datagram for UdpSocket {
+    type Addr = std::net::SocketAddr;
+    fn send(&self, buf: &[u8]) -> std::io::Result<usize> {
+        UdpSocket::send(self, buf)
+    }
+    fn recv(&self, buf: &mut [u8]) -> std::io::Result<usize> {
+        UdpSocket::recv(self, buf)
+    }
+    fn recv_from(&self, buf: &mut [u8]) -> std::io::Result<(usize, std::net::SocketAddr)> {
+        UdpSocket::recv_from(self, buf)
+    }
+    fn connect_to(&self, peer: &std::net::SocketAddr) -> std::io::Result<()> {
+        self.connect(peer)
+    }
+    fn set_read_timeout(&self, timeout: Option<Duration>) -> std::io::Result<()> {
+        UdpSocket::set_read_timeout(self, timeout)
+    }
+}
+
+/// The sending side over `socket`, connected to the receiver: the stamp in the first 8 bytes
+/// of a frame of the run's size, the reply's stamp back.
+fn datagram_sender(run: &Run, socket: &impl Datagram) {
+    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    let mut frame = vec![0u8; run.size];
+    let mut reply = [0u8; REPLY_SIZE];
+    drive_sender(
+        run,
+        |stamp| {
+            frame[..8].copy_from_slice(&stamp.to_le_bytes());
+            socket.send(&frame).expect("send");
+        },
+        || {
+            socket.recv(&mut reply).expect("reply");
+            stamp_of(&reply)
+        },
+    );
+}
+
+/// The receiving side over `socket`, bound and announced: replies go to whoever sent the first
+/// frame.
+fn datagram_receiver(run: &Run, socket: &impl Datagram) -> Histogram<u64> {
+    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    let mut frame = vec![0u8; run.size];
+    let mut reply = [0u8; REPLY_SIZE];
+    let mut connected = false;
+    drive_receiver(
+        run,
+        || {
+            let (n, from) = socket.recv_from(&mut frame).expect("receive");
+            assert_eq!(n, run.size, "a whole frame");
+            if !connected {
+                socket.connect_to(&from).expect("connect");
+                connected = true;
+            }
+            stamp_of(&frame)
+        },
+        |stamp| {
+            reply[..8].copy_from_slice(&stamp.to_le_bytes());
+            socket.send(&reply).expect("reply");
+        },
+    )
+}
+
+// 3: Unix domain datagram socket (abstract addresses named after the run).
 
 fn uds_address(run: &Run, side: &str) -> SocketAddr {
     SocketAddr::from_abstract_name(format!("missionlink-latency/{}/{side}", run.id))
@@ -457,97 +556,29 @@ fn uds_sender(run: &Run) {
     socket
         .connect_addr(&uds_address(run, "receiver"))
         .expect("connect");
-    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
-    let mut frame = vec![0u8; run.size];
-    let mut reply = [0u8; REPLY_SIZE];
-    drive_sender(
-        run,
-        |stamp| {
-            frame[..8].copy_from_slice(&stamp.to_le_bytes());
-            socket.send(&frame).expect("send");
-        },
-        || {
-            socket.recv(&mut reply).expect("reply");
-            stamp_of(&reply)
-        },
-    );
+    datagram_sender(run, &socket);
 }
 
 fn uds_receiver(run: &Run) -> Histogram<u64> {
     let socket = UnixDatagram::bind_addr(&uds_address(run, "receiver")).expect("bind");
-    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
     announce_ready("");
-    let mut frame = vec![0u8; run.size];
-    let mut reply = [0u8; REPLY_SIZE];
-    let mut connected = false;
-    drive_receiver(
-        run,
-        || {
-            let (n, from) = socket.recv_from(&mut frame).expect("receive");
-            assert_eq!(n, run.size, "a whole frame");
-            if !connected {
-                // Replies go to whoever sent the first frame.
-                socket.connect_addr(&from).expect("connect");
-                connected = true;
-            }
-            stamp_of(&frame)
-        },
-        |stamp| {
-            reply[..8].copy_from_slice(&stamp.to_le_bytes());
-            socket.send(&reply).expect("reply");
-        },
-    )
+    datagram_receiver(run, &socket)
 }
 
-// ---------------------------------------------------------------------------------------------
-// 4: UDP over loopback
-// ---------------------------------------------------------------------------------------------
+// 4: UDP over loopback (the receiver announces the port the system chose).
 
 fn udp_sender(run: &Run, receiver_port: &str) {
     let socket = UdpSocket::bind("127.0.0.1:0").expect("bind");
     socket
         .connect(format!("127.0.0.1:{receiver_port}"))
         .expect("connect");
-    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
-    let mut frame = vec![0u8; run.size];
-    let mut reply = [0u8; REPLY_SIZE];
-    drive_sender(
-        run,
-        |stamp| {
-            frame[..8].copy_from_slice(&stamp.to_le_bytes());
-            socket.send(&frame).expect("send");
-        },
-        || {
-            socket.recv(&mut reply).expect("reply");
-            stamp_of(&reply)
-        },
-    );
+    datagram_sender(run, &socket);
 }
 
 fn udp_receiver(run: &Run) -> Histogram<u64> {
     let socket = UdpSocket::bind("127.0.0.1:0").expect("bind");
-    socket.set_read_timeout(Some(TIMEOUT)).expect("timeout");
     announce_ready(&socket.local_addr().expect("address").port().to_string());
-    let mut frame = vec![0u8; run.size];
-    let mut reply = [0u8; REPLY_SIZE];
-    let mut connected = false;
-    drive_receiver(
-        run,
-        || {
-            let (n, from) = socket.recv_from(&mut frame).expect("receive");
-            assert_eq!(n, run.size, "a whole frame");
-            if !connected {
-                // Replies go to whoever sent the first frame.
-                socket.connect(from).expect("connect");
-                connected = true;
-            }
-            stamp_of(&frame)
-        },
-        |stamp| {
-            reply[..8].copy_from_slice(&stamp.to_le_bytes());
-            socket.send(&reply).expect("reply");
-        },
-    )
+    datagram_receiver(run, &socket)
 }
 
 // ---------------------------------------------------------------------------------------------

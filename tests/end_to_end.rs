@@ -50,7 +50,7 @@ fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T>
 fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_lists() {
     let mut rig = Rig::new("roundtrip");
     let mut fcc = rig.start("fcc");
-    wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
+    rig.ready(&mut fcc);
     let mut link = rig.gcs(&mut fcc);
     for file in ["mission-1.toml", "mission-2.toml"] {
         let plan = plan(file);
@@ -65,10 +65,11 @@ fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_list
 fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
     let mut rig = Rig::new("late-guidance");
     let mut vm = rig.start("voting-monitoring");
-    let mdh = rig.start("mission-data-handling");
-    let _sa = rig.start("system-automation");
-    wait_for_log(&vm, "voting-monitoring up", Duration::from_secs(20));
-    wait_for_log(&mdh, "mission-data-handling up", Duration::from_secs(20));
+    let mut mdh = rig.start("mission-data-handling");
+    let mut sa = rig.start("system-automation");
+    for partition in [&mut vm, &mut mdh, &mut sa] {
+        rig.ready(partition);
+    }
     let mut link = rig.gcs(&mut vm);
     let config = rig.config.clone();
     let plan = plan("mission-2.toml");
@@ -106,7 +107,7 @@ fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
 fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_lists() {
     let mut rig = Rig::new("kill9");
     let mut fcc = rig.start("fcc");
-    wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
+    rig.ready(&mut fcc);
     let mut link = rig.gcs(&mut fcc);
     let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
@@ -184,8 +185,11 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     // The next upload succeeds.
     upload(&mut link, &mission_2).unwrap();
     assert_eq!(download(&mut link).unwrap(), valid_2);
-    std::thread::sleep(Duration::from_millis(300));
-    observe(&mut lists);
+    eventually(Duration::from_secs(5), || {
+        observe(&mut lists);
+        lists.last().is_some_and(|l| l.count == 3).then_some(())
+    })
+    .unwrap_or_else(|| panic!("the list of mission 2 never came: {lists:#?}"));
 
     // Guidance kept the last valid list throughout: mission 1, then mission 2, nothing else.
     let one = valid_1.mission.to_payload(1);
@@ -197,14 +201,13 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
         }),
         "{lists:#?}"
     );
-    assert!(lists.last().is_some_and(|l| l.count == 3));
 }
 
 #[test]
 fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_counted() {
     let mut rig = Rig::new("bad-frames");
     let mut fcc = rig.start("fcc");
-    wait_for_log(&fcc, "mission-data-handling up", Duration::from_secs(20));
+    rig.ready(&mut fcc);
     let mut link = rig.gcs(&mut fcc);
     let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
@@ -239,7 +242,10 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
                 .unwrap();
         }
     }
-    std::thread::sleep(Duration::from_millis(300));
+    // No wait needed: the download's frames reach the direct link's socket after these (each
+    // send_to on loopback has queued its datagram when it returns), voting-monitoring reads a
+    // socket in order and mission data handling handles the uplink in order, so the download
+    // sees whatever these frames did.
     assert_eq!(download(&mut link).unwrap(), valid, "nothing changed");
 
     fcc.stop().unwrap();
@@ -263,7 +269,7 @@ fn partitions_stop_and_nothing_is_left_in_the_temp_directory_when_the_launcher_i
     command.env("TMPDIR", &tmp);
     let log = rig.dir.join("fcc.log");
     let mut fcc = FccProcess::spawn(command, &rig.config, Some(&log)).unwrap();
-    wait_for_log(&fcc, "guidance-stub up", Duration::from_secs(20));
+    rig.ready(&mut fcc);
     let pids: Vec<i32> = fcc
         .log_text()
         .lines()
@@ -297,7 +303,7 @@ fn partitions_stop_and_nothing_is_left_in_the_temp_directory_when_the_launcher_i
 fn sigusr1_logs_the_latency_percentiles_and_the_partition_keeps_running() {
     let rig = Rig::new("usr1");
     let mut automation = rig.start("system-automation");
-    wait_for_log(&automation, "system-automation up", Duration::from_secs(20));
+    rig.ready(&mut automation);
     let pid = rustix::process::Pid::from_raw(automation.id() as i32).unwrap();
     // Two reports: the second can only come from a process that went on after the first.
     for n in 1..=2 {

@@ -8,9 +8,8 @@ use std::time::Duration;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
 use missionlink_services::ground_station::{
-    GcsConfig, GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
+    GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
 };
-use missionlink_services::link::endpoint::EndpointConfig;
 use missionlink_services::link::time::Instant;
 use missionlink_services::voting::Voter;
 
@@ -71,19 +70,7 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// hand the FCC the ports they got); `config` gives the IDs and timeouts.
     pub fn with_links(config: &Config, links: LinkPair, gateway: G) -> Self {
         let clock = DriverClock::start();
-        let station = GroundStation::new(
-            GcsConfig {
-                endpoint: EndpointConfig {
-                    local_id: config.ids.gcs,
-                    peer_id: config.ids.fcc,
-                    utc_at_zero: clock.utc_at_zero(),
-                    sampling_window: config.timing.transfer_timeout(),
-                },
-                ack_timeout: config.timing.ack_timeout(),
-                transfer_timeout: config.timing.transfer_timeout(),
-            },
-            gateway,
-        );
+        let station = GroundStation::new(config.gcs_core(clock.utc_at_zero()), gateway);
         Self {
             links,
             voter: Voter::new(

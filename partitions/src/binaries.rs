@@ -5,14 +5,14 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The binaries the FCC needs.
-pub const FCC_BINARIES: [&str; 5] = [
-    "fcc",
-    "voting-monitoring",
-    "mission-data-handling",
-    "system-automation",
-    "guidance-stub",
-];
+use crate::launcher;
+
+/// The binaries the FCC needs: the launcher and the partitions it starts
+/// ([`launcher::PARTITIONS`], the one list of them).
+pub const FCC_BINARIES: [&str; 5] = {
+    let [a, b, c, d] = launcher::PARTITIONS;
+    [launcher::NAME, a, b, c, d]
+};
 
 /// The directory of the binaries of this build: the caller's own directory, or for a test
 /// binary (in `deps/`) the one above it.

@@ -46,6 +46,10 @@ use std::time::Duration;
 use clap::Args;
 use missionlink_interfaces::contracts::DEFAULT_SERVICE_PREFIX;
 use missionlink_interfaces::defaults;
+use missionlink_interfaces::wire::Timestamp;
+use missionlink_services::ground_station::GcsConfig;
+use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_services::mission_data_handling::FccConfig;
 use serde::{Deserialize, Serialize};
 
 /// Node IDs (ICD §1).
@@ -318,6 +322,37 @@ impl Config {
     /// The configuration as TOML (what `--print-config` shows).
     pub fn to_toml(&self) -> String {
         toml::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// An endpoint from `local_id` to `peer_id` whose instant zero is `utc_at_zero`, sampling
+    /// over the transfer timeout.
+    fn endpoint(&self, local_id: u32, peer_id: u32, utc_at_zero: Timestamp) -> EndpointConfig {
+        EndpointConfig {
+            local_id,
+            peer_id,
+            utc_at_zero,
+            sampling_window: self.timing.transfer_timeout(),
+        }
+    }
+
+    /// The core of mission data handling as this configuration says (IDs and timeouts), its
+    /// instant zero at `utc_at_zero` (the driver's clock).
+    pub fn fcc_core(&self, utc_at_zero: Timestamp) -> FccConfig {
+        FccConfig {
+            endpoint: self.endpoint(self.ids.fcc, self.ids.gcs, utc_at_zero),
+            ack_timeout: self.timing.ack_timeout(),
+            transfer_timeout: self.timing.transfer_timeout(),
+        }
+    }
+
+    /// The GCS logic that talks to this FCC (its IDs and timeouts), its instant zero at
+    /// `utc_at_zero`: for the GCS link and the tests that play the ground.
+    pub fn gcs_core(&self, utc_at_zero: Timestamp) -> GcsConfig {
+        GcsConfig {
+            endpoint: self.endpoint(self.ids.gcs, self.ids.fcc, utc_at_zero),
+            ack_timeout: self.timing.ack_timeout(),
+            transfer_timeout: self.timing.transfer_timeout(),
+        }
     }
 }
 

@@ -17,7 +17,7 @@ use missionlink_services::guidance::{Guidance, GuidanceConfig};
 use crate::clock::DriverClock;
 use crate::config::Config;
 use crate::ipc::Ipc;
-use crate::runtime::{self, Control, PartitionError, Report};
+use crate::runtime::{self, Control, PartitionError, Wake};
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "guidance-stub";
@@ -59,36 +59,19 @@ where
     let clock = DriverClock::start();
     let interval = Duration::from_millis(g.update_interval_ms.max(1));
 
-    let waitset = runtime::waitset::<S>()?;
-    let mut guards = Vec::new();
-    for listener in [
-        waypoints.listener(),
-        areas.listener(),
-        automation.listener(),
-    ] {
-        guards.push(
-            waitset
-                .attach_notification(listener)
-                .map_err(PartitionError::waitset)?,
-        );
-    }
-    let _tick = waitset
-        .attach_interval(interval)
-        .map_err(PartitionError::waitset)?;
-    let mut report = Report::new(config, NAME, control);
-    tracing::info!(
-        prefix = %config.ipc.service_prefix,
-        time_scale = g.time_scale,
-        "guidance-stub up"
-    );
-    control.set_ready();
-
+    tracing::info!(time_scale = g.time_scale, "guidance-stub flies time-scaled");
     let mut last_published: Option<GuidanceProgressPayload> = None;
     let mut last_sent = std::time::Instant::now();
-    while control
-        .wait(&waitset, config.ipc.poll, interval)
-        .map_err(PartitionError::waitset)?
-    {
+    let wake = Wake {
+        on: &[
+            waypoints.listener(),
+            areas.listener(),
+            automation.listener(),
+        ],
+        every: Some(interval),
+        first_timeout: interval,
+    };
+    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
         waypoints.drain_notifications();
         areas.drain_notifications();
         automation.drain_notifications();
@@ -129,7 +112,8 @@ where
                 "position"
             );
         }
-    }
+        Ok(interval)
+    })?;
     report.finish(&[], &[]);
     Ok(())
 }

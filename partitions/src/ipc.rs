@@ -263,3 +263,41 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
         last
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use missionlink_interfaces::contracts::WaypointListPayload;
+
+    /// A late subscriber of a history-1 service receives the active list (the contract the
+    /// guidance partition relies on), through the QoS of the contracts as the ports here apply
+    /// it, on the in-process iceoryx2 service variant.
+    #[test]
+    fn a_late_subscriber_receives_the_active_waypoint_list() {
+        let prefix = format!("ipc-test-{}", std::process::id());
+        let ipc = Ipc::<local::Service>::open("ipc-test", &prefix).unwrap();
+        let publisher = ipc
+            .publisher::<WaypointListPayload>(FccService::WaypointList)
+            .unwrap();
+        let mut list = WaypointListPayload::EMPTY;
+        list.generation = 1;
+        list.count = 2;
+        list.waypoints[0].number = 1;
+        list.waypoints[0].next = 2;
+        list.waypoints[1].number = 2;
+        publisher.send(&list).unwrap();
+
+        let subscriber = ipc
+            .subscriber::<WaypointListPayload>(FccService::WaypointList)
+            .unwrap();
+        publisher.update_connections();
+        let received = subscriber.latest().expect("history delivers the list");
+        assert!(received.is_active());
+        let numbers: Vec<_> = received
+            .waypoints()
+            .iter()
+            .map(|w| (w.number, w.next))
+            .collect();
+        assert_eq!(numbers, [(1, 2), (2, 0)]);
+    }
+}

@@ -7,8 +7,9 @@
 //! ended within the grace period, guidance first and the links last.
 //!
 //! [`FccProcess`] serves the demo and the cross-process tests: it starts the launcher (or one
-//! partition) under a configuration, reads the ports voting-monitoring announces, and stops it
-//! with SIGTERM.
+//! partition) under a configuration, waits until it announces that it is up, reads the ports
+//! voting-monitoring announces, and stops it with SIGTERM. The launcher announces that it is up
+//! once every partition has.
 
 use std::io;
 use std::os::unix::process::ExitStatusExt;
@@ -71,6 +72,13 @@ fn terminate(child: &mut Child, grace: Duration) -> io::Result<ExitStatus> {
     }
 }
 
+/// Withdraws `name`'s announcement of readiness in `dir`; a failure is logged.
+fn withdraw_ready(dir: &Path, name: &str) {
+    if let Err(e) = state::forget_ready(dir, name) {
+        tracing::warn!(%e, dir = %dir.display(), name, "cannot withdraw a readiness announcement");
+    }
+}
+
 /// An exit status for a log line.
 pub fn describe(status: ExitStatus) -> String {
     match (status.code(), status.signal()) {
@@ -98,6 +106,12 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
         lte = %config.links.fcc_lte,
         "starting the FCC partitions"
     );
+    // Announcements of an earlier instance in the same directory say nothing about this one.
+    let state_dir = config.ipc.state_dir();
+    for name in PARTITIONS.iter().chain([&NAME]) {
+        withdraw_ready(&state_dir, name);
+    }
+    let mut all_up = false;
     control.set_ready();
     while !control.stop_requested() {
         for p in &mut partitions {
@@ -111,6 +125,12 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                     );
                     p.child = None;
                     p.restart_at = Some(Instant::now() + restart_delay);
+                    // Killed, it could not withdraw its announcement itself.
+                    withdraw_ready(&state_dir, p.name);
+                    if all_up {
+                        withdraw_ready(&state_dir, NAME);
+                        all_up = false;
+                    }
                 }
             }
             if p.restart_at.is_some_and(|t| Instant::now() >= t) {
@@ -130,9 +150,21 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 }
             }
         }
+        if !all_up
+            && PARTITIONS
+                .iter()
+                .all(|name| state::is_ready(&state_dir, name))
+        {
+            all_up = true;
+            tracing::info!("all partitions up");
+            if let Err(e) = state::announce_ready(&state_dir, NAME) {
+                tracing::warn!(%e, dir = %state_dir.display(), "cannot announce readiness");
+            }
+        }
         std::thread::sleep(SUPERVISION_PERIOD);
     }
     tracing::info!("stopping the FCC partitions");
+    withdraw_ready(&state_dir, NAME);
     for p in partitions.iter_mut().rev() {
         if let Some(mut child) = p.child.take() {
             match terminate(&mut child, GRACE) {
@@ -201,6 +233,8 @@ pub fn local_config(dir: &Path, prefix: String, gcs: &LocalEnds) -> Result<Confi
 #[derive(Debug)]
 pub struct FccProcess {
     child: Child,
+    /// The binary's name, under which it announces its readiness.
+    name: String,
     log: Option<PathBuf>,
     state_dir: PathBuf,
 }
@@ -218,11 +252,14 @@ impl FccProcess {
     }
 
     /// The command that starts `binary` of `bin_dir` with `config`, to add to before
-    /// [`FccProcess::spawn`]. Starting the launcher or voting-monitoring removes a previous
-    /// announcement of the links, so that [`FccProcess::links`] reads this one's.
+    /// [`FccProcess::spawn`]. It removes a previous announcement of the binary's readiness, and
+    /// for the launcher or voting-monitoring of the links, so that [`FccProcess::wait_ready`]
+    /// and [`FccProcess::links`] read this one's.
     pub fn command(bin_dir: &Path, binary: &str, config: &Config) -> io::Result<Command> {
+        let state_dir = config.ipc.state_dir();
+        state::forget_ready(&state_dir, binary)?;
         if binary == NAME || binary == voting_monitoring::NAME {
-            state::forget_links(&config.ipc.state_dir())?;
+            state::forget_links(&state_dir)?;
         }
         let mut command = Command::new(bin_dir.join(binary));
         config::hand_to(&mut command, config);
@@ -252,8 +289,13 @@ impl FccProcess {
                 ),
             )
         })?;
+        let name = Path::new(command.get_program())
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         Ok(Self {
             child,
+            name,
             log: log.map(Path::to_path_buf),
             state_dir: config.ipc.state_dir(),
         })
@@ -282,6 +324,16 @@ impl FccProcess {
     pub fn links(&mut self, limit: Duration) -> Option<BoundLinks> {
         let child = &mut self.child;
         state::wait_for_links(&self.state_dir, limit, || {
+            matches!(child.try_wait(), Ok(None))
+        })
+    }
+
+    /// Waits up to `limit` until it is up: a partition with its ports open and waiting for
+    /// data, the launcher with every partition up (see [`state::announce_ready`]). `false`
+    /// when it did not come up in time or the process ended.
+    pub fn wait_ready(&mut self, limit: Duration) -> bool {
+        let child = &mut self.child;
+        state::wait_for_ready(&self.state_dir, &self.name, limit, || {
             matches!(child.try_wait(), Ok(None))
         })
     }

@@ -14,14 +14,13 @@ use missionlink_interfaces::contracts::{
     GuidanceProgressPayload, Link, WaypointListPayload,
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
-use missionlink_services::link::endpoint::EndpointConfig;
-use missionlink_services::mission_data_handling::{FccConfig, FccEvent, MissionDataHandling};
+use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
 use crate::ipc::{Ipc, Publisher};
 use crate::latency::Recorder;
-use crate::runtime::{self, Control, PartitionError, Report};
+use crate::runtime::{self, Control, PartitionError, Wake};
 use crate::state;
 
 /// The partition's name (binary, node, summary).
@@ -46,16 +45,7 @@ where
     let area_list = ipc.publisher::<AreaListPayload>(FccService::AreaList)?;
 
     let clock = DriverClock::start();
-    let mut core = MissionDataHandling::new(FccConfig {
-        endpoint: EndpointConfig {
-            local_id: config.ids.fcc,
-            peer_id: config.ids.gcs,
-            utc_at_zero: clock.utc_at_zero(),
-            sampling_window: config.timing.transfer_timeout(),
-        },
-        ack_timeout: config.timing.ack_timeout(),
-        transfer_timeout: config.timing.transfer_timeout(),
-    });
+    let mut core = MissionDataHandling::new(config.fcc_core(clock.utc_at_zero()));
     // Resume with the lists of a previous instance and publish them again, so late joiners
     // find them; their generations are unchanged, so guidance sees no change.
     let state_dir = config.ipc.state_dir();
@@ -80,29 +70,17 @@ where
     let mut processing = Recorder::new("uplink: frame processing");
     let mut command_sequence = 0u64;
 
-    let waitset = runtime::waitset::<S>()?;
-    let _g1 = waitset
-        .attach_notification(uplink.listener())
-        .map_err(PartitionError::waitset)?;
-    let _g2 = waitset
-        .attach_notification(automation.listener())
-        .map_err(PartitionError::waitset)?;
-    let _g3 = waitset
-        .attach_notification(progress.listener())
-        .map_err(PartitionError::waitset)?;
-    let _tick = waitset
-        .attach_interval(CONNECT_INTERVAL)
-        .map_err(PartitionError::waitset)?;
-    let mut report = Report::new(config, NAME, control);
-    tracing::info!(prefix = %config.ipc.service_prefix, "mission-data-handling up");
-    control.set_ready();
-
     let mut frame = [0u8; MAX_FRAME_LEN];
-    let mut timeout = CONNECT_INTERVAL;
-    while control
-        .wait(&waitset, config.ipc.poll, timeout)
-        .map_err(PartitionError::waitset)?
-    {
+    let wake = Wake {
+        on: &[
+            uplink.listener(),
+            automation.listener(),
+            progress.listener(),
+        ],
+        every: Some(CONNECT_INTERVAL),
+        first_timeout: CONNECT_INTERVAL,
+    };
+    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
         if let Some(state) = automation.latest() {
             core.set_automation_state(&state);
         }
@@ -171,12 +149,12 @@ where
         }
         waypoint_list.update_connections();
         area_list.update_connections();
-        timeout = core
+        report.log_if_due(&[&hop, &handled, &processing]);
+        Ok(core
             .poll_timeout()
             .map_or(CONNECT_INTERVAL, |t| t.saturating_since(clock.now()))
-            .min(CONNECT_INTERVAL);
-        report.log_if_due(&[&hop, &handled, &processing]);
-    }
+            .min(CONNECT_INTERVAL))
+    })?;
     tracing::info!(stats = ?core.endpoint().stats(), "endpoint at shutdown");
     report.finish(
         &[&hop, &handled, &processing],

@@ -1,7 +1,8 @@
 //! What every partition's event loop shares: the [`Control`] that starts and stops a loop (from
 //! another thread, or by SIGINT/SIGTERM), sleeping in the WaitSet (or spinning with `--poll`)
-//! until data, a deadline or a stop, latency reports on an interval, on SIGUSR1 and at shutdown,
-//! and the `main` of every partition binary.
+//! until data, a deadline or a stop ([`run_loop`], the one loop skeleton every partition runs),
+//! latency reports on an interval, on SIGUSR1 and at shutdown, and the `main` of every partition
+//! binary.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,6 +15,7 @@ use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 use crate::config::{Config, ConfigArgs, ConfigError};
 use crate::ipc::IpcError;
 use crate::latency::{self, Recorder};
+use crate::state;
 use crate::udp::LinkError;
 
 /// The longest a loop sleeps before it looks at its stop flag: a [`Control::stop`] from another
@@ -78,6 +80,8 @@ pub struct Control {
     stop: Arc<AtomicBool>,
     report: Arc<AtomicBool>,
     ready: Arc<(Mutex<bool>, Condvar)>,
+    /// Where and under which name readiness is announced to other processes, if it is.
+    announce: Option<(PathBuf, String)>,
 }
 
 impl Control {
@@ -124,12 +128,34 @@ impl Control {
         Ok(())
     }
 
+    /// A control that also announces the loop's readiness in the state directory `dir` as
+    /// `name` ([`state::announce_ready`]), for the processes that wait for a partition process
+    /// to be up; [`Control::forget_ready`] withdraws it.
+    pub fn announcing_ready(mut self, dir: PathBuf, name: &str) -> Self {
+        self.announce = Some((dir, name.to_owned()));
+        self
+    }
+
     /// Called by the loop once its ports are open and it is about to wait.
     pub fn set_ready(&self) {
         let (ready, changed) = &*self.ready;
         if let Ok(mut r) = ready.lock() {
             *r = true;
             changed.notify_all();
+        }
+        if let Some((dir, name)) = &self.announce {
+            if let Err(e) = state::announce_ready(dir, name) {
+                tracing::warn!(%e, dir = %dir.display(), "cannot announce readiness");
+            }
+        }
+    }
+
+    /// Withdraws the announcement of [`Control::announcing_ready`] (at shutdown).
+    pub fn forget_ready(&self) {
+        if let Some((dir, name)) = &self.announce {
+            if let Err(e) = state::forget_ready(dir, name) {
+                tracing::warn!(%e, dir = %dir.display(), "cannot withdraw the readiness");
+            }
         }
     }
 
@@ -173,6 +199,60 @@ pub fn waitset<S: Service>() -> Result<WaitSet<S>, PartitionError> {
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<S>()
         .map_err(PartitionError::waitset)
+}
+
+/// Something a partition loop sleeps on: an iceoryx2 listener or a socket
+/// (`udp::SocketFd`). A trait of its own so that listeners and sockets share one slice.
+pub trait Attachment: SynchronousMultiplexing + std::fmt::Debug {}
+
+impl<T: SynchronousMultiplexing + std::fmt::Debug + ?Sized> Attachment for T {}
+
+/// What wakes a partition loop besides a stop.
+#[derive(Debug, Clone, Copy)]
+pub struct Wake<'a> {
+    /// The listeners and sockets whose data wakes it.
+    pub on: &'a [&'a dyn Attachment],
+    /// Periodic work (connecting late subscribers, stepping a model), if any.
+    pub every: Option<Duration>,
+    /// The longest first sleep; after it each step says how long the next may be.
+    pub first_timeout: Duration,
+}
+
+/// The event loop of every partition: attaches `wake` to a [`waitset`], logs "`name` up",
+/// tells `control` it is ready, then calls `step` after every wake-up until `control` or a
+/// termination request stops it. `step` does the partition's work, may log through the
+/// [`Report`], and returns how long the loop may sleep next. Returns the report, for the
+/// caller's [`Report::finish`] with its final counters.
+pub fn run_loop<S: Service>(
+    name: &'static str,
+    config: &Config,
+    control: &Control,
+    wake: Wake<'_>,
+    mut step: impl FnMut(&mut Report) -> Result<Duration, PartitionError>,
+) -> Result<Report, PartitionError> {
+    let waitset = waitset::<S>()?;
+    let _guards = wake
+        .on
+        .iter()
+        .map(|a| waitset.attach_notification(*a))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(PartitionError::waitset)?;
+    let _tick = wake
+        .every
+        .map(|every| waitset.attach_interval(every))
+        .transpose()
+        .map_err(PartitionError::waitset)?;
+    let mut report = Report::new(config, name, control);
+    tracing::info!(prefix = %config.ipc.service_prefix, "{name} up");
+    control.set_ready();
+    let mut timeout = wake.first_timeout;
+    while control
+        .wait(&waitset, config.ipc.poll, timeout)
+        .map_err(PartitionError::waitset)?
+    {
+        timeout = step(&mut report)?;
+    }
+    Ok(report)
 }
 
 /// Whether a loop goes on after the WaitSet returned `result`. `Interrupt` means that a signal
@@ -240,8 +320,8 @@ impl Report {
 }
 
 /// The `main` of every partition binary: logging, the configuration (exit status 2 when it is
-/// wrong), then `run` with a [`Control`] driven by the signals (exit status 1 with the error when
-/// it fails).
+/// wrong), then `run` with a [`Control`] driven by the signals that announces the partition's
+/// readiness in the state directory while it runs (exit status 1 with the error when it fails).
 pub fn partition_main<E: std::fmt::Display>(
     name: &str,
     args: &ConfigArgs,
@@ -256,12 +336,14 @@ pub fn partition_main<E: std::fmt::Display>(
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
-    let control = Control::new();
+    let control = Control::new().announcing_ready(config.ipc.state_dir(), name);
     if let Err(e) = control.handle_signals() {
         tracing::error!(%e, "{name} failed");
         return std::process::ExitCode::FAILURE;
     }
-    match run(&config, &control) {
+    let result = run(&config, &control);
+    control.forget_ready();
+    match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             tracing::error!(%e, "{name} failed");

@@ -12,6 +12,10 @@
 //! ([`BoundLinks`], `links.toml`): with port 0 in the configuration the system chooses them, the
 //! GCS (the demo, the tests) reads them here, and a restarted voting-monitoring binds the same
 //! ports again so the GCS keeps talking to them.
+//!
+//! Every partition process announces here when it is up (its ports open, waiting for data), and
+//! the launcher once all its partitions are ([`announce_ready`], `ready/<binary>`): the demo and
+//! the tests wait for that instead of sleeping.
 
 use std::io;
 use std::net::SocketAddr;
@@ -29,6 +33,7 @@ use missionlink_services::transfer::sender::mission_command;
 const WAYPOINT_LIST: &str = "waypoint-list.frames";
 const AREA_LIST: &str = "area-list.frames";
 const LINKS: &str = "links.toml";
+const READY: &str = "ready";
 
 /// Where voting-monitoring bound the FCC's ends of the two links.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -73,12 +78,59 @@ pub fn forget_links(dir: &Path) -> io::Result<()> {
 pub fn wait_for_links(
     dir: &Path,
     limit: Duration,
-    mut alive: impl FnMut() -> bool,
+    alive: impl FnMut() -> bool,
 ) -> Option<BoundLinks> {
+    wait_for(limit, alive, || load_links(dir))
+}
+
+fn ready_path(dir: &Path, binary: &str) -> PathBuf {
+    dir.join(READY).join(binary)
+}
+
+/// Announces in `dir` that `binary` is up: a partition once its ports are open and it waits
+/// for data, the launcher once every partition it started is. The file holds the process ID.
+pub fn announce_ready(dir: &Path, binary: &str) -> io::Result<()> {
+    write_atomically(
+        &ready_path(dir, binary),
+        std::process::id().to_string().as_bytes(),
+    )
+}
+
+/// Removes `binary`'s announcement in `dir` (it stopped, died or is about to start again).
+pub fn forget_ready(dir: &Path, binary: &str) -> io::Result<()> {
+    match std::fs::remove_file(ready_path(dir, binary)) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Whether `binary` announced in `dir` that it is up.
+pub fn is_ready(dir: &Path, binary: &str) -> bool {
+    ready_path(dir, binary).is_file()
+}
+
+/// Waits until `binary` announces in `dir` that it is up (the file is polled), for at most
+/// `limit`, while `alive` says it may still come; whether it did.
+pub fn wait_for_ready(
+    dir: &Path,
+    binary: &str,
+    limit: Duration,
+    alive: impl FnMut() -> bool,
+) -> bool {
+    wait_for(limit, alive, || is_ready(dir, binary).then_some(())).is_some()
+}
+
+/// Polls `probe` until it gives a value, for at most `limit`, while `alive` says it may still
+/// come (another process writes what it looks for: no event to sleep on).
+fn wait_for<T>(
+    limit: Duration,
+    mut alive: impl FnMut() -> bool,
+    mut probe: impl FnMut() -> Option<T>,
+) -> Option<T> {
     let end = Instant::now() + limit;
     loop {
-        if let Some(links) = load_links(dir) {
-            return Some(links);
+        if let Some(found) = probe() {
+            return Some(found);
         }
         if Instant::now() >= end || !alive() {
             return None;
@@ -218,4 +270,32 @@ pub fn load_areas(dir: &Path) -> Option<(Option<AreaList>, u64)> {
         }
     }
     messages.is_empty().then_some((None, generation))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn readiness_is_announced_withdrawn_and_waited_for() {
+        let dir =
+            std::env::temp_dir().join(format!("missionlink-state-ready-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(!is_ready(&dir, "fcc"));
+        forget_ready(&dir, "fcc").unwrap();
+        // A process that is gone is not waited for.
+        assert!(!wait_for_ready(
+            &dir,
+            "fcc",
+            Duration::from_secs(20),
+            || false
+        ));
+        announce_ready(&dir, "fcc").unwrap();
+        assert!(is_ready(&dir, "fcc"));
+        assert!(!is_ready(&dir, "guidance-stub"), "each binary its own");
+        assert!(wait_for_ready(&dir, "fcc", Duration::ZERO, || true));
+        forget_ready(&dir, "fcc").unwrap();
+        assert!(!is_ready(&dir, "fcc"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

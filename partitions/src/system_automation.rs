@@ -19,7 +19,7 @@ use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
 use crate::ipc::Ipc;
 use crate::latency::Recorder;
-use crate::runtime::{self, Control, PartitionError, Report};
+use crate::runtime::{self, Control, PartitionError, Wake};
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "system-automation";
@@ -45,31 +45,17 @@ where
     let mut automation = SystemAutomation::new();
     let mut command_latency = Recorder::new("command: accepted to carried out");
 
-    let waitset = runtime::waitset::<S>()?;
-    let mut guards = Vec::new();
-    for listener in [
-        waypoints.listener(),
-        areas.listener(),
-        progress.listener(),
-        commands.listener(),
-    ] {
-        guards.push(
-            waitset
-                .attach_notification(listener)
-                .map_err(PartitionError::waitset)?,
-        );
-    }
-    let _tick = waitset
-        .attach_interval(CONNECT_INTERVAL)
-        .map_err(PartitionError::waitset)?;
-    let mut report = Report::new(config, NAME, control);
-    tracing::info!(prefix = %config.ipc.service_prefix, "system-automation up");
-    control.set_ready();
-
-    while control
-        .wait(&waitset, config.ipc.poll, CONNECT_INTERVAL)
-        .map_err(PartitionError::waitset)?
-    {
+    let wake = Wake {
+        on: &[
+            waypoints.listener(),
+            areas.listener(),
+            progress.listener(),
+            commands.listener(),
+        ],
+        every: Some(CONNECT_INTERVAL),
+        first_timeout: CONNECT_INTERVAL,
+    };
+    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
         waypoints.drain_notifications();
         areas.drain_notifications();
         progress.drain_notifications();
@@ -97,7 +83,8 @@ where
         }
         state.update_connections();
         report.log_if_due(&[&command_latency]);
-    }
+        Ok(CONNECT_INTERVAL)
+    })?;
     report.finish(&[&command_latency], &[]);
     Ok(())
 }

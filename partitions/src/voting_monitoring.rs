@@ -21,7 +21,7 @@ use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
 use crate::ipc::Ipc;
 use crate::latency::Recorder;
-use crate::runtime::{self, Control, PartitionError, Report};
+use crate::runtime::{self, Control, PartitionError, Wake};
 use crate::state::{self, BoundLinks};
 use crate::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
 
@@ -109,30 +109,20 @@ where
     let mut turnaround = Recorder::new("FCC turnaround: UDP receive to answer sent");
     let mut sequence = 0u64;
 
-    let waitset = runtime::waitset::<S>()?;
-    let [direct_fd, lte_fd] = links.attachments();
-    let _g1 = waitset
-        .attach_notification(direct_fd)
-        .map_err(PartitionError::waitset)?;
-    let _g2 = waitset
-        .attach_notification(lte_fd)
-        .map_err(PartitionError::waitset)?;
-    let _g3 = waitset
-        .attach_notification(downlink.listener())
-        .map_err(PartitionError::waitset)?;
-    let mut report = Report::new(config, NAME, control);
     let [direct, lte] = links.local_addrs()?;
-    tracing::info!(%direct, %lte, prefix = %config.ipc.service_prefix, "voting-monitoring up");
-    control.set_ready();
+    tracing::info!(%direct, %lte, "links bound");
 
     // One step's datagrams, copied out of the socket buffer into slots allocated once.
     let mut slots = vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE];
     let mut step: heapless::Vec<(Link, usize, u64), MAX_READS_PER_RECEIVE> = heapless::Vec::new();
     let mut buf = [0u8; MAX_DATAGRAM];
-    while control
-        .wait(&waitset, config.ipc.poll, IDLE_WAIT)
-        .map_err(PartitionError::waitset)?
-    {
+    let [direct_fd, lte_fd] = links.attachments();
+    let wake = Wake {
+        on: &[direct_fd, lte_fd, downlink.listener()],
+        every: None,
+        first_timeout: IDLE_WAIT,
+    };
+    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
         // The answers first: they are the turnaround's path.
         downlink.take_all(|frame| {
             downlink_hop.record_between(frame.published_ns, monotonic_ns());
@@ -177,7 +167,8 @@ where
         if report.log_if_due(&[&received, &downlink_hop, &turnaround]) {
             tracing::info!(stats = ?voter.stats(), "voting");
         }
-    }
+        Ok(IDLE_WAIT)
+    })?;
     tracing::info!(stats = ?voter.stats(), "voting at shutdown");
     report.finish(
         &[&received, &downlink_hop, &turnaround],

@@ -17,10 +17,7 @@ use missionlink_interfaces::contracts::{
     FramePayload, GuidanceProgressPayload, Link, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{
-    self, Altitude, AltitudeType, Angle, AreaPolygonLoopSegment, AreaShape, AreaType, Envelope,
-    ExecuteCommand, GeoPoint, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, PolygonVertices,
-    RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TurnType,
-    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+    AreaType, ExecuteCommand, LegType, MAX_FRAME_LEN, MissionPlanMode,
 };
 use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::config::Config;
@@ -30,11 +27,9 @@ use missionlink_partitions::{
     guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
 };
 use missionlink_services::ground_station::{
-    GcsConfig, GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
+    GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
 };
-use missionlink_services::link::endpoint::EndpointConfig;
-use missionlink_services::transfer::areas::AreaBuffer;
-use missionlink_services::transfer::mission::MissionBuffer;
+use missionlink_services::testkit;
 use missionlink_services::transfer::sender::mission_command;
 
 type S = local::Service;
@@ -122,86 +117,18 @@ fn within<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static,
     }
 }
 
-// ---- A small mission: take-off height, two waypoints, a bidirectional route, a fly-zone ----
-
-fn waypoint(number: u16, next: u16, lat: f64, lon: f64) -> Message {
-    UaPositionWaypoint {
-        time_stamp: Timestamp::default(),
-        waypoint_number: number,
-        latitude: Angle::from_degrees(lat).unwrap(),
-        longitude: Angle::from_degrees(lon).unwrap(),
-        location_type: None,
-        altitude: Altitude::from_metres(120.0).unwrap(),
-        altitude_type: Some(AltitudeType::Wgs84),
-        altitude_change_behaviour: None,
-        speed: Speed::from_mps(25.0).unwrap(),
-        speed_type: Some(SpeedType::IndicatedAirspeed),
-        next_waypoint: next,
-        turn_type: TurnType::FlyBy,
-        optional_messages: None,
-        leg_type: LegType::TrackToFix,
-        limit_type: None,
-        loop_limit: None,
-        arrival_time: None,
-        activity_id: None,
-    }
-    .into()
-}
-
+/// A small mission: take-off height, two waypoints, a bidirectional route, the demo fly-zone.
 fn plan() -> MissionPlan {
-    let mut mission = MissionBuffer::new();
-    let messages: [Message; 4] = [
-        VehicleSpecificWaypoint {
-            time_stamp: Timestamp::default(),
-            data: SpecificData::TakeOffHeight {
-                height: Altitude::from_metres(30.0).unwrap(),
-            },
-            activity_id: None,
-        }
-        .into(),
-        waypoint(1, 2, 48.275, 11.645),
-        waypoint(2, 0, 48.278, 11.658),
-        UaRoute {
-            time_stamp: Timestamp::default(),
-            initial_waypoint: 1,
-            route_id: None,
-            route_type: Some(RouteType::Flight),
-            bidirectional: true,
-        }
-        .into(),
-    ];
-    for m in &messages {
-        mission.store(m).unwrap();
-    }
-    let mut corners = PolygonVertices::new();
-    for (lat, lon) in [
-        (48.255, 11.635),
-        (48.255, 11.690),
-        (48.285, 11.690),
-        (48.285, 11.635),
-    ] {
-        corners
-            .push(GeoPoint::from_degrees(lat, lon).unwrap())
-            .unwrap();
-    }
-    let mut areas = AreaBuffer::new();
-    areas
-        .store(&AreaPolygonLoopSegment {
-            time_stamp: Timestamp::default(),
-            area_id: 1,
-            area_type: AreaType::FlyZone,
-            lower_altitude: None,
-            upper_altitude: None,
-            altitude_type: None,
-            shape: AreaShape::Polygon(corners),
-        })
-        .unwrap();
-    MissionPlan {
-        mission,
-        areas,
-        safety_offset: SafetyOffset::from_metres(25.0).unwrap(),
-        mission_id: Some(Text::new("IN-PROCESS").unwrap()),
-    }
+    testkit::plan(
+        &[
+            testkit::take_off(30.0).into(),
+            testkit::waypoint(1, 2, testkit::CCP, LegType::TrackToFix).into(),
+            testkit::waypoint(2, 0, (48.278, 11.658), LegType::TrackToFix).into(),
+            testkit::route(1, true).into(),
+        ],
+        &[testkit::polygon(1, AreaType::FlyZone, &testkit::FLY_ZONE)],
+        "IN-PROCESS",
+    )
 }
 
 fn valid() -> ValidatedPlan {
@@ -221,19 +148,7 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
 
     // The GCS logic plays the ground, its frames carried over the uplink service.
     let clock = DriverClock::start();
-    let mut gcs = GroundStation::new(
-        GcsConfig {
-            endpoint: EndpointConfig {
-                local_id: config.ids.gcs,
-                peer_id: config.ids.fcc,
-                utc_at_zero: clock.utc_at_zero(),
-                sampling_window: config.timing.transfer_timeout(),
-            },
-            ack_timeout: config.timing.ack_timeout(),
-            transfer_timeout: config.timing.transfer_timeout(),
-        },
-        WithoutGateway,
-    );
+    let mut gcs = GroundStation::new(config.gcs_core(clock.utc_at_zero()), WithoutGateway);
     gcs.upload(clock.now(), &plan(), true).unwrap();
     let mut buf = [0u8; MAX_FRAME_LEN];
     let mut answers = 0;
@@ -316,11 +231,9 @@ fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_
     // the newer one is the next frame on the uplink.
     let frame = |ms: u64| {
         let mut m = mission_command(MissionPlanMode::ClearMission, None, None);
-        m.set_time_stamp(Timestamp::from_millis(900_000_000_000 + ms).unwrap());
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        let envelope = Envelope::new(config.ids.gcs, config.ids.fcc).with_ack(true);
-        let len = wire::encode(&envelope, &m, &mut buf).unwrap();
-        buf[..len].to_vec()
+        m.set_time_stamp(testkit::ts(900_000_000_000 + ms));
+        // The configuration keeps the IDs of ICD §1, the testkit's.
+        testkit::uplink(&m)
     };
     let (first, second) = (frame(1), frame(2));
     let from_gcs = UdpSocket::bind("127.0.0.1:0").unwrap();

@@ -42,6 +42,9 @@ struct Args {
 
 type Link = GcsLink<SafetyGateway>;
 
+/// How long the FCC may take to start (a debug build on a busy machine is slow).
+const STARTUP: Duration = Duration::from_secs(20);
+
 /// The message sequence of `log` from `from`, as the paper's Figure 15 lists a transfer.
 fn print_sequence(log: &[Logged], from: usize) {
     let Some(start) = log.get(from).map(|l| l.at) else {
@@ -170,7 +173,15 @@ fn run(args: &Args) -> Result<(), String> {
     );
     let mut fcc =
         FccProcess::start(&bin_dir, launcher::NAME, &config, None).map_err(|e| e.to_string())?;
-    fcc.links(Duration::from_secs(20))
+    // Every partition's services open before the GCS sends: a frame published before its
+    // subscriber exists would be lost.
+    if !fcc.wait_ready(STARTUP) {
+        return Err(format!(
+            "the FCC's partitions were not all up within {} s",
+            STARTUP.as_secs()
+        ));
+    }
+    fcc.links(STARTUP)
         .ok_or("the FCC did not announce its links")?
         .apply(&mut config);
     println!(
@@ -182,8 +193,6 @@ fn run(args: &Args) -> Result<(), String> {
         .map_err(|e| e.to_string())?;
     let mut link = GcsLink::with_links(&config, links, SafetyGateway::default());
     link.enable_log();
-    // Let the partitions open their services; the GCS's retry would cover a slow start too.
-    std::thread::sleep(Duration::from_millis(500));
 
     let mission_1 = plan(MISSION_1, "missions/mission-1.toml")?;
     let mission_2 = plan(MISSION_2, "missions/mission-2.toml")?;

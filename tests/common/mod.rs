@@ -58,6 +58,17 @@ impl Rig {
         FccProcess::start(&bin_dir(), binary, &self.config, Some(&log)).unwrap()
     }
 
+    /// Waits until `process` (the launcher or a partition) is up: for the launcher, every
+    /// partition's services are open.
+    pub fn ready(&self, process: &mut Process) {
+        assert!(
+            process.wait_ready(Duration::from_secs(20)),
+            "{:?} did not come up:\n{}",
+            process.log_path(),
+            process.log_text()
+        );
+    }
+
     /// Waits for `fcc` (the launcher or voting-monitoring) to announce its ports and points the
     /// configuration at them.
     pub fn learn_links(&mut self, fcc: &mut Process) {
