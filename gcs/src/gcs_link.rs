@@ -112,18 +112,26 @@ impl<G: SafetyGateway> GcsLink<G> {
         }
     }
 
-    /// Sends what the GCS logic queued, on both links.
+    /// Sends the frames the GCS logic encoded, on both links: the driver only moves bytes (it
+    /// decodes a frame again only to log it, when asked to).
     fn flush(&mut self) {
         let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some((envelope, message)) = self.station.poll_outgoing() {
-            match wire::encode(&envelope, &message, &mut buf) {
-                Ok(len) => {
-                    if self.links.send_both(buf.get(..len).unwrap_or_default()) == 0 {
-                        tracing::warn!("no link could send");
-                    }
-                    self.record(Direction::Up, message);
+        while let Some(encoded) = self.station.poll_transmit(&mut buf) {
+            let frame = match encoded {
+                Ok(len) => buf.get(..len).unwrap_or_default(),
+                Err(e) => {
+                    tracing::error!(%e, "cannot encode");
+                    continue;
                 }
-                Err(e) => tracing::error!(%e, "cannot encode"),
+            };
+            if self.links.send_both(frame) == 0 {
+                tracing::warn!("no link could send");
+            }
+            if self.logging {
+                match wire::decode(frame) {
+                    Ok((_, message)) => self.record(Direction::Up, message),
+                    Err(e) => tracing::error!(%e, "a frame the GCS logic encoded does not decode"),
+                }
             }
         }
     }

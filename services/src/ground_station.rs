@@ -19,9 +19,9 @@ use core::time::Duration;
 use std::collections::VecDeque;
 
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaTransferMode, EncodeError, Envelope, ExecuteCommand, FrameError,
-    FromToNext, Message, MessageType, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
-    Text, Timestamp,
+    AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
+    Message, MessageType, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset, Text,
+    Timestamp,
 };
 
 use crate::link::composite::Composite;
@@ -581,11 +581,6 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// The timers due at `now` fire: retries, and the download's transfer timeout.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.fire_expired(now);
-    }
-
-    /// The next message to send.
-    pub fn poll_outgoing(&mut self) -> Option<(Envelope, Message)> {
-        self.endpoint.poll_outgoing()
     }
 
     /// Encodes the next message to send into `buf`; returns the frame length.
