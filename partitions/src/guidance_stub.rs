@@ -9,14 +9,13 @@ use std::time::Duration;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
-    AreaListPayload, AutomationStatePayload, FccService, GuidanceProgressPayload,
-    WaypointListPayload,
+    AutomationStatePayload, FccService, GuidanceProgressPayload,
 };
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 
 use crate::clock::DriverClock;
 use crate::config::Config;
-use crate::ipc::Ipc;
+use crate::ipc::{ActiveLists, Ipc};
 use crate::runtime::{self, Control, PartitionError, Wake};
 
 /// The partition's name (binary, node, summary).
@@ -42,8 +41,7 @@ where
     Listener<S>: SynchronousMultiplexing,
 {
     let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
-    let waypoints = ipc.subscriber::<WaypointListPayload>(FccService::WaypointList)?;
-    let areas = ipc.subscriber::<AreaListPayload>(FccService::AreaList)?;
+    let ActiveLists { waypoints, areas } = ipc.active_lists()?;
     let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
     let progress = ipc.publisher::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
 

@@ -12,7 +12,7 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
-use missionlink_interfaces::contracts::FccService;
+use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
 
 /// Something iceoryx2 refused, with what was being done.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -157,6 +157,25 @@ impl<S: Service> Ipc<S> {
             listener,
         })
     }
+
+    /// Subscribers of the active lists that mission data handling publishes, the waypoint list
+    /// and the area list (DESIGN.md, "Contracts between partitions"): what system automation
+    /// and guidance both follow.
+    pub fn active_lists(&self) -> Result<ActiveLists<S>, IpcError> {
+        Ok(ActiveLists {
+            waypoints: self.subscriber(FccService::WaypointList)?,
+            areas: self.subscriber(FccService::AreaList)?,
+        })
+    }
+}
+
+/// The subscribers of the two active lists.
+#[derive(Debug)]
+pub struct ActiveLists<S: Service> {
+    /// `fcc/mission/waypoint-list`.
+    pub waypoints: Subscriber<S, WaypointListPayload>,
+    /// `fcc/mission/area-list`.
+    pub areas: Subscriber<S, AreaListPayload>,
 }
 
 /// A typed publisher with its notifier.

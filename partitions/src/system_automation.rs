@@ -10,14 +10,13 @@ use std::time::Duration;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
-    AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService,
-    GuidanceProgressPayload, WaypointListPayload,
+    AutomationCommandPayload, AutomationStatePayload, FccService, GuidanceProgressPayload,
 };
 use missionlink_services::automation::SystemAutomation;
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
-use crate::ipc::Ipc;
+use crate::ipc::{ActiveLists, Ipc};
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
 
@@ -34,8 +33,7 @@ where
     Listener<S>: SynchronousMultiplexing,
 {
     let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
-    let waypoints = ipc.subscriber::<WaypointListPayload>(FccService::WaypointList)?;
-    let areas = ipc.subscriber::<AreaListPayload>(FccService::AreaList)?;
+    let ActiveLists { waypoints, areas } = ipc.active_lists()?;
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
     let commands = ipc.subscriber::<AutomationCommandPayload>(FccService::AutomationCommand)?;
     let state = ipc.publisher::<AutomationStatePayload>(FccService::AutomationState)?;
