@@ -97,6 +97,22 @@ impl Codec for u16 {
     }
 }
 
+/// The codec of a newtype over an unsigned integer sent big-endian in `$size` bytes (U2, U3,
+/// U5 and the scaled fields stored as their raw wire value): every bit pattern is a value.
+macro_rules! unsigned_codec {
+    ($t:ty, $inner:ty, $size:expr) => {
+        impl Codec for $t {
+            const SIZE: usize = $size;
+            fn decode(bytes: &[u8]) -> Result<Self, Cause> {
+                Ok(Self(read_be(bytes) as $inner))
+            }
+            fn encode(&self, out: &mut [u8]) {
+                write_be(u64::from(self.0), out);
+            }
+        }
+    };
+}
+
 /// U3: a 24-bit unsigned integer (Activity ID fields).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -140,15 +156,7 @@ impl From<U3> for u32 {
     }
 }
 
-impl Codec for U3 {
-    const SIZE: usize = 3;
-    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
-        Ok(Self(read_be(bytes) as u32))
-    }
-    fn encode(&self, out: &mut [u8]) {
-        write_be(u64::from(self.0), out);
-    }
-}
+unsigned_codec!(U3, u32, 3);
 
 /// BAM4 angle (ICD §3): a signed 32-bit binary angle, LSB = pi / 2^31 rad. Latitude and
 /// longitude on WGS-84. One LSB is about 9.3 mm of latitude.
@@ -315,15 +323,7 @@ impl fmt::Debug for Speed {
     }
 }
 
-impl Codec for Speed {
-    const SIZE: usize = 2;
-    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
-        Ok(Self(read_be(bytes) as u16))
-    }
-    fn encode(&self, out: &mut [u8]) {
-        write_be(u64::from(self.0), out);
-    }
-}
+unsigned_codec!(Speed, u16, 2);
 
 /// Safety offset of #2011 and #3013 (ICD §4): an unsigned 16-bit distance, LSB 0.1 m.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
@@ -367,15 +367,7 @@ impl fmt::Debug for SafetyOffset {
     }
 }
 
-impl Codec for SafetyOffset {
-    const SIZE: usize = 2;
-    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
-        Ok(Self(read_be(bytes) as u16))
-    }
-    fn encode(&self, out: &mut [u8]) {
-        write_be(u64::from(self.0), out);
-    }
-}
+unsigned_codec!(SafetyOffset, u16, 2);
 
 /// TS time stamp (ICD §3): milliseconds since 2000-01-01T00:00:00Z (UTC) in a U5.
 ///
@@ -461,15 +453,7 @@ impl fmt::Debug for Timestamp {
     }
 }
 
-impl Codec for Timestamp {
-    const SIZE: usize = 5;
-    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
-        Ok(Self(read_be(bytes)))
-    }
-    fn encode(&self, out: &mut [u8]) {
-        write_be(self.0, out);
-    }
-}
+unsigned_codec!(Timestamp, u64, 5);
 
 /// CharN text (ICD §3): `N` bytes, NUL padded, the width including the terminator, so at most
 /// `N - 1` characters. This project carries UTF-8.
