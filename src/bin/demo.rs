@@ -30,7 +30,7 @@ const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
 
 /// The paper's demo, end to end.
 #[derive(Debug, Parser)]
-#[command(name = "demo", version, about)]
+#[command(name = "demo", version)]
 struct Args {
     /// Simulated seconds per second of the flights.
     #[arg(long, default_value_t = 20.0)]

@@ -21,7 +21,7 @@ use missionlink_services::safety_gateway::{SafetyGateway, Violation};
 
 /// Ground control station of missionlink: STANAG 4586 mission and area transfer.
 #[derive(Debug, Parser)]
-#[command(name = "gcs", version, about)]
+#[command(name = "gcs", version)]
 struct Cli {
     #[command(flatten)]
     config: ConfigArgs,

@@ -11,7 +11,7 @@ use missionlink_partitions::launcher;
 
 /// Launcher of the FCC partitions.
 #[derive(Debug, Parser)]
-#[command(name = "fcc", version, about)]
+#[command(name = "fcc", version)]
 struct Args {
     #[command(flatten)]
     config: ConfigArgs,

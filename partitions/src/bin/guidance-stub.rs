@@ -17,7 +17,7 @@ use missionlink_partitions::runtime::partition_main;
 
 /// Guidance stub of the FCC.
 #[derive(Debug, Parser)]
-#[command(name = "guidance-stub", version, about)]
+#[command(name = "guidance-stub", version)]
 struct Args {
     #[command(flatten)]
     config: ConfigArgs,

@@ -17,7 +17,7 @@ use missionlink_partitions::runtime::partition_main;
 
 /// Mission data handling of the FCC.
 #[derive(Debug, Parser)]
-#[command(name = "mission-data-handling", version, about)]
+#[command(name = "mission-data-handling", version)]
 struct Args {
     #[command(flatten)]
     config: ConfigArgs,

@@ -18,7 +18,7 @@ use missionlink_partitions::system_automation;
 
 /// System automation of the FCC.
 #[derive(Debug, Parser)]
-#[command(name = "system-automation", version, about)]
+#[command(name = "system-automation", version)]
 struct Args {
     #[command(flatten)]
     config: ConfigArgs,

@@ -17,7 +17,7 @@ use missionlink_partitions::voting_monitoring;
 
 /// Voting and monitoring of the direct and LTE links.
 #[derive(Debug, Parser)]
-#[command(name = "voting-monitoring", version, about)]
+#[command(name = "voting-monitoring", version)]
 struct Args {
     #[command(flatten)]
     config: ConfigArgs,
