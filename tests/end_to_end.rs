@@ -319,3 +319,79 @@ fn sigusr1_logs_the_latency_percentiles_and_the_partition_keeps_running() {
     let status = automation.stop().unwrap();
     assert!(status.success(), "{status:?}\n{}", automation.log_text());
 }
+
+#[test]
+fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
+    let mut rig = Rig::new("flood");
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    rig.learn_links(&mut fcc);
+    let config = rig.config.clone();
+
+    // One well-formed #50000 from the GCS, bent four ways: each breaks one rule of ICD §2.
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let execute = wire::MissionExecuteCommand {
+        time_stamp: wire::Timestamp::from_millis(900_000_000_000).unwrap(),
+        command: wire::ExecuteCommand::Execute,
+    };
+    let mut encode = |source: u32| {
+        let envelope = Envelope::new(source, config.ids.fcc).with_ack(true);
+        let len = wire::encode(&envelope, &execute.clone().into(), &mut buf).unwrap();
+        buf[..len].to_vec()
+    };
+    let foreign = encode(0x0C00_0001);
+    let mut bad_checksum = encode(config.ids.gcs);
+    *bad_checksum.last_mut().unwrap() ^= 0x01;
+    let mut bad_length = encode(config.ids.gcs);
+    bad_length[2..4].copy_from_slice(&0u16.to_be_bytes());
+    let too_short = vec![0xff, 0xff, 0x00];
+    let kinds = [foreign, bad_checksum, bad_length, too_short];
+
+    const N: usize = 20_000;
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    let started = Instant::now();
+    for i in 0..N {
+        let to = if i % 2 == 0 {
+            config.links.fcc_direct
+        } else {
+            config.links.fcc_lte
+        };
+        socket.send_to(&kinds[i % kinds.len()], to).unwrap();
+        // Paced so that voting-monitoring's socket buffers rarely overflow.
+        if i % 200 == 199 {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+    fcc.stop().unwrap();
+    let seconds = started.elapsed().as_secs() + 1;
+
+    let vm = rig
+        .summaries()
+        .into_iter()
+        .find(|s| s.partition == "voting-monitoring")
+        .expect("voting-monitoring summary");
+    let rejected = vm.counters["rejected_frames"];
+    // The kernel may drop datagrams when a socket's buffer is full; every one that arrived is
+    // counted, by its cause.
+    assert!(rejected <= N as u64 && rejected > 0, "{:?}", vm.counters);
+    for cause in [
+        "unknown_source",
+        "checksum_mismatch",
+        "length_out_of_range",
+        "too_short",
+    ] {
+        assert!(vm.counters[cause] > 0, "{cause}: {:?}", vm.counters);
+    }
+    // At most one line per cause per second of flood (and one to start with), whatever the
+    // number of frames.
+    let lines = fcc
+        .log_text()
+        .lines()
+        .filter(|l| l.contains("rejected since the last line"))
+        .count() as u64;
+    assert!(lines >= 4, "one line at least per cause: {lines}");
+    assert!(
+        lines <= 4 * (seconds + 1),
+        "{lines} log lines for {rejected} rejected frames in {seconds} s"
+    );
+}
