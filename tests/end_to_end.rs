@@ -336,7 +336,7 @@ fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
     };
     let mut encode = |source: u32| {
         let envelope = Envelope::new(source, config.ids.fcc).with_ack(true);
-        let len = wire::encode(&envelope, &execute.clone().into(), &mut buf).unwrap();
+        let len = wire::encode(&envelope, &execute.into(), &mut buf).unwrap();
         buf[..len].to_vec()
     };
     let foreign = encode(0x0C00_0001);
