@@ -1,4 +1,4 @@
-//! The GCS end of the two links: the sans-IO GCS logic (`services::gcs::GroundStation`) driven
+//! The GCS end of the two links: the sans-IO GCS logic (`services::ground_station::GroundStation`) driven
 //! over UDP, every uplink frame sent on both links, the downlink voted with the same voting code
 //! the FCC uses (paper §2.4). Optionally logs every message with its time, direction and
 //! acknowledgement, as the paper's Figure 15 shows a transfer.

@@ -103,7 +103,7 @@ fn unit(a: P) -> Option<P> {
     (l > 1e-9).then(|| mul(a, 1.0 / l))
 }
 
-/// The gateway's local frame (`services::local_frame`), with the map's point type.
+/// The gateway's local frame (`services::geofence::local_frame`), with the map's point type.
 #[derive(Debug, Clone, Copy)]
 struct Projection(LocalFrame);
 
@@ -266,7 +266,7 @@ fn bounds(points: impl IntoIterator<Item = P>) -> Option<(P, P)> {
         })
 }
 
-/// The radius-to-fix arc as drawn: the gateway's arc (`services::local_frame::arc`), with
+/// The radius-to-fix arc as drawn: the gateway's arc (`services::geofence::local_frame::arc`), with
 /// chords within [`ARC_SAG_DRAWN_M`], in the map's point type.
 fn arc_points(centre: P, start: P, end: P, direction: TurnDirection) -> Vec<P> {
     let c = |p: P| Coord { x: p.0, y: p.1 };

@@ -499,7 +499,7 @@ impl MissionFile {
             body
         };
         format!(
-            "# missionlink mission file (format: partitions/src/mission_file.rs in missionlink).\n\
+            "# missionlink mission file (format: gcs/src/mission_file.rs in missionlink).\n\
              # Positions are [latitude_deg, longitude_deg] on WGS-84.\n\n{body}"
         )
     }

@@ -263,6 +263,13 @@ pub enum ConfigError {
         /// What is wrong.
         message: String,
     },
+    /// The resolved configuration cannot be written as TOML (a path that is not UTF-8, say), so
+    /// it could not be handed to the partitions: refused, rather than let them start with the
+    /// defaults.
+    Unrepresentable {
+        /// What TOML could not represent.
+        message: String,
+    },
 }
 
 impl std::fmt::Display for ConfigError {
@@ -275,6 +282,9 @@ impl std::fmt::Display for ConfigError {
                 column,
                 message,
             } => write!(f, "{}:{line}:{column}: {message}", path.display()),
+            Self::Unrepresentable { message } => {
+                write!(f, "the configuration cannot be written as TOML: {message}")
+            }
         }
     }
 }
@@ -319,9 +329,12 @@ impl Config {
         }
     }
 
-    /// The configuration as TOML (what `--print-config` shows).
-    pub fn to_toml(&self) -> String {
-        toml::to_string_pretty(self).unwrap_or_default()
+    /// The configuration as TOML (what `--print-config` shows, and what the launcher hands to
+    /// the partitions).
+    pub fn to_toml(&self) -> Result<String, ConfigError> {
+        toml::to_string_pretty(self).map_err(|e| ConfigError::Unrepresentable {
+            message: e.to_string(),
+        })
     }
 
     /// An endpoint from `local_id` to `peer_id` whose instant zero is `utc_at_zero`, sampling
@@ -376,12 +389,15 @@ pub const PREFIX_ENV: &str = "MISSIONLINK_PREFIX";
 pub const CONFIG_TOML_ENV: &str = "MISSIONLINK_CONFIG_TOML";
 
 /// Hands `config` to the child process `command` starts: as TOML in [`CONFIG_TOML_ENV`], and
-/// without the inherited variables of `--config` and `--prefix`, which would override it.
-pub fn hand_to(command: &mut std::process::Command, config: &Config) {
+/// without the inherited variables of `--config` and `--prefix`, which would override it. A
+/// configuration TOML cannot represent is an error, never an empty hand-over (the child would
+/// start with the defaults: another FCC's prefix and ports).
+pub fn hand_to(command: &mut std::process::Command, config: &Config) -> Result<(), ConfigError> {
     command
-        .env(CONFIG_TOML_ENV, config.to_toml())
+        .env(CONFIG_TOML_ENV, config.to_toml()?)
         .env_remove(CONFIG_FILE_ENV)
         .env_remove(PREFIX_ENV);
+    Ok(())
 }
 
 /// The flags every binary takes: a configuration file and overrides of its most used settings.
@@ -479,6 +495,8 @@ impl ConfigArgs {
         if let Some(d) = &self.summary_dir {
             c.latency.summary_dir = Some(d.clone());
         }
+        // A resolved configuration can always be handed on (see `hand_to`).
+        c.to_toml()?;
         Ok(c)
     }
 }
@@ -486,6 +504,30 @@ impl ConfigArgs {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_configuration_toml_cannot_carry_is_refused_not_handed_on_as_the_defaults() {
+        use std::os::unix::ffi::OsStrExt;
+        let args = ConfigArgs {
+            summary_dir: Some(PathBuf::from(std::ffi::OsStr::from_bytes(b"/tmp/\xff"))),
+            ..ConfigArgs::default()
+        };
+        let error = args.resolve().unwrap_err();
+        assert!(
+            matches!(error, ConfigError::Unrepresentable { .. }),
+            "{error}"
+        );
+        let mut config = Config::default();
+        config.latency.summary_dir = args.summary_dir.clone();
+        let mut command = std::process::Command::new("true");
+        assert!(hand_to(&mut command, &config).is_err());
+        assert!(
+            command
+                .get_envs()
+                .all(|(k, _)| k != std::ffi::OsStr::new(CONFIG_TOML_ENV)),
+            "nothing handed over"
+        );
+    }
 
     #[test]
     fn defaults_are_the_icd_defaults() {
@@ -507,7 +549,10 @@ mod tests {
         assert_eq!(c.ids.fcc, 0x0B00_0002);
         assert_eq!(c.ids.gcs, 0x0A00_0001);
         assert_eq!(c.guidance.time_scale, 20.0);
-        assert_eq!(Config::parse(&c.to_toml(), Path::new("y")).unwrap(), c);
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
     }
 
     #[test]
@@ -526,7 +571,7 @@ mod tests {
         handed.guidance.time_scale = 7.0;
         let args = ConfigArgs {
             config: Some(PathBuf::from("/nonexistent/missionlink.toml")),
-            config_toml: Some(handed.to_toml()),
+            config_toml: Some(handed.to_toml().unwrap()),
             fcc_id: Some(5),
             ..ConfigArgs::default()
         };

@@ -137,8 +137,10 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 p.restart_at = None;
                 let mut command = Command::new(bin_dir.join(p.name));
                 command.arg(EXIT_WITH_PARENT);
-                config::hand_to(&mut command, config);
-                match command.spawn() {
+                let spawned = config::hand_to(&mut command, config)
+                    .map_err(io::Error::other)
+                    .and_then(|()| command.spawn());
+                match spawned {
                     Ok(child) => {
                         tracing::info!(partition = p.name, pid = child.id(), "started");
                         p.child = Some(child);
@@ -190,8 +192,13 @@ pub fn main(args: &ConfigArgs, bin_dir: Option<PathBuf>, print_config: bool) -> 
         Err(e) => return config_error(&e),
     };
     if print_config {
-        print!("{}", config.to_toml());
-        return ExitCode::SUCCESS;
+        return match config.to_toml() {
+            Ok(text) => {
+                print!("{text}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => config_error(&e),
+        };
     }
     let Some(bin_dir) = bin_dir.or_else(crate::binaries::build_dir) else {
         tracing::error!("cannot find the partition binaries: give --bin-dir");
@@ -262,7 +269,7 @@ impl FccProcess {
             state::forget_links(&state_dir)?;
         }
         let mut command = Command::new(bin_dir.join(binary));
-        config::hand_to(&mut command, config);
+        config::hand_to(&mut command, config).map_err(io::Error::other)?;
         Ok(command)
     }
 

@@ -68,7 +68,13 @@ where
     let mut hop = Recorder::new("uplink: shared-memory hop");
     let mut handled = Recorder::new("uplink: UDP receive to handled");
     let mut processing = Recorder::new("uplink: frame processing");
-    let mut command_sequence = 0u64;
+    let mut outputs = Outputs {
+        waypoint_list: &waypoint_list,
+        area_list: &area_list,
+        commands: &commands,
+        state_dir: &state_dir,
+        command_sequence: 0,
+    };
 
     let mut frame = [0u8; MAX_FRAME_LEN];
     let wake = Wake {
@@ -84,6 +90,7 @@ where
         if let Some(state) = automation.latest() {
             core.set_automation_state(&state);
         }
+        let mut failure = None;
         uplink.take_all(|f| {
             let start = monotonic_ns();
             hop.record_between(f.published_ns, start);
@@ -95,9 +102,22 @@ where
             // The frame whose handling produced the answers: its receive time starts the
             // turnaround that voting-monitoring measures.
             transmit(&mut core, &downlink, &mut frame, f.origin_ns);
+            // After every frame, not after the whole batch: the core's event queue holds
+            // EVENT_CAPACITY, and an activation or a command must never be dropped.
+            if let Err(e) = outputs.publish_events(&mut core) {
+                failure.get_or_insert(e);
+            }
         });
+        if let Some(e) = failure {
+            return Err(e);
+        }
         automation.drain_notifications();
         progress.drain_notifications();
+        // Once more after the drain: a state published between the first look and the drain
+        // woke nobody, and a clear or #50000 must be judged against it.
+        if let Some(state) = automation.latest() {
+            core.set_automation_state(&state);
+        }
         if let Some(p) = progress.latest() {
             core.handle_progress(clock.now(), &p);
         }
@@ -106,47 +126,7 @@ where
             core.handle_timeout(now);
         }
         transmit(&mut core, &downlink, &mut frame, 0);
-        while let Some(event) = core.poll_event() {
-            match event {
-                FccEvent::MissionActivated { .. } | FccEvent::MissionCleared => {
-                    let generation = core.generations().0;
-                    if let Err(e) =
-                        state::save_mission(&state_dir, core.active_mission(), generation)
-                    {
-                        tracing::error!(%e, "cannot save the waypoint list");
-                    }
-                    tracing::info!(
-                        generation = core.waypoint_list().generation,
-                        waypoints = core.waypoint_list().count,
-                        "waypoint list published"
-                    );
-                    waypoint_list.send(core.waypoint_list())?;
-                }
-                FccEvent::AreasActivated { .. } | FccEvent::AreasCleared => {
-                    let generation = core.generations().1;
-                    if let Err(e) = state::save_areas(&state_dir, core.active_areas(), generation) {
-                        tracing::error!(%e, "cannot save the area list");
-                    }
-                    tracing::info!(
-                        generation = core.area_list().generation,
-                        areas = core.area_list().area_count(),
-                        "area list published"
-                    );
-                    area_list.send(core.area_list())?;
-                }
-                FccEvent::Execute(command) => {
-                    command_sequence += 1;
-                    commands.send(&AutomationCommandPayload {
-                        sequence: command_sequence,
-                        accepted_ns: monotonic_ns(),
-                        command: command as u8,
-                        reserved: [0; 7],
-                    })?;
-                    tracing::info!(?command, "command for system automation");
-                }
-                other => tracing::info!(event = ?other, "mission data handling"),
-            }
-        }
+        outputs.publish_events(&mut core)?;
         waypoint_list.update_connections();
         area_list.update_connections();
         report.log_if_due(&[&hop, &handled, &processing]);
@@ -161,6 +141,66 @@ where
         &core.endpoint().stats().counters().collect::<Vec<_>>(),
     );
     Ok(())
+}
+
+/// What mission data handling publishes besides the downlink: the active lists (saved to the
+/// state directory first) and the accepted #50000 commands.
+struct Outputs<'a, S: Service> {
+    waypoint_list: &'a Publisher<S, WaypointListPayload>,
+    area_list: &'a Publisher<S, AreaListPayload>,
+    commands: &'a Publisher<S, AutomationCommandPayload>,
+    state_dir: &'a std::path::Path,
+    command_sequence: u64,
+}
+
+impl<S: Service> Outputs<'_, S> {
+    /// Carries out every event the core queued.
+    fn publish_events(&mut self, core: &mut MissionDataHandling) -> Result<(), PartitionError> {
+        while let Some(event) = core.poll_event() {
+            match event {
+                FccEvent::MissionActivated { .. } | FccEvent::MissionCleared => {
+                    let generation = core.generations().0;
+                    if let Err(e) =
+                        state::save_mission(self.state_dir, core.active_mission(), generation)
+                    {
+                        tracing::error!(%e, "cannot save the waypoint list");
+                    }
+                    tracing::info!(
+                        generation = core.waypoint_list().generation,
+                        waypoints = core.waypoint_list().count,
+                        "waypoint list published"
+                    );
+                    self.waypoint_list.send(core.waypoint_list())?;
+                }
+                FccEvent::AreasActivated { .. } | FccEvent::AreasCleared => {
+                    let generation = core.generations().1;
+                    if let Err(e) =
+                        state::save_areas(self.state_dir, core.active_areas(), generation)
+                    {
+                        tracing::error!(%e, "cannot save the area list");
+                    }
+                    tracing::info!(
+                        generation = core.area_list().generation,
+                        areas = core.area_list().area_count(),
+                        "area list published"
+                    );
+                    self.area_list.send(core.area_list())?;
+                }
+                FccEvent::Execute(command) => {
+                    self.command_sequence += 1;
+                    self.commands.send(&AutomationCommandPayload {
+                        sequence: self.command_sequence,
+                        accepted_ns: monotonic_ns(),
+                        command: command as u8,
+                        reserved: [0; 7],
+                    })?;
+                    tracing::info!(?command, "command for system automation");
+                }
+                other => tracing::info!(event = ?other, "mission data handling"),
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Publishes on the downlink every frame the core transmits (the driver moves bytes only: the

@@ -19,7 +19,7 @@ use crate::state;
 use crate::udp::LinkError;
 
 /// The longest a loop sleeps before it looks at its stop flag: a [`Control::stop`] from another
-/// thread ends the loop within this (SIGINT/SIGTERM wake the WaitSet at once).
+/// thread, or a signal that lands on another thread of the process, ends the loop within this.
 pub const STOP_LATENCY: Duration = Duration::from_millis(50);
 
 /// Why a partition loop ended with an error.

@@ -196,7 +196,7 @@ fn open(config: &Config, gateway: SafetyGateway) -> Result<Link, String> {
 /// The safety gateway's inputs (paper §2.2) and the sources of areas.
 #[derive(Debug, Clone, Default, clap::Args)]
 struct SafetyArgs {
-    /// Aircraft profile (TOML; default: the demo eVTOL, see partitions/src/profile.rs).
+    /// Aircraft profile (TOML; default: the demo eVTOL, see gcs/src/profile.rs).
     #[arg(long, value_name = "FILE")]
     profile: Option<PathBuf>,
     /// Environment (TOML: wind_speed_mps, wind_from_deg, temperature_c; default calm, 15 C).
