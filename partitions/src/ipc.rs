@@ -8,6 +8,7 @@
 
 use core::fmt::Debug;
 
+use iceoryx2::port::backpressure_strategy::BackpressureStrategy;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::update_connections::UpdateConnections;
@@ -119,9 +120,15 @@ impl<S: Service> Ipc<S> {
         &self,
         service: FccService,
     ) -> Result<Publisher<S, T>, IpcError> {
+        // A subscriber that stopped or hung (SIGSTOP, a HIL partition in a debugger) must never
+        // block its publisher: iceoryx2's default retries until delivered, which would take the
+        // link partition down with it. A frame a full queue cannot take is lost for that
+        // subscriber alone, and the ICD's retry (paper §3.1.4) recovers it; the list services
+        // overwrite their history (safe overflow) and never get here.
         let publisher = self
             .pubsub::<T>(service)?
             .publisher_builder()
+            .backpressure_strategy(BackpressureStrategy::DiscardData)
             .create()
             .map_err(|e| err(format_args!("publisher of {service}"), e))?;
         let notifier = self
@@ -286,7 +293,7 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_interfaces::contracts::WaypointListPayload;
+    use missionlink_interfaces::contracts::{FramePayload, Link, WaypointListPayload};
 
     /// A late subscriber of a history-1 service receives the active list (the contract the
     /// guidance partition relies on), through the QoS of the contracts as the ports here apply
@@ -318,5 +325,25 @@ mod tests {
             .map(|w| (w.number, w.next))
             .collect();
         assert_eq!(numbers, [(1, 2), (2, 0)]);
+    }
+
+    /// A subscriber that never reads (stopped, hung) does not block the publisher of a frame
+    /// queue: past the queue's capacity, frames are lost for it and sending goes on.
+    #[test]
+    fn a_subscriber_that_never_reads_does_not_block_the_frame_queue() {
+        let prefix = format!("ipc-test-full-{}", std::process::id());
+        let ipc = Ipc::<local::Service>::open("ipc-test-full", &prefix).unwrap();
+        let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
+        let stalled = ipc.subscriber::<FramePayload>(FccService::Uplink).unwrap();
+        uplink.update_connections();
+        let capacity = FccService::Uplink.qos().subscriber_max_buffer_size;
+        let frame = FramePayload::new(Link::Direct, &[0u8; 16], 1).unwrap();
+        // Returns at all (with RetryUntilDelivered it would wait here for ever).
+        for _ in 0..3 * capacity {
+            uplink.send(&frame).unwrap();
+        }
+        let mut delivered = 0;
+        stalled.take_all(|_| delivered += 1);
+        assert_eq!(delivered, capacity);
     }
 }

@@ -72,9 +72,10 @@ fn terminate(child: &mut Child, grace: Duration) -> io::Result<ExitStatus> {
     }
 }
 
-/// Withdraws `name`'s announcement of readiness in `dir`; a failure is logged.
-fn withdraw_ready(dir: &Path, name: &str) {
-    if let Err(e) = state::forget_ready(dir, name) {
+/// Withdraws `name`'s announcement of readiness in `dir` if process `pid` made it; a failure
+/// is logged.
+fn withdraw_ready(dir: &Path, name: &str, pid: u32) {
+    if let Err(e) = state::withdraw_ready(dir, name, pid) {
         tracing::warn!(%e, dir = %dir.display(), name, "cannot withdraw a readiness announcement");
     }
 }
@@ -109,14 +110,18 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
     // Announcements of an earlier instance in the same directory say nothing about this one.
     let state_dir = config.ipc.state_dir();
     for name in PARTITIONS.iter().chain([&NAME]) {
-        withdraw_ready(&state_dir, name);
+        if let Err(e) = state::forget_ready(&state_dir, name) {
+            tracing::warn!(%e, dir = %state_dir.display(), name, "cannot clear an old announcement");
+        }
     }
+    let own = std::process::id();
     let mut all_up = false;
     control.set_ready();
     while !control.stop_requested() {
         for p in &mut partitions {
             if let Some(child) = p.child.as_mut() {
                 if let Ok(Some(status)) = child.try_wait() {
+                    let pid = child.id();
                     tracing::error!(
                         partition = p.name,
                         status = %describe(status),
@@ -126,9 +131,9 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                     p.child = None;
                     p.restart_at = Some(Instant::now() + restart_delay);
                     // Killed, it could not withdraw its announcement itself.
-                    withdraw_ready(&state_dir, p.name);
+                    withdraw_ready(&state_dir, p.name, pid);
                     if all_up {
-                        withdraw_ready(&state_dir, NAME);
+                        withdraw_ready(&state_dir, NAME, own);
                         all_up = false;
                     }
                 }
@@ -166,7 +171,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
         std::thread::sleep(SUPERVISION_PERIOD);
     }
     tracing::info!("stopping the FCC partitions");
-    withdraw_ready(&state_dir, NAME);
+    withdraw_ready(&state_dir, NAME, own);
     for p in partitions.iter_mut().rev() {
         if let Some(mut child) = p.child.take() {
             match terminate(&mut child, GRACE) {

@@ -153,7 +153,7 @@ impl Control {
     /// Withdraws the announcement of [`Control::announcing_ready`] (at shutdown).
     pub fn forget_ready(&self) {
         if let Some((dir, name)) = &self.announce {
-            if let Err(e) = state::forget_ready(dir, name) {
+            if let Err(e) = state::withdraw_ready(dir, name, std::process::id()) {
                 tracing::warn!(%e, dir = %dir.display(), "cannot withdraw the readiness");
             }
         }

@@ -104,6 +104,22 @@ pub fn forget_ready(dir: &Path, binary: &str) -> io::Result<()> {
     }
 }
 
+/// Removes `binary`'s announcement in `dir` if process `pid` made it: a process that ends
+/// withdraws its own announcement, never the one of a newer instance started meanwhile in the
+/// same directory (a launcher restarted at once after `kill -9`, while the old partitions are
+/// still on their way out).
+pub fn withdraw_ready(dir: &Path, binary: &str, pid: u32) -> io::Result<()> {
+    let path = ready_path(dir, binary);
+    match std::fs::read_to_string(&path) {
+        Ok(text) if text.trim() == pid.to_string() => match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+            _ => Ok(()),
+        },
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
+}
+
 /// Whether `binary` announced in `dir` that it is up.
 pub fn is_ready(dir: &Path, binary: &str) -> bool {
     ready_path(dir, binary).is_file()
@@ -159,7 +175,9 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    let tmp = path.with_extension("tmp");
+    // A name of this process's own: two processes writing the same file never share a
+    // half-written one.
+    let tmp = path.with_extension(format!("tmp.{}", std::process::id()));
     std::fs::write(&tmp, bytes)?;
     std::fs::rename(&tmp, path)
 }
@@ -275,6 +293,21 @@ pub fn load_areas(dir: &Path) -> Option<(Option<AreaList>, u64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_process_withdraws_only_its_own_announcement() {
+        let dir =
+            std::env::temp_dir().join(format!("missionlink-state-own-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        announce_ready(&dir, "voting-monitoring").unwrap();
+        // The old instance of a partition on its way out meets the new one's announcement.
+        withdraw_ready(&dir, "voting-monitoring", std::process::id() + 1).unwrap();
+        assert!(is_ready(&dir, "voting-monitoring"), "not its announcement");
+        withdraw_ready(&dir, "voting-monitoring", std::process::id()).unwrap();
+        assert!(!is_ready(&dir, "voting-monitoring"));
+        withdraw_ready(&dir, "voting-monitoring", std::process::id()).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn readiness_is_announced_withdrawn_and_waited_for() {

@@ -7,7 +7,6 @@
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::net::UdpSocket;
-use std::path::PathBuf;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -38,15 +37,17 @@ type Loop = fn(&Config, &Control) -> Result<(), PartitionError>;
 /// How long any condition may take before the test fails (generous: the machine is shared).
 const LIMIT: Duration = Duration::from_secs(20);
 
-/// A configuration no other test shares: prefix and state directory.
-fn config(test: &str) -> Config {
-    let dir: PathBuf =
-        std::env::temp_dir().join(format!("missionlink-inproc-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+/// A configuration no other test shares: prefix and state directory, the directory removed
+/// when the returned guard is dropped.
+fn config(test: &str) -> (Config, tempfile::TempDir) {
+    let dir = tempfile::Builder::new()
+        .prefix(&format!("missionlink-inproc-{test}-"))
+        .tempdir()
+        .unwrap();
     let mut c = Config::default();
     c.ipc.service_prefix = format!("inproc-{test}-{}", std::process::id());
-    c.ipc.state_dir = Some(dir.join("state"));
-    c
+    c.ipc.state_dir = Some(dir.path().join("state"));
+    (c, dir)
 }
 
 /// A partition loop on a thread of the test.
@@ -137,7 +138,7 @@ fn valid() -> ValidatedPlan {
 
 #[test]
 fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_the_downlink() {
-    let config = config("mdh");
+    let (config, _dir) = config("mdh");
     let partition = Running::start(mission_data_handling::run::<S>, &config);
     let ipc = Ipc::<S>::open("gcs-side", &config.ipc.service_prefix).unwrap();
     let uplink: Publisher<S, FramePayload> = ipc.publisher(FccService::Uplink).unwrap();
@@ -207,7 +208,7 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
 #[test]
 fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_and_keeps_its_ports()
  {
-    let mut config = config("vm");
+    let (mut config, _dir) = config("vm");
     let gcs_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
     let gcs_lte = UdpSocket::bind("127.0.0.1:0").unwrap();
     for s in [&gcs_direct, &gcs_lte] {
@@ -271,7 +272,7 @@ fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_
 
 #[test]
 fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
-    let config = config("sa");
+    let (config, _dir) = config("sa");
     let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
     let state: Subscriber<S, AutomationStatePayload> =
         ipc.subscriber(FccService::AutomationState).unwrap();
@@ -340,7 +341,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
 
 #[test]
 fn guidance_stub_flies_the_list_and_publishes_its_progress() {
-    let mut config = config("guidance");
+    let (mut config, _dir) = config("guidance");
     config.guidance.time_scale = 50.0;
     let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
     let waypoints: Publisher<S, WaypointListPayload> =

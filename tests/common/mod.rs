@@ -94,6 +94,13 @@ impl Rig {
     }
 }
 
+/// The rig's directory (state, logs, summaries) goes with it.
+impl Drop for Rig {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
 /// Waits until `process`'s log says `text`, or panics after `limit`.
 pub fn wait_for_log(process: &Process, text: &str, limit: Duration) {
     wait_for_logs(process, text, 1, limit);
