@@ -519,6 +519,10 @@ impl MissionDataHandling {
 
     /// When [`MissionDataHandling::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
+        debug_assert!(
+            self.in_step(&self.timers),
+            "the timer table lags its transfers"
+        );
         self.timers.next_timeout()
     }
 
