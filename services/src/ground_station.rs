@@ -575,11 +575,7 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// When [`GroundStation::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        debug_assert!(
-            self.in_step(&self.timers),
-            "the timer table lags its transfers"
-        );
-        self.timers.next_timeout()
+        self.mirrored_timeout(&self.timers)
     }
 
     /// The timers due at `now` fire: retries, and the download's transfer timeout.

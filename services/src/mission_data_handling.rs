@@ -519,11 +519,7 @@ impl MissionDataHandling {
 
     /// When [`MissionDataHandling::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        debug_assert!(
-            self.in_step(&self.timers),
-            "the timer table lags its transfers"
-        );
-        self.timers.next_timeout()
+        self.mirrored_timeout(&self.timers)
     }
 
     /// The timers due at `now` fire: download retries, upload transfer timeouts.

@@ -33,13 +33,17 @@ pub(crate) trait Composite<T: Timer<N>, const N: usize> {
     /// of paper §3.1.2); `ack_requested` as its sender asked.
     fn route(&mut self, now: Instant, message: &Message, ack_requested: bool);
 
-    /// Whether `table` holds every transfer's deadline as it is now: the table mirrors the
+    /// The machine's `poll_timeout`: the earliest deadline of its `table`. The table mirrors the
     /// transfers, so every call that can start, advance or end a transfer must end in
-    /// [`Composite::update_timers`]; `poll_timeout` checks it in debug builds.
-    fn in_step(&self, table: &TimerTable<T, N>) -> bool {
-        T::ALL
-            .into_iter()
-            .all(|timer| table.get(timer) == self.deadline(timer))
+    /// [`Composite::update_timers`]; debug builds check here that none forgot.
+    fn mirrored_timeout(&self, table: &TimerTable<T, N>) -> Option<Instant> {
+        debug_assert!(
+            T::ALL
+                .into_iter()
+                .all(|timer| table.get(timer) == self.deadline(timer)),
+            "the timer table lags its transfers"
+        );
+        table.next_timeout()
     }
 
     /// Copies every transfer's deadline into the table.
