@@ -455,6 +455,7 @@ impl MissionFile {
             safety_offset: SafetyOffset::from_metres(self.safety_offset_m)
                 .map_err(|e| field_error("safety_offset_m", e.to_string()))?,
             mission_id: optional(self.mission_id.as_deref(), |s| text("mission_id", s))?,
+            take_off_position: None,
         })
     }
 

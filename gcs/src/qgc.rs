@@ -214,6 +214,7 @@ pub fn import_plan(text: &str, options: &ImportOptions) -> Result<QgcImport, Mis
             areas,
             safety_offset,
             mission_id: None,
+            take_off_position: None,
         },
         home,
         notes,

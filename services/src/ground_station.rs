@@ -20,8 +20,8 @@ use std::collections::VecDeque;
 
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
-    Message, MessageType, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset, Text,
-    Timestamp,
+    GeoPoint, Message, MessageType, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
+    Text, Timestamp,
 };
 
 use crate::link::composite::Composite;
@@ -39,8 +39,16 @@ use crate::transfer::sender::{Script, SenderEvent, TransferSender, area_request,
 pub trait SafetyGateway {
     /// What the gateway reports against a mission.
     type Report: fmt::Debug + fmt::Display + Clone + PartialEq;
-    /// Checks the assembled lists.
-    fn check(&self, mission: &Mission, areas: &AreaList) -> Result<(), Self::Report>;
+    /// Checks the lists the plan assembled into, flown from the plan's take-off position (ICD
+    /// §7: on the GCS, the mission's planned take-off position). `areas` may be a list that
+    /// failed the ICD §7 assembly ([`AreaBuffer::unchecked`]): a gateway reports its defects as
+    /// violations that name the area.
+    fn check(
+        &self,
+        mission: &Mission,
+        areas: &AreaList,
+        take_off: Option<GeoPoint>,
+    ) -> Result<(), Self::Report>;
 }
 
 /// No gateway configured: the lists pass with the checks of ICD §7 alone.
@@ -49,7 +57,7 @@ pub struct WithoutGateway;
 
 impl SafetyGateway for WithoutGateway {
     type Report = core::convert::Infallible;
-    fn check(&self, _: &Mission, _: &AreaList) -> Result<(), Self::Report> {
+    fn check(&self, _: &Mission, _: &AreaList, _: Option<GeoPoint>) -> Result<(), Self::Report> {
         Ok(())
     }
 }
@@ -66,6 +74,10 @@ pub struct MissionPlan {
     pub safety_offset: SafetyOffset,
     /// Mission ID sent with #13000 mode 2.
     pub mission_id: Option<Text<20>>,
+    /// Where the aircraft stands before take-off (QGroundControl's planned home or take-off
+    /// item). Not sent: the FCC takes off where navigation says it is (ICD §7); the safety
+    /// gateway needs it to check the climb and the way to the initial waypoint.
+    pub take_off_position: Option<GeoPoint>,
 }
 
 /// Why a plan does not assemble into the lists of ICD §7.
@@ -377,13 +389,28 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// The validation request: assembles both lists with the FCC's assembly (ICD §7) and runs
     /// the safety gateway.
+    ///
+    /// An area list that fails the ICD §7 assembly still goes through the gateway, unchecked, so
+    /// that its defects come back as violations naming the area; the ICD reason is the answer
+    /// only when the gateway finds nothing.
     pub fn validate(&self, plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<G::Report>> {
-        let valid = plan.assemble().map_err(|e| match e {
-            InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
-            InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
-        })?;
+        let valid = match plan.assemble() {
+            Ok(valid) => valid,
+            Err(InvalidPlan::Mission(r)) => return Err(GcsError::InvalidMission(r)),
+            Err(InvalidPlan::Areas(r)) => {
+                let mission = plan
+                    .mission
+                    .assemble(u16::try_from(plan.mission.len()).ok(), plan.mission_id)
+                    .map_err(GcsError::InvalidMission)?;
+                let areas = plan.areas.unchecked(plan.safety_offset);
+                self.gateway
+                    .check(&mission, &areas, plan.take_off_position)
+                    .map_err(GcsError::Gateway)?;
+                return Err(GcsError::InvalidAreas(r));
+            }
+        };
         self.gateway
-            .check(&valid.mission, &valid.areas)
+            .check(&valid.mission, &valid.areas, plan.take_off_position)
             .map_err(GcsError::Gateway)?;
         Ok(valid)
     }

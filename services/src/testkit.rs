@@ -183,8 +183,12 @@ pub fn route(initial: u16, bidirectional: bool) -> UaRoute {
 
 // ---- Areas ----
 
-/// CCP, the casualty collection point: waypoint 1 of the demo missions.
+/// CCP, the casualty collection point: waypoint 1 of the demo missions, and where mission 2
+/// takes off.
 pub const CCP: (f64, f64) = (48.275, 11.645);
+
+/// TROL, the trailer where mission 1 takes off (the guidance stub's start position).
+pub const TROL: (f64, f64) = (48.26, 11.66);
 
 /// The demo fly-zone rectangle: 48.255..48.285 N, 11.635..11.690 E.
 pub const FLY_ZONE: [(f64, f64); 4] = [
@@ -318,13 +322,14 @@ pub fn plan(
         areas: area_buffer(areas),
         safety_offset: SafetyOffset::from_metres(25.0).expect("an offset in range"),
         mission_id: Some(Text::new(mission_id).expect("a mission ID of at most 20 bytes")),
+        take_off_position: None,
     }
 }
 
 /// Demo mission 1 (`missions/mission-1.toml`): TROL to CCP, one waypoint (CCP), take-off 30 m,
 /// its fly-zone.
 pub fn mission_1() -> MissionPlan {
-    plan(
+    let plan = plan(
         &[
             take_off(30.0).into(),
             waypoint(1, 0, CCP, LegType::TrackToFix).into(),
@@ -332,14 +337,18 @@ pub fn mission_1() -> MissionPlan {
         ],
         &[polygon(1, AreaType::FlyZone, &FLY_ZONE)],
         "MEDEVAC-1",
-    )
+    );
+    MissionPlan {
+        take_off_position: Some(point(TROL)),
+        ..plan
+    }
 }
 
 /// Demo mission 2 (`missions/mission-2.toml`), the richer variant: CCP -> W1 (track-to-fix) ->
 /// ROLE2 (radius-to-fix, clockwise), bidirectional, the fly-zone, a circular and a polygonal
 /// no-fly-zone.
 pub fn mission_2() -> MissionPlan {
-    plan(
+    let plan = plan(
         &[
             take_off(30.0).into(),
             waypoint(3, 0, (48.280, 11.680), LegType::RadiusToFix).into(),
@@ -354,7 +363,11 @@ pub fn mission_2() -> MissionPlan {
             polygon(3, AreaType::NoFlyZone, &NFZ_POLYGON),
         ],
         "MEDEVAC-2",
-    )
+    );
+    MissionPlan {
+        take_off_position: Some(point(CCP)),
+        ..plan
+    }
 }
 
 /// The messages of an `n`-waypoint mission (1 <= n <= 65534): take-off 30 m, waypoints 1 -> 2
@@ -374,7 +387,11 @@ pub fn zigzag(n: u16) -> Vec<Message> {
 
 /// [`zigzag`] with [`eleven_areas`], named `GENERATED-<n>`.
 pub fn generated_plan(n: u16) -> MissionPlan {
-    plan(&zigzag(n), &eleven_areas(), &format!("GENERATED-{n}"))
+    let plan = plan(&zigzag(n), &eleven_areas(), &format!("GENERATED-{n}"));
+    MissionPlan {
+        take_off_position: Some(point(TROL)),
+        ..plan
+    }
 }
 
 // ---- Frames and randomness ----

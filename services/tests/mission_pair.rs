@@ -8,7 +8,7 @@ mod support;
 
 use std::time::Duration;
 
-use missionlink_interfaces::wire::{Message, Reason};
+use missionlink_interfaces::wire::{GeoPoint, Message, Reason};
 use missionlink_services::ground_station::{GcsError, GcsEvent, ValidatedPlan};
 use missionlink_services::link::retry::AttemptFailure;
 use support::*;
@@ -287,7 +287,12 @@ fn the_safety_gateway_can_refuse_and_then_nothing_is_sent() {
     struct MaxWaypoints(usize);
     impl SafetyGateway for MaxWaypoints {
         type Report = String;
-        fn check(&self, mission: &Mission, _: &AreaList) -> Result<(), String> {
+        fn check(
+            &self,
+            mission: &Mission,
+            _: &AreaList,
+            _: Option<GeoPoint>,
+        ) -> Result<(), String> {
             match mission.waypoints.len() {
                 n if n > self.0 => Err(format!("{n} waypoints, at most {}", self.0)),
                 _ => Ok(()),

@@ -109,6 +109,15 @@ impl AreaBuffer {
         self.areas.push(area).map_err(|_| Reason::Capacity)
     }
 
+    /// The stored areas as a list without the checks of ICD §7, for the safety gateway to name
+    /// every defect of a list that [`AreaBuffer::assemble`] refuses. Never sent, never active.
+    pub fn unchecked(&self, safety_offset: SafetyOffset) -> AreaList {
+        AreaList {
+            safety_offset,
+            areas: self.areas.clone(),
+        }
+    }
+
     /// Assembles and checks the area list (ICD §5.3 step 3, §7):
     /// - `CountMismatch`: the buffer does not hold `announced` areas;
     /// - `BadGeometry`: no fly-zone or several, a fly-zone that is a circle, a polygon with
