@@ -48,6 +48,77 @@ impl Position for Point<f64> {
     }
 }
 
+/// The smallest radius of curvature of the ellipsoid (the meridian's at the equator,
+/// `a(1 − e²)`), metres: the bound the geofence takes for how far a geodesic bulges away from
+/// its chord.
+pub const WGS84_MIN_RADIUS_M: f64 = WGS84_A_M * (1.0 - WGS84_E2);
+
+/// A position on the ellipsoid with its Earth-centred, Earth-fixed coordinates, computed once:
+/// what the geofence keeps of every vertex, waypoint and point along a geodesic.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Site {
+    /// Latitude, degrees.
+    pub lat: f64,
+    /// Longitude, degrees.
+    pub lon: f64,
+    /// Earth-centred, Earth-fixed x, y, z on the ellipsoid's surface, metres.
+    pub ecef: [f64; 3],
+}
+
+impl Site {
+    /// The site at latitude `lat`, longitude `lon` (degrees), on the ellipsoid's surface.
+    pub fn new(lat: f64, lon: f64) -> Self {
+        let (phi, lambda) = (lat.to_radians(), lon.to_radians());
+        let n = WGS84_A_M / (1.0 - WGS84_E2 * phi.sin().powi(2)).sqrt();
+        Self {
+            lat,
+            lon,
+            ecef: [
+                n * phi.cos() * lambda.cos(),
+                n * phi.cos() * lambda.sin(),
+                n * (1.0 - WGS84_E2) * phi.sin(),
+            ],
+        }
+    }
+
+    /// The site of any position.
+    pub fn of(p: impl Position) -> Self {
+        let (lat, lon) = p.lat_lon_deg();
+        Self::new(lat, lon)
+    }
+
+    /// The site `distance_m` along the geodesic leaving this one at `azimuth_deg`.
+    pub fn direct(&self, azimuth_deg: f64, distance_m: f64) -> Self {
+        let (lat, lon): (f64, f64) = WGS84.direct(self.lat, self.lon, azimuth_deg, distance_m);
+        Self::new(lat, lon)
+    }
+
+    /// Length (metres) and initial azimuth (degrees) of the geodesic from here to `to`.
+    pub fn inverse(&self, to: &Site) -> (f64, f64) {
+        let (s12, azi1, _azi2, _a12): (f64, f64, f64, f64) =
+            WGS84.inverse(self.lat, self.lon, to.lat, to.lon);
+        (s12, azi1)
+    }
+
+    /// Straight-line (chord) distance to `other` through the Earth, metres: never more than
+    /// the geodesic distance.
+    pub fn chord_m(&self, other: &Site) -> f64 {
+        chord(&self.ecef, &other.ecef)
+    }
+}
+
+impl Position for Site {
+    fn lat_lon_deg(self) -> (f64, f64) {
+        (self.lat, self.lon)
+    }
+}
+
+/// Euclidean distance of two ECEF points, metres.
+pub fn chord(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+}
+
 /// A wire position as a [`geo::Point`] (x = longitude, y = latitude, degrees).
 pub fn point(p: GeoPoint) -> Point<f64> {
     Point::new(p.longitude.degrees(), p.latitude.degrees())

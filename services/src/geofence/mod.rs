@@ -1,10 +1,31 @@
-//! The geometry of missions and areas on the Earth: the one Earth model every check and every
-//! drawing uses (ICD §4 "Geometry", §7).
+//! The geofence: the one Earth model and the one geometry of missions and areas (ICD §4
+//! "Geometry", §7). The safety gateway, the onboard check, guidance's zone monitoring and the
+//! map all use it.
 //!
-//! - [`earth`]: the WGS-84 ellipsoid and its geodesics (distance, bearing, destination), for
-//!   guidance, the mission files and every circle's radius.
-//! - [`local_frame`]: the local metric projection on that ellipsoid in which the safety gateway
-//!   checks and the map draws, and the radius-to-fix arc in it.
+//! - [`earth`]: the WGS-84 ellipsoid and its geodesics (`geographiclib-rs`), sites with their
+//!   Earth-centred coordinates.
+//! - [`plane`]: the tangent plane at a site and the planar geometry done in it.
+//! - [`zone`]: the fly-zone and the no-fly-zones (geodesic polygons, geodesic circles) and their
+//!   defects; [`zone::Fence`], the area list.
+//! - [`path`]: what is flown (a point, a geodesic leg, a radius-to-fix arc) as a
+//!   [`path::Track`].
+//! - [`clearance`]: the signed margin of a track against a zone, with the position of the
+//!   closest approach or of the deepest violation.
+//! - [`onboard`]: the check of ICD §7 (ext) before execute, return to home and activation.
+//! - [`local_frame`]: the flat projection the map draws in.
+//!
+//! Everything the FCC runs is allocation-free (fixed capacities) and bounded in time: at most
+//! [`path::MAX_PIECES`] pieces per geodesic, [`path::MAX_CORNERS`] corners per arc,
+//! [`zone::MAX_BORDER_SITES`] per polygon.
 
+pub mod clearance;
 pub mod earth;
 pub mod local_frame;
+pub mod onboard;
+pub mod path;
+pub mod plane;
+pub mod zone;
+
+/// Longest piece a geodesic is split into, metres. Each piece is handled in the tangent plane
+/// at its start, where a piece of this length is straight to about 3 mm (see [`plane`]).
+pub const PIECE_M: f64 = 20_000.0;

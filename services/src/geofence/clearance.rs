@@ -1,0 +1,274 @@
+//! How far a path stays from a zone's border, on which side (ICD §7): the signed margin with
+//! the position of the closest approach, or of the deepest point on the forbidden side.
+//!
+//! - A circle: the path's closest approach to the centre, found in the path's planes and then
+//!   measured exactly along the geodesic from the centre; margin = that distance − radius
+//!   (inside a no-fly circle, the deepest point is the closest to the centre).
+//! - A polygon: the closest approach between the path's chords and the border's pieces in the
+//!   path's planes (see [`super::plane`] for how exact that is), whether any of them cross, and,
+//!   when none does, on which side the path's first point lies (the parity of the border pieces
+//!   a ray towards north crosses). When the path is on the forbidden side somewhere, the depth is
+//!   the largest distance to the border of its points on that side: sampled along every chord
+//!   ([`DEPTH_SAMPLES`] per piece of a geodesic) and refined by golden-section search about the
+//!   deepest sample, to well under a centimetre where the depth function is smooth.
+//!
+//! Margins are before the safety offset: the caller compares them with it (a zone grown or
+//! shrunk by the offset is the zone whose margin is the offset). Everything farther than the
+//! horizon the caller gives is only known to be farther ([`Clearance::Beyond`]), which is what
+//! keeps the onboard check fast: most of the border is culled by one ball test.
+
+use geo::Coord;
+
+use super::earth::Site;
+use super::path::{Patch, Track};
+use super::plane::{Plane, point_segment, segment_segment};
+use super::zone::{Ball, Shape, Zone, ZoneKind};
+
+/// Samples along each chord of a geodesic piece for the depth of a violation.
+pub const DEPTH_SAMPLES: usize = 64;
+/// Golden-section steps refining the deepest sample (each shrinks the interval by 0.618).
+const GOLDEN_STEPS: usize = 40;
+
+/// How a path stands to a zone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Clearance {
+    /// On the allowed side everywhere and farther than the horizon from the border.
+    Beyond,
+    /// The signed margin in metres: positive, the path stays that far on the allowed side at
+    /// its closest approach (`at`); negative, it goes that deep onto the forbidden side at its
+    /// deepest point (`at`).
+    Margin {
+        /// Metres, signed.
+        metres: f64,
+        /// Where.
+        at: Site,
+    },
+    /// On the forbidden side somewhere (the depth was not asked for).
+    Forbidden,
+}
+
+impl Clearance {
+    /// The margin, `+∞` for [`Clearance::Beyond`] and `-∞` for [`Clearance::Forbidden`].
+    pub fn metres(&self) -> f64 {
+        match self {
+            Self::Beyond => f64::INFINITY,
+            Self::Margin { metres, .. } => *metres,
+            Self::Forbidden => f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// The closest approach found so far: distance, patch and point in its plane.
+#[derive(Debug, Clone, Copy)]
+struct Closest {
+    distance: f64,
+    patch: usize,
+    at: Coord,
+}
+
+/// How `track` stands to `zone`; `horizon_m` bounds how far the border is looked for on the
+/// allowed side; `depth` asks for the depth of a violation (else [`Clearance::Forbidden`]).
+pub fn clearance(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance {
+    match &zone.shape {
+        Shape::Circle { centre, radius_m } => {
+            circle(track, zone, centre, *radius_m, horizon_m, depth)
+        }
+        Shape::Polygon { .. } => polygon(track, zone, horizon_m, depth),
+    }
+}
+
+fn circle(
+    track: &Track,
+    zone: &Zone,
+    centre: &Site,
+    radius_m: f64,
+    horizon_m: f64,
+    depth: bool,
+) -> Clearance {
+    let mut best: Option<Closest> = None;
+    let mut farthest: f64 = 0.0;
+    for (i, patch) in track.patches.iter().enumerate() {
+        if zone.kind == ZoneKind::NoFlyZone && zone.ball.gap(&patch.ball) > horizon_m {
+            continue;
+        }
+        let c = patch.plane.xy(centre);
+        for (a, b) in chords(track.corners_of(patch)) {
+            let (d, t) = point_segment(c, a, b);
+            for end in [a, b] {
+                farthest = farthest.max((end - c).x.hypot((end - c).y));
+            }
+            if best.is_none_or(|x| d < x.distance) {
+                best = Some(Closest {
+                    distance: d,
+                    patch: i,
+                    at: a + (b - a) * t,
+                });
+            }
+        }
+    }
+    let Some(best) = best else {
+        return Clearance::Beyond;
+    };
+    let Some(patch) = track.patches.get(best.patch) else {
+        return Clearance::Beyond;
+    };
+    // The distance to the centre may be long: measure it along the geodesic.
+    let at = Track::site_at(patch, best.at);
+    let closest = centre.inverse(&at).0;
+    let metres = match zone.kind {
+        ZoneKind::NoFlyZone => closest - radius_m,
+        // Not a zone ICD §7 allows; checked as what it says: stay within the radius.
+        ZoneKind::FlyZone => radius_m - farthest,
+    };
+    if metres > horizon_m {
+        Clearance::Beyond
+    } else if metres < 0.0 && !depth {
+        Clearance::Forbidden
+    } else {
+        Clearance::Margin { metres, at }
+    }
+}
+
+fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance {
+    let mut best: Option<Closest> = None;
+    let mut crossed = false;
+    for (i, patch) in track.patches.iter().enumerate() {
+        let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
+        if zone.ball.gap(&patch.ball) > reach {
+            continue;
+        }
+        let corners = track.corners_of(patch);
+        for (a, b) in zone.pieces() {
+            let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
+            if Ball::of_piece(a, b).gap(&patch.ball) > reach {
+                continue;
+            }
+            let (pa, pb) = (patch.plane.xy(a), patch.plane.xy(b));
+            let mut consider = |distance: f64, at: Coord| {
+                if best.is_none_or(|x| distance < x.distance) {
+                    best = Some(Closest {
+                        distance,
+                        patch: i,
+                        at,
+                    });
+                }
+            };
+            for (p, q) in chords(corners) {
+                let meet = segment_segment(p, q, pa, pb);
+                crossed |= meet.distance == 0.0;
+                consider(meet.distance, p + (q - p) * meet.t);
+            }
+        }
+    }
+    let allowed_inside = zone.kind == ZoneKind::FlyZone;
+    let forbidden = crossed || {
+        let first = track.patches.first();
+        let inside = first.is_some_and(|p| {
+            let start = track
+                .corners_of(p)
+                .first()
+                .copied()
+                .unwrap_or(Coord { x: 0.0, y: 0.0 });
+            let start_ball = Ball {
+                centre: Track::site_at(p, start).ecef,
+                radius: 0.0,
+            };
+            zone.ball.gap(&start_ball) <= 0.0 && zone.polygon_contains(&p.plane, start)
+        });
+        inside != allowed_inside
+    };
+    if !forbidden {
+        return match best {
+            Some(b) if b.distance <= horizon_m => match track.patches.get(b.patch) {
+                Some(patch) => Clearance::Margin {
+                    metres: b.distance,
+                    at: Track::site_at(patch, b.at),
+                },
+                None => Clearance::Beyond,
+            },
+            _ => Clearance::Beyond,
+        };
+    }
+    if !depth {
+        return Clearance::Forbidden;
+    }
+    let (metres, at) = deepest(track, zone, allowed_inside);
+    Clearance::Margin {
+        metres: -metres,
+        at,
+    }
+}
+
+/// The chords between consecutive corners; a single corner (a point) as a chord of length 0.
+fn chords(corners: &[Coord]) -> impl Iterator<Item = (Coord, Coord)> + '_ {
+    let single = match corners {
+        [p] => Some((*p, *p)),
+        _ => None,
+    };
+    corners
+        .windows(2)
+        .filter_map(|w| match w {
+            [p, q] => Some((*p, *q)),
+            _ => None,
+        })
+        .chain(single)
+}
+
+/// Distance from `p` (in `plane`) to the polygon's border, or 0 when `p` is on the allowed side.
+fn depth_at(zone: &Zone, plane: &Plane, p: Coord, allowed_inside: bool) -> f64 {
+    if zone.polygon_contains(plane, p) == allowed_inside {
+        return 0.0;
+    }
+    zone.pieces()
+        .map(|(a, b)| point_segment(p, plane.xy(a), plane.xy(b)).0)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The deepest point of the path on the polygon's forbidden side: its depth and site.
+fn deepest(track: &Track, zone: &Zone, allowed_inside: bool) -> (f64, Site) {
+    // (depth, patch, chord start, chord end, parameter, step of the samples)
+    let mut best: Option<(f64, &Patch, Coord, Coord, f64, f64)> = None;
+    for patch in &track.patches {
+        let corners = track.corners_of(patch);
+        let samples = if corners.len() > 2 { 2 } else { DEPTH_SAMPLES };
+        for (p, q) in chords(corners) {
+            for k in 0..=samples {
+                let t = k as f64 / samples as f64;
+                let d = depth_at(zone, &patch.plane, p + (q - p) * t, allowed_inside);
+                if best.is_none_or(|b| d > b.0) {
+                    best = Some((d, patch, p, q, t, 1.0 / samples as f64));
+                }
+            }
+        }
+    }
+    let Some((mut d, patch, p, q, t, step)) = best else {
+        return (0.0, Site::new(0.0, 0.0));
+    };
+    // Golden-section search for the largest depth about the deepest sample.
+    let f = |t: f64| depth_at(zone, &patch.plane, p + (q - p) * t, allowed_inside);
+    let (mut lo, mut hi) = ((t - step).max(0.0), (t + step).min(1.0));
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..GOLDEN_STEPS {
+        if f1 > f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        }
+    }
+    let mut at = p + (q - p) * t;
+    for (x, fx) in [(x1, f1), (x2, f2)] {
+        if fx > d {
+            d = fx;
+            at = p + (q - p) * x;
+        }
+    }
+    (d, Track::site_at(patch, at))
+}

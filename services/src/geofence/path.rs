@@ -1,0 +1,234 @@
+//! What the aircraft flies, as the geofence checks it (ICD §4 "Geometry"): a point (the climb
+//! at the take-off point, a waypoint), a track-to-fix leg (the geodesic between its ends) or a
+//! radius-to-fix leg (the arc around its centre from the previous waypoint to its own, in its
+//! turn direction).
+//!
+//! A [`Track`] holds a path as *patches*: a tangent plane (at a site on or near the path) and
+//! the path in it as a polyline whose corners lie exactly on the path. A geodesic is split into
+//! pieces of at most [`PIECE_M`], each a patch at its start; an arc is one patch at its centre,
+//! its corners at most [`ARC_SAG_M`] from the arc between them. Fixed capacity, no allocation.
+
+use geo::Coord;
+use heapless::Vec;
+use missionlink_interfaces::wire::TurnDirection;
+
+use super::PIECE_M;
+use super::earth::{Site, WGS84_MIN_RADIUS_M};
+use super::plane::Plane;
+use super::zone::Ball;
+
+/// Largest distance between a radius-to-fix arc and the chords between its corners, metres.
+pub const ARC_SAG_M: f64 = 0.01;
+/// Pieces of a geodesic at most; a geodesic longer than `MAX_PIECES` × [`PIECE_M`] (1280 km)
+/// gets longer pieces.
+pub const MAX_PIECES: usize = 64;
+/// Corners of all patches of one track at most (an arc of 300 m radius turning 270° needs 290).
+pub const MAX_CORNERS: usize = 1024;
+
+/// One path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Path {
+    /// A point: the vertical climb at the take-off point, a waypoint.
+    Point(Site),
+    /// A track-to-fix leg: the geodesic from `from` to `to`.
+    Geodesic {
+        /// Start.
+        from: Site,
+        /// End.
+        to: Site,
+    },
+    /// A radius-to-fix leg: from `from` to `to` around `centre` in `direction` (clockwise =
+    /// azimuth from the centre growing), the radius going linearly with the angle turned from
+    /// the start's to the end's distance from the centre (equal on a valid leg, ICD §7).
+    Arc {
+        /// Start (the previous waypoint).
+        from: Site,
+        /// End (the leg's own waypoint).
+        to: Site,
+        /// Centre (#13006).
+        centre: Site,
+        /// Turn direction.
+        direction: TurnDirection,
+    },
+}
+
+impl Path {
+    /// The same path flown the other way (the reverse route of ICD §4 #13001).
+    pub fn reversed(self) -> Self {
+        match self {
+            Self::Point(p) => Self::Point(p),
+            Self::Geodesic { from, to } => Self::Geodesic { from: to, to: from },
+            Self::Arc {
+                from,
+                to,
+                centre,
+                direction,
+            } => Self::Arc {
+                from: to,
+                to: from,
+                centre,
+                direction: match direction {
+                    TurnDirection::Clockwise => TurnDirection::CounterClockwise,
+                    TurnDirection::CounterClockwise => TurnDirection::Clockwise,
+                },
+            },
+        }
+    }
+}
+
+/// One tangent plane and the corners of the path in it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Patch {
+    pub(crate) origin: Site,
+    pub(crate) plane: Plane,
+    /// Range of the track's corners.
+    pub(crate) start: usize,
+    pub(crate) end: usize,
+    pub(crate) ball: Ball,
+}
+
+/// A path made ready for the geofence.
+#[derive(Debug, Clone)]
+pub struct Track {
+    pub(crate) path: Path,
+    pub(crate) patches: Vec<Patch, MAX_PIECES>,
+    pub(crate) corners: Vec<Coord, MAX_CORNERS>,
+    length_m: f64,
+}
+
+impl Track {
+    /// The track of `path`.
+    pub fn new(path: Path) -> Self {
+        let mut track = Self {
+            path,
+            patches: Vec::new(),
+            corners: Vec::new(),
+            length_m: 0.0,
+        };
+        match path {
+            Path::Point(p) => track.push_patch(p, &[Coord { x: 0.0, y: 0.0 }]),
+            Path::Geodesic { from, to } => {
+                let (length, azimuth) = from.inverse(&to);
+                track.length_m = length;
+                let n = ((length / PIECE_M).ceil() as usize).clamp(1, MAX_PIECES);
+                let mut a = from;
+                for k in 1..=n {
+                    let b = if k == n {
+                        to
+                    } else {
+                        from.direct(azimuth, length * k as f64 / n as f64)
+                    };
+                    let plane = Plane::at(&a);
+                    track.push_patch(a, &[Coord { x: 0.0, y: 0.0 }, plane.xy(&b)]);
+                    a = b;
+                }
+            }
+            Path::Arc {
+                from,
+                to,
+                centre,
+                direction,
+            } => track.arc(from, to, centre, direction),
+        }
+        track
+    }
+
+    fn arc(&mut self, from: Site, to: Site, centre: Site, direction: TurnDirection) {
+        let (r0, az0) = centre.inverse(&from);
+        let (r1, az1) = centre.inverse(&to);
+        let sweep = match direction {
+            TurnDirection::Clockwise => (az1 - az0).rem_euclid(360.0),
+            TurnDirection::CounterClockwise => -(az0 - az1).rem_euclid(360.0),
+        };
+        let r = r0.max(r1);
+        // Chords of sagitta ARC_SAG_M: a step of 2·acos(1 − s/r).
+        let step = 2.0
+            * (1.0 - ARC_SAG_M / r.max(ARC_SAG_M))
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees();
+        let n = if step > 0.0 {
+            ((sweep.abs() / step).ceil() as usize).clamp(1, MAX_CORNERS - 1)
+        } else {
+            1
+        };
+        let mut corners: Vec<Coord, MAX_CORNERS> = Vec::new();
+        for k in 0..=n {
+            let f = k as f64 / n as f64;
+            let (theta, radius) = ((az0 + sweep * f).to_radians(), r0 + (r1 - r0) * f);
+            let _ = corners.push(Coord {
+                x: radius * theta.sin(),
+                y: radius * theta.cos(),
+            });
+        }
+        self.length_m = sweep.abs().to_radians() * (r0 + r1) / 2.0;
+        self.push_patch(centre, &corners);
+    }
+
+    fn push_patch(&mut self, origin: Site, corners: &[Coord]) {
+        let start = self.corners.len();
+        let mut reach: f64 = 0.0;
+        for c in corners {
+            if self.corners.push(*c).is_ok() {
+                reach = reach.max(c.x.hypot(c.y));
+            }
+        }
+        // Corners within `reach` of the origin in the plane lie within that, and the surface's
+        // drop below the plane, of it in space.
+        let ball = Ball {
+            centre: origin.ecef,
+            radius: reach * 1.001 + reach * reach / WGS84_MIN_RADIUS_M + 0.01,
+        };
+        let _ = self.patches.push(Patch {
+            origin,
+            plane: Plane::at(&origin),
+            start,
+            end: self.corners.len(),
+            ball,
+        });
+    }
+
+    /// The path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Length along the path, metres (0 for a point).
+    pub fn length_m(&self) -> f64 {
+        self.length_m
+    }
+
+    /// The corners of a patch.
+    pub(crate) fn corners_of(&self, patch: &Patch) -> &[Coord] {
+        self.corners.get(patch.start..patch.end).unwrap_or_default()
+    }
+
+    /// The site at `c`, a point of `patch`'s plane (near the patch): along the geodesic from
+    /// the plane's origin in the direction of `c` for its distance.
+    pub(crate) fn site_at(patch: &Patch, c: Coord) -> Site {
+        patch
+            .origin
+            .direct(c.x.atan2(c.y).to_degrees(), c.x.hypot(c.y))
+    }
+
+    /// The site at `c`, a point in the plane of the `patch`-th patch.
+    pub fn site(&self, patch: usize, c: Coord) -> Option<Site> {
+        self.patches.get(patch).map(|p| Self::site_at(p, c))
+    }
+
+    /// The chords of the path in the order flown, each as its patch, its start in that patch's
+    /// plane ([`Track::site`]), its direction of flight (degrees from true north) and its
+    /// length in metres: what the energy estimate integrates the wind along.
+    pub fn chords(&self) -> impl Iterator<Item = (usize, Coord, f64, f64)> + '_ {
+        self.patches.iter().enumerate().flat_map(move |(i, patch)| {
+            self.corners_of(patch).windows(2).filter_map(move |w| {
+                let [a, b] = w else { return None };
+                let d = *b - *a;
+                let length = d.x.hypot(d.y);
+                // A direction in the plane is the direction on the ellipsoid near the origin.
+                (length > 0.0)
+                    .then(|| (i, *a, d.x.atan2(d.y).to_degrees().rem_euclid(360.0), length))
+            })
+        })
+    }
+}
