@@ -118,6 +118,47 @@ impl MissionPlan {
     }
 }
 
+/// What the safety gateway checks of a plan: the waypoint list assembled, and the area list
+/// assembled or, when it fails ICD §7, unchecked with the ICD reason beside it (the gateway
+/// names every defect; the reason is the answer when it names none).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ListsToCheck {
+    /// The waypoint list.
+    pub mission: Mission,
+    /// The area list, valid or not.
+    pub areas: AreaList,
+    /// Why the area list fails ICD §7, if it does.
+    pub areas_invalid: Option<Reason>,
+}
+
+impl MissionPlan {
+    /// The lists to run the safety gateway on; `Err` only when the waypoint list does not
+    /// assemble.
+    pub fn lists_to_check(&self) -> Result<ListsToCheck, InvalidPlan> {
+        match self.assemble() {
+            Ok(ValidatedPlan { mission, areas }) => Ok(ListsToCheck {
+                mission,
+                areas,
+                areas_invalid: None,
+            }),
+            Err(InvalidPlan::Mission(r)) => Err(InvalidPlan::Mission(r)),
+            Err(InvalidPlan::Areas(r)) => {
+                let announced = u16::try_from(self.mission.len())
+                    .map_err(|_| InvalidPlan::Mission(Reason::Capacity))?;
+                let mission = self
+                    .mission
+                    .assemble(Some(announced), self.mission_id)
+                    .map_err(InvalidPlan::Mission)?;
+                Ok(ListsToCheck {
+                    mission,
+                    areas: self.areas.unchecked(self.safety_offset),
+                    areas_invalid: Some(r),
+                })
+            }
+        }
+    }
+}
+
 /// The Mission ID as the one-line descriptions quote it (empty when none).
 fn quoted_mission_id(f: &mut fmt::Formatter<'_>, id: Option<Text<20>>) -> fmt::Result {
     write!(f, "{:?}", id.as_ref().map_or("", |t| t.as_str()))
@@ -394,25 +435,20 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// that its defects come back as violations naming the area; the ICD reason is the answer
     /// only when the gateway finds nothing.
     pub fn validate(&self, plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<G::Report>> {
-        let valid = match plan.assemble() {
-            Ok(valid) => valid,
-            Err(InvalidPlan::Mission(r)) => return Err(GcsError::InvalidMission(r)),
-            Err(InvalidPlan::Areas(r)) => {
-                let mission = plan
-                    .mission
-                    .assemble(u16::try_from(plan.mission.len()).ok(), plan.mission_id)
-                    .map_err(GcsError::InvalidMission)?;
-                let areas = plan.areas.unchecked(plan.safety_offset);
-                self.gateway
-                    .check(&mission, &areas, plan.take_off_position)
-                    .map_err(GcsError::Gateway)?;
-                return Err(GcsError::InvalidAreas(r));
-            }
-        };
+        let lists = plan.lists_to_check().map_err(|e| match e {
+            InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
+            InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
+        })?;
         self.gateway
-            .check(&valid.mission, &valid.areas, plan.take_off_position)
+            .check(&lists.mission, &lists.areas, plan.take_off_position)
             .map_err(GcsError::Gateway)?;
-        Ok(valid)
+        match lists.areas_invalid {
+            Some(r) => Err(GcsError::InvalidAreas(r)),
+            None => Ok(ValidatedPlan {
+                mission: lists.mission,
+                areas: lists.areas,
+            }),
+        }
     }
 
     /// The upload request: validation first, then the waypoints (after a clear when `clear`,

@@ -330,8 +330,9 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
                 }
                 Err(e) => return Err(e),
             };
-            let violations = gateway.violations(&valid.mission, &valid.areas);
-            let energy = gateway.estimate_energy(&valid.mission, &valid.areas);
+            let violations =
+                gateway.violations(&valid.mission, &valid.areas, plan.take_off_position);
+            let energy = gateway.estimate_energy(&valid.mission, plan.take_off_position);
             if json {
                 println!(
                     "{}",
@@ -387,7 +388,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             let plan = read_plan(&file, &safety)?;
             let valid = assemble(&plan, &file)?;
             let markers: Vec<map::Marker> = gateway
-                .violations(&valid.mission, &valid.areas)
+                .violations(&valid.mission, &valid.areas, plan.take_off_position)
                 .iter()
                 .map(|v| map::Marker {
                     code: v.code.code().to_owned(),

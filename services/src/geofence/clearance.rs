@@ -129,37 +129,13 @@ fn circle(
     }
 }
 
+/// Whether `track` crosses or touches the border of the polygon `zone` (false for a circle).
+pub fn crosses(track: &Track, zone: &Zone) -> bool {
+    matches!(zone.shape, Shape::Polygon { .. }) && contact(track, zone, 0.0).1
+}
+
 fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance {
-    let mut best: Option<Closest> = None;
-    let mut crossed = false;
-    for (i, patch) in track.patches.iter().enumerate() {
-        let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
-        if zone.ball.gap(&patch.ball) > reach {
-            continue;
-        }
-        let corners = track.corners_of(patch);
-        for (a, b) in zone.pieces() {
-            let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
-            if Ball::of_piece(a, b).gap(&patch.ball) > reach {
-                continue;
-            }
-            let (pa, pb) = (patch.plane.xy(a), patch.plane.xy(b));
-            let mut consider = |distance: f64, at: Coord| {
-                if best.is_none_or(|x| distance < x.distance) {
-                    best = Some(Closest {
-                        distance,
-                        patch: i,
-                        at,
-                    });
-                }
-            };
-            for (p, q) in chords(corners) {
-                let meet = segment_segment(p, q, pa, pb);
-                crossed |= meet.distance == 0.0;
-                consider(meet.distance, p + (q - p) * meet.t);
-            }
-        }
-    }
+    let (best, crossed) = contact(track, zone, horizon_m);
     let allowed_inside = zone.kind == ZoneKind::FlyZone;
     let forbidden = crossed || {
         let first = track.patches.first();
@@ -212,6 +188,42 @@ fn chords(corners: &[Coord]) -> impl Iterator<Item = (Coord, Coord)> + '_ {
             _ => None,
         })
         .chain(single)
+}
+
+/// The closest approach of `track` to the polygon's border within `horizon_m`, and whether
+/// they cross or touch.
+fn contact(track: &Track, zone: &Zone, horizon_m: f64) -> (Option<Closest>, bool) {
+    let mut best: Option<Closest> = None;
+    let mut crossed = false;
+    for (i, patch) in track.patches.iter().enumerate() {
+        let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
+        if zone.ball.gap(&patch.ball) > reach {
+            continue;
+        }
+        let corners = track.corners_of(patch);
+        for (a, b) in zone.pieces() {
+            let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
+            if Ball::of_piece(a, b).gap(&patch.ball) > reach {
+                continue;
+            }
+            let (pa, pb) = (patch.plane.xy(a), patch.plane.xy(b));
+            let mut consider = |distance: f64, at: Coord| {
+                if best.is_none_or(|x| distance < x.distance) {
+                    best = Some(Closest {
+                        distance,
+                        patch: i,
+                        at,
+                    });
+                }
+            };
+            for (p, q) in chords(corners) {
+                let meet = segment_segment(p, q, pa, pb);
+                crossed |= meet.distance == 0.0;
+                consider(meet.distance, p + (q - p) * meet.t);
+            }
+        }
+    }
+    (best, crossed)
 }
 
 /// Distance from `p` (in `plane`) to the polygon's border, or 0 when `p` is on the allowed side.

@@ -77,8 +77,8 @@ pub(crate) enum Shape {
 pub enum ZoneDefect {
     /// A polygon with fewer than 3 vertices.
     TooFewVertices(usize),
-    /// Two consecutive vertices are the same point (the last and the first too): the vertex
-    /// index of the second.
+    /// A vertex is the same point as an earlier one (consecutive: a zero-length edge; else
+    /// the border touches itself there): the index of the later one.
     RepeatedVertex(usize),
     /// Two edges that are not neighbours cross or touch: the indices of their first vertices,
     /// and where.
@@ -98,9 +98,7 @@ impl core::fmt::Display for ZoneDefect {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Self::TooFewVertices(n) => write!(f, "a polygon of {n} vertices (at least 3)"),
-            Self::RepeatedVertex(i) => {
-                write!(f, "vertex {i} repeats the vertex before it")
-            }
+            Self::RepeatedVertex(i) => write!(f, "vertex {i} repeats an earlier vertex"),
             Self::SelfIntersection { first, second, .. } => write!(
                 f,
                 "the border crosses itself: the edge from vertex {first} meets the edge from vertex {second}"
@@ -191,6 +189,77 @@ impl Zone {
         }
     }
 
+    /// The vertices of a polygon, or the centre of a circle.
+    pub fn vertices(&self) -> impl Iterator<Item = Site> + '_ {
+        let (border, indices, centre): (&[Site], &[u16], Option<Site>) = match &self.shape {
+            Shape::Polygon { border, vertices } => (border, vertices, None),
+            Shape::Circle { centre, .. } => (&[], &[], Some(*centre)),
+        };
+        indices
+            .iter()
+            .filter_map(|&i| border.get(usize::from(i)).copied())
+            .chain(centre)
+    }
+
+    /// The edges of a polygon as paths (none for a circle).
+    pub fn edges(&self) -> impl Iterator<Item = super::path::Path> + '_ {
+        let vertices: Vec<Site, MAX_POLYGON_VERTICES> = match &self.shape {
+            Shape::Polygon { .. } => self.vertices().collect(),
+            Shape::Circle { .. } => Vec::new(),
+        };
+        let n = vertices.len();
+        (0..n).filter_map(move |i| {
+            Some(super::path::Path::Geodesic {
+                from: *vertices.get(i)?,
+                to: *vertices.get((i + 1) % n)?,
+            })
+        })
+    }
+
+    /// Twice the largest triangle a polygon's vertices span with its first vertex and the vertex
+    /// farthest from it, square metres: 0 when all vertices lie on one line, whatever the
+    /// border's crossings (a figure-eight encloses no net area but spans a real one).
+    pub fn spread_m2(&self) -> f64 {
+        let mut vertices = self.vertices();
+        let Some(first) = vertices.next() else {
+            return 0.0;
+        };
+        let plane = Plane::at(&first);
+        let points: Vec<geo::Coord, MAX_POLYGON_VERTICES> =
+            self.vertices().map(|v| plane.xy(&v)).collect();
+        let far = points
+            .iter()
+            .copied()
+            .fold(geo::Coord { x: 0.0f64, y: 0.0 }, |f, p| {
+                if p.x.hypot(p.y) > f.x.hypot(f.y) {
+                    p
+                } else {
+                    f
+                }
+            });
+        points
+            .iter()
+            .map(|p| (p.x * far.y - far.x * p.y).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// The area a polygon encloses, square metres, in the tangent plane at its first vertex
+    /// (for telling a degenerate polygon from a real one; 0 for a circle).
+    pub fn area_m2(&self) -> f64 {
+        let Some(first) = self.pieces().next().map(|(a, _)| *a) else {
+            return 0.0;
+        };
+        let plane = Plane::at(&first);
+        let twice: f64 = self
+            .pieces()
+            .map(|(a, b)| {
+                let (p, q) = (plane.xy(a), plane.xy(b));
+                p.x * q.y - q.x * p.y
+            })
+            .sum();
+        twice.abs() / 2.0
+    }
+
     /// The border pieces, each from a site to the next (the last back to the first).
     pub(crate) fn pieces(&self) -> impl Iterator<Item = (&Site, &Site)> {
         let border: &[Site] = match &self.shape {
@@ -229,16 +298,15 @@ impl Zone {
         if n < 3 {
             return Some(ZoneDefect::TooFewVertices(n));
         }
-        for i in 0..n {
-            let (a, b) = (
-                vertex(border, vertices, i),
-                vertex(border, vertices, (i + 1) % n),
-            );
-            if let (Some(a), Some(b)) = (a, b)
-                && a.lat == b.lat
-                && (a.lon == b.lon || (a.lon.abs() == 180.0 && b.lon.abs() == 180.0))
-            {
-                return Some(ZoneDefect::RepeatedVertex((i + 1) % n));
+        for i in 1..n {
+            for j in 0..i {
+                if let (Some(a), Some(b)) =
+                    (vertex(border, vertices, i), vertex(border, vertices, j))
+                    && a.lat == b.lat
+                    && (a.lon == b.lon || (a.lon.abs() == 180.0 && b.lon.abs() == 180.0))
+                {
+                    return Some(ZoneDefect::RepeatedVertex(i));
+                }
             }
         }
         let edge_of = |site: usize| vertices.iter().rposition(|&v| usize::from(v) <= site);
@@ -432,7 +500,7 @@ mod tests {
                 g(48.0, 11.0),
             ],
         );
-        assert_eq!(repeated.defect(), Some(ZoneDefect::RepeatedVertex(0)));
+        assert_eq!(repeated.defect(), Some(ZoneDefect::RepeatedVertex(3)));
         let square = Zone::polygon(
             3,
             ZoneKind::NoFlyZone,

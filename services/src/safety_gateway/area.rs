@@ -1,61 +1,62 @@
-//! Area geometry (`AREA-*`, see the [module documentation](super)): the areas in the local frame
-//! and their checks.
+//! Area geometry (`AREA-*`, see the [module documentation](super)): the rules of ICD §7 and a
+//! few more, on the list as the plan holds it, each defect naming its area.
 
 use super::*;
-
-/// An area's outline in the local frame (metres).
-#[derive(Debug, Clone)]
-pub(super) enum Shape {
-    Polygon(Polygon),
-    Circle { centre: Coord, radius: f64 },
-}
-
-/// An area in the local frame, as the geographic checks take it.
-#[derive(Debug, Clone)]
-pub(super) struct Zone {
-    pub(super) id: u16,
-    pub(super) fly_zone: bool,
-    pub(super) shape: Shape,
-    /// Geometry passed the area checks; geographic checks use only valid zones.
-    pub(super) valid: bool,
-}
+use crate::geofence::clearance::{Clearance, clearance, crosses};
+use crate::geofence::zone::Zone;
+use crate::geofence::zone::{ZoneDefect, ZoneKind};
 
 impl SafetyGateway {
-    /// The areas in `frame`, each checked for its geometry (violations into `c`).
-    pub(super) fn zones(
+    /// Checks the areas' geometry (violations into `c`); returns, for each zone of `fence`,
+    /// whether the geographic checks may use it.
+    pub(super) fn check_areas(
         &self,
         areas: &AreaList,
-        frame: &LocalFrame,
-        c: &mut Collector<'_>,
-    ) -> Vec<Zone> {
-        let mut zones = Vec::new();
-        let fly_zones: Vec<&AreaPolygonLoopSegment> = areas
+        fence: &Fence,
+        c: &mut Collector,
+    ) -> Vec<bool> {
+        let fly_zones: Vec<u16> = areas
             .areas
             .iter()
             .filter(|a| a.area_type == AreaType::FlyZone)
+            .map(|a| a.area_id)
             .collect();
-        match fly_zones.as_slice() {
-            [] => c.push(
+        let no_fly_zones: Vec<u16> = areas
+            .areas
+            .iter()
+            .filter(|a| a.area_type == AreaType::NoFlyZone)
+            .map(|a| a.area_id)
+            .collect();
+        if fly_zones.is_empty() {
+            c.push(
                 ViolationCode::FlyZoneCount,
-                Element::Mission,
-                "no fly-zone".into(),
+                Element::AreaList,
+                format!("no fly-zone: the list holds no-fly-zones {no_fly_zones:?} and no area to stay in"),
                 Some((0.0, 1.0)),
-            ),
-            [_] => {}
-            [_, rest @ ..] => {
-                for extra in rest {
-                    c.push(
-                        ViolationCode::FlyZoneCount,
-                        Element::Area(extra.area_id),
-                        format!("a second fly-zone (area {})", extra.area_id),
-                        Some((fly_zones.len() as f64, 1.0)),
-                    );
-                }
-            }
+            );
         }
-        for (n, area) in areas.areas.iter().enumerate() {
+        for extra in fly_zones.iter().skip(1) {
+            c.push(
+                ViolationCode::FlyZoneCount,
+                Element::Area(*extra),
+                format!("a second fly-zone (area {extra}); a list has exactly one"),
+                Some((fly_zones.len() as f64, 1.0)),
+            );
+        }
+        if no_fly_zones.len() > MAX_NO_FLY_ZONES {
+            c.push(
+                ViolationCode::NoFlyZoneCount,
+                Element::AreaList,
+                format!(
+                    "{} no-fly-zones; the FCC holds at most {MAX_NO_FLY_ZONES}",
+                    no_fly_zones.len()
+                ),
+                Some((no_fly_zones.len() as f64, MAX_NO_FLY_ZONES as f64)),
+            );
+        }
+        let mut valid = Vec::with_capacity(fence.zones.len());
+        for (area, zone) in areas.areas.iter().zip(&fence.zones) {
             let id = area.area_id;
-            let fly_zone = area.area_type == AreaType::FlyZone;
             if let (Some(lo), Some(hi)) = (area.lower_altitude, area.upper_altitude)
                 && lo.metres() > hi.metres()
             {
@@ -71,136 +72,171 @@ impl SafetyGateway {
                 );
             }
             // Only the first fly-zone is used; further ones are reported above.
-            let first_fly_zone = fly_zone
-                && !areas
-                    .areas
-                    .iter()
-                    .take(n)
-                    .any(|a| a.area_type == AreaType::FlyZone);
-            let (shape, valid) = match &area.shape {
-                AreaShape::Circle { centre, border } => {
-                    let centre_xy = frame.point(centre);
-                    // The radius every module gives a circle: the geodesic centre -> border.
-                    let radius = earth::distance_m(*centre, *border);
-                    let mut valid = true;
-                    if below(radius, MIN_CIRCLE_RADIUS_M) {
-                        c.push(
-                            ViolationCode::CircleRadius,
-                            Element::Area(id),
-                            format!("circle radius {radius:.2} m"),
-                            Some((radius, MIN_CIRCLE_RADIUS_M)),
-                        );
-                        c.at(centre_xy);
-                        valid = false;
-                    }
-                    if fly_zone {
-                        c.push(
-                            ViolationCode::FlyZoneShape,
-                            Element::Area(id),
-                            "the fly-zone is a circle; it must be a polygon".into(),
-                            None,
-                        );
-                        valid = false;
-                    }
-                    (
-                        Shape::Circle {
-                            centre: centre_xy,
-                            radius,
-                        },
-                        valid,
-                    )
-                }
-                AreaShape::Polygon(vertices) => {
-                    let coords: Vec<Coord> = vertices.iter().map(|p| frame.point(p)).collect();
-                    let poly = Polygon::new(LineString::from(coords.clone()), vec![]);
-                    // A figure-eight has zero signed area too; its hull has not.
-                    let hull_area = poly.convex_hull().unsigned_area();
-                    let repeated = vertices
-                        .iter()
-                        .enumerate()
-                        .find(|(i, p)| vertices.iter().skip(i + 1).any(|q| q == *p));
-                    let valid = if let Some((i, p)) = repeated {
-                        c.push(
-                            ViolationCode::RepeatedVertex,
-                            Element::Area(id),
-                            format!("vertex {} repeated", i + 1),
-                            None,
-                        );
-                        c.at(frame.point(p));
-                        false
-                    } else if !poly.is_valid() && !below(hull_area, MIN_POLYGON_AREA_M2) {
-                        c.push(
-                            ViolationCode::SelfIntersection,
-                            Element::Area(id),
-                            "the polygon's border crosses itself".into(),
-                            None,
-                        );
-                        false
-                    } else if below(hull_area, MIN_POLYGON_AREA_M2)
-                        || below(poly.unsigned_area(), MIN_POLYGON_AREA_M2)
-                    {
-                        let area = poly.unsigned_area();
-                        c.push(
-                            ViolationCode::DegeneratePolygon,
-                            Element::Area(id),
-                            format!("polygon area {area:.2} m² (collinear vertices)"),
-                            Some((area, MIN_POLYGON_AREA_M2)),
-                        );
-                        false
-                    } else {
-                        true
-                    };
-                    (Shape::Polygon(poly), valid)
-                }
-            };
-            if fly_zone && !first_fly_zone {
-                continue;
-            }
-            zones.push(Zone {
-                id,
-                fly_zone,
-                shape,
-                valid,
-            });
-        }
-        // No-fly-zones at least partly inside the fly-zone.
-        let fz = zones
-            .iter()
-            .find_map(|z| match (&z.shape, z.fly_zone, z.valid) {
-                (Shape::Polygon(p), true, true) => Some(p.clone()),
-                _ => None,
-            });
-        if let Some(fz) = fz {
-            for z in zones.iter().filter(|z| !z.fly_zone && z.valid) {
-                let (inside, gap, at) = match &z.shape {
-                    Shape::Circle { centre, radius } => {
-                        let d = Euclidean.distance(&Point::from(*centre), &fz);
-                        (d < *radius, d - radius, *centre)
-                    }
-                    Shape::Polygon(p) => {
-                        let at = p
-                            .exterior()
-                            .0
-                            .first()
-                            .copied()
-                            .unwrap_or(Coord { x: 0.0, y: 0.0 });
-                        (fz.intersects(p), Euclidean.distance(p, &fz), at)
-                    }
-                };
-                if !inside {
+            let used = area.area_type == AreaType::NoFlyZone || fly_zones.first() == Some(&id);
+            let mut ok = used;
+            if let AreaShape::Circle { centre, .. } = &area.shape {
+                let radius = zone.radius_m().unwrap_or(0.0);
+                if below(radius, MIN_CIRCLE_RADIUS_M) {
                     c.push(
-                        ViolationCode::NoFlyZoneOutside,
-                        Element::Area(z.id),
-                        format!("no-fly-zone {} lies entirely outside the fly-zone", z.id),
+                        ViolationCode::CircleRadius,
+                        Element::Area(id),
+                        format!("circle radius {radius:.2} m"),
+                        Some((radius, MIN_CIRCLE_RADIUS_M)),
+                    );
+                    c.at(*centre);
+                    ok = false;
+                }
+                if area.area_type == AreaType::FlyZone {
+                    c.push(
+                        ViolationCode::FlyZoneShape,
+                        Element::Area(id),
+                        "the fly-zone is a circle; it must be a polygon".into(),
                         None,
                     );
-                    if let Some(v) = c.out.last_mut() {
-                        v.margin_m = Some(gap);
-                    }
+                    ok = false;
+                }
+            }
+            if let AreaShape::Polygon(vertices) = &area.shape {
+                ok &= self.check_polygon(id, zone, vertices, c);
+            }
+            valid.push(ok);
+        }
+        self.check_no_fly_zones_inside(fence, &valid, c);
+        valid
+    }
+
+    /// A polygon's defects (ICD §7), then its area; whether it is usable.
+    fn check_polygon(
+        &self,
+        id: u16,
+        zone: &Zone,
+        vertices: &[GeoPoint],
+        c: &mut Collector,
+    ) -> bool {
+        let vertex = |i: usize| vertices.get(i).copied();
+        let area = zone.area_m2();
+        // Collinear vertices fold the border onto itself; that is said as what it is.
+        let defect = match zone.defect() {
+            Some(ZoneDefect::SelfIntersection { .. })
+                if below(zone.spread_m2(), 2.0 * MIN_POLYGON_AREA_M2) =>
+            {
+                None
+            }
+            defect => defect,
+        };
+        match defect {
+            Some(ZoneDefect::TooFewVertices(n)) => {
+                c.push(
+                    ViolationCode::VertexCount,
+                    Element::Area(id),
+                    format!("a polygon of {n} vertices; at least 3"),
+                    Some((n as f64, 3.0)),
+                );
+                if let Some(p) = vertex(0) {
+                    c.at(p);
+                }
+                false
+            }
+            Some(ZoneDefect::RepeatedVertex(i)) => {
+                c.push(
+                    ViolationCode::RepeatedVertex,
+                    Element::Area(id),
+                    format!("vertex {} repeats an earlier vertex", i + 1),
+                    None,
+                );
+                if let Some(p) = vertex(i) {
+                    c.at(p);
+                }
+                false
+            }
+            Some(ZoneDefect::SelfIntersection { first, second, at }) => {
+                c.push(
+                    ViolationCode::SelfIntersection,
+                    Element::Area(id),
+                    format!(
+                        "the border crosses itself: the edge from vertex {} meets the edge from vertex {}",
+                        first + 1,
+                        second + 1
+                    ),
+                    None,
+                );
+                c.at(Site::new(at.0, at.1));
+                false
+            }
+            Some(ZoneDefect::ZeroRadius) => false,
+            None => {
+                if below(area, MIN_POLYGON_AREA_M2) {
+                    c.push(
+                        ViolationCode::DegeneratePolygon,
+                        Element::Area(id),
+                        format!("polygon area {area:.2} m² (collinear vertices)"),
+                        Some((area, MIN_POLYGON_AREA_M2)),
+                    );
+                    false
+                } else {
+                    true
+                }
+            }
+        }
+    }
+
+    /// Each usable no-fly-zone at least partly inside the usable fly-zone.
+    fn check_no_fly_zones_inside(&self, fence: &Fence, valid: &[bool], c: &mut Collector) {
+        let usable = || {
+            fence
+                .zones
+                .iter()
+                .zip(valid)
+                .filter(|(_, v)| **v)
+                .map(|(z, _)| z)
+        };
+        let Some(fz) = usable().find(|z| z.kind == ZoneKind::FlyZone) else {
+            return;
+        };
+        for z in usable().filter(|z| z.kind == ZoneKind::NoFlyZone) {
+            // A no-fly-zone overlaps the fly-zone when a vertex of either lies inside the
+            // other, their borders cross, or (a circle) its centre is within its radius of the
+            // fly-zone.
+            let inside = |p: Site, zone: &Zone| {
+                clearance(&Track::new(Path::Point(p)), zone, f64::INFINITY, true).metres()
+            };
+            let overlaps = match z.radius_m() {
+                Some(r) => z.vertices().any(|centre| inside(centre, fz) > -r),
+                None => {
+                    z.vertices().any(|v| inside(v, fz) > 0.0)
+                        || fz.vertices().any(|v| inside(v, z) < 0.0)
+                        || z.edges().any(|e| crosses(&Track::new(e), fz))
+                }
+            };
+            if !overlaps {
+                // How far outside: the closest vertex (or the circle's border).
+                let (gap, at) = z
+                    .vertices()
+                    .map(|v| {
+                        let m =
+                            match clearance(&Track::new(Path::Point(v)), fz, f64::INFINITY, true) {
+                                Clearance::Margin { metres, .. } => -metres,
+                                _ => f64::INFINITY,
+                            };
+                        (m - z.radius_m().unwrap_or(0.0), Some(v))
+                    })
+                    .fold(
+                        (f64::INFINITY, None),
+                        |best, x| if x.0 < best.0 { x } else { best },
+                    );
+                c.push(
+                    ViolationCode::NoFlyZoneOutside,
+                    Element::Area(z.id),
+                    format!("no-fly-zone {} lies entirely outside the fly-zone", z.id),
+                    None,
+                );
+                if let Some(v) = c.out.last_mut() {
+                    v.margin_m = Some(gap);
+                }
+                if let Some(at) = at {
                     c.at(at);
                 }
             }
         }
-        zones
     }
 }

@@ -8,53 +8,46 @@ impl SafetyGateway {
     pub(super) fn energy(
         &self,
         mission: &Mission,
+        from_take_off_point: bool,
         legs: &[Leg],
-    ) -> (EnergyEstimate, Vec<(u16, u16, Coord)>) {
+    ) -> (EnergyEstimate, Vec<(u16, u16, Option<Site>)>) {
         let p = &self.profile;
         let env = &self.environment;
         let toh = mission.take_off_height().metres().max(0.0);
         let climb = |dh: f64| p.climb_power_w * dh.max(0.0) / p.climb_rate_mps / 3600.0;
         let descend = |dh: f64| p.descent_power_w * dh.max(0.0) / p.descent_rate_mps / 3600.0;
         let mut take_off_wh = climb(toh);
-        if self.take_off_position_deg.is_none()
-            && let Some(first) = mission.waypoints.first()
-        {
+        // Without a take-off point the route starts at the initial waypoint: climb (or descend)
+        // there to its altitude.
+        if !from_take_off_point && let Some(first) = mission.waypoints.first() {
             let dh = first.waypoint.altitude.metres() - toh;
             take_off_wh += if dh >= 0.0 { climb(dh) } else { descend(-dh) };
         }
         // Wind vector (east, north) the air moves with.
         let from = env.wind_from_deg.to_radians();
-        let wind = Coord {
-            x: -env.wind_speed_mps * from.sin(),
-            y: -env.wind_speed_mps * from.cos(),
-        };
+        let wind = (
+            -env.wind_speed_mps * from.sin(),
+            -env.wind_speed_mps * from.cos(),
+        );
         let mut cruise_wh = 0.0;
         let mut not_held = Vec::new();
         for leg in legs {
             let v = leg.speed_mps;
             let mut seconds = 0.0;
             let mut held = true;
-            for pair in leg.path.windows(2) {
-                let [a, b] = pair else { continue };
-                let d = *b - *a;
-                let len = d.x.hypot(d.y);
-                if len <= 0.0 {
-                    continue;
-                }
-                let t = Coord {
-                    x: d.x / len,
-                    y: d.y / len,
-                };
-                let along = wind.x * t.x + wind.y * t.y;
-                let cross = wind.x * t.y - wind.y * t.x;
+            let track = Track::new(leg.path);
+            for (patch, start, direction, length) in track.chords() {
+                let t = (direction.to_radians().sin(), direction.to_radians().cos());
+                let along = wind.0 * t.0 + wind.1 * t.1;
+                let cross = wind.0 * t.1 - wind.1 * t.0;
                 let disc = v * v - cross * cross;
                 let ground = along + disc.max(0.0).sqrt();
                 if disc <= 0.0 || ground <= 0.1 {
                     held = false;
-                    not_held.push((leg.from, leg.to, *a));
+                    not_held.push((leg.from, leg.to, track.site(patch, start)));
                     break;
                 }
-                seconds += len / ground;
+                seconds += length / ground;
             }
             if held {
                 cruise_wh += p.cruise_power_w(v) * seconds / 3600.0 + climb(leg.climb_m);
@@ -80,9 +73,15 @@ impl SafetyGateway {
 
     /// The energy checks: every leg whose track cannot be held, and the estimate against the
     /// usable energy less the reserve.
-    pub(super) fn check_energy(&self, mission: &Mission, legs: &[Leg], c: &mut Collector<'_>) {
+    pub(super) fn check_energy(
+        &self,
+        mission: &Mission,
+        from_take_off_point: bool,
+        legs: &[Leg],
+        c: &mut Collector,
+    ) {
         let (p, env) = (&self.profile, &self.environment);
-        let (estimate, not_held) = self.energy(mission, legs);
+        let (estimate, not_held) = self.energy(mission, from_take_off_point, legs);
         for (from, to, at) in not_held {
             c.push(
                 ViolationCode::TrackNotHeld,
@@ -93,7 +92,9 @@ impl SafetyGateway {
                 ),
                 None,
             );
-            c.at(at);
+            if let Some(at) = at {
+                c.at(at);
+            }
         }
         if exceeds(estimate.total_wh, estimate.limit_wh) {
             c.push(

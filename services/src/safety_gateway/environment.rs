@@ -4,7 +4,7 @@
 use super::*;
 
 impl SafetyGateway {
-    pub(super) fn check_environment(&self, c: &mut Collector<'_>) {
+    pub(super) fn check_environment(&self, c: &mut Collector) {
         let (p, env) = (&self.profile, &self.environment);
         if exceeds(env.wind_speed_mps, p.max_wind_mps) {
             c.push(

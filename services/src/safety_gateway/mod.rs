@@ -5,22 +5,22 @@
 //!
 //! # The checks
 //!
-//! - **Geographic** (`GEO-*`): every waypoint, every leg and, when
-//!   [`SafetyGateway::take_off_position_deg`] is given, the take-off point and the first leg from
-//!   there to the initial waypoint, must stay inside the fly-zone shrunk by the safety offset and
-//!   outside every no-fly-zone (polygon or circle) grown by the safety offset. The margin is the
-//!   signed closest approach in metres: positive = clear by that much, negative = that deep into
-//!   the forbidden band. Track-to-fix legs are straight segments; radius-to-fix legs are arcs
-//!   around their centre in their turn direction, from the FROM waypoint to the TO waypoint, with
-//!   the radius interpolated linearly from the start radius to the end radius (a true circle
-//!   when both are equal), sampled so that a chord deviates at most [`ARC_SAG_M`] from the arc.
-//!   - *Take-off point*: the plan carries no take-off position (the aircraft takes off where it
-//!     stands, a vertical climb to the take-off height). Unless the caller gives
-//!     `take_off_position_deg`, the route is taken to start at the initial waypoint, and the
-//!     take-off point is the initial waypoint, already checked as a waypoint.
-//!   - *Reverse route*: on a bidirectional route return-to-home flies every leg backwards; a
-//!     reversed track-to-fix leg is the same segment and a reversed radius-to-fix leg the same arc
-//!     in the other direction. The reversed legs are built and checked too; where they give the
+//! - **Plan** (`PLAN-*`): the plan must say where the aircraft takes off
+//!   (`MissionPlan::take_off_position`); without it the climb and the way to the initial waypoint
+//!   cannot be checked, and the plan is refused.
+//! - **Geographic** (`GEO-*`), on the [geofence](crate::geofence) (ICD §4 "Geometry", §7): the
+//!   take-off point (the vertical climb to the take-off height: areas are 2-D), the leg from the
+//!   take-off point to the initial waypoint (flown direct, as guidance flies it), every waypoint,
+//!   every leg in the direction flown (track-to-fix legs as WGS-84 geodesics, radius-to-fix legs
+//!   as arcs around their centre in their turn direction), the reverse route of a bidirectional
+//!   route back to its start, and the landing (a vertical descent at the last waypoint, checked
+//!   as that waypoint's point) must stay inside the fly-zone shrunk by the safety offset and
+//!   outside every no-fly-zone (polygon or circle) grown by it. The margin is the signed
+//!   geodesic distance in metres beyond the offset: positive = clear by that much, negative =
+//!   that deep into the forbidden band, with the position of the closest approach or of the
+//!   deepest point.
+//!   - *Reverse route*: a reversed track-to-fix leg is the same geodesic and a reversed
+//!     radius-to-fix leg the same arc in the other direction. Where a reversed leg gives the
 //!     same violation as the forward leg (same code and area, margin within
 //!     [`SAME_MARGIN_M`]), it is reported once on the forward [`Element::Leg`] with "also on the
 //!     reverse route"; anything else is reported on [`Element::ReverseLeg`].
@@ -29,9 +29,11 @@
 //!     [`SUBSUMED_M`] (a waypoint inside a no-fly-zone makes both its legs enter it; that is one
 //!     defect). Geographic checks against an area whose geometry is invalid are skipped: the
 //!     area's own violation says why.
-//! - **Area geometry** (`AREA-*`): polygons without repeated vertices, with non-zero area (not
-//!   all collinear) and simple (no self-intersection, `geo`'s [`Validation`]); circles with a
-//!   radius of at least [`MIN_CIRCLE_RADIUS_M`]; exactly one fly-zone, a polygon; each
+//! - **Area geometry** (`AREA-*`): the rules of ICD §7 on the unchecked list, each defect a
+//!   violation naming the area: exactly one fly-zone, a polygon; at most ten no-fly-zones;
+//!   polygons of at least 3 vertices, no two consecutive vertices equal, simple (no two edges
+//!   cross or touch except neighbours at their shared vertex, geodesic edges), with non-zero
+//!   area; circles with a radius of at least [`MIN_CIRCLE_RADIUS_M`]; and beyond ICD §7: each
 //!   no-fly-zone at least partly inside the fly-zone; lower altitude bound not above the upper;
 //!   every waypoint altitude inside the fly-zone's altitude bounds where given.
 //! - **Route** (`ROUTE-*`): radius-to-fix start and end radius equal within
@@ -39,52 +41,30 @@
 //!   radius `r = v²/(g·tan(bank))` for the worst-case ground speed `v` = the leg's speed plus the
 //!   wind speed; waypoint speeds inside the envelope; waypoint altitudes not above the maximum;
 //!   take-off height inside its limits. Fly-by turns at waypoints are not checked against the
-//!   leg geometry (guidance anticipates them and they never leave the legs' neighbourhood by more
-//!   than the turn radius; see "not checked" below).
+//!   leg geometry (see "not checked" below).
 //! - **Energy** (`ENERGY-*`, [`SafetyGateway::estimate_energy`]): vertical climb to the take-off
-//!   height at the climb rate and climb power; from there a vertical climb (or descent) to the
-//!   first waypoint's altitude when the route starts at the initial waypoint; every leg at its TO
-//!   waypoint's speed as airspeed with the power model [`AircraftProfile::cruise_power_w`], its
-//!   time from the ground speed along the track with the wind (per arc chord for radius-to-fix
-//!   legs); altitude gained on a leg costs climb power for `Δh / climb rate` on top (altitude
-//!   lost is not credited); the landing a vertical descent from the last waypoint's altitude at
-//!   the descent rate and descent power. Compared against usable energy × (1 − reserve). A leg
-//!   whose track cannot be held against the wind (crosswind ≥ airspeed, or no forward ground
-//!   speed) is its own violation (`ENERGY-TRACK`) and left out of the sum.
+//!   height at the climb rate and climb power; every leg (the one from the take-off point
+//!   included) at its TO waypoint's speed as airspeed with the power model
+//!   [`AircraftProfile::cruise_power_w`], its time from the ground speed along the track with the
+//!   wind (per chord of the geofence's pieces); altitude gained on a leg costs climb power for
+//!   `Δh / climb rate` on top (altitude lost is not credited); the landing a vertical descent
+//!   from the last waypoint's altitude at the descent rate and descent power. Compared against
+//!   usable energy × (1 − reserve). A leg whose track cannot be held against the wind (crosswind
+//!   ≥ airspeed, or no forward ground speed) is its own violation (`ENERGY-TRACK`) and left out
+//!   of the sum.
 //! - **Environment** (`ENV-*`): wind speed and temperature inside the profile's limits.
 //!
-//! # Projection and geometry
+//! # Geometry
 //!
-//! All geometry is done in a local metric frame: an equirectangular projection about the centre
-//! of the fly-zone's bounding box (the first waypoint without a fly-zone), with the WGS-84
-//! meridional and prime-vertical radii of curvature at that latitude: `y = M(φ0)·Δφ`,
-//! `x = N(φ0)·cos φ0·Δλ`. North-south distances are exact to the ellipsoid's curvature over the
-//! extent; the east-west scale is off by about `tan φ0·|Δφ|`, which at 48° N is below 0.1 % within
-//! ±5 km north and south of the centre (the demo fly-zone spans ±1.7 km: below 0.03 %, under a
-//! metre). Geodesic track-to-fix legs are straight lines in this frame to well under a
-//! metre over legs of a few kilometres. A circle's radius is the geodesic distance centre → border
-//! ([`earth::distance_m`], as everywhere), drawn about the projected centre.
-//!
-//! Predicates and distances are the [`geo`] crate's, on [`geo::Polygon`] / [`geo::LineString`]
-//! in metres: [`Contains`] (point or path in the fly-zone), [`Intersects`] (path against a
-//! no-fly polygon, no-fly-zone against the fly-zone), [`Euclidean`] [`Distance`] (exact closest
-//! approach of a segment or polyline to a polygon, a ring or a circle's centre), [`ClosestPoint`]
-//! (where a path comes closest to a circle's centre), [`Validation`] (self-intersection),
-//! [`geo::Area`] and [`ConvexHull`] (zero area: a polygon whose hull has no area is collinear,
-//! one whose hull has area but which `geo` finds invalid crosses itself), [`Densify`] and [`Length`]. The safety offset is applied as a
-//! distance (the exact Minkowski offset, round corners) rather than with a buffered polygon, so
-//! no corner is approximated.
+//! All of it is the geofence's ([`crate::geofence`]): the same code the FCC runs for its
+//! onboard check. How exact it is, and the table that shows it against GeographicLib, are
+//! there.
 //!
 //! # What is approximated
 //!
-//! - Radius-to-fix arcs: chords of at most [`ARC_SAG_M`] sagitta (margins within that).
-//! - The depth of a violation (a negative margin) of a path that crosses a polygon border, and
-//!   the reported closest-approach position, are taken over the path sampled every
-//!   [`SAMPLE_STEP_M`] metres (within half that). Whether a path violates, and every positive
-//!   margin, are exact in the projection.
 //! - Altitudes are heights above the take-off ground whatever their altitude type (as guidance
-//!   takes them); no terrain, no geoid. No-fly-zones are taken as unbounded in altitude
-//!   (conservative); only the fly-zone's altitude bounds are checked.
+//!   takes them); no terrain, no geoid. Areas are 2-D (ICD §7): no-fly-zones are taken as
+//!   unbounded in altitude; only the fly-zone's altitude bounds are checked against waypoints.
 //! - Waypoint speeds are taken as true airspeed (indicated ≈ true at these altitudes).
 //!
 //! # Not checked
@@ -96,16 +76,12 @@
 
 use core::fmt;
 
-use geo::{
-    Area as _, BoundingRect, Closest, ClosestPoint, Contains, ConvexHull, Coord, Densify, Distance,
-    Euclidean, Intersects, Length, LineString, Point, Polygon, Validation,
-};
-use missionlink_interfaces::wire::{
-    AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType, SpecificData, TurnDirection,
-};
+use missionlink_interfaces::wire::{AreaShape, AreaType, GeoPoint, LegType, SpecificData};
 
-use crate::geofence::earth;
-use crate::geofence::local_frame::{LocalFrame, arc};
+use crate::geofence::earth::{self, Site};
+use crate::geofence::onboard;
+use crate::geofence::path::{Path, Track};
+use crate::geofence::zone::Fence;
 use crate::transfer::areas::AreaList;
 use crate::transfer::mission::{Mission, WaypointRecord};
 
@@ -119,10 +95,6 @@ mod route;
 /// Standard gravity, m/s².
 const GRAVITY_MPS2: f64 = 9.806_65;
 
-/// Largest distance between a radius-to-fix arc and its chords, metres.
-pub const ARC_SAG_M: f64 = 0.01;
-/// Sampling step along a path for violation depths and closest-approach positions, metres.
-pub const SAMPLE_STEP_M: f64 = 1.0;
 /// A leg reversed gives "the same" margin as forward within this, metres.
 pub const SAME_MARGIN_M: f64 = 0.5;
 /// A leg ending at a waypoint that violates the same area is reported only if it goes deeper
@@ -132,6 +104,8 @@ pub const SUBSUMED_M: f64 = 1.0;
 pub const MIN_CIRCLE_RADIUS_M: f64 = 1.0;
 /// Smallest polygon area accepted (below: collinear or degenerate), square metres.
 pub const MIN_POLYGON_AREA_M2: f64 = 1.0;
+/// No-fly-zones the FCC holds at most (ICD §7).
+const MAX_NO_FLY_ZONES: usize = missionlink_interfaces::capacity::MAX_NO_FLY_ZONES;
 
 /// The aircraft's limits and its power model.
 ///
@@ -282,6 +256,8 @@ pub enum Element {
     TakeOff,
     /// An area, by ID.
     Area(u16),
+    /// The area list as a whole (no fly-zone, too many no-fly-zones).
+    AreaList,
     /// The mission as a whole.
     Mission,
     /// The environment.
@@ -296,6 +272,7 @@ impl fmt::Display for Element {
             Self::ReverseLeg { from, to } => write!(f, "reverse leg {from}->{to}"),
             Self::TakeOff => f.write_str("take-off"),
             Self::Area(id) => write!(f, "area {id}"),
+            Self::AreaList => f.write_str("area list"),
             Self::Mission => f.write_str("mission"),
             Self::Environment => f.write_str("environment"),
         }
@@ -305,6 +282,8 @@ impl fmt::Display for Element {
 /// One check that failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ViolationCode {
+    /// `PLAN-TAKEOFF`: the plan has no take-off position.
+    TakeOffMissing,
     /// `GEO-FZ-WP`: a waypoint outside the fly-zone shrunk by the safety offset.
     FlyZoneWaypoint,
     /// `GEO-FZ-LEG`: a leg (line or arc) leaves the fly-zone shrunk by the safety offset.
@@ -317,14 +296,18 @@ pub enum ViolationCode {
     NoFlyZoneLeg,
     /// `GEO-NFZ-TO`: the take-off point inside a no-fly-zone grown by the safety offset.
     NoFlyZoneTakeOff,
-    /// `AREA-SELF-INTERSECT`: a polygon's border crosses itself.
+    /// `AREA-SELF-INTERSECT`: a polygon's border crosses or touches itself.
     SelfIntersection,
-    /// `AREA-REPEATED-VERTEX`: a polygon has the same vertex twice.
+    /// `AREA-REPEATED-VERTEX`: two consecutive vertices of a polygon are the same point.
     RepeatedVertex,
     /// `AREA-DEGENERATE`: a polygon with (nearly) zero area, its vertices collinear.
     DegeneratePolygon,
     /// `AREA-CIRCLE-RADIUS`: a circle whose radius is (nearly) zero.
     CircleRadius,
+    /// `AREA-VERTEX-COUNT`: a polygon with fewer than 3 vertices.
+    VertexCount,
+    /// `AREA-NFZ-COUNT`: more than ten no-fly-zones.
+    NoFlyZoneCount,
     /// `AREA-FZ-COUNT`: not exactly one fly-zone.
     FlyZoneCount,
     /// `AREA-FZ-SHAPE`: the fly-zone is not a polygon.
@@ -363,6 +346,7 @@ impl ViolationCode {
     /// The stable short code.
     pub fn code(&self) -> &'static str {
         match self {
+            Self::TakeOffMissing => "PLAN-TAKEOFF",
             Self::FlyZoneWaypoint => "GEO-FZ-WP",
             Self::FlyZoneLeg => "GEO-FZ-LEG",
             Self::FlyZoneTakeOff => "GEO-FZ-TO",
@@ -373,6 +357,8 @@ impl ViolationCode {
             Self::RepeatedVertex => "AREA-REPEATED-VERTEX",
             Self::DegeneratePolygon => "AREA-DEGENERATE",
             Self::CircleRadius => "AREA-CIRCLE-RADIUS",
+            Self::VertexCount => "AREA-VERTEX-COUNT",
+            Self::NoFlyZoneCount => "AREA-NFZ-COUNT",
             Self::FlyZoneCount => "AREA-FZ-COUNT",
             Self::FlyZoneShape => "AREA-FZ-SHAPE",
             Self::NoFlyZoneOutside => "AREA-NFZ-OUTSIDE",
@@ -437,7 +423,7 @@ impl fmt::Display for Violation {
 /// Everything the gateway found against a mission.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Report {
-    /// Every violation, in check order: environment, areas, route, geography, energy.
+    /// Every violation, in check order: plan, environment, areas, route, geography, energy.
     pub violations: Vec<Violation>,
 }
 
@@ -476,9 +462,6 @@ pub struct SafetyGateway {
     pub profile: AircraftProfile,
     /// The conditions.
     pub environment: Environment,
-    /// Where the aircraft stands before take-off (latitude, longitude in degrees), if known; the
-    /// plan does not carry it. `None`: the route is taken to start at the initial waypoint.
-    pub take_off_position_deg: Option<(f64, f64)>,
 }
 
 impl crate::ground_station::SafetyGateway for SafetyGateway {
@@ -490,13 +473,7 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
         areas: &AreaList,
         take_off: Option<GeoPoint>,
     ) -> Result<(), Report> {
-        let gateway = Self {
-            take_off_position_deg: take_off
-                .map(|p| (p.latitude.degrees(), p.longitude.degrees()))
-                .or(self.take_off_position_deg),
-            ..*self
-        };
-        let violations = gateway.violations(mission, areas);
+        let violations = self.violations(mission, areas, take_off);
         if violations.is_empty() {
             Ok(())
         } else {
@@ -508,33 +485,32 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
 // ---------------------------------------------------------------------------------------------
 // Legs.
 
-#[derive(Debug, Clone)]
+/// One leg as the checks take it.
+#[derive(Debug, Clone, Copy)]
 struct Leg {
     from: u16,
     to: u16,
-    /// Index in the mission of the FROM waypoint (None: the take-off position).
+    /// Index in the mission of the FROM waypoint (None: the take-off point).
     from_index: Option<usize>,
     to_index: usize,
-    path: Vec<Coord>,
-    reverse_path: Option<Vec<Coord>>,
+    path: Path,
+    /// Flown backwards on return to home too (a bidirectional route; not the way from the
+    /// take-off point).
+    reversible: bool,
     speed_mps: f64,
     climb_m: f64,
 }
 
-fn rf_centre(record: &WaypointRecord) -> Option<(GeoPoint, TurnDirection)> {
+fn rf_centre(record: &WaypointRecord) -> Option<GeoPoint> {
     match record.rf_centre.map(|c| c.data) {
         Some(SpecificData::RfCentre {
             latitude,
             longitude,
-            turn_direction,
             ..
-        }) => Some((
-            GeoPoint {
-                latitude,
-                longitude,
-            },
-            turn_direction,
-        )),
+        }) => Some(GeoPoint {
+            latitude,
+            longitude,
+        }),
         _ => None,
     }
 }
@@ -554,22 +530,15 @@ fn below(value: f64, limit: f64) -> bool {
     value.is_nan() || value < limit
 }
 
-fn flip(direction: TurnDirection) -> TurnDirection {
-    match direction {
-        TurnDirection::Clockwise => TurnDirection::CounterClockwise,
-        TurnDirection::CounterClockwise => TurnDirection::Clockwise,
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 // The checks.
 
-struct Collector<'a> {
-    frame: &'a LocalFrame,
+#[derive(Default)]
+struct Collector {
     out: Vec<Violation>,
 }
 
-impl Collector<'_> {
+impl Collector {
     fn push(
         &mut self,
         code: ViolationCode,
@@ -588,113 +557,93 @@ impl Collector<'_> {
         });
     }
 
-    fn at(&mut self, c: Coord) {
-        let p = self.frame.deg(c);
+    fn at(&mut self, p: impl earth::Position) {
         if let Some(v) = self.out.last_mut() {
-            v.position = Some(p);
+            v.position = Some(p.lat_lon_deg());
         }
     }
 }
 
 impl SafetyGateway {
-    /// A gateway for `profile` in `environment`, the route starting at the initial waypoint.
+    /// A gateway for `profile` in `environment`.
     pub fn new(profile: AircraftProfile, environment: Environment) -> Self {
         Self {
             profile,
             environment,
-            take_off_position_deg: None,
         }
     }
 
-    fn frame(mission: &Mission, areas: &AreaList) -> LocalFrame {
-        let bbox = areas.fly_zone().and_then(|fz| match &fz.shape {
-            AreaShape::Polygon(v) => LineString::from(
-                v.iter()
-                    .map(|p| (p.longitude.degrees(), p.latitude.degrees()))
-                    .collect::<Vec<_>>(),
-            )
-            .bounding_rect(),
-            AreaShape::Circle { .. } => None,
-        });
-        match (bbox, mission.waypoints.first()) {
-            (Some(r), _) => {
-                let c = r.center();
-                LocalFrame::new(c.y, c.x)
-            }
-            (None, Some(w)) => LocalFrame::new(
-                w.waypoint.latitude.degrees(),
-                w.waypoint.longitude.degrees(),
-            ),
-            (None, None) => LocalFrame::new(0.0, 0.0),
-        }
-    }
-
-    fn legs(&self, mission: &Mission, frame: &LocalFrame) -> Vec<Leg> {
-        let bidirectional = mission.route.bidirectional;
-        let mut legs = Vec::new();
-        let mut previous: Option<(u16, Option<usize>, Coord, f64)> =
-            self.take_off_position_deg.map(|(lat, lon)| {
-                (
-                    0,
-                    None,
-                    frame.xy(lat, lon),
-                    mission.take_off_height().metres(),
-                )
+    /// The legs in the order flown: from the take-off point to the initial waypoint (when the
+    /// plan says where that is), then between the waypoints; the geofence's route
+    /// ([`onboard`]), which the FCC checks too.
+    fn legs(mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
+        let list = mission.to_payload(1);
+        let entries = list.waypoints();
+        let toh = mission.take_off_height().metres();
+        let mut legs = Vec::with_capacity(entries.len() + 1);
+        if let (Some(t), Some(first)) = (take_off, entries.first()) {
+            legs.push(Leg {
+                from: 0,
+                to: first.number,
+                from_index: None,
+                to_index: 0,
+                path: Path::Geodesic {
+                    from: Site::of(t),
+                    to: Site::of(first.position),
+                },
+                reversible: false,
+                speed_mps: first.speed.mps(),
+                climb_m: (first.altitude.metres() - toh).max(0.0),
             });
-        for (i, record) in mission.waypoints.iter().enumerate() {
-            let w = &record.waypoint;
-            let here = frame.point(&position(record));
-            if let Some((from, from_index, start, start_alt)) = previous {
-                // The first leg from the take-off position is flown direct (guidance).
-                let centre = rf_centre(record)
-                    .filter(|_| w.leg_type == LegType::RadiusToFix && from_index.is_some());
-                let (path, reverse_path) = match centre {
-                    Some((c, dir)) => {
-                        let c = frame.point(&c);
-                        (
-                            arc(start, here, c, dir, ARC_SAG_M),
-                            bidirectional.then(|| arc(here, start, c, flip(dir), ARC_SAG_M)),
-                        )
-                    }
-                    None => (vec![start, here], bidirectional.then(|| vec![here, start])),
-                };
-                legs.push(Leg {
-                    from,
-                    to: w.waypoint_number,
-                    from_index,
-                    to_index: i,
-                    path,
-                    reverse_path: reverse_path.filter(|_| from_index.is_some()),
-                    speed_mps: w.speed.mps(),
-                    climb_m: (w.altitude.metres() - start_alt).max(0.0),
-                });
-            }
-            previous = Some((w.waypoint_number, Some(i), here, w.altitude.metres()));
+        }
+        for (i, (leg, w)) in onboard::legs(&list).zip(entries.windows(2)).enumerate() {
+            let [a, b] = w else { continue };
+            legs.push(Leg {
+                from: a.number,
+                to: b.number,
+                from_index: Some(i),
+                to_index: i + 1,
+                path: leg.path,
+                reversible: list.bidirectional,
+                speed_mps: b.speed.mps(),
+                climb_m: (b.altitude.metres() - a.altitude.metres()).max(0.0),
+            });
         }
         legs
     }
 
-    /// The energy estimate of `mission` (the areas only set the projection).
-    pub fn estimate_energy(&self, mission: &Mission, areas: &AreaList) -> EnergyEstimate {
-        let frame = Self::frame(mission, areas);
-        let legs = self.legs(mission, &frame);
-        self.energy(mission, &legs).0
+    /// The energy estimate of `mission` flown from `take_off`.
+    pub fn estimate_energy(&self, mission: &Mission, take_off: Option<GeoPoint>) -> EnergyEstimate {
+        let legs = Self::legs(mission, take_off);
+        self.energy(mission, take_off.is_some(), &legs).0
     }
 
-    /// Every violation of `mission` in `areas` (empty: the mission passes).
-    pub fn violations(&self, mission: &Mission, areas: &AreaList) -> Vec<Violation> {
-        let frame = Self::frame(mission, areas);
-        let mut c = Collector {
-            frame: &frame,
-            out: Vec::new(),
-        };
-        // The groups in report order: environment, area geometry, route, geography, energy.
+    /// Every violation of `mission` in `areas` flown from `take_off` (empty: the mission
+    /// passes).
+    pub fn violations(
+        &self,
+        mission: &Mission,
+        areas: &AreaList,
+        take_off: Option<GeoPoint>,
+    ) -> Vec<Violation> {
+        let mut c = Collector::default();
+        // The groups in report order: plan, environment, area geometry, route, geography,
+        // energy.
+        if take_off.is_none() {
+            c.push(
+                ViolationCode::TakeOffMissing,
+                Element::TakeOff,
+                "the plan does not say where the aircraft takes off: the climb and the way to the initial waypoint cannot be checked".into(),
+                None,
+            );
+        }
         self.check_environment(&mut c);
-        let zones = self.zones(areas, &frame, &mut c);
-        let legs = self.legs(mission, &frame);
+        let fence = Fence::of_list(areas);
+        let valid = self.check_areas(areas, &fence, &mut c);
+        let legs = Self::legs(mission, take_off);
         self.check_route(mission, areas, &legs, &mut c);
-        self.check_geography(mission, areas.safety_offset.metres(), &zones, &legs, &mut c);
-        self.check_energy(mission, &legs, &mut c);
+        self.check_geography(mission, take_off, &fence, &valid, &legs, &mut c);
+        self.check_energy(mission, take_off.is_some(), &legs, &mut c);
         c.out
     }
 }
@@ -703,13 +652,20 @@ impl SafetyGateway {
 mod tests {
     use super::*;
     use crate::ground_station::SafetyGateway as _;
-    use crate::testkit::{self, CCP, FLY_ZONE, NFZ_POLYGON, circle, polygon};
+    use crate::testkit::{self, CCP, FLY_ZONE, NFZ_POLYGON, TROL, circle, polygon};
+    use missionlink_interfaces::wire::{Angle, AreaPolygonLoopSegment, TurnDirection};
+
+    fn geo((lat, lon): (f64, f64)) -> GeoPoint {
+        GeoPoint {
+            latitude: Angle::from_degrees(lat).unwrap(),
+            longitude: Angle::from_degrees(lon).unwrap(),
+        }
+    }
     use missionlink_interfaces::wire::{Altitude, SafetyOffset, Speed, UaPositionWaypoint};
     use proptest::prelude::*;
 
     const W1: (f64, f64) = (48.278, 11.658);
     const ROLE2: (f64, f64) = (48.28, 11.68);
-    const TROL: (f64, f64) = (48.26, 11.66);
     const RF_CENTRE: (f64, f64) = (48.27455, 11.66991);
 
     #[derive(Clone, Copy)]
@@ -802,6 +758,7 @@ mod tests {
     struct Case {
         name: &'static str,
         gateway: SafetyGateway,
+        take_off: Option<GeoPoint>,
         mission: Mission,
         areas: AreaList,
         expected: Vec<(ViolationCode, Element)>,
@@ -816,6 +773,7 @@ mod tests {
         Case {
             name,
             gateway: SafetyGateway::default(),
+            take_off: Some(geo(TROL)),
             mission,
             areas: area_list(areas),
             expected: expected.to_vec(),
@@ -875,10 +833,6 @@ mod tests {
                 ..Environment::default()
             },
         );
-        let from_trol = SafetyGateway {
-            take_off_position_deg: Some(TROL),
-            ..SafetyGateway::default()
-        };
         let fast_w1 = Wp {
             speed: 45.0,
             ..tf(W1)
@@ -887,9 +841,60 @@ mod tests {
         vec![
             case("demo mission 1", mission_1(), &[fly_zone()], &[]),
             Case {
-                gateway: from_trol,
-                ..case("demo mission 1 from TROL", mission_1(), &[fly_zone()], &[])
+                take_off: None,
+                ..case(
+                    "demo mission 1 without a take-off position",
+                    mission_1(),
+                    &[fly_zone()],
+                    &[(V::TakeOffMissing, Element::TakeOff)],
+                )
             },
+            Case {
+                take_off: Some(geo((48.264, 11.643))),
+                ..case(
+                    "take-off inside a no-fly-zone",
+                    mission_2(),
+                    &m2,
+                    &[(V::NoFlyZoneTakeOff, Element::TakeOff)],
+                )
+            },
+            Case {
+                take_off: Some(geo((48.250, 11.660))),
+                ..case(
+                    "take-off outside the fly-zone (the way in is the same defect)",
+                    mission_2(),
+                    &m2,
+                    &[(V::FlyZoneTakeOff, Element::TakeOff)],
+                )
+            },
+            Case {
+                take_off: Some(geo((48.258, 11.643))),
+                ..case(
+                    "the way from the take-off point to the initial waypoint crosses a no-fly-zone",
+                    mission_2(),
+                    &m2,
+                    &[(V::NoFlyZoneLeg, leg(0, 1))],
+                )
+            },
+            case(
+                "no fly-zone",
+                mission_2(),
+                &m2[1..],
+                &[(V::FlyZoneCount, Element::AreaList)],
+            ),
+            case(
+                "a no-fly-zone of two vertices",
+                mission_2(),
+                &[
+                    fly_zone(),
+                    polygon(
+                        3,
+                        AreaType::NoFlyZone,
+                        &[(48.262, 11.640), (48.266, 11.646)],
+                    ),
+                ],
+                &[(V::VertexCount, Element::Area(3))],
+            ),
             case("demo mission 2", mission_2(), &m2, &[]),
             case(
                 "demo mission 2, last leg track-to-fix",
@@ -1045,7 +1050,7 @@ mod tests {
         let mut failures = Vec::new();
         for c in cases() {
             let found: Vec<(ViolationCode, Element)> =
-                match c.gateway.check(&c.mission, &c.areas, None) {
+                match c.gateway.check(&c.mission, &c.areas, c.take_off) {
                     Ok(()) => vec![],
                     Err(report) => {
                         assert!(!report.violations.is_empty(), "{}", c.name);
@@ -1056,7 +1061,7 @@ mod tests {
                             .collect()
                     }
                 };
-            let report = c.gateway.violations(&c.mission, &c.areas);
+            let report = c.gateway.violations(&c.mission, &c.areas, c.take_off);
             println!("{}:", c.name);
             for v in &report {
                 println!("    {v}");
@@ -1081,7 +1086,7 @@ mod tests {
             false,
             &[tf(CCP), tf((48.268, 11.643)), tf((48.263, 11.650))],
         );
-        let v = g.violations(&m, &area_list(&mission_2_areas()));
+        let v = g.violations(&m, &area_list(&mission_2_areas()), Some(geo(TROL)));
         let [cut] = v.as_slice() else { panic!("{v:?}") };
         let margin = cut.margin_m.unwrap();
         assert!(margin < -25.0 && margin > -80.0, "{margin}");
@@ -1089,8 +1094,8 @@ mod tests {
         assert!((lat - 48.266).abs() < 0.0005 && (lon - 11.646).abs() < 0.0005);
         // A circle: the exact depth is radius + offset at the centre.
         let m = mission_2_with(tf((48.268, 11.675)), tf(ROLE2));
-        let v = g.violations(&m, &area_list(&mission_2_areas()));
-        let radius = LocalFrame::new(48.268, 11.675).xy(48.268, 11.679).x;
+        let v = g.violations(&m, &area_list(&mission_2_areas()), Some(geo(TROL)));
+        let radius = earth::distance_m(geo((48.268, 11.675)), geo((48.268, 11.679)));
         assert!(
             (v[0].margin_m.unwrap() + radius + 25.0).abs() < 0.5,
             "{v:?}"
@@ -1103,7 +1108,7 @@ mod tests {
     #[test]
     fn safety_gateway_energy_estimate_of_mission_2() {
         let g = SafetyGateway::default();
-        let e = g.estimate_energy(&mission_2(), &area_list(&mission_2_areas()));
+        let e = g.estimate_energy(&mission_2(), Some(geo(CCP)));
         // 10 s + 30 s of climb at 22 kW, ~3 km at 25 m/s at 8 kW, 60 s of descent at 12 kW.
         assert!(e.total_wh > 600.0 && e.total_wh < 800.0, "{e:?}");
         assert_eq!(e.limit_wh, 4200.0);
@@ -1116,7 +1121,7 @@ mod tests {
                 temperature_c: 15.0,
             },
         );
-        let w = windy.estimate_energy(&mission_2(), &area_list(&mission_2_areas()));
+        let w = windy.estimate_energy(&mission_2(), Some(geo(CCP)));
         assert!(w.cruise_wh > e.cruise_wh, "{w:?} {e:?}");
     }
 
@@ -1124,6 +1129,9 @@ mod tests {
     fn safety_gateway_codes_are_distinct() {
         use ViolationCode as V;
         let all = [
+            V::TakeOffMissing,
+            V::VertexCount,
+            V::NoFlyZoneCount,
             V::FlyZoneWaypoint,
             V::FlyZoneLeg,
             V::FlyZoneTakeOff,
@@ -1167,7 +1175,7 @@ mod tests {
             bidirectional in any::<bool>(),
         ) {
             let m = mission(30.0, bidirectional, &[tf(CCP), tf(a), tf(b)]);
-            let v = SafetyGateway::default().violations(&m, &area_list(&mission_2_areas()));
+            let v = SafetyGateway::default().violations(&m, &area_list(&mission_2_areas()), Some(geo(TROL)));
             prop_assert!(v.is_empty(), "{:?}", v);
         }
 
@@ -1175,25 +1183,15 @@ mod tests {
         /// when d < radius + offset (away from the boundary by more than the sampling).
         #[test]
         fn safety_gateway_circle_boundary(bearing in 0.0f64..360.0, d in 150.0f64..500.0) {
-            let frame = LocalFrame::new(48.268, 11.675);
-            let radius = frame.xy(48.268, 11.679).x;
-            prop_assume!((d - radius - 25.0).abs() > 0.1);
-            let t = bearing.to_radians();
-            let at = frame.deg(Coord { x: d * t.sin(), y: d * t.cos() });
-            let m = mission(30.0, false, &[tf(at)]);
+            let centre = geo((48.268, 11.675));
+            let radius = earth::distance_m(centre, geo((48.268, 11.679)));
+            prop_assume!((d - radius - 25.0).abs() > 0.01);
+            let at = earth::destination(centre, bearing, d);
+            let m = mission(30.0, false, &[tf((at.y(), at.x()))]);
             let areas = area_list(&mission_2_areas());
-            let frame_used = SafetyGateway::frame(&m, &areas);
-            let r_used = Euclidean.distance(
-                &Point::from(frame_used.xy(48.268, 11.675)),
-                &Point::from(frame_used.xy(48.268, 11.679)),
-            );
-            let d_used = Euclidean.distance(
-                &Point::from(frame_used.xy(48.268, 11.675)),
-                &Point::from(frame_used.xy(at.0, at.1)),
-            );
-            let v = SafetyGateway::default().violations(&m, &areas);
+            let v = SafetyGateway::default().violations(&m, &areas, Some(geo(TROL)));
             let inside = v.iter().any(|v| v.code == ViolationCode::NoFlyZoneWaypoint);
-            prop_assert_eq!(inside, d_used < r_used + 25.0, "{:?}", v);
+            prop_assert_eq!(inside, d < radius + 25.0, "{:?}", v);
         }
     }
 }

@@ -9,7 +9,7 @@ impl SafetyGateway {
         mission: &Mission,
         areas: &AreaList,
         legs: &[Leg],
-        c: &mut Collector<'_>,
+        c: &mut Collector,
     ) {
         let p = &self.profile;
         let toh = mission.take_off_height().metres();
@@ -39,7 +39,7 @@ impl SafetyGateway {
         for record in &mission.waypoints {
             let w = &record.waypoint;
             let n = w.waypoint_number;
-            let here = c.frame.point(&position(record));
+            let here = position(record);
             let (v, alt) = (w.speed.mps(), w.altitude.metres());
             if below(v, p.min_speed_mps) {
                 c.push(
@@ -98,23 +98,15 @@ impl SafetyGateway {
             else {
                 continue;
             };
-            let (Some(from), Some((centre, _))) =
-                (mission.waypoints.get(from_index), rf_centre(to))
+            let (Some(from), Some(centre)) = (mission.waypoints.get(from_index), rf_centre(to))
             else {
                 continue;
             };
             if to.waypoint.leg_type != LegType::RadiusToFix {
                 continue;
             }
-            let centre = c.frame.point(&centre);
-            let rs = Euclidean.distance(
-                &Point::from(centre),
-                &Point::from(c.frame.point(&position(from))),
-            );
-            let re = Euclidean.distance(
-                &Point::from(centre),
-                &Point::from(c.frame.point(&position(to))),
-            );
+            let rs = earth::distance_m(centre, position(from));
+            let re = earth::distance_m(centre, position(to));
             let element = Element::Leg {
                 from: leg.from,
                 to: leg.to,
