@@ -1,12 +1,22 @@
-//! QGroundControl `.plan` files: import into a [`MissionPlan`] (waypoints and areas) and export of
-//! a [`ValidatedPlan`]. A `.plan` file is JSON: `mission` (the items, the planned home position,
-//! the planning speeds), `geoFence` (polygons and circles) and `rallyPoints`. What the ICD cannot
-//! carry is never dropped silently: the import returns it as a list of [`Unsupported`] notes,
-//! each with the JSON path of the item (e.g. `mission.items[4]`) and the reason; the caller (the
-//! `gcs` tool) decides whether to refuse the file or to warn. A file that is not a `.plan` at all
-//! or holds a value that cannot be read is an error ([`MissionFileError::Syntax`] with line and
-//! column from the JSON parser, or [`MissionFileError::Field`] with the JSON path, e.g.
-//! `mission.items[3].params[4]`).
+//! QGroundControl `.plan` files: import into a [`MissionPlan`] (waypoints, areas and the planned
+//! take-off position) and export of a [`ValidatedPlan`]. A `.plan` file is JSON: `mission` (the
+//! items, the planned home position, the planning speeds), `geoFence` (polygons and circles) and
+//! `rallyPoints`. A file that is not a `.plan` at all or holds a value that cannot be read is an
+//! error ([`MissionFileError::Syntax`] with line and column from the JSON parser, or
+//! [`MissionFileError::Field`] with the JSON path, e.g. `mission.items[3].params[4]`).
+//!
+//! # Exact or refused
+//!
+//! The import gives the plan the file describes, or none: an element that the ICD cannot carry
+//! or the FCC cannot hold (each marked *not supported* below) makes it fail with
+//! [`MissionFileError::Unsupported`], which names every such element with its JSON path (e.g.
+//! `mission.items[3]`, `geoFence.polygons[1]`, `geoFence.circles[10]`) and the reason. An
+//! operator who wants the rest anyway says so ([`ImportOptions::unsupported`],
+//! [`Unsupported::Drop`]; `gcs --drop unsupported`): the elements are then left out and listed in
+//! [`QgcImport::dropped`], so that validation judges what will be uploaded. Nothing is
+//! approximated. What only QGC uses and changes nothing the FCC flies is not an element of this
+//! kind: the planned home position, the take-off item once its position and height are taken,
+//! the acceptance radius and yaw of a waypoint (0, "the vehicle's default").
 //!
 //! # Import: mission items
 //!
@@ -15,25 +25,28 @@
 //! - **Take-off** (22 `NAV_TAKEOFF`, 84 `NAV_VTOL_TAKEOFF`): its altitude gives the take-off
 //!   height (#13006 type 1, above ground). In a relative or terrain frame the altitude is the
 //!   height; in a global (AMSL) frame the height is the altitude less the planned home altitude.
-//!   The ICD's take-off has a height only: a take-off position further than 1 m from the planned
-//!   home is reported (the aircraft climbs where it stands). ArduPilot's minimum pitch (param 1)
-//!   and the yaw are not carried. A second take-off, or one after a waypoint, is reported.
+//!   Its latitude and longitude (params 5 and 6), when not 0 or null, are the planned take-off
+//!   position ([`MissionPlan::take_off_position`]: not sent, checked by the safety gateway);
+//!   otherwise the planned home is. ArduPilot's minimum pitch (param 1) and the yaw are not
+//!   carried. A second take-off is not supported; a take-off after a waypoint is an error (the
+//!   ICD's take-off comes first), and so is a file without a take-off (the ICD's mission needs
+//!   its height).
 //! - **Waypoint** (16 `NAV_WAYPOINT`): a track-to-fix #13002. Waypoints are numbered 1..n in
 //!   item order, each one's next is the following one and the last one's next is 0; the route
 //!   (#13001) starts at waypoint 1 and is one-way unless [`ImportOptions::bidirectional`]. The
-//!   turn is fly-by; a hold time above 0 (param 1) makes it fly-over, and the hold itself is
-//!   reported (the ICD has no hold). The acceptance and pass radii and the yaw are not carried
-//!   (PX4 and ArduPilot treat 0, the value QGC writes, as "the vehicle's default").
+//!   turn is fly-by. A hold time above 0 (param 1) is not supported (the ICD has no hold);
+//!   dropped, the waypoint is fly-over. The acceptance and pass radii and the yaw are not
+//!   carried (PX4 and ArduPilot treat 0, the value QGC writes, as "the vehicle's default").
 //! - **Land** (21 `NAV_LAND`, 85 `NAV_VTOL_LAND`): the land position is the last waypoint of the
 //!   route, because the FCC lands at the last waypoint by itself (as demo mission 2 lands at
 //!   ROLE2). When the waypoint before already lies at that position (the same wire value), it is
 //!   the last waypoint and no waypoint is added; otherwise a fly-over waypoint is added at the
 //!   land position, at the altitude (and altitude type) of the waypoint before: the approach
 //!   altitude, the descent being the FCC's. The land altitude of the item is not used. Items
-//!   after a land are reported (the route ends there).
+//!   after a land are not supported (the route ends there).
 //! - **Speed change** (178 `DO_CHANGE_SPEED`): applies to the waypoints that follow. Param 1
 //!   is the speed type (0 airspeed -> indicated airspeed, 1 ground speed -> ground speed; 2 and 3,
-//!   climb and descent speeds, are reported), param 2 the speed in m/s (-1: no change). The
+//!   climb and descent speeds, are not supported), param 2 the speed in m/s (-1: no change). The
 //!   waypoints before any speed change fly the file's planning speed as QGC does: `hoverSpeed`
 //!   for a multi-rotor `vehicleType` (MAV_TYPE 2, 3, 4, 13, 14, 15, 29, 35, QGC's
 //!   `isMultiRotor`), `cruiseSpeed` for every other (fixed-wing, VTOL, rover), with no speed
@@ -44,41 +57,41 @@
 //!   terrain, AGL; 0 `GLOBAL` and 5 are AMSL, written as WGS-84 (type 3; the geoid separation is
 //!   not applied). QGC's "calculated above terrain" mode (`AltitudeMode` 3) saves frame 0 with a
 //!   null altitude when it had no terrain data: the item's `Altitude` (above terrain) is then
-//!   taken as AGL. Any other frame is reported and the item skipped.
-//! - **Everything else** is reported with its index and skipped: other commands (loiters 17, 18,
-//!   19, 31, return-to-launch 20, region of interest 195 and 201, camera, jumps, ...), complex
-//!   items (surveys, corridor and structure scans, landing patterns) and rally points.
+//!   taken as AGL. Any other frame is not supported (the item, path `.frame`).
+//! - **Everything else** is not supported: other commands (loiters 17, 18, 19, 31,
+//!   return-to-launch 20, region of interest 195 and 201, camera, jumps, ...), complex items
+//!   (surveys, corridor and structure scans, landing patterns) and rally points.
 //!
 //! A file without a waypoint or land item is an error ("no waypoints"); its geofence can still
-//! be imported with [`import_areas`]. A file without a take-off is imported with a note: the
-//! plan then has no take-off height and validation refuses it.
+//! be imported with [`import_areas`].
 //!
 //! The planned home position (`plannedHomePosition`, `[latitude, longitude, altitude AMSL]`) is
-//! the reference of the take-off: the AMSL take-off altitudes are measured from it and the
-//! take-off position is compared with it. It is not a waypoint (the ICD has no home position);
-//! it is returned in [`QgcImport::home`] for an export to write back.
+//! the reference of AMSL take-off altitudes and the take-off position when the take-off item
+//! has none (QGC's "not set", (0, 0), is none). It is not a waypoint (the ICD has no home
+//! position); it is returned in [`QgcImport::home`] for an export to write back.
 //!
 //! # Import: geofence
 //!
-//! Inclusion polygons are the fly-zone (exactly one: a second one is reported and left out),
-//! exclusion polygons and circles are no-fly-zones (a circle's border point is placed due north
-//! of its centre at the radius, a geodesic on WGS-84). An inclusion circle is
-//! not a fly-zone the ICD carries (a polygon): when there is no inclusion polygon it is
-//! approximated by the inscribed polygon of 60 vertices (on the safe side: at most
-//! `r (1 - cos 3°)`, 1.4 m per km of radius, inside the circle) and reported; otherwise it is
-//! reported and left out. Area IDs are 1..n: the fly-zone first, then the exclusion polygons and
-//! the exclusion circles in file order. QGC has no safety offset: it is
-//! [`ImportOptions::safety_offset_m`] (0 by default). Polygons of more than 60 vertices and areas
-//! beyond the eleven an area list holds are reported and left out. A file without a geofence
-//! gives no areas (they may come from elsewhere, e.g. GeoJSON).
+//! The inclusion polygon is the fly-zone; a second one is not supported (the ICD has one
+//! fly-zone). Exclusion polygons and circles are no-fly-zones (a circle's border point is placed
+//! due north of its centre at the radius, a geodesic on WGS-84). An inclusion circle is not
+//! supported: the ICD's fly-zone is a polygon (draw it as one). The FCC holds eleven areas, one
+//! of them the fly-zone: the no-fly-zones after the tenth (exclusion polygons first, then
+//! circles, in file order) are not supported, and neither are polygons of more than 60
+//! vertices. Area IDs are 1..n: the fly-zone first, then the exclusion polygons and the
+//! exclusion circles in file order. QGC has no safety offset: it is
+//! [`ImportOptions::safety_offset_m`] (0 by default). A file without a geofence gives no areas
+//! (they may come from elsewhere, e.g. GeoJSON).
 //!
 //! # Export
 //!
 //! [`export_plan`] writes a `.plan` (`fileType` "Plan", version 1, `groundStation`
-//! "missionlink") that QGC reads: a take-off at the home position with the take-off height
+//! "missionlink") that QGC reads: a take-off at the planned take-off position
+//! ([`ExportOptions::take_off_position`], else the home position) with the take-off height
 //! (frame 3), a `DO_CHANGE_SPEED` wherever the speed or its type changes (the first waypoint's
 //! speed is also `cruiseSpeed` and `hoverSpeed`), every waypoint in flight-plan order (AGL in
-//! frame 3, WGS-84 in frame 0), a land at the last waypoint, the planned home, the geofence (the
+//! frame 3, WGS-84 in frame 0), a land at the last waypoint, the planned home (given, else the
+//! take-off position, else the first waypoint, at 0 m AMSL), the geofence (the
 //! fly-zone an inclusion polygon, no-fly polygons exclusion polygons, no-fly circles exclusion
 //! circles whose radius is the geodesic distance centre -> border point, to the millimetre)
 //! and no rally points. What QGC cannot hold is returned as notes: radius-to-fix legs
@@ -1309,10 +1322,6 @@ pub(crate) mod tests {
         plan.mission
             .assemble(Some(plan.mission.len() as u16), None)
             .unwrap()
-    }
-
-    fn paths(dropped: &[Dropped]) -> Vec<&str> {
-        dropped.iter().map(|n| n.path.as_str()).collect()
     }
 
     fn lines(dropped: &[Dropped]) -> Vec<String> {
