@@ -32,7 +32,7 @@
 //! - Positions are GeoJSON's `[longitude, latitude]` (a third value, an altitude, is ignored).
 //! - A `Polygon` is one ring, closed as GeoJSON wants it (the last position repeats the first;
 //!   the repeat is dropped, a #2012 polygon is not closed; an unclosed ring is taken as it is).
-//!   A polygon with holes (more than one ring) is refused: an area has none (draw the hole as a
+//!   A hole (a ring after the first) is not supported: an area has none (draw the hole as a
 //!   no-fly-zone of its own).
 //! - A circle is a `Point`, its centre, with the property `radius_m`; its #2012 border point is
 //!   placed due north of the centre at that geodesic distance on WGS-84, as the mission file
@@ -42,33 +42,40 @@
 //!   (1..=65534; features without one get the smallest IDs not given to another, in order),
 //!   `lower_altitude_m`, `upper_altitude_m`, `altitude_type` (`pressure`, `baro`, `agl`,
 //!   `wgs84`). Other properties (a name, a colour) are ignored.
-//! - Features of another geometry (`LineString`, `MultiPolygon`, ...) are not areas: they are
-//!   left out and reported as [`Note`]s, with their path, for the caller to refuse or warn.
-//!   A feature without geometry (`null`) is reported too.
+//! - Features of another geometry (`LineString`, `MultiPolygon`, ...) and features without
+//!   geometry (`null`) are not supported.
 //! - The safety offset is not part of the file (it belongs to the mission: the mission file or
 //!   a command-line option).
 //!
-//! Whether the areas make a valid list (exactly one fly-zone, and it a polygon, at least three
-//! vertices) is left to validation, as for the mission file. A bad file is an error with the
-//! JSON path (e.g. `features[2].geometry.coordinates[0][3]`) and the reason, or with the line
-//! and column of a JSON syntax error.
+//! # Exact or refused
+//!
+//! What the ICD cannot carry or the FCC cannot hold is not supported: a feature that is not an
+//! area (above), a hole, a polygon of more than 60 vertices, a second fly-zone (the ICD has
+//! one), more than ten no-fly-zones (the FCC holds eleven areas, one of them the fly-zone; the
+//! no-fly-zones after the tenth in feature order). The import refuses the file for any of them
+//! ([`Error::Unsupported`], every element with its path, e.g. `features[2]`, and the reason),
+//! unless it is told to drop them ([`Unsupported::Drop`]): then it leaves each out (a hole: the
+//! ring is kept without it) and lists it.
+//!
+//! Whether the areas make a valid list (a fly-zone, and it a polygon, at least three vertices)
+//! is left to validation, as for the mission file. A bad file is an error with the JSON path
+//! (e.g. `features[2].geometry.coordinates[0][3]`) and the reason, or with the line and column
+//! of a JSON syntax error.
 
-use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES};
+use missionlink_interfaces::capacity::{MAX_AREAS, MAX_NO_FLY_ZONES, MAX_POLYGON_VERTICES};
 use missionlink_interfaces::wire::{
     AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, PolygonVertices, Timestamp,
 };
 use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use serde_json::{Map, Value, json};
 
-pub use crate::mission_file::MissionFileError as Error;
-use crate::qgc::{At, note, parse_json, pretty};
+pub use crate::mission_file::{Dropped, MissionFileError as Error};
+pub use crate::qgc::Unsupported;
+use crate::qgc::{At, exact_or_dropped, note, parse_json, pretty};
 use crate::values::{
     altitude, altitude_bounds, border_due_north, degrees, field_error, latitude, longitude, metres,
     radius_mm,
 };
-
-/// A feature left out, with its path and why (the type of the `.plan` import's notes).
-pub type Note = crate::qgc::Unsupported;
 
 const ALTITUDE_TYPES: [(&str, AltitudeType); 4] = [
     ("pressure", AltitudeType::Pressure),
@@ -84,18 +91,51 @@ struct Read {
     area: AreaPolygonLoopSegment,
 }
 
-/// The areas of a GeoJSON `FeatureCollection`, in feature order, and the features left out.
-pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
+/// The areas of a GeoJSON `FeatureCollection`, in feature order, and what was dropped
+/// ([`Unsupported::Drop`]; see [Exact or refused](self#exact-or-refused)).
+pub fn import_areas(
+    text: &str,
+    unsupported: Unsupported,
+) -> Result<(AreaBuffer, Vec<Dropped>), Error> {
     let root = parse_json(text)?;
     let at = At::root(&root);
     at.expect_string("type", "FeatureCollection")?;
-    let mut notes = Vec::new();
+    let mut dropped = Vec::new();
     let mut read: Vec<Read> = Vec::new();
+    let mut fly_zone: Option<String> = None;
+    let mut no_fly_zones = 0;
     for feature in at.field("features")?.items()? {
-        if let Some(r) = read_feature(&feature, &mut notes)? {
-            read.push(r);
+        let Some(r) = read_feature(&feature, &mut dropped)? else {
+            continue;
+        };
+        match r.area.area_type {
+            AreaType::FlyZone => {
+                if let Some(first) = &fly_zone {
+                    dropped.push(note(
+                        &r.path,
+                        format!("a second fly-zone: the ICD has one ({first})"),
+                    ));
+                    continue;
+                }
+                fly_zone = Some(r.path.clone());
+            }
+            AreaType::NoFlyZone => {
+                if no_fly_zones == MAX_NO_FLY_ZONES {
+                    dropped.push(note(
+                        &r.path,
+                        format!(
+                            "more than {MAX_NO_FLY_ZONES} no-fly-zones: the FCC holds \
+                             {MAX_AREAS} areas, one of them the fly-zone"
+                        ),
+                    ));
+                    continue;
+                }
+                no_fly_zones += 1;
+            }
         }
+        read.push(r);
     }
+    let dropped = exact_or_dropped(dropped, unsupported)?;
 
     // IDs: the given ones must be unique; the others take the smallest free ones.
     let mut used: Vec<(u16, String)> = Vec::new();
@@ -124,6 +164,7 @@ pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
             }
         };
         r.area.area_id = id;
+        // At most one fly-zone and MAX_NO_FLY_ZONES no-fly-zones: the buffer holds them.
         buffer.store(&r.area).map_err(|_| {
             field_error(
                 r.path.clone(),
@@ -131,21 +172,23 @@ pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Note>), Error> {
             )
         })?;
     }
-    Ok((buffer, notes))
+    Ok((buffer, dropped))
 }
 
-fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>, Error> {
+/// The area of one feature; `None` (and the feature in `dropped`) when it is not one the ICD
+/// carries. A hole is dropped and the feature kept.
+fn read_feature(feature: &At<'_>, dropped: &mut Vec<Dropped>) -> Result<Option<Read>, Error> {
     feature.expect_string("type", "Feature")?;
     let geometry = feature.field("geometry")?;
     if geometry.value.is_null() {
-        notes.push(note(&feature.path, "no geometry: not an area, left out"));
+        dropped.push(note(&feature.path, "no geometry: not an area"));
         return Ok(None);
     }
     let kind = geometry.field("type")?.string()?;
     if kind != "Polygon" && kind != "Point" {
-        notes.push(note(
+        dropped.push(note(
             &feature.path,
-            format!("a {kind} is not an area (only Polygon, and Point with radius_m): left out"),
+            format!("a {kind} is not an area (only Polygon, and Point with radius_m)"),
         ));
         return Ok(None);
     }
@@ -204,13 +247,15 @@ fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>,
     let coordinates = geometry.field("coordinates")?;
     let shape = if kind == "Polygon" {
         let rings = coordinates.items()?;
-        let [ring] = rings.as_slice() else {
-            return Err(match rings.get(1) {
-                Some(hole) => hole
-                    .error("a hole: an area has none (draw the hole as a no-fly-zone of its own)"),
-                None => coordinates.error("no ring: a Polygon needs one"),
-            });
+        let Some((ring, holes)) = rings.split_first() else {
+            return Err(coordinates.error("no ring: a Polygon needs one"));
         };
+        for hole in holes {
+            dropped.push(note(
+                &hole.path,
+                "a hole: an area has none (draw the hole as a no-fly-zone of its own)",
+            ));
+        }
         let mut vertices = Vec::new();
         for p in ring.items()? {
             vertices.push(position(&p)?);
@@ -218,12 +263,17 @@ fn read_feature(feature: &At<'_>, notes: &mut Vec<Note>) -> Result<Option<Read>,
         if vertices.len() > 1 && vertices.first() == vertices.last() {
             vertices.pop();
         }
-        AreaShape::Polygon(PolygonVertices::from_slice(&vertices).map_err(|_| {
-            ring.error(format!(
-                "{} vertices, at most {MAX_POLYGON_VERTICES} fit a #2012",
-                vertices.len()
-            ))
-        })?)
+        let Ok(polygon) = PolygonVertices::from_slice(&vertices) else {
+            dropped.push(note(
+                &feature.path,
+                format!(
+                    "{} vertices, at most {MAX_POLYGON_VERTICES} fit a #2012",
+                    vertices.len()
+                ),
+            ));
+            return Ok(None);
+        };
+        AreaShape::Polygon(polygon)
     } else {
         let centre = position(&coordinates)?;
         let radius_at = properties.field("radius_m")?;
@@ -325,7 +375,42 @@ mod tests {
     }
 
     fn err(text: &str) -> String {
-        import_areas(text).unwrap_err().to_string()
+        import_areas(text, Unsupported::Refuse)
+            .unwrap_err()
+            .to_string()
+    }
+
+    fn lines(dropped: &[Dropped]) -> Vec<String> {
+        dropped.iter().map(ToString::to_string).collect()
+    }
+
+    /// A feature collection of `features` (JSON objects).
+    fn collection(features: &[String]) -> String {
+        format!(
+            r#"{{"type": "FeatureCollection", "features": [{}]}}"#,
+            features.join(",\n")
+        )
+    }
+
+    /// A polygon feature of `zone` with the ring of a small square at (`lat`, `lon`) and
+    /// `holes` more rings.
+    fn square(zone: &str, lat: f64, lon: f64, holes: usize) -> String {
+        let ring = |lat: f64, lon: f64, size: f64| {
+            format!(
+                "[[{lon}, {lat}], [{}, {lat}], [{}, {}], [{lon}, {}], [{lon}, {lat}]]",
+                lon + size,
+                lon + size,
+                lat + size,
+                lat + size
+            )
+        };
+        let mut rings = vec![ring(lat, lon, 0.01)];
+        rings.extend((0..holes).map(|_| ring(lat + 0.004, lon + 0.004, 0.002)));
+        format!(
+            r#"{{"type": "Feature", "properties": {{"zone": "{zone}"}},
+                "geometry": {{"type": "Polygon", "coordinates": [{}]}}}}"#,
+            rings.join(", ")
+        )
     }
 
     #[test]
@@ -361,8 +446,8 @@ mod tests {
             300.0
         );
 
-        let (buffer, notes) = import_areas(&text).unwrap();
-        assert!(notes.is_empty(), "{notes:?}");
+        let (buffer, dropped) = import_areas(&text, Unsupported::Refuse).unwrap();
+        assert!(dropped.is_empty(), "{dropped:?}");
         let back = buffer.assemble(3, list.safety_offset).unwrap();
         crate::qgc::tests::assert_same_areas(&back.areas, &list.areas);
         for (a, b) in back.areas.iter().zip(&list.areas) {
@@ -381,7 +466,7 @@ mod tests {
     }
 
     #[test]
-    fn ids_are_given_or_assigned_and_other_geometries_are_reported() {
+    fn ids_are_given_or_assigned_and_other_geometries_are_refused_or_dropped() {
         let text = r#"{"type": "FeatureCollection", "features": [
           {"type": "Feature", "properties": {"zone": "no-fly-zone", "radius_m": 150},
            "geometry": {"type": "Point", "coordinates": [11.66, 48.27, 500]}},
@@ -392,16 +477,16 @@ mod tests {
                         "coordinates": [[[11.6, 48.2], [11.7, 48.2], [11.7, 48.3], [11.6, 48.2]]]}},
           {"type": "Feature", "properties": {}, "geometry": null}
         ]}"#;
-        let (buffer, notes) = import_areas(text).unwrap();
-        let notes: Vec<String> = notes.iter().map(ToString::to_string).collect();
-        assert_eq!(
-            notes,
-            [
-                "features[1]: a LineString is not an area (only Polygon, and Point with \
-                 radius_m): left out",
-                "features[3]: no geometry: not an area, left out",
-            ]
-        );
+        let expected = [
+            "features[1]: a LineString is not an area (only Polygon, and Point with radius_m)",
+            "features[3]: no geometry: not an area",
+        ];
+        match import_areas(text, Unsupported::Refuse) {
+            Err(Error::Unsupported { elements }) => assert_eq!(lines(&elements), expected),
+            other => panic!("{other:?}"),
+        }
+        let (buffer, dropped) = import_areas(text, Unsupported::Drop).unwrap();
+        assert_eq!(lines(&dropped), expected);
         let list = buffer.assemble(2, SafetyOffset::default()).unwrap();
         assert_eq!(list.areas[0].area_id, 2, "1 is given to the fly-zone");
         assert_eq!(list.areas[1].area_id, 1);
@@ -458,7 +543,8 @@ mod tests {
         let cases: &[(String, &str)] = &[
             (
                 with_radius(&format!("[{square}, {hole}]"), nfz),
-                "features[2].geometry.coordinates[1]: a hole: an area has none (draw the hole \
+                "not imported: 1 element the ICD cannot carry or the FCC cannot hold; \
+                 features[2].geometry.coordinates[1]: a hole: an area has none (draw the hole \
                  as a no-fly-zone of its own)",
             ),
             (
@@ -522,7 +608,10 @@ mod tests {
             "features[1].properties.radius_m: -5 m: the radius must be above 0"
         );
         // Syntax: line and column.
-        match import_areas("{\"type\": \"FeatureCollection\",\n \"features\": [}\n") {
+        match import_areas(
+            "{\"type\": \"FeatureCollection\",\n \"features\": [}\n",
+            Unsupported::Refuse,
+        ) {
             Err(Error::Syntax { line, column, .. }) => assert_eq!((line, column), (2, 15)),
             other => panic!("{other:?}"),
         }
@@ -533,7 +622,54 @@ mod tests {
         let long = with_radius(&format!("[[{}]]", many.join(", ")), nfz);
         assert_eq!(
             err(&long),
-            "features[2].geometry.coordinates[0]: 62 vertices, at most 60 fit a #2012"
+            "not imported: 1 element the ICD cannot carry or the FCC cannot hold; \
+             features[2]: 62 vertices, at most 60 fit a #2012"
         );
+        let (areas, dropped) = import_areas(&long, Unsupported::Drop).unwrap();
+        assert_eq!(
+            lines(&dropped),
+            ["features[2]: 62 vertices, at most 60 fit a #2012"]
+        );
+        assert_eq!(areas.len(), 2);
+    }
+
+    #[test]
+    fn what_the_fcc_cannot_hold_is_refused_or_dropped() {
+        // A second fly-zone, a hole, and eleven no-fly-zones.
+        let mut features = vec![
+            square("fly-zone", 48.0, 11.0, 0),
+            square("fly-zone", 48.1, 11.0, 0),
+        ];
+        features.extend((0..11).map(|k| {
+            square(
+                "no-fly-zone",
+                48.0,
+                11.02 + 0.02 * f64::from(k),
+                usize::from(k == 0),
+            )
+        }));
+        let text = collection(&features);
+        let expected = [
+            "features[1]: a second fly-zone: the ICD has one (features[0])",
+            "features[2].geometry.coordinates[1]: a hole: an area has none (draw the hole as a \
+             no-fly-zone of its own)",
+            "features[12]: more than 10 no-fly-zones: the FCC holds 11 areas, one of them the \
+             fly-zone",
+        ];
+        match import_areas(&text, Unsupported::Refuse) {
+            Err(Error::Unsupported { elements }) => assert_eq!(lines(&elements), expected),
+            other => panic!("{other:?}"),
+        }
+        let (buffer, dropped) = import_areas(&text, Unsupported::Drop).unwrap();
+        assert_eq!(lines(&dropped), expected);
+        let list = buffer.assemble(11, SafetyOffset::default()).unwrap();
+        let ids: Vec<u16> = list.areas.iter().map(|a| a.area_id).collect();
+        assert_eq!(ids, (1..=11).collect::<Vec<u16>>());
+        // The polygon whose hole was dropped keeps its ring.
+        let AreaShape::Polygon(ring) = &list.areas[1].shape else {
+            panic!()
+        };
+        assert_eq!(ring.len(), 4);
+        assert_eq!(ring[0], GeoPoint::from_degrees(48.0, 11.02).unwrap());
     }
 }

@@ -6,12 +6,16 @@
 //! The file holds everything ICD §4 can carry in a mission and an area upload: the Mission ID of
 //! #13000, the take-off height (#13006 type 1), the route (#13001), every waypoint (#13002) with
 //! its radius-to-fix centre (#13006 type 2), the Safety Offset of #2011 and every area (#2012).
-//! Time stamps are not part of it: they are given at sending.
+//! Besides, it holds the planned take-off position, which is not sent (the FCC takes off where
+//! navigation says it stands, ICD §7) but which the safety gateway checks: the take-off point,
+//! the climb and the leg to the initial waypoint. Time stamps are not part of it: they are given
+//! at sending.
 //!
 //! # Conventions
 //!
 //! - Units are in the key names: `_deg` degrees (WGS-84), `_m` metres, `_mps` metres per second.
-//! - A position is a pair `[latitude_deg, longitude_deg]` (in `polygon`, `centre`, `border`).
+//! - A position is a pair `[latitude_deg, longitude_deg]` (in `take_off_position`, `polygon`,
+//!   `centre`, `border`).
 //! - Enumerations are kebab-case words, e.g. `"wgs84"`, `"fly-by"`, `"radius-to-fix"`.
 //! - Keys marked *optional* may be left out: the field is then absent from the message, as the
 //!   ICD allows. Every other key is required. Unknown keys are an error (a misspelt optional key
@@ -30,6 +34,7 @@
 //! ```toml
 //! mission_id = "MEDEVAC-2"    # optional, #13000 Mission ID, at most 19 bytes
 //! take_off_height_m = 30.0    # #13006 type 1, above ground, not below 0
+//! take_off_position = [48.275, 11.645]  # where the aircraft stands before take-off (CCP)
 //! take_off_activity_id = 0    # optional, Activity ID of that #13006
 //! safety_offset_m = 25.0      # #2011: the geofence keeps this distance from every area border
 //!
@@ -111,7 +116,13 @@
 //! # Keys
 //!
 //! Top level: `mission_id` (optional), `take_off_height_m`, `take_off_activity_id` (optional),
-//! `safety_offset_m`, the table `[route]`, the arrays of tables `[[waypoints]]` and `[[areas]]`.
+//! `take_off_position` (optional), `safety_offset_m`, the table `[route]`, the arrays of tables
+//! `[[waypoints]]` and `[[areas]]`.
+//!
+//! `take_off_position` is the planned take-off position `[latitude_deg, longitude_deg]` (WGS-84;
+//! the aircraft climbs there vertically to `take_off_height_m`, then flies to the initial
+//! waypoint). It is optional as a key because a download has none (the FCC does not hold it):
+//! a file without it is still read, and validation refuses its plan (a `PLAN-*` violation).
 //!
 //! A waypoint: `number`, `next`, `latitude_deg`, `longitude_deg`, `altitude_m`, `speed_mps`,
 //! `turn_type`, `leg_type`; optional `altitude_type`, `speed_type`, `location_type`,
@@ -136,7 +147,8 @@
 //! - [`MissionFile::to_plan`] checks each value against what the wire types and the FCC's
 //!   message decoding accept: ranges, text lengths, enumeration words, duplicate waypoint numbers
 //!   or area IDs, at most 256 waypoints, 11 areas, 60 vertices per polygon
-//!   ([`MissionFileError::Field`], with the path of the key, e.g. `waypoints[2].latitude_deg`).
+//!   ([`MissionFileError::Field`], with the path of the key, e.g. `waypoints[2].latitude_deg`
+//!   or `take_off_position`).
 //! - The plan as a whole is left to the GCS validation (`GroundStation::validate`, the FCC's
 //!   assembly, ICD §7): the chain of `next` from the initial waypoint, the waypoint count, RF
 //!   centres of radius-to-fix waypoints, exactly one fly-zone that is a polygon, circle radius
@@ -175,6 +187,10 @@ pub struct MissionFile {
     /// Activity ID (U3) of the take-off #13006.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub take_off_activity_id: Option<i64>,
+    /// The planned take-off position, `[latitude_deg, longitude_deg]` (not sent; checked by the
+    /// safety gateway). `None`: not known (a download), and validation refuses the plan.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub take_off_position: Option<[f64; 2]>,
     /// #2011 Safety Offset, metres (0 to 6553.5).
     pub safety_offset_m: f64,
     /// #13001.
@@ -341,6 +357,32 @@ pub enum MissionFileError {
         /// What is wrong.
         reason: String,
     },
+    /// An imported file (QGroundControl `.plan`, GeoJSON) holds elements that the ICD cannot
+    /// carry or the FCC cannot hold, and the import was not told to drop them: the plan would
+    /// not be the one planned. Every such element, in file order (at least one).
+    Unsupported {
+        /// The elements, each with its JSON path and the reason.
+        elements: Vec<Dropped>,
+    },
+}
+
+/// An element of an imported file that the ICD cannot carry or the FCC cannot hold: where (the
+/// JSON path, e.g. `mission.items[4]`, `geoFence.polygons[1]`, `features[2]`) and why. An import
+/// refuses the file for it ([`MissionFileError::Unsupported`]) unless told to drop such
+/// elements; then it lists every one it left out. An export uses it too, for what the target
+/// format cannot hold.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Dropped {
+    /// The JSON path of the element, e.g. `geoFence.circles[0]`.
+    pub path: String,
+    /// What is not carried (and, where something is kept instead, what).
+    pub reason: String,
+}
+
+impl fmt::Display for Dropped {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path, self.reason)
+    }
 }
 
 impl fmt::Display for MissionFileError {
@@ -353,6 +395,18 @@ impl fmt::Display for MissionFileError {
                 message,
             } => write!(f, "line {line}, column {column}: {message}"),
             Self::Field { path, reason } => write!(f, "{path}: {reason}"),
+            Self::Unsupported { elements } => {
+                write!(
+                    f,
+                    "not imported: {} element{} the ICD cannot carry or the FCC cannot hold",
+                    elements.len(),
+                    if elements.len() == 1 { "" } else { "s" }
+                )?;
+                for e in elements {
+                    write!(f, "; {e}")?;
+                }
+                Ok(())
+            }
         }
     }
 }
@@ -455,19 +509,23 @@ impl MissionFile {
             safety_offset: SafetyOffset::from_metres(self.safety_offset_m)
                 .map_err(|e| field_error("safety_offset_m", e.to_string()))?,
             mission_id: optional(self.mission_id.as_deref(), |s| text("mission_id", s))?,
-            take_off_position: None,
+            take_off_position: optional(self.take_off_position, |[lat, lon]| {
+                point("take_off_position", lat, lon)
+            })?,
         })
     }
 
-    /// The file of a validated plan (`gcs download -o`): the waypoints in flight-plan order, the
+    /// The file of a validated plan and its planned take-off position (`gcs convert`; `gcs
+    /// download -o` has none, the FCC does not hold it): the waypoints in flight-plan order, the
     /// areas in list order, every value exact.
-    pub fn from_plan(plan: &ValidatedPlan) -> Self {
+    pub fn from_plan(plan: &ValidatedPlan, take_off_position: Option<GeoPoint>) -> Self {
         let mission = &plan.mission;
         let route = &mission.route;
         Self {
             mission_id: mission.mission_id.map(|t| t.as_str().to_owned()),
             take_off_height_m: metres(mission.take_off_height()),
             take_off_activity_id: mission.take_off.activity_id.map(u3),
+            take_off_position: take_off_position.map(position),
             safety_offset_m: shortest(plan.areas.safety_offset.metres(), |m| {
                 SafetyOffset::from_metres(m) == Ok(plan.areas.safety_offset)
             }),
@@ -499,9 +557,16 @@ impl MissionFile {
         } else {
             body
         };
+        let take_off = if self.take_off_position.is_none() {
+            "# No take_off_position: the FCC does not hold it, so a download has none. Add it\n\
+             # (take_off_position = [latitude_deg, longitude_deg]) before uploading this file:\n\
+             # validation refuses a plan without one.\n"
+        } else {
+            ""
+        };
         format!(
             "# missionlink mission file (format: gcs/src/mission_file.rs in missionlink).\n\
-             # Positions are [latitude_deg, longitude_deg] on WGS-84.\n\n{body}"
+             # Positions are [latitude_deg, longitude_deg] on WGS-84.\n{take_off}\n{body}"
         )
     }
 }
@@ -697,7 +762,7 @@ impl AreaEntry {
     }
 
     fn from_area(area: &AreaPolygonLoopSegment) -> Self {
-        let pair = |p: &GeoPoint| [degrees(p.latitude), degrees(p.longitude)];
+        let pair = |p: &GeoPoint| position(*p);
         let (polygon, circle) = match &area.shape {
             AreaShape::Polygon(vertices) => (Some(vertices.iter().map(pair).collect()), None),
             AreaShape::Circle { centre, border } => (
@@ -722,6 +787,12 @@ impl AreaEntry {
 }
 
 // ---- Values ----
+
+/// A position as the file writes it, `[latitude_deg, longitude_deg]`: the shortest decimals
+/// that give the wire values back (for reports too, e.g. `gcs validate`).
+pub fn position(p: GeoPoint) -> [f64; 2] {
+    [degrees(p.latitude), degrees(p.longitude)]
+}
 
 /// `f` applied to the value, if there is one.
 fn optional<T, U>(
@@ -1076,26 +1147,43 @@ pub(crate) mod tests {
         assert!(err.to_string().starts_with(&missing.display().to_string()));
     }
 
-    /// Export, parse, plan, validate: the same plan, and the same file again.
-    fn assert_round_trip(v: &ValidatedPlan) {
-        let file = MissionFile::from_plan(v);
+    /// The plan of the file `text` (before assembly).
+    fn plan_of(text: &str) -> MissionPlan {
+        MissionFile::parse(text).unwrap().to_plan().unwrap()
+    }
+
+    /// The file of `text` as an export writes it (the plan validated, with its take-off).
+    fn exported(text: &str) -> MissionFile {
+        let plan = plan_of(text);
+        MissionFile::from_plan(&plan.assemble().unwrap(), plan.take_off_position)
+    }
+
+    /// Export, parse, plan, validate: the same plan and take-off position, and the same file
+    /// again.
+    fn assert_round_trip(plan: &MissionPlan) {
+        let v = plan.assemble().unwrap();
+        let file = MissionFile::from_plan(&v, plan.take_off_position);
         let text = file.to_toml();
         let parsed = MissionFile::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert_eq!(parsed, file, "{text}");
-        let again = parsed.to_plan().unwrap().assemble().unwrap();
-        assert_eq!(&again, v, "{text}");
-        assert_eq!(MissionFile::from_plan(&again).to_toml(), text);
+        let again = parsed.to_plan().unwrap();
+        assert_eq!(again.take_off_position, plan.take_off_position, "{text}");
+        let again_valid = again.assemble().unwrap();
+        assert_eq!(again_valid, v, "{text}");
+        assert_eq!(
+            MissionFile::from_plan(&again_valid, again.take_off_position).to_toml(),
+            text
+        );
     }
 
     #[test]
     fn export_round_trip_gives_back_the_plan() {
         for text in [MISSION_1, MISSION_2] {
-            let v = validated(text);
-            assert_round_trip(&v);
+            assert_round_trip(&plan_of(text));
         }
         // The export of a demo mission writes the same numbers as the file: the shortest
         // decimals of the wire values.
-        let exported = MissionFile::from_plan(&validated(MISSION_2));
+        let exported = exported(MISSION_2);
         let mut original = MissionFile::parse(MISSION_2).unwrap();
         assert_eq!(exported, original);
         original.waypoints[2].latitude_deg = 48.280_000_001;
@@ -1230,8 +1318,8 @@ pub(crate) mod tests {
         for (name, text) in &cases {
             let file = MissionFile::parse(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             let plan = file.to_plan().unwrap_or_else(|e| panic!("{name}: {e}"));
-            let v = plan.assemble().unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_round_trip(&v);
+            plan.assemble().unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_round_trip(&plan);
         }
 
         // Spot checks of what the cases hold.
@@ -1250,7 +1338,7 @@ pub(crate) mod tests {
         assert_eq!(v.mission.take_off.activity_id, U3::new(16_777_215));
         assert_eq!(v.areas.safety_offset.raw(), 3);
         assert_eq!(v.areas.areas[0].lower_altitude.unwrap().raw(), -617);
-        let text = MissionFile::from_plan(&v).to_toml();
+        let text = MissionFile::from_plan(&v, None).to_toml();
         assert!(
             text.contains("arrival_time = 2026-11-21T12:06:00.3Z\n"),
             "{text}"
@@ -1258,7 +1346,7 @@ pub(crate) mod tests {
         assert!(text.contains("lower_altitude_m = -12.34\n"), "{text}");
 
         let v = validated(&cases[2].1);
-        let text = MissionFile::from_plan(&v).to_toml();
+        let text = MissionFile::from_plan(&v, None).to_toml();
         // BAM4 keeps about 7 decimals; the export writes the shortest decimal of the wire value.
         assert!(text.contains("latitude_deg = 48.1234568\n"), "{text}");
         assert!(text.contains("longitude_deg = -180.0\n"), "{text}");
@@ -1273,7 +1361,7 @@ pub(crate) mod tests {
         let v = validated(&cases[5].1);
         let t = v.mission.waypoints[0].waypoint.arrival_time.unwrap();
         assert_eq!(t.to_string(), "2026-11-21T12:06:00.000Z");
-        let text = MissionFile::from_plan(&v).to_toml();
+        let text = MissionFile::from_plan(&v, None).to_toml();
         assert!(
             text.contains("arrival_time = 2026-11-21T12:06:00Z\n"),
             "{text}"
@@ -1305,7 +1393,7 @@ pub(crate) mod tests {
         // One BAM4 step of latitude is about 9.3 mm.
         assert!((metres - 296.07).abs() < 0.01, "{metres}");
         // Exported, the circle has its exact border point and no radius.
-        let file = MissionFile::from_plan(&v);
+        let file = MissionFile::from_plan(&v, None);
         let circle = file.areas[1].circle.as_ref().unwrap();
         assert_eq!(circle.radius_m, None);
         assert_eq!(
@@ -1450,6 +1538,22 @@ pub(crate) mod tests {
                 "-1 m is below ground (0)",
             ),
             (
+                &[(
+                    "take_off_position = [48.275, 11.645]",
+                    "take_off_position = [95, 11.645]",
+                )],
+                "take_off_position",
+                "latitude 95 deg is outside -90..=90",
+            ),
+            (
+                &[(
+                    "take_off_position = [48.275, 11.645]",
+                    "take_off_position = [48.275, -180.5]",
+                )],
+                "take_off_position",
+                "longitude -180.5 deg is outside -180..=180",
+            ),
+            (
                 &[("safety_offset_m = 25.0", "safety_offset_m = 7000")],
                 "safety_offset_m",
                 "safety offset (m) 7000 is outside 0..=6553.5",
@@ -1579,6 +1683,40 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn the_take_off_position_is_read_written_and_may_be_absent() {
+        let point_of = |text: &str| plan_of(text).take_off_position;
+        assert_eq!(point_of(MISSION_1), Some(point(48.26, 11.66)), "TROL");
+        assert_eq!(point_of(MISSION_2), Some(point(48.275, 11.645)), "CCP");
+        let text = exported(MISSION_1).to_toml();
+        assert!(
+            text.contains("take_off_height_m = 30.0\ntake_off_position = [48.26, 11.66]\n"),
+            "{text}"
+        );
+        assert!(!text.contains("No take_off_position"), "{text}");
+        // Not a pair of numbers: a syntax error at the key.
+        let (line, _, message) = syntax_err(&edit(
+            MISSION_1,
+            &[(
+                "take_off_position = [48.26, 11.66]",
+                "take_off_position = [48.26]",
+            )],
+        ));
+        assert_eq!(line, 10, "{message}");
+        // Absent (a download): read, and written with a comment that says why it is missing.
+        let without = edit(MISSION_1, &[("take_off_position = [48.26, 11.66]", "")]);
+        assert_eq!(point_of(&without), None);
+        let downloaded = MissionFile::from_plan(&validated(MISSION_1), None);
+        assert_eq!(downloaded.take_off_position, None);
+        let text = downloaded.to_toml();
+        assert!(
+            text.contains("# No take_off_position: the FCC does not hold it"),
+            "{text}"
+        );
+        assert!(!text.contains("\ntake_off_position"), "{text}");
+        assert_round_trip(&plan_of(&without));
+    }
+
+    #[test]
     fn a_two_vertex_polygon_is_a_file_but_not_a_valid_plan() {
         let text = edit(
             MISSION_2,
@@ -1647,7 +1785,7 @@ pub(crate) mod tests {
             .collect();
         assert!(example.contains("[[areas]]"));
         let v = validated(&example);
-        assert_round_trip(&v);
+        assert_round_trip(&plan_of(&example));
         // The example is demo mission 2 plus optional fields.
         let demo = validated(MISSION_2);
         assert_eq!(v.mission.waypoints.len(), demo.mission.waypoints.len());

@@ -1,12 +1,22 @@
-//! QGroundControl `.plan` files: import into a [`MissionPlan`] (waypoints and areas) and export of
-//! a [`ValidatedPlan`]. A `.plan` file is JSON: `mission` (the items, the planned home position,
-//! the planning speeds), `geoFence` (polygons and circles) and `rallyPoints`. What the ICD cannot
-//! carry is never dropped silently: the import returns it as a list of [`Unsupported`] notes,
-//! each with the JSON path of the item (e.g. `mission.items[4]`) and the reason; the caller (the
-//! `gcs` tool) decides whether to refuse the file or to warn. A file that is not a `.plan` at all
-//! or holds a value that cannot be read is an error ([`MissionFileError::Syntax`] with line and
-//! column from the JSON parser, or [`MissionFileError::Field`] with the JSON path, e.g.
-//! `mission.items[3].params[4]`).
+//! QGroundControl `.plan` files: import into a [`MissionPlan`] (waypoints, areas and the planned
+//! take-off position) and export of a [`ValidatedPlan`]. A `.plan` file is JSON: `mission` (the
+//! items, the planned home position, the planning speeds), `geoFence` (polygons and circles) and
+//! `rallyPoints`. A file that is not a `.plan` at all or holds a value that cannot be read is an
+//! error ([`MissionFileError::Syntax`] with line and column from the JSON parser, or
+//! [`MissionFileError::Field`] with the JSON path, e.g. `mission.items[3].params[4]`).
+//!
+//! # Exact or refused
+//!
+//! The import gives the plan the file describes, or none: an element that the ICD cannot carry
+//! or the FCC cannot hold (each marked *not supported* below) makes it fail with
+//! [`MissionFileError::Unsupported`], which names every such element with its JSON path (e.g.
+//! `mission.items[3]`, `geoFence.polygons[1]`, `geoFence.circles[10]`) and the reason. An
+//! operator who wants the rest anyway says so ([`ImportOptions::unsupported`],
+//! [`Unsupported::Drop`]; `gcs --drop unsupported`): the elements are then left out and listed in
+//! [`QgcImport::dropped`], so that validation judges what will be uploaded. Nothing is
+//! approximated. What only QGC uses and changes nothing the FCC flies is not an element of this
+//! kind: the planned home position, the take-off item once its position and height are taken,
+//! the acceptance radius and yaw of a waypoint (0, "the vehicle's default").
 //!
 //! # Import: mission items
 //!
@@ -15,25 +25,28 @@
 //! - **Take-off** (22 `NAV_TAKEOFF`, 84 `NAV_VTOL_TAKEOFF`): its altitude gives the take-off
 //!   height (#13006 type 1, above ground). In a relative or terrain frame the altitude is the
 //!   height; in a global (AMSL) frame the height is the altitude less the planned home altitude.
-//!   The ICD's take-off has a height only: a take-off position further than 1 m from the planned
-//!   home is reported (the aircraft climbs where it stands). ArduPilot's minimum pitch (param 1)
-//!   and the yaw are not carried. A second take-off, or one after a waypoint, is reported.
+//!   Its latitude and longitude (params 5 and 6), when not 0 or null, are the planned take-off
+//!   position ([`MissionPlan::take_off_position`]: not sent, checked by the safety gateway);
+//!   otherwise the planned home is. ArduPilot's minimum pitch (param 1) and the yaw are not
+//!   carried. A second take-off is not supported; a take-off after a waypoint is an error (the
+//!   ICD's take-off comes first), and so is a file without a take-off (the ICD's mission needs
+//!   its height).
 //! - **Waypoint** (16 `NAV_WAYPOINT`): a track-to-fix #13002. Waypoints are numbered 1..n in
 //!   item order, each one's next is the following one and the last one's next is 0; the route
 //!   (#13001) starts at waypoint 1 and is one-way unless [`ImportOptions::bidirectional`]. The
-//!   turn is fly-by; a hold time above 0 (param 1) makes it fly-over, and the hold itself is
-//!   reported (the ICD has no hold). The acceptance and pass radii and the yaw are not carried
-//!   (PX4 and ArduPilot treat 0, the value QGC writes, as "the vehicle's default").
+//!   turn is fly-by. A hold time above 0 (param 1) is not supported (the ICD has no hold);
+//!   dropped, the waypoint is fly-over. The acceptance and pass radii and the yaw are not
+//!   carried (PX4 and ArduPilot treat 0, the value QGC writes, as "the vehicle's default").
 //! - **Land** (21 `NAV_LAND`, 85 `NAV_VTOL_LAND`): the land position is the last waypoint of the
 //!   route, because the FCC lands at the last waypoint by itself (as demo mission 2 lands at
 //!   ROLE2). When the waypoint before already lies at that position (the same wire value), it is
 //!   the last waypoint and no waypoint is added; otherwise a fly-over waypoint is added at the
 //!   land position, at the altitude (and altitude type) of the waypoint before: the approach
 //!   altitude, the descent being the FCC's. The land altitude of the item is not used. Items
-//!   after a land are reported (the route ends there).
+//!   after a land are not supported (the route ends there).
 //! - **Speed change** (178 `DO_CHANGE_SPEED`): applies to the waypoints that follow. Param 1
 //!   is the speed type (0 airspeed -> indicated airspeed, 1 ground speed -> ground speed; 2 and 3,
-//!   climb and descent speeds, are reported), param 2 the speed in m/s (-1: no change). The
+//!   climb and descent speeds, are not supported), param 2 the speed in m/s (-1: no change). The
 //!   waypoints before any speed change fly the file's planning speed as QGC does: `hoverSpeed`
 //!   for a multi-rotor `vehicleType` (MAV_TYPE 2, 3, 4, 13, 14, 15, 29, 35, QGC's
 //!   `isMultiRotor`), `cruiseSpeed` for every other (fixed-wing, VTOL, rover), with no speed
@@ -44,41 +57,41 @@
 //!   terrain, AGL; 0 `GLOBAL` and 5 are AMSL, written as WGS-84 (type 3; the geoid separation is
 //!   not applied). QGC's "calculated above terrain" mode (`AltitudeMode` 3) saves frame 0 with a
 //!   null altitude when it had no terrain data: the item's `Altitude` (above terrain) is then
-//!   taken as AGL. Any other frame is reported and the item skipped.
-//! - **Everything else** is reported with its index and skipped: other commands (loiters 17, 18,
-//!   19, 31, return-to-launch 20, region of interest 195 and 201, camera, jumps, ...), complex
-//!   items (surveys, corridor and structure scans, landing patterns) and rally points.
+//!   taken as AGL. Any other frame is not supported (the item, path `.frame`).
+//! - **Everything else** is not supported: other commands (loiters 17, 18, 19, 31,
+//!   return-to-launch 20, region of interest 195 and 201, camera, jumps, ...), complex items
+//!   (surveys, corridor and structure scans, landing patterns) and rally points.
 //!
 //! A file without a waypoint or land item is an error ("no waypoints"); its geofence can still
-//! be imported with [`import_areas`]. A file without a take-off is imported with a note: the
-//! plan then has no take-off height and validation refuses it.
+//! be imported with [`import_areas`].
 //!
 //! The planned home position (`plannedHomePosition`, `[latitude, longitude, altitude AMSL]`) is
-//! the reference of the take-off: the AMSL take-off altitudes are measured from it and the
-//! take-off position is compared with it. It is not a waypoint (the ICD has no home position);
-//! it is returned in [`QgcImport::home`] for an export to write back.
+//! the reference of AMSL take-off altitudes and the take-off position when the take-off item
+//! has none (QGC's "not set", (0, 0), is none). It is not a waypoint (the ICD has no home
+//! position); it is returned in [`QgcImport::home`] for an export to write back.
 //!
 //! # Import: geofence
 //!
-//! Inclusion polygons are the fly-zone (exactly one: a second one is reported and left out),
-//! exclusion polygons and circles are no-fly-zones (a circle's border point is placed due north
-//! of its centre at the radius, a geodesic on WGS-84). An inclusion circle is
-//! not a fly-zone the ICD carries (a polygon): when there is no inclusion polygon it is
-//! approximated by the inscribed polygon of 60 vertices (on the safe side: at most
-//! `r (1 - cos 3°)`, 1.4 m per km of radius, inside the circle) and reported; otherwise it is
-//! reported and left out. Area IDs are 1..n: the fly-zone first, then the exclusion polygons and
-//! the exclusion circles in file order. QGC has no safety offset: it is
-//! [`ImportOptions::safety_offset_m`] (0 by default). Polygons of more than 60 vertices and areas
-//! beyond the eleven an area list holds are reported and left out. A file without a geofence
-//! gives no areas (they may come from elsewhere, e.g. GeoJSON).
+//! The inclusion polygon is the fly-zone; a second one is not supported (the ICD has one
+//! fly-zone). Exclusion polygons and circles are no-fly-zones (a circle's border point is placed
+//! due north of its centre at the radius, a geodesic on WGS-84). An inclusion circle is not
+//! supported: the ICD's fly-zone is a polygon (draw it as one). The FCC holds eleven areas, one
+//! of them the fly-zone: the no-fly-zones after the tenth (exclusion polygons first, then
+//! circles, in file order) are not supported, and neither are polygons of more than 60
+//! vertices. Area IDs are 1..n: the fly-zone first, then the exclusion polygons and the
+//! exclusion circles in file order. QGC has no safety offset: it is
+//! [`ImportOptions::safety_offset_m`] (0 by default). A file without a geofence gives no areas
+//! (they may come from elsewhere, e.g. GeoJSON).
 //!
 //! # Export
 //!
 //! [`export_plan`] writes a `.plan` (`fileType` "Plan", version 1, `groundStation`
-//! "missionlink") that QGC reads: a take-off at the home position with the take-off height
+//! "missionlink") that QGC reads: a take-off at the planned take-off position
+//! ([`ExportOptions::take_off_position`], else the home position) with the take-off height
 //! (frame 3), a `DO_CHANGE_SPEED` wherever the speed or its type changes (the first waypoint's
 //! speed is also `cruiseSpeed` and `hoverSpeed`), every waypoint in flight-plan order (AGL in
-//! frame 3, WGS-84 in frame 0), a land at the last waypoint, the planned home, the geofence (the
+//! frame 3, WGS-84 in frame 0), a land at the last waypoint, the planned home (given, else the
+//! take-off position, else the first waypoint, at 0 m AMSL), the geofence (the
 //! fly-zone an inclusion polygon, no-fly polygons exclusion polygons, no-fly circles exclusion
 //! circles whose radius is the geodesic distance centre -> border point, to the millimetre)
 //! and no rally points. What QGC cannot hold is returned as notes: radius-to-fix legs
@@ -88,7 +101,9 @@
 //! fields (arrival time, activity ID, limits) are not written. Area IDs are not kept: QGC
 //! holds polygons and circles in two lists, and an import numbers them as above.
 
-use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
+use missionlink_interfaces::capacity::{
+    MAX_AREAS, MAX_NO_FLY_ZONES, MAX_POLYGON_VERTICES, MAX_WAYPOINTS,
+};
 use missionlink_interfaces::wire::{
     Altitude, AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType,
     PolygonVertices, SafetyOffset, SpecificData, Speed, SpeedType, Timestamp, TurnType,
@@ -104,40 +119,44 @@ use crate::values::{
     altitude, border_due_north, degrees, field_error, latitude, longitude, metres, point, radius,
     radius_mm,
 };
-use missionlink_services::geofence::earth;
 
-/// Something in a file that the ICD cannot carry, or carries only approximately: where (the
-/// JSON path, e.g. `mission.items[4]`) and why.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Unsupported {
-    /// The JSON path of the item, e.g. `geoFence.circles[0]`.
-    pub path: String,
-    /// What is not carried, and what was done instead.
-    pub reason: String,
+pub use crate::mission_file::Dropped;
+
+/// What an import does with an element that the ICD cannot carry or the FCC cannot hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Unsupported {
+    /// Refuse the file with every such element named ([`MissionFileError::Unsupported`]): the
+    /// operator is never told about a plan that is not the one they made.
+    #[default]
+    Refuse,
+    /// Leave every such element out and list it ([`QgcImport::dropped`]): the operator chose
+    /// to validate and upload what remains.
+    Drop,
 }
 
-impl core::fmt::Display for Unsupported {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "{}: {}", self.path, self.reason)
+/// The import's result as `unsupported` wants it: the dropped elements, or the refusal when
+/// there are any and they may not be dropped.
+pub(crate) fn exact_or_dropped(
+    dropped: Vec<Dropped>,
+    unsupported: Unsupported,
+) -> Result<Vec<Dropped>, MissionFileError> {
+    match unsupported {
+        Unsupported::Refuse if !dropped.is_empty() => {
+            Err(MissionFileError::Unsupported { elements: dropped })
+        }
+        _ => Ok(dropped),
     }
 }
 
 /// Choices the `.plan` file cannot express.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ImportOptions {
-    /// The #2011 safety offset, metres (QGC has none).
+    /// The #2011 safety offset, metres (QGC has none; default 0).
     pub safety_offset_m: f64,
     /// Whether return-to-home may fly the route backwards (QGC has no such notion).
     pub bidirectional: bool,
-}
-
-impl Default for ImportOptions {
-    fn default() -> Self {
-        Self {
-            safety_offset_m: 0.0,
-            bidirectional: false,
-        }
-    }
+    /// Refuse the file (the default) or drop what it holds that the ICD cannot carry.
+    pub unsupported: Unsupported,
 }
 
 /// The planned home position of a `.plan`.
@@ -154,18 +173,22 @@ pub struct Home {
 /// What [`import_plan`] gives.
 #[derive(Debug, Clone)]
 pub struct QgcImport {
-    /// The mission plan: take-off height, waypoints, route and areas.
+    /// The mission plan: take-off height and position, waypoints, route and areas.
     pub plan: MissionPlan,
     /// The planned home position, if the file has one.
     pub home: Option<Home>,
-    /// What the plan does not carry, in file order.
-    pub notes: Vec<Unsupported>,
+    /// What was left out ([`Unsupported::Drop`]), in file order; empty for an exact import.
+    pub dropped: Vec<Dropped>,
 }
 
 /// How [`export_plan`] fills what a [`ValidatedPlan`] does not hold.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExportOptions {
-    /// The planned home position; `None`: the first waypoint's position at 0 m AMSL.
+    /// The planned take-off position (the plan's, [`MissionPlan::take_off_position`]): the
+    /// position of the take-off item, and the planned home when `home` is not given.
+    pub take_off_position: Option<GeoPoint>,
+    /// The planned home position; `None`: the take-off position, else the first waypoint's
+    /// position, at 0 m AMSL.
     pub home: Option<Home>,
     /// MAV_TYPE of `vehicleType`; default 22 (VTOL with separate lift and cruise rotors, the
     /// demo eVTOL), for which QGC plans with `cruiseSpeed`.
@@ -177,6 +200,7 @@ pub struct ExportOptions {
 impl Default for ExportOptions {
     fn default() -> Self {
         Self {
+            take_off_position: None,
             home: None,
             vehicle_type: 22,
             firmware_type: 12,
@@ -193,43 +217,66 @@ pub fn import_plan(text: &str, options: &ImportOptions) -> Result<QgcImport, Mis
     check_file_type(&at)?;
     let mission = at.field("mission")?;
     let home = planned_home(&mission)?;
-    let mut notes = Vec::new();
-    let mission_buffer = import_items(&mission, home, options, &mut notes)?;
-    let areas = import_fence(&at, &mut notes)?;
+    let mut dropped = Vec::new();
+    let (mission_buffer, take_off_item) = import_items(&mission, home, options, &mut dropped)?;
+    let areas = import_fence(&at, &mut dropped)?;
     if let Some(rally) = at.opt("rallyPoints") {
         if let Some(points) = rally.opt("points") {
             for p in points.items()? {
-                notes.push(note(
+                dropped.push(note(
                     &p.path,
-                    "rally points are not supported (the ICD has none)",
+                    "a rally point is not supported (the ICD has none)",
                 ));
             }
         }
     }
     let safety_offset = SafetyOffset::from_metres(options.safety_offset_m)
         .map_err(|e| field_error("safety_offset_m", e.to_string()))?;
+    // The take-off item's own position, else the planned home: where QGC shows the take-off.
+    let take_off_position = match (take_off_item, home) {
+        (Some(p), _) => Some(p),
+        (None, Some(h)) => home_point(h)?,
+        (None, None) => None,
+    };
     Ok(QgcImport {
         plan: MissionPlan {
             mission: mission_buffer,
             areas,
             safety_offset,
             mission_id: None,
-            take_off_position: None,
+            take_off_position,
         },
         home,
-        notes,
+        dropped: exact_or_dropped(dropped, options.unsupported)?,
     })
 }
 
+/// The planned home as a position; `None` for QGC's "not set" (0, 0).
+fn home_point(home: Home) -> Result<Option<GeoPoint>, MissionFileError> {
+    if home.latitude_deg == 0.0 && home.longitude_deg == 0.0 {
+        return Ok(None);
+    }
+    point(
+        "mission.plannedHomePosition",
+        home.latitude_deg,
+        home.longitude_deg,
+    )
+    .map(Some)
+}
+
 /// Imports only the geofence of a `.plan` file as areas (a file that holds only a fence, or the
-/// areas of a mission planned elsewhere). The mission items are not looked at.
-pub fn import_areas(text: &str) -> Result<(AreaBuffer, Vec<Unsupported>), MissionFileError> {
+/// areas of a mission planned elsewhere), with what was dropped ([`Unsupported::Drop`]). The
+/// mission items and rally points are not looked at.
+pub fn import_areas(
+    text: &str,
+    unsupported: Unsupported,
+) -> Result<(AreaBuffer, Vec<Dropped>), MissionFileError> {
     let root = parse_json(text)?;
     let at = At::root(&root);
     check_file_type(&at)?;
-    let mut notes = Vec::new();
-    let areas = import_fence(&at, &mut notes)?;
-    Ok((areas, notes))
+    let mut dropped = Vec::new();
+    let areas = import_fence(&at, &mut dropped)?;
+    Ok((areas, exact_or_dropped(dropped, unsupported)?))
 }
 
 fn check_file_type(at: &At<'_>) -> Result<(), MissionFileError> {
@@ -275,12 +322,14 @@ struct Pending {
 /// MAV_TYPEs that QGC plans with `hoverSpeed` (`QGCMAVLink::isMultiRotor`).
 const MULTI_ROTOR_TYPES: [u64; 8] = [2, 3, 4, 13, 14, 15, 29, 35];
 
+/// The take-off, waypoints and route of the mission items, and the take-off item's position
+/// (if it has one); what they hold that the ICD cannot carry goes to `dropped`.
 fn import_items(
     mission: &At<'_>,
     home: Option<Home>,
     options: &ImportOptions,
-    notes: &mut Vec<Unsupported>,
-) -> Result<MissionBuffer, MissionFileError> {
+    dropped: &mut Vec<Dropped>,
+) -> Result<(MissionBuffer, Option<GeoPoint>), MissionFileError> {
     let vehicle_type = match mission.opt("vehicleType") {
         Some(v) => v.integer()?,
         None => 0,
@@ -296,13 +345,13 @@ fn import_items(
 
     let items_at = mission.field("items")?;
     let items = items_at.items()?;
-    let mut take_off: Option<(Altitude, usize)> = None;
+    let mut take_off: Option<(Altitude, usize, Option<GeoPoint>)> = None;
     let mut land: Option<usize> = None;
     let mut waypoints: Vec<Pending> = Vec::new();
 
     for (i, item) in items.iter().enumerate() {
         if let Some(j) = land {
-            notes.push(note(
+            dropped.push(note(
                 &item.path,
                 format!("after the land (mission.items[{j}]): the route ends at the land"),
             ));
@@ -316,7 +365,7 @@ fn import_items(
                     .opt("complexItemType")
                     .and_then(|k| k.value.as_str())
                     .unwrap_or("?");
-                notes.push(note(
+                dropped.push(note(
                     &item.path,
                     format!(
                         "complex item {kind:?} is not supported (only take-off, waypoint, land \
@@ -334,8 +383,8 @@ fn import_items(
         let command = item.field("command")?.integer()?;
         match command {
             22 | 84 => {
-                if let Some((_, first)) = take_off {
-                    notes.push(note(
+                if let Some((_, first, _)) = take_off {
+                    dropped.push(note(
                         &item.path,
                         format!(
                             "command {command} ({}): a second take-off (the first is \
@@ -346,18 +395,15 @@ fn import_items(
                     continue;
                 }
                 if !waypoints.is_empty() {
-                    notes.push(note(
-                        &item.path,
-                        format!(
-                            "command {command} ({}): a take-off after waypoints is not \
-                             supported",
-                            command_name(command)
-                        ),
-                    ));
-                    continue;
+                    // Not droppable: without it the mission has no take-off at all.
+                    return Err(item.error(format!(
+                        "command {command} ({}): a take-off after waypoints is not supported \
+                         (the ICD's take-off comes before the route)",
+                        command_name(command)
+                    )));
                 }
                 let params = Params::of(item)?;
-                let Some((value, kind)) = item_altitude(item, &params, command, notes)? else {
+                let Some((value, kind)) = item_altitude(item, &params, command, dropped)? else {
                     continue;
                 };
                 let height = match kind {
@@ -378,31 +424,13 @@ fn import_items(
                         "take-off height {height} m is below the ground at home"
                     )));
                 }
-                if let (Some(home), Some(position)) = (home, params.position()?) {
-                    let home_point = point(
-                        "mission.plannedHomePosition",
-                        home.latitude_deg,
-                        home.longitude_deg,
-                    )?;
-                    let d = earth::distance_m(home_point, position);
-                    if d > 1.0 {
-                        notes.push(note(
-                            &item.path,
-                            format!(
-                                "the take-off position ({}, {}) is {d:.0} m from the planned \
-                                 home: the ICD's take-off has a height only, the aircraft \
-                                 climbs where it stands",
-                                degrees(position.latitude),
-                                degrees(position.longitude)
-                            ),
-                        ));
-                    }
-                }
-                take_off = Some((h, i));
+                // Its position is the plan's take-off position (not sent, checked by the
+                // safety gateway); none given (0, 0 or null): the planned home.
+                take_off = Some((h, i, params.position()?));
             }
             16 => {
                 let params = Params::of(item)?;
-                let Some((value, kind)) = item_altitude(item, &params, command, notes)? else {
+                let Some((value, kind)) = item_altitude(item, &params, command, dropped)? else {
                     continue;
                 };
                 let Some(position) = params.position()? else {
@@ -412,11 +440,11 @@ fn import_items(
                 };
                 let hold = params.at(0)?.opt_number()?.unwrap_or(0.0);
                 let turn_type = if hold > 0.0 {
-                    notes.push(note(
+                    dropped.push(note(
                         &params.at(0)?.path,
                         format!(
-                            "hold {hold} s is not carried (the ICD has no hold time): the \
-                             waypoint is fly-over"
+                            "hold {hold} s is not supported (the ICD has no hold time); dropped, \
+                             the waypoint is fly-over"
                         ),
                     ));
                     TurnType::FlyOver
@@ -445,7 +473,7 @@ fn import_items(
                 let (altitude, altitude_type) = match last {
                     Some(w) => (w.altitude, w.altitude_type),
                     None => {
-                        let Some((value, kind)) = item_altitude(item, &params, command, notes)?
+                        let Some((value, kind)) = item_altitude(item, &params, command, dropped)?
                         else {
                             continue;
                         };
@@ -470,7 +498,7 @@ fn import_items(
                 } else if kind == 1.0 {
                     SpeedType::GroundSpeed
                 } else {
-                    notes.push(note(
+                    dropped.push(note(
                         &kind_at.path,
                         format!(
                             "speed type {kind} (2 climb, 3 descent speed) is not supported: \
@@ -487,7 +515,7 @@ fn import_items(
                 speed = speed_value(value_at)?;
                 speed_type = Some(new_type);
             }
-            _ => notes.push(note(
+            _ => dropped.push(note(
                 &item.path,
                 format!(
                     "command {command} ({}) is not supported",
@@ -519,23 +547,22 @@ fn import_items(
             ))
         })
     };
-    match take_off {
-        Some((height, _)) => stored(
-            buffer.store(
-                &VehicleSpecificWaypoint {
-                    time_stamp: Timestamp::default(),
-                    data: SpecificData::TakeOffHeight { height },
-                    activity_id: None,
-                }
-                .into(),
-            ),
-        )?,
-        None => notes.push(note(
-            &items_at.path,
-            "no take-off (command 22 or 84): the plan has no take-off height, which \
-             validation requires",
-        )),
-    }
+    // The ICD's mission has a take-off height (#13006 type 1); a mission file must give one
+    // too, so a plan without a take-off is no mission.
+    let Some((height, _, take_off_position)) = take_off else {
+        return Err(items_at
+            .error("no take-off (command 22 or 84): the ICD's mission needs its take-off height"));
+    };
+    stored(
+        buffer.store(
+            &VehicleSpecificWaypoint {
+                time_stamp: Timestamp::default(),
+                data: SpecificData::TakeOffHeight { height },
+                activity_id: None,
+            }
+            .into(),
+        ),
+    )?;
     let count = waypoints.len();
     for (k, w) in waypoints.into_iter().enumerate() {
         // At most MAX_WAYPOINTS (checked above): the numbers fit a u16.
@@ -583,7 +610,7 @@ fn import_items(
             .into(),
         ),
     )?;
-    Ok(buffer)
+    Ok((buffer, take_off_position))
 }
 
 /// The 7 params of a simple item.
@@ -624,13 +651,13 @@ impl<'a> Params<'a> {
     }
 }
 
-/// The altitude of a take-off, waypoint or land and its type by the item's frame; `None` (and a
-/// note) for a frame that is not supported.
+/// The altitude of a take-off, waypoint or land and its type by the item's frame; `None` (and
+/// the item in `dropped`) for a frame that is not supported.
 fn item_altitude(
     item: &At<'_>,
     params: &Params<'_>,
     command: u64,
-    notes: &mut Vec<Unsupported>,
+    dropped: &mut Vec<Dropped>,
 ) -> Result<Option<(f64, AltitudeType)>, MissionFileError> {
     let frame_at = item.field("frame")?;
     let frame = frame_at.integer()?;
@@ -652,7 +679,7 @@ fn item_altitude(
             }
         },
         _ => {
-            notes.push(note(
+            dropped.push(note(
                 &frame_at.path,
                 format!(
                     "command {command} ({}) in frame {frame} ({}) is not supported: only \
@@ -678,10 +705,10 @@ fn speed_value(at: &At<'_>) -> Result<Speed, MissionFileError> {
     Ok(speed)
 }
 
-fn import_fence(
-    root: &At<'_>,
-    notes: &mut Vec<Unsupported>,
-) -> Result<AreaBuffer, MissionFileError> {
+/// The areas of the `geoFence`: the inclusion polygon as the fly-zone, then the exclusion
+/// polygons and circles as no-fly-zones; what the ICD cannot carry or the FCC cannot hold goes to
+/// `dropped`.
+fn import_fence(root: &At<'_>, dropped: &mut Vec<Dropped>) -> Result<AreaBuffer, MissionFileError> {
     let mut fly_zone: Option<(AreaShape, String)> = None;
     let mut no_fly: Vec<(AreaShape, String)> = Vec::new();
     let Some(fence) = root.opt("geoFence") else {
@@ -712,10 +739,10 @@ fn import_fence(
             vertices.pop();
         }
         let Ok(vertices) = PolygonVertices::from_slice(&vertices) else {
-            notes.push(note(
+            dropped.push(note(
                 &p.path,
                 format!(
-                    "{} vertices, at most {MAX_POLYGON_VERTICES} fit a #2012: left out",
+                    "{} vertices, at most {MAX_POLYGON_VERTICES} fit a #2012",
                     vertices.len()
                 ),
             ));
@@ -725,9 +752,9 @@ fn import_fence(
         if !inclusion {
             no_fly.push((shape, p.path.clone()));
         } else if let Some((_, first)) = &fly_zone {
-            notes.push(note(
+            dropped.push(note(
                 &p.path,
-                format!("a second inclusion polygon: the ICD has one fly-zone ({first}): left out"),
+                format!("a second inclusion polygon: the ICD has one fly-zone ({first})"),
             ));
         } else {
             fly_zone = Some((shape, p.path.clone()));
@@ -754,32 +781,38 @@ fn import_fence(
         };
         let radius_at = circle.field("radius")?;
         let radius = radius(&radius_at.path, radius_at.number()?)?;
-        if !inclusion {
-            let border = border_due_north(&radius_at.path, centre, radius)?;
-            no_fly.push((AreaShape::Circle { centre, border }, c.path.clone()));
-        } else if let Some((_, first)) = &fly_zone {
-            notes.push(note(
+        if inclusion {
+            // Not approximated: the import is exact or refused.
+            dropped.push(note(
                 &c.path,
-                format!(
-                    "an inclusion circle: the ICD has one fly-zone ({first}) and it is a \
-                     polygon: left out"
-                ),
+                match &fly_zone {
+                    Some((_, first)) => format!(
+                        "an inclusion circle: the ICD has one fly-zone ({first}), and it is a \
+                         polygon"
+                    ),
+                    None => "an inclusion circle: the ICD's fly-zone is a polygon (draw it as \
+                             an inclusion polygon)"
+                        .to_owned(),
+                },
             ));
-        } else {
-            let polygon = inscribed_polygon(centre, radius)
-                .ok_or_else(|| radius_at.error(format!("{radius} m: the circle is too large")))?;
-            notes.push(note(
-                &c.path,
-                format!(
-                    "an inclusion circle: the ICD's fly-zone is a polygon: approximated by the \
-                     inscribed polygon of {MAX_POLYGON_VERTICES} vertices (at most {:.1} m \
-                     inside the circle)",
-                    radius * (1.0 - (core::f64::consts::PI / MAX_POLYGON_VERTICES as f64).cos())
-                ),
-            ));
-            fly_zone = Some((AreaShape::Polygon(polygon), c.path.clone()));
+            continue;
         }
+        let border = border_due_north(&radius_at.path, centre, radius)?;
+        no_fly.push((AreaShape::Circle { centre, border }, c.path.clone()));
     }
+
+    // The FCC holds MAX_AREAS areas, one of them the fly-zone: the no-fly-zones beyond
+    // MAX_NO_FLY_ZONES (polygons first, then circles, as numbered) do not fit.
+    for (_, path) in no_fly.get(MAX_NO_FLY_ZONES..).unwrap_or_default() {
+        dropped.push(note(
+            path,
+            format!(
+                "more than {MAX_NO_FLY_ZONES} no-fly-zones (polygons and circles): the FCC holds \
+                 {MAX_AREAS} areas, one of them the fly-zone"
+            ),
+        ));
+    }
+    no_fly.truncate(MAX_NO_FLY_ZONES);
 
     let mut buffer = AreaBuffer::new();
     let zones = fly_zone
@@ -787,13 +820,6 @@ fn import_fence(
         .map(|z| (AreaType::FlyZone, z))
         .chain(no_fly.into_iter().map(|z| (AreaType::NoFlyZone, z)));
     for (k, (area_type, (shape, path))) in zones.enumerate() {
-        if k >= MAX_AREAS {
-            notes.push(note(
-                &path,
-                format!("more than {MAX_AREAS} areas (the FCC's capacity): left out"),
-            ));
-            continue;
-        }
         let area = AreaPolygonLoopSegment {
             time_stamp: Timestamp::default(),
             area_id: u16::try_from(k + 1).unwrap_or(u16::MAX),
@@ -803,43 +829,44 @@ fn import_fence(
             altitude_type: None,
             shape,
         };
-        if buffer.store(&area).is_err() {
-            notes.push(note(
-                &path,
-                format!("more than {MAX_AREAS} areas (the FCC's capacity): left out"),
-            ));
-        }
+        // At most one fly-zone and MAX_NO_FLY_ZONES no-fly-zones: the buffer holds them.
+        buffer.store(&area).map_err(|_| {
+            field_error(
+                path,
+                format!("more than {MAX_AREAS} areas (the FCC's capacity)"),
+            )
+        })?;
     }
     Ok(buffer)
-}
-
-/// The polygon of [`MAX_POLYGON_VERTICES`] vertices on the circle, from due north clockwise.
-fn inscribed_polygon(centre: GeoPoint, radius: f64) -> Option<PolygonVertices> {
-    let mut v = PolygonVertices::new();
-    for k in 0..MAX_POLYGON_VERTICES {
-        let bearing = 360.0 * k as f64 / MAX_POLYGON_VERTICES as f64;
-        v.push(earth::geo_point(earth::destination(
-            centre, bearing, radius,
-        ))?)
-        .ok()?;
-    }
-    Some(v)
 }
 
 // ---- Export ----
 
 /// The `.plan` file of a validated plan and what it cannot hold (see the
 /// [module documentation](self)).
-pub fn export_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (String, Vec<Unsupported>) {
+pub fn export_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (String, Vec<Dropped>) {
     let mission = &plan.mission;
     let mut notes = Vec::new();
-    let first = mission.waypoints.first().map(|r| r.waypoint);
-    let home = options.home.unwrap_or_else(|| Home {
-        latitude_deg: first.map_or(0.0, |w| degrees(w.latitude)),
-        longitude_deg: first.map_or(0.0, |w| degrees(w.longitude)),
-        altitude_m: 0.0,
+    let first = mission.waypoints.first().map(|r| GeoPoint {
+        latitude: r.waypoint.latitude,
+        longitude: r.waypoint.longitude,
     });
-    let planning_speed = first.map_or(0.0, |w| w.speed.mps());
+    let home = options.home.unwrap_or_else(|| {
+        let at = options.take_off_position.or(first);
+        Home {
+            latitude_deg: at.map_or(0.0, |p| degrees(p.latitude)),
+            longitude_deg: at.map_or(0.0, |p| degrees(p.longitude)),
+            altitude_m: 0.0,
+        }
+    });
+    let (take_off_lat, take_off_lon) = match options.take_off_position {
+        Some(p) => (degrees(p.latitude), degrees(p.longitude)),
+        None => (home.latitude_deg, home.longitude_deg),
+    };
+    let planning_speed = mission
+        .waypoints
+        .first()
+        .map_or(0.0, |r| r.waypoint.speed.mps());
 
     if mission.route.bidirectional {
         notes.push(note(
@@ -881,7 +908,7 @@ pub fn export_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (String, Ve
         "command": 22,
         "doJumpId": next_id(),
         "frame": 3,
-        "params": [0, 0, 0, null, home.latitude_deg, home.longitude_deg, height],
+        "params": [0, 0, 0, null, take_off_lat, take_off_lon, height],
         "type": "SimpleItem",
     }));
     let mut current = (planning_speed, None);
@@ -1269,8 +1296,8 @@ fn kind(value: &Value) -> String {
     }
 }
 
-pub(crate) fn note(path: impl Into<String>, reason: impl Into<String>) -> Unsupported {
-    Unsupported {
+pub(crate) fn note(path: impl Into<String>, reason: impl Into<String>) -> Dropped {
+    Dropped {
         path: path.into(),
         reason: reason.into(),
     }
@@ -1279,7 +1306,7 @@ pub(crate) fn note(path: impl Into<String>, reason: impl Into<String>) -> Unsupp
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use missionlink_interfaces::wire::Reason;
+    use missionlink_services::geofence::earth;
     use missionlink_services::transfer::mission::Mission;
 
     use crate::mission_file::tests::{MISSION_2, validated};
@@ -1297,8 +1324,25 @@ pub(crate) mod tests {
             .unwrap()
     }
 
-    fn paths(notes: &[Unsupported]) -> Vec<&str> {
-        notes.iter().map(|n| n.path.as_str()).collect()
+    fn lines(dropped: &[Dropped]) -> Vec<String> {
+        dropped.iter().map(ToString::to_string).collect()
+    }
+
+    /// The options that drop what the ICD cannot carry.
+    fn dropping() -> ImportOptions {
+        ImportOptions {
+            unsupported: Unsupported::Drop,
+            ..ImportOptions::default()
+        }
+    }
+
+    /// The elements a refused import names.
+    fn refused(result: Result<QgcImport, MissionFileError>) -> Vec<String> {
+        match result {
+            Err(MissionFileError::Unsupported { elements }) => lines(&elements),
+            Err(other) => panic!("refused for another reason: {other}"),
+            Ok(i) => panic!("imported, dropping {:?}", i.dropped),
+        }
     }
 
     fn pos(lat: f64, lon: f64) -> GeoPoint {
@@ -1351,9 +1395,18 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn ardu_plane_imports_with_its_loiters_reported() {
-        let import =
-            import_plan(&real("PX4SITL-ArduPlane.plan"), &ImportOptions::default()).unwrap();
+    fn ardu_plane_is_refused_for_its_loiters_or_imported_without_them() {
+        let text = real("PX4SITL-ArduPlane.plan");
+        let expected = [
+            "mission.items[3]: command 18 (NAV_LOITER_TURNS) is not supported",
+            "mission.items[5]: command 31 (NAV_LOITER_TO_ALT) is not supported",
+        ];
+        assert_eq!(
+            refused(import_plan(&text, &ImportOptions::default())),
+            expected
+        );
+        let import = import_plan(&text, &dropping()).unwrap();
+        assert_eq!(lines(&import.dropped), expected);
         assert_eq!(
             import.home,
             Some(Home {
@@ -1362,30 +1415,9 @@ pub(crate) mod tests {
                 altitude_m: 488.056
             })
         );
-        assert_eq!(
-            paths(&import.notes),
-            ["mission.items[0]", "mission.items[3]", "mission.items[5]"],
-            "{:#?}",
-            import.notes
-        );
-        assert!(
-            import.notes[0]
-                .reason
-                .contains("take-off position (47.3996949, 8.5455)")
-        );
-        assert!(
-            import.notes[0]
-                .reason
-                .contains("300 m from the planned home")
-        );
-        assert_eq!(
-            import.notes[1].reason,
-            "command 18 (NAV_LOITER_TURNS) is not supported"
-        );
-        assert_eq!(
-            import.notes[2].reason,
-            "command 31 (NAV_LOITER_TO_ALT) is not supported"
-        );
+        // The take-off item's own position (300 m south of the planned home) is the take-off
+        // position: it is carried, not dropped.
+        assert_eq!(import.plan.take_off_position, Some(pos(47.3996949, 8.5455)));
         assert!(import.plan.areas.is_empty());
         assert_eq!(import.plan.safety_offset, SafetyOffset::default());
 
@@ -1428,23 +1460,18 @@ pub(crate) mod tests {
             &ImportOptions {
                 safety_offset_m: 20.0,
                 bidirectional: true,
+                unsupported: Unsupported::Drop,
             },
         )
         .unwrap();
         assert_eq!(
-            paths(&import.notes),
-            ["mission.items[0]", "mission.items[4]", "mission.items[6]"],
-            "{:#?}",
-            import.notes
+            lines(&import.dropped),
+            [
+                "mission.items[4]: command 195 (DO_SET_ROI_LOCATION) is not supported",
+                "mission.items[6]: command 19 (NAV_LOITER_TIME) is not supported",
+            ]
         );
-        assert_eq!(
-            import.notes[1].to_string(),
-            "mission.items[4]: command 195 (DO_SET_ROI_LOCATION) is not supported"
-        );
-        assert_eq!(
-            import.notes[2].to_string(),
-            "mission.items[6]: command 19 (NAV_LOITER_TIME) is not supported"
-        );
+        assert_eq!(import.plan.take_off_position, Some(pos(47.3996949, 8.5455)));
         assert_eq!(import.plan.safety_offset.metres(), 20.0);
         let m = assembled(&import.plan);
         assert!(m.route.bidirectional);
@@ -1475,8 +1502,8 @@ pub(crate) mod tests {
             "mission.items: no waypoints: none of the 0 mission items is a waypoint (command 16) \
              or a land (21); a file that holds only a geofence imports as areas"
         );
-        let (areas, notes) = import_areas(&text).unwrap();
-        assert!(notes.is_empty(), "{notes:?}");
+        let (areas, dropped) = import_areas(&text, Unsupported::Refuse).unwrap();
+        assert!(dropped.is_empty(), "{dropped:?}");
         let list = areas.assemble(2, SafetyOffset::default()).unwrap();
         let [fly, no_fly] = list.areas.as_slice() else {
             panic!("{list:?}")
@@ -1500,7 +1527,9 @@ pub(crate) mod tests {
             longitude_deg: 11.6449,
             altitude_m: 510.5,
         };
+        let take_off = pos(48.275, 11.645);
         let options = ExportOptions {
+            take_off_position: Some(take_off),
             home: Some(home),
             ..ExportOptions::default()
         };
@@ -1529,11 +1558,14 @@ pub(crate) mod tests {
             &ImportOptions {
                 safety_offset_m: 25.0,
                 bidirectional: true,
+                unsupported: Unsupported::Refuse,
             },
         )
         .unwrap();
-        assert!(import.notes.is_empty(), "{:#?}", import.notes);
+        assert!(import.dropped.is_empty(), "{:#?}", import.dropped);
         assert_eq!(import.home, Some(home));
+        // The take-off item is at the take-off position, the planned home apart from it.
+        assert_eq!(import.plan.take_off_position, Some(take_off));
         let m = assembled(&import.plan);
         assert_eq!(m.take_off_height(), original.mission.take_off_height());
         assert_eq!(m.waypoints.len(), original.mission.waypoints.len());
@@ -1618,10 +1650,50 @@ pub(crate) mod tests {
     const WAYPOINT: &str = r#"{"type": "SimpleItem", "command": 16, "frame": 3,
         "params": [0, 0, 0, null, 47.41, 8.56, 100]}"#;
 
+    const TAKE_OFF: &str = r#"{"type": "SimpleItem", "command": 22, "frame": 3,
+        "params": [0, 0, 0, null, 0, 0, 30]}"#;
+
+    /// A fence of `polygons` and `circles` (JSON objects).
+    fn fence(polygons: &[String], circles: &[String]) -> String {
+        format!(
+            r#""version": 2, "polygons": [{}], "circles": [{}]"#,
+            polygons.join(", "),
+            circles.join(", ")
+        )
+    }
+
+    fn polygon(inclusion: bool, vertices: &[(f64, f64)]) -> String {
+        let v: Vec<String> = vertices
+            .iter()
+            .map(|(lat, lon)| format!("[{lat}, {lon}]"))
+            .collect();
+        format!(
+            r#"{{"inclusion": {inclusion}, "polygon": [{}], "version": 1}}"#,
+            v.join(", ")
+        )
+    }
+
+    fn circle(inclusion: bool, (lat, lon): (f64, f64), radius: f64) -> String {
+        format!(
+            r#"{{"inclusion": {inclusion}, "circle": {{"center": [{lat}, {lon}], "radius": {radius}}}, "version": 1}}"#
+        )
+    }
+
+    /// A small square with its south-west corner at (`lat`, `lon`).
+    fn square(lat: f64, lon: f64) -> Vec<(f64, f64)> {
+        vec![
+            (lat, lon),
+            (lat, lon + 0.001),
+            (lat + 0.001, lon + 0.001),
+            (lat + 0.001, lon),
+        ]
+    }
+
     #[test]
-    fn fences_complex_items_and_rally_points() {
+    fn everything_the_icd_cannot_carry_refuses_the_file_or_is_dropped() {
         let items = format!(
-            r#"{WAYPOINT},
+            r#"{TAKE_OFF},
+        {WAYPOINT},
         {{"type": "ComplexItem", "complexItemType": "survey"}},
         {{"type": "SimpleItem", "command": 16, "frame": 3, "params": [5, 0, 0, null, 47.42, 8.56, 100]}},
         {{"type": "SimpleItem", "command": 20, "frame": 2, "params": [0, 0, 0, 0, 0, 0, 0]}},
@@ -1630,46 +1702,59 @@ pub(crate) mod tests {
         {{"type": "SimpleItem", "command": 21, "frame": 3, "params": [0, 0, 0, null, 47.42, 8.56, 0]}},
         {WAYPOINT}"#
         );
-        let fence = r#""version": 2,
-            "circles": [
-              {"inclusion": true, "circle": {"center": [47.40, 8.55], "radius": 5000}, "version": 1},
-              {"inclusion": false, "circle": {"center": [47.41, 8.55], "radius": 200}, "version": 1}],
-            "polygons": [
-              {"inclusion": false, "polygon": [[47.41, 8.56], [47.41, 8.57], [47.42, 8.57]], "version": 1}]"#;
-        let import = import_plan(&plan_with(&items, fence), &ImportOptions::default()).unwrap();
-        let notes: Vec<String> = import.notes.iter().map(ToString::to_string).collect();
+        let fence = fence(
+            &[polygon(
+                false,
+                &[(47.41, 8.56), (47.41, 8.57), (47.42, 8.57)],
+            )],
+            &[
+                circle(true, (47.40, 8.55), 5000.0),
+                circle(false, (47.41, 8.55), 200.0),
+            ],
+        );
+        let text = plan_with(&items, &fence);
+        let expected = [
+            "mission.items[2]: complex item \"survey\" is not supported (only take-off, \
+             waypoint, land and speed change)",
+            "mission.items[3].params[0]: hold 5 s is not supported (the ICD has no hold \
+             time); dropped, the waypoint is fly-over",
+            "mission.items[4]: command 20 (NAV_RETURN_TO_LAUNCH) is not supported",
+            "mission.items[5].frame: command 16 (NAV_WAYPOINT) in frame 1 (LOCAL_NED) is \
+             not supported: only global (0, 5), relative (3, 6) and terrain (10, 11) frames",
+            "mission.items[6].params[0]: speed type 2 (2 climb, 3 descent speed) is not \
+             supported: only airspeed (0) and ground speed (1)",
+            "mission.items[8]: after the land (mission.items[7]): the route ends at the land",
+            "geoFence.circles[0]: an inclusion circle: the ICD's fly-zone is a polygon (draw \
+             it as an inclusion polygon)",
+            "rallyPoints.points[0]: a rally point is not supported (the ICD has none)",
+        ];
+        // Refused by default, every element named; the error says how many.
+        let err = import_plan(&text, &ImportOptions::default()).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("not imported: 8 elements the ICD cannot carry"),
+            "{err}"
+        );
+        assert_eq!(refused(Err(err)), expected);
+
+        // Dropped on request: the plan is what remains.
+        let import = import_plan(&text, &dropping()).unwrap();
+        assert_eq!(lines(&import.dropped), expected);
+        // Two waypoints: the land is at the second one, fly-over by its hold.
+        let m = assembled(&import.plan);
+        assert_eq!(m.take_off_height().metres(), 30.0);
         assert_eq!(
-            notes,
+            rows(&m).iter().map(|r| (r.0, r.5)).collect::<Vec<_>>(),
             [
-                "mission.items[1]: complex item \"survey\" is not supported (only take-off, \
-                 waypoint, land and speed change)",
-                "mission.items[2].params[0]: hold 5 s is not carried (the ICD has no hold \
-                 time): the waypoint is fly-over",
-                "mission.items[3]: command 20 (NAV_RETURN_TO_LAUNCH) is not supported",
-                "mission.items[4].frame: command 16 (NAV_WAYPOINT) in frame 1 (LOCAL_NED) is \
-                 not supported: only global (0, 5), relative (3, 6) and terrain (10, 11) frames",
-                "mission.items[5].params[0]: speed type 2 (2 climb, 3 descent speed) is not \
-                 supported: only airspeed (0) and ground speed (1)",
-                "mission.items[7]: after the land (mission.items[6]): the route ends at the land",
-                "mission.items: no take-off (command 22 or 84): the plan has no take-off \
-                 height, which validation requires",
-                "geoFence.circles[0]: an inclusion circle: the ICD's fly-zone is a polygon: \
-                 approximated by the inscribed polygon of 60 vertices (at most 6.9 m inside \
-                 the circle)",
-                "rallyPoints.points[0]: rally points are not supported (the ICD has none)",
+                (pos(47.41, 8.56), TurnType::FlyBy),
+                (pos(47.42, 8.56), TurnType::FlyOver)
             ]
         );
-        // Two waypoints: the land is at the second one, fly-over by its hold.
-        assert_eq!(import.plan.mission.len(), 2);
-        assert_eq!(
-            import.plan.mission.assemble(Some(2), None).unwrap_err(),
-            Reason::MissingField
-        );
-        let list = import
-            .plan
-            .areas
-            .assemble(3, SafetyOffset::default())
-            .unwrap();
+        // The take-off item has no position (0, 0): the planned home is the take-off position.
+        assert_eq!(import.plan.take_off_position, Some(pos(47.397, 8.5455)));
+        // The inclusion circle is not approximated: no fly-zone is left, which validation
+        // names.
+        let list = import.plan.areas.unchecked(SafetyOffset::default());
         let kinds: Vec<(u16, AreaType, bool)> = list
             .areas
             .iter()
@@ -1684,39 +1769,143 @@ pub(crate) mod tests {
         assert_eq!(
             kinds,
             [
-                (1, AreaType::FlyZone, false),
-                (2, AreaType::NoFlyZone, false),
-                (3, AreaType::NoFlyZone, true),
+                (1, AreaType::NoFlyZone, false),
+                (2, AreaType::NoFlyZone, true)
             ]
         );
-        let AreaShape::Polygon(ring) = &list.areas[0].shape else {
-            panic!()
-        };
-        let centre = pos(47.40, 8.55);
-        assert_eq!(ring.len(), 60);
-        assert!(
-            ring.iter()
-                .all(|p| (earth::distance_m(centre, *p) - 5000.0).abs() < 0.01)
-        );
-        let AreaShape::Circle { border, .. } = list.areas[2].shape else {
+        let AreaShape::Circle { border, .. } = list.areas[1].shape else {
             panic!()
         };
         assert!((earth::distance_m(pos(47.41, 8.55), border) - 200.0).abs() < 0.01);
     }
 
     #[test]
-    fn a_second_inclusion_polygon_is_reported() {
-        let fence = r#""polygons": [
-              {"inclusion": true, "polygon": [[47.3, 8.4], [47.3, 8.7], [47.5, 8.7], [47.5, 8.4]]},
-              {"inclusion": true, "polygon": [[47.3, 8.4], [47.3, 8.5], [47.4, 8.5]]}]"#;
-        let (areas, notes) = import_areas(&plan_with(WAYPOINT, fence)).unwrap();
-        assert_eq!(areas.len(), 1);
-        assert_eq!(
-            paths(&notes),
-            ["geoFence.polygons[1]"],
-            "rally points are no areas"
+    fn a_second_fly_zone_is_refused_or_dropped() {
+        let big = [(47.3, 8.4), (47.3, 8.7), (47.5, 8.7), (47.5, 8.4)];
+        let text = plan_with(
+            WAYPOINT,
+            &fence(
+                &[
+                    polygon(true, &big),
+                    polygon(true, &[(47.3, 8.4), (47.3, 8.5), (47.4, 8.5)]),
+                ],
+                &[circle(true, (47.4, 8.5), 100.0)],
+            ),
         );
-        assert!(notes[0].reason.contains("(geoFence.polygons[0])"));
+        let expected = [
+            "geoFence.polygons[1]: a second inclusion polygon: the ICD has one fly-zone \
+             (geoFence.polygons[0])",
+            "geoFence.circles[0]: an inclusion circle: the ICD has one fly-zone \
+             (geoFence.polygons[0]), and it is a polygon",
+        ];
+        match import_areas(&text, Unsupported::Refuse) {
+            Err(MissionFileError::Unsupported { elements }) => {
+                assert_eq!(lines(&elements), expected);
+            }
+            other => panic!("{other:?}"),
+        }
+        let (areas, dropped) = import_areas(&text, Unsupported::Drop).unwrap();
+        assert_eq!(lines(&dropped), expected, "rally points are no areas");
+        assert_eq!(areas.len(), 1);
+    }
+
+    #[test]
+    fn an_eleventh_no_fly_zone_is_refused_or_dropped() {
+        let fly = [(47.3, 8.4), (47.3, 8.7), (47.5, 8.7), (47.5, 8.4)];
+        let mut polygons = vec![polygon(true, &fly)];
+        // Ten exclusion polygons fill the FCC's area list with the fly-zone; the circle is
+        // the eleventh no-fly-zone.
+        for k in 0..10 {
+            polygons.push(polygon(false, &square(47.35, 8.45 + 0.01 * f64::from(k))));
+        }
+        let text = plan_with(
+            &format!("{TAKE_OFF},\n{WAYPOINT}"),
+            &fence(&polygons, &[circle(false, (47.45, 8.6), 100.0)]),
+        );
+        let text = text.replace(r#""points": [[47.39, 8.54, 500]]"#, r#""points": []"#);
+        let expected = [
+            "geoFence.circles[0]: more than 10 no-fly-zones (polygons and circles): the FCC \
+             holds 11 areas, one of them the fly-zone",
+        ];
+        assert_eq!(
+            refused(import_plan(&text, &ImportOptions::default())),
+            expected
+        );
+        let import = import_plan(&text, &dropping()).unwrap();
+        assert_eq!(lines(&import.dropped), expected);
+        let list = import
+            .plan
+            .areas
+            .assemble(11, SafetyOffset::default())
+            .unwrap();
+        assert_eq!(list.areas.len(), 11);
+        assert!(
+            list.areas
+                .iter()
+                .all(|a| matches!(a.shape, AreaShape::Polygon(_)))
+        );
+
+        // Ten no-fly-zones fit exactly.
+        let ten = text.replace(&circle(false, (47.45, 8.6), 100.0), "");
+        let import = import_plan(&ten, &ImportOptions::default()).unwrap();
+        assert_eq!(import.plan.areas.len(), 11);
+    }
+
+    #[test]
+    fn a_polygon_of_more_than_60_vertices_is_refused_or_dropped() {
+        let ring: Vec<(f64, f64)> = (0..61)
+            .map(|k| {
+                let a = f64::from(k) * core::f64::consts::TAU / 61.0;
+                (47.4 + 0.01 * a.cos(), 8.5 + 0.01 * a.sin())
+            })
+            .collect();
+        let text = plan_with(WAYPOINT, &fence(&[polygon(false, &ring)], &[]));
+        let expected = ["geoFence.polygons[0]: 61 vertices, at most 60 fit a #2012"];
+        match import_areas(&text, Unsupported::Refuse) {
+            Err(MissionFileError::Unsupported { elements }) => {
+                assert_eq!(lines(&elements), expected);
+            }
+            other => panic!("{other:?}"),
+        }
+        let (areas, dropped) = import_areas(&text, Unsupported::Drop).unwrap();
+        assert_eq!(lines(&dropped), expected);
+        assert!(areas.is_empty());
+    }
+
+    #[test]
+    fn the_take_off_position_is_the_take_off_items_else_the_planned_home() {
+        let take_off = |lat: &str, lon: &str| {
+            format!(
+                r#"{{"type": "SimpleItem", "command": 84, "frame": 3,
+                "params": [0, 0, 0, null, {lat}, {lon}, 25]}},
+                {WAYPOINT}"#
+            )
+        };
+        let import = |text: &str| {
+            let text = text.replace(r#""points": [[47.39, 8.54, 500]]"#, r#""points": []"#);
+            import_plan(&text, &ImportOptions::default()).unwrap()
+        };
+        // VTOL take-off with its own position.
+        let own = import(&plan_with(&take_off("47.398", "8.546"), ""));
+        assert_eq!(own.plan.take_off_position, Some(pos(47.398, 8.546)));
+        assert_eq!(assembled(&own.plan).take_off_height().metres(), 25.0);
+        // No position (0, 0 or null): the planned home.
+        for (lat, lon) in [("0", "0"), ("null", "null")] {
+            let home = import(&plan_with(&take_off(lat, lon), ""));
+            assert_eq!(home.plan.take_off_position, Some(pos(47.397, 8.5455)));
+        }
+        // Neither: none, which validation refuses.
+        let none = import(
+            &plan_with(&take_off("0", "0"), "")
+                .replace(r#""plannedHomePosition": [47.397, 8.5455, 488],"#, ""),
+        );
+        assert_eq!(none.plan.take_off_position, None);
+        assert_eq!(none.home, None);
+        // A planned home of (0, 0) is QGC's "not set".
+        let unset = import(
+            &plan_with(&take_off("0", "0"), "").replace("[47.397, 8.5455, 488]", "[0, 0, 0]"),
+        );
+        assert_eq!(unset.plan.take_off_position, None);
     }
 
     #[test]
@@ -1738,54 +1927,94 @@ pub(crate) mod tests {
             other => panic!("{other:?}"),
         }
 
-        let with = |item: &str| plan_with(&format!("{WAYPOINT},\n{item}"), "");
+        let with = |item: &str| {
+            plan_with(&format!("{TAKE_OFF},\n{WAYPOINT},\n{item}"), "")
+                .replace(r#""points": [[47.39, 8.54, 500]]"#, r#""points": []"#)
+        };
         let cases: &[(&str, &str)] = &[
             (
                 r#"{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, null, 95, 8.5, 10]}"#,
-                "mission.items[1].params[4]: latitude 95 deg is outside -90..=90",
+                "mission.items[2].params[4]: latitude 95 deg is outside -90..=90",
             ),
             (
                 r#"{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, null, 47.4, null, 10]}"#,
-                "mission.items[1].params[5]: expected a number, found null",
+                "mission.items[2].params[5]: expected a number, found null",
             ),
             (
                 r#"{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, null, 47.4, 8.5, "high"]}"#,
-                "mission.items[1].params[6]: expected a number, found the string \"high\"",
+                "mission.items[2].params[6]: expected a number, found the string \"high\"",
             ),
             (
                 r#"{"type": "SimpleItem", "command": 16, "frame": 0, "params": [0, 0, 0, null, 47.4, 8.5, null]}"#,
-                "mission.items[1].params[6]: expected a number, found null",
+                "mission.items[2].params[6]: expected a number, found null",
             ),
             (
                 r#"{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 47.4, 8.5, 10]}"#,
-                "mission.items[1].params: 5 values, expected 7",
+                "mission.items[2].params: 5 values, expected 7",
             ),
             (
                 r#"{"type": "Simple", "command": 16}"#,
-                "mission.items[1].type: \"Simple\" is not \"SimpleItem\" or \"ComplexItem\"",
+                "mission.items[2].type: \"Simple\" is not \"SimpleItem\" or \"ComplexItem\"",
             ),
             (
                 r#"{"type": "SimpleItem", "frame": 3, "params": []}"#,
-                "mission.items[1].command: missing",
+                "mission.items[2].command: missing",
             ),
             (
                 r#"{"type": "SimpleItem", "command": 178, "frame": 2, "params": [1, 0.2, -1, 0, 0, 0, 0]}"#,
-                "mission.items[1].params[1]: 0.2 m/s is 0 on the wire (steps of 0.5 m/s); the \
+                "mission.items[2].params[1]: 0.2 m/s is 0 on the wire (steps of 0.5 m/s); the \
                  speed must be above 0",
             ),
             (
                 r#"{"type": "SimpleItem", "command": 22, "frame": 0, "params": [0, 0, 0, null, 0, 0, 400]}"#,
-                "mission.items[1]: command 22 (NAV_TAKEOFF): a take-off after waypoints is not \
-                 supported",
+                "not imported: 1 element the ICD cannot carry or the FCC cannot hold; \
+                 mission.items[2]: command 22 (NAV_TAKEOFF): a second take-off (the first is \
+                 mission.items[0])",
+            ),
+            (
+                r#"{"type": "SimpleItem", "command": 22, "frame": 3, "params": [0, 0, 0, null, 47.4, 181, 40]}"#,
+                "not imported: 1 element the ICD cannot carry or the FCC cannot hold; \
+                 mission.items[2]: command 22 (NAV_TAKEOFF): a second take-off (the first is \
+                 mission.items[0])",
             ),
         ];
         for (item, expected) in cases {
-            let got = match import_plan(&with(item), &ImportOptions::default()) {
-                Err(e) => e.to_string(),
-                Ok(i) => i.notes.first().map(ToString::to_string).unwrap_or_default(),
-            };
-            assert_eq!(&got, expected);
+            let got = import_plan(&with(item), &ImportOptions::default())
+                .map(|i| i.dropped)
+                .unwrap_err();
+            assert_eq!(&got.to_string(), expected);
         }
+
+        // A take-off after the waypoints: no take-off before the route, which is no mission.
+        let late = plan_with(
+            &format!(
+                r#"{WAYPOINT},
+{{"type": "SimpleItem", "command": 22, "frame": 3, "params": [0, 0, 0, null, 0, 0, 40]}}"#
+            ),
+            "",
+        );
+        assert_eq!(
+            import_plan(&late, &dropping()).unwrap_err().to_string(),
+            "mission.items[1]: command 22 (NAV_TAKEOFF): a take-off after waypoints is not \
+             supported (the ICD's take-off comes before the route)"
+        );
+        // No take-off at all.
+        assert_eq!(
+            import_plan(&plan_with(WAYPOINT, ""), &dropping())
+                .unwrap_err()
+                .to_string(),
+            "mission.items: no take-off (command 22 or 84): the ICD's mission needs its \
+             take-off height"
+        );
+        // A take-off position outside the world.
+        let far = plan_with(
+            r#"{"type": "SimpleItem", "command": 22, "frame": 3, "params": [0, 0, 0, null, 47.4, 181, 40]}"#,
+            "",
+        );
+        assert_eq!(
+            import_plan(&far, &dropping()).unwrap_err().to_string(),
+            "mission.items[0].params[5]: longitude 181 deg is outside -180..=180"
+        );
 
         // A take-off below home, in AMSL.
         let below = plan_with(
@@ -1806,17 +2035,21 @@ pub(crate) mod tests {
             r#""polygons": [{"inclusion": false, "polygon": [[47.3, 8.4], [47.3], [47.5, 8.7]]}]"#,
         );
         assert_eq!(
-            import_areas(&fence).unwrap_err().to_string(),
+            import_areas(&fence, Unsupported::Drop)
+                .unwrap_err()
+                .to_string(),
             "geoFence.polygons[0].polygon[1]: 1 values, expected [latitude, longitude]"
         );
         assert_eq!(
-            import_areas("{\"fileType\": \"Mission\"}")
+            import_areas("{\"fileType\": \"Mission\"}", Unsupported::Refuse)
                 .unwrap_err()
                 .to_string(),
             "fileType: \"Mission\": not a QGroundControl plan (\"Plan\")"
         );
         assert_eq!(
-            import_areas("[]").unwrap_err().to_string(),
+            import_areas("[]", Unsupported::Refuse)
+                .unwrap_err()
+                .to_string(),
             "(top level): expected an object, found an array"
         );
     }

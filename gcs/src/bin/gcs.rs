@@ -7,17 +7,19 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
 use missionlink_gcs::gcs_link::GcsLink;
 use missionlink_gcs::inspect::{
     MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
-use missionlink_gcs::mission_file::MissionFile;
+use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
 use missionlink_gcs::{geojson, map, profile, qgc};
-use missionlink_interfaces::wire::{ExecuteCommand, SafetyOffset};
+use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, SafetyOffset};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
-use missionlink_services::ground_station::{GcsEvent, MissionPlan, ValidatedPlan};
-use missionlink_services::safety_gateway::{SafetyGateway, Violation};
+use missionlink_services::ground_station::{GcsEvent, InvalidPlan, MissionPlan, ValidatedPlan};
+use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
+use missionlink_services::transfer::areas::AreaList;
+use missionlink_services::transfer::mission::Mission;
 
 /// Ground control station of missionlink: STANAG 4586 mission and area transfer.
 #[derive(Debug, Parser)]
@@ -32,7 +34,19 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Check a mission file: assemble the waypoint and area lists (ICD §7), then run the safety
-    /// gateway and print every violation. Exit status 0 only for a feasible mission.
+    /// gateway, flying from the plan's take-off position, and print every violation.
+    ///
+    /// A .plan or GeoJSON file is imported exactly or not at all: an element the ICD cannot carry
+    /// or the FCC cannot hold (a return-to-launch or other unsupported item, a second inclusion
+    /// polygon, an inclusion circle, an eleventh no-fly-zone, a polygon of more than 60
+    /// vertices, ...) refuses the file, naming the element's path and the reason, unless
+    /// `--drop unsupported` is given.
+    #[command(after_help = "Exit status:\n  \
+        0  feasible: the lists assemble (ICD §7) and every check of the safety gateway passes\n  \
+        1  infeasible: a violation of the safety gateway, or the lists refused by the ICD §7 \
+           assembly\n  \
+        2  unreadable input: a file missing or unreadable, a syntax error or a bad value, an \
+           import refused for what it cannot carry, bad flags")]
     Validate {
         /// Mission file: our TOML (.toml) or a QGroundControl plan (.plan).
         file: PathBuf,
@@ -193,7 +207,15 @@ fn open(config: &Config, gateway: SafetyGateway) -> Result<Link, String> {
     GcsLink::open(config, gateway).map_err(|e| e.to_string())
 }
 
-/// The safety gateway's inputs (paper §2.2) and the sources of areas.
+/// What `--drop` may leave out of an imported file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Droppable {
+    /// Every element of a .plan or GeoJSON file that the ICD cannot carry or the FCC cannot
+    /// hold; each one is listed on stderr, and the plan is what remains.
+    Unsupported,
+}
+
+/// The safety gateway's inputs (paper §2.2) and the sources of the plan.
 #[derive(Debug, Clone, Default, clap::Args)]
 struct SafetyArgs {
     /// Aircraft profile (TOML; default: the demo eVTOL, see gcs/src/profile.rs).
@@ -217,12 +239,19 @@ struct SafetyArgs {
     /// Safety offset in metres for areas from a .plan or GeoJSON file (they carry none).
     #[arg(long, value_name = "M")]
     safety_offset_m: Option<f64>,
+    /// Drop what an imported file holds that cannot be uploaded exactly, instead of refusing
+    /// the file; every dropped element is listed.
+    #[arg(long, value_enum, value_name = "WHAT")]
+    drop: Option<Droppable>,
 }
 
 impl SafetyArgs {
-    fn gateway(&self) -> Result<SafetyGateway, String> {
-        let profile = profile::aircraft(self.profile.as_deref())?;
-        let mut environment = profile::environment(self.environment.as_deref())?;
+    /// The gateway of the profile and environment; a file that cannot be read is unreadable
+    /// input.
+    fn gateway(&self) -> Result<SafetyGateway, Failure> {
+        let profile = profile::aircraft(self.profile.as_deref()).map_err(Failure::input)?;
+        let mut environment =
+            profile::environment(self.environment.as_deref()).map_err(Failure::input)?;
         if let Some(v) = self.wind_mps {
             environment.wind_speed_mps = v;
         }
@@ -234,58 +263,173 @@ impl SafetyArgs {
         }
         Ok(SafetyGateway::new(profile, environment))
     }
+
+    fn unsupported(&self) -> qgc::Unsupported {
+        match self.drop {
+            Some(Droppable::Unsupported) => qgc::Unsupported::Drop,
+            None => qgc::Unsupported::Refuse,
+        }
+    }
+}
+
+/// Why a command failed, and the exit status that says so.
+#[derive(Debug)]
+struct Failure {
+    /// 2 for unreadable or unusable input, 1 for every other failure.
+    status: u8,
+    /// What to print.
+    message: String,
+    /// For `validate --json`: the elements an import refused (empty otherwise).
+    refused: Vec<Dropped>,
+}
+
+impl Failure {
+    /// Unreadable or unusable input: exit status 2.
+    fn input(message: impl Into<String>) -> Self {
+        Self {
+            status: 2,
+            message: message.into(),
+            refused: Vec::new(),
+        }
+    }
+
+    /// `file` cannot be read or imported: exit status 2. A refused import lists its elements,
+    /// one a line, and says how to drop them.
+    fn file(file: &Path, e: MissionFileError) -> Self {
+        match e {
+            MissionFileError::Unsupported { elements } => {
+                let mut message = format!(
+                    "{}: refused: it holds what the ICD cannot carry or the FCC cannot hold:",
+                    file.display()
+                );
+                for element in &elements {
+                    message.push_str(&format!("\n  {element}"));
+                }
+                message
+                    .push_str("\n  (--drop unsupported leaves these out and checks what remains)");
+                Self {
+                    refused: elements,
+                    ..Self::input(message)
+                }
+            }
+            other => Self::input(format!("{}: {other}", file.display())),
+        }
+    }
+}
+
+/// Every other failure (an infeasible mission, the link, the FCC's answer): exit status 1.
+impl From<String> for Failure {
+    fn from(message: String) -> Self {
+        Self {
+            status: 1,
+            message,
+            refused: Vec::new(),
+        }
+    }
+}
+
+impl From<&str> for Failure {
+    fn from(message: &str) -> Self {
+        message.to_owned().into()
+    }
 }
 
 fn note(file: &Path, n: &impl std::fmt::Display) {
     eprintln!("{}: note: {n}", file.display());
 }
 
-/// Reads a mission by its extension, with the areas of `--areas` if given. Items a .plan holds
-/// that this system does not fly are printed as notes, each with its index.
-fn read_plan(file: &Path, safety: &SafetyArgs) -> Result<MissionPlan, String> {
-    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", file.display());
+/// A plan read from its files, and what the imports dropped (`--drop unsupported`), each with
+/// its file.
+struct Read {
+    plan: MissionPlan,
+    dropped: Vec<(PathBuf, Dropped)>,
+}
+
+/// Reads a mission by its extension, with the areas of `--areas` if given. An import that
+/// cannot carry the file exactly is refused, or with `--drop unsupported` what it dropped is
+/// listed on stderr, one element a line.
+fn read_plan(file: &Path, safety: &SafetyArgs) -> Result<Read, Failure> {
+    let unsupported = safety.unsupported();
+    let read_text = |path: &Path| {
+        std::fs::read_to_string(path).map_err(|e| Failure::file(path, io_error(path, e)))
+    };
+    let mut dropped = Vec::new();
     let mut plan = match file.extension().and_then(|e| e.to_str()) {
         Some("plan") => {
-            let text = std::fs::read_to_string(file).map_err(|e| at(&e))?;
+            let text = read_text(file)?;
             let options = qgc::ImportOptions {
                 safety_offset_m: safety.safety_offset_m.unwrap_or(0.0),
+                unsupported,
                 ..Default::default()
             };
-            let import = qgc::import_plan(&text, &options).map_err(|e| at(&e))?;
-            for n in &import.notes {
-                note(file, n);
-            }
+            let import = qgc::import_plan(&text, &options).map_err(|e| Failure::file(file, e))?;
+            dropped.extend(import.dropped.into_iter().map(|d| (file.to_owned(), d)));
             import.plan
         }
         Some("toml") => MissionFile::read(file)
             .and_then(|f| f.to_plan())
-            .map_err(|e| at(&e))?,
+            .map_err(|e| Failure::file(file, e))?,
         _ => {
-            return Err(at(
-                &"a mission file is .toml (missionlink) or .plan (QGroundControl)",
-            ));
+            return Err(Failure::input(format!(
+                "{}: a mission file is .toml (missionlink) or .plan (QGroundControl)",
+                file.display()
+            )));
         }
     };
     if let Some(areas) = &safety.areas {
-        let text =
-            std::fs::read_to_string(areas).map_err(|e| format!("{}: {e}", areas.display()))?;
-        let (buffer, notes) =
-            geojson::import_areas(&text).map_err(|e| format!("{}: {e}", areas.display()))?;
-        for n in &notes {
-            note(areas, n);
-        }
+        let text = read_text(areas)?;
+        let (buffer, from_areas) =
+            geojson::import_areas(&text, unsupported).map_err(|e| Failure::file(areas, e))?;
+        dropped.extend(from_areas.into_iter().map(|d| (areas.clone(), d)));
         plan.areas = buffer;
     }
     if let Some(m) = safety.safety_offset_m {
-        plan.safety_offset = SafetyOffset::from_metres(m).map_err(|e| e.to_string())?;
+        plan.safety_offset = SafetyOffset::from_metres(m)
+            .map_err(|e| Failure::input(format!("--safety-offset-m: {e}")))?;
     }
-    Ok(plan)
+    for (path, d) in &dropped {
+        eprintln!("{}: dropped: {d}", path.display());
+    }
+    Ok(Read { plan, dropped })
 }
 
-/// The lists of ICD §7, assembled with the FCC's own code.
-fn assemble(plan: &MissionPlan, file: &Path) -> Result<ValidatedPlan, String> {
+fn io_error(path: &Path, e: io::Error) -> MissionFileError {
+    MissionFileError::Io {
+        path: path.to_owned(),
+        message: e.to_string(),
+    }
+}
+
+/// The lists of ICD §7, assembled with the FCC's own code; a plan that does not assemble is
+/// no input for a map or a conversion (exit status 2).
+fn assemble(plan: &MissionPlan, file: &Path) -> Result<ValidatedPlan, Failure> {
     plan.assemble()
-        .map_err(|e| format!("{}: {e}", file.display()))
+        .map_err(|e| Failure::input(format!("{}: {e}", file.display())))
+}
+
+/// The safety gateway's violations of the lists and the energy estimate, the route flown from
+/// the plan's take-off position (the one place the binary asks the gateway directly).
+fn gateway_report(
+    gateway: &SafetyGateway,
+    take_off: Option<GeoPoint>,
+    mission: &Mission,
+    areas: &AreaList,
+) -> (Vec<Violation>, EnergyEstimate) {
+    (
+        gateway.violations(mission, areas, take_off),
+        gateway.estimate_energy(mission, take_off),
+    )
+}
+
+fn position_json(p: Option<GeoPoint>) -> serde_json::Value {
+    serde_json::json!(p.map(mission_file::position))
+}
+
+fn dropped_json(dropped: &[(PathBuf, Dropped)]) -> serde_json::Value {
+    dropped
+        .iter()
+        .map(|(file, d)| serde_json::json!({ "file": file, "path": d.path, "reason": d.reason }))
+        .collect()
 }
 
 fn violation_json(v: &Violation) -> serde_json::Value {
@@ -314,63 +458,117 @@ fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, String> {
     outcome.map_err(|e| e.to_string())
 }
 
-fn mission_command(config: &Config, command: Command) -> Result<(), String> {
-    match command {
-        Command::Validate { file, json, safety } => {
-            let gateway = safety.gateway()?;
-            let plan = read_plan(&file, &safety)?;
-            let valid = match assemble(&plan, &file) {
-                Ok(v) => v,
-                Err(e) if json => {
-                    println!(
-                        "{}",
-                        serde_json::json!({ "file": file, "feasible": false, "error": e })
-                    );
-                    return Err(e);
-                }
-                Err(e) => return Err(e),
-            };
-            let violations =
-                gateway.violations(&valid.mission, &valid.areas, plan.take_off_position);
-            let energy = gateway.estimate_energy(&valid.mission, plan.take_off_position);
+/// `gcs validate`: the verdict on the plan as it will be uploaded (see the exit status in the
+/// command's help).
+fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure> {
+    let inputs = safety
+        .gateway()
+        .and_then(|gateway| Ok((gateway, read_plan(file, safety)?)));
+    let (gateway, Read { plan, dropped }) = match inputs {
+        Ok(inputs) => inputs,
+        Err(f) => {
             if json {
+                let refused: Vec<serde_json::Value> = f
+                    .refused
+                    .iter()
+                    .map(|d| serde_json::json!({ "path": d.path, "reason": d.reason }))
+                    .collect();
                 println!(
                     "{}",
                     serde_json::json!({
                         "file": file,
-                        "feasible": violations.is_empty(),
-                        "summary": valid.to_string(),
-                        "energy_wh": { "total": energy.total_wh, "limit": energy.limit_wh },
-                        "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
+                        "readable": false,
+                        "error": f.message,
+                        "refused": refused,
                     })
                 );
-            } else {
-                println!("{}: {valid}", file.display());
-                println!(
-                    "  energy: {:.0} Wh needed of {:.0} Wh usable after the reserve",
-                    energy.total_wh, energy.limit_wh
-                );
-                for v in &violations {
-                    println!("  {v}");
-                }
             }
-            if violations.is_empty() {
-                if !json {
-                    println!("  feasible: every check of the safety gateway passes");
-                }
-                Ok(())
-            } else {
-                Err(format!(
-                    "{}: infeasible: {} violation{}",
-                    file.display(),
-                    violations.len(),
-                    if violations.len() == 1 { "" } else { "s" }
-                ))
-            }
+            return Err(f);
         }
+    };
+    // The ICD §7 assembly; an area list that fails it still goes through the gateway,
+    // unchecked, so that its defects come back as violations naming the area.
+    let (valid, icd_error) = match plan.lists_to_check() {
+        Ok(lists) => {
+            let error = lists.areas_invalid.map(InvalidPlan::Areas);
+            (
+                Some(ValidatedPlan {
+                    mission: lists.mission,
+                    areas: lists.areas,
+                }),
+                error,
+            )
+        }
+        Err(e) => (None, Some(e)),
+    };
+    let (violations, energy) = match &valid {
+        Some(v) => {
+            let (violations, energy) =
+                gateway_report(&gateway, plan.take_off_position, &v.mission, &v.areas);
+            (violations, Some(energy))
+        }
+        None => (Vec::new(), None),
+    };
+    let feasible = violations.is_empty() && icd_error.is_none();
+    let summary = match (&valid, icd_error) {
+        (Some(v), None) => v.to_string(),
+        _ => plan.to_string(),
+    };
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "file": file,
+                "feasible": feasible,
+                "summary": summary,
+                "take_off_position": position_json(plan.take_off_position),
+                "energy_wh": energy.map(|e| serde_json::json!({ "total": e.total_wh, "limit": e.limit_wh })),
+                "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
+                "error": icd_error.map(|e| e.to_string()),
+                "dropped": dropped_json(&dropped),
+            })
+        );
+    } else {
+        println!("{}: {summary}", file.display());
+        match plan.take_off_position.map(mission_file::position) {
+            Some([lat, lon]) => println!("  take-off position: {lat}, {lon}"),
+            None => println!("  take-off position: none"),
+        }
+        if let Some(e) = energy {
+            println!(
+                "  energy: {:.0} Wh needed of {:.0} Wh usable after the reserve",
+                e.total_wh, e.limit_wh
+            );
+        }
+        for v in &violations {
+            println!("  {v}");
+        }
+        if let Some(e) = icd_error {
+            println!("  {e}");
+        }
+        if feasible {
+            println!("  feasible: every check of the safety gateway passes");
+        }
+    }
+    match (violations.len(), icd_error) {
+        (0, None) => Ok(()),
+        (0, Some(e)) => Err(format!("{}: infeasible: {e}", file.display()).into()),
+        (n, _) => Err(format!(
+            "{}: infeasible: {n} violation{}",
+            file.display(),
+            if n == 1 { "" } else { "s" }
+        )
+        .into()),
+    }
+}
+
+fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
+    match command {
+        Command::Validate { file, json, safety } => validate(&file, json, &safety),
         Command::Upload { file, edit, safety } => {
-            let plan = read_plan(&file, &safety)?;
-            let mut link = open(config, safety.gateway()?)?;
+            let gateway = safety.gateway()?;
+            let plan = read_plan(&file, &safety)?.plan;
+            let mut link = open(config, gateway)?;
             let now = link.now();
             link.station()
                 .upload(now, &plan, !edit)
@@ -385,17 +583,22 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             safety,
         } => {
             let gateway = safety.gateway()?;
-            let plan = read_plan(&file, &safety)?;
+            let plan = read_plan(&file, &safety)?.plan;
             let valid = assemble(&plan, &file)?;
-            let markers: Vec<map::Marker> = gateway
-                .violations(&valid.mission, &valid.areas, plan.take_off_position)
-                .iter()
-                .map(|v| map::Marker {
-                    code: v.code.code().to_owned(),
-                    label: v.to_string(),
-                    position: v.position,
-                })
-                .collect();
+            let markers: Vec<map::Marker> = gateway_report(
+                &gateway,
+                plan.take_off_position,
+                &valid.mission,
+                &valid.areas,
+            )
+            .0
+            .iter()
+            .map(|v| map::Marker {
+                code: v.code.code().to_owned(),
+                label: v.to_string(),
+                position: v.position,
+            })
+            .collect();
             let title = file
                 .file_name()
                 .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -414,12 +617,16 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             output,
             safety,
         } => {
-            let plan = read_plan(&input, &safety)?;
+            let plan = read_plan(&input, &safety)?.plan;
             let valid = assemble(&plan, &input)?;
             let text = match output.extension().and_then(|e| e.to_str()) {
-                Some("toml") => MissionFile::from_plan(&valid).to_toml(),
+                Some("toml") => MissionFile::from_plan(&valid, plan.take_off_position).to_toml(),
                 Some("plan") => {
-                    let (text, notes) = qgc::export_plan(&valid, &qgc::ExportOptions::default());
+                    let options = qgc::ExportOptions {
+                        take_off_position: plan.take_off_position,
+                        ..qgc::ExportOptions::default()
+                    };
+                    let (text, notes) = qgc::export_plan(&valid, &options);
                     for n in &notes {
                         note(&output, n);
                     }
@@ -427,10 +634,10 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
                 }
                 Some("geojson" | "json") => geojson::export_areas(&valid.areas),
                 _ => {
-                    return Err(format!(
+                    return Err(Failure::input(format!(
                         "{}: write .toml, .plan or .geojson",
                         output.display()
-                    ));
+                    )));
                 }
             };
             std::fs::write(&output, text).map_err(|e| format!("{}: {e}", output.display()))?;
@@ -444,9 +651,14 @@ fn mission_command(config: &Config, command: Command) -> Result<(), String> {
             let plan = finish(&mut link)?.ok_or("the download ended without lists")?;
             println!("downloaded {plan}");
             if let Some(path) = output {
-                std::fs::write(&path, MissionFile::from_plan(&plan).to_toml())
+                // The FCC does not hold the take-off position: the file has none (its header
+                // says so), and it must be added before the file is uploaded again.
+                std::fs::write(&path, MissionFile::from_plan(&plan, None).to_toml())
                     .map_err(|e| format!("{}: {e}", path.display()))?;
-                println!("written to {}", path.display());
+                println!(
+                    "written to {} (without a take-off position: the FCC does not hold it)",
+                    path.display()
+                );
             }
             Ok(())
         }
@@ -513,9 +725,9 @@ fn main() -> ExitCode {
         };
         return match mission_command(&config, cli.command) {
             Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("gcs: {e}");
-                ExitCode::FAILURE
+            Err(f) => {
+                eprintln!("gcs: {}", f.message);
+                ExitCode::from(f.status)
             }
         };
     }
