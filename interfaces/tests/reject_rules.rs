@@ -1846,7 +1846,7 @@ fn area_shape_2_is_unsupported() {
 fn undefined_enumeration_values_are_unsupported() {
     let cases: Vec<(Msg, u8, u8)> = vec![
         (ack().with(3, u1(5)), 3, 5),               // Acknowledgement Type
-        (ack().with(4, u1(14)), 4, 14),             // Reject Reason
+        (ack().with(4, u1(15)), 4, 15),             // Reject Reason
         (route().with(3, u1(5)), 3, 5),             // Route Type
         (waypoint().with(6, u1(4)), 6, 4),          // Waypoint Altitude Type
         (waypoint().with(9, u1(3)), 9, 3),          // Waypoint Speed Type
@@ -1854,7 +1854,7 @@ fn undefined_enumeration_values_are_unsupported() {
         (waypoint().with(13, u1(2)), 13, 2),        // Waypoint Type
         (rf_centre().with(6, u1(2)), 6, 2),         // Turn Direction
         (transfer_status().with(2, u1(3)), 2, 3),   // Status
-        (transfer_status().with(6, u1(14)), 6, 14), // Reason
+        (transfer_status().with(6, u1(15)), 6, 15), // Reason
         (from_to_next().with(1, u1(4)), 1, 4),      // Altitude Type
         (from_to_next().with(2, u1(3)), 2, 3),      // Speed Type
         (area_command(0), 1, 0),                    // Area Transfer Mode
@@ -1862,7 +1862,7 @@ fn undefined_enumeration_values_are_unsupported() {
         (polygon().with(2, u1(2)), 2, 2),           // Area Type
         (polygon().with(6, u1(4)), 6, 4),           // Altitude Type
         (area_alert().with(2, u1(2)), 2, 2),        // Status
-        (area_alert().with(3, u1(14)), 3, 14),      // Reason
+        (area_alert().with(3, u1(15)), 3, 15),      // Reason
         (area_transmission_status().with(4, u1(1)), 4, 1), // Status
         (execute().with(1, u1(0)), 1, 0),           // Command
         (execute().with(1, u1(4)), 1, 4),           // Command

@@ -301,7 +301,18 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
     let valid = valid();
     waypoints.send(&valid.mission.to_payload(1)).unwrap();
     areas.send(&valid.areas.to_payload(1)).unwrap();
-    // Until automation has seen the lists an execute is refused; it is sent again until taken.
+    // Navigation: on the ground at TROL, where the onboard geofence check starts (ICD §7).
+    let (lat, lon) = testkit::TROL;
+    progress
+        .send(&GuidanceProgressPayload {
+            sequence: 1,
+            latitude_deg: lat,
+            longitude_deg: lon,
+            ..GuidanceProgressPayload::IDLE
+        })
+        .unwrap();
+    // Until automation has seen the lists and the position an execute is refused; it is sent
+    // again until taken.
     let end = Instant::now() + LIMIT;
     let mut sequence = 0;
     let take_off = loop {

@@ -13,7 +13,7 @@
 //!
 //! [`check_command`] is the one rule for #50000: mission data handling applies it to answer the
 //! command (type 2 or type 3 with the reason), system automation applies it again when it
-//! carries the command out.
+//! carries the command out. Part of it is the onboard geofence check of ICD §7 (ext).
 
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
@@ -21,26 +21,39 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::{ExecuteCommand, Reason};
 
+use crate::geofence::earth::Site;
+use crate::geofence::onboard;
+use crate::geofence::zone::Fence;
 use crate::link::time::Instant;
 
 /// Whether system automation accepts `command` now (ICD §4, #50000): execute needs a valid
 /// waypoint and area list and the aircraft on the ground (`WrongState`); return to home needs a
 /// bidirectional route (`Unsupported`) and the aircraft in the air (`WrongState`); landing at
 /// the next waypoint needs the aircraft in the air (`WrongState`).
+///
+/// Execute and return to home then pass the onboard geofence check of ICD §7 (ext) or are
+/// refused with `GeofenceViolation`: what the aircraft would fly from where navigation (guidance's
+/// progress) says it is, against the active area list ([`onboard`]). Without a position from
+/// navigation yet there is nothing to check from: `WrongState` (our choice; the ICD does not say).
 pub fn check_command(
     state: &AutomationStatePayload,
     waypoints: &WaypointListPayload,
     areas: &AreaListPayload,
+    navigation: &GuidanceProgressPayload,
     command: ExecuteCommand,
 ) -> Result<(), Reason> {
     let phase = state.flight_phase();
     let airborne = matches!(phase, Some(FlightPhase::TakeOff | FlightPhase::Cruise));
+    let here = (navigation.sequence != 0)
+        .then(|| Site::new(navigation.latitude_deg, navigation.longitude_deg));
     match command {
         ExecuteCommand::Execute => {
             let on_ground = matches!(phase, Some(FlightPhase::OnGround | FlightPhase::Landed));
             if !waypoints.is_active() || areas.area_count() == 0 || !on_ground {
                 return Err(Reason::WrongState);
             }
+            let here = here.ok_or(Reason::WrongState)?;
+            geofence(areas, onboard::execute_route(waypoints, here))
         }
         ExecuteCommand::ReturnToHome => {
             if !waypoints.bidirectional {
@@ -49,14 +62,33 @@ pub fn check_command(
             if !airborne {
                 return Err(Reason::WrongState);
             }
+            let here = here.ok_or(Reason::WrongState)?;
+            geofence(areas, onboard::return_route(waypoints, here, navigation.to))
         }
         ExecuteCommand::Land => {
             if !airborne {
                 return Err(Reason::WrongState);
             }
+            Ok(())
         }
     }
-    Ok(())
+}
+
+/// The onboard geofence check (ICD §7 ext): `GeofenceViolation` names no leg on the wire, so
+/// the leg and the area go to the log.
+fn geofence(
+    areas: &AreaListPayload,
+    route: impl Iterator<Item = onboard::RouteLeg>,
+) -> Result<(), Reason> {
+    onboard::check(&Fence::of_payload(areas), route).map_err(|v| {
+        tracing::warn!(
+            element = %v.element,
+            area = v.area_id,
+            margin_m = v.clearance.metres(),
+            "onboard geofence check failed"
+        );
+        Reason::GeofenceViolation
+    })
 }
 
 /// System automation.
@@ -65,8 +97,9 @@ pub struct SystemAutomation {
     state: AutomationStatePayload,
     waypoints: WaypointListPayload,
     areas: AreaListPayload,
-    /// The TO waypoint guidance reported last (where "land at the next waypoint" lands).
-    to_waypoint: u16,
+    /// Guidance's last progress: the TO waypoint (where "land at the next waypoint" lands) and
+    /// the position the onboard geofence check starts from.
+    navigation: GuidanceProgressPayload,
     changed: bool,
 }
 
@@ -83,7 +116,7 @@ impl SystemAutomation {
             state: AutomationStatePayload::ON_GROUND,
             waypoints: WaypointListPayload::EMPTY,
             areas: AreaListPayload::EMPTY,
-            to_waypoint: 0,
+            navigation: GuidanceProgressPayload::IDLE,
             // The first state is published too.
             changed: true,
         }
@@ -127,7 +160,13 @@ impl SystemAutomation {
 
     /// Carries out a #50000 command.
     pub fn handle_command(&mut self, now: Instant, command: ExecuteCommand) -> Result<(), Reason> {
-        check_command(&self.state, &self.waypoints, &self.areas, command)?;
+        check_command(
+            &self.state,
+            &self.waypoints,
+            &self.areas,
+            &self.navigation,
+            command,
+        )?;
         match command {
             ExecuteCommand::Execute => {
                 self.state.flown_waypoint_list = self.waypoints.generation;
@@ -141,7 +180,7 @@ impl SystemAutomation {
                 self.touch(now);
             }
             ExecuteCommand::Land => {
-                self.state.land_at = self.to_waypoint;
+                self.state.land_at = self.navigation.to;
                 self.touch(now);
             }
         }
@@ -155,9 +194,13 @@ impl SystemAutomation {
     /// the phase guidance's progress shows, instead of claiming "on ground" under a flying
     /// aircraft. What it cannot see (a return to home, a landing waypoint) is lost.
     pub fn handle_progress(&mut self, now: Instant, progress: &GuidanceProgressPayload) {
-        if progress.to != 0 {
-            self.to_waypoint = progress.to;
-        }
+        // The TO waypoint is kept through updates that have none (on the ground, climbing).
+        let to = if progress.to != 0 {
+            progress.to
+        } else {
+            self.navigation.to
+        };
+        self.navigation = GuidanceProgressPayload { to, ..*progress };
         if self.state.sequence == 0 && !progress.on_ground {
             let phase = if !progress.climb_complete {
                 FlightPhase::TakeOff
@@ -190,18 +233,27 @@ impl SystemAutomation {
 mod tests {
     use super::*;
 
+    use crate::testkit;
+
+    /// Demo mission 2 (bidirectional) or 1 (one-way) with its areas, as published.
     fn lists(bidirectional: bool) -> (WaypointListPayload, AreaListPayload) {
-        let mut w = WaypointListPayload::EMPTY;
-        w.generation = 1;
-        w.count = 2;
-        w.bidirectional = bidirectional;
-        let mut a = AreaListPayload::EMPTY;
-        a.generation = 1;
-        (w, a)
+        let plan = if bidirectional {
+            testkit::mission_2()
+        } else {
+            testkit::mission_1()
+        };
+        let valid = plan.assemble().unwrap();
+        (valid.mission.to_payload(1), valid.areas.to_payload(1))
     }
 
+    /// Guidance's progress with the aircraft at TROL, changed by `f`.
     fn progress(f: impl FnOnce(&mut GuidanceProgressPayload)) -> GuidanceProgressPayload {
-        let mut p = GuidanceProgressPayload::IDLE;
+        let mut p = GuidanceProgressPayload {
+            sequence: 1,
+            latitude_deg: testkit::TROL.0,
+            longitude_deg: testkit::TROL.1,
+            ..GuidanceProgressPayload::IDLE
+        };
         f(&mut p);
         p
     }
@@ -214,6 +266,12 @@ mod tests {
         sa.handle_waypoint_list(&w);
         sa.handle_area_list(&a);
         let t = Instant::from_millis(5);
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::Execute),
+            Err(Reason::WrongState),
+            "no position from navigation yet"
+        );
+        sa.handle_progress(t, &progress(|_| {}));
         sa.handle_command(t, ExecuteCommand::Execute).unwrap();
         assert_eq!(sa.state().flight_phase(), Some(FlightPhase::TakeOff));
         assert!(sa.state().trajectory_generation_active);
@@ -246,6 +304,7 @@ mod tests {
         let (w, a) = lists(false);
         sa.handle_waypoint_list(&w);
         sa.handle_area_list(&a);
+        sa.handle_progress(t, &progress(|_| {}));
         // On the ground: nothing to return from or land.
         assert_eq!(
             sa.handle_command(t, ExecuteCommand::Land),
@@ -295,6 +354,7 @@ mod tests {
         sa.handle_waypoint_list(&w);
         sa.handle_area_list(&a);
         let t = Instant::ZERO;
+        sa.handle_progress(t, &progress(|_| {}));
         sa.handle_command(t, ExecuteCommand::Execute).unwrap();
         sa.handle_progress(t, &progress(|p| p.climb_complete = true));
         sa.handle_progress(
@@ -309,5 +369,33 @@ mod tests {
         sa.handle_command(t, ExecuteCommand::Land).unwrap();
         assert_eq!(sa.state().land_at, 2);
         assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Cruise));
+    }
+
+    /// The onboard check (ICD §7 ext): return to home from south of the polygonal no-fly-zone
+    /// with CCP the TO waypoint would cross it; refused, and nothing changes.
+    #[test]
+    fn return_to_home_across_a_no_fly_zone_is_refused() {
+        let mut sa = SystemAutomation::new();
+        let (w, a) = lists(true);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        let t = Instant::ZERO;
+        sa.handle_progress(t, &progress(|_| {}));
+        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        sa.handle_progress(
+            t,
+            &progress(|p| {
+                p.on_ground = false;
+                p.latitude_deg = 48.258;
+                p.longitude_deg = 11.643;
+                p.to = 1;
+            }),
+        );
+        let before = *sa.state();
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::ReturnToHome),
+            Err(Reason::GeofenceViolation)
+        );
+        assert_eq!(sa.state(), &before);
     }
 }

@@ -158,6 +158,8 @@ pub struct MissionDataHandling {
     active_areas: Option<AreaList>,
     area_generation: u64,
     automation: AutomationStatePayload,
+    /// Guidance's last progress: where the onboard geofence check starts from (ICD §7).
+    navigation: GuidanceProgressPayload,
     events: Deque<FccEvent, EVENT_CAPACITY>,
     /// The lists as published, rebuilt only when they change.
     waypoint_list: WaypointListPayload,
@@ -181,6 +183,7 @@ impl MissionDataHandling {
             active_areas: None,
             area_generation: 0,
             automation: AutomationStatePayload::ON_GROUND,
+            navigation: GuidanceProgressPayload::IDLE,
             events: Deque::new(),
             waypoint_list: WaypointListPayload::EMPTY,
             area_list: AreaListPayload::EMPTY,
@@ -280,6 +283,7 @@ impl MissionDataHandling {
     /// Guidance reported its progress: #4001 goes out when FROM, TO or NEXT changed (paper
     /// §3.1.7, ICD §5.5).
     pub fn handle_progress(&mut self, now: Instant, progress: &GuidanceProgressPayload) {
+        self.navigation = *progress;
         if let Some(ftn) =
             self.from_to_next
                 .update(progress, &self.waypoint_list, Timestamp::default())
@@ -513,6 +517,7 @@ impl MissionDataHandling {
             &self.automation,
             &self.waypoint_list,
             &self.area_list,
+            &self.navigation,
             command,
         )
     }

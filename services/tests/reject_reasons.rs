@@ -6,6 +6,7 @@
 
 mod support;
 
+use missionlink_interfaces::contracts::GuidanceProgressPayload;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
     self, AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, ExecuteCommand,
@@ -14,7 +15,8 @@ use missionlink_interfaces::wire::{
 };
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
+use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
+use missionlink_services::testkit;
 use missionlink_services::transfer::sender::mission_command;
 use support::*;
 
@@ -406,4 +408,50 @@ fn an_abandoned_edit_leaves_nothing_behind() {
         None,
     ));
     assert_eq!(rig.fcc.active_mission(), Some(&before));
+}
+
+/// Navigation's report of the aircraft on the ground at `(lat, lon)`.
+fn on_ground_at((lat, lon): (f64, f64)) -> GuidanceProgressPayload {
+    GuidanceProgressPayload {
+        sequence: 1,
+        latitude_deg: lat,
+        longitude_deg: lon,
+        ..GuidanceProgressPayload::IDLE
+    }
+}
+
+/// Reason 14 (ICD §7 ext): execute from where the way to the initial waypoint crosses a
+/// no-fly-zone is refused and changes nothing; from TROL the same mission is accepted.
+#[test]
+fn geofence_violation() {
+    let execute = MissionExecuteCommand {
+        time_stamp: Timestamp::default(),
+        command: ExecuteCommand::Execute,
+    };
+    let mut rig = Rig::new().with_mission_2();
+    let (mission, areas) = (
+        rig.fcc.active_mission().cloned(),
+        rig.fcc.active_areas().cloned(),
+    );
+    while rig.fcc.poll_event().is_some() {}
+    // South of the polygonal no-fly-zone (48.262..48.266 N, 11.640..11.646 E): the direct way
+    // to CCP (48.275 N, 11.645 E) runs through it.
+    rig.fcc
+        .handle_progress(rig.now, &on_ground_at((48.258, 11.643)));
+    rig.fcc.messages(); // FROM-TO-NEXT (#4001) of the first progress
+    assert_eq!(rig.reason(execute), Some(Reason::GeofenceViolation));
+    assert_eq!(rig.fcc.active_mission().cloned(), mission);
+    assert_eq!(rig.fcc.active_areas().cloned(), areas);
+    assert!(
+        std::iter::from_fn(|| rig.fcc.poll_event()).all(|e| !matches!(e, FccEvent::Execute(_))),
+        "nothing goes to system automation"
+    );
+    // Without a position from navigation there is nothing to check from.
+    let mut rig = Rig::new().with_mission_2();
+    assert_eq!(rig.reason(execute), Some(Reason::WrongState));
+    // From TROL the way is clear.
+    rig.fcc
+        .handle_progress(rig.now, &on_ground_at(testkit::TROL));
+    rig.fcc.messages();
+    assert_eq!(rig.reason(execute), None);
 }

@@ -43,6 +43,36 @@ wire_enum! {
         BadGeometry = 12 => "bad geometry",
         /// Another transfer is in progress.
         Busy = 13 => "busy",
+        /// (ext) The onboard geofence check of ICD §7 failed: a leg, the climb at the take-off
+        /// or the route to the initial waypoint leaves the fly-zone or enters a no-fly-zone.
+        GeofenceViolation = 14 => "geofence violation",
+    }
+}
+
+impl Reason {
+    /// What the reason means, as ICD §6 says it: for an operator reading a refusal.
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Self::None => "accepted",
+            Self::Malformed => "fields out of range or inconsistent",
+            Self::MissingField => "a mandatory field is absent",
+            Self::UnknownField => "a presence-vector bit beyond the defined fields",
+            Self::Unsupported => "a value this system does not implement",
+            Self::Capacity => "more waypoints, areas or vertices than the FCC holds",
+            Self::WrongState => "message not expected now",
+            Self::GuidanceActive => "clear refused while trajectory generation is active",
+            Self::CountMismatch => "assembled count differs from the announced count",
+            Self::BrokenChain => "Next Waypoint refers to a missing waypoint, or the plan loops",
+            Self::MissingInitial => "the initial waypoint is not in the list",
+            Self::MissingRfCentre => "an RF waypoint has no #13006 centre",
+            Self::BadGeometry => {
+                "a polygon that is not simple or has fewer than 3 vertices, a circle of zero radius, no or several fly-zones"
+            }
+            Self::Busy => "another transfer is in progress",
+            Self::GeofenceViolation => {
+                "the onboard geofence check failed: from where the aircraft is, the climb, the way to the route or a leg would leave the fly-zone or enter a no-fly-zone (ICD §7)"
+            }
+        }
     }
 }
 

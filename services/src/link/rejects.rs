@@ -99,7 +99,7 @@ impl Cause<8> for FrameCause {
 }
 
 /// The reject reasons of ICD §6, each a cause of its own.
-pub const REASONS: usize = 14;
+pub const REASONS: usize = 15;
 
 // A reason added to the ICD needs a slot and a name below.
 const _: () = assert!(Reason::ALL.len() == REASONS);
@@ -120,9 +120,10 @@ impl Cause<REASONS> for Reason {
         Self::MissingRfCentre,
         Self::BadGeometry,
         Self::Busy,
+        Self::GeofenceViolation,
     ];
 
-    /// The wire value (ICD §6 numbers the reasons 0 to 13).
+    /// The wire value (ICD §6 numbers the reasons from 0).
     fn index(self) -> usize {
         self as usize
     }
@@ -143,6 +144,7 @@ impl Cause<REASONS> for Reason {
             Self::MissingRfCentre => "reason_missing_rf_centre",
             Self::BadGeometry => "reason_bad_geometry",
             Self::Busy => "reason_busy",
+            Self::GeofenceViolation => "reason_geofence_violation",
         }
     }
 }

@@ -60,7 +60,9 @@ impl fmt::Display for AttemptFailure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Timeout => write!(f, "no answer within the ack timeout"),
-            Self::Rejected(reason) => write!(f, "rejected with reason {reason}"),
+            Self::Rejected(reason) => {
+                write!(f, "rejected with reason {reason}: {}", reason.meaning())
+            }
             Self::Aborted => write!(f, "the peer aborted"),
         }
     }
