@@ -395,3 +395,36 @@ fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
         "{lines} log lines for {rejected} rejected frames in {seconds} s"
     );
 }
+
+/// ICD §7 (ext): navigation puts the aircraft south of mission 2's polygonal no-fly-zone, so
+/// the way from there to the initial waypoint (CCP) runs through it. The FCC refuses execute
+/// with GeofenceViolation (14) and the lists stay as uploaded.
+#[test]
+fn execute_is_refused_when_the_way_from_the_take_off_point_crosses_a_no_fly_zone() {
+    let mut rig = Rig::new("geofence");
+    rig.config.guidance.start_latitude_deg = 48.258;
+    rig.config.guidance.start_longitude_deg = 11.643;
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    let mut link = rig.gcs(&mut fcc);
+    let plan = plan("mission-2.toml");
+    let valid = link.station().validate(&plan).unwrap();
+    upload(&mut link, &plan).unwrap();
+    // Until guidance's first progress has reached mission data handling there is no position
+    // to check from (WrongState): ask again, bounded.
+    let reason = eventually(Duration::from_secs(10), || {
+        let now = link.now();
+        link.station()
+            .execute(now, wire::ExecuteCommand::Execute)
+            .unwrap();
+        match finish(&mut link) {
+            Err(GcsError::Transfer { error, .. }) => match error.reason() {
+                Some(wire::Reason::WrongState) => None,
+                other => Some(other),
+            },
+            other => panic!("execute was not refused: {other:?}"),
+        }
+    });
+    assert_eq!(reason, Some(Some(wire::Reason::GeofenceViolation)));
+    assert_eq!(download(&mut link).unwrap(), valid, "nothing changed");
+}

@@ -39,6 +39,7 @@ pub fn check_command(
     state: &AutomationStatePayload,
     waypoints: &WaypointListPayload,
     areas: &AreaListPayload,
+    fence: &Fence,
     navigation: &GuidanceProgressPayload,
     command: ExecuteCommand,
 ) -> Result<(), Reason> {
@@ -53,7 +54,7 @@ pub fn check_command(
                 return Err(Reason::WrongState);
             }
             let here = here.ok_or(Reason::WrongState)?;
-            geofence(areas, onboard::execute_route(waypoints, here))
+            geofence(fence, onboard::execute_route(waypoints, here))
         }
         ExecuteCommand::ReturnToHome => {
             if !waypoints.bidirectional {
@@ -63,7 +64,7 @@ pub fn check_command(
                 return Err(Reason::WrongState);
             }
             let here = here.ok_or(Reason::WrongState)?;
-            geofence(areas, onboard::return_route(waypoints, here, navigation.to))
+            geofence(fence, onboard::return_route(waypoints, here, navigation.to))
         }
         ExecuteCommand::Land => {
             if !airborne {
@@ -76,11 +77,8 @@ pub fn check_command(
 
 /// The onboard geofence check (ICD §7 ext): `GeofenceViolation` names no leg on the wire, so
 /// the leg and the area go to the log.
-fn geofence(
-    areas: &AreaListPayload,
-    route: impl Iterator<Item = onboard::RouteLeg>,
-) -> Result<(), Reason> {
-    onboard::check(&Fence::of_payload(areas), route).map_err(|v| {
+fn geofence(fence: &Fence, route: impl Iterator<Item = onboard::RouteLeg>) -> Result<(), Reason> {
+    onboard::check(fence, route).map_err(|v| {
         tracing::warn!(
             element = %v.element,
             area = v.area_id,
@@ -97,6 +95,8 @@ pub struct SystemAutomation {
     state: AutomationStatePayload,
     waypoints: WaypointListPayload,
     areas: AreaListPayload,
+    /// The active area list as the onboard geofence check takes it (built when it changes).
+    fence: Box<Fence>,
     /// Guidance's last progress: the TO waypoint (where "land at the next waypoint" lands) and
     /// the position the onboard geofence check starts from.
     navigation: GuidanceProgressPayload,
@@ -116,6 +116,7 @@ impl SystemAutomation {
             state: AutomationStatePayload::ON_GROUND,
             waypoints: WaypointListPayload::EMPTY,
             areas: AreaListPayload::EMPTY,
+            fence: Box::new(Fence::empty()),
             navigation: GuidanceProgressPayload::IDLE,
             // The first state is published too.
             changed: true,
@@ -156,6 +157,7 @@ impl SystemAutomation {
     /// The active area list changed.
     pub fn handle_area_list(&mut self, list: &AreaListPayload) {
         self.areas = *list;
+        self.fence.set_payload(list);
     }
 
     /// Carries out a #50000 command.
@@ -164,6 +166,7 @@ impl SystemAutomation {
             &self.state,
             &self.waypoints,
             &self.areas,
+            &self.fence,
             &self.navigation,
             command,
         )?;

@@ -118,44 +118,43 @@ impl MissionPlan {
     }
 }
 
-/// What the safety gateway checks of a plan: the waypoint list assembled, and the area list
-/// assembled or, when it fails ICD §7, unchecked with the ICD reason beside it (the gateway
-/// names every defect; the reason is the answer when it names none).
+/// What the safety gateway checks of a plan: both lists as far as they assemble, and why they
+/// fail ICD §7 if they do. A waypoint list whose only fault is a radius-to-fix leg's radii, and
+/// an area list with any fault, are still checked (unchecked), so that the gateway names every
+/// defect; the ICD reason is the answer when it names none.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ListsToCheck {
     /// The waypoint list.
     pub mission: Mission,
     /// The area list, valid or not.
     pub areas: AreaList,
-    /// Why the area list fails ICD §7, if it does.
-    pub areas_invalid: Option<Reason>,
+    /// Why the lists fail ICD §7, if they do.
+    pub invalid: Option<InvalidPlan>,
 }
 
 impl MissionPlan {
     /// The lists to run the safety gateway on; `Err` only when the waypoint list does not
-    /// assemble.
+    /// even chain (count, initial waypoint, Next Waypoints, RF centres, take-off height).
     pub fn lists_to_check(&self) -> Result<ListsToCheck, InvalidPlan> {
-        match self.assemble() {
-            Ok(ValidatedPlan { mission, areas }) => Ok(ListsToCheck {
-                mission,
-                areas,
-                areas_invalid: None,
-            }),
-            Err(InvalidPlan::Mission(r)) => Err(InvalidPlan::Mission(r)),
-            Err(InvalidPlan::Areas(r)) => {
-                let announced = u16::try_from(self.mission.len())
-                    .map_err(|_| InvalidPlan::Mission(Reason::Capacity))?;
-                let mission = self
-                    .mission
-                    .assemble(Some(announced), self.mission_id)
-                    .map_err(InvalidPlan::Mission)?;
-                Ok(ListsToCheck {
-                    mission,
-                    areas: self.areas.unchecked(self.safety_offset),
-                    areas_invalid: Some(r),
-                })
-            }
-        }
+        let announced = u16::try_from(self.mission.len())
+            .map_err(|_| InvalidPlan::Mission(Reason::Capacity))?;
+        let mission = self
+            .mission
+            .chain(Some(announced), self.mission_id)
+            .map_err(InvalidPlan::Mission)?;
+        let invalid = self.assemble().err();
+        let areas = match self
+            .areas
+            .assemble(self.areas.len() as u8, self.safety_offset)
+        {
+            Ok(areas) => areas,
+            Err(_) => self.areas.unchecked(self.safety_offset),
+        };
+        Ok(ListsToCheck {
+            mission,
+            areas,
+            invalid,
+        })
     }
 }
 
@@ -442,8 +441,9 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.gateway
             .check(&lists.mission, &lists.areas, plan.take_off_position)
             .map_err(GcsError::Gateway)?;
-        match lists.areas_invalid {
-            Some(r) => Err(GcsError::InvalidAreas(r)),
+        match lists.invalid {
+            Some(InvalidPlan::Mission(r)) => Err(GcsError::InvalidMission(r)),
+            Some(InvalidPlan::Areas(r)) => Err(GcsError::InvalidAreas(r)),
             None => Ok(ValidatedPlan {
                 mission: lists.mission,
                 areas: lists.areas,

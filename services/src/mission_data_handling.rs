@@ -45,6 +45,7 @@ use missionlink_interfaces::wire::{
 
 use crate::automation;
 use crate::from_to_next::FromToNextReporter;
+use crate::geofence::zone::Fence;
 use crate::link::composite::Composite;
 use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::ExchangeError;
@@ -164,6 +165,9 @@ pub struct MissionDataHandling {
     /// The lists as published, rebuilt only when they change.
     waypoint_list: WaypointListPayload,
     area_list: AreaListPayload,
+    /// The active area list as the onboard geofence check takes it (ICD §7), rebuilt in place
+    /// when the list changes.
+    fence: Box<Fence>,
     from_to_next: FromToNextReporter,
     timers: TimerTable<FccTimer, 4>,
 }
@@ -187,6 +191,7 @@ impl MissionDataHandling {
             events: Deque::new(),
             waypoint_list: WaypointListPayload::EMPTY,
             area_list: AreaListPayload::EMPTY,
+            fence: Box::new(Fence::empty()),
             from_to_next: FromToNextReporter::new(),
             timers: TimerTable::new(),
         }
@@ -221,6 +226,7 @@ impl MissionDataHandling {
             },
         };
         self.active_areas = areas;
+        self.fence.set_payload(&self.area_list);
         self.update_timers();
     }
 
@@ -277,6 +283,7 @@ impl MissionDataHandling {
                 ..AreaListPayload::EMPTY
             },
         };
+        self.fence.set_payload(&self.area_list);
         self.event(event);
     }
 
@@ -517,6 +524,7 @@ impl MissionDataHandling {
             &self.automation,
             &self.waypoint_list,
             &self.area_list,
+            &self.fence,
             &self.navigation,
             command,
         )

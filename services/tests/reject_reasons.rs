@@ -429,6 +429,8 @@ fn geofence_violation() {
         command: ExecuteCommand::Execute,
     };
     let mut rig = Rig::new().with_mission_2();
+    // Without a position from navigation there is nothing to check from.
+    assert_eq!(rig.reason(execute), Some(Reason::WrongState));
     let (mission, areas) = (
         rig.fcc.active_mission().cloned(),
         rig.fcc.active_areas().cloned(),
@@ -446,9 +448,6 @@ fn geofence_violation() {
         std::iter::from_fn(|| rig.fcc.poll_event()).all(|e| !matches!(e, FccEvent::Execute(_))),
         "nothing goes to system automation"
     );
-    // Without a position from navigation there is nothing to check from.
-    let mut rig = Rig::new().with_mission_2();
-    assert_eq!(rig.reason(execute), Some(Reason::WrongState));
     // From TROL the way is clear.
     rig.fcc
         .handle_progress(rig.now, &on_ground_at(testkit::TROL));

@@ -16,7 +16,7 @@ use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError
 use missionlink_gcs::{geojson, map, profile, qgc};
 use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, SafetyOffset};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
-use missionlink_services::ground_station::{GcsEvent, InvalidPlan, MissionPlan, ValidatedPlan};
+use missionlink_services::ground_station::{GcsEvent, MissionPlan, ValidatedPlan};
 use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
 use missionlink_services::transfer::areas::AreaList;
 use missionlink_services::transfer::mission::Mission;
@@ -490,7 +490,7 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
     // unchecked, so that its defects come back as violations naming the area.
     let (valid, icd_error) = match plan.lists_to_check() {
         Ok(lists) => {
-            let error = lists.areas_invalid.map(InvalidPlan::Areas);
+            let error = lists.invalid;
             (
                 Some(ValidatedPlan {
                     mission: lists.mission,
@@ -584,7 +584,14 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
         } => {
             let gateway = safety.gateway()?;
             let plan = read_plan(&file, &safety)?.plan;
-            let valid = assemble(&plan, &file)?;
+            // The map shows a plan with defects too: the lists as far as they assemble.
+            let valid = plan
+                .lists_to_check()
+                .map(|lists| ValidatedPlan {
+                    mission: lists.mission,
+                    areas: lists.areas,
+                })
+                .map_err(|e| Failure::input(format!("{}: {e}", file.display())))?;
             let markers: Vec<map::Marker> = gateway_report(
                 &gateway,
                 plan.take_off_position,

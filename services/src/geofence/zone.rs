@@ -410,30 +410,46 @@ impl Fence {
         }
     }
 
+    /// No zones, no offset: what the FCC holds before an area list is active.
+    pub fn empty() -> Self {
+        Self {
+            zones: Vec::new(),
+            safety_offset_m: 0.0,
+        }
+    }
+
     /// The fence of the area list mission data handling published.
     pub fn of_payload(list: &AreaListPayload) -> Self {
-        let mut zones = Vec::new();
+        let mut fence = Self::empty();
+        fence.set_payload(list);
+        fence
+    }
+
+    /// Becomes the fence of `list`, in place: the FCC keeps one fence (about 110 kB) in a box it
+    /// allocated at start and rebuilds it when the active area list changes, so that neither a
+    /// check nor a rebuild allocates or puts the whole fence on a stack.
+    pub fn set_payload(&mut self, list: &AreaListPayload) {
+        self.zones.clear();
+        self.safety_offset_m = list.safety_offset.metres();
         if list.fly_zone.vertex_count > 0 {
-            let _ = zones.push(Zone::polygon(
+            let _ = self.zones.push(Zone::polygon(
                 list.fly_zone.area_id,
                 ZoneKind::FlyZone,
                 list.fly_zone.vertices(),
             ));
         }
         for p in list.no_fly_polygons() {
-            let _ = zones.push(Zone::polygon(p.area_id, ZoneKind::NoFlyZone, p.vertices()));
+            let _ = self
+                .zones
+                .push(Zone::polygon(p.area_id, ZoneKind::NoFlyZone, p.vertices()));
         }
         for c in list.no_fly_circles() {
-            let _ = zones.push(Zone::circle(
+            let _ = self.zones.push(Zone::circle(
                 c.area_id,
                 ZoneKind::NoFlyZone,
                 c.centre,
                 c.border,
             ));
-        }
-        Self {
-            zones,
-            safety_offset_m: list.safety_offset.metres(),
         }
     }
 }

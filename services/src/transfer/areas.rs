@@ -10,6 +10,8 @@ use missionlink_interfaces::wire::{
     AreaPolygonLoopSegment, AreaShape, AreaType, Reason, SafetyOffset, Timestamp,
 };
 
+use crate::geofence::zone::{Zone, ZoneKind};
+
 /// An assembled, valid area list: exactly one fly-zone (a polygon) and up to ten no-fly-zones
 /// (polygons or circles), in the order they were uploaded.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -121,7 +123,9 @@ impl AreaBuffer {
     /// Assembles and checks the area list (ICD §5.3 step 3, §7):
     /// - `CountMismatch`: the buffer does not hold `announced` areas;
     /// - `BadGeometry`: no fly-zone or several, a fly-zone that is a circle, a polygon with
-    ///   fewer than 3 vertices, or a circle whose border point is its centre (radius 0);
+    ///   fewer than 3 vertices or that is not simple (geofence's
+    ///   [`Zone::defect`](crate::geofence::zone::Zone::defect)), or a circle whose border point
+    ///   is its centre (radius 0);
     /// - `Capacity`: more than ten no-fly-zones (only possible without a fly-zone, which is
     ///   reported first as `BadGeometry`).
     ///
@@ -150,6 +154,15 @@ impl AreaBuffer {
                 }
                 (AreaShape::Circle { .. }, AreaType::FlyZone) => return Err(Reason::BadGeometry),
                 (AreaShape::Circle { centre, border }, _) if centre == border => {
+                    return Err(Reason::BadGeometry);
+                }
+                // Simple, with geodesic edges (ICD §7 rev. 2): no two edges cross or touch
+                // except neighbours at their shared vertex, no vertex repeated.
+                (AreaShape::Polygon(v), _)
+                    if Zone::polygon(area.area_id, ZoneKind::NoFlyZone, v)
+                        .defect()
+                        .is_some() =>
+                {
                     return Err(Reason::BadGeometry);
                 }
                 _ => {}
@@ -221,6 +234,37 @@ mod tests {
             buffer(&[fz.clone(), zero]).assemble(2, offset),
             Err(Reason::BadGeometry),
             "zero radius"
+        );
+        // ICD §7 rev. 2: a polygon is simple.
+        let bow_tie = polygon(
+            3,
+            AreaType::NoFlyZone,
+            &[
+                (48.262, 11.640),
+                (48.266, 11.646),
+                (48.262, 11.646),
+                (48.266, 11.640),
+            ],
+        );
+        assert_eq!(
+            buffer(&[fz.clone(), bow_tie]).assemble(2, offset),
+            Err(Reason::BadGeometry),
+            "edges that cross"
+        );
+        let touching = polygon(
+            3,
+            AreaType::NoFlyZone,
+            &[
+                (48.262, 11.640),
+                (48.262, 11.646),
+                (48.266, 11.646),
+                (48.262, 11.646),
+            ],
+        );
+        assert_eq!(
+            buffer(&[fz.clone(), touching]).assemble(2, offset),
+            Err(Reason::BadGeometry),
+            "a vertex repeated"
         );
         let mut full = AreaBuffer::new();
         for id in 1..=MAX_AREAS as u16 {

@@ -6,13 +6,14 @@
 //! The buffer and the list keep every message as received, time stamp aside, so that a download
 //! of an uploaded mission gives back every field equal (ICD §5.2).
 
+use crate::geofence::earth;
 use heapless::Vec;
 use heapless::index_map::FnvIndexMap;
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::contracts::{WaypointEntry, WaypointListPayload};
 use missionlink_interfaces::wire::{
-    Altitude, LegType, Message, Reason, SpecificData, Text, Timestamp, UaPositionWaypoint, UaRoute,
-    VehicleSpecificWaypoint,
+    Altitude, GeoPoint, LegType, Message, Reason, SpecificData, Text, Timestamp,
+    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
 
 /// One waypoint of the flight plan with its radius-to-fix centre, if any.
@@ -200,12 +201,34 @@ impl MissionBuffer {
     /// - `MissingInitial`: no route, or its initial waypoint is not stored;
     /// - `BrokenChain`: a Next Waypoint refers to a waypoint not stored, or the plan loops;
     /// - `MissingRfCentre`: a radius-to-fix waypoint has no #13006 centre;
+    /// - `Malformed`: a radius-to-fix leg whose start (the previous waypoint) and end are not at
+    ///   the same geodesic distance from its centre within 1 % or 5 m, whichever is larger (ICD
+    ///   §7 rev. 2);
     /// - `MissingField`: no take-off height (#13006 type 1) was sent (this project's choice: the
     ///   height is part of every mission, ICD §5.1 step 2).
     ///
     /// Latitude, longitude and speed ranges are checked per message at decode. With
     /// `announced = None` (a download, closed by #14000) the count is what the plan visits.
     pub fn assemble(
+        &self,
+        announced: Option<u16>,
+        mission_id: Option<Text<20>>,
+    ) -> Result<Mission, Reason> {
+        let mission = self.chain(announced, mission_id)?;
+        if mission
+            .waypoints
+            .windows(2)
+            .any(|w| matches!(w, [from, to] if !rf_radii_agree(from, to)))
+        {
+            return Err(Reason::Malformed);
+        }
+        Ok(mission)
+    }
+
+    /// [`MissionBuffer::assemble`] without the radius rule of radius-to-fix legs: the list as
+    /// the chain of Next Waypoints gives it, for the safety gateway to name a leg whose radii
+    /// differ (`ROUTE-RF-RADIUS`) where the FCC would only say `Malformed`.
+    pub fn chain(
         &self,
         announced: Option<u16>,
         mission_id: Option<Text<20>>,
@@ -256,16 +279,48 @@ impl MissionBuffer {
     }
 }
 
+/// Whether a radius-to-fix leg from `from` to `to` starts and ends on one circle about its
+/// centre (ICD §7: within 1 % or 5 m, whichever is larger); true for any other leg.
+fn rf_radii_agree(from: &WaypointRecord, to: &WaypointRecord) -> bool {
+    let centre = match to.rf_centre.map(|c| c.data) {
+        Some(SpecificData::RfCentre {
+            latitude,
+            longitude,
+            ..
+        }) if to.waypoint.leg_type == LegType::RadiusToFix => GeoPoint {
+            latitude,
+            longitude,
+        },
+        _ => return true,
+    };
+    let at = |w: &UaPositionWaypoint| GeoPoint {
+        latitude: w.latitude,
+        longitude: w.longitude,
+    };
+    let r0 = earth::distance_m(centre, at(&from.waypoint));
+    let r1 = earth::distance_m(centre, at(&to.waypoint));
+    (r0 - r1).abs() <= (0.01 * r0.max(r1)).max(5.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::testkit::{self, mission_buffer as buffer};
     use missionlink_interfaces::wire::TurnDirection;
 
-    /// Waypoint `number` (stamped `number` ms, so that a test sees time stamps dropped), north
-    /// of the previous one.
+    /// Waypoint `number` (stamped `number` ms, so that a test sees time stamps dropped), on the
+    /// circle of 1 km about [`rf_centre`]'s centre, 10° further round than the one before: any
+    /// radius-to-fix leg between them passes ICD §7's radius rule.
     fn waypoint(number: u16, next: u16, leg: LegType) -> Message {
-        let at = (48.27 + f64::from(number) * 0.001, 11.65);
+        let p = earth::destination(
+            GeoPoint {
+                latitude: missionlink_interfaces::wire::Angle::from_degrees(48.27455).unwrap(),
+                longitude: missionlink_interfaces::wire::Angle::from_degrees(11.66991).unwrap(),
+            },
+            f64::from(number) * 10.0,
+            1000.0,
+        );
+        let at = (p.y(), p.x());
         UaPositionWaypoint {
             time_stamp: Timestamp::from_millis(u64::from(number)).unwrap(),
             ..testkit::waypoint(number, next, at, leg)
@@ -419,5 +474,34 @@ mod tests {
         let types: std::vec::Vec<u16> = m.messages().map(|m| m.message_type() as u16).collect();
         assert_eq!(types, [13006, 13002, 13002, 13006, 13001]);
         assert_eq!(m.message_count(), types.len());
+    }
+
+    /// ICD §7 rev. 2: a radius-to-fix leg whose end is 30 m farther from the centre than its
+    /// start (1 km: beyond 1 % and 5 m) is `Malformed`; 8 m (within 1 %) is accepted.
+    #[test]
+    fn a_radius_to_fix_leg_starts_and_ends_on_one_circle() {
+        let centre = (48.27455, 11.66991);
+        let on = |bearing: f64, r: f64| {
+            let c = GeoPoint {
+                latitude: missionlink_interfaces::wire::Angle::from_degrees(centre.0).unwrap(),
+                longitude: missionlink_interfaces::wire::Angle::from_degrees(centre.1).unwrap(),
+            };
+            let p = earth::destination(c, bearing, r);
+            (p.y(), p.x())
+        };
+        for (end_radius, expected) in [(1030.0, Err(Reason::Malformed)), (1008.0, Ok(()))] {
+            let b = buffer(&[
+                take_off(),
+                route(1),
+                testkit::waypoint(1, 2, on(0.0, 1000.0), LegType::TrackToFix).into(),
+                testkit::waypoint(2, 0, on(90.0, end_radius), LegType::RadiusToFix).into(),
+                rf_centre(2),
+            ]);
+            assert_eq!(
+                b.assemble(Some(2), None).map(|_| ()),
+                expected,
+                "{end_radius}"
+            );
+        }
     }
 }
