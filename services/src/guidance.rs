@@ -41,7 +41,7 @@
 //!   starts where the switch happened; a U-turn (180 deg, after a reversal mid-leg) therefore
 //!   switches half the next leg before the waypoint. **Fly-over** switches at the waypoint.
 //! - **The first leg** of a route, from wherever the aircraft is to the first TO waypoint, is
-//!   flown direct (a straight line), whatever its leg type.
+//!   flown direct (the geodesic), whatever its leg type.
 //! - **Return to home** (`route_reversed`, honoured on bidirectional routes only): the aircraft
 //!   keeps flying to its current TO waypoint, then flies the route backwards to the initial
 //!   waypoint, each waypoint at its own speed; a reversed radius-to-fix leg is the same arc in
