@@ -30,10 +30,12 @@
 //! grown or shrunk by the offset does, nor repair a concave outline that the offset folds over.
 //! The offset outlines of circles are the points at the geodesic radius ± the offset.
 //!
-//! The take-off point: the plan carries no take-off position, only a take-off height (#13006
-//! type 1); the aircraft takes off vertically at its initial waypoint, so the map marks the
-//! initial waypoint "take-off" with that height. The leg type of the initial waypoint (the leg
-//! that would end there) is not drawn: no leg leads to it.
+//! The take-off: the validated plan drawn here carries no take-off position (the mission file's
+//! `take_off_position` is not part of it), only a take-off height (#13006 type 1), so the map
+//! marks the initial waypoint "take-off" with that height; the climb at the planned take-off
+//! position and the leg from there to the initial waypoint, which the safety gateway checks,
+//! are not drawn (yet). The leg type of the initial waypoint (the leg that would end there) is
+//! not drawn: no leg leads to it.
 
 use std::fmt::Write as _;
 
