@@ -4,42 +4,47 @@
 //! What is drawn, bottom to top: the fly-zone (light green) and, dashed, the fly-zone shrunk by
 //! the safety offset; every no-fly-zone (polygon or circle, light red) and, dashed, the
 //! no-fly-zone grown by the safety offset; the area IDs; the legs in flight-plan order
-//! (track-to-fix as straight lines, radius-to-fix as arcs around their RF centre in their turn
+//! (track-to-fix as geodesics, radius-to-fix as arcs around their RF centre in their turn
 //! direction, each with a direction arrow); the RF centres as small crosses with dotted radii to
 //! the arc's ends; the take-off point; the waypoints as numbered circles; every [`Marker`] as a
 //! red ring with its code. Beside the map: a legend, the projection, and a red box listing the
 //! markers (those without a position are drawn nowhere else). Above: the title, the mission ID
 //! and the waypoint and area counts. A scale bar (metres) and a north arrow sit on the map.
 //!
-//! Projection: the safety gateway's local frame (`services::geofence::local_frame`),
-//! equirectangular about the centre of the fly-zone's bounding box with the WGS-84 radii of
-//! curvature there (`x = N(φ0)·cos φ0·Δλ`, `y = M(φ0)·Δφ`), north up. Over a few kilometres
-//! its distortion is far below a pixel. The map fits the fly-zone (and anything lying outside
-//! it, say a violating waypoint) with a margin into the map frame.
+//! The map draws what the safety gateway checks: the areas are the geofence's zones
+//! ([`Fence::of_list`]) and the legs the geofence's paths ([`onboard::legs`], as the gateway and
+//! the FCC walk them), each drawn through the sites along it ([`Track::sites`]): geodesic edges
+//! and track-to-fix legs at most [`DRAW_STEP_M`] apart along the geodesic (a 35 km leg along
+//! 71° N bows about 70 m north of the line between its ends, and is drawn so), radius-to-fix
+//! arcs at the geofence's corners, circles as the points at their geodesic radius (centre to
+//! border point) around the centre. Nothing is decided on the map.
 //!
-//! Approximations, all for the picture only (the safety gateway does its own geometry):
-//! - the safety-offset outlines of polygons offset each vertex along its angle bisector in the
-//!   local projection (the miter offset of the edges, with very sharp corners clamped); it is
-//!   exact for the straight edges of convex polygons but does not round the corners as a true
-//!   buffer would, nor repair a concave outline that the offset folds over;
-//! - circles are drawn about their projected centre with their geodesic radius (centre to border
-//!   point, as the safety gateway takes it), the offset circles with radius ± offset;
-//! - radius-to-fix arcs are polylines sampled every few degrees around the RF centre, starting
-//!   and ending exactly at the waypoints; if the two ends are not at the same distance from the
-//!   centre, the radius changes linearly along the arc.
+//! Drawing projection (for the screen only): `services::geofence::local_frame`, equirectangular
+//! about the centre of the fly-zone's bounding box with the WGS-84 radii of curvature there
+//! (`x = N(φ0)·cos φ0·Δλ`, `y = M(φ0)·Δφ`), north up. The map fits the fly-zone (and anything
+//! lying outside it, say a violating waypoint) with a margin into the map frame.
 //!
-//! The take-off point: the plan carries no take-off position, only a take-off height (#13006
-//! type 1); the aircraft takes off vertically at its initial waypoint, so the map marks the
-//! initial waypoint "take-off" with that height. The leg type of the initial waypoint (the leg
-//! that would end there) is not drawn: no leg leads to it.
+//! One approximation, for the picture only: the safety-offset outlines of polygons offset each
+//! drawn border point along its angle bisector in the drawing projection (the miter offset of
+//! the edges, with very sharp corners clamped); it does not round the corners as the true zone
+//! grown or shrunk by the offset does, nor repair a concave outline that the offset folds over.
+//! The offset outlines of circles are the points at the geodesic radius ± the offset.
+//!
+//! The take-off: the validated plan drawn here carries no take-off position (the mission file's
+//! `take_off_position` is not part of it), only a take-off height (#13006 type 1), so the map
+//! marks the initial waypoint "take-off" with that height; the climb at the planned take-off
+//! position and the leg from there to the initial waypoint, which the safety gateway checks,
+//! are not drawn (yet). The leg type of the initial waypoint (the leg that would end there) is
+//! not drawn: no leg leads to it.
 
-use missionlink_services::geofence::earth;
-use missionlink_services::geofence::local_frame::{Coord, LocalFrame, arc};
 use std::fmt::Write as _;
 
-use missionlink_interfaces::wire::{
-    AreaShape, AreaType, GeoPoint, LegType, SpecificData, TurnDirection,
-};
+use missionlink_interfaces::wire::{AreaShape, SpecificData, TurnDirection};
+use missionlink_services::geofence::earth::Site;
+use missionlink_services::geofence::local_frame::LocalFrame;
+use missionlink_services::geofence::onboard::{self, RouteElement};
+use missionlink_services::geofence::path::{Path, Track};
+use missionlink_services::geofence::zone::{Fence, Zone, ZoneKind};
 use missionlink_services::ground_station::ValidatedPlan;
 
 /// A mark the map draws in red: a violation the safety gateway reported (its code, a label, and
@@ -55,9 +60,14 @@ pub struct Marker {
     pub position: Option<(f64, f64)>,
 }
 
-/// Largest distance of an arc's chords from the arc as drawn (a quarter metre is far below a
+/// Longest distance between the drawn sites along a geodesic, metres: the chords between them
+/// stay within `l²/(8R)` (5 mm) of it, far below a pixel.
+pub const DRAW_STEP_M: f64 = 500.0;
+/// Largest distance of a circle's drawn chords from the circle (a quarter metre is far below a
 /// pixel at map scales).
-const ARC_SAG_DRAWN_M: f64 = 0.25;
+const CIRCLE_SAG_DRAWN_M: f64 = 0.25;
+/// Points of a drawn circle, at least and at most.
+const CIRCLE_POINTS: (f64, f64) = (16.0, 3600.0);
 const WIDTH: f64 = 1000.0;
 const HEIGHT: f64 = 800.0;
 /// The map frame: left, top, right, bottom.
@@ -103,7 +113,7 @@ fn unit(a: P) -> Option<P> {
     (l > 1e-9).then(|| mul(a, 1.0 / l))
 }
 
-/// The gateway's local frame (`services::geofence::local_frame`), with the map's point type.
+/// The drawing projection (`services::geofence::local_frame`), with the map's point type.
 #[derive(Debug, Clone, Copy)]
 struct Projection(LocalFrame);
 
@@ -118,10 +128,32 @@ impl Projection {
         (c.x, c.y)
     }
 
-    fn point(&self, p: &GeoPoint) -> P {
-        let c = self.0.point(p);
-        (c.x, c.y)
+    fn site(&self, s: &Site) -> P {
+        self.local(s.lat, s.lon)
     }
+}
+
+/// The sites along `path` as the geofence holds it, at most [`DRAW_STEP_M`] apart along a
+/// geodesic.
+fn drawn_sites(path: Path) -> Vec<Site> {
+    Track::new(path).sites(DRAW_STEP_M).collect()
+}
+
+/// [`drawn_sites`] in the drawing projection.
+fn drawn(path: Path, proj: &Projection) -> Vec<P> {
+    drawn_sites(path).iter().map(|s| proj.site(s)).collect()
+}
+
+/// The points at geodesic distance `radius` (metres) around `centre`, clockwise from north,
+/// close enough that no chord lies more than [`CIRCLE_SAG_DRAWN_M`] inside the circle.
+fn ring(proj: &Projection, centre: &Site, radius: f64) -> Vec<P> {
+    let step = 2.0 * (1.0 - CIRCLE_SAG_DRAWN_M / radius.max(CIRCLE_SAG_DRAWN_M)).acos();
+    let n = (core::f64::consts::TAU / step)
+        .ceil()
+        .clamp(CIRCLE_POINTS.0, CIRCLE_POINTS.1) as usize;
+    (0..n)
+        .map(|k| proj.site(&centre.direct(360.0 * k as f64 / n as f64, radius)))
+        .collect()
 }
 
 /// Local metres to screen pixels: uniform scale, north up.
@@ -160,53 +192,79 @@ impl View {
     }
 }
 
-/// An area in local metres.
+/// An area as drawn, in local metres.
 #[derive(Debug, Clone)]
 enum Shape {
+    /// The sites along the geodesic edges, in order around the polygon.
     Polygon(Vec<P>),
-    Circle { centre: P, radius: f64 },
+    /// A geodesic circle: its centre and radius (metres), and the points drawn around it.
+    Circle {
+        centre: Site,
+        radius: f64,
+        outline: Vec<P>,
+    },
 }
 
 #[derive(Debug, Clone)]
 struct Area {
     id: u16,
-    kind: AreaType,
+    kind: ZoneKind,
     shape: Shape,
 }
 
 impl Shape {
-    /// The shape offset by `d` metres: outward for `d > 0`, inward for `d < 0` (see the module
-    /// documentation for the approximation).
-    fn offset(&self, d: f64) -> Shape {
-        match self {
-            Shape::Polygon(points) => Shape::Polygon(offset_polygon(points, d)),
-            Shape::Circle { centre, radius } => Shape::Circle {
-                centre: *centre,
-                radius: (radius + d).max(0.0),
+    /// The zone as drawn: a polygon through the sites along its edges (each edge's last site is
+    /// the next edge's first), a circle through the points at its radius.
+    fn of_zone(zone: &Zone, proj: &Projection) -> Self {
+        match (zone.radius_m(), zone.vertices().next()) {
+            (Some(radius), Some(centre)) => Shape::Circle {
+                centre,
+                radius,
+                outline: ring(proj, &centre, radius),
             },
+            _ => Shape::Polygon(
+                zone.edges()
+                    .flat_map(|edge| {
+                        let mut points = drawn(edge, proj);
+                        points.pop();
+                        points
+                    })
+                    .collect(),
+            ),
         }
     }
 
-    fn points_for_bounds(&self) -> Vec<P> {
+    /// The shape offset by `d` metres: outward for `d > 0`, inward for `d < 0` (see the module
+    /// documentation for the approximation).
+    fn offset(&self, d: f64, proj: &Projection) -> Shape {
         match self {
-            Shape::Polygon(points) => points.clone(),
-            Shape::Circle { centre, radius } => vec![
-                add(*centre, (*radius, *radius)),
-                sub(*centre, (*radius, *radius)),
-            ],
+            Shape::Polygon(points) => Shape::Polygon(offset_polygon(points, d)),
+            Shape::Circle { centre, radius, .. } => {
+                let radius = (radius + d).max(0.0);
+                Shape::Circle {
+                    centre: *centre,
+                    radius,
+                    outline: ring(proj, centre, radius),
+                }
+            }
+        }
+    }
+
+    /// The points drawn.
+    fn outline(&self) -> &[P] {
+        match self {
+            Shape::Polygon(points)
+            | Shape::Circle {
+                outline: points, ..
+            } => points,
         }
     }
 
     /// Where the area's label goes: above the shape's top, horizontally at its middle (local
     /// metres), with the given clearance in metres.
     fn label_anchor(&self, clearance: f64) -> P {
-        match self {
-            Shape::Polygon(points) => {
-                let (lo, hi) = bounds(points.iter().copied()).unwrap_or(((0.0, 0.0), (0.0, 0.0)));
-                ((lo.0 + hi.0) / 2.0, hi.1 + clearance)
-            }
-            Shape::Circle { centre, radius } => (centre.0, centre.1 + radius + clearance),
-        }
+        let (lo, hi) = bounds(self.outline().iter().copied()).unwrap_or(((0.0, 0.0), (0.0, 0.0)));
+        ((lo.0 + hi.0) / 2.0, hi.1 + clearance)
     }
 }
 
@@ -266,14 +324,23 @@ fn bounds(points: impl IntoIterator<Item = P>) -> Option<(P, P)> {
         })
 }
 
-/// The radius-to-fix arc as drawn: the gateway's arc (`services::geofence::local_frame::arc`), with
-/// chords within [`ARC_SAG_DRAWN_M`], in the map's point type.
-fn arc_points(centre: P, start: P, end: P, direction: TurnDirection) -> Vec<P> {
-    let c = |p: P| Coord { x: p.0, y: p.1 };
-    arc(c(start), c(end), c(centre), direction, ARC_SAG_DRAWN_M)
-        .into_iter()
-        .map(|p| (p.x, p.y))
-        .collect()
+/// The point halfway along the polyline `points` and the direction of the chord there.
+fn midway(points: &[P]) -> Option<(P, P)> {
+    let chords = || {
+        points.windows(2).filter_map(|w| match w {
+            [a, b] => Some((*a, sub(*b, *a))),
+            _ => None,
+        })
+    };
+    let mut left = chords().map(|(_, d)| len(d)).sum::<f64>() / 2.0;
+    for (a, d) in chords() {
+        let l = len(d);
+        if l > 0.0 && left <= l {
+            return Some((add(a, mul(d, left / l)), d));
+        }
+        left -= l;
+    }
+    None
 }
 
 /// XML-escapes text for element content and attribute values.
@@ -327,26 +394,16 @@ fn path_d(points: &[P]) -> String {
 
 /// Draws `shape` (screen conversion included) with the given attributes.
 fn shape_element(svg: &mut String, view: &View, shape: &Shape, attrs: &str) {
-    match shape {
-        Shape::Polygon(points) => {
-            let screen: Vec<P> = points.iter().map(|p| view.screen(*p)).collect();
-            w!(
-                svg,
-                r#"<polygon class="area" points="{}" {attrs}/>"#,
-                points_attr(&screen)
-            );
-        }
-        Shape::Circle { centre, radius } => {
-            let c = view.screen(*centre);
-            w!(
-                svg,
-                r#"<circle class="area" cx="{:.1}" cy="{:.1}" r="{:.1}" {attrs}/>"#,
-                c.0,
-                c.1,
-                radius * view.scale
-            );
-        }
-    }
+    let screen: Vec<P> = shape.outline().iter().map(|p| view.screen(*p)).collect();
+    w!(
+        svg,
+        r#"<polygon class="area" data-shape="{}" points="{}" {attrs}/>"#,
+        match shape {
+            Shape::Polygon(_) => "polygon",
+            Shape::Circle { .. } => "circle",
+        },
+        points_attr(&screen)
+    );
 }
 
 /// A filled arrowhead centred on `at` (screen), pointing along `direction` (screen).
@@ -418,12 +475,19 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
     lines
 }
 
-/// One waypoint of the flight plan in local metres.
+/// One waypoint of the flight plan in local metres, with the RF centre of the leg ending there.
 struct Waypoint {
     number: u16,
     at: P,
-    leg: LegType,
-    rf: Option<(P, TurnDirection)>,
+    rf: Option<P>,
+}
+
+/// One leg of the route as drawn: FROM and TO waypoint numbers, the path, its points.
+struct Leg {
+    from: u16,
+    to: u16,
+    path: Path,
+    points: Vec<P>,
 }
 
 /// Renders `plan` as an SVG document (1000 x 800 px) with `markers` in red and `title` on top.
@@ -458,25 +522,14 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
     });
     let proj = Projection::new(lat0, lon0);
 
-    let areas: Vec<Area> = plan
-        .areas
-        .areas
+    // The zones the safety gateway checks.
+    let areas: Vec<Area> = Fence::of_list(&plan.areas)
+        .zones
         .iter()
-        .map(|a| Area {
-            id: a.area_id,
-            kind: a.area_type,
-            shape: match &a.shape {
-                AreaShape::Polygon(vertices) => {
-                    Shape::Polygon(vertices.iter().map(|v| proj.point(v)).collect())
-                }
-                AreaShape::Circle { centre, border } => {
-                    // The radius the safety gateway checks: the geodesic centre -> border.
-                    Shape::Circle {
-                        centre: proj.point(centre),
-                        radius: earth::distance_m(*centre, *border),
-                    }
-                }
-            },
+        .map(|zone| Area {
+            id: zone.id,
+            kind: zone.kind,
+            shape: Shape::of_zone(zone, &proj),
         })
         .collect();
 
@@ -489,20 +542,29 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
                 Some(SpecificData::RfCentre {
                     latitude,
                     longitude,
-                    turn_direction,
                     ..
-                }) => Some((
-                    proj.local(latitude.degrees(), longitude.degrees()),
-                    turn_direction,
-                )),
+                }) => Some(proj.local(latitude.degrees(), longitude.degrees())),
                 _ => None,
             };
             Waypoint {
                 number: w.waypoint_number,
                 at: proj.local(w.latitude.degrees(), w.longitude.degrees()),
-                leg: w.leg_type,
                 rf,
             }
+        })
+        .collect();
+
+    // The legs the safety gateway checks, in flight-plan order.
+    let list = mission.to_payload(1);
+    let legs: Vec<Leg> = onboard::legs(&list)
+        .filter_map(|leg| match leg.element {
+            RouteElement::Leg { from, to } => Some(Leg {
+                from,
+                to,
+                path: leg.path,
+                points: drawn(leg.path, &proj),
+            }),
+            RouteElement::Climb | RouteElement::ReverseLeg { .. } => None,
         })
         .collect();
 
@@ -514,14 +576,17 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
     // Fit the fly-zone; and whatever lies outside it (a violating waypoint, a marker).
     let mut all: Vec<P> = Vec::new();
     for area in &areas {
-        all.extend(area.shape.points_for_bounds());
-        if area.kind == AreaType::NoFlyZone {
-            all.extend(area.shape.offset(offset).points_for_bounds());
+        all.extend_from_slice(area.shape.outline());
+        if area.kind == ZoneKind::NoFlyZone {
+            all.extend_from_slice(area.shape.offset(offset, &proj).outline());
         }
     }
     for w in &waypoints {
         all.push(w.at);
-        all.extend(w.rf.map(|(c, _)| c));
+        all.extend(w.rf);
+    }
+    for leg in &legs {
+        all.extend_from_slice(&leg.points);
     }
     all.extend(marker_points.iter().flatten().copied());
     let (lo, hi) = bounds(all).unwrap_or(((0.0, 0.0), (0.0, 0.0)));
@@ -553,8 +618,8 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
     w!(svg, r#"<g clip-path="url(#map-frame)">"#);
 
     // Areas: fills first, then the offset outlines, then the labels.
-    let fly_zones = areas.iter().filter(|a| a.kind == AreaType::FlyZone);
-    let no_fly_zones = areas.iter().filter(|a| a.kind == AreaType::NoFlyZone);
+    let fly_zones = areas.iter().filter(|a| a.kind == ZoneKind::FlyZone);
+    let no_fly_zones = areas.iter().filter(|a| a.kind == ZoneKind::NoFlyZone);
     w!(svg, r#"<g class="fly-zones">"#);
     for area in fly_zones.clone() {
         shape_element(
@@ -566,7 +631,7 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
         shape_element(
             &mut svg,
             &view,
-            &area.shape.offset(-offset),
+            &area.shape.offset(-offset, &proj),
             &format!(
                 r#"fill="none" stroke="{FZ_STROKE}" stroke-width="1.3" stroke-dasharray="8 5""#
             ),
@@ -578,7 +643,7 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
         shape_element(
             &mut svg,
             &view,
-            &area.shape.offset(offset),
+            &area.shape.offset(offset, &proj),
             &format!(
                 r#"fill="none" stroke="{NFZ_STROKE}" stroke-width="1.3" stroke-dasharray="8 5""#
             ),
@@ -596,15 +661,19 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
 
     // Legs, each ending at its waypoint, with the arrow at the middle.
     w!(svg, r#"<g class="legs">"#);
-    for (from, to) in waypoints.iter().zip(waypoints.iter().skip(1)) {
-        let leg = format!("{}-{}", from.number, to.number);
-        match (to.leg, to.rf) {
-            (LegType::RadiusToFix, Some((centre, direction))) => {
-                let local = arc_points(centre, from.at, to.at, direction);
-                let screen: Vec<P> = local.iter().map(|p| view.screen(*p)).collect();
-                let c = view.screen(centre);
-                for end in [from.at, to.at] {
-                    let e = view.screen(end);
+    for leg in &legs {
+        let name = format!("{}-{}", leg.from, leg.to);
+        let screen: Vec<P> = leg.points.iter().map(|p| view.screen(*p)).collect();
+        let kind = match leg.path {
+            Path::Arc {
+                from,
+                to,
+                centre,
+                direction,
+            } => {
+                let c = view.screen(proj.site(&centre));
+                for end in [from, to] {
+                    let e = view.screen(proj.site(&end));
                     w!(
                         svg,
                         r#"<line class="rf-radius" x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{RF_CENTRE}" stroke-width="1" stroke-dasharray="2 4"/>"#,
@@ -614,36 +683,23 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
                         e.1
                     );
                 }
-                w!(
-                    svg,
-                    r#"<path class="leg rf" data-leg="{leg}" data-turn="{}" d="{}" fill="none" stroke="{LEG}" stroke-width="2.5" stroke-linejoin="round"/>"#,
+                format!(
+                    r#"rf" data-leg="{name}" data-turn="{}"#,
                     match direction {
                         TurnDirection::Clockwise => "clockwise",
                         TurnDirection::CounterClockwise => "counter-clockwise",
-                    },
-                    path_d(&screen)
-                );
-                let mid = screen.len() / 2;
-                if let (Some(a), Some(b), Some(m)) = (
-                    screen.get(mid.saturating_sub(1)),
-                    screen.get(mid + 1),
-                    screen.get(mid),
-                ) {
-                    arrowhead(&mut svg, *m, sub(*b, *a), LEG);
-                }
+                    }
+                )
             }
-            _ => {
-                let (a, b) = (view.screen(from.at), view.screen(to.at));
-                w!(
-                    svg,
-                    r#"<line class="leg tf" data-leg="{leg}" x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{LEG}" stroke-width="2.5"/>"#,
-                    a.0,
-                    a.1,
-                    b.0,
-                    b.1
-                );
-                arrowhead(&mut svg, mul(add(a, b), 0.5), sub(b, a), LEG);
-            }
+            Path::Geodesic { .. } | Path::Point(_) => format!(r#"tf" data-leg="{name}"#),
+        };
+        w!(
+            svg,
+            r#"<path class="leg {kind}" d="{}" fill="none" stroke="{LEG}" stroke-width="2.5" stroke-linejoin="round"/>"#,
+            path_d(&screen)
+        );
+        if let Some((at, direction)) = midway(&screen) {
+            arrowhead(&mut svg, at, direction, LEG);
         }
     }
     w!(svg, "</g>");
@@ -651,7 +707,7 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
     // RF centres: small crosses.
     w!(svg, r#"<g class="rf-centres">"#);
     for w in &waypoints {
-        if let Some((centre, _)) = w.rf {
+        if let Some(centre) = w.rf {
             let c = view.screen(centre);
             w!(
                 svg,
@@ -831,7 +887,7 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
     );
 
     // Title and counts.
-    let fz_count = areas.iter().filter(|a| a.kind == AreaType::FlyZone).count();
+    let fz_count = areas.iter().filter(|a| a.kind == ZoneKind::FlyZone).count();
     let nfz_count = areas.len() - fz_count;
     let mission_id = mission.mission_id.map(|t| t.as_str().to_owned());
     w!(
@@ -1100,6 +1156,8 @@ fn violations(svg: &mut String, markers: &[Marker]) {
 mod tests {
     use super::*;
     use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
+    use missionlink_services::geofence::earth;
+    use missionlink_services::geofence::local_frame::Coord;
 
     fn example_markers() -> Vec<Marker> {
         vec![
@@ -1167,8 +1225,16 @@ mod tests {
         assert!(svg.contains("3 areas (1 fly-zone, 2 no-fly-zones)"));
         // Circle NFZ and its grown outline; polygon NFZ, its grown outline, fly-zone and its
         // shrunk outline.
-        assert_eq!(svg.matches(r#"<circle class="area""#).count(), 2);
-        assert_eq!(svg.matches(r#"<polygon class="area""#).count(), 4);
+        assert_eq!(
+            svg.matches(r#"<polygon class="area" data-shape="circle""#)
+                .count(),
+            2
+        );
+        assert_eq!(
+            svg.matches(r#"<polygon class="area" data-shape="polygon""#)
+                .count(),
+            4
+        );
         assert!(svg.contains("scale-bar") && svg.contains("north-arrow"));
         assert!(!svg.contains("Violations"));
     }
@@ -1206,29 +1272,71 @@ mod tests {
 
     #[test]
     fn rf_arc_turns_the_right_way_and_ends_at_the_waypoints() {
-        let proj = Projection::new(48.27, 11.6625);
-        let centre = proj.local(48.27455, 11.66991);
-        let w1 = proj.local(48.278, 11.658);
-        let role2 = proj.local(48.28, 11.68);
-        let cw = arc_points(centre, w1, role2, TurnDirection::Clockwise);
-        assert_eq!(cw.first(), Some(&w1));
-        assert_eq!(cw.last(), Some(&role2));
-        // Clockwise from W1 (north-west of the centre) to ROLE2 (north-east): over the top.
-        let top = cw.iter().map(|p| p.1).fold(f64::MIN, f64::max);
-        let r = len(sub(w1, centre));
-        assert!(
-            (top - (centre.1 + r)).abs() < 5.0,
-            "{top} vs {}",
-            centre.1 + r
+        let (centre, w1, role2) = (
+            Site::new(48.27455, 11.66991),
+            Site::new(48.278, 11.658),
+            Site::new(48.28, 11.68),
         );
-        for p in &cw {
-            assert!((len(sub(*p, centre)) - r).abs() < 5.0);
+        let arc = |direction| {
+            drawn_sites(Path::Arc {
+                from: w1,
+                to: role2,
+                centre,
+                direction,
+            })
+        };
+        let cw = arc(TurnDirection::Clockwise);
+        let close = |a: &Site, b: &Site| a.inverse(b).0 < 1e-6;
+        assert!(close(&cw[0], &w1) && close(cw.last().unwrap(), &role2));
+        // Clockwise from W1 (north-west of the centre) to ROLE2 (north-east): over the top, at
+        // the geodesic radius all along.
+        let r = centre.inverse(&w1).0;
+        let top = cw.iter().map(|s| s.lat).fold(f64::MIN, f64::max);
+        let north = centre.direct(0.0, r);
+        // (1e-5° of latitude is 1.1 m; the radius goes from W1's distance to ROLE2's.)
+        assert!((top - north.lat).abs() < 1e-5, "{top} vs {}", north.lat);
+        for s in &cw {
+            assert!((centre.inverse(s).0 - r).abs() < 1.0);
         }
         // Counter-clockwise: the long way round, under the centre.
-        let ccw = arc_points(centre, w1, role2, TurnDirection::CounterClockwise);
-        let low = ccw.iter().map(|p| p.1).fold(f64::MAX, f64::min);
-        assert!((low - (centre.1 - r)).abs() < 5.0);
+        let ccw = arc(TurnDirection::CounterClockwise);
+        let low = ccw.iter().map(|s| s.lat).fold(f64::MAX, f64::min);
+        assert!((low - centre.direct(180.0, r).lat).abs() < 1e-5);
         assert!(ccw.len() > cw.len());
+    }
+
+    /// A 35 km track-to-fix leg along 71° N is drawn as the geodesic the gateway checks: its
+    /// middle about 70 m north of the parallel (and of the straight line between its ends in
+    /// the drawing projection), where the geodesic's midpoint is, within a metre.
+    #[test]
+    fn a_long_east_west_leg_at_71_north_bows_north() {
+        let (from, to) = (Site::new(71.0, 25.0), Site::new(71.0, 25.0 + 0.97));
+        let (length, azimuth) = from.inverse(&to);
+        assert!((length - 35_000.0).abs() < 300.0, "{length}");
+        let sites = drawn_sites(Path::Geodesic { from, to });
+        assert!(sites.len() >= 71, "{}", sites.len());
+        for w in sites.windows(2) {
+            assert!(w[0].inverse(&w[1]).0 <= DRAW_STEP_M + 1e-6);
+        }
+        let mid = earth::destination(from, azimuth, length / 2.0);
+        let bow = earth::distance_m(mid, Site::new(71.0, mid.x()));
+        assert!((60.0..80.0).contains(&bow), "{bow} m");
+
+        // The drawn line halfway along is the geodesic's midpoint, latitude within a metre
+        // (1e-5° is 1.1 m), and lies that far above the chord between the ends on the screen.
+        let proj = Projection::new(71.0, 25.5);
+        let points = drawn(Path::Geodesic { from, to }, &proj);
+        let (m, _) = midway(&points).unwrap();
+        let (lat, lon) = proj.0.deg(Coord { x: m.0, y: m.1 });
+        assert!((lat - mid.y()).abs() < 0.9e-5, "{lat} vs {}", mid.y());
+        assert!((lon - mid.x()).abs() < 1e-4, "{lon} vs {}", mid.x());
+        let (a, b) = (points[0], *points.last().unwrap());
+        let chord_y = a.1 + (b.1 - a.1) * (m.0 - a.0) / (b.0 - a.0);
+        assert!(
+            (m.1 - chord_y - bow).abs() < 1.0,
+            "{} vs {bow}",
+            m.1 - chord_y
+        );
     }
 
     #[test]
@@ -1243,14 +1351,20 @@ mod tests {
             let (lo, hi) = bounds(shrunk).unwrap();
             assert!((lo.0 - 10.0).abs() < 1e-9 && (hi.1 - 90.0).abs() < 1e-9);
         }
-        assert_eq!(
-            Shape::Circle {
-                centre: (0.0, 0.0),
-                radius: 5.0
-            }
-            .offset(-10.0)
-            .points_for_bounds(),
-            vec![(0.0, 0.0), (0.0, 0.0)]
+        // A circle shrunk past its centre is the centre.
+        let proj = Projection::new(48.0, 11.0);
+        let centre = Site::new(48.0, 11.0);
+        let circle = Shape::Circle {
+            centre,
+            radius: 5.0,
+            outline: ring(&proj, &centre, 5.0),
+        };
+        assert!(
+            circle
+                .offset(-10.0, &proj)
+                .outline()
+                .iter()
+                .all(|p| len(*p) < 1e-6)
         );
     }
 

@@ -7,11 +7,13 @@
 //! list and the area list when they arrive, and calls [`Guidance::step`] with the time; the
 //! model integrates from the previous step in sub-steps of at most 50 ms of simulated time.
 //! Stepping allocates nothing: the lists are the fixed payload arrays; only a new area list
-//! builds (and caches) its polygons.
+//! builds (and keeps) its geofence.
 //!
-//! Point-in-polygon is [`geo::Contains`] on a [`geo::Polygon`] in longitude/latitude degrees
-//! (edges straight in degrees, fine for areas of a few kilometres); distances, bearings and
-//! destinations are the geodesics of the one Earth model, WGS-84 ([`crate::geofence::earth`]).
+//! All geometry is the geofence's, the one Earth model (WGS-84, [`crate::geofence`]): distances,
+//! bearings and destinations are geodesics ([`crate::geofence::earth`]), and whether the
+//! aircraft is in a zone is [`Zone::contains`] on the [`Fence`] of the area list: polygon edges
+//! are geodesics, circles are the points within the geodesic radius, as the safety gateway and
+//! the onboard check take them (ICD §4 "Geometry").
 //!
 //! # The model and its simplifications
 //!
@@ -39,7 +41,7 @@
 //!   starts where the switch happened; a U-turn (180 deg, after a reversal mid-leg) therefore
 //!   switches half the next leg before the waypoint. **Fly-over** switches at the waypoint.
 //! - **The first leg** of a route, from wherever the aircraft is to the first TO waypoint, is
-//!   flown direct (a straight line), whatever its leg type.
+//!   flown direct (the geodesic), whatever its leg type.
 //! - **Return to home** (`route_reversed`, honoured on bidirectional routes only): the aircraft
 //!   keeps flying to its current TO waypoint, then flies the route backwards to the initial
 //!   waypoint, each waypoint at its own speed; a reversed radius-to-fix leg is the same arc in
@@ -54,14 +56,15 @@
 //!   are not applied. A circle's radius is the geodesic distance centre -> border point.
 //!   Leaving the fly-zone and entering a no-fly-zone are logged once, on the change.
 
-use geo::{Contains, LineString, Point, Polygon};
+use geo::Point;
 use missionlink_interfaces::contracts::{
-    AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload, PolygonArea,
-    WaypointEntry, WaypointListPayload,
+    AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload, WaypointEntry,
+    WaypointListPayload,
 };
 use missionlink_interfaces::wire::{LegType, TurnDirection, TurnType};
 
-use crate::geofence::earth::{bearing_deg, destination, distance_m, point};
+use crate::geofence::earth::{Site, bearing_deg, destination, distance_m, point};
+use crate::geofence::zone::{Fence, Zone, ZoneKind};
 use crate::link::time::Instant;
 
 /// Longest sub-step of the integration, simulated seconds.
@@ -188,67 +191,37 @@ impl Route {
     };
 }
 
-/// The area list with its polygons built for [`geo`].
+/// The area list as the geofence holds it ([`Fence`]), built once when the list arrives so that
+/// the zone test of each step allocates nothing.
 #[derive(Debug, Clone, Default)]
 struct Areas {
-    fly_zone: Option<Polygon<f64>>,
-    no_fly_polygons: Vec<(u16, Polygon<f64>)>,
-    /// Area ID, centre, radius in metres.
-    no_fly_circles: Vec<(u16, Point<f64>, f64)>,
+    /// `None` without an area list. Boxed: a fence holds every border in fixed capacity.
+    fence: Option<Box<Fence>>,
 }
 
 impl Areas {
     fn new(list: &AreaListPayload) -> Self {
-        if list.generation == 0 {
-            return Self::default();
-        }
         Self {
-            fly_zone: polygon(&list.fly_zone),
-            no_fly_polygons: list
-                .no_fly_polygons()
-                .iter()
-                .filter_map(|a| polygon(a).map(|p| (a.area_id, p)))
-                .collect(),
-            no_fly_circles: list
-                .no_fly_circles()
-                .iter()
-                .map(|c| {
-                    let centre = point(c.centre);
-                    (c.area_id, centre, distance_m(centre, point(c.border)))
-                })
-                .collect(),
+            fence: (list.generation != 0).then(|| Box::new(Fence::of_payload(list))),
         }
     }
 
-    fn inside_fly_zone(&self, p: Point<f64>) -> bool {
-        self.fly_zone.as_ref().is_some_and(|z| z.contains(&p))
+    fn zones(&self) -> impl Iterator<Item = &Zone> {
+        self.fence.iter().flat_map(|f| f.zones.iter())
     }
 
-    /// Area ID of the first no-fly-zone (polygons, then circles) containing `p`, else 0.
-    fn no_fly_zone_at(&self, p: Point<f64>) -> u16 {
-        self.no_fly_polygons
-            .iter()
-            .find(|(_, z)| z.contains(&p))
-            .map(|(id, _)| *id)
-            .or_else(|| {
-                self.no_fly_circles
-                    .iter()
-                    .find(|(_, c, r)| distance_m(*c, p) <= *r)
-                    .map(|(id, _, _)| *id)
-            })
-            .unwrap_or(0)
+    fn inside_fly_zone(&self, at: &Site) -> bool {
+        self.zones()
+            .any(|z| z.kind == ZoneKind::FlyZone && z.contains(at))
     }
-}
 
-fn polygon(area: &PolygonArea) -> Option<Polygon<f64>> {
-    let v = area.vertices();
-    (v.len() >= 3).then(|| {
-        let ring: LineString<f64> = v
-            .iter()
-            .map(|g| (g.longitude.degrees(), g.latitude.degrees()))
-            .collect();
-        Polygon::new(ring, Vec::new())
-    })
+    /// Area ID of the first no-fly-zone (polygons, then circles: the fence's order) containing
+    /// `at`, else 0.
+    fn no_fly_zone_at(&self, at: &Site) -> u16 {
+        self.zones()
+            .find(|z| z.kind == ZoneKind::NoFlyZone && z.contains(at))
+            .map_or(0, |z| z.id)
+    }
 }
 
 /// Angle to go from bearing `from` to bearing `to` in the turn direction, 0..360 deg.
@@ -368,12 +341,11 @@ impl Guidance {
         }
     }
 
-    /// An area list was published: its polygons are built and kept for the zone checks.
+    /// An area list was published: its geofence is built and kept for the zone checks.
     pub fn set_area_list(&mut self, list: &AreaListPayload) {
         self.areas = Areas::new(list);
         // The aircraft did not move: the new status is taken without a warning.
-        self.inside_fly_zone = self.areas.inside_fly_zone(self.position);
-        self.in_no_fly_zone = self.areas.no_fly_zone_at(self.position);
+        (self.inside_fly_zone, self.in_no_fly_zone) = self.zone_status();
     }
 
     /// The automation state changed.
@@ -791,10 +763,18 @@ impl Guidance {
         (self.turn_radius(v) * (turn / 2.0).to_radians().tan()).min(cap)
     }
 
+    /// Inside the fly-zone, and the no-fly-zone the aircraft is in (0: none), where it is now.
+    fn zone_status(&self) -> (bool, u16) {
+        let at = Site::of(self.position);
+        (
+            self.areas.inside_fly_zone(&at),
+            self.areas.no_fly_zone_at(&at),
+        )
+    }
+
     /// Updates the zone status and logs leaving the fly-zone and entering a no-fly-zone.
     fn check_zones(&mut self) {
-        let inside = self.areas.inside_fly_zone(self.position);
-        let nfz = self.areas.no_fly_zone_at(self.position);
+        let (inside, nfz) = self.zone_status();
         if self.inside_fly_zone && !inside {
             self.zone_warnings = self.zone_warnings.saturating_add(1);
             tracing::warn!(
@@ -1374,5 +1354,50 @@ mod tests {
         s.run_until(2000, |p| p.route_complete);
         assert!(!s.log.last().unwrap().inside_fly_zone);
         assert_eq!(s.g.zone_warnings, 2);
+    }
+
+    /// The zones are the geofence's: a fly-zone across the antimeridian whose northern edge,
+    /// 72 km along 71° N, is a geodesic bowing about 280 m north of the parallel, and a circle
+    /// whose geodesic radius reaches across the antimeridian. Containment in degrees got every
+    /// one of these points wrong.
+    #[test]
+    fn zones_are_geodesic_and_cross_the_antimeridian() {
+        let mut a = AreaListPayload::EMPTY;
+        a.generation = 1;
+        a.fly_zone.area_id = 1;
+        a.fly_zone.vertex_count = 4;
+        let corners = [(70.9, 179.0), (70.9, -179.0), (71.0, -179.0), (71.0, 179.0)];
+        for (v, p) in a.fly_zone.vertices.iter_mut().zip(corners) {
+            *v = gp(p);
+        }
+        a.no_fly_circle_count = 1;
+        a.no_fly_circles[0] = CircleArea {
+            area_id: 2,
+            centre: gp((70.95, 179.99)),
+            border: gp((70.95, -179.99)),
+            ..CircleArea::EMPTY
+        };
+        let status = |at: Point<f64>| {
+            let mut g = Guidance::new(config_at((at.y(), at.x())));
+            g.set_area_list(&a);
+            let p = g.step(Instant::ZERO);
+            (p.inside_fly_zone, p.in_no_fly_zone)
+        };
+
+        // The northern edge's midpoint, on the antimeridian, well north of 71°.
+        let (east, west) = (pt((71.0, -179.0)), pt((71.0, 179.0)));
+        let mid = destination(east, bearing_deg(east, west), distance_m(east, west) / 2.0);
+        assert!((mid.x().abs() - 180.0).abs() < 1e-6, "{mid:?}");
+        assert!(mid.y() - 71.0 > 0.0024, "{mid:?}");
+        assert_eq!(status(destination(mid, 180.0, 20.0)), (true, 0));
+        assert_eq!(status(destination(mid, 0.0, 20.0)), (false, 0));
+
+        // The circle: its centre west of the antimeridian, points due east across it.
+        let centre = pt((70.95, 179.99));
+        let radius = distance_m(centre, pt((70.95, -179.99)));
+        let inside = destination(centre, 90.0, radius - 5.0);
+        assert!(inside.x() < -179.99, "{inside:?}");
+        assert_eq!(status(inside), (true, 2));
+        assert_eq!(status(destination(centre, 90.0, radius + 5.0)), (true, 0));
     }
 }

@@ -129,3 +129,35 @@ fn the_fcc_frame_path_allocates_nothing() {
     assert!(frames > 20, "only {frames} frames");
     assert_eq!(total, 0, "{total} allocations over {frames} uplink frames");
 }
+
+/// Guidance's step allocates nothing either: the zone test runs on the geofence built when the
+/// area list arrived (mission 2 flown from CCP to ROLE2 across the fly-zone, past both
+/// no-fly-zones).
+#[test]
+fn guidance_steps_allocate_nothing() {
+    use missionlink_services::guidance::{Guidance, GuidanceConfig};
+
+    let plan = mission_2().assemble().unwrap();
+    let mut guidance = Guidance::new(GuidanceConfig {
+        start_latitude_deg: 48.275,
+        start_longitude_deg: 11.645,
+        ..GuidanceConfig::default()
+    });
+    guidance.set_waypoint_list(&plan.mission.to_payload(1));
+    guidance.set_area_list(&plan.areas.to_payload(1));
+    guidance.set_automation(&flying());
+    let mut now = Instant::ZERO;
+    let mut total = 0u64;
+    let mut last = GuidanceProgressPayload::IDLE;
+    for _ in 0..2_000 {
+        now = now + Duration::from_millis(100);
+        let (progress, n) = counted(|| guidance.step(now));
+        total += n;
+        last = progress;
+        if last.route_complete {
+            break;
+        }
+    }
+    assert!(last.route_complete && last.inside_fly_zone, "{last:?}");
+    assert_eq!(total, 0, "{total} allocations over the flight");
+}

@@ -12,7 +12,8 @@
 //! - [`clearance`]: the signed margin of a track against a zone, with the position of the
 //!   closest approach or of the deepest violation.
 //! - [`onboard`]: the check of ICD §7 (ext) before execute, return to home and activation.
-//! - [`local_frame`]: the flat projection the map draws in.
+//! - [`local_frame`]: the map's drawing projection (flat, for the screen only: no check is
+//!   made in it).
 //!
 //! Everything the FCC runs is allocation-free (fixed capacities) and bounded in time: at most
 //! [`path::MAX_PIECES`] pieces per geodesic, [`path::MAX_CORNERS`] corners per arc,

@@ -231,4 +231,43 @@ impl Track {
             })
         })
     }
+    /// The sites along the path in the order flown, for drawing it (the map): a geodesic at
+    /// `step_m` or less apart along it (at most [`MAX_DRAWN_SITES`], both ends exact), an arc
+    /// at its corners (the chords between them within [`ARC_SAG_M`] of it), a point once.
+    pub fn sites(&self, step_m: f64) -> impl Iterator<Item = Site> + '_ {
+        let geodesic = match self.path {
+            Path::Geodesic { from, to } => {
+                let (length, azimuth) = from.inverse(&to);
+                let n = (length / step_m.max(1.0))
+                    .ceil()
+                    .clamp(1.0, MAX_DRAWN_SITES as f64);
+                Some((from, to, length, azimuth, n as usize))
+            }
+            Path::Point(_) | Path::Arc { .. } => None,
+        };
+        let along = geodesic
+            .into_iter()
+            .flat_map(|(from, to, length, azimuth, n)| {
+                (0..=n).map(move |k| match k {
+                    0 => from,
+                    k if k == n => to,
+                    k => from.direct(azimuth, length * k as f64 / n as f64),
+                })
+            });
+        let corners = geodesic
+            .is_none()
+            .then_some(())
+            .into_iter()
+            .flat_map(move |()| {
+                self.patches.iter().flat_map(move |patch| {
+                    self.corners_of(patch)
+                        .iter()
+                        .map(move |c| Self::site_at(patch, *c))
+                })
+            });
+        along.chain(corners)
+    }
 }
+
+/// Sites of one geodesic drawn at most ([`Track::sites`]).
+pub const MAX_DRAWN_SITES: usize = 100_000;

@@ -352,6 +352,24 @@ impl Zone {
         }
         None
     }
+
+    /// Whether `site` is in this zone: within the geodesic radius of a circle's centre, or
+    /// inside a polygon by the parity of the border pieces a ray towards north from it crosses
+    /// in the tangent plane at `site` (as [`super::clearance`] decides the side of a path's
+    /// start). No allocation; a site outside the zone's ball costs one test.
+    pub fn contains(&self, site: &Site) -> bool {
+        match &self.shape {
+            Shape::Circle { centre, radius_m } => centre.inverse(site).0 <= *radius_m,
+            Shape::Polygon { .. } => {
+                let at = Ball {
+                    centre: site.ecef,
+                    radius: 0.0,
+                };
+                self.ball.gap(&at) <= 0.0
+                    && self.polygon_contains(&Plane::at(site), geo::Coord { x: 0.0, y: 0.0 })
+            }
+        }
+    }
 }
 
 fn vertex<'a>(border: &'a [Site], vertices: &[u16], i: usize) -> Option<&'a Site> {
