@@ -702,7 +702,7 @@ pub fn published_lists(
 }
 
 /// The worst case of the onboard geofence check (issue 11, "Cost, measured"): 256 waypoints
-/// (255 track-to-fix legs: 128 lanes of 12.4 km, 117 of 1.1 km between corridors, 10 of 24 m
+/// (255 track-to-fix legs: 128 lanes of 12.4 km, 116 of 1.1 km between corridors, 11 of 24 m
 /// between passes; plus the climb and the way from the take-off
 /// point) against 11 areas of 60 vertices, every zone within 40 m (the closest) to 300 m of
 /// the legs beside it, and the check passes, so it looks at every leg and zone (a failing
