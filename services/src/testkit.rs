@@ -17,6 +17,10 @@
 //! - missions and plans: [`mission_buffer`], [`area_buffer`], [`plan`], [`mission_1`] and
 //!   [`mission_2`] (the demo missions of `missions/`), [`zigzag`] and [`generated_plan`] (N
 //!   waypoints with 11 areas);
+//! - the onboard geofence check's worst case: [`geofence_worst_case`] and
+//!   [`geofence_worst_case_rf`] (256 waypoints against 11 areas of 60 vertices, every zone
+//!   close to the route, the check passing), built from [`worst_case_messages`] and
+//!   [`worst_case_areas`];
 //! - frames and randomness: [`frame`], [`uplink`], [`Transmit`] (what a machine sends, taken
 //!   through its `poll_transmit`), [`decoded`], [`Rng`] (seeded, so a run repeats).
 //!
@@ -505,6 +509,225 @@ impl Rng {
             items.swap(i, j);
         }
     }
+}
+
+// ---- The onboard geofence check's worst case (issue 11, "Cost, measured") ----
+
+/// Where the worst case lies: its local east/north metres are measured from here.
+const WORST_CASE_ORIGIN: (f64, f64) = (48.27, 11.66);
+/// Semi-axes of the worst case's no-fly-zone ellipses, metres: east-west, north-south.
+const WORST_CASE_NFZ_AXES_M: (f64, f64) = (400.0, 6000.0);
+/// Width of a corridor between two neighbouring zones (the fly-zone's west or east side and a
+/// no-fly-zone, or two no-fly-zones), metres.
+const WORST_CASE_CORRIDOR_M: f64 = 340.0;
+/// Half the length of a lane, metres: lanes end 200 m beyond the no-fly-zones' tips, where the
+/// legs between lanes pass them.
+const WORST_CASE_LANE_HALF_M: f64 = 6200.0;
+/// How far the fly-zone reaches past the lanes' ends, metres: south, and north (where the
+/// radius-to-fix legs of [`geofence_worst_case_rf`] bulge 570 m past the lanes' ends).
+const WORST_CASE_FLY_ZONE_BEYOND_M: (f64, f64) = (120.0, 690.0);
+
+/// The closest approach of the worst case's route to each of its 11 zones, metres: 15 m beyond
+/// the safety offset of 25 m.
+pub const WORST_CASE_CLOSEST_M: f64 = 40.0;
+/// The farthest a lane of the worst case runs from the zones on either side, metres.
+pub const WORST_CASE_FARTHEST_M: f64 = WORST_CASE_CORRIDOR_M - WORST_CASE_CLOSEST_M;
+
+/// The position `east`, `north` metres from [`WORST_CASE_ORIGIN`] (azimuthal equidistant:
+/// along the geodesic in that direction for that distance), latitude and longitude in degrees.
+pub fn worst_case_local(east: f64, north: f64) -> (f64, f64) {
+    let p = crate::geofence::earth::destination(
+        point(WORST_CASE_ORIGIN),
+        east.atan2(north).to_degrees(),
+        east.hypot(north),
+    );
+    (p.y(), p.x())
+}
+
+/// East coordinate of no-fly-zone `k` (0..10)'s centre, metres: ten of them side by side,
+/// centred on the origin.
+fn worst_case_nfz_east(k: usize) -> f64 {
+    let spacing = 2.0 * WORST_CASE_NFZ_AXES_M.0 + WORST_CASE_CORRIDOR_M;
+    (k as f64 - 4.5) * spacing
+}
+
+/// East coordinate of corridor `c` (0..=10)'s west side, metres: corridor 0 lies between the
+/// fly-zone's west side and no-fly-zone 0, corridor `c` between no-fly-zones `c - 1` and `c`,
+/// corridor 10 between no-fly-zone 9 and the fly-zone's east side.
+fn worst_case_corridor_west(c: usize) -> f64 {
+    let spacing = 2.0 * WORST_CASE_NFZ_AXES_M.0 + WORST_CASE_CORRIDOR_M;
+    worst_case_nfz_east(0) - WORST_CASE_NFZ_AXES_M.0 - WORST_CASE_CORRIDOR_M + c as f64 * spacing
+}
+
+/// The worst case's areas (ICD §7's largest list, every zone close to the route): the fly-zone
+/// (area 1), a rectangle of about 11.7 km by 13.2 km with rounded corners (15 vertices per
+/// corner, 60 in all), and ten no-fly-zone ellipses of 0.8 km by 12 km, 60 vertices each
+/// (areas 2 to 11), side by side in it with corridors of 340 m between them and along the
+/// fly-zone's west and east sides. `shift_m` moves no-fly-zone `k` east (negative: west) by
+/// its value (to make a fixture that fails).
+pub fn worst_case_areas(shift_m: [f64; 10]) -> Vec<AreaPolygonLoopSegment> {
+    let west = worst_case_corridor_west(0);
+    let east = worst_case_corridor_west(10) + WORST_CASE_CORRIDOR_M;
+    let south = -WORST_CASE_LANE_HALF_M - WORST_CASE_FLY_ZONE_BEYOND_M.0;
+    let north = WORST_CASE_LANE_HALF_M + WORST_CASE_FLY_ZONE_BEYOND_M.1;
+    const CORNER_M: f64 = 100.0;
+    const PER_CORNER: usize = MAX_POLYGON_VERTICES / 4;
+    // Counter-clockwise from the south-east corner: each corner's centre and start angle.
+    let corners = [
+        (east - CORNER_M, south + CORNER_M, -90.0f64),
+        (east - CORNER_M, north - CORNER_M, 0.0),
+        (west + CORNER_M, north - CORNER_M, 90.0),
+        (west + CORNER_M, south + CORNER_M, 180.0),
+    ];
+    let fly_zone: Vec<(f64, f64)> = corners
+        .iter()
+        .flat_map(|&(x, y, start)| {
+            (0..PER_CORNER).map(move |i| {
+                let a = (start + 90.0 * i as f64 / (PER_CORNER - 1) as f64).to_radians();
+                worst_case_local(x + CORNER_M * a.cos(), y + CORNER_M * a.sin())
+            })
+        })
+        .collect();
+    let mut areas = vec![polygon(1, AreaType::FlyZone, &fly_zone)];
+    areas.extend(shift_m.iter().enumerate().map(|(k, shift)| {
+        let (ax, ay) = WORST_CASE_NFZ_AXES_M;
+        let x = worst_case_nfz_east(k) + shift;
+        // Vertex 0 and 30 at the ends of the east-west axis: the closest approach to the lanes
+        // is exactly there.
+        let vertices: Vec<(f64, f64)> = (0..MAX_POLYGON_VERTICES)
+            .map(|i| {
+                let t = core::f64::consts::TAU * i as f64 / MAX_POLYGON_VERTICES as f64;
+                worst_case_local(x + ax * t.cos(), ay * t.sin())
+            })
+            .collect();
+        polygon(k as u16 + 2, AreaType::NoFlyZone, &vertices)
+    }));
+    areas
+}
+
+/// The messages of the worst case's route: take-off 30 m, waypoints 1 -> 2 -> ... -> 256 (one
+/// way, from 1), a survey flown over and over through the 11 corridors of
+/// [`worst_case_areas`]. Each lane is one track-to-fix leg of 12.4 km up or down a corridor
+/// (two waypoints); a pass flies all 11 corridors, west to east and then back, each pass at
+/// another distance from the corridor's west side, from 40 m to 300 m in 12 steps (so its
+/// east side sees 300 m to 40 m); 128 lanes in all. With `rf`, the legs between lanes at the
+/// north end are radius-to-fix half circles of 570 m bulging north around the no-fly-zone's
+/// tip (every fourth leg but at the turn between passes), the rest track-to-fix.
+pub fn worst_case_messages(rf: bool) -> Vec<Message> {
+    use missionlink_interfaces::capacity::MAX_WAYPOINTS;
+    const PASSES: usize = 12;
+    let lanes = MAX_WAYPOINTS / 2;
+    let mut sequence: Vec<(usize, f64)> = Vec::new();
+    'passes: for pass in 0..PASSES {
+        let offset = WORST_CASE_CLOSEST_M
+            + (WORST_CASE_FARTHEST_M - WORST_CASE_CLOSEST_M) * pass as f64 / (PASSES - 1) as f64;
+        for i in 0..=10 {
+            if sequence.len() == lanes {
+                break 'passes;
+            }
+            let corridor = if pass % 2 == 0 { i } else { 10 - i };
+            sequence.push((corridor, worst_case_corridor_west(corridor) + offset));
+        }
+    }
+    let mut messages = vec![take_off(30.0).into()];
+    let mut previous: Option<(f64, f64)> = None;
+    for (lane, &(_, east)) in sequence.iter().enumerate() {
+        // Lane 0 flies north; lanes alternate.
+        let north = if lane % 2 == 0 { 1.0 } else { -1.0 } * WORST_CASE_LANE_HALF_M;
+        for (j, y) in [-north, north].into_iter().enumerate() {
+            let number = (2 * lane + j + 1) as u16;
+            let next = if usize::from(number) == MAX_WAYPOINTS {
+                0
+            } else {
+                number + 1
+            };
+            let at = worst_case_local(east, y);
+            // The leg into a lane's first waypoint at the north end, from another corridor.
+            let arc = match previous {
+                Some((x0, y0)) if rf && j == 0 && y > 0.0 && (x0 - east).abs() > 500.0 => {
+                    let centre = worst_case_local((x0 + east) / 2.0, y0);
+                    let direction = if east > x0 {
+                        TurnDirection::Clockwise
+                    } else {
+                        TurnDirection::CounterClockwise
+                    };
+                    Some(rf_centre(number, centre, direction))
+                }
+                _ => None,
+            };
+            let leg = if arc.is_some() {
+                LegType::RadiusToFix
+            } else {
+                LegType::TrackToFix
+            };
+            messages.push(waypoint(number, next, at, leg).into());
+            messages.extend(arc.map(Message::from));
+            previous = Some((east, y));
+        }
+    }
+    messages.push(route(1, false).into());
+    messages
+}
+
+/// The take-off position of the worst case: 60 m south and 80 m east of waypoint 1, clear of the
+/// fly-zone's rounded corner.
+pub fn worst_case_take_off() -> GeoPoint {
+    point(worst_case_local(
+        worst_case_corridor_west(0) + WORST_CASE_CLOSEST_M + 80.0,
+        -WORST_CASE_LANE_HALF_M - 60.0,
+    ))
+}
+
+/// `messages` and `areas` as mission data handling publishes them to guidance (assembled and
+/// checked as an upload is: ICD §7), safety offset 25 m, generation 1.
+pub fn published_lists(
+    messages: &[Message],
+    areas: &[AreaPolygonLoopSegment],
+) -> (
+    missionlink_interfaces::contracts::WaypointListPayload,
+    missionlink_interfaces::contracts::AreaListPayload,
+) {
+    let waypoints = mission_buffer(messages)
+        .assemble(None, None)
+        .expect("a mission that assembles")
+        .to_payload(1);
+    let areas = area_buffer(areas)
+        .assemble(
+            areas.len() as u8,
+            SafetyOffset::from_metres(25.0).expect("an offset in range"),
+        )
+        .expect("an area list that assembles")
+        .to_payload(1);
+    (waypoints, areas)
+}
+
+/// The worst case of the onboard geofence check (issue 11, "Cost, measured"): 256 waypoints
+/// (255 track-to-fix legs: 128 lanes of 12.4 km, 116 of 1.1 km between corridors, 11 of 24 m
+/// between passes; plus the climb and the way from the take-off
+/// point) against 11 areas of 60 vertices, every zone within 40 m (the closest) to 300 m of
+/// the legs beside it, and the check passes, so it looks at every leg and zone (a failing
+/// check stops at its first violation). Every lane's ball holds most of every zone, so few
+/// border pieces are culled. The waypoint list, the area list and the take-off position.
+pub fn geofence_worst_case() -> (
+    missionlink_interfaces::contracts::WaypointListPayload,
+    missionlink_interfaces::contracts::AreaListPayload,
+    GeoPoint,
+) {
+    let (waypoints, areas) =
+        published_lists(&worst_case_messages(false), &worst_case_areas([0.0; 10]));
+    (waypoints, areas, worst_case_take_off())
+}
+
+/// [`geofence_worst_case`] with the legs between lanes at the north end flown as radius-to-fix
+/// half circles (see [`worst_case_messages`]).
+pub fn geofence_worst_case_rf() -> (
+    missionlink_interfaces::contracts::WaypointListPayload,
+    missionlink_interfaces::contracts::AreaListPayload,
+    GeoPoint,
+) {
+    let (waypoints, areas) =
+        published_lists(&worst_case_messages(true), &worst_case_areas([0.0; 10]));
+    (waypoints, areas, worst_case_take_off())
 }
 
 #[cfg(test)]
