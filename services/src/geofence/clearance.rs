@@ -22,7 +22,7 @@ use geo::Coord;
 use super::earth::Site;
 use super::path::{Patch, Track};
 use super::plane::{Plane, point_segment, segment_segment};
-use super::zone::{Ball, Shape, Zone, ZoneKind};
+use super::zone::{Ball, GROUP, Shape, Zone, ZoneKind};
 
 /// Samples along each chord of a geodesic piece for the depth of a violation.
 pub const DEPTH_SAMPLES: usize = 64;
@@ -193,33 +193,54 @@ fn chords(corners: &[Coord]) -> impl Iterator<Item = (Coord, Coord)> + '_ {
 /// The closest approach of `track` to the polygon's border within `horizon_m`, and whether
 /// they cross or touch.
 fn contact(track: &Track, zone: &Zone, horizon_m: f64) -> (Option<Closest>, bool) {
+    let (border, balls, groups) = zone.border();
     let mut best: Option<Closest> = None;
     let mut crossed = false;
+    // Only what can come closer than the horizon, or than the closest approach found, counts;
+    // the balls of the zone, of groups of pieces and of each piece cull the rest in one test.
+    let reach = |best: &Option<Closest>| best.map_or(horizon_m, |b| b.distance.min(horizon_m));
     for (i, patch) in track.patches.iter().enumerate() {
-        let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
-        if zone.ball.gap(&patch.ball) > reach {
+        if zone.ball.gap(&patch.ball) > reach(&best) {
             continue;
         }
         let corners = track.corners_of(patch);
-        for (a, b) in zone.pieces() {
-            let reach = best.map_or(horizon_m, |b| b.distance.min(horizon_m));
-            if Ball::of_piece(a, b).gap(&patch.ball) > reach {
+        for (g, group) in groups.iter().enumerate() {
+            if group.gap(&patch.ball) > reach(&best) {
                 continue;
             }
-            let (pa, pb) = (patch.plane.xy(a), patch.plane.xy(b));
-            let mut consider = |distance: f64, at: Coord| {
-                if best.is_none_or(|x| distance < x.distance) {
-                    best = Some(Closest {
-                        distance,
-                        patch: i,
-                        at,
-                    });
+            for k in g * GROUP..((g + 1) * GROUP).min(border.len()) {
+                let (Some(ball), Some(a), Some(b)) = (
+                    balls.get(k),
+                    border.get(k),
+                    border.get((k + 1) % border.len()),
+                ) else {
+                    continue;
+                };
+                if ball.gap(&patch.ball) > reach(&best) {
+                    continue;
                 }
-            };
-            for (p, q) in chords(corners) {
-                let meet = segment_segment(p, q, pa, pb);
-                crossed |= meet.distance == 0.0;
-                consider(meet.distance, p + (q - p) * meet.t);
+                let (pa, pb) = (patch.plane.xy(a), patch.plane.xy(b));
+                for (p, q) in chords(corners) {
+                    // A chord whose box is farther from the piece's box than the reach cannot
+                    // come closer (the many chords of an arc, mostly).
+                    let r = reach(&best);
+                    if p.x.min(q.x) > pa.x.max(pb.x) + r
+                        || p.x.max(q.x) < pa.x.min(pb.x) - r
+                        || p.y.min(q.y) > pa.y.max(pb.y) + r
+                        || p.y.max(q.y) < pa.y.min(pb.y) - r
+                    {
+                        continue;
+                    }
+                    let meet = segment_segment(p, q, pa, pb);
+                    crossed |= meet.distance == 0.0;
+                    if best.is_none_or(|x| meet.distance < x.distance) {
+                        best = Some(Closest {
+                            distance: meet.distance,
+                            patch: i,
+                            at: p + (q - p) * meet.t,
+                        });
+                    }
+                }
             }
         }
     }

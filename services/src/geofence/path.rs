@@ -13,12 +13,12 @@ use heapless::Vec;
 use missionlink_interfaces::wire::TurnDirection;
 
 use super::PIECE_M;
-use super::earth::{Site, WGS84_MIN_RADIUS_M};
+use super::earth::Site;
 use super::plane::Plane;
 use super::zone::Ball;
 
 /// Largest distance between a radius-to-fix arc and the chords between its corners, metres.
-pub const ARC_SAG_M: f64 = 0.01;
+pub const ARC_SAG_M: f64 = 0.05;
 /// Pieces of a geodesic at most; a geodesic longer than `MAX_PIECES` × [`PIECE_M`] (1280 km)
 /// gets longer pieces.
 pub const MAX_PIECES: usize = 64;
@@ -167,17 +167,52 @@ impl Track {
 
     fn push_patch(&mut self, origin: Site, corners: &[Coord]) {
         let start = self.corners.len();
-        let mut reach: f64 = 0.0;
         for c in corners {
-            if self.corners.push(*c).is_ok() {
-                reach = reach.max(c.x.hypot(c.y));
-            }
+            let _ = self.corners.push(*c);
         }
-        // Corners within `reach` of the origin in the plane lie within that, and the surface's
-        // drop below the plane, of it in space.
+        let kept = self.corners.get(start..).unwrap_or_default();
+        // The ball about the site at the middle of the corners' box: every point of the path
+        // is within `reach` of it along the surface (a geodesic piece's points are within half
+        // its length of its middle; an arc leaves its chords by at most ARC_SAG_M), up to the
+        // plane's scale (1 + d²/R², well under the 0.1 % allowed), and a chord is never longer
+        // than the geodesic.
+        let (lo, hi) = kept.iter().fold(
+            (
+                Coord {
+                    x: f64::INFINITY,
+                    y: f64::INFINITY,
+                },
+                Coord {
+                    x: f64::NEG_INFINITY,
+                    y: f64::NEG_INFINITY,
+                },
+            ),
+            |(lo, hi), c| {
+                (
+                    Coord {
+                        x: lo.x.min(c.x),
+                        y: lo.y.min(c.y),
+                    },
+                    Coord {
+                        x: hi.x.max(c.x),
+                        y: hi.y.max(c.y),
+                    },
+                )
+            },
+        );
+        let middle = (lo + hi) * 0.5;
+        let reach = kept
+            .iter()
+            .map(|c| (*c - middle).x.hypot((*c - middle).y))
+            .fold(0.0, f64::max);
+        let centre = if kept.len() > 1 {
+            Self::site_at_origin(&origin, middle).ecef
+        } else {
+            origin.ecef
+        };
         let ball = Ball {
-            centre: origin.ecef,
-            radius: reach * 1.001 + reach * reach / WGS84_MIN_RADIUS_M + 0.01,
+            centre,
+            radius: reach * 1.001 + ARC_SAG_M + 0.01,
         };
         let _ = self.patches.push(Patch {
             origin,
@@ -186,6 +221,10 @@ impl Track {
             end: self.corners.len(),
             ball,
         });
+    }
+
+    fn site_at_origin(origin: &Site, c: Coord) -> Site {
+        origin.direct(c.x.atan2(c.y).to_degrees(), c.x.hypot(c.y))
     }
 
     /// The path.

@@ -19,6 +19,10 @@ use crate::transfer::areas::AreaList;
 /// longer than [`PIECE_M`]. Past it, the longest edges get longer pieces (see
 /// [`Zone::polygon`]).
 pub const MAX_BORDER_SITES: usize = 4 * MAX_POLYGON_VERTICES;
+/// Border pieces under one ball of the coarse level: a path far from all of them costs one
+/// test for the group.
+pub(crate) const GROUP: usize = 8;
+const MAX_GROUPS: usize = MAX_BORDER_SITES.div_ceil(GROUP);
 
 /// Which side of a zone is allowed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,6 +55,22 @@ impl Ball {
         }
     }
 
+    /// A ball holding every one of `balls`.
+    pub(crate) fn around(balls: &[Ball]) -> Self {
+        let n = balls.len().max(1) as f64;
+        let mut centre = [0.0; 3];
+        for b in balls {
+            for (c, x) in centre.iter_mut().zip(b.centre) {
+                *c += x / n;
+            }
+        }
+        let radius = balls
+            .iter()
+            .map(|b| chord(&centre, &b.centre) + b.radius)
+            .fold(0.0, f64::max);
+        Self { centre, radius }
+    }
+
     /// A lower bound of the geodesic distance between anything in `self` and anything in
     /// `other` (a chord is never longer than the geodesic).
     pub(crate) fn gap(&self, other: &Ball) -> f64 {
@@ -67,6 +87,10 @@ pub(crate) enum Shape {
         border: Vec<Site, MAX_BORDER_SITES>,
         /// Index in `border` of each vertex.
         vertices: Vec<u16, MAX_POLYGON_VERTICES>,
+        /// The ball of each border piece (from `border[i]` to the next).
+        balls: Vec<Ball, MAX_BORDER_SITES>,
+        /// The ball of each [`GROUP`] of consecutive pieces.
+        groups: Vec<Ball, MAX_GROUPS>,
     },
     /// The points within `radius_m` (geodesic) of `centre`.
     Circle { centre: Site, radius_m: f64 },
@@ -155,12 +179,20 @@ impl Zone {
             }
         }
         let ball = enclosing(&border);
+        let balls: Vec<Ball, MAX_BORDER_SITES> = border
+            .iter()
+            .zip(border.iter().cycle().skip(1))
+            .map(|(a, b)| Ball::of_piece(a, b))
+            .collect();
+        let groups = balls.chunks(GROUP).map(Ball::around).collect();
         Self {
             id,
             kind,
             shape: Shape::Polygon {
                 border,
                 vertices: indices,
+                balls,
+                groups,
             },
             ball,
         }
@@ -192,7 +224,9 @@ impl Zone {
     /// The vertices of a polygon, or the centre of a circle.
     pub fn vertices(&self) -> impl Iterator<Item = Site> + '_ {
         let (border, indices, centre): (&[Site], &[u16], Option<Site>) = match &self.shape {
-            Shape::Polygon { border, vertices } => (border, vertices, None),
+            Shape::Polygon {
+                border, vertices, ..
+            } => (border, vertices, None),
             Shape::Circle { centre, .. } => (&[], &[], Some(*centre)),
         };
         indices
@@ -260,6 +294,20 @@ impl Zone {
         twice.abs() / 2.0
     }
 
+    /// The polygon's border sites, the ball of each piece and the ball of each [`GROUP`] of
+    /// pieces (empty for a circle).
+    pub(crate) fn border(&self) -> (&[Site], &[Ball], &[Ball]) {
+        match &self.shape {
+            Shape::Polygon {
+                border,
+                balls,
+                groups,
+                ..
+            } => (border, balls, groups),
+            Shape::Circle { .. } => (&[], &[], &[]),
+        }
+    }
+
     /// The border pieces, each from a site to the next (the last back to the first).
     pub(crate) fn pieces(&self) -> impl Iterator<Item = (&Site, &Site)> {
         let border: &[Site] = match &self.shape {
@@ -292,7 +340,9 @@ impl Zone {
             Shape::Circle { radius_m, .. } => {
                 return (*radius_m <= 0.0).then_some(ZoneDefect::ZeroRadius);
             }
-            Shape::Polygon { border, vertices } => (border, vertices),
+            Shape::Polygon {
+                border, vertices, ..
+            } => (border, vertices),
         };
         let n = vertices.len();
         if n < 3 {
@@ -491,7 +541,10 @@ mod tests {
             ZoneKind::FlyZone,
             &[g(48.0, 11.0), g(48.0, 12.0), g(48.01, 12.0)],
         );
-        let Shape::Polygon { border, vertices } = &z.shape else {
+        let Shape::Polygon {
+            border, vertices, ..
+        } = &z.shape
+        else {
             panic!()
         };
         // Two edges of about 74.6 km: 4 pieces of at most 20 km each; the 1.1 km edge one.
