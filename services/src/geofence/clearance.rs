@@ -20,7 +20,7 @@
 use geo::Coord;
 
 use super::earth::Site;
-use super::path::{Patch, Track};
+use super::path::Track;
 use super::plane::{Plane, point_segment, segment_segment};
 use super::zone::{Ball, GROUP, Shape, Zone, ZoneKind};
 
@@ -259,27 +259,70 @@ fn depth_at(zone: &Zone, plane: &Plane, p: Coord, allowed_inside: bool) -> f64 {
 
 /// The deepest point of the path on the polygon's forbidden side: its depth and site.
 fn deepest(track: &Track, zone: &Zone, allowed_inside: bool) -> (f64, Site) {
-    // (depth, patch, chord start, chord end, parameter, step of the samples)
-    let mut best: Option<(f64, &Patch, Coord, Coord, f64, f64)> = None;
-    for patch in &track.patches {
-        let corners = track.corners_of(patch);
-        let samples = if corners.len() > 2 { 2 } else { DEPTH_SAMPLES };
-        for (p, q) in chords(corners) {
-            for k in 0..=samples {
-                let t = k as f64 / samples as f64;
-                let d = depth_at(zone, &patch.plane, p + (q - p) * t, allowed_inside);
-                if best.is_none_or(|b| d > b.0) {
-                    best = Some((d, patch, p, q, t, 1.0 / samples as f64));
-                }
+    // The chords of the path in order, each with its patch and its sampling step.
+    let all_chords = || {
+        track.patches.iter().flat_map(move |patch| {
+            let corners = track.corners_of(patch);
+            let samples = if corners.len() > 2 { 2 } else { DEPTH_SAMPLES };
+            chords(corners).map(move |(p, q)| (patch, p, q, samples))
+        })
+    };
+    // The deepest sample: (depth, chord index, parameter).
+    let mut best: Option<(f64, usize, f64)> = None;
+    for (c, (patch, p, q, samples)) in all_chords().enumerate() {
+        for k in 0..=samples {
+            let t = k as f64 / samples as f64;
+            let d = depth_at(zone, &patch.plane, p + (q - p) * t, allowed_inside);
+            if best.is_none_or(|b| d > b.0) {
+                best = Some((d, c, t));
             }
         }
     }
-    let Some((mut d, patch, p, q, t, step)) = best else {
+    let Some((d, c, t)) = best else {
         return (0.0, Site::new(0.0, 0.0));
     };
-    // Golden-section search for the largest depth about the deepest sample.
-    let f = |t: f64| depth_at(zone, &patch.plane, p + (q - p) * t, allowed_inside);
-    let (mut lo, mut hi) = ((t - step).max(0.0), (t + step).min(1.0));
+    // The deepest point lies within a sampling step of the deepest sample: on its chord, or,
+    // when that sample ends its chord, on the neighbouring chord (pieces meet there).
+    let mut deepest = (
+        d,
+        all_chords()
+            .nth(c)
+            .map(|(patch, p, q, _)| (patch, p + (q - p) * t)),
+    );
+    let mut brackets: [Option<(usize, f64, f64)>; 3] = [None; 3];
+    if let Some((_, _, _, samples)) = all_chords().nth(c) {
+        let step = 1.0 / samples as f64;
+        brackets[0] = Some((c, (t - step).max(0.0), (t + step).min(1.0)));
+    }
+    if t <= 0.0 && c > 0 {
+        if let Some((_, _, _, samples)) = all_chords().nth(c - 1) {
+            brackets[1] = Some((c - 1, 1.0 - 1.0 / samples as f64, 1.0));
+        }
+    }
+    if t >= 1.0 {
+        if let Some((_, _, _, samples)) = all_chords().nth(c + 1) {
+            brackets[2] = Some((c + 1, 0.0, 1.0 / samples as f64));
+        }
+    }
+    for (c, lo, hi) in brackets.into_iter().flatten() {
+        let Some((patch, p, q, _)) = all_chords().nth(c) else {
+            continue;
+        };
+        let f = |t: f64| depth_at(zone, &patch.plane, p + (q - p) * t, allowed_inside);
+        let (x, fx) = golden_maximum(f, lo, hi);
+        if fx > deepest.0 {
+            deepest = (fx, Some((patch, p + (q - p) * x)));
+        }
+    }
+    match deepest {
+        (d, Some((patch, at))) => (d, Track::site_at(patch, at)),
+        (d, None) => (d, Site::new(0.0, 0.0)),
+    }
+}
+
+/// Golden-section search for the largest value of `f` on `[lo, hi]` (unimodal there): the
+/// best of the two last probes.
+fn golden_maximum(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> (f64, f64) {
     let g = (5f64.sqrt() - 1.0) / 2.0;
     let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
     let (mut f1, mut f2) = (f(x1), f(x2));
@@ -296,12 +339,5 @@ fn deepest(track: &Track, zone: &Zone, allowed_inside: bool) -> (f64, Site) {
             f2 = f(x2);
         }
     }
-    let mut at = p + (q - p) * t;
-    for (x, fx) in [(x1, f1), (x2, f2)] {
-        if fx > d {
-            d = fx;
-            at = p + (q - p) * x;
-        }
-    }
-    (d, Track::site_at(patch, at))
+    if f1 > f2 { (x1, f1) } else { (x2, f2) }
 }
