@@ -1,9 +1,9 @@
 //! The one Earth model (DESIGN.md, "Layout": `geofence/`): the WGS-84 ellipsoid and its
 //! geodesics. Every distance, bearing and destination on the Earth in missionlink comes from
 //! here: guidance flies track-to-fix legs as geodesics, a circle's radius is the geodesic
-//! distance centre -> border point wherever a circle is read, written, flown or checked, and the
-//! local frame of the safety gateway and the map ([`super::local_frame`]) takes its radii of
-//! curvature from the same ellipsoid constants.
+//! distance centre -> border point wherever a circle is read, written, flown or checked, the
+//! geofence's [`Site`]s sit on this ellipsoid, and the map's drawing projection
+//! ([`super::local_frame`]) takes its radii of curvature from the same constants.
 //!
 //! The geodesic problems are solved with `geographiclib-rs`, a port of Karney's algorithms
 //! (C. F. F. Karney, "Algorithms for geodesics", J. Geodesy 87, 2013): accurate to about 15 nm

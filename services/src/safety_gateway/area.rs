@@ -31,7 +31,13 @@ impl SafetyGateway {
             c.push(
                 ViolationCode::FlyZoneCount,
                 Element::AreaList,
-                format!("no fly-zone: the list holds no-fly-zones {no_fly_zones:?} and no area to stay in"),
+                if no_fly_zones.is_empty() {
+                    "no fly-zone: the list has no area to stay in".to_string()
+                } else {
+                    format!(
+                        "no fly-zone: the list has no-fly-zones {no_fly_zones:?} and no area to stay in"
+                    )
+                },
                 Some((0.0, 1.0)),
             );
         }
