@@ -9,7 +9,11 @@
 //! - `geofence/<case>/check`: the check alone, the fence built beforehand;
 //! - `geofence/<case>/return_check`: the check of `onboard::return_route` from the take-off
 //!   position back over the whole route (return to home), the fence built beforehand;
-//! - `geofence/<case>/fence`: `Fence::of_payload` alone.
+//! - `geofence/<case>/fence`: `Fence::of_payload` alone;
+//! - `gateway/track_to_fix`: the GCS's whole safety gateway (`SafetyGateway::violations`, every
+//!   group of checks, the reverse route not included: the route is one-way) on the same mission
+//!   and areas, what `gcs validate` spends on them (its 3000 km exceed the energy budget: that
+//!   one violation is expected; every geographic check passes).
 //!
 //! `<case>` is `track_to_fix` (every leg a geodesic) or `radius_to_fix` (the legs between lanes
 //! at the north end as half circles of 570 m: 60 of 255 legs). Criterion gives means; before
@@ -31,7 +35,10 @@ use missionlink_interfaces::wire::GeoPoint;
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::onboard::{self, Violation};
 use missionlink_services::geofence::zone::Fence;
-use missionlink_services::testkit::{geofence_worst_case, geofence_worst_case_rf};
+use missionlink_services::safety_gateway::{SafetyGateway, ViolationCode};
+use missionlink_services::testkit::{
+    geofence_worst_case, geofence_worst_case_plan, geofence_worst_case_rf,
+};
 
 /// Timed runs per row of the percentile table.
 const RUNS: usize = 2000;
@@ -129,6 +136,20 @@ fn main() {
             check(black_box(&fence), black_box(&waypoints), site).is_ok()
         });
     }
+    let plan = geofence_worst_case_plan();
+    let lists = plan.assemble().expect("the worst case assembles");
+    let gateway = SafetyGateway::default();
+    // 3000 km of survey: only the energy budget fails; every geographic check passes.
+    percentiles("gateway/track_to_fix", runs.min(200), || {
+        gateway
+            .violations(
+                black_box(&lists.mission),
+                black_box(&lists.areas),
+                plan.take_off_position,
+            )
+            .iter()
+            .all(|v| v.code == ViolationCode::EnergyBudget)
+    });
     println!();
     let mut c = Criterion::default().configure_from_args();
     criterion_benches(&mut c);

@@ -718,6 +718,20 @@ pub fn geofence_worst_case() -> (
     (waypoints, areas, worst_case_take_off())
 }
 
+/// [`geofence_worst_case`] as the GCS holds it: the plan the safety gateway validates before
+/// an upload (take-off at [`worst_case_take_off`]).
+pub fn geofence_worst_case_plan() -> MissionPlan {
+    let plan = plan(
+        &worst_case_messages(false),
+        &worst_case_areas([0.0; 10]),
+        "WORST-CASE",
+    );
+    MissionPlan {
+        take_off_position: Some(worst_case_take_off()),
+        ..plan
+    }
+}
+
 /// [`geofence_worst_case`] with the legs between lanes at the north end flown as radius-to-fix
 /// half circles (see [`worst_case_messages`]).
 pub fn geofence_worst_case_rf() -> (
