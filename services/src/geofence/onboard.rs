@@ -92,9 +92,9 @@ pub fn legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg> + '_ {
     })
 }
 
-/// The legs of the reverse route, from the last waypoint back to the initial one.
-pub fn reverse_legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg> + '_ {
-    list.waypoints().windows(2).rev().filter_map(|w| match w {
+/// The legs of the reverse route back from the last of `waypoints` to the first.
+fn back_over(waypoints: &[WaypointEntry]) -> impl Iterator<Item = RouteLeg> + '_ {
+    waypoints.windows(2).rev().filter_map(|w| match w {
         [a, b] => Some(RouteLeg {
             element: RouteElement::ReverseLeg {
                 from: b.number,
@@ -104,6 +104,11 @@ pub fn reverse_legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg
         }),
         _ => None,
     })
+}
+
+/// The legs of the reverse route, from the last waypoint back to the initial one.
+pub fn reverse_legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg> + '_ {
+    back_over(list.waypoints())
 }
 
 /// What execute flies from `take_off`: the climb there, the way to the initial waypoint, every
@@ -153,18 +158,7 @@ pub fn return_route(
         },
     });
     let back = waypoints.get(..=index).unwrap_or_default();
-    direct
-        .into_iter()
-        .chain(back.windows(2).rev().filter_map(|w| match w {
-            [a, b] => Some(RouteLeg {
-                element: RouteElement::ReverseLeg {
-                    from: b.number,
-                    to: a.number,
-                },
-                path: leg(a, b).reversed(),
-            }),
-            _ => None,
-        }))
+    direct.into_iter().chain(back_over(back))
 }
 
 /// The first path of `route` that comes closer than the safety offset to a zone's border or

@@ -85,7 +85,7 @@ impl SafetyGateway {
         for (from, to, at) in not_held {
             c.push(
                 ViolationCode::TrackNotHeld,
-                Element::Leg { from, to },
+                Element::Route(RouteElement::Leg { from, to }),
                 format!(
                     "the track cannot be held against {} m/s wind from {} deg",
                     env.wind_speed_mps, env.wind_from_deg

@@ -35,6 +35,46 @@ fn code(z: &Zone, fly_zone: ViolationCode, no_fly_zone: ViolationCode) -> Violat
     }
 }
 
+/// A point the aircraft passes (a waypoint) or climbs at (the take-off point), with what its
+/// violations are reported on.
+struct Point {
+    track: Track,
+    element: Element,
+    /// Codes outside the fly-zone and inside a no-fly-zone.
+    codes: (ViolationCode, ViolationCode),
+}
+
+impl Point {
+    fn new(at: GeoPoint, element: Element, codes: (ViolationCode, ViolationCode)) -> Self {
+        Self {
+            track: Track::new(Path::Point(Site::of(at))),
+            element,
+            codes,
+        }
+    }
+
+    /// The point's margin beyond the offset against every zone (+∞: clear), each violation
+    /// reported as `name`'s.
+    fn margins(&self, zones: &[&Zone], offset: f64, name: &str, c: &mut Collector) -> Vec<f64> {
+        zones
+            .iter()
+            .map(|z| {
+                let Some((m, at)) = violation(&self.track, z, offset) else {
+                    return f64::INFINITY;
+                };
+                let code = code(z, self.codes.0, self.codes.1);
+                let detail = format!(
+                    "{name} {} the safety offset {offset} m ({})",
+                    what(z),
+                    describe(z)
+                );
+                geo_violation(c, code, self.element, m, at, detail);
+                m
+            })
+            .collect()
+    }
+}
+
 impl SafetyGateway {
     pub(super) fn check_geography(
         &self,
@@ -54,53 +94,35 @@ impl SafetyGateway {
             .map(|(z, _)| z)
             .collect();
         // margins[waypoint index][zone index], beyond the offset (+∞: clear).
-        let mut margins: Vec<Vec<f64>> = Vec::with_capacity(mission.waypoints.len());
-        for record in &mission.waypoints {
-            let n = record.waypoint.waypoint_number;
-            let track = Track::new(Path::Point(Site::of(position(record))));
-            let mut row = Vec::with_capacity(zones.len());
-            for z in &zones {
-                let found = violation(&track, z, offset);
-                row.push(found.map_or(f64::INFINITY, |f| f.0));
-                if let Some((m, at)) = found {
-                    let code = code(
-                        z,
-                        ViolationCode::FlyZoneWaypoint,
-                        ViolationCode::NoFlyZoneWaypoint,
-                    );
-                    let detail = format!(
-                        "waypoint {n} {} the safety offset {offset} m ({})",
-                        what(z),
-                        describe(z)
-                    );
-                    geo_violation(c, code, Element::Waypoint(n), m, at, detail);
-                }
-            }
-            margins.push(row);
-        }
+        let margins: Vec<Vec<f64>> = mission
+            .waypoints
+            .iter()
+            .map(|record| {
+                let n = record.waypoint.waypoint_number;
+                let codes = (
+                    ViolationCode::FlyZoneWaypoint,
+                    ViolationCode::NoFlyZoneWaypoint,
+                );
+                let point = Point::new(position(record), Element::Waypoint(n), codes);
+                point.margins(&zones, offset, &format!("waypoint {n}"), c)
+            })
+            .collect();
         // The take-off point's margins, for the leg from there (index None).
-        let mut take_off_margins = vec![f64::INFINITY; zones.len()];
-        if let Some(t) = take_off {
-            let track = Track::new(Path::Point(Site::of(t)));
-            for (zi, z) in zones.iter().enumerate() {
-                if let Some((m, at)) = violation(&track, z, offset) {
-                    if let Some(slot) = take_off_margins.get_mut(zi) {
-                        *slot = m;
-                    }
-                    let code = code(
-                        z,
-                        ViolationCode::FlyZoneTakeOff,
-                        ViolationCode::NoFlyZoneTakeOff,
-                    );
-                    let detail = format!(
-                        "the take-off point (the climb to the take-off height) {} the safety offset {offset} m ({})",
-                        what(z),
-                        describe(z)
-                    );
-                    geo_violation(c, code, Element::TakeOff, m, at, detail);
-                }
+        let take_off_margins = match take_off {
+            Some(t) => {
+                let codes = (
+                    ViolationCode::FlyZoneTakeOff,
+                    ViolationCode::NoFlyZoneTakeOff,
+                );
+                Point::new(t, Element::TakeOff, codes).margins(
+                    &zones,
+                    offset,
+                    "the take-off point (the climb to the take-off height)",
+                    c,
+                )
             }
-        }
+            None => vec![f64::INFINITY; zones.len()],
+        };
         for leg in legs {
             let track = Track::new(leg.path);
             let reverse = leg.reversible.then(|| Track::new(leg.path.reversed()));
@@ -121,46 +143,32 @@ impl SafetyGateway {
                     .as_ref()
                     .and_then(|r| violation(r, z, offset))
                     .filter(|(m, _)| !subsumed(*m));
-                let mut reverse_detail = "";
-                if let Some((rm, rat)) = backward {
-                    if forward.is_some_and(|(m, _)| (rm - m).abs() <= SAME_MARGIN_M) {
-                        reverse_detail = " (also on the reverse route)";
-                    } else {
-                        let detail = format!(
-                            "reverse leg {}->{} {} the safety offset {offset} m ({})",
-                            leg.to,
-                            leg.from,
-                            what(z),
-                            describe(z)
-                        );
-                        let element = Element::ReverseLeg {
-                            from: leg.to,
-                            to: leg.from,
-                        };
-                        geo_violation(c, code, element, rm, rat, detail);
-                    }
-                }
-                if let Some((m, at)) = forward {
-                    let start = if leg.from == 0 {
-                        "the leg from the take-off point to waypoint".to_string()
-                    } else {
-                        format!("leg {}->", leg.from)
-                    };
+                let report = |c: &mut Collector, leg: RouteElement, (m, at), also: &str| {
                     let detail = format!(
-                        "{start}{} {} the safety offset {offset} m ({}){reverse_detail}",
-                        if leg.from == 0 {
-                            format!(" {}", leg.to)
-                        } else {
-                            leg.to.to_string()
-                        },
+                        "{leg} {} the safety offset {offset} m ({}){also}",
                         what(z),
                         describe(z)
                     );
-                    let element = Element::Leg {
+                    geo_violation(c, code, Element::Route(leg), m, at, detail);
+                };
+                let mut also = "";
+                if let Some(found) = backward {
+                    if forward.is_some_and(|(m, _)| (found.0 - m).abs() <= SAME_MARGIN_M) {
+                        also = " (also on the reverse route)";
+                    } else {
+                        let reverse = RouteElement::ReverseLeg {
+                            from: leg.to,
+                            to: leg.from,
+                        };
+                        report(c, reverse, found, "");
+                    }
+                }
+                if let Some(found) = forward {
+                    let forward = RouteElement::Leg {
                         from: leg.from,
                         to: leg.to,
                     };
-                    geo_violation(c, code, element, m, at, detail);
+                    report(c, forward, found, also);
                 }
             }
         }

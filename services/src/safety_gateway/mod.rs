@@ -22,8 +22,8 @@
 //!   - *Reverse route*: a reversed track-to-fix leg is the same geodesic and a reversed
 //!     radius-to-fix leg the same arc in the other direction. Where a reversed leg gives the
 //!     same violation as the forward leg (same code and area, margin within
-//!     [`SAME_MARGIN_M`]), it is reported once on the forward [`Element::Leg`] with "also on the
-//!     reverse route"; anything else is reported on [`Element::ReverseLeg`].
+//!     [`SAME_MARGIN_M`]), it is reported once on the forward leg ([`RouteElement::Leg`]) with "also on the
+//!     reverse route"; anything else is reported on the [`RouteElement::ReverseLeg`].
 //!   - *One defect, one violation*: a leg that touches a waypoint already violating the same area
 //!     is reported only if the leg goes deeper than that waypoint by more than
 //!     [`SUBSUMED_M`] (a waypoint inside a no-fly-zone makes both its legs enter it; that is one
@@ -79,7 +79,7 @@ use core::fmt;
 use missionlink_interfaces::wire::{AreaShape, AreaType, GeoPoint, LegType, SpecificData};
 
 use crate::geofence::earth::{self, Site};
-use crate::geofence::onboard;
+use crate::geofence::onboard::{self, RouteElement};
 use crate::geofence::path::{Path, Track};
 use crate::geofence::zone::Fence;
 use crate::transfer::areas::AreaList;
@@ -238,20 +238,9 @@ impl Default for Environment {
 pub enum Element {
     /// A waypoint, by number.
     Waypoint(u16),
-    /// A leg, flown from `from` to `to` (`from` 0: from the take-off position).
-    Leg {
-        /// FROM waypoint number.
-        from: u16,
-        /// TO waypoint number.
-        to: u16,
-    },
-    /// A leg of the reverse route of a bidirectional route, flown from `from` to `to`.
-    ReverseLeg {
-        /// FROM waypoint number.
-        from: u16,
-        /// TO waypoint number.
-        to: u16,
-    },
+    /// A leg of the route, forward or on the reverse route (the geofence's names for them:
+    /// `from` 0 is the leg from the take-off position).
+    Route(RouteElement),
     /// The take-off (point or height).
     TakeOff,
     /// An area, by ID.
@@ -268,8 +257,7 @@ impl fmt::Display for Element {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Waypoint(n) => write!(f, "waypoint {n}"),
-            Self::Leg { from, to } => write!(f, "leg {from}->{to}"),
-            Self::ReverseLeg { from, to } => write!(f, "reverse leg {from}->{to}"),
+            Self::Route(leg) => write!(f, "{leg}"),
             Self::TakeOff => f.write_str("take-off"),
             Self::Area(id) => write!(f, "area {id}"),
             Self::AreaList => f.write_str("area list"),
@@ -781,7 +769,7 @@ mod tests {
     }
 
     fn leg(from: u16, to: u16) -> Element {
-        Element::Leg { from, to }
+        Element::Route(RouteElement::Leg { from, to })
     }
 
     fn cases() -> Vec<Case> {

@@ -107,10 +107,10 @@ impl SafetyGateway {
             }
             let rs = earth::distance_m(centre, position(from));
             let re = earth::distance_m(centre, position(to));
-            let element = Element::Leg {
+            let element = Element::Route(RouteElement::Leg {
                 from: leg.from,
                 to: leg.to,
-            };
+            });
             let diff = (rs - re).abs();
             if exceeds(diff, p.rf_radius_tolerance_m) {
                 c.push(
