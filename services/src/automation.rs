@@ -34,7 +34,8 @@ use crate::link::time::Instant;
 /// Execute and return to home then pass the onboard geofence check of ICD §7 (ext) or are
 /// refused with `GeofenceViolation`: what the aircraft would fly from where navigation (guidance's
 /// progress) says it is, against the active area list ([`onboard`]). Without a position from
-/// navigation yet there is nothing to check from: `WrongState` (our choice; the ICD does not say).
+/// navigation yet, or with one off the globe (not a number), there is nothing to check from:
+/// `WrongState` (our choice; the ICD does not say).
 pub fn check_command(
     state: &AutomationStatePayload,
     waypoints: &WaypointListPayload,
@@ -45,8 +46,11 @@ pub fn check_command(
 ) -> Result<(), Reason> {
     let phase = state.flight_phase();
     let airborne = matches!(phase, Some(FlightPhase::TakeOff | FlightPhase::Cruise));
-    let here = (navigation.sequence != 0)
-        .then(|| Site::new(navigation.latitude_deg, navigation.longitude_deg));
+    // A position navigation has reported, on the globe (guidance may be another program).
+    let here = (navigation.sequence != 0
+        && (-90.0..=90.0).contains(&navigation.latitude_deg)
+        && (-180.0..=180.0).contains(&navigation.longitude_deg))
+    .then(|| Site::new(navigation.latitude_deg, navigation.longitude_deg));
     match command {
         ExecuteCommand::Execute => {
             let on_ground = matches!(phase, Some(FlightPhase::OnGround | FlightPhase::Landed));
@@ -400,5 +404,30 @@ mod tests {
             Err(Reason::GeofenceViolation)
         );
         assert_eq!(sa.state(), &before);
+    }
+
+    /// A position that is not on the globe (guidance may be another program) is no position:
+    /// nothing to check from, so nothing is flown.
+    #[test]
+    fn a_position_off_the_globe_is_no_position() {
+        let (w, a) = lists(false);
+        for (lat, lon) in [(f64::NAN, 11.66), (48.26, f64::INFINITY), (91.0, 11.66)] {
+            let mut sa = SystemAutomation::new();
+            sa.handle_waypoint_list(&w);
+            sa.handle_area_list(&a);
+            let t = Instant::ZERO;
+            sa.handle_progress(
+                t,
+                &progress(|p| {
+                    p.latitude_deg = lat;
+                    p.longitude_deg = lon;
+                }),
+            );
+            assert_eq!(
+                sa.handle_command(t, ExecuteCommand::Execute),
+                Err(Reason::WrongState),
+                "{lat} {lon}"
+            );
+        }
     }
 }

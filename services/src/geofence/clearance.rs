@@ -155,13 +155,16 @@ fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance
     };
     if !forbidden {
         return match best {
-            Some(b) if b.distance <= horizon_m => match track.patches.get(b.patch) {
-                Some(patch) => Clearance::Margin {
-                    metres: b.distance,
-                    at: Track::site_at(patch, b.at),
-                },
-                None => Clearance::Beyond,
-            },
+            // Not a number (a site that is not one) is not "beyond": the caller fails closed.
+            Some(b) if b.distance <= horizon_m || b.distance.is_nan() => {
+                match track.patches.get(b.patch) {
+                    Some(patch) => Clearance::Margin {
+                        metres: b.distance,
+                        at: Track::site_at(patch, b.at),
+                    },
+                    None => Clearance::Beyond,
+                }
+            }
             _ => Clearance::Beyond,
         };
     }

@@ -181,7 +181,10 @@ pub fn check(fence: &Fence, route: impl Iterator<Item = RouteLeg>) -> Result<(),
         let track = Track::new(leg.path);
         for zone in &fence.zones {
             let c = clearance(&track, zone, offset, false);
-            if c.metres() < offset {
+            // Fail closed: a margin that is not a number (a position that is not one) is no
+            // clearance.
+            let m = c.metres();
+            if m.is_nan() || m < offset {
                 return Err(Violation {
                     element: leg.element,
                     area_id: zone.id,

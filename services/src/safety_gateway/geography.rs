@@ -9,7 +9,10 @@ use crate::geofence::zone::{Zone, ZoneKind};
 /// The signed margin beyond the safety offset and where, if the path violates `zone`.
 fn violation(track: &Track, zone: &Zone, offset: f64) -> Option<(f64, Site)> {
     match clearance(track, zone, offset, true) {
-        Clearance::Margin { metres, at } if metres < offset => Some((metres - offset, at)),
+        // A margin that is not a number is no clearance (fail closed).
+        Clearance::Margin { metres, at } if metres.is_nan() || metres < offset => {
+            Some((metres - offset, at))
+        }
         _ => None,
     }
 }
