@@ -485,3 +485,61 @@ fn exit_status_two_is_for_input_that_cannot_be_read() {
     assert!(help.contains("2  unreadable input"), "{help}");
     assert!(help.contains("--drop <WHAT>"), "{help}");
 }
+
+/// Issue 11: area defects are violations. Demo mission 2 with its fly-zone taken out and its
+/// polygonal no-fly-zone cut to two vertices: `--json` names both defects with their area,
+/// and the verdict is infeasible (exit 1), the ICD reason beside them.
+#[test]
+fn a_plan_without_a_fly_zone_lists_area_violations_with_the_area() {
+    let dir = scratch("no-fly-zone");
+    let good = std::fs::read_to_string(repo("missions/mission-2.toml")).unwrap();
+    // The [[areas]] tables: drop the first (the fly-zone, area 1), keep the circle (area 2), and
+    // keep only the first two vertices of the polygon (area 3).
+    let (head, areas) = good.split_once("[[areas]]").unwrap();
+    let tables: Vec<&str> = areas.split("[[areas]]").collect();
+    assert!(tables[0].contains("fly-zone"), "{}", tables[0]);
+    let polygon = tables[2];
+    let start = polygon.find("polygon = [").unwrap();
+    let first_two: Vec<&str> = polygon[start..]
+        .lines()
+        .skip(1)
+        .filter(|l| l.trim_start().starts_with('['))
+        .take(2)
+        .collect();
+    let cut = format!(
+        "{}polygon = [\n{}\n]\n",
+        &polygon[..start],
+        first_two.join("\n")
+    );
+    let file = format!("{head}[[areas]]{}[[areas]]{cut}", tables[1]);
+    let path = dir.path().join("no-fly-zone.toml");
+    std::fs::write(&path, file).unwrap();
+    let o = gcs(&["validate", path.to_str().unwrap(), "--json"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text_of(&o));
+    let v: serde_json::Value = serde_json::from_str(text(&o.stdout).trim()).unwrap();
+    assert_eq!(v["feasible"], false);
+    let found: Vec<(String, String)> = v["violations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| {
+            (
+                x["code"].as_str().unwrap().to_owned(),
+                x["element"].as_str().unwrap().to_owned(),
+            )
+        })
+        .collect();
+    assert!(
+        found.contains(&("AREA-FZ-COUNT".into(), "area list".into())),
+        "{found:?}"
+    );
+    assert!(
+        found.contains(&("AREA-VERTEX-COUNT".into(), "area 3".into())),
+        "{found:?}"
+    );
+    assert!(v["error"].as_str().unwrap().contains("BadGeometry"), "{v}");
+}
+
+fn text_of(o: &Output) -> String {
+    format!("{}{}", text(&o.stdout), text(&o.stderr))
+}
