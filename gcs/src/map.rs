@@ -30,16 +30,15 @@
 //! grown or shrunk by the offset does, nor repair a concave outline that the offset folds over.
 //! The offset outlines of circles are the points at the geodesic radius ± the offset.
 //!
-//! The take-off: the validated plan drawn here carries no take-off position (the mission file's
-//! `take_off_position` is not part of it), only a take-off height (#13006 type 1), so the map
-//! marks the initial waypoint "take-off" with that height; the climb at the planned take-off
-//! position and the leg from there to the initial waypoint, which the safety gateway checks,
-//! are not drawn (yet). The leg type of the initial waypoint (the leg that would end there) is
-//! not drawn: no leg leads to it.
+//! The take-off: given the plan's take-off position, the map marks it "take-off" with the
+//! take-off height (#13006 type 1) and draws the leg from there to the initial waypoint (flown
+//! direct, `data-leg="0-<initial>"`), both as the safety gateway checks them (the geofence's
+//! [`onboard::execute_route`]); without one it marks the initial waypoint. The leg type of the
+//! initial waypoint (the leg that would end there) is not drawn: it is flown direct.
 
 use std::fmt::Write as _;
 
-use missionlink_interfaces::wire::{AreaShape, SpecificData, TurnDirection};
+use missionlink_interfaces::wire::{AreaShape, GeoPoint, SpecificData, TurnDirection};
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::local_frame::LocalFrame;
 use missionlink_services::geofence::onboard::{self, RouteElement};
@@ -492,7 +491,12 @@ struct Leg {
 
 /// Renders `plan` as an SVG document (1000 x 800 px) with `markers` in red and `title` on top.
 /// See the module documentation for what is drawn and the approximations.
-pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
+pub fn render(
+    plan: &ValidatedPlan,
+    take_off: Option<GeoPoint>,
+    markers: &[Marker],
+    title: &str,
+) -> String {
     let mission = &plan.mission;
     let offset = plan.areas.safety_offset.metres();
 
@@ -554,9 +558,16 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
         })
         .collect();
 
-    // The legs the safety gateway checks, in flight-plan order.
+    // The legs the safety gateway checks, in the order flown: from the take-off position when
+    // the plan has one.
     let list = mission.to_payload(1);
-    let legs: Vec<Leg> = onboard::legs(&list)
+    let route: Vec<onboard::RouteLeg> = match take_off {
+        Some(t) => onboard::execute_route(&list, Site::of(t)).collect(),
+        None => onboard::legs(&list).collect(),
+    };
+    let take_off_at = take_off.map(|t| proj.site(&Site::of(t)));
+    let legs: Vec<Leg> = route
+        .into_iter()
         .filter_map(|leg| match leg.element {
             RouteElement::Leg { from, to } => Some(Leg {
                 from,
@@ -585,6 +596,7 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
         all.push(w.at);
         all.extend(w.rf);
     }
+    all.extend(take_off_at);
     for leg in &legs {
         all.extend_from_slice(&leg.points);
     }
@@ -758,9 +770,9 @@ pub fn render(plan: &ValidatedPlan, markers: &[Marker], title: &str) -> String {
     }
     w!(svg, "</g>");
 
-    // Take-off at the initial waypoint (the plan has no other take-off position).
-    if let Some(first) = waypoints.first() {
-        let c = view.screen(first.at);
+    // Take-off at the plan's take-off position, else at the initial waypoint.
+    if let Some(at) = take_off_at.or(waypoints.first().map(|w| w.at)) {
+        let c = view.screen(at);
         w!(
             svg,
             r#"<polygon class="take-off" points="{}" fill="{TAKE_OFF}" fill-opacity="0.9"/>"#,
@@ -1155,6 +1167,7 @@ fn violations(svg: &mut String, markers: &[Marker]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mission_file::MissionFile;
     use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
     use missionlink_services::geofence::earth;
     use missionlink_services::geofence::local_frame::Coord;
@@ -1201,7 +1214,7 @@ mod tests {
     #[test]
     fn mission_2_draws_every_element() {
         let plan = validated(MISSION_2);
-        let svg = render(&plan, &[], "Demo mission 2");
+        let svg = render(&plan, None, &[], "Demo mission 2");
         assert_well_formed(&svg);
         assert_eq!(
             svg.matches(r#"<circle class="waypoint""#).count(),
@@ -1242,7 +1255,7 @@ mod tests {
     #[test]
     fn mission_1_draws_its_single_waypoint() {
         let plan = validated(MISSION_1);
-        let svg = render(&plan, &[], "Demo mission 1");
+        let svg = render(&plan, None, &[], "Demo mission 1");
         assert_well_formed(&svg);
         assert_eq!(svg.matches(r#"<circle class="waypoint""#).count(), 1);
         assert!(svg.contains(">1</text>"));
@@ -1251,12 +1264,17 @@ mod tests {
         assert!(svg.contains("1 waypoint ·"));
         assert!(svg.contains("take-off, 30 m AGL"));
         assert!(!svg.contains("class=\"leg "));
+        // From its take-off position (TROL) the way to CCP is drawn, as the gateway checks it.
+        let trol = MissionFile::parse(MISSION_1).unwrap().to_plan().unwrap();
+        let svg = render(&plan, trol.take_off_position, &[], "Demo mission 1");
+        assert_well_formed(&svg);
+        assert_eq!(svg.matches(r#"class="leg tf" data-leg="0-1""#).count(), 1);
     }
 
     #[test]
     fn markers_are_drawn_and_listed() {
         let plan = validated(MISSION_2);
-        let svg = render(&plan, &example_markers(), "Mission 2 <& markers>");
+        let svg = render(&plan, None, &example_markers(), "Mission 2 <& markers>");
         assert_well_formed(&svg);
         assert!(svg.contains("Mission 2 &lt;&amp; markers&gt;"));
         // Two on the map, all three in the box.
@@ -1380,8 +1398,10 @@ mod tests {
     const DOCS_MAP: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/mission-2.svg");
 
     fn docs_map() -> String {
+        let file = MissionFile::parse(MISSION_2).unwrap();
         render(
             &validated(MISSION_2),
+            file.to_plan().unwrap().take_off_position,
             &[],
             "missionlink demo mission 2: CCP to ROLE2",
         )
@@ -1395,6 +1415,7 @@ mod tests {
         std::fs::write(DOCS_MAP, docs_map()).unwrap();
         let markers = render(
             &validated(MISSION_2),
+            None,
             &example_markers(),
             "missionlink demo mission 2 with example markers",
         );

@@ -609,8 +609,11 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
             let title = file
                 .file_name()
                 .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-            std::fs::write(&output, map::render(&valid, &markers, &title))
-                .map_err(|e| format!("{}: {e}", output.display()))?;
+            std::fs::write(
+                &output,
+                map::render(&valid, plan.take_off_position, &markers, &title),
+            )
+            .map_err(|e| format!("{}: {e}", output.display()))?;
             println!(
                 "{} written: {} violation{} marked",
                 output.display(),
