@@ -306,6 +306,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
     progress
         .send(&GuidanceProgressPayload {
             sequence: 1,
+            waypoint_list: 1,
             latitude_deg: lat,
             longitude_deg: lon,
             ..GuidanceProgressPayload::IDLE

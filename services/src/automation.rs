@@ -28,7 +28,8 @@ use crate::link::time::Instant;
 
 /// Whether system automation accepts `command` now (ICD §4, #50000): execute needs a valid
 /// waypoint and area list and the aircraft on the ground (`WrongState`); return to home needs a
-/// bidirectional route (`Unsupported`) and the aircraft in the air (`WrongState`); landing at
+/// bidirectional route (`Unsupported`), the aircraft in the air and flying the active list
+/// (`WrongState`); landing at
 /// the next waypoint needs the aircraft in the air (`WrongState`).
 ///
 /// Execute and return to home then pass the onboard geofence check of ICD §7 (ext) or are
@@ -68,6 +69,13 @@ pub fn check_command(
                 return Err(Reason::WrongState);
             }
             let here = here.ok_or(Reason::WrongState)?;
+            // Guidance flies home over the list it flies, which in the air stays the one it
+            // started with until automation names another (guidance.rs "New waypoint lists");
+            // the check is of that list, so an edited active list it does not fly yet is
+            // refused rather than checked in its place (our choice).
+            if navigation.waypoint_list != waypoints.generation {
+                return Err(Reason::WrongState);
+            }
             geofence(fence, onboard::return_route(waypoints, here, navigation.to))
         }
         ExecuteCommand::Land => {
@@ -257,6 +265,7 @@ mod tests {
     fn progress(f: impl FnOnce(&mut GuidanceProgressPayload)) -> GuidanceProgressPayload {
         let mut p = GuidanceProgressPayload {
             sequence: 1,
+            waypoint_list: 1,
             latitude_deg: testkit::TROL.0,
             longitude_deg: testkit::TROL.1,
             ..GuidanceProgressPayload::IDLE
@@ -429,5 +438,27 @@ mod tests {
                 "{lat} {lon}"
             );
         }
+    }
+
+    /// Review finding: after an edit in the air, the active list is not the one guidance flies
+    /// home over; return to home is refused rather than checked against the wrong list.
+    #[test]
+    fn return_to_home_over_a_list_guidance_does_not_fly_is_refused() {
+        let mut sa = SystemAutomation::new();
+        let (w, a) = lists(true);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        let t = Instant::ZERO;
+        sa.handle_progress(t, &progress(|_| {}));
+        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        sa.handle_progress(t, &progress(|p| p.on_ground = false));
+        let edited = WaypointListPayload { generation: 2, ..w };
+        sa.handle_waypoint_list(&edited);
+        assert_eq!(
+            sa.handle_command(t, ExecuteCommand::ReturnToHome),
+            Err(Reason::WrongState)
+        );
+        sa.handle_progress(t, &progress(|p| p.waypoint_list = 2));
+        assert_eq!(sa.handle_command(t, ExecuteCommand::ReturnToHome), Ok(()));
     }
 }

@@ -26,6 +26,24 @@ use super::zone::{Ball, GROUP, Shape, Zone, ZoneKind};
 
 /// Samples along each chord of a geodesic piece for the depth of a violation.
 pub const DEPTH_SAMPLES: usize = 64;
+/// Samples about each place a path meets a polygon's border, for the depth of a short cut.
+const CROSSING_SAMPLES: usize = 64;
+/// A path closer than this to a border meets it (a touch counts as a crossing: the safe side).
+const CONTACT_M: f64 = 0.001;
+/// Places a path meets a polygon's border kept for the depth search.
+const MAX_CROSSINGS: usize = 32;
+
+/// Where a path meets a polygon's border: the chord (in its patch's plane) and the parameter.
+#[derive(Debug, Clone, Copy)]
+struct Crossing {
+    patch: usize,
+    p: Coord,
+    q: Coord,
+    t: f64,
+}
+
+type Crossings = heapless::Vec<Crossing, MAX_CROSSINGS>;
+
 /// Golden-section steps refining the deepest sample (each shrinks the interval by 0.618).
 const GOLDEN_STEPS: usize = 40;
 
@@ -131,28 +149,34 @@ fn circle(
 
 /// Whether `track` crosses or touches the border of the polygon `zone` (false for a circle).
 pub fn crosses(track: &Track, zone: &Zone) -> bool {
-    matches!(zone.shape, Shape::Polygon { .. }) && contact(track, zone, 0.0).1
+    matches!(zone.shape, Shape::Polygon { .. }) && !contact(track, zone, 0.0).1.is_empty()
 }
 
 fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance {
-    let (best, crossed) = contact(track, zone, horizon_m);
+    let (best, crossings) = contact(track, zone, horizon_m);
     let allowed_inside = zone.kind == ZoneKind::FlyZone;
-    let forbidden = crossed || {
-        let first = track.patches.first();
-        let inside = first.is_some_and(|p| {
-            let start = track
-                .corners_of(p)
-                .first()
-                .copied()
-                .unwrap_or(Coord { x: 0.0, y: 0.0 });
-            let start_ball = Ball {
-                centre: Track::site_at(p, start).ecef,
+    // Which side the path's first and last points are on: without a crossing both are on the
+    // same side; testing both keeps a crossing lost to rounding from hiding an end inside.
+    let forbidden_end = |patch: Option<&super::path::Patch>, first: bool| {
+        patch.is_some_and(|p| {
+            let corners = track.corners_of(p);
+            let end = if first {
+                corners.first()
+            } else {
+                corners.last()
+            };
+            let end = end.copied().unwrap_or(Coord { x: 0.0, y: 0.0 });
+            let ball = Ball {
+                centre: Track::site_at(p, end).ecef,
                 radius: 0.0,
             };
-            zone.ball.gap(&start_ball) <= 0.0 && zone.polygon_contains(&p.plane, start)
-        });
-        inside != allowed_inside
+            let inside = zone.ball.gap(&ball) <= 0.0 && zone.polygon_contains(&p.plane, end);
+            inside != allowed_inside
+        })
     };
+    let forbidden = !crossings.is_empty()
+        || forbidden_end(track.patches.first(), true)
+        || forbidden_end(track.patches.last(), false);
     if !forbidden {
         return match best {
             // Not a number (a site that is not one) is not "beyond": the caller fails closed.
@@ -171,9 +195,11 @@ fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance
     if !depth {
         return Clearance::Forbidden;
     }
-    let (metres, at) = deepest(track, zone, allowed_inside);
+    let (metres, at) = deepest(track, zone, allowed_inside, &crossings);
+    // On the forbidden side is never a margin of 0 or more, however shallow (a grazing cut
+    // deeper than nothing the samples saw): with a safety offset of 0 it must still violate.
     Clearance::Margin {
-        metres: -metres,
+        metres: -metres.max(f64::MIN_POSITIVE),
         at,
     }
 }
@@ -195,10 +221,10 @@ fn chords(corners: &[Coord]) -> impl Iterator<Item = (Coord, Coord)> + '_ {
 
 /// The closest approach of `track` to the polygon's border within `horizon_m`, and whether
 /// they cross or touch.
-fn contact(track: &Track, zone: &Zone, horizon_m: f64) -> (Option<Closest>, bool) {
+fn contact(track: &Track, zone: &Zone, horizon_m: f64) -> (Option<Closest>, Crossings) {
     let (border, balls, groups) = zone.border();
     let mut best: Option<Closest> = None;
-    let mut crossed = false;
+    let mut crossings = Crossings::new();
     // Only what can come closer than the horizon, or than the closest approach found, counts;
     // the balls of the zone, of groups of pieces and of each piece cull the rest in one test.
     let reach = |best: &Option<Closest>| best.map_or(horizon_m, |b| b.distance.min(horizon_m));
@@ -235,7 +261,16 @@ fn contact(track: &Track, zone: &Zone, horizon_m: f64) -> (Option<Closest>, bool
                         continue;
                     }
                     let meet = segment_segment(p, q, pa, pb);
-                    crossed |= meet.distance == 0.0;
+                    if meet.distance <= CONTACT_M {
+                        // Where the path meets the border: the depth is looked for about here
+                        // too. Beyond the capacity the first ones are enough to know it meets.
+                        let _ = crossings.push(Crossing {
+                            patch: i,
+                            p,
+                            q,
+                            t: meet.t,
+                        });
+                    }
                     if best.is_none_or(|x| meet.distance < x.distance) {
                         best = Some(Closest {
                             distance: meet.distance,
@@ -247,7 +282,7 @@ fn contact(track: &Track, zone: &Zone, horizon_m: f64) -> (Option<Closest>, bool
             }
         }
     }
-    (best, crossed)
+    (best, crossings)
 }
 
 /// Distance from `p` (in `plane`) to the polygon's border, or 0 when `p` is on the allowed side.
@@ -261,13 +296,12 @@ fn depth_at(zone: &Zone, plane: &Plane, p: Coord, allowed_inside: bool) -> f64 {
 }
 
 /// The deepest point of the path on the polygon's forbidden side: its depth and site.
-fn deepest(track: &Track, zone: &Zone, allowed_inside: bool) -> (f64, Site) {
+fn deepest(track: &Track, zone: &Zone, allowed_inside: bool, crossings: &Crossings) -> (f64, Site) {
     // The chords of the path in order, each with its patch and its sampling step.
     let all_chords = || {
         track.patches.iter().flat_map(move |patch| {
             let corners = track.corners_of(patch);
-            let samples = if corners.len() > 2 { 2 } else { DEPTH_SAMPLES };
-            chords(corners).map(move |(p, q)| (patch, p, q, samples))
+            chords(corners).map(move |(p, q)| (patch, p, q, chord_samples(track, patch)))
         })
     };
     // The deepest sample: (depth, chord index, parameter).
@@ -281,9 +315,36 @@ fn deepest(track: &Track, zone: &Zone, allowed_inside: bool) -> (f64, Site) {
             }
         }
     }
+    // A short cut into the zone may fall between two samples: sample densely about every
+    // place the path meets the border too (two sampling steps either side).
+    let mut near_crossing: Option<(f64, &Crossing, f64)> = None;
+    for x in crossings {
+        let Some(patch) = track.patches.get(x.patch) else {
+            continue;
+        };
+        let step = 1.0 / chord_samples(track, patch) as f64;
+        let (lo, hi) = ((x.t - 2.0 * step).max(0.0), (x.t + 2.0 * step).min(1.0));
+        for k in 0..=CROSSING_SAMPLES {
+            let t = lo + (hi - lo) * k as f64 / CROSSING_SAMPLES as f64;
+            let d = depth_at(zone, &patch.plane, x.p + (x.q - x.p) * t, allowed_inside);
+            if near_crossing.is_none_or(|b| d > b.0) {
+                near_crossing = Some((d, x, t));
+            }
+        }
+    }
     let Some((d, c, t)) = best else {
         return (0.0, Site::new(0.0, 0.0));
     };
+    if let Some((dx, x, tx)) = near_crossing
+        && dx > d
+        && let Some(patch) = track.patches.get(x.patch)
+    {
+        let step = 4.0 / (chord_samples(track, patch) * CROSSING_SAMPLES) as f64;
+        let f = |t: f64| depth_at(zone, &patch.plane, x.p + (x.q - x.p) * t, allowed_inside);
+        let (xt, fx) = golden_maximum(f, (tx - step).max(0.0), (tx + step).min(1.0));
+        let (d, t) = if fx > dx { (fx, xt) } else { (dx, tx) };
+        return (d, Track::site_at(patch, x.p + (x.q - x.p) * t));
+    }
     // The deepest point lies within a sampling step of the deepest sample: on its chord, or,
     // when that sample ends its chord, on the neighbouring chord (pieces meet there).
     let mut deepest = (
@@ -323,6 +384,16 @@ fn deepest(track: &Track, zone: &Zone, allowed_inside: bool) -> (f64, Site) {
     }
 }
 
+/// Samples along each chord of `patch` for the depth: many along a geodesic piece, the ends
+/// along an arc's short chords.
+fn chord_samples(track: &Track, patch: &super::path::Patch) -> usize {
+    if track.corners_of(patch).len() > 2 {
+        2
+    } else {
+        DEPTH_SAMPLES
+    }
+}
+
 /// Golden-section search for the largest value of `f` on `[lo, hi]` (unimodal there): the
 /// best of the two last probes.
 fn golden_maximum(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> (f64, f64) {
@@ -343,4 +414,55 @@ fn golden_maximum(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> (f64, f64
         }
     }
     if f1 > f2 { (x1, f1) } else { (x2, f2) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geofence::path::Path;
+    use missionlink_interfaces::wire::{Angle, GeoPoint};
+
+    fn wire(s: Site) -> GeoPoint {
+        GeoPoint {
+            latitude: Angle::from_degrees(s.lat).unwrap(),
+            longitude: Angle::from_degrees(s.lon).unwrap(),
+        }
+    }
+
+    /// A no-fly triangle whose tip cuts a 19 km leg between two depth samples (found in
+    /// review: the depth came out 0, and with a safety offset of 0 the leg passed). The depth
+    /// must be the one dense sampling finds, and the margin negative.
+    #[test]
+    fn a_short_cut_between_samples_is_found_and_is_negative() {
+        let a = Site::new(48.0, 11.0);
+        let length = 19_000.0;
+        let b = a.direct(90.0, length);
+        let (_, azimuth) = a.inverse(&b);
+        let at = a.direct(azimuth, length * (0.5 + 0.5 / 64.0));
+        let tip = at.direct(180.0, 100.0);
+        let base = at.direct(0.0, 150.0);
+        let zone = Zone::polygon(
+            7,
+            ZoneKind::NoFlyZone,
+            &[
+                wire(tip),
+                wire(base.direct(90.0, 250.0)),
+                wire(base.direct(270.0, 250.0)),
+            ],
+        );
+        let track = Track::new(Path::Geodesic { from: a, to: b });
+        let Clearance::Margin { metres, .. } = clearance(&track, &zone, 0.0, true) else {
+            panic!("the leg enters the zone");
+        };
+        // Dense sampling, a point every metre along the leg.
+        let dense = (0..=length as usize)
+            .map(|s| {
+                let p = Track::new(Path::Point(a.direct(azimuth, s as f64)));
+                clearance(&p, &zone, f64::INFINITY, true).metres()
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(dense < -50.0, "{dense}");
+        assert!((metres - dense).abs() < 0.5, "{metres} against {dense}");
+        assert_eq!(clearance(&track, &zone, 0.0, false), Clearance::Forbidden);
+    }
 }

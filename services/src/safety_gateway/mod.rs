@@ -69,9 +69,14 @@
 //!
 //! # Not checked
 //!
-//! - Fly-by turn geometry at waypoints (the turn's cut of the corner against the areas, and the
-//!   turn radius against the leg lengths). A fly-by turn stays within `r·(1/cos(Δψ/2) − 1)` of
-//!   the waypoint, inside the corner; the safety offset is meant to cover it.
+//! - **Fly-by turns are not checked** (neither here nor by the FCC's onboard check, which both
+//!   check the legs ICD §7 names: waypoint to waypoint). How a fly-by turn cuts the corner is
+//!   guidance's: the stub switches to the next leg `d = r·tan(Δψ/2)` before the waypoint (at most
+//!   half the next leg) and flies straight from there to the next waypoint, a line that passes
+//!   up to about `d·sin(Δψ)` from the waypoint inside the corner (`r` at 25 m/s and 25° bank is
+//!   137 m: a 90° turn cuts up to 137 m). A no-fly-zone inside a sharp corner can be clear of
+//!   both legs by more than the offset and still be flown into: choose the offset, or make such
+//!   waypoints fly-over, accordingly. (Found in review; see the issue 11 note.)
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
 use core::fmt;
