@@ -32,6 +32,7 @@ use criterion::Criterion;
 use hdrhistogram::Histogram;
 use missionlink_interfaces::contracts::{AreaListPayload, WaypointListPayload};
 use missionlink_interfaces::wire::GeoPoint;
+use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::onboard::{self, Violation};
 use missionlink_services::geofence::zone::Fence;
@@ -61,7 +62,10 @@ fn end_to_end(waypoints: &WaypointListPayload, areas: &AreaListPayload, take_off
 }
 
 fn check(fence: &Fence, waypoints: &WaypointListPayload, take_off: Site) -> Result<(), Violation> {
-    onboard::check(fence, onboard::execute_route(waypoints, take_off))
+    onboard::check(
+        fence,
+        onboard::execute_route(waypoints, take_off, Some(fcc_turns())),
+    )
 }
 
 fn criterion_benches(c: &mut Criterion) {
@@ -84,7 +88,7 @@ fn criterion_benches(c: &mut Criterion) {
             b.iter(|| {
                 onboard::check(
                     black_box(&fence),
-                    onboard::return_route(black_box(&waypoints), site, 0),
+                    onboard::return_route(black_box(&waypoints), site, 0, Some(fcc_turns())),
                 )
             })
         });

@@ -562,7 +562,7 @@ pub fn render(
     // the plan has one.
     let list = mission.to_payload(1);
     let route: Vec<onboard::RouteLeg> = match take_off {
-        Some(t) => onboard::execute_route(&list, Site::of(t)).collect(),
+        Some(t) => onboard::execute_route(&list, Site::of(t), None).collect(),
         None => onboard::legs(&list).collect(),
     };
     let take_off_at = take_off.map(|t| proj.site(&Site::of(t)));
@@ -575,7 +575,9 @@ pub fn render(
                 path: leg.path,
                 points: drawn(leg.path, &proj),
             }),
-            RouteElement::Climb | RouteElement::ReverseLeg { .. } => None,
+            RouteElement::Climb
+            | RouteElement::ReverseLeg { .. }
+            | RouteElement::FlyByTurn { .. } => None,
         })
         .collect();
 

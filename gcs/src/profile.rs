@@ -6,7 +6,7 @@
 //! # aircraft.toml: the demo eVTOL
 //! min_speed_mps = 5.0
 //! max_speed_mps = 40.0
-//! max_bank_deg = 30.0
+//! max_bank_deg = 25.0
 //! min_take_off_height_m = 10.0
 //! max_take_off_height_m = 100.0
 //! max_altitude_m = 150.0

@@ -24,6 +24,7 @@ use missionlink_interfaces::wire::{ExecuteCommand, Reason};
 use crate::geofence::earth::Site;
 use crate::geofence::onboard;
 use crate::geofence::zone::Fence;
+use crate::guidance::GuidanceConfig;
 use crate::link::time::Instant;
 
 /// Whether system automation accepts `command` now (ICD §4, #50000): execute needs a valid
@@ -59,7 +60,10 @@ pub fn check_command(
                 return Err(Reason::WrongState);
             }
             let here = here.ok_or(Reason::WrongState)?;
-            geofence(fence, onboard::execute_route(waypoints, here))
+            geofence(
+                fence,
+                onboard::execute_route(waypoints, here, Some(fcc_turns())),
+            )
         }
         ExecuteCommand::ReturnToHome => {
             if !waypoints.bidirectional {
@@ -76,7 +80,10 @@ pub fn check_command(
             if navigation.waypoint_list != waypoints.generation {
                 return Err(Reason::WrongState);
             }
-            geofence(fence, onboard::return_route(waypoints, here, navigation.to))
+            geofence(
+                fence,
+                onboard::return_route(waypoints, here, navigation.to, Some(fcc_turns())),
+            )
         }
         ExecuteCommand::Land => {
             if !airborne {
@@ -85,6 +92,13 @@ pub fn check_command(
             Ok(())
         }
     }
+}
+
+/// How the FCC's guidance turns at fly-by waypoints: the guidance stub's, whose bank the
+/// configuration does not change (`[guidance]` has none). A guidance partition swapped in
+/// that turns otherwise is checked as if it turned like the stub.
+pub fn fcc_turns() -> onboard::FlyBy {
+    GuidanceConfig::default().fly_by()
 }
 
 /// The onboard geofence check (ICD §7 ext): `GeofenceViolation` names no leg on the wire, so

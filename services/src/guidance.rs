@@ -64,17 +64,16 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{LegType, TurnDirection, TurnType};
 
 use crate::geofence::earth::{Site, bearing_deg, destination, distance_m, point};
+use crate::geofence::onboard::FlyBy;
 use crate::geofence::zone::{Fence, Zone, ZoneKind};
 use crate::link::time::Instant;
 
 /// Longest sub-step of the integration, simulated seconds.
 pub const MAX_SUB_STEP_S: f64 = 0.05;
 
-/// Speed flown towards a waypoint whose commanded speed is 0, m/s.
-pub const FALLBACK_SPEED_MPS: f64 = 10.0;
-
-/// Standard gravity, m/s².
-const GRAVITY_MPS2: f64 = 9.806_65;
+/// Speed flown towards a waypoint whose commanded speed is 0, m/s (the geofence models the
+/// same turns: [`FlyBy`]).
+pub use crate::geofence::onboard::FALLBACK_SPEED_MPS;
 
 /// A waypoint closer than this is reached, metres.
 const REACHED_M: f64 = 0.01;
@@ -119,6 +118,14 @@ impl Default for GuidanceConfig {
 }
 
 impl GuidanceConfig {
+    /// How this guidance turns at fly-by waypoints, for the geofence (the rule of
+    /// [`Guidance`]'s turn anticipation, at its bank).
+    pub fn fly_by(&self) -> FlyBy {
+        FlyBy {
+            bank_deg: self.sanitized().max_bank_deg,
+        }
+    }
+
     /// The configuration with every unusable value replaced by its default: non-finite or
     /// non-positive rates, a bank outside 0..90 deg, a negative or non-finite time scale, a
     /// start position off the globe.
@@ -274,8 +281,7 @@ fn arc_state(
 
 /// The speed flown towards `e`.
 fn leg_speed(e: &WaypointEntry) -> f64 {
-    let v = e.speed.mps();
-    if v > 0.0 { v } else { FALLBACK_SPEED_MPS }
+    FlyBy::speed_mps(e)
 }
 
 /// The guidance model: flies the waypoint list through the flight phases (see the module
@@ -728,7 +734,7 @@ impl Guidance {
 
     /// Turn radius at speed `v` and the bank limit, metres.
     fn turn_radius(&self, v: f64) -> f64 {
-        v * v / (GRAVITY_MPS2 * self.config.max_bank_deg.to_radians().tan())
+        self.config.fly_by().turn_radius_m(v)
     }
 
     /// Fly-by turn anticipation at the TO waypoint `to` before the leg to `next`: `r·tan(Δψ/2)`,
@@ -756,11 +762,7 @@ impl Guidance {
             None => (bearing_deg(to, next_point), distance_m(to, next_point)),
         };
         let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
-        let cap = next_length / 2.0;
-        if turn >= 179.999 {
-            return cap;
-        }
-        (self.turn_radius(v) * (turn / 2.0).to_radians().tan()).min(cap)
+        self.config.fly_by().anticipation_m(v, turn, next_length)
     }
 
     /// Inside the fly-zone, and the no-fly-zone the aircraft is in (0: none), where it is now.

@@ -612,7 +612,9 @@ pub fn worst_case_areas(shift_m: [f64; 10]) -> Vec<AreaPolygonLoopSegment> {
 /// another distance from the corridor's west side, from 40 m to 300 m in 12 steps (so its
 /// east side sees 300 m to 40 m); 128 lanes in all. With `rf`, the legs between lanes at the
 /// north end are radius-to-fix half circles of 570 m bulging north around the no-fly-zone's
-/// tip (every fourth leg but at the turn between passes), the rest track-to-fix.
+/// tip (every fourth leg but at the turn between passes), the rest track-to-fix. Every waypoint
+/// is fly-over: guidance flies exactly the legs (a fly-by turn at a lane's end would cut the
+/// corner into the no-fly-zone 40 m away, and the check would stop there).
 pub fn worst_case_messages(rf: bool) -> Vec<Message> {
     use missionlink_interfaces::capacity::MAX_WAYPOINTS;
     const PASSES: usize = 12;
@@ -660,7 +662,11 @@ pub fn worst_case_messages(rf: bool) -> Vec<Message> {
             } else {
                 LegType::TrackToFix
             };
-            messages.push(waypoint(number, next, at, leg).into());
+            let waypoint = UaPositionWaypoint {
+                turn_type: TurnType::FlyOver,
+                ..waypoint(number, next, at, leg)
+            };
+            messages.push(waypoint.into());
             messages.extend(arc.map(Message::from));
             previous = Some((east, y));
         }

@@ -16,6 +16,7 @@ mod counting_alloc;
 use std::hint::black_box;
 
 use counting_alloc::counted;
+use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::onboard;
 use missionlink_services::geofence::zone::Fence;
@@ -34,9 +35,18 @@ fn the_onboard_check_allocates_nothing_in_its_worst_case() {
         let site = Site::of(take_off);
         let (verdicts, n) = counted(|| {
             let fence = Fence::of_payload(black_box(&areas));
-            let execute = onboard::check(&fence, onboard::execute_route(&waypoints, site));
-            let back = onboard::check(&fence, onboard::return_route(&waypoints, site, 0));
-            let halfway = onboard::check(&fence, onboard::return_route(&waypoints, site, 128));
+            let execute = onboard::check(
+                &fence,
+                onboard::execute_route(&waypoints, site, Some(fcc_turns())),
+            );
+            let back = onboard::check(
+                &fence,
+                onboard::return_route(&waypoints, site, 0, Some(fcc_turns())),
+            );
+            let halfway = onboard::check(
+                &fence,
+                onboard::return_route(&waypoints, site, 128, Some(fcc_turns())),
+            );
             (execute, back, halfway)
         });
         assert_eq!(verdicts, (Ok(()), Ok(()), Ok(())));
@@ -54,7 +64,10 @@ fn a_failing_onboard_check_allocates_nothing() {
     let site = Site::of(take_off);
     let (verdict, n) = counted(|| {
         let fence = Fence::of_payload(black_box(&areas));
-        onboard::check(&fence, onboard::execute_route(&waypoints, site))
+        onboard::check(
+            &fence,
+            onboard::execute_route(&waypoints, site, Some(fcc_turns())),
+        )
     });
     assert_eq!(verdict.map_err(|v| v.area_id), Err(6));
     assert_eq!(n, 0, "{n} allocations");

@@ -11,6 +11,7 @@
 use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
 use missionlink_interfaces::contracts::{AreaListPayload, WaypointListPayload};
 use missionlink_interfaces::wire::{GeoPoint, LegType};
+use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::onboard::{self, RouteElement};
@@ -23,7 +24,7 @@ use missionlink_services::testkit::{
 
 /// The smallest margin of the execute route to each zone, in the fence's order.
 fn closest_per_zone(fence: &Fence, list: &WaypointListPayload, take_off: GeoPoint) -> Vec<f64> {
-    let tracks: Vec<Track> = onboard::execute_route(list, Site::of(take_off))
+    let tracks: Vec<Track> = onboard::execute_route(list, Site::of(take_off), Some(fcc_turns()))
         .map(|leg| Track::new(leg.path))
         .collect();
     fence
@@ -59,12 +60,18 @@ fn the_worst_case_passes_with_every_zone_40_m_from_the_route() {
         let fence = Fence::of_payload(&areas);
         let site = Site::of(take_off);
         assert_eq!(
-            onboard::check(&fence, onboard::execute_route(&waypoints, site)),
+            onboard::check(
+                &fence,
+                onboard::execute_route(&waypoints, site, Some(fcc_turns()))
+            ),
             Ok(()),
             "{name}"
         );
         assert_eq!(
-            onboard::check(&fence, onboard::return_route(&waypoints, site, 0)),
+            onboard::check(
+                &fence,
+                onboard::return_route(&waypoints, site, 0, Some(fcc_turns()))
+            ),
             Ok(()),
             "{name}"
         );
@@ -109,7 +116,10 @@ fn a_no_fly_zone_moved_onto_the_route_fails_the_check() {
         shifts[4] = shift;
         let (waypoints, areas) = published_lists(&messages, &worst_case_areas(shifts));
         let fence = Fence::of_payload(&areas);
-        onboard::check(&fence, onboard::execute_route(&waypoints, take_off))
+        onboard::check(
+            &fence,
+            onboard::execute_route(&waypoints, take_off, Some(fcc_turns())),
+        )
     };
     assert_eq!(check(14.0), Ok(()));
     let near = check(16.0).unwrap_err();

@@ -100,6 +100,14 @@ impl Site {
         (s12, azi1)
     }
 
+    /// Length (metres), initial azimuth and final azimuth (degrees) of the geodesic from here
+    /// to `to`.
+    pub fn inverse_azimuths(&self, to: &Site) -> (f64, f64, f64) {
+        let (s12, azi1, azi2, _a12): (f64, f64, f64, f64) =
+            WGS84.inverse(self.lat, self.lon, to.lat, to.lon);
+        (s12, azi1, azi2)
+    }
+
     /// Straight-line (chord) distance to `other` through the Earth, metres: never more than
     /// the geodesic distance.
     pub fn chord_m(&self, other: &Site) -> f64 {

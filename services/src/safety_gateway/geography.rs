@@ -167,11 +167,7 @@ impl SafetyGateway {
                     }
                 }
                 if let Some(found) = forward {
-                    let forward = RouteElement::Leg {
-                        from: leg.from,
-                        to: leg.to,
-                    };
-                    report(c, forward, found, also);
+                    report(c, leg.element, found, also);
                 }
             }
         }

@@ -12,7 +12,9 @@
 //!   take-off point (the vertical climb to the take-off height: areas are 2-D), the leg from the
 //!   take-off point to the initial waypoint (flown direct, as guidance flies it), every waypoint,
 //!   every leg in the direction flown (track-to-fix legs as WGS-84 geodesics, radius-to-fix legs
-//!   as arcs around their centre in their turn direction), the reverse route of a bidirectional
+//!   as arcs around their centre in their turn direction), the straight cut of every fly-by turn
+//!   between track-to-fix legs ([`onboard::FlyBy`]: guidance switches `r·tan(Δψ/2)` before the
+//!   waypoint and flies straight to the next one), the reverse route of a bidirectional
 //!   route back to its start, and the landing (a vertical descent at the last waypoint, checked
 //!   as that waypoint's point) must stay inside the fly-zone shrunk by the safety offset and
 //!   outside every no-fly-zone (polygon or circle) grown by it. The margin is the signed
@@ -69,14 +71,10 @@
 //!
 //! # Not checked
 //!
-//! - **Fly-by turns are not checked** (neither here nor by the FCC's onboard check, which both
-//!   check the legs ICD §7 names: waypoint to waypoint). How a fly-by turn cuts the corner is
-//!   guidance's: the stub switches to the next leg `d = r·tan(Δψ/2)` before the waypoint (at most
-//!   half the next leg) and flies straight from there to the next waypoint, a line that passes
-//!   up to about `d·sin(Δψ)` from the waypoint inside the corner (`r` at 25 m/s and 25° bank is
-//!   137 m: a 90° turn cuts up to 137 m). A no-fly-zone inside a sharp corner can be clear of
-//!   both legs by more than the offset and still be flown into: choose the offset, or make such
-//!   waypoints fly-over, accordingly. (Found in review; see the issue 11 note.)
+//! - Fly-by turns onto or off a radius-to-fix leg: guidance joins the arc; only the arc is
+//!   checked. (Fly-by turns between track-to-fix legs are checked: the straight cut guidance
+//!   flies from its switch point to the next waypoint, [`onboard::FlyBy`], at the profile's
+//!   bank, forward and on the reverse route; element "fly-by turn at waypoint k".)
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
 use core::fmt;
@@ -120,7 +118,7 @@ const MAX_NO_FLY_ZONES: usize = missionlink_interfaces::capacity::MAX_NO_FLY_ZON
 /// | field | default |
 /// |---|---|
 /// | speed envelope | 5 to 40 m/s |
-/// | bank limit | 30° (minimum turn radius 110 m at 25 m/s) |
+/// | bank limit | 25° (minimum turn radius 137 m at 25 m/s; the guidance stub's bank, so that the fly-by turns checked are the ones flown) |
 /// | take-off height | 10 to 100 m above ground |
 /// | maximum altitude | 150 m |
 /// | usable battery energy, reserve | 6000 Wh, 30 % |
@@ -177,7 +175,7 @@ impl Default for AircraftProfile {
         Self {
             min_speed_mps: 5.0,
             max_speed_mps: 40.0,
-            max_bank_deg: 30.0,
+            max_bank_deg: 25.0,
             min_take_off_height_m: 10.0,
             max_take_off_height_m: 100.0,
             max_altitude_m: 150.0,
@@ -481,6 +479,8 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
 /// One leg as the checks take it.
 #[derive(Debug, Clone, Copy)]
 struct Leg {
+    /// What it is (a leg, or the cut of a fly-by turn).
+    element: RouteElement,
     from: u16,
     to: u16,
     /// Index in the mission of the FROM waypoint (None: the take-off point).
@@ -576,6 +576,10 @@ impl SafetyGateway {
         let mut legs = Vec::with_capacity(entries.len() + 1);
         if let (Some(t), Some(first)) = (take_off, entries.first()) {
             legs.push(Leg {
+                element: RouteElement::Leg {
+                    from: 0,
+                    to: first.number,
+                },
                 from: 0,
                 to: first.number,
                 from_index: None,
@@ -592,6 +596,7 @@ impl SafetyGateway {
         for (i, (leg, w)) in onboard::legs(&list).zip(entries.windows(2)).enumerate() {
             let [a, b] = w else { continue };
             legs.push(Leg {
+                element: leg.element,
                 from: a.number,
                 to: b.number,
                 from_index: Some(i),
@@ -603,6 +608,50 @@ impl SafetyGateway {
             });
         }
         legs
+    }
+
+    /// The straight cuts of the fly-by turns guidance flies (at the profile's bank, as
+    /// [`onboard::FlyBy`] says), forward and, on a bidirectional route, on the way back: paths
+    /// the legs between the waypoints do not cover.
+    fn turn_cuts(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
+        let list = mission.to_payload(1);
+        let entries = list.waypoints();
+        let fly_by = Some(onboard::FlyBy {
+            bank_deg: self.profile.max_bank_deg,
+        });
+        let index = |n: u16| entries.iter().position(|w| w.number == n);
+        let start = take_off
+            .map(Site::of)
+            .or(entries.first().map(|w| Site::of(w.position)));
+        let last = entries.last();
+        let forward = start
+            .into_iter()
+            .flat_map(|s| onboard::execute_route(&list, s, fly_by));
+        let back = last
+            .filter(|_| list.bidirectional)
+            .into_iter()
+            .flat_map(|w| onboard::return_route(&list, Site::of(w.position), w.number, fly_by));
+        forward
+            .chain(back)
+            .filter_map(|leg| match leg.element {
+                RouteElement::FlyByTurn { at, to } => {
+                    let (from_index, to_index) = (index(at)?, index(to)?);
+                    let speed_mps = entries.get(to_index).map_or(0.0, |w| w.speed.mps());
+                    Some(Leg {
+                        element: leg.element,
+                        from: at,
+                        to,
+                        from_index: Some(from_index),
+                        to_index,
+                        path: leg.path,
+                        reversible: false,
+                        speed_mps,
+                        climb_m: 0.0,
+                    })
+                }
+                _ => None,
+            })
+            .collect()
     }
 
     /// The energy estimate of `mission` flown from `take_off`.
@@ -635,7 +684,9 @@ impl SafetyGateway {
         let valid = self.check_areas(areas, &fence, &mut c);
         let legs = Self::legs(mission, take_off);
         self.check_route(mission, areas, &legs, &mut c);
-        self.check_geography(mission, take_off, &fence, &valid, &legs, &mut c);
+        let mut flown = legs.clone();
+        flown.extend(self.turn_cuts(mission, take_off));
+        self.check_geography(mission, take_off, &fence, &valid, &flown, &mut c);
         self.check_energy(mission, take_off.is_some(), &legs, &mut c);
         c.out
     }
@@ -875,6 +926,41 @@ mod tests {
                 &m2[1..],
                 &[(V::FlyZoneCount, Element::AreaList)],
             ),
+            {
+                // A 90° fly-by turn at C (north, then east): a square no-fly-zone inside the
+                // corner, 42 m from both legs (clear of the 25 m offset), is cut by the straight
+                // line guidance flies from its switch point r·tan(45°) = 110 m before C to B
+                // (found in review).
+                let c = geo((48.27, 11.65));
+                let at = |from: geo::Point<f64>, bearing: f64, d: f64| {
+                    let p = earth::destination(from, bearing, d);
+                    (p.y(), p.x())
+                };
+                let c_point = geo::Point::new(11.65, 48.27);
+                let (a, b) = (at(c_point, 180.0, 1500.0), at(c_point, 90.0, 1500.0));
+                // The square inside the corner, its corner nearest C 60 m from it.
+                let near = earth::destination(c, 135.0, 60.0);
+                let east = earth::destination(near, 90.0, 300.0);
+                let nfz = [
+                    (near.y(), near.x()),
+                    (east.y(), east.x()),
+                    at(east, 180.0, 300.0),
+                    at(near, 180.0, 300.0),
+                ];
+                Case {
+                    // Taking off due south of A: no turn at A.
+                    take_off: Some(geo(at(c_point, 180.0, 1600.0))),
+                    ..case(
+                        "a fly-by turn cuts a no-fly-zone inside its corner",
+                        mission(30.0, false, &[tf(a), tf((48.27, 11.65)), tf(b)]),
+                        &[fly_zone(), polygon(4, AreaType::NoFlyZone, &nfz)],
+                        &[(
+                            V::NoFlyZoneLeg,
+                            Element::Route(RouteElement::FlyByTurn { at: 2, to: 3 }),
+                        )],
+                    )
+                }
+            },
             case(
                 "a no-fly-zone of two vertices",
                 mission_2(),
