@@ -724,6 +724,46 @@ pub fn geofence_worst_case() -> (
     (waypoints, areas, worst_case_take_off())
 }
 
+/// A 90° fly-by turn that cuts a no-fly-zone (found in review): waypoints 1 (1500 m south of
+/// C = 48.27 N, 11.65 E), 2 (C) and 3 (1500 m east of C), fly-by, 25 m/s; in the corner a
+/// square no-fly-zone (area 4, 300 m a side) whose corner nearest C is 60 m from it, 42 m from
+/// both legs; the demo fly-zone; safety offset 25 m; the take-off 1600 m south of C (no turn at
+/// waypoint 1). The legs are clear; the straight cut guidance flies from its switch point
+/// `r·tan(45°)` before C to waypoint 3 is not. The plan, the take-off position.
+pub fn fly_by_corner() -> MissionPlan {
+    let c = point((48.27, 11.65));
+    let at = |from: GeoPoint, bearing: f64, d: f64| {
+        let p = crate::geofence::earth::destination(from, bearing, d);
+        (p.y(), p.x())
+    };
+    let near = point(at(c, 135.0, 60.0));
+    let east = point(at(near, 90.0, 300.0));
+    let square = [
+        at(near, 0.0, 0.0),
+        at(east, 0.0, 0.0),
+        at(east, 180.0, 300.0),
+        at(near, 180.0, 300.0),
+    ];
+    let plan = plan(
+        &[
+            take_off(30.0).into(),
+            waypoint(1, 2, at(c, 180.0, 1500.0), LegType::TrackToFix).into(),
+            waypoint(2, 3, (48.27, 11.65), LegType::TrackToFix).into(),
+            waypoint(3, 0, at(c, 90.0, 1500.0), LegType::TrackToFix).into(),
+            route(1, false).into(),
+        ],
+        &[
+            polygon(1, AreaType::FlyZone, &FLY_ZONE),
+            polygon(4, AreaType::NoFlyZone, &square),
+        ],
+        "FLY-BY-CORNER",
+    );
+    MissionPlan {
+        take_off_position: Some(point(at(c, 180.0, 1600.0))),
+        ..plan
+    }
+}
+
 /// [`geofence_worst_case`] as the GCS holds it: the plan the safety gateway validates before
 /// an upload (take-off at [`worst_case_take_off`]).
 pub fn geofence_worst_case_plan() -> MissionPlan {

@@ -331,3 +331,38 @@ pub fn check(fence: &Fence, route: impl Iterator<Item = RouteLeg>) -> Result<(),
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geofence::zone::Fence;
+    use crate::testkit;
+
+    /// The FCC flies the fly-by turn's cut too: execute from the plan's take-off is refused on
+    /// it, and with the turns left out (what the check did before) it would pass.
+    #[test]
+    fn the_cut_of_a_fly_by_turn_is_checked() {
+        let corner = testkit::fly_by_corner();
+        let lists = corner.assemble().unwrap();
+        let (waypoints, areas) = (lists.mission.to_payload(1), lists.areas.to_payload(1));
+        let fence = Fence::of_payload(&areas);
+        let take_off = Site::of(corner.take_off_position.unwrap());
+        let turns = crate::automation::fcc_turns();
+        let refused = check(&fence, execute_route(&waypoints, take_off, Some(turns)));
+        assert!(
+            matches!(
+                refused,
+                Err(Violation {
+                    element: RouteElement::FlyByTurn { at: 2, to: 3 },
+                    area_id: 4,
+                    ..
+                })
+            ),
+            "{refused:?}"
+        );
+        assert_eq!(
+            check(&fence, execute_route(&waypoints, take_off, None)),
+            Ok(())
+        );
+    }
+}

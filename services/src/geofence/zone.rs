@@ -456,9 +456,11 @@ pub struct Fence {
 }
 
 impl Fence {
-    /// The fence of an assembled (or unchecked) area list.
-    pub fn of_list(list: &AreaList) -> Self {
-        let mut zones = Vec::new();
+    /// The fence of an assembled (or unchecked) area list, boxed: built in place (a fence is
+    /// about 200 kB; see [`Fence::set_payload`]).
+    pub fn of_list(list: &AreaList) -> Box<Self> {
+        let mut fence = Box::new(Self::empty());
+        fence.safety_offset_m = list.safety_offset.metres();
         for area in &list.areas {
             let kind = match area.area_type {
                 AreaType::FlyZone => ZoneKind::FlyZone,
@@ -470,12 +472,9 @@ impl Fence {
                     Zone::circle(area.area_id, kind, *centre, *border)
                 }
             };
-            let _ = zones.push(zone);
+            let _ = fence.zones.push(zone);
         }
-        Self {
-            zones,
-            safety_offset_m: list.safety_offset.metres(),
-        }
+        fence
     }
 
     /// No zones, no offset: what the FCC holds before an area list is active.

@@ -828,6 +828,25 @@ mod tests {
         Element::Route(RouteElement::Leg { from, to })
     }
 
+    /// In a function of its own: a debug build keeps every case's temporaries in the frame of
+    /// the function that builds it, and test threads have 2 MB of stack.
+    fn fly_by_corner_case() -> Case {
+        let corner = testkit::fly_by_corner();
+        let lists = corner.assemble().unwrap();
+        Case {
+            take_off: corner.take_off_position,
+            ..case(
+                "a fly-by turn cuts a no-fly-zone inside its corner (testkit::fly_by_corner)",
+                lists.mission,
+                &lists.areas.areas,
+                &[(
+                    ViolationCode::NoFlyZoneLeg,
+                    Element::Route(RouteElement::FlyByTurn { at: 2, to: 3 }),
+                )],
+            )
+        }
+    }
+
     fn cases() -> Vec<Case> {
         use ViolationCode as V;
         let m2 = mission_2_areas();
@@ -926,41 +945,7 @@ mod tests {
                 &m2[1..],
                 &[(V::FlyZoneCount, Element::AreaList)],
             ),
-            {
-                // A 90° fly-by turn at C (north, then east): a square no-fly-zone inside the
-                // corner, 42 m from both legs (clear of the 25 m offset), is cut by the straight
-                // line guidance flies from its switch point r·tan(45°) = 110 m before C to B
-                // (found in review).
-                let c = geo((48.27, 11.65));
-                let at = |from: geo::Point<f64>, bearing: f64, d: f64| {
-                    let p = earth::destination(from, bearing, d);
-                    (p.y(), p.x())
-                };
-                let c_point = geo::Point::new(11.65, 48.27);
-                let (a, b) = (at(c_point, 180.0, 1500.0), at(c_point, 90.0, 1500.0));
-                // The square inside the corner, its corner nearest C 60 m from it.
-                let near = earth::destination(c, 135.0, 60.0);
-                let east = earth::destination(near, 90.0, 300.0);
-                let nfz = [
-                    (near.y(), near.x()),
-                    (east.y(), east.x()),
-                    at(east, 180.0, 300.0),
-                    at(near, 180.0, 300.0),
-                ];
-                Case {
-                    // Taking off due south of A: no turn at A.
-                    take_off: Some(geo(at(c_point, 180.0, 1600.0))),
-                    ..case(
-                        "a fly-by turn cuts a no-fly-zone inside its corner",
-                        mission(30.0, false, &[tf(a), tf((48.27, 11.65)), tf(b)]),
-                        &[fly_zone(), polygon(4, AreaType::NoFlyZone, &nfz)],
-                        &[(
-                            V::NoFlyZoneLeg,
-                            Element::Route(RouteElement::FlyByTurn { at: 2, to: 3 }),
-                        )],
-                    )
-                }
-            },
+            fly_by_corner_case(),
             case(
                 "a no-fly-zone of two vertices",
                 mission_2(),
@@ -1126,6 +1111,17 @@ mod tests {
 
     #[test]
     fn safety_gateway_table() {
+        // The table is built as one array of some thirty missions of 27 kB each: more than a
+        // test thread's 2 MB of stack in a debug build.
+        std::thread::Builder::new()
+            .stack_size(32 << 20)
+            .spawn(run_safety_gateway_table)
+            .unwrap()
+            .join()
+            .unwrap();
+    }
+
+    fn run_safety_gateway_table() {
         let mut failures = Vec::new();
         for c in cases() {
             let found: Vec<(ViolationCode, Element)> =
