@@ -155,28 +155,23 @@ pub fn crosses(track: &Track, zone: &Zone) -> bool {
 fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance {
     let (best, crossings) = contact(track, zone, horizon_m);
     let allowed_inside = zone.kind == ZoneKind::FlyZone;
-    // Which side the path's first and last points are on: without a crossing both are on the
-    // same side; testing both keeps a crossing lost to rounding from hiding an end inside.
-    let forbidden_end = |patch: Option<&super::path::Patch>, first: bool| {
-        patch.is_some_and(|p| {
-            let corners = track.corners_of(p);
-            let end = if first {
-                corners.first()
-            } else {
-                corners.last()
-            };
-            let end = end.copied().unwrap_or(Coord { x: 0.0, y: 0.0 });
-            let ball = Ball {
-                centre: Track::site_at(p, end).ecef,
-                radius: 0.0,
-            };
-            let inside = zone.ball.gap(&ball) <= 0.0 && zone.polygon_contains(&p.plane, end);
-            inside != allowed_inside
-        })
-    };
-    let forbidden = !crossings.is_empty()
-        || forbidden_end(track.patches.first(), true)
-        || forbidden_end(track.patches.last(), false);
+    // Which side the path is on, when it does not meet the border: the side of its first
+    // point. A path that crosses comes within rounding (far below CONTACT_M) of a border piece
+    // at some chord, and no ball or box test culls a distance of 0, so `crossings` has it.
+    let start_forbidden = track.patches.first().is_some_and(|p| {
+        let start = track
+            .corners_of(p)
+            .first()
+            .copied()
+            .unwrap_or(Coord { x: 0.0, y: 0.0 });
+        let ball = Ball {
+            centre: Track::site_at(p, start).ecef,
+            radius: 0.0,
+        };
+        let inside = zone.ball.gap(&ball) <= 0.0 && zone.polygon_contains(&p.plane, start);
+        inside != allowed_inside
+    });
+    let forbidden = !crossings.is_empty() || start_forbidden;
     if !forbidden {
         return match best {
             // Not a number (a site that is not one) is not "beyond": the caller fails closed.
