@@ -275,6 +275,18 @@ mod tests {
         (valid.mission.to_payload(1), valid.areas.to_payload(1))
     }
 
+    /// Automation that has carried out execute of demo mission 2 from TROL (take-off phase).
+    fn taken_off() -> SystemAutomation {
+        let mut sa = SystemAutomation::new();
+        let (w, a) = lists(true);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        sa.handle_progress(Instant::ZERO, &progress(|_| {}));
+        sa.handle_command(Instant::ZERO, ExecuteCommand::Execute)
+            .unwrap();
+        sa
+    }
+
     /// Guidance's progress with the aircraft at TROL, changed by `f`.
     fn progress(f: impl FnOnce(&mut GuidanceProgressPayload)) -> GuidanceProgressPayload {
         let mut p = GuidanceProgressPayload {
@@ -379,13 +391,8 @@ mod tests {
 
     #[test]
     fn return_to_home_and_land_at_the_next_waypoint() {
-        let mut sa = SystemAutomation::new();
-        let (w, a) = lists(true);
-        sa.handle_waypoint_list(&w);
-        sa.handle_area_list(&a);
         let t = Instant::ZERO;
-        sa.handle_progress(t, &progress(|_| {}));
-        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        let mut sa = taken_off();
         sa.handle_progress(t, &progress(|p| p.climb_complete = true));
         sa.handle_progress(
             t,
@@ -405,13 +412,8 @@ mod tests {
     /// with CCP the TO waypoint would cross it; refused, and nothing changes.
     #[test]
     fn return_to_home_across_a_no_fly_zone_is_refused() {
-        let mut sa = SystemAutomation::new();
-        let (w, a) = lists(true);
-        sa.handle_waypoint_list(&w);
-        sa.handle_area_list(&a);
         let t = Instant::ZERO;
-        sa.handle_progress(t, &progress(|_| {}));
-        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        let mut sa = taken_off();
         sa.handle_progress(
             t,
             &progress(|p| {
@@ -458,15 +460,13 @@ mod tests {
     /// home over; return to home is refused rather than checked against the wrong list.
     #[test]
     fn return_to_home_over_a_list_guidance_does_not_fly_is_refused() {
-        let mut sa = SystemAutomation::new();
-        let (w, a) = lists(true);
-        sa.handle_waypoint_list(&w);
-        sa.handle_area_list(&a);
         let t = Instant::ZERO;
-        sa.handle_progress(t, &progress(|_| {}));
-        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        let mut sa = taken_off();
         sa.handle_progress(t, &progress(|p| p.on_ground = false));
-        let edited = WaypointListPayload { generation: 2, ..w };
+        let edited = WaypointListPayload {
+            generation: 2,
+            ..lists(true).0
+        };
         sa.handle_waypoint_list(&edited);
         assert_eq!(
             sa.handle_command(t, ExecuteCommand::ReturnToHome),
