@@ -1,0 +1,56 @@
+//! ICD §11 golden values: the canonical forms and CRC-32 checksums of the demo missions and
+//! their areas, as `services/tests/data/integrity_reference.py` computes them from the ICD text
+//! alone (a third party can rerun it), against services' `transfer::integrity` on the same
+//! mission files read by the gcs.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+use std::path::Path;
+
+use missionlink_gcs::mission_file::MissionFile;
+use missionlink_services::transfer::integrity::{
+    areas_checksum, mission_checksum, write_areas, write_mission,
+};
+
+const GOLDEN: &str = include_str!("../../services/tests/data/integrity_golden.txt");
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[test]
+fn the_demo_missions_canonical_forms_and_checksums_are_the_icds() {
+    let mut rows = 0;
+    for line in GOLDEN.lines().filter(|l| !l.starts_with('#')) {
+        let [name, bytes, crc] = line.split(' ').collect::<Vec<_>>()[..] else {
+            panic!("a row of three fields: {line}");
+        };
+        let (file, kind) = name.split_once('.').unwrap();
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../missions")
+            .join(format!("{file}.toml"));
+        let lists = MissionFile::read(&path)
+            .unwrap()
+            .to_plan()
+            .unwrap()
+            .assemble()
+            .unwrap();
+        let mut canonical = Vec::new();
+        let checksum = match kind {
+            "mission" => {
+                write_mission(&lists.mission, &mut canonical);
+                mission_checksum(&lists.mission)
+            }
+            "areas" => {
+                write_areas(&lists.areas, &mut canonical);
+                areas_checksum(&lists.areas)
+            }
+            other => panic!("kind {other}"),
+        };
+        assert_eq!(hex(&canonical), bytes, "{name}: canonical form");
+        assert_eq!(format!("{checksum:08x}"), crc, "{name}: checksum");
+        rows += 1;
+    }
+    assert_eq!(rows, 4);
+}
