@@ -142,13 +142,18 @@ impl MissionPlan {
             .mission
             .chain(Some(announced), self.mission_id)
             .map_err(InvalidPlan::Mission)?;
-        let invalid = self.assemble().err();
-        let areas = match self
+        // Each list assembled once; the first ICD §7 refusal is the answer, as `assemble`'s.
+        let (areas, areas_invalid) = match self
             .areas
             .assemble(self.areas.len() as u8, self.safety_offset)
         {
-            Ok(areas) => areas,
-            Err(_) => self.areas.unchecked(self.safety_offset),
+            Ok(areas) => (areas, None),
+            Err(r) => (self.areas.unchecked(self.safety_offset), Some(r)),
+        };
+        let invalid = match (mission.check_radii(), areas_invalid) {
+            (Err(r), _) => Some(InvalidPlan::Mission(r)),
+            (Ok(()), Some(r)) => Some(InvalidPlan::Areas(r)),
+            (Ok(()), None) => None,
         };
         Ok(ListsToCheck {
             mission,

@@ -121,11 +121,6 @@ fn back_over(waypoints: &[WaypointEntry]) -> impl Iterator<Item = RouteLeg> + '_
     })
 }
 
-/// The legs of the reverse route, from the last waypoint back to the initial one.
-pub fn reverse_legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg> + '_ {
-    back_over(list.waypoints())
-}
-
 /// What execute flies from `take_off`: the climb there, the way to the initial waypoint, every
 /// leg, and with `fly_by` the cut of every fly-by turn.
 pub fn execute_route(

@@ -54,6 +54,19 @@ impl Mission {
         }
     }
 
+    /// ICD §7 rev. 2: every radius-to-fix leg starts and ends on one circle about its centre
+    /// (within 1 % or 5 m, whichever is larger), else `Malformed`.
+    pub fn check_radii(&self) -> Result<(), Reason> {
+        if self
+            .waypoints
+            .windows(2)
+            .any(|w| matches!(w, [from, to] if !rf_radii_agree(from, to)))
+        {
+            return Err(Reason::Malformed);
+        }
+        Ok(())
+    }
+
     /// Messages of the mission in the order of ICD §5.1 steps 2 to 4 and §5.2 steps 2 to 4:
     /// take-off height, each waypoint in flight-plan order followed by its RF centre, route.
     pub fn messages(&self) -> impl Iterator<Item = Message> + '_ {
@@ -215,13 +228,7 @@ impl MissionBuffer {
         mission_id: Option<Text<20>>,
     ) -> Result<Mission, Reason> {
         let mission = self.chain(announced, mission_id)?;
-        if mission
-            .waypoints
-            .windows(2)
-            .any(|w| matches!(w, [from, to] if !rf_radii_agree(from, to)))
-        {
-            return Err(Reason::Malformed);
-        }
+        mission.check_radii()?;
         Ok(mission)
     }
 
