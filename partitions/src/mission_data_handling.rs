@@ -3,7 +3,11 @@
 //! automation state and guidance progress; it publishes the frames the core transmits on the
 //! downlink, the active waypoint and area lists (history 1: late joiners get them) and accepted
 //! #50000 commands. After a restart it resumes with the lists it published last, so guidance
-//! never sees them change.
+//! never sees them change, and with the record of a mission upload it cut.
+//!
+//! Everything the core asks to record (an activated list, an open mission upload) is written
+//! before the answers it queued go out: an FCC that answered "valid and active" must still hold
+//! that list after a `kill -9` that follows the answer.
 
 use std::time::Duration;
 
@@ -14,7 +18,7 @@ use missionlink_interfaces::contracts::{
     GuidanceProgressPayload, Link, WaypointListPayload,
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
-use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
+use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
@@ -51,15 +55,26 @@ where
     let state_dir = config.ipc.state_dir();
     let mission = state::load_mission(&state_dir);
     let areas = state::load_areas(&state_dir);
-    if mission.is_some() || areas.is_some() {
-        let (m, mg) = mission.unwrap_or((None, 0));
-        let (a, ag) = areas.unwrap_or((None, 0));
-        core.resume(m, mg, a, ag);
+    let mission_upload_open = state::load_mission_upload_open(&state_dir);
+    if mission.is_some() || areas.is_some() || mission_upload_open {
+        let (mission, mission_generation) = mission.unwrap_or((None, 0));
+        let (areas, area_generation) = areas.unwrap_or((None, 0));
+        core.resume(
+            clock.now(),
+            Resumed {
+                mission,
+                mission_generation,
+                areas,
+                area_generation,
+                mission_upload_open,
+            },
+        );
         waypoint_list.send(core.waypoint_list())?;
         area_list.send(core.area_list())?;
         tracing::info!(
-            waypoint_list = mg,
-            area_list = ag,
+            waypoint_list = mission_generation,
+            area_list = area_generation,
+            mission_upload_open,
             dir = %state_dir.display(),
             "resumed with the lists active before the restart"
         );
@@ -99,14 +114,15 @@ where
             let end = monotonic_ns();
             processing.record(end.saturating_sub(start));
             handled.record_between(f.origin_ns, end);
-            // The frame whose handling produced the answers: its receive time starts the
-            // turnaround that voting-monitoring measures.
-            transmit(&mut core, &downlink, &mut frame, f.origin_ns);
             // After every frame, not after the whole batch: the core's event queue holds
-            // EVENT_CAPACITY, and an activation or a command must never be dropped.
+            // EVENT_CAPACITY, and an activation or a command must never be dropped. Before the
+            // answers: what they confirm is recorded first.
             if let Err(e) = outputs.publish_events(&mut core) {
                 failure.get_or_insert(e);
             }
+            // The frame whose handling produced the answers: its receive time starts the
+            // turnaround that voting-monitoring measures.
+            transmit(&mut core, &downlink, &mut frame, f.origin_ns);
         });
         if let Some(e) = failure {
             return Err(e);
@@ -125,8 +141,8 @@ where
         if core.poll_timeout().is_some_and(|t| t <= now) {
             core.handle_timeout(now);
         }
-        transmit(&mut core, &downlink, &mut frame, 0);
         outputs.publish_events(&mut core)?;
+        transmit(&mut core, &downlink, &mut frame, 0);
         waypoint_list.update_connections();
         area_list.update_connections();
         report.log_if_due(&[&hop, &handled, &processing]);
@@ -195,6 +211,12 @@ impl<S: Service> Outputs<'_, S> {
                         reserved: [0; 7],
                     })?;
                     tracing::info!(?command, "command for system automation");
+                }
+                FccEvent::MissionUploadOpened | FccEvent::MissionUploadClosed => {
+                    let open = matches!(event, FccEvent::MissionUploadOpened);
+                    if let Err(e) = state::save_mission_upload_open(self.state_dir, open) {
+                        tracing::error!(%e, "cannot record the mission upload");
+                    }
                 }
                 other => tracing::info!(event = ?other, "mission data handling"),
             }

@@ -8,6 +8,11 @@
 //! them back goes through the same assembly as an upload. A file is replaced atomically (write,
 //! then rename), so a crash mid-write leaves the previous list.
 //!
+//! A mission upload that is open is recorded too (`mission-upload.open`, empty): a partition
+//! restarted in the middle of one must not take the rest of it as an edit of the active list
+//! (`services::mission_data_handling`, "A restart never assembles a transfer it did not see from
+//! the start").
+//!
 //! Voting-monitoring announces here where it bound the FCC's ends of the links
 //! ([`BoundLinks`], `links.toml`): with port 0 in the configuration the system chooses them, the
 //! GCS (the demo, the tests) reads them here, and a restarted voting-monitoring binds the same
@@ -32,6 +37,7 @@ use missionlink_services::transfer::sender::mission_command;
 
 const WAYPOINT_LIST: &str = "waypoint-list.frames";
 const AREA_LIST: &str = "area-list.frames";
+const MISSION_UPLOAD_OPEN: &str = "mission-upload.open";
 const LINKS: &str = "links.toml";
 const READY: &str = "ready";
 
@@ -253,6 +259,24 @@ pub fn save_areas(dir: &Path, areas: Option<&AreaList>, generation: u64) -> io::
         &dir.join(AREA_LIST),
         &frames(generation, messages.into_iter())?,
     )
+}
+
+/// Records that a mission upload is open (`true`) or that none is.
+pub fn save_mission_upload_open(dir: &Path, open: bool) -> io::Result<()> {
+    let path = dir.join(MISSION_UPLOAD_OPEN);
+    if open {
+        write_atomically(&path, &[])
+    } else {
+        match std::fs::remove_file(path) {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Whether a mission upload was recorded open.
+pub fn load_mission_upload_open(dir: &Path) -> bool {
+    dir.join(MISSION_UPLOAD_OPEN).is_file()
 }
 
 /// The waypoint list saved last and its generation.

@@ -30,6 +30,24 @@
 //! GCS sends the clear and then #13000 mode 2 with Waypoint Number 0, which activates the empty
 //! list ([`crate::transfer::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
 //! nothing.
+//!
+//! **Closers are idempotent (ICD §11).** The last closer answered and its answer are remembered
+//! ([`CloserMemory`]): its retry, until an opener or a data message is accepted, gets the same
+//! answer and changes nothing, so a lost "valid and active" never turns into a reported failure.
+//!
+//! **A restart never assembles a transfer it did not see from the start (issue 12).** A mission
+//! upload has no opener when it is an edit (ICD §5.1 step 1 is optional), so a restarted
+//! partition cannot tell the rest of an upload cut by its restart from a new edit: taken as an
+//! edit of the active list, it assembled a list that was neither the old mission nor the new one.
+//! The driver therefore records, before any answer leaves, that a mission upload is open
+//! ([`FccEvent::MissionUploadOpened`], [`FccEvent::MissionUploadClosed`]); a partition that
+//! resumes with that record set holds the upload *interrupted*: it refuses the upload's data
+//! messages and its transmit (`WrongState`) until the GCS opens a new one (clear), cancels, or
+//! falls silent for the transfer timeout, the time after which the upload would have been
+//! abandoned anyway (ICD §5). The GCS's retry is refused as well and it aborts with the active
+//! lists as they were. Keeping the whole buffer on disk so the transfer could resume exactly would
+//! cost a write per message; the record costs two per upload, and with the checksum of ICD §11
+//! an edition-2 GCS would detect such a list anyway.
 
 use core::time::Duration;
 
@@ -52,6 +70,7 @@ use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
 use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::AreaList;
+use crate::transfer::closer::{Closer, CloserMemory, ClosingAnswer};
 use crate::transfer::mission::Mission;
 use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received, TransferTimedOut};
 use crate::transfer::sender::{Script, SenderEvent, TransferSender};
@@ -105,6 +124,11 @@ pub enum FccEvent {
     },
     /// #50000 accepted: system automation carries it out.
     Execute(ExecuteCommand),
+    /// A mission upload is open: record it (with the lists) before any answer goes out, so a
+    /// restarted partition knows the upload was cut (see the module documentation).
+    MissionUploadOpened,
+    /// No mission upload is open any more: remove the record.
+    MissionUploadClosed,
 }
 
 /// Mission (waypoints) or areas.
@@ -131,14 +155,18 @@ pub enum FccTimer {
     MissionUpload = 2,
     /// The transfer timeout of the area upload.
     AreaUpload = 3,
+    /// The end of a mission upload interrupted by a restart: the transfer timeout after the
+    /// GCS was last heard in it.
+    InterruptedUpload = 4,
 }
 
-impl Timer<4> for FccTimer {
-    const ALL: [Self; 4] = [
+impl Timer<5> for FccTimer {
+    const ALL: [Self; 5] = [
         Self::MissionDownload,
         Self::AreaDownload,
         Self::MissionUpload,
         Self::AreaUpload,
+        Self::InterruptedUpload,
     ];
     fn index(self) -> usize {
         self as usize
@@ -169,7 +197,28 @@ pub struct MissionDataHandling {
     /// when the list changes.
     fence: Box<Fence>,
     from_to_next: FromToNextReporter,
-    timers: TimerTable<FccTimer, 4>,
+    /// The last closer answered (ICD §11).
+    closers: CloserMemory,
+    /// While a mission upload cut by a restart is refused: until when.
+    interrupted_until: Option<Instant>,
+    /// Whether the driver was last told that a mission upload is open.
+    upload_recorded_open: bool,
+    timers: TimerTable<FccTimer, 5>,
+}
+
+/// What mission data handling resumes with after a restart: what the driver recorded.
+#[derive(Debug, Clone, Default)]
+pub struct Resumed {
+    /// The active mission, if any.
+    pub mission: Option<Mission>,
+    /// Its generation (counts clears too).
+    pub mission_generation: u64,
+    /// The active area list, if any.
+    pub areas: Option<AreaList>,
+    /// Its generation.
+    pub area_generation: u64,
+    /// A mission upload was open when the partition stopped.
+    pub mission_upload_open: bool,
 }
 
 impl MissionDataHandling {
@@ -193,20 +242,25 @@ impl MissionDataHandling {
             area_list: AreaListPayload::EMPTY,
             fence: Box::new(Fence::empty()),
             from_to_next: FromToNextReporter::new(),
+            closers: CloserMemory::new(),
+            interrupted_until: None,
+            upload_recorded_open: false,
             timers: TimerTable::new(),
         }
     }
 
-    /// Resumes with the lists that were active before a restart (or none, after a clear),
-    /// under their generations, so guidance sees no change and later lists get newer
-    /// generations.
-    pub fn resume(
-        &mut self,
-        mission: Option<Mission>,
-        mission_generation: u64,
-        areas: Option<AreaList>,
-        area_generation: u64,
-    ) {
+    /// Resumes at `now` with what was recorded before a restart: the lists that were active
+    /// (or none, after a clear) under their generations, so guidance sees no change and later
+    /// lists get newer generations; and a mission upload that was open, which is now held
+    /// interrupted (see the module documentation).
+    pub fn resume(&mut self, now: Instant, resumed: Resumed) {
+        let Resumed {
+            mission,
+            mission_generation,
+            areas,
+            area_generation,
+            mission_upload_open,
+        } = resumed;
         self.mission_generation = mission_generation;
         self.waypoint_list = match &mission {
             Some(m) => m.to_payload(mission_generation),
@@ -227,6 +281,14 @@ impl MissionDataHandling {
         };
         self.active_areas = areas;
         self.fence.set_payload(&self.area_list);
+        if mission_upload_open {
+            tracing::warn!(
+                "a mission upload was open when the partition stopped: its remaining messages \
+                 are refused until the GCS opens a new one, cancels, or falls silent"
+            );
+            self.interrupted_until = Some(now + self.config.transfer_timeout);
+            self.upload_recorded_open = true;
+        }
         self.update_timers();
     }
 
@@ -308,7 +370,100 @@ impl MissionDataHandling {
     /// Handles one uplink message (wrapper to checksum) received at `now`. A frame error is
     /// returned for the driver to count and log; it is never answered (ICD §2).
     pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
-        self.receive_frame(now, bytes)
+        let result = self.receive_frame(now, bytes);
+        self.record_upload_state();
+        result
+    }
+
+    /// Whether a mission upload is open, cut by a restart included.
+    fn mission_upload_open(&self) -> bool {
+        self.mission_upload.in_transfer() || self.interrupted_until.is_some()
+    }
+
+    /// Tells the driver when a mission upload opened or closed, to record it before the answers
+    /// go out.
+    fn record_upload_state(&mut self) {
+        let open = self.mission_upload_open();
+        if open != self.upload_recorded_open {
+            self.upload_recorded_open = open;
+            self.event(if open {
+                FccEvent::MissionUploadOpened
+            } else {
+                FccEvent::MissionUploadClosed
+            });
+        }
+    }
+
+    /// The mission upload cut by a restart heard from the GCS again: refused (it cannot be
+    /// resumed), and held for another transfer timeout.
+    fn refuse_interrupted(&mut self, now: Instant) -> Result<(), Reason> {
+        self.interrupted_until = Some(now + self.config.transfer_timeout);
+        Err(Reason::WrongState)
+    }
+
+    /// Answers `message` (an opener or a data message of a transfer) with `outcome`; an
+    /// accepted one ends the memory of the last closer (ICD §11).
+    fn answer_transfer(
+        &mut self,
+        now: Instant,
+        message: &Message,
+        ack: bool,
+        outcome: Result<(), Reason>,
+    ) {
+        if outcome.is_ok() {
+            self.closers.forget();
+        }
+        self.endpoint.answer(now, message, ack, outcome);
+    }
+
+    /// A closer (ICD §10.2): the retry of the closer answered last gets the same answer and
+    /// changes nothing (ICD §11); any other is carried out and remembered.
+    fn closer(&mut self, now: Instant, message: &Message, ack: bool) {
+        let answer = match Closer::of(message) {
+            Some(closer) => match self.closers.repeat(&closer) {
+                Some(answer) => answer,
+                None => {
+                    let answer = self.close(now, message);
+                    self.closers.remember(closer, answer);
+                    answer
+                }
+            },
+            None => self.close(now, message),
+        };
+        self.answer_closer(now, message, ack, answer);
+    }
+
+    /// Carries out a closer: assembles and activates the list, or says why not.
+    fn close(&mut self, now: Instant, message: &Message) -> ClosingAnswer {
+        match message {
+            Message::AreaTransmissionCommand(_) => self.complete_area_upload(now, message),
+            _ => ClosingAnswer::Acknowledgement(self.mission_data(now, message)),
+        }
+    }
+
+    /// Sends `answer` to the closer `message`: #17000 or #3012.
+    fn answer_closer(&mut self, now: Instant, message: &Message, ack: bool, answer: ClosingAnswer) {
+        match answer {
+            ClosingAnswer::Acknowledgement(outcome) => {
+                self.endpoint.answer(now, message, ack, outcome);
+            }
+            ClosingAnswer::AreaStatus {
+                loop_count,
+                outcome,
+            } => {
+                let alert = AreaStatusAlert {
+                    time_stamp: Timestamp::default(),
+                    loop_count,
+                    status: if outcome.is_ok() {
+                        AreaListStatus::Valid
+                    } else {
+                        AreaListStatus::Invalid
+                    },
+                    reason: Some(outcome.err().unwrap_or(Reason::None)),
+                };
+                self.endpoint.send(now, alert.into(), false);
+            }
+        }
     }
 
     fn event(&mut self, e: FccEvent) {
@@ -339,6 +494,7 @@ impl MissionDataHandling {
         }
         if self.active_areas.take().is_some() {
             self.areas_changed(FccEvent::AreasCleared);
+            self.closers.forget();
         }
         Ok(())
     }
@@ -347,6 +503,9 @@ impl MissionDataHandling {
     fn mission_data(&mut self, now: Instant, message: &Message) -> Result<(), Reason> {
         if self.mission_download.is_some() {
             return Err(Reason::WrongState);
+        }
+        if self.interrupted_until.is_some() {
+            return self.refuse_interrupted(now);
         }
         if !self.mission_upload.in_transfer() {
             // An upload without clear edits the active mission.
@@ -375,7 +534,7 @@ impl MissionDataHandling {
         }
     }
 
-    fn complete_area_upload(&mut self, now: Instant, message: &Message) {
+    fn complete_area_upload(&mut self, now: Instant, message: &Message) -> ClosingAnswer {
         let outcome = if self.area_download.is_some() {
             Err(Reason::WrongState)
         } else {
@@ -403,17 +562,10 @@ impl MissionDataHandling {
             .active_areas
             .as_ref()
             .map_or(0, |a| a.areas.len() as u8);
-        let alert = AreaStatusAlert {
-            time_stamp: Timestamp::default(),
+        ClosingAnswer::AreaStatus {
             loop_count: if result.is_ok() { loop_count } else { 0 },
-            status: if result.is_ok() {
-                AreaListStatus::Valid
-            } else {
-                AreaListStatus::Invalid
-            },
-            reason: Some(result.err().unwrap_or(Reason::None)),
-        };
-        self.endpoint.send(now, alert.into(), false);
+            outcome: result,
+        }
     }
 
     fn start_mission_download(&mut self, now: Instant, message: &Message, ack: bool) {
@@ -424,7 +576,7 @@ impl MissionDataHandling {
         } else {
             Ok(())
         };
-        self.endpoint.answer(now, message, ack, outcome);
+        self.answer_transfer(now, message, ack, outcome);
         if let (Ok(()), Some(mission)) = (outcome, self.active_mission.clone()) {
             self.mission_download = Some(TransferSender::start(
                 Script::MissionDownload { mission },
@@ -439,6 +591,7 @@ impl MissionDataHandling {
         let busy = self.area_download.is_some() || self.area_upload.in_transfer();
         match (&self.active_areas, busy) {
             (Some(list), false) => {
+                self.closers.forget();
                 self.area_download = Some(TransferSender::start(
                     Script::AreaDownload { list: list.clone() },
                     self.config.ack_timeout,
@@ -505,6 +658,7 @@ impl MissionDataHandling {
                     self.mission_upload.abandon(self.active_mission.as_ref());
                     self.event(FccEvent::UploadAbandoned { kind, reason: None });
                 }
+                self.interrupted_until = None;
             }
             DataKind::Areas => {
                 if let Some(mut d) = self.area_download.take() {
@@ -538,6 +692,7 @@ impl MissionDataHandling {
     /// The timers due at `now` fire: download retries, upload transfer timeouts.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.fire_expired(now);
+        self.record_upload_state();
     }
 
     fn upload_timed_out(&mut self, kind: DataKind, timed_out: TransferTimedOut) {
@@ -560,8 +715,8 @@ impl MissionDataHandling {
     }
 }
 
-impl Composite<FccTimer, 4> for MissionDataHandling {
-    fn timers(&mut self) -> &mut TimerTable<FccTimer, 4> {
+impl Composite<FccTimer, 5> for MissionDataHandling {
+    fn timers(&mut self) -> &mut TimerTable<FccTimer, 5> {
         &mut self.timers
     }
 
@@ -577,6 +732,7 @@ impl Composite<FccTimer, 4> for MissionDataHandling {
             FccTimer::AreaDownload => download(&self.area_download),
             FccTimer::MissionUpload => self.mission_upload.poll_timeout(),
             FccTimer::AreaUpload => self.area_upload.poll_timeout(),
+            FccTimer::InterruptedUpload => self.interrupted_until,
         }
     }
 
@@ -604,6 +760,10 @@ impl Composite<FccTimer, 4> for MissionDataHandling {
                     self.upload_timed_out(DataKind::Areas, t);
                 }
             }
+            FccTimer::InterruptedUpload => {
+                tracing::info!("the mission upload cut by the restart is over");
+                self.interrupted_until = None;
+            }
         }
     }
 
@@ -614,12 +774,13 @@ impl Composite<FccTimer, 4> for MissionDataHandling {
             Message::MissionTransferCommand(c) => match c.mode {
                 MissionPlanMode::ClearMission => {
                     let outcome = self.clear_mission(now);
-                    self.endpoint.answer(now, message, ack, outcome);
+                    if outcome.is_ok() {
+                        // A new upload: the one cut by a restart is over.
+                        self.interrupted_until = None;
+                    }
+                    self.answer_transfer(now, message, ack, outcome);
                 }
-                MissionPlanMode::TransmitMission => {
-                    let outcome = self.mission_data(now, message);
-                    self.endpoint.answer(now, message, ack, outcome);
-                }
+                MissionPlanMode::TransmitMission => self.closer(now, message, ack),
                 MissionPlanMode::ReceiveMission => self.start_mission_download(now, message, ack),
                 MissionPlanMode::CancelTransfer => {
                     self.cancel(DataKind::Mission);
@@ -630,7 +791,7 @@ impl Composite<FccTimer, 4> for MissionDataHandling {
             | Message::UaPositionWaypoint(_)
             | Message::VehicleSpecificWaypoint(_) => {
                 let outcome = self.mission_data(now, message);
-                self.endpoint.answer(now, message, ack, outcome);
+                self.answer_transfer(now, message, ack, outcome);
             }
             Message::AreaTransmissionCommand(c) => match c.mode {
                 AreaTransferMode::InitiateUpload => {
@@ -639,10 +800,10 @@ impl Composite<FccTimer, 4> for MissionDataHandling {
                     } else {
                         self.area_upload.handle(now, message).map(|_| ())
                     };
-                    self.endpoint.answer(now, message, ack, outcome);
+                    self.answer_transfer(now, message, ack, outcome);
                 }
                 // Answered by #3012 instead of #17000 (ICD §5.3 step 3).
-                AreaTransferMode::UploadComplete => self.complete_area_upload(now, message),
+                AreaTransferMode::UploadComplete => self.closer(now, message, ack),
                 // Answered by #3013 instead of #17000 (ICD §5.4 step 1).
                 AreaTransferMode::InitiateDownload => self.start_area_download(now),
                 AreaTransferMode::Cancel => {
@@ -664,7 +825,7 @@ impl Composite<FccTimer, 4> for MissionDataHandling {
                 } else {
                     self.area_upload.handle(now, message).map(|_| ())
                 };
-                self.endpoint.answer(now, message, ack, outcome);
+                self.answer_transfer(now, message, ack, outcome);
             }
             Message::MissionExecuteCommand(c) => {
                 let outcome = self.check_execute(c.command);

@@ -1,0 +1,138 @@
+//! Idempotent closers (ICD §11): the receiver of an upload remembers the last closer it answered
+//! and its answer, so that the sender's retry of a closer whose answer was lost gets the same
+//! answer and changes nothing. Without it a lost "valid and active" turns into a reported
+//! failure: the retry finds no transfer open and is refused (`WrongState`), although the list it
+//! closed is active.
+//!
+//! The closer's content is what identifies it (ICD §11: message type, mode, Mission ID, Waypoint
+//! Number or Area Loop Count, checksum or none); its time stamp is not, since a retry carries a
+//! new one (ICD §3). The memory holds until the receiver accepts an opener or a data message of
+//! any transfer (ICD §10.2); its owner also forgets it when an active list changes by another
+//! way (this project's choice: a clear of the areas, for instance, makes "valid and active" of
+//! the last area closer untrue, and a retry must then be judged afresh).
+
+use missionlink_interfaces::wire::{Message, MessageType, Reason, Text};
+
+/// What identifies a closer (ICD §11).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Closer {
+    message_type: MessageType,
+    mode: u8,
+    mission_id: Option<Text<20>>,
+    count: Option<u16>,
+}
+
+impl Closer {
+    /// The closer `message` is, if it is one: #13000 mode 2 (transmit) or #2011 mode 2 (upload
+    /// complete).
+    pub fn of(message: &Message) -> Option<Self> {
+        use missionlink_interfaces::wire::{AreaTransferMode, MissionPlanMode};
+        match message {
+            Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
+                Some(Self {
+                    message_type: MessageType::MissionTransferCommand,
+                    mode: c.mode as u8,
+                    mission_id: c.mission_id,
+                    count: c.waypoint_number,
+                })
+            }
+            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::UploadComplete => {
+                Some(Self {
+                    message_type: MessageType::AreaTransmissionCommand,
+                    mode: c.mode as u8,
+                    mission_id: None,
+                    count: c.loop_count.map(u16::from),
+                })
+            }
+            _ => None,
+        }
+    }
+}
+
+/// How a closer was answered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClosingAnswer {
+    /// By #17000: accepted (type 2) or refused with the reason (type 3). #13000 closers.
+    Acknowledgement(Result<(), Reason>),
+    /// By #3012 (ICD §5.3 step 3): the loop count of the active list and valid, or invalid with
+    /// the reason. #2011 closers.
+    AreaStatus {
+        /// Areas in the active list (0 when invalid).
+        loop_count: u8,
+        /// Valid, or why not.
+        outcome: Result<(), Reason>,
+    },
+}
+
+/// The last closer answered and its answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct CloserMemory {
+    last: Option<(Closer, ClosingAnswer)>,
+}
+
+impl CloserMemory {
+    /// Nothing remembered.
+    pub const fn new() -> Self {
+        Self { last: None }
+    }
+
+    /// The answer to give again when `closer` is the closer answered last.
+    pub fn repeat(&self, closer: &Closer) -> Option<ClosingAnswer> {
+        self.last
+            .filter(|(last, _)| last == closer)
+            .map(|(_, answer)| answer)
+    }
+
+    /// `closer` was answered with `answer`.
+    pub fn remember(&mut self, closer: Closer, answer: ClosingAnswer) {
+        self.last = Some((closer, answer));
+    }
+
+    /// An opener or a data message was accepted, or an active list changed otherwise.
+    pub fn forget(&mut self) {
+        self.last = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::transfer::sender::{area_request, mission_command};
+    use missionlink_interfaces::wire::{AreaTransferMode, MissionPlanMode, Timestamp};
+
+    fn transmit(n: u16) -> Message {
+        mission_command(MissionPlanMode::TransmitMission, Some(n), None)
+    }
+
+    #[test]
+    fn a_closer_is_its_content_not_its_time_stamp() {
+        let first = transmit(3);
+        let mut retry = first.clone();
+        retry.set_time_stamp(Timestamp::from_millis(1_000).unwrap());
+        assert_eq!(Closer::of(&first), Closer::of(&retry));
+        assert_ne!(Closer::of(&first), Closer::of(&transmit(4)));
+        let area_closer = area_request(AreaTransferMode::UploadComplete, None);
+        assert!(Closer::of(&area_closer).is_some());
+        assert_ne!(Closer::of(&first), Closer::of(&area_closer));
+        for not_a_closer in [
+            mission_command(MissionPlanMode::ClearMission, None, None),
+            area_request(AreaTransferMode::InitiateUpload, None),
+        ] {
+            assert_eq!(Closer::of(&not_a_closer), None, "{not_a_closer}");
+        }
+    }
+
+    #[test]
+    fn the_memory_repeats_the_last_answer_until_it_forgets() {
+        let mut memory = CloserMemory::new();
+        let closer = Closer::of(&transmit(3)).unwrap();
+        assert_eq!(memory.repeat(&closer), None);
+        let refused = ClosingAnswer::Acknowledgement(Err(Reason::BrokenChain));
+        memory.remember(closer, refused);
+        assert_eq!(memory.repeat(&closer), Some(refused), "a refusal too");
+        let other = Closer::of(&transmit(4)).unwrap();
+        assert_eq!(memory.repeat(&other), None);
+        memory.forget();
+        assert_eq!(memory.repeat(&closer), None);
+    }
+}
