@@ -222,7 +222,7 @@ fn clear_is_refused_while_guidance_is_active() {
     );
     assert_eq!(
         error.second,
-        AttemptFailure::Rejected(Reason::GuidanceActive)
+        Some(AttemptFailure::Rejected(Reason::GuidanceActive))
     );
     assert_eq!(pair.fcc.active_mission().cloned(), active);
     // Once guidance is inactive, the clear goes through.

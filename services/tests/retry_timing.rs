@@ -61,7 +61,7 @@ fn resend_at_the_ack_timeout_with_a_new_time_stamp_then_abort() {
     };
     assert_eq!(error.message_type, MessageType::MissionExecuteCommand);
     assert_eq!(error.first, AttemptFailure::Timeout);
-    assert_eq!(error.second, AttemptFailure::Timeout);
+    assert_eq!(error.second, Some(AttemptFailure::Timeout));
     assert_eq!(
         error.to_string(),
         "#50000 Mission Execute Command: no answer within the ack timeout; retried: no answer \
@@ -122,7 +122,7 @@ fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
         panic!("no abort after the second rejection");
     };
     assert_eq!(error.first, AttemptFailure::Rejected(Reason::WrongState));
-    assert_eq!(error.second, AttemptFailure::Rejected(Reason::WrongState));
+    assert_eq!(error.second, Some(AttemptFailure::Rejected(Reason::WrongState)));
     assert_eq!(error.reason(), Some(Reason::WrongState));
 }
 

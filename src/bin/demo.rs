@@ -102,7 +102,7 @@ fn upload(
         match finish(link) {
             Ok(_) => return Ok((start.elapsed(), from)),
             Err(GcsError::Transfer { error, .. })
-                if error.second == AttemptFailure::Rejected(Reason::GuidanceActive)
+                if error.second == Some(AttemptFailure::Rejected(Reason::GuidanceActive))
                     && Instant::now() < deadline =>
             {
                 if !told {

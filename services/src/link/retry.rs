@@ -93,7 +93,8 @@ impl Subject {
     }
 }
 
-/// An exchange that failed twice: which message, about what, and why each attempt failed.
+/// An exchange that failed: which message, about what, and why each attempt failed (twice, or
+/// once when the rejection is final).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ExchangeError {
     /// The message that failed.
@@ -102,15 +103,16 @@ pub struct ExchangeError {
     pub subject: Option<Subject>,
     /// Why the first attempt failed.
     pub first: AttemptFailure,
-    /// Why the retry failed.
-    pub second: AttemptFailure,
+    /// Why the retry failed; `None` when there was no retry: the rejection was final (ICD
+    /// §10.1: an edition-1 FCC's `Unsupported` to the report request).
+    pub second: Option<AttemptFailure>,
 }
 
 impl ExchangeError {
     /// The reason of the last rejection, if the peer gave one.
     pub fn reason(&self) -> Option<Reason> {
         match (self.second, self.first) {
-            (AttemptFailure::Rejected(r), _) | (_, AttemptFailure::Rejected(r)) => Some(r),
+            (Some(AttemptFailure::Rejected(r)), _) | (_, AttemptFailure::Rejected(r)) => Some(r),
             _ => None,
         }
     }
@@ -129,7 +131,10 @@ impl fmt::Display for ExchangeError {
             Some(Subject::Area(n)) => write!(f, " (area {n})")?,
             None => {}
         }
-        write!(f, ": {}; retried: {}", self.first, self.second)
+        match self.second {
+            Some(second) => write!(f, ": {}; retried: {second}", self.first),
+            None => write!(f, ": {} (final, not retried)", self.first),
+        }
     }
 }
 
@@ -313,7 +318,7 @@ impl Exchange {
                     message_type: pending.message.message_type(),
                     subject: Subject::of(&pending.message),
                     first,
-                    second: failure,
+                    second: Some(failure),
                 };
                 self.settle();
                 tracing::warn!(%error, "exchange failed");

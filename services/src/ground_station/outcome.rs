@@ -1,0 +1,241 @@
+//! What an upload ended with (ICD §11, "The truth after a failure"). When a transfer fails
+//! after its closer may have reached the FCC, the answers alone cannot say what the FCC holds:
+//! the closer may have been carried out and its answer lost. The GCS then asks the FCC (the §8
+//! report toward edition 2, a download toward edition 1) and compares the checksums of what is
+//! active with the checksums of what it uploaded and of what was active before.
+
+use core::fmt;
+
+use missionlink_interfaces::wire::Checksum;
+
+use crate::ground_station::Phase;
+use crate::link::retry::ExchangeError;
+
+/// What the FCC holds of one list, compared with the upload.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Held {
+    /// The list uploaded: its checksum is the one the GCS computed.
+    New,
+    /// The list active before the upload (its checksum is the one the FCC reported before the
+    /// upload began), or still none when there was none.
+    Previous,
+    /// Not the list uploaded; the GCS does not know what was active before (an edition-1 FCC
+    /// gives no report): by ICD §7 the FCC still holds the list it held before.
+    NotNew,
+    /// Neither the list uploaded nor the one active before.
+    Foreign,
+    /// The GCS could not find out: the FCC did not answer its question.
+    Unknown,
+}
+
+/// One list after an upload.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ListOutcome {
+    /// Compared with the upload.
+    pub held: Held,
+    /// The checksum of what the FCC holds (ICD §11); `None` when it holds no list, or when it
+    /// is unknown.
+    pub checksum: Option<Checksum>,
+}
+
+impl ListOutcome {
+    /// The list the FCC holds, found to have `held` against the upload and `before`.
+    pub fn compare(held: Option<Checksum>, uploaded: Checksum, before: Option<Before>) -> Self {
+        let verdict = if held == Some(uploaded) {
+            Held::New
+        } else {
+            match before {
+                Some(Before(b)) if b == held => Held::Previous,
+                Some(_) => Held::Foreign,
+                None => Held::NotNew,
+            }
+        };
+        Self {
+            held: verdict,
+            checksum: held,
+        }
+    }
+
+    /// Known to be the list uploaded (the FCC answered its closer with success).
+    pub fn new(uploaded: Checksum) -> Self {
+        Self {
+            held: Held::New,
+            checksum: Some(uploaded),
+        }
+    }
+
+    /// Unknown (the FCC did not answer the question).
+    pub const UNKNOWN: Self = Self {
+        held: Held::Unknown,
+        checksum: None,
+    };
+
+    fn is_new(&self) -> bool {
+        self.held == Held::New
+    }
+}
+
+/// The checksum of a list active before an upload (`None` inside: there was none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Before(pub Option<Checksum>);
+
+/// How the GCS knows what the FCC holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Confirmation {
+    /// The FCC answered both closers with success.
+    Answers,
+    /// The FCC's report of its active lists (ICD §8, #50001) after the failure.
+    Report,
+    /// A download of the active lists (an edition-1 FCC) after the failure.
+    Download,
+    /// Neither: the FCC did not answer the question.
+    None,
+}
+
+/// The outcome of an upload in one word, each with its exit status of `gcs upload`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UploadOutcome {
+    /// Both lists are active; every answer arrived (exit status 0).
+    Complete,
+    /// Both lists are active, although an answer was lost and the transfer reported a failure
+    /// (exit status 0).
+    CompleteAfterLostAnswer,
+    /// Neither list changed: the FCC holds the lists it held before (exit status 3).
+    PreviousActive,
+    /// One list is the new one, the other is not (exit status 4).
+    Mixed,
+    /// What the FCC holds is unknown: it did not answer (exit status 5).
+    Unknown,
+    /// The FCC holds a list that is neither the new one nor the one before (exit status 6).
+    Foreign,
+}
+
+/// What an upload ended with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UploadReport {
+    /// The waypoint list (with take-off height and route).
+    pub mission: ListOutcome,
+    /// The area list.
+    pub areas: ListOutcome,
+    /// The checksums of what was uploaded (ICD §11).
+    pub uploaded: (Checksum, Checksum),
+    /// Why the transfer failed, if it did: where, which message and why.
+    pub failure: Option<(Phase, ExchangeError)>,
+    /// How the GCS knows.
+    pub confirmation: Confirmation,
+}
+
+impl UploadReport {
+    /// The outcome in one word.
+    pub fn outcome(&self) -> UploadOutcome {
+        let lists = [self.mission.held, self.areas.held];
+        if lists.contains(&Held::Unknown) {
+            UploadOutcome::Unknown
+        } else if lists.contains(&Held::Foreign) {
+            UploadOutcome::Foreign
+        } else if self.mission.is_new() && self.areas.is_new() {
+            if self.failure.is_some() {
+                UploadOutcome::CompleteAfterLostAnswer
+            } else {
+                UploadOutcome::Complete
+            }
+        } else if self.mission.is_new() || self.areas.is_new() {
+            UploadOutcome::Mixed
+        } else {
+            UploadOutcome::PreviousActive
+        }
+    }
+
+    /// Whether both lists uploaded are active.
+    pub fn is_complete(&self) -> bool {
+        matches!(
+            self.outcome(),
+            UploadOutcome::Complete | UploadOutcome::CompleteAfterLostAnswer
+        )
+    }
+}
+
+fn checksum(f: &mut fmt::Formatter<'_>, c: Option<Checksum>) -> fmt::Result {
+    match c {
+        Some(c) => write!(f, "{c}"),
+        None => f.write_str("none"),
+    }
+}
+
+fn list(f: &mut fmt::Formatter<'_>, name: &str, list: &ListOutcome) -> fmt::Result {
+    let what = match list.held {
+        Held::New => "new",
+        Held::Previous => "previous",
+        Held::NotNew => "not the uploaded one",
+        Held::Foreign => "neither the uploaded one nor the previous one",
+        Held::Unknown => return write!(f, "{name} unknown"),
+    };
+    write!(f, "{name} {what} (")?;
+    checksum(f, list.checksum)?;
+    f.write_str(")")
+}
+
+/// One line for the operator: `upload complete (confirmed after a lost answer: ...): mission
+/// 0x1A2B3C4D, areas 0x5E6F7A8B active`, `upload failed (...): the previous mission and areas
+/// are active: ...`.
+impl fmt::Display for UploadReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let outcome = self.outcome();
+        match (outcome, &self.failure) {
+            (UploadOutcome::Complete, _) => f.write_str("upload complete")?,
+            (UploadOutcome::CompleteAfterLostAnswer, Some((phase, e))) => {
+                write!(f, "upload complete (confirmed after a lost answer: {phase}: {e})")?;
+            }
+            (_, Some((phase, e))) => write!(f, "upload failed ({phase}: {e})")?,
+            (_, None) => f.write_str("upload ended")?,
+        }
+        let (m, a) = (&self.mission, &self.areas);
+        match outcome {
+            UploadOutcome::Complete | UploadOutcome::CompleteAfterLostAnswer => {
+                f.write_str(": mission ")?;
+                checksum(f, m.checksum)?;
+                f.write_str(" and areas ")?;
+                checksum(f, a.checksum)?;
+                f.write_str(" active on the FCC")
+            }
+            UploadOutcome::PreviousActive => {
+                f.write_str(": the previous mission and areas are active: mission ")?;
+                checksum(f, m.checksum)?;
+                f.write_str(", areas ")?;
+                checksum(f, a.checksum)
+            }
+            UploadOutcome::Mixed => {
+                f.write_str(": only one list changed: ")?;
+                list(f, "mission", m)?;
+                f.write_str(", ")?;
+                list(f, "areas", a)
+            }
+            UploadOutcome::Unknown => {
+                f.write_str(": what the FCC holds is unknown (it did not answer): ")?;
+                list(f, "mission", m)?;
+                f.write_str(", ")?;
+                list(f, "areas", a)
+            }
+            UploadOutcome::Foreign => {
+                f.write_str(": the FCC holds lists it was not sent: ")?;
+                list(f, "mission", m)?;
+                f.write_str(", ")?;
+                list(f, "areas", a)
+            }
+        }?;
+        if self.confirmation != Confirmation::Answers {
+            write!(
+                f,
+                " (uploaded: mission {}, areas {}; {})",
+                self.uploaded.0,
+                self.uploaded.1,
+                match self.confirmation {
+                    Confirmation::Report => "as the FCC reports",
+                    Confirmation::Download => "as downloaded from the FCC",
+                    Confirmation::Answers | Confirmation::None => "the FCC did not answer",
+                }
+            )?;
+        }
+        Ok(())
+    }
+}
