@@ -162,8 +162,8 @@ fn missing_field() {
 #[test]
 fn unknown_field() {
     let mut rig = Rig::new();
-    // #50000 with PV bit 2 set: only bits 0 and 1 are defined.
-    let mut data = vec![0b111];
+    // #50000 with PV bit 3 set: only bits 0 to 2 are defined.
+    let mut data = vec![0b1011];
     data.extend_from_slice(&TS);
     data.extend_from_slice(&[1, 0]);
     assert_eq!(
