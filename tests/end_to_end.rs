@@ -333,6 +333,7 @@ fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
     let execute = wire::MissionExecuteCommand {
         time_stamp: wire::Timestamp::from_millis(900_000_000_000).unwrap(),
         command: wire::ExecuteCommand::Execute,
+        mission_id: None,
     };
     let mut encode = |source: u32| {
         let envelope = Envelope::new(source, config.ids.fcc).with_ack(true);

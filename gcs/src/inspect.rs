@@ -336,6 +336,7 @@ mod tests {
         let message = Message::MissionExecuteCommand(wire::MissionExecuteCommand {
             time_stamp: ts,
             command: wire::ExecuteCommand::Execute,
+            mission_id: None,
         });
         let envelope = Envelope::new(0x0A00_0001, 0x0B00_0001).with_ack(true);
         let json = MessageJson::new(&envelope, &message, 0).unwrap();

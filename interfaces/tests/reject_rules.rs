@@ -11,13 +11,14 @@
 use missionlink_interfaces::wire::{
     self, AckType, Altitude, AltitudeType, Angle, AreaDownloadStatus, AreaListStatus,
     AreaPolygonLoopSegment, AreaShape, AreaStatusAlert, AreaTransferMode, AreaTransmissionCommand,
-    AreaTransmissionStatus, AreaType, BROADCAST_ID, Cause, ChecksumWidth, DecodeError, Envelope,
-    ExecuteCommand, FieldRef, Frame, FrameError, FromToNext, FromWaypointState, GeoPoint, LegType,
-    LocationType, MAX_DATA_LEN, Message, MessageAcknowledgement, MessageError, MessageType,
-    MissionExecuteCommand, MissionPlanMode, MissionTransferCommand, MissionUploadDownloadStatus,
-    PolygonVertices, Reason, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text,
-    Timestamp, TransferStatus, TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute,
-    VehicleSpecificWaypoint, WaypointState,
+    AreaTransmissionStatus, AreaType, BROADCAST_ID, Cause, Checksum, ChecksumWidth, DecodeError,
+    Envelope, ExecuteCommand, FieldRef, Frame, FrameError, FromToNext, FromWaypointState, GeoPoint,
+    GeofenceCheck, LegType, LocationType, MAX_DATA_LEN, Message, MessageAcknowledgement,
+    MessageError, MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport,
+    MissionTransferCommand, MissionUploadDownloadStatus, PolygonVertices, Reason, RouteType,
+    SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TransferStatus, TransferWindow,
+    TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
+    WaypointState, WindowOrChecksum,
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -130,6 +131,9 @@ fn u2(v: u16) -> Vec<u8> {
 }
 fn u3(v: u32) -> Vec<u8> {
     v.to_be_bytes()[1..].to_vec()
+}
+fn u4(v: u32) -> Vec<u8> {
+    v.to_be_bytes().to_vec()
 }
 fn i3(v: i32) -> Vec<u8> {
     v.to_be_bytes()[1..].to_vec()
@@ -476,12 +480,72 @@ fn execute() -> Msg {
     Msg::new(50000, 1, vec![(0, ts(TS)), (1, u1(2))])
 }
 
+/// #50000 command 4 (ext): activate the staged mission M-1.
+fn activate() -> Msg {
+    execute().with(1, u1(4)).with(2, text("M-1", 20))
+}
+
+/// #13000 with `mode` as edition 2 sends it: a Mission ID that suits the mode (empty for mode
+/// 7, ICD §8) and the extension field its table names for it, if any (ICD §3).
+fn transfer_command_ed2(mode: u8) -> Msg {
+    let m = transfer_command(mode);
+    match mode {
+        2 | 8 => m.with(7, u4(0x1A2B_3C4D)),
+        3 | 9 => m.with(6, u1(32)),
+        7 => m.with(1, text("", 20)),
+        _ => m,
+    }
+}
+
+/// #2011 with `mode` as edition 2 sends it: the Mission ID of a staged mission with modes 7 and
+/// 8, and field 7 where its table names it (a window with modes 3 and 8, else a checksum).
+fn area_command_ed2(mode: u8) -> Msg {
+    let m = area_command(mode);
+    let m = if matches!(mode, 7 | 8) {
+        m.with(6, text("M-1", 20))
+    } else {
+        m
+    };
+    match mode {
+        3 | 8 => m.with(7, u4(32)),
+        2 | 4 | 7 => m.with(7, u4(0xCBF4_3926)),
+        _ => m,
+    }
+}
+
+/// #50001 entry 2 of 3, the staged mission M-1, every field present.
+fn mission_report() -> Msg {
+    Msg::new(
+        50001,
+        2,
+        vec![
+            (0, ts(TS)),
+            (1, u1(2)),
+            (2, u1(3)),
+            (3, text("M-1", 20)),
+            (4, u2(12)),
+            (5, u1(3)),
+            (6, u1(2)),
+            (7, u1(14)),
+            (8, u4(0x1A2B_3C4D)),
+            (9, u4(0xCBF4_3926)),
+        ],
+    )
+}
+
 /// Every message by hand with the bits ICD §4 marks M for it (in this mode or type).
 fn all_messages() -> Vec<(Msg, &'static [u8])> {
     vec![
         (ack(), &[0, 1, 2, 3]),
         (transfer_command(2), &[0, 2, 3]),
         (transfer_command(1), &[0, 2]),
+        (transfer_command_ed2(2), &[0, 2, 3]),
+        (transfer_command_ed2(3), &[0, 2]),
+        (transfer_command(6), &[0, 1, 2]),
+        (transfer_command_ed2(7), &[0, 2]),
+        (transfer_command_ed2(8), &[0, 1, 2, 3]),
+        (transfer_command_ed2(9), &[0, 1, 2]),
+        (transfer_command(10), &[0, 1, 2]),
         (route(), &[0, 1, 4]),
         (waypoint(), &[0, 1, 2, 3, 5, 8, 10, 11, 13]),
         (take_off_height(), &[0, 1, 2, 3]),
@@ -494,11 +558,18 @@ fn all_messages() -> Vec<(Msg, &'static [u8])> {
         (area_command(4), &[0, 1, 2]),
         (area_command(5), &[0, 1]),
         (area_command(6), &[0, 1]),
+        (area_command_ed2(2), &[0, 1, 2]),
+        (area_command_ed2(3), &[0, 1]),
+        (area_command_ed2(4), &[0, 1, 2]),
+        (area_command_ed2(7), &[0, 1, 2, 6]),
+        (area_command_ed2(8), &[0, 1, 6]),
         (polygon(), &[0, 1, 2, 3, 7, 8]),
         (circle(), &[0, 1, 2, 3, 7, 8]),
         (area_alert(), &[0, 1, 2]),
         (area_transmission_status(), &[0, 1, 2, 3, 4]),
         (execute(), &[0, 1]),
+        (activate(), &[0, 1, 2]),
+        (mission_report(), &[0, 1, 2, 4, 5, 6]),
     ]
 }
 
@@ -551,6 +622,36 @@ fn hand_built_messages_decode_and_encode_byte_for_byte() {
                 waypoint_number: Some(12),
                 route_id: Some(Text::new("R-7").unwrap()),
                 activity_id: U3::new(0x12_3456),
+                transfer_window: None,
+                mission_checksum: None,
+            }
+            .into(),
+        ),
+        (
+            transfer_command_ed2(8),
+            MissionTransferCommand {
+                time_stamp: stamp(TS),
+                mission_id: Some(Text::new("M-1").unwrap()),
+                mode: MissionPlanMode::StageMission,
+                waypoint_number: Some(12),
+                route_id: Some(Text::new("R-7").unwrap()),
+                activity_id: U3::new(0x12_3456),
+                transfer_window: None,
+                mission_checksum: Some(Checksum::new(0x1A2B_3C4D)),
+            }
+            .into(),
+        ),
+        (
+            transfer_command_ed2(9),
+            MissionTransferCommand {
+                time_stamp: stamp(TS),
+                mission_id: Some(Text::new("M-1").unwrap()),
+                mode: MissionPlanMode::ReceiveStagedMission,
+                waypoint_number: Some(12),
+                route_id: Some(Text::new("R-7").unwrap()),
+                activity_id: U3::new(0x12_3456),
+                transfer_window: TransferWindow::new(32),
+                mission_checksum: None,
             }
             .into(),
         ),
@@ -622,6 +723,21 @@ fn hand_built_messages_decode_and_encode_byte_for_byte() {
                 waypoint_request: Some(3),
                 mode: Some(MissionPlanMode::ReceiveMission),
                 reason: Some(Reason::BrokenChain),
+                mission_checksum: None,
+            }
+            .into(),
+        ),
+        (
+            transfer_status().with(7, u4(0x1A2B_3C4D)),
+            MissionUploadDownloadStatus {
+                time_stamp: stamp(TS),
+                mission_id: Some(Text::new("M-1").unwrap()),
+                status: TransferStatus::Aborted,
+                percent_complete: Some(40),
+                waypoint_request: Some(3),
+                mode: Some(MissionPlanMode::ReceiveMission),
+                reason: Some(Reason::BrokenChain),
+                mission_checksum: Some(Checksum::new(0x1A2B_3C4D)),
             }
             .into(),
         ),
@@ -667,6 +783,38 @@ fn hand_built_messages_decode_and_encode_byte_for_byte() {
                 area_id: Some(0),
                 safety_offset: Some(SafetyOffset::from_raw(150)),
                 activity_id: U3::new(9),
+                mission_id: None,
+                window_or_checksum: None,
+            }
+            .into(),
+        ),
+        (
+            area_command_ed2(7),
+            AreaTransmissionCommand {
+                time_stamp: stamp(TS),
+                mode: AreaTransferMode::UploadCompleteStaged,
+                loop_count: Some(3),
+                area_id: Some(0),
+                safety_offset: Some(SafetyOffset::from_raw(150)),
+                activity_id: U3::new(9),
+                mission_id: Some(Text::new("M-1").unwrap()),
+                window_or_checksum: Some(WindowOrChecksum::AreaChecksum(Checksum::new(
+                    0xCBF4_3926,
+                ))),
+            }
+            .into(),
+        ),
+        (
+            area_command_ed2(8),
+            AreaTransmissionCommand {
+                time_stamp: stamp(TS),
+                mode: AreaTransferMode::InitiateStagedDownload,
+                loop_count: Some(3),
+                area_id: Some(0),
+                safety_offset: Some(SafetyOffset::from_raw(150)),
+                activity_id: U3::new(9),
+                mission_id: Some(Text::new("M-1").unwrap()),
+                window_or_checksum: TransferWindow::new(32).map(WindowOrChecksum::TransferWindow),
             }
             .into(),
         ),
@@ -725,6 +873,32 @@ fn hand_built_messages_decode_and_encode_byte_for_byte() {
             MissionExecuteCommand {
                 time_stamp: stamp(TS),
                 command: ExecuteCommand::ReturnToHome,
+                mission_id: None,
+            }
+            .into(),
+        ),
+        (
+            activate(),
+            MissionExecuteCommand {
+                time_stamp: stamp(TS),
+                command: ExecuteCommand::ActivateStaged,
+                mission_id: Some(Text::new("M-1").unwrap()),
+            }
+            .into(),
+        ),
+        (
+            mission_report(),
+            MissionReport {
+                time_stamp: stamp(TS),
+                report_index: 2,
+                report_count: 3,
+                mission_id: Some(Text::new("M-1").unwrap()),
+                waypoint_count: 12,
+                area_count: 3,
+                geofence_check: GeofenceCheck::Failed,
+                reason: Some(Reason::GeofenceViolation),
+                mission_checksum: Some(Checksum::new(0x1A2B_3C4D)),
+                area_checksum: Some(Checksum::new(0xCBF4_3926)),
             }
             .into(),
         ),
@@ -776,6 +950,8 @@ fn field_names_are_the_icd_names() {
                 "Waypoint Number",
                 "Route ID",
                 "Activity ID",
+                "Transfer Window",
+                "Mission Checksum",
             ],
         ),
         (
@@ -834,6 +1010,7 @@ fn field_names_are_the_icd_names() {
                 "Waypoint Request",
                 "Mission Plan Mode",
                 "Reason",
+                "Mission Checksum",
             ],
         ),
         (
@@ -845,6 +1022,8 @@ fn field_names_are_the_icd_names() {
                 "Area ID",
                 "Safety Offset",
                 "Activity ID",
+                "Mission ID",
+                "Transfer Window or Area Checksum",
             ],
         ),
         (
@@ -877,7 +1056,22 @@ fn field_names_are_the_icd_names() {
         ),
         (
             MessageType::MissionExecuteCommand,
-            &["Time Stamp", "Command"],
+            &["Time Stamp", "Command", "Mission ID"],
+        ),
+        (
+            MessageType::MissionReport,
+            &[
+                "Time Stamp",
+                "Report Index",
+                "Report Count",
+                "Mission ID",
+                "Waypoint Count",
+                "Area Count",
+                "Geofence Check",
+                "Reason",
+                "Mission Checksum",
+                "Area Checksum",
+            ],
         ),
     ];
     for (t, names) in expected {
@@ -1312,20 +1506,23 @@ fn waypoint_without_latitude_is_missing_field() {
 }
 
 #[test]
-fn transmit_mission_without_waypoint_number_is_missing_field() {
-    let e = transfer_command(2).without(3).reject();
-    assert_eq!(
-        e,
-        rejected(
-            13000,
-            Some((3, "Waypoint Number")),
-            Cause::MissingField,
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::MissingField);
+fn transmit_and_stage_mission_without_waypoint_number_are_missing_field() {
+    for mode in [2, 8] {
+        let e = transfer_command(mode).without(3).reject();
+        assert_eq!(
+            e,
+            rejected(
+                13000,
+                Some((3, "Waypoint Number")),
+                Cause::MissingField,
+                Some(TS)
+            ),
+            "mode {mode}"
+        );
+        assert_eq!(e.reason(), Reason::MissingField);
+    }
     // The other modes do without it.
-    for mode in [1, 3, 5] {
+    for mode in [1, 3, 5, 6, 9, 10] {
         assert!(
             transfer_command(mode).without(3).decode().is_ok(),
             "mode {mode}"
@@ -1334,9 +1531,9 @@ fn transmit_mission_without_waypoint_number_is_missing_field() {
 }
 
 #[test]
-fn area_command_modes_1_2_4_without_loop_count_are_missing_field() {
-    for mode in [1, 2, 4] {
-        let e = area_command(mode).without(2).reject();
+fn area_command_modes_1_2_4_7_without_loop_count_are_missing_field() {
+    for mode in [1, 2, 4, 7] {
+        let e = area_command_ed2(mode).without(2).reject();
         assert_eq!(
             e,
             rejected(
@@ -1349,9 +1546,9 @@ fn area_command_modes_1_2_4_without_loop_count_are_missing_field() {
         );
         assert_eq!(e.reason(), Reason::MissingField);
     }
-    for mode in [3, 5, 6] {
+    for mode in [3, 5, 6, 8] {
         assert!(
-            area_command(mode).without(2).decode().is_ok(),
+            area_command_ed2(mode).without(2).decode().is_ok(),
             "mode {mode}"
         );
     }
@@ -1790,8 +1987,8 @@ fn relative_location_type_is_unsupported() {
 }
 
 #[test]
-fn mission_plan_mode_4_is_unsupported() {
-    for mode in [0u8, 4, 6, 255] {
+fn mission_plan_modes_0_4_and_beyond_10_are_unsupported() {
+    for mode in [0u8, 4, 11, 255] {
         let e = transfer_command(mode).reject();
         assert_eq!(
             e,
@@ -1858,14 +2055,15 @@ fn undefined_enumeration_values_are_unsupported() {
         (from_to_next().with(1, u1(4)), 1, 4),      // Altitude Type
         (from_to_next().with(2, u1(3)), 2, 3),      // Speed Type
         (area_command(0), 1, 0),                    // Area Transfer Mode
-        (area_command(7), 1, 7),                    // Area Transfer Mode
+        (area_command(9), 1, 9),                    // Area Transfer Mode
         (polygon().with(2, u1(2)), 2, 2),           // Area Type
         (polygon().with(6, u1(4)), 6, 4),           // Altitude Type
         (area_alert().with(2, u1(2)), 2, 2),        // Status
         (area_alert().with(3, u1(15)), 3, 15),      // Reason
         (area_transmission_status().with(4, u1(1)), 4, 1), // Status
         (execute().with(1, u1(0)), 1, 0),           // Command
-        (execute().with(1, u1(4)), 1, 4),           // Command
+        (execute().with(1, u1(5)), 1, 5),           // Command
+        (mission_report().with(6, u1(3)), 6, 3),    // Geofence Check
     ];
     for (msg, bit, value) in cases {
         let e = msg.reject();
@@ -1963,6 +2161,263 @@ fn take_off_height_with_a_waypoint_number_is_inconsistent() {
         )
     );
     assert_eq!(e.reason(), Reason::Malformed);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ICD §4 edition 2: the extension fields, modes and command (§8, §10, §11)
+// ---------------------------------------------------------------------------------------------
+
+/// `msg` is rejected as `Inconsistent` (reason `Malformed`) on the field of `bit`.
+fn assert_inconsistent(msg: &Msg, bit: u8, what: &str) {
+    let e = msg.reject();
+    assert_eq!(
+        e,
+        rejected(
+            msg.ty,
+            Some((bit, name(msg.ty, bit))),
+            Cause::Inconsistent,
+            Some(TS)
+        ),
+        "{what}"
+    );
+    assert_eq!(e.reason(), Reason::Malformed, "{what}");
+}
+
+#[test]
+fn staged_modes_without_mission_id_are_missing_field() {
+    for mode in [6, 8, 9, 10] {
+        let e = transfer_command_ed2(mode).without(1).reject();
+        assert_eq!(
+            e,
+            rejected(
+                13000,
+                Some((1, "Mission ID")),
+                Cause::MissingField,
+                Some(TS)
+            ),
+            "mode {mode}"
+        );
+        assert_eq!(e.reason(), Reason::MissingField);
+    }
+    // Edition 1 and mode 7 do without it.
+    for mode in [1, 2, 3, 5, 7] {
+        assert!(
+            transfer_command_ed2(mode).without(1).decode().is_ok(),
+            "mode {mode}"
+        );
+    }
+}
+
+#[test]
+fn staged_modes_6_8_9_with_an_empty_mission_id_are_inconsistent() {
+    for mode in [6, 8, 9] {
+        let msg = transfer_command_ed2(mode).with(1, text("", 20));
+        assert_inconsistent(&msg, 1, &format!("mode {mode}"));
+    }
+    // Mode 10 with an empty Mission ID loads the active list into the buffer (ICD §8).
+    assert!(transfer_command(10).with(1, text("", 20)).decode().is_ok());
+}
+
+#[test]
+fn report_missions_naming_a_mission_is_inconsistent() {
+    let msg = transfer_command(7).with(1, text("M-1", 20));
+    assert_inconsistent(&msg, 1, "mode 7 with Mission ID M-1");
+    assert!(transfer_command(7).with(1, text("", 20)).decode().is_ok());
+    assert!(transfer_command(7).without(1).decode().is_ok());
+}
+
+#[test]
+fn transfer_window_with_a_mode_other_than_3_or_9_is_inconsistent() {
+    for mode in [1, 2, 5, 6, 7, 8, 10] {
+        let msg = transfer_command_ed2(mode).with(6, u1(4));
+        assert_inconsistent(&msg, 6, &format!("mode {mode}"));
+    }
+    for mode in [3, 9] {
+        assert!(
+            transfer_command(mode).with(6, u1(4)).decode().is_ok(),
+            "mode {mode}"
+        );
+    }
+}
+
+#[test]
+fn transfer_window_0_and_33_are_out_of_range() {
+    for mode in [3, 9] {
+        for window in [0u8, 33, 255] {
+            let e = transfer_command(mode).with(6, u1(window)).reject();
+            assert_eq!(
+                e,
+                rejected(
+                    13000,
+                    Some((6, "Transfer Window")),
+                    Cause::OutOfRange {
+                        value: i64::from(window)
+                    },
+                    Some(TS)
+                ),
+                "mode {mode} window {window}"
+            );
+            assert_eq!(e.reason(), Reason::Malformed);
+        }
+        for window in [1u8, 32] {
+            assert!(transfer_command(mode).with(6, u1(window)).decode().is_ok());
+        }
+    }
+}
+
+#[test]
+fn mission_checksum_with_a_mode_other_than_2_or_8_is_inconsistent() {
+    for mode in [1, 3, 5, 6, 7, 9, 10] {
+        let msg = transfer_command_ed2(mode).with(7, u4(0x1A2B_3C4D));
+        assert_inconsistent(&msg, 7, &format!("mode {mode}"));
+    }
+}
+
+#[test]
+fn area_command_modes_7_8_without_mission_id_are_missing_field() {
+    for mode in [7, 8] {
+        let e = area_command_ed2(mode).without(6).reject();
+        assert_eq!(
+            e,
+            rejected(2011, Some((6, "Mission ID")), Cause::MissingField, Some(TS)),
+            "mode {mode}"
+        );
+        assert_eq!(e.reason(), Reason::MissingField);
+    }
+}
+
+#[test]
+fn area_command_modes_7_8_with_an_empty_mission_id_are_inconsistent() {
+    for mode in [7, 8] {
+        let msg = area_command_ed2(mode).with(6, text("", 20));
+        assert_inconsistent(&msg, 6, &format!("mode {mode}"));
+    }
+}
+
+#[test]
+fn area_command_mission_id_with_modes_1_to_6_is_inconsistent() {
+    for mode in 1..=6 {
+        let msg = area_command_ed2(mode).with(6, text("M-1", 20));
+        assert_inconsistent(&msg, 6, &format!("mode {mode}"));
+    }
+}
+
+#[test]
+fn area_command_field_7_is_read_by_the_mode() {
+    let decoded = |msg: Msg| match msg.decode() {
+        Ok(Message::AreaTransmissionCommand(c)) => c.window_or_checksum,
+        other => panic!("#2011 mode {:?}: {other:?}", msg.fields),
+    };
+    // Modes 3 and 8: a Transfer Window.
+    for mode in [3, 8] {
+        for window in [1u32, 32] {
+            assert_eq!(
+                decoded(area_command_ed2(mode).with(7, u4(window))),
+                Some(WindowOrChecksum::TransferWindow(
+                    TransferWindow::try_from(window).unwrap()
+                )),
+                "mode {mode}"
+            );
+        }
+    }
+    // Modes 2, 4 and 7: an Area Checksum, any U4.
+    for mode in [2, 4, 7] {
+        for value in [0u32, 32, u32::MAX] {
+            assert_eq!(
+                decoded(area_command_ed2(mode).with(7, u4(value))),
+                Some(WindowOrChecksum::AreaChecksum(Checksum::new(value))),
+                "mode {mode}"
+            );
+        }
+    }
+}
+
+#[test]
+fn area_command_transfer_window_0_and_33_are_out_of_range() {
+    for mode in [3, 8] {
+        // 0x104 would be 4 if the U4 were cut to a U1.
+        for window in [0u32, 33, 0x104, u32::MAX] {
+            let e = area_command_ed2(mode).with(7, u4(window)).reject();
+            assert_eq!(
+                e,
+                rejected(
+                    2011,
+                    Some((7, "Transfer Window or Area Checksum")),
+                    Cause::OutOfRange {
+                        value: i64::from(window)
+                    },
+                    Some(TS)
+                ),
+                "mode {mode} window {window}"
+            );
+            assert_eq!(e.reason(), Reason::Malformed);
+        }
+    }
+}
+
+#[test]
+fn area_command_field_7_with_modes_1_5_6_is_inconsistent() {
+    for mode in [1, 5, 6] {
+        let msg = area_command_ed2(mode).with(7, u4(4));
+        assert_inconsistent(&msg, 7, &format!("mode {mode}"));
+    }
+}
+
+#[test]
+fn activate_staged_without_mission_id_is_missing_field() {
+    let e = activate().without(2).reject();
+    assert_eq!(
+        e,
+        rejected(
+            50000,
+            Some((2, "Mission ID")),
+            Cause::MissingField,
+            Some(TS)
+        )
+    );
+    assert_eq!(e.reason(), Reason::MissingField);
+    assert_inconsistent(&activate().with(2, text("", 20)), 2, "empty Mission ID");
+}
+
+#[test]
+fn execute_commands_1_2_3_with_a_mission_id_are_inconsistent() {
+    for command in [1, 2, 3] {
+        let msg = activate().with(1, u1(command));
+        assert_inconsistent(&msg, 2, &format!("command {command}"));
+    }
+}
+
+#[test]
+fn report_index_outside_1_to_report_count_is_out_of_range() {
+    for (index, count) in [(0u8, 3u8), (4, 3), (1, 0), (255, 254)] {
+        let e = mission_report()
+            .with(1, u1(index))
+            .with(2, u1(count))
+            .reject();
+        assert_eq!(
+            e,
+            rejected(
+                50001,
+                Some((1, "Report Index")),
+                Cause::OutOfRange {
+                    value: i64::from(index)
+                },
+                Some(TS)
+            ),
+            "{index} of {count}"
+        );
+        assert_eq!(e.reason(), Reason::Malformed);
+    }
+    for (index, count) in [(1u8, 1u8), (1, 3), (3, 3), (255, 255)] {
+        assert!(
+            mission_report()
+                .with(1, u1(index))
+                .with(2, u1(count))
+                .decode()
+                .is_ok(),
+            "{index} of {count}"
+        );
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

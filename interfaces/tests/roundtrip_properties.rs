@@ -1,6 +1,6 @@
 //! Property tests of the wire layer (ICD §2 to §4):
 //!
-//! - every valid value of each of the twelve messages, in any envelope, survives `wire::encode`
+//! - every valid value of each of the thirteen messages (edition 2, ICD rev. 2), in any envelope, survives `wire::encode`
 //!   then `wire::decode` unchanged (the types store exact wire values);
 //! - the physical-unit constructors round-trip within half an LSB;
 //! - `wire::decode`, `wire::frames` and `Message::decode` never panic, whatever the bytes;
@@ -15,13 +15,13 @@ use missionlink_interfaces::capacity::{MAX_POLYGON_VERTICES, MIN_POLYGON_VERTICE
 use missionlink_interfaces::wire::{
     self, AckType, Altitude, AltitudeType, Angle, AreaDownloadStatus, AreaListStatus,
     AreaPolygonLoopSegment, AreaShape, AreaStatusAlert, AreaTransferMode, AreaTransmissionCommand,
-    AreaTransmissionStatus, AreaType, ChecksumWidth, DecodeError, EncodeError, Envelope,
-    ExecuteCommand, FrameError, FromToNext, FromWaypointState, GeoPoint, HEADER_LEN, LegType,
-    LocationType, MAX_DATA_LEN, MAX_FRAME_LEN, Message, MessageAcknowledgement, MessageType,
-    MissionExecuteCommand, MissionPlanMode, MissionTransferCommand, MissionUploadDownloadStatus,
-    PolygonVertices, Reason, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text,
-    Timestamp, TransferStatus, TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute,
-    VehicleSpecificWaypoint, WaypointState,
+    AreaTransmissionStatus, AreaType, Checksum, ChecksumWidth, DecodeError, EncodeError, Envelope,
+    ExecuteCommand, FrameError, FromToNext, FromWaypointState, GeoPoint, GeofenceCheck, HEADER_LEN,
+    LegType, LocationType, MAX_DATA_LEN, MAX_FRAME_LEN, Message, MessageAcknowledgement,
+    MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport, MissionTransferCommand,
+    MissionUploadDownloadStatus, PolygonVertices, Reason, RouteType, SafetyOffset, SpecificData,
+    Speed, SpeedType, Text, Timestamp, TransferStatus, TransferWindow, TurnDirection, TurnType, U3,
+    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint, WaypointState, WindowOrChecksum,
 };
 use proptest::collection::vec;
 use proptest::option;
@@ -115,6 +115,23 @@ fn text<const N: usize>() -> impl Strategy<Value = Text<N>> {
         .prop_map(|s| Text::new(&s).unwrap())
 }
 
+/// A CharN that is not empty: 1 to N-1 printable ASCII characters (a staged Mission ID, ICD §8).
+fn named<const N: usize>() -> impl Strategy<Value = Text<N>> {
+    proptest::string::string_regex(&format!("[ -~]{{1,{}}}", N - 1))
+        .unwrap()
+        .prop_map(|s| Text::new(&s).unwrap())
+}
+
+/// Any U4 checksum (ICD §11).
+fn checksum() -> impl Strategy<Value = Checksum> {
+    any::<u32>().prop_map(Checksum::new)
+}
+
+/// A Transfer Window, 1..=32 (ICD §10.2).
+fn transfer_window() -> impl Strategy<Value = TransferWindow> {
+    (TransferWindow::MIN..=TransferWindow::MAX).prop_map(|w| TransferWindow::new(w).unwrap())
+}
+
 /// A waypoint number (and area ID): 1..=65534.
 fn waypoint_number() -> impl Strategy<Value = u16> {
     prop_oneof![1 => Just(1u16), 1 => Just(65534u16), 8 => 1..=65534u16]
@@ -149,20 +166,48 @@ fn mission_transfer_command() -> impl Strategy<Value = MissionTransferCommand> {
     (
         time_stamp(),
         option::of(text::<20>()),
+        named::<20>(),
         pick(MissionPlanMode::ALL),
         option::of(any::<u16>()),
         any::<u16>(),
         option::of(text::<33>()),
         option::of(u3()),
+        option::of(transfer_window()),
+        option::of(checksum()),
     )
         .prop_map(
-            |(time_stamp, mission_id, mode, waypoint_number, fallback, route_id, activity_id)| {
-                // Waypoint Number is M for mode 2 (transmit mission).
-                let waypoint_number = if mode == MissionPlanMode::TransmitMission {
+            |(
+                time_stamp,
+                mission_id,
+                staged,
+                mode,
+                waypoint_number,
+                fallback,
+                route_id,
+                activity_id,
+                transfer_window,
+                mission_checksum,
+            )| {
+                use MissionPlanMode as Mode;
+                // Mission ID is M and not empty for modes 6, 8, 9, M for mode 10, absent or
+                // empty for mode 7 (ICD §8).
+                let mission_id = match mode {
+                    Mode::DeleteStagedMission | Mode::StageMission | Mode::ReceiveStagedMission => {
+                        Some(staged)
+                    }
+                    Mode::LoadWaypointBuffer => Some(mission_id.unwrap_or(staged)),
+                    Mode::ReportMissions => mission_id.map(|_| Text::default()),
+                    _ => mission_id,
+                };
+                // Waypoint Number is M for modes 2 (transmit mission) and 8 (stage mission).
+                let transmits = matches!(mode, Mode::TransmitMission | Mode::StageMission);
+                let waypoint_number = if transmits {
                     Some(waypoint_number.unwrap_or(fallback))
                 } else {
                     waypoint_number
                 };
+                // The extension fields only with the modes their table names (ICD §3).
+                let receives = matches!(mode, Mode::ReceiveMission | Mode::ReceiveStagedMission);
                 MissionTransferCommand {
                     time_stamp,
                     mission_id,
@@ -170,6 +215,8 @@ fn mission_transfer_command() -> impl Strategy<Value = MissionTransferCommand> {
                     waypoint_number,
                     route_id,
                     activity_id,
+                    transfer_window: transfer_window.filter(|_| receives),
+                    mission_checksum: mission_checksum.filter(|_| transmits),
                 }
             },
         )
@@ -302,9 +349,19 @@ fn mission_upload_download_status() -> impl Strategy<Value = MissionUploadDownlo
         option::of(any::<u16>()),
         option::of(pick(MissionPlanMode::ALL)),
         option::of(pick(Reason::ALL)),
+        option::of(checksum()),
     )
         .prop_map(
-            |(time_stamp, mission_id, status, percent_complete, waypoint_request, mode, reason)| {
+            |(
+                time_stamp,
+                mission_id,
+                status,
+                percent_complete,
+                waypoint_request,
+                mode,
+                reason,
+                mission_checksum,
+            )| {
                 MissionUploadDownloadStatus {
                     time_stamp,
                     mission_id,
@@ -313,6 +370,7 @@ fn mission_upload_download_status() -> impl Strategy<Value = MissionUploadDownlo
                     waypoint_request,
                     mode,
                     reason,
+                    mission_checksum,
                 }
             },
         )
@@ -398,16 +456,51 @@ fn area_transmission_command() -> impl Strategy<Value = AreaTransmissionCommand>
         option::of(any::<u16>()),
         option::of(safety_offset()),
         option::of(u3()),
+        named::<20>(),
+        any::<bool>(),
+        transfer_window(),
+        checksum(),
     )
         .prop_map(
-            |(time_stamp, mode, loop_count, fallback, area_id, safety_offset, activity_id)| {
-                // Area Loop Count is M for modes 1, 2 and 4.
+            |(
+                time_stamp,
+                mode,
+                loop_count,
+                fallback,
+                area_id,
+                safety_offset,
+                activity_id,
+                staged,
+                field_7,
+                window,
+                checksum,
+            )| {
+                use AreaTransferMode as Mode;
+                // Area Loop Count is M for modes 1, 2, 4 and 7.
                 let loop_count = match mode {
-                    AreaTransferMode::InitiateUpload
-                    | AreaTransferMode::UploadComplete
-                    | AreaTransferMode::DownloadComplete => Some(loop_count.unwrap_or(fallback)),
+                    Mode::InitiateUpload
+                    | Mode::UploadComplete
+                    | Mode::DownloadComplete
+                    | Mode::UploadCompleteStaged => Some(loop_count.unwrap_or(fallback)),
                     _ => loop_count,
                 };
+                // Mission ID: M and not empty for modes 7 and 8, with no other mode (ICD §8).
+                let mission_id = matches!(
+                    mode,
+                    Mode::UploadCompleteStaged | Mode::InitiateStagedDownload
+                )
+                .then_some(staged);
+                // Field 7 by the mode: a window with 3 and 8, a checksum with 2, 4 and 7.
+                let window_or_checksum = match mode {
+                    Mode::InitiateDownload | Mode::InitiateStagedDownload => {
+                        Some(WindowOrChecksum::TransferWindow(window))
+                    }
+                    Mode::UploadComplete | Mode::DownloadComplete | Mode::UploadCompleteStaged => {
+                        Some(WindowOrChecksum::AreaChecksum(checksum))
+                    }
+                    Mode::InitiateUpload | Mode::Cancel | Mode::ClearAreas => None,
+                }
+                .filter(|_| field_7);
                 AreaTransmissionCommand {
                     time_stamp,
                     mode,
@@ -415,6 +508,8 @@ fn area_transmission_command() -> impl Strategy<Value = AreaTransmissionCommand>
                     area_id,
                     safety_offset,
                     activity_id,
+                    mission_id,
+                    window_or_checksum,
                 }
             },
         )
@@ -499,12 +594,52 @@ fn area_transmission_status() -> impl Strategy<Value = AreaTransmissionStatus> {
 }
 
 fn mission_execute_command() -> impl Strategy<Value = MissionExecuteCommand> {
-    (time_stamp(), pick(ExecuteCommand::ALL)).prop_map(|(time_stamp, command)| {
-        MissionExecuteCommand {
+    (time_stamp(), pick(ExecuteCommand::ALL), named::<20>()).prop_map(
+        |(time_stamp, command, staged)| MissionExecuteCommand {
             time_stamp,
             command,
-        }
-    })
+            // Mission ID: M and not empty for command 4, with no other command (ICD §8).
+            mission_id: (command == ExecuteCommand::ActivateStaged).then_some(staged),
+        },
+    )
+}
+
+fn mission_report() -> impl Strategy<Value = MissionReport> {
+    (
+        time_stamp(),
+        (1..=u8::MAX).prop_flat_map(|count| (1..=count, Just(count))),
+        option::of(text::<20>()),
+        any::<u16>(),
+        any::<u8>(),
+        pick(GeofenceCheck::ALL),
+        option::of(pick(Reason::ALL)),
+        option::of(checksum()),
+        option::of(checksum()),
+    )
+        .prop_map(
+            |(
+                time_stamp,
+                (report_index, report_count),
+                mission_id,
+                waypoint_count,
+                area_count,
+                geofence_check,
+                reason,
+                mission_checksum,
+                area_checksum,
+            )| MissionReport {
+                time_stamp,
+                report_index,
+                report_count,
+                mission_id,
+                waypoint_count,
+                area_count,
+                geofence_check,
+                reason,
+                mission_checksum,
+                area_checksum,
+            },
+        )
 }
 
 /// Any valid message of ICD §4.
@@ -524,6 +659,7 @@ fn message() -> impl Strategy<Value = Message> {
         area_status_alert().prop_map(Message::from).boxed(),
         area_transmission_status().prop_map(Message::from).boxed(),
         mission_execute_command().prop_map(Message::from).boxed(),
+        mission_report().prop_map(Message::from).boxed(),
     ]
 }
 
@@ -565,7 +701,7 @@ fn encode(envelope: &Envelope, message: &Message) -> Vec<u8> {
 fn pv_bytes(t: MessageType) -> usize {
     match t {
         MessageType::UaPositionWaypoint | MessageType::FromToNext => 3,
-        MessageType::AreaPolygonLoopSegment => 2,
+        MessageType::AreaPolygonLoopSegment | MessageType::MissionReport => 2,
         _ => 1,
     }
 }
@@ -906,6 +1042,7 @@ fn buffer_too_small_reports_frame_sizes() {
     let message: Message = MissionExecuteCommand {
         time_stamp: Timestamp::from_millis(5).unwrap(),
         command: ExecuteCommand::Execute,
+        mission_id: None,
     }
     .into();
     let envelope = Envelope::new(1, 2);

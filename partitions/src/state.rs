@@ -246,6 +246,8 @@ pub fn save_areas(dir: &Path, areas: Option<&AreaList>, generation: u64) -> io::
                     area_id: None,
                     safety_offset: Some(list.safety_offset),
                     activity_id: None,
+                    mission_id: None,
+                    window_or_checksum: None,
                 })
             };
             std::iter::once(command(AreaTransferMode::InitiateUpload))

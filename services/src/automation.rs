@@ -91,6 +91,8 @@ pub fn check_command(
             }
             Ok(())
         }
+        // Activating a staged mission (ICD §8) is not implemented here yet.
+        ExecuteCommand::ActivateStaged => Err(Reason::Unsupported),
     }
 }
 
@@ -212,6 +214,8 @@ impl SystemAutomation {
                 self.state.land_at = self.navigation.to;
                 self.touch(now);
             }
+            // `check_command` refuses it (Unsupported): nothing to carry out.
+            ExecuteCommand::ActivateStaged => {}
         }
         tracing::info!(?command, "command carried out");
         Ok(())

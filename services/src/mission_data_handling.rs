@@ -786,6 +786,16 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
                     self.cancel(DataKind::Mission);
                     self.endpoint.answer(now, message, ack, Ok(()));
                 }
+                // Staged missions (ICD §8) are not implemented here yet: refused as an
+                // edition-1 FCC refuses them (ICD §10.1).
+                MissionPlanMode::DeleteStagedMission
+                | MissionPlanMode::ReportMissions
+                | MissionPlanMode::StageMission
+                | MissionPlanMode::ReceiveStagedMission
+                | MissionPlanMode::LoadWaypointBuffer => {
+                    self.endpoint
+                        .answer(now, message, ack, Err(Reason::Unsupported));
+                }
             },
             Message::UaRoute(_)
             | Message::UaPositionWaypoint(_)
@@ -818,6 +828,13 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
                     self.endpoint
                         .answer(now, message, ack, Err(Reason::WrongState));
                 }
+                // Staged missions (ICD §8) are not implemented here yet: refused as an
+                // edition-1 FCC refuses them (ICD §10.1).
+                AreaTransferMode::UploadCompleteStaged
+                | AreaTransferMode::InitiateStagedDownload => {
+                    self.endpoint
+                        .answer(now, message, ack, Err(Reason::Unsupported));
+                }
             },
             Message::AreaPolygonLoopSegment(_) => {
                 let outcome = if self.area_download.is_some() {
@@ -838,7 +855,8 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
             Message::FromToNext(_)
             | Message::MissionUploadDownloadStatus(_)
             | Message::AreaStatusAlert(_)
-            | Message::AreaTransmissionStatus(_) => {
+            | Message::AreaTransmissionStatus(_)
+            | Message::MissionReport(_) => {
                 self.endpoint
                     .answer(now, message, ack, Err(Reason::WrongState));
             }

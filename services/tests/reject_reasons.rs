@@ -114,6 +114,8 @@ fn area_command(mode: AreaTransferMode, loop_count: Option<u8>) -> AreaTransmiss
         area_id: None,
         safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
         activity_id: None,
+        mission_id: None,
+        window_or_checksum: None,
     }
 }
 
@@ -160,8 +162,8 @@ fn missing_field() {
 #[test]
 fn unknown_field() {
     let mut rig = Rig::new();
-    // #50000 with PV bit 2 set: only bits 0 and 1 are defined.
-    let mut data = vec![0b111];
+    // #50000 with PV bit 3 set: only bits 0 to 2 are defined.
+    let mut data = vec![0b1011];
     data.extend_from_slice(&TS);
     data.extend_from_slice(&[1, 0]);
     assert_eq!(
@@ -195,6 +197,7 @@ fn unsupported() {
         rig.reason(MissionExecuteCommand {
             time_stamp: Timestamp::default(),
             command: ExecuteCommand::ReturnToHome,
+            mission_id: None,
         }),
         Some(Reason::Unsupported)
     );
@@ -234,6 +237,7 @@ fn wrong_state() {
         rig.reason(MissionExecuteCommand {
             time_stamp: Timestamp::default(),
             command: ExecuteCommand::Execute,
+            mission_id: None,
         }),
         Some(Reason::WrongState)
     );
@@ -427,6 +431,7 @@ fn geofence_violation() {
     let execute = MissionExecuteCommand {
         time_stamp: Timestamp::default(),
         command: ExecuteCommand::Execute,
+        mission_id: None,
     };
     let mut rig = Rig::new().with_mission_2();
     // Without a position from navigation there is nothing to check from.

@@ -231,6 +231,8 @@ fn initiate_area_upload(loop_count: u8) -> AreaTransmissionCommand {
         area_id: None,
         safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
         activity_id: None,
+        mission_id: None,
+        window_or_checksum: None,
     }
 }
 

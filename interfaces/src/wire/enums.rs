@@ -30,6 +30,19 @@ wire_enum! {
         ReceiveMission = 3 => "receive mission",
         /// Cancel the transfer in progress.
         CancelTransfer = 5 => "cancel transfer",
+        /// (ext, ICD §8) Delete the staged mission named by the Mission ID.
+        DeleteStagedMission = 6 => "delete staged mission",
+        /// (ext, ICD §8) Report the active lists and every staged mission (#50001); also how a
+        /// GCS learns which edition the FCC speaks (ICD §10.1).
+        ReportMissions = 7 => "report missions",
+        /// (ext, ICD §8) Assemble and validate the waypoint list from the buffer and store it
+        /// under the Mission ID; the active list does not change.
+        StageMission = 8 => "stage mission",
+        /// (ext, ICD §8) Download the staged mission named by the Mission ID.
+        ReceiveStagedMission = 9 => "receive staged mission",
+        /// (ext, ICD §8) Replace the waypoint buffer by the staged mission's waypoint list (or
+        /// the active one, for an empty Mission ID) without touching any list.
+        LoadWaypointBuffer = 10 => "load the waypoint buffer",
     }
 }
 
@@ -141,6 +154,12 @@ wire_enum! {
         Cancel = 5 => "cancel",
         /// Clear the areas.
         ClearAreas = 6 => "clear areas",
+        /// (ext, ICD §8) Upload complete: assemble and validate the area list and store it
+        /// under the Mission ID; the active list does not change.
+        UploadCompleteStaged = 7 => "upload complete, stage under the Mission ID",
+        /// (ext, ICD §8) Initiate download of the areas of the staged mission named by the
+        /// Mission ID.
+        InitiateStagedDownload = 8 => "initiate download of a staged mission's areas",
     }
 }
 
@@ -183,5 +202,21 @@ wire_enum! {
         ReturnToHome = 2 => "return to home",
         /// Land at the next waypoint.
         Land = 3 => "land",
+        /// (ext, ICD §8) Make the staged mission named in field 2 the active waypoint and area
+        /// lists, both in one step.
+        ActivateStaged = 4 => "activate the staged mission",
+    }
+}
+
+wire_enum! {
+    /// #50001 field 6 (ext, ICD §8), Geofence Check: the onboard check of ICD §7 for one entry
+    /// of a mission report.
+    pub enum GeofenceCheck {
+        /// Not run: the waypoint list or the area list is missing.
+        NotRun = 0 => "not run",
+        /// Passed.
+        Passed = 1 => "passed",
+        /// Failed, the reason in field 7.
+        Failed = 2 => "failed",
     }
 }

@@ -97,6 +97,16 @@ impl Codec for u16 {
     }
 }
 
+impl Codec for u32 {
+    const SIZE: usize = 4;
+    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
+        Ok(read_be(bytes) as u32)
+    }
+    fn encode(&self, out: &mut [u8]) {
+        write_be(u64::from(*self), out);
+    }
+}
+
 /// The codec of a newtype over an unsigned integer sent big-endian in `$size` bytes (U2, U3,
 /// U5 and the scaled fields stored as their raw wire value): every bit pattern is a value.
 macro_rules! unsigned_codec {
@@ -369,6 +379,141 @@ impl fmt::Debug for SafetyOffset {
 
 unsigned_codec!(SafetyOffset, u16, 2);
 
+/// U4 checksum of ICD §11 (ext): the CRC-32/ISO-HDLC of a list's canonical form, carried by
+/// #13000 field 7, #2011 field 7, #14000 field 7 and #50001 fields 8 and 9. Every bit pattern is
+/// a checksum; what it covers is §11's business, not the wire's.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(from = "u32", into = "u32"))]
+pub struct Checksum(u32);
+
+impl Checksum {
+    /// The checksum with this value.
+    pub const fn new(value: u32) -> Self {
+        Self(value)
+    }
+
+    /// The value.
+    pub const fn value(self) -> u32 {
+        self.0
+    }
+}
+
+impl From<u32> for Checksum {
+    fn from(value: u32) -> Self {
+        Self(value)
+    }
+}
+
+impl From<Checksum> for u32 {
+    fn from(c: Checksum) -> u32 {
+        c.0
+    }
+}
+
+/// `0x` and eight upper-case hex digits, `0xCBF43926`: a checksum is compared by eye.
+impl fmt::Display for Checksum {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "0x{:08X}", self.0)
+    }
+}
+
+impl fmt::Debug for Checksum {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
+    }
+}
+
+unsigned_codec!(Checksum, u32, 4);
+
+/// Transfer Window of ICD §10.2 (ext): how many data messages the requester of a download
+/// accepts in flight, 1..=32 (absent = 1). A U1 in #13000 field 6; in #2011 field 7 the same
+/// value in a U4 (see `WindowOrChecksum`). A value outside 1..=32 does not decode (`OutOfRange`,
+/// reason `Malformed`), so a window held is always one a receiver of edition 2 accepts.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, ZeroCopySend)]
+#[repr(C)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "u32", into = "u32"))]
+pub struct TransferWindow(u8);
+
+impl TransferWindow {
+    /// Smallest window: stop-and-wait, exactly edition 1 (ICD §10.2).
+    pub const MIN: u8 = 1;
+    /// Largest window: the data messages a receiver of edition 2 accepts in flight.
+    pub const MAX: u8 = 32;
+    /// The window of a request without the field (ICD §10.2: absent = 1).
+    pub const ONE: Self = Self(1);
+
+    /// The window of `messages` data messages, if it lies in 1..=32.
+    pub const fn new(messages: u8) -> Option<Self> {
+        if messages >= Self::MIN && messages <= Self::MAX {
+            Some(Self(messages))
+        } else {
+            None
+        }
+    }
+
+    /// Data messages in flight.
+    pub const fn get(self) -> u8 {
+        self.0
+    }
+}
+
+impl Default for TransferWindow {
+    fn default() -> Self {
+        Self::ONE
+    }
+}
+
+impl TryFrom<u32> for TransferWindow {
+    type Error = OutOfRange;
+    fn try_from(value: u32) -> Result<Self, Self::Error> {
+        u8::try_from(value)
+            .ok()
+            .and_then(Self::new)
+            .ok_or(OutOfRange {
+                quantity: "transfer window",
+                value: f64::from(value),
+                min: f64::from(Self::MIN),
+                max: f64::from(Self::MAX),
+            })
+    }
+}
+
+impl From<TransferWindow> for u32 {
+    fn from(w: TransferWindow) -> u32 {
+        u32::from(w.0)
+    }
+}
+
+impl fmt::Display for TransferWindow {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(&self.0, f)
+    }
+}
+
+impl fmt::Debug for TransferWindow {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(&self.0, f)
+    }
+}
+
+/// The U1 of #13000 field 6; its range is the field's definition in every message, so it is
+/// checked here rather than by the message.
+impl Codec for TransferWindow {
+    const SIZE: usize = 1;
+    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
+        let v = read_be(bytes) as u8;
+        Self::new(v).ok_or(Cause::OutOfRange {
+            value: i64::from(v),
+        })
+    }
+    fn encode(&self, out: &mut [u8]) {
+        write_be(u64::from(self.0), out);
+    }
+}
+
 /// TS time stamp (ICD §3): milliseconds since 2000-01-01T00:00:00Z (UTC) in a U5.
 ///
 /// A time stamp is an identity (ICD §3): together with Source ID and Message Type it names one
@@ -504,6 +649,11 @@ impl<const N: usize> Text<N> {
             *o = *b;
         }
         Ok(Self(out))
+    }
+
+    /// Whether the text has no characters (the field is all NUL).
+    pub fn is_empty(&self) -> bool {
+        self.0.first().is_none_or(|b| *b == 0)
     }
 
     /// The text.
@@ -661,6 +811,50 @@ mod tests {
         assert_eq!(Text::<4>::decode(b"abcd"), Err(Cause::BadText));
         assert_eq!(Text::<4>::decode(b"a\0b\0"), Err(Cause::BadText));
         assert_eq!(Text::<4>::decode(b"\xff\0\0\0"), Err(Cause::BadText));
+    }
+
+    #[test]
+    fn checksum_shows_eight_upper_case_hex_digits() {
+        assert_eq!(Checksum::new(0xCBF4_3926).to_string(), "0xCBF43926");
+        assert_eq!(Checksum::new(0x1A).to_string(), "0x0000001A");
+        let mut b = [0u8; 4];
+        Checksum::new(0x1A2B_3C4D).encode(&mut b);
+        assert_eq!(b, [0x1a, 0x2b, 0x3c, 0x4d]);
+        assert_eq!(Checksum::decode(&b), Ok(Checksum::new(0x1A2B_3C4D)));
+        assert_eq!(Checksum::new(7).value(), 7);
+    }
+
+    #[test]
+    fn transfer_window_is_1_to_32() {
+        assert_eq!(TransferWindow::new(0), None);
+        assert_eq!(TransferWindow::new(1), Some(TransferWindow::ONE));
+        assert_eq!(TransferWindow::new(32).map(TransferWindow::get), Some(32));
+        assert_eq!(TransferWindow::new(33), None);
+        assert_eq!(TransferWindow::default(), TransferWindow::ONE);
+        assert!(
+            TransferWindow::try_from(256 + 4).is_err(),
+            "no truncation to a U1"
+        );
+        assert_eq!(TransferWindow::try_from(4).map(TransferWindow::get), Ok(4));
+        assert_eq!(
+            TransferWindow::decode(&[32]).map(TransferWindow::get),
+            Ok(32)
+        );
+        assert_eq!(
+            TransferWindow::decode(&[0]),
+            Err(Cause::OutOfRange { value: 0 })
+        );
+        assert_eq!(
+            TransferWindow::decode(&[33]),
+            Err(Cause::OutOfRange { value: 33 })
+        );
+    }
+
+    #[test]
+    fn empty_text() {
+        assert!(Text::<20>::default().is_empty());
+        assert!(Text::<20>::new("").unwrap().is_empty());
+        assert!(!Text::<20>::new("M").unwrap().is_empty());
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! The STANAG 4586 wire layer of ICD §1 to §4: wrapper, field encodings, presence vector and the
-//! twelve messages, each with encode and decode. Decoding untrusted bytes never panics and never
+//! thirteen messages (edition 2, with the extension fields of §8, §10 and §11), each with encode
+//! and decode. Decoding untrusted bytes never panics and never
 //! allocates; errors say which message, which field and which rule (see [`error`]).
 
 /// Defines an enumeration field of ICD §4 (a U1 on the wire): its values, `TryFrom<u8>` and its
@@ -92,7 +93,10 @@ mod presence;
 
 pub use enums::*;
 pub use error::{Cause, DecodeError, EncodeError, FieldRef, FrameError, MessageError, Reason};
-pub use field::{Altitude, Angle, OutOfRange, SafetyOffset, Speed, Text, TextError, Timestamp, U3};
+pub use field::{
+    Altitude, Angle, Checksum, OutOfRange, SafetyOffset, Speed, Text, TextError, Timestamp,
+    TransferWindow, U3,
+};
 pub use frame::{
     BROADCAST_ID, ChecksumWidth, Envelope, Frame, Frames, HEADER_LEN, IDD_VERSION, MAX_DATA_LEN,
     MAX_FRAME_LEN, MessageProperties, decode, encode, frames,

@@ -514,6 +514,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         let execute = MissionExecuteCommand {
             time_stamp: Timestamp::default(),
             command,
+            mission_id: None,
         };
         self.command(now, execute.into())
     }

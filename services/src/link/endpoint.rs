@@ -395,6 +395,7 @@ mod tests {
         let message = MissionExecuteCommand {
             time_stamp: Timestamp::default(),
             command: ExecuteCommand::Execute,
+            mission_id: None,
         };
         gcs.send(now, message.into(), false);
         let mut buf = [0u8; MAX_FRAME_LEN];

@@ -295,7 +295,10 @@ impl AreaReceiver {
                     self.abandon();
                     return Ok(Received::Abandoned(None));
                 }
-                AreaTransferMode::InitiateDownload | AreaTransferMode::ClearAreas => {
+                AreaTransferMode::InitiateDownload
+                | AreaTransferMode::ClearAreas
+                | AreaTransferMode::UploadCompleteStaged
+                | AreaTransferMode::InitiateStagedDownload => {
                     return Err(Reason::WrongState);
                 }
             },

@@ -70,6 +70,8 @@ fn area_command(mode: AreaTransferMode, list: &AreaList) -> Message {
         area_id: None,
         safety_offset: Some(list.safety_offset),
         activity_id: None,
+        mission_id: None,
+        window_or_checksum: None,
     }
     .into()
 }
@@ -125,6 +127,7 @@ impl Script {
                         waypoint_request: None,
                         mode: Some(MissionPlanMode::ReceiveMission),
                         reason: Some(Reason::None),
+                        mission_checksum: None,
                     }
                     .into()
                 })
@@ -186,6 +189,7 @@ impl Script {
                     waypoint_request: None,
                     mode: Some(MissionPlanMode::ReceiveMission),
                     reason: Some(reason),
+                    mission_checksum: None,
                 }
                 .into(),
             ),
@@ -210,6 +214,8 @@ pub fn mission_command(
         waypoint_number,
         route_id: None,
         activity_id: None,
+        transfer_window: None,
+        mission_checksum: None,
     }
     .into()
 }
@@ -224,6 +230,8 @@ pub fn area_request(mode: AreaTransferMode, area_id: Option<u16>) -> Message {
         area_id,
         safety_offset: None,
         activity_id: None,
+        mission_id: None,
+        window_or_checksum: None,
     }
     .into()
 }

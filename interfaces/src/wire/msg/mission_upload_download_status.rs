@@ -1,11 +1,12 @@
-//! #14000 Mission Upload/Download Status (ICD §4): closes a mission download (ICD §5.2 step 5).
+//! #14000 Mission Upload/Download Status (ICD §4): closes a mission download (ICD §5.2 step 5),
+//! in edition 2 with the checksum of the mission sent (ICD §11).
 
 use core::fmt;
 
 use super::{MessageBody, MessageType, reader};
 use crate::wire::enums::{MissionPlanMode, TransferStatus};
 use crate::wire::error::{EncodeError, MessageError, Reason};
-use crate::wire::field::{Text, Timestamp};
+use crate::wire::field::{Checksum, Text, Timestamp};
 use crate::wire::presence::Writer;
 
 /// #14000.
@@ -26,6 +27,9 @@ pub struct MissionUploadDownloadStatus {
     pub mode: Option<MissionPlanMode>,
     /// Bit 6 (icd): why the transfer aborted.
     pub reason: Option<Reason>,
+    /// Bit 7 (ext, ICD §11): with status 1 of a download whose request was edition 2, the
+    /// checksum of the mission sent.
+    pub mission_checksum: Option<Checksum>,
 }
 
 impl MessageBody for MissionUploadDownloadStatus {
@@ -38,6 +42,7 @@ impl MessageBody for MissionUploadDownloadStatus {
         "Waypoint Request",
         "Mission Plan Mode",
         "Reason",
+        "Mission Checksum",
     ];
     const PV_BYTES: usize = 1;
 
@@ -58,6 +63,7 @@ impl MessageBody for MissionUploadDownloadStatus {
             waypoint_request: r.optional(4)?,
             mode: r.optional(5)?,
             reason: r.optional(6)?,
+            mission_checksum: r.optional(7)?,
         };
         r.finish()?;
         Ok(m)
@@ -72,6 +78,7 @@ impl MessageBody for MissionUploadDownloadStatus {
         w.optional(4, self.waypoint_request.as_ref())?;
         w.optional(5, self.mode.as_ref())?;
         w.optional(6, self.reason.as_ref())?;
+        w.optional(7, self.mission_checksum.as_ref())?;
         Ok(w.finish())
     }
 
@@ -92,7 +99,8 @@ impl fmt::Display for MissionUploadDownloadStatus {
             write!(f, ", mode {}", m.numbered())?;
         }
         super::optional(f, "mission", self.mission_id.as_ref().map(Text::as_str))?;
-        super::optional(f, "waypoint request", self.waypoint_request)
+        super::optional(f, "waypoint request", self.waypoint_request)?;
+        super::optional(f, "checksum", self.mission_checksum)
     }
 }
 
@@ -145,6 +153,7 @@ mod tests {
             waypoint_request: Some(3),
             mode: Some(MissionPlanMode::ReceiveMission),
             reason: Some(Reason::None),
+            mission_checksum: None,
         }
     }
 
@@ -181,6 +190,53 @@ mod tests {
                 ..repr()
             },
             "#14000 Mission Upload/Download Status: status 2 aborted (Busy (13))",
+        );
+    }
+
+    /// #14000: download complete, with the checksum of the mission sent (ext, ICD §11), the
+    /// closer of an edition-2 download; FCC to GCS, ack.
+    #[rustfmt::skip]
+    static FRAME_CHECKSUM: [u8; 32] = [
+        // wrapper
+        0xff, 0xff,                   // reserved (sequence): 0xFFFF
+        0x00, 0x0c,                   // message length: 12 bytes of message data
+        0x0b, 0x00, 0x00, 0x01,       // source ID: FCC 0x0B00_0001
+        0x0a, 0x00, 0x00, 0x01,       // destination ID: GCS 0x0A00_0001
+        0x36, 0xb0,                   // message type 14000 = 0x36B0
+        0xa8, 0x80,                   // properties: ack 1 << 15 | IDD 40 << 8 | checksum 0b10 << 6 = 0xA880
+        // message data
+        0xa5,                         // presence vector 0xA5: bits 0, 2, 5 and 7
+        0xc5, 0x93, 0x2c, 0x72, 0xa8, // time stamp 2026-11-21T12:02:01.000Z = 848_577_721_000 ms since 2000-01-01 = 0xC5_932C_72A8
+        0x01,                         // status 1: complete
+        0x03,                         // mission plan mode 3: receive mission
+        0x1a, 0x2b, 0x3c, 0x4d,       // mission checksum 0x1A2B3C4D (U4)
+        // checksum
+        0x00, 0x00, 0x08, 0x44,       // checksum: byte sum of header and data = 2116 = 0x0000_0844
+    ];
+
+    fn with_checksum() -> MissionUploadDownloadStatus {
+        MissionUploadDownloadStatus {
+            time_stamp: Timestamp::from_millis(848_577_721_000).unwrap(),
+            mission_id: None,
+            status: TransferStatus::Complete,
+            percent_complete: None,
+            waypoint_request: None,
+            mode: Some(MissionPlanMode::ReceiveMission),
+            reason: None,
+            mission_checksum: Some(Checksum::new(0x1A2B_3C4D)),
+        }
+    }
+
+    #[test]
+    fn golden_checksum() {
+        super::super::assert_golden(&FRAME_CHECKSUM, ENVELOPE, with_checksum().into());
+    }
+
+    #[test]
+    fn display_checksum() {
+        super::super::assert_display(
+            with_checksum(),
+            "#14000 Mission Upload/Download Status: status 1 complete, mode 3 receive mission, checksum 0x1A2B3C4D",
         );
     }
 }

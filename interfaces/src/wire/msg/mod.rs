@@ -19,6 +19,7 @@ mod area_transmission_status;
 mod from_to_next;
 mod message_acknowledgement;
 mod mission_execute_command;
+mod mission_report;
 mod mission_transfer_command;
 mod mission_upload_download_status;
 mod ua_position_waypoint;
@@ -27,11 +28,12 @@ mod vehicle_specific_waypoint;
 
 pub use area_polygon_loop_segment::{AreaPolygonLoopSegment, AreaShape, PolygonVertices};
 pub use area_status_alert::AreaStatusAlert;
-pub use area_transmission_command::AreaTransmissionCommand;
+pub use area_transmission_command::{AreaTransmissionCommand, WindowOrChecksum};
 pub use area_transmission_status::AreaTransmissionStatus;
 pub use from_to_next::{FromToNext, FromWaypointState, WaypointState};
 pub use message_acknowledgement::MessageAcknowledgement;
 pub use mission_execute_command::MissionExecuteCommand;
+pub use mission_report::MissionReport;
 pub use mission_transfer_command::MissionTransferCommand;
 pub use mission_upload_download_status::MissionUploadDownloadStatus;
 pub use ua_position_waypoint::UaPositionWaypoint;
@@ -43,7 +45,7 @@ use core::fmt;
 use iceoryx2::prelude::ZeroCopySend;
 
 use super::error::{Cause, EncodeError, MessageError};
-use super::field::{Angle, OutOfRange, Timestamp};
+use super::field::{Angle, OutOfRange, Text, Timestamp};
 use super::presence::Reader;
 
 /// One message type of ICD §4.
@@ -149,6 +151,41 @@ fn areas(f: &mut fmt::Formatter<'_>, area_id: u16) -> fmt::Result {
     match area_id {
         0 => f.write_str("all areas"),
         id => write!(f, "area {id}"),
+    }
+}
+
+/// A Mission ID that names a staged mission (ICD §8: #13000 modes 6, 8, 9, #2011 modes 7, 8,
+/// #50000 command 4): present (`MissingField`) and not empty, since an empty Mission ID names the
+/// active lists, never a staged mission (`Inconsistent`, reason `Malformed`).
+fn staged_mission_id(
+    r: &Reader<'_>,
+    bit: u8,
+    id: Option<Text<20>>,
+) -> Result<Text<20>, MessageError> {
+    let id = r.require(bit, id)?;
+    if id.is_empty() {
+        Err(r.error(bit, Cause::Inconsistent))
+    } else {
+        Ok(id)
+    }
+}
+
+/// An extension field (ext) of the field of `bit`, where `named` says whether its table names it
+/// for the message's mode or command. ICD §3 has senders send extension fields only with the
+/// modes their table names; what a receiver does with one sent otherwise is this project's
+/// choice: it rejects the message (`Inconsistent`, reason `Malformed`) rather than ignore the
+/// field, so that a sender who believes its checksum was compared or its window used learns that
+/// it was not.
+fn ext_field<T>(
+    r: &Reader<'_>,
+    bit: u8,
+    value: Option<T>,
+    named: bool,
+) -> Result<Option<T>, MessageError> {
+    if value.is_some() && !named {
+        Err(r.error(bit, Cause::Inconsistent))
+    } else {
+        Ok(value)
     }
 }
 
@@ -297,6 +334,7 @@ messages! {
     AreaStatusAlert = 3012, "Area Status Alert";
     AreaTransmissionStatus = 3013, "Area Transmission Status";
     MissionExecuteCommand = 50000, "Mission Execute Command";
+    MissionReport = 50001, "Mission Report";
 }
 
 /// Display check shared by the message modules: `message` and the [`Message`] holding it both
