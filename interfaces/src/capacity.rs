@@ -12,3 +12,7 @@ pub const MAX_NO_FLY_ZONES: usize = MAX_AREAS - 1;
 pub const MAX_POLYGON_VERTICES: usize = 60;
 /// Vertices of a polygon at least (ICD §4, #2012).
 pub const MIN_POLYGON_VERTICES: usize = 3;
+/// Staged missions the FCC holds beside the active lists (ICD §8).
+pub const MAX_STAGED_MISSIONS: usize = 8;
+/// Entries of a mission report (ICD §8, #50001): the active lists, then each staged mission.
+pub const MAX_REPORT_ENTRIES: usize = 1 + MAX_STAGED_MISSIONS;

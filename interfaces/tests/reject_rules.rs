@@ -2043,7 +2043,7 @@ fn area_shape_2_is_unsupported() {
 fn undefined_enumeration_values_are_unsupported() {
     let cases: Vec<(Msg, u8, u8)> = vec![
         (ack().with(3, u1(5)), 3, 5),               // Acknowledgement Type
-        (ack().with(4, u1(15)), 4, 15),             // Reject Reason
+        (ack().with(4, u1(16)), 4, 16),             // Reject Reason
         (route().with(3, u1(5)), 3, 5),             // Route Type
         (waypoint().with(6, u1(4)), 6, 4),          // Waypoint Altitude Type
         (waypoint().with(9, u1(3)), 9, 3),          // Waypoint Speed Type
@@ -2051,7 +2051,7 @@ fn undefined_enumeration_values_are_unsupported() {
         (waypoint().with(13, u1(2)), 13, 2),        // Waypoint Type
         (rf_centre().with(6, u1(2)), 6, 2),         // Turn Direction
         (transfer_status().with(2, u1(3)), 2, 3),   // Status
-        (transfer_status().with(6, u1(15)), 6, 15), // Reason
+        (transfer_status().with(6, u1(16)), 6, 16), // Reason
         (from_to_next().with(1, u1(4)), 1, 4),      // Altitude Type
         (from_to_next().with(2, u1(3)), 2, 3),      // Speed Type
         (area_command(0), 1, 0),                    // Area Transfer Mode
@@ -2059,7 +2059,7 @@ fn undefined_enumeration_values_are_unsupported() {
         (polygon().with(2, u1(2)), 2, 2),           // Area Type
         (polygon().with(6, u1(4)), 6, 4),           // Altitude Type
         (area_alert().with(2, u1(2)), 2, 2),        // Status
-        (area_alert().with(3, u1(15)), 3, 15),      // Reason
+        (area_alert().with(3, u1(16)), 3, 16),      // Reason
         (area_transmission_status().with(4, u1(1)), 4, 1), // Status
         (execute().with(1, u1(0)), 1, 0),           // Command
         (execute().with(1, u1(5)), 1, 5),           // Command

@@ -19,7 +19,7 @@ use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
     WaypointListPayload,
 };
-use missionlink_interfaces::wire::{ExecuteCommand, Reason};
+use missionlink_interfaces::wire::{ExecuteCommand, GeofenceCheck, Reason};
 
 use crate::geofence::earth::Site;
 use crate::geofence::onboard;
@@ -48,11 +48,7 @@ pub fn check_command(
 ) -> Result<(), Reason> {
     let phase = state.flight_phase();
     let airborne = matches!(phase, Some(FlightPhase::TakeOff | FlightPhase::Cruise));
-    // A position navigation has reported, on the globe (guidance may be another program).
-    let here = (navigation.sequence != 0
-        && (-90.0..=90.0).contains(&navigation.latitude_deg)
-        && (-180.0..=180.0).contains(&navigation.longitude_deg))
-    .then(|| Site::new(navigation.latitude_deg, navigation.longitude_deg));
+    let here = navigation_position(navigation);
     match command {
         ExecuteCommand::Execute => {
             let on_ground = matches!(phase, Some(FlightPhase::OnGround | FlightPhase::Landed));
@@ -93,6 +89,39 @@ pub fn check_command(
         }
         // Activating a staged mission (ICD §8) is not implemented here yet.
         ExecuteCommand::ActivateStaged => Err(Reason::Unsupported),
+    }
+}
+
+/// A position navigation has reported, on the globe (guidance may be another program).
+fn navigation_position(navigation: &GuidanceProgressPayload) -> Option<Site> {
+    (navigation.sequence != 0
+        && (-90.0..=90.0).contains(&navigation.latitude_deg)
+        && (-180.0..=180.0).contains(&navigation.longitude_deg))
+    .then(|| Site::new(navigation.latitude_deg, navigation.longitude_deg))
+}
+
+/// The onboard geofence check of ICD §7 for a report entry (ICD §8, #50001 fields 6 and 7): the
+/// check #50000 execute would run, from where navigation says the aircraft is. Not run when a
+/// list is missing, and (our choice, the ICD names only a missing list) when navigation has
+/// reported no position yet: there is nothing to check from.
+pub fn report_check(
+    waypoints: &WaypointListPayload,
+    areas: &AreaListPayload,
+    fence: &Fence,
+    navigation: &GuidanceProgressPayload,
+) -> (GeofenceCheck, Option<Reason>) {
+    let here = navigation_position(navigation);
+    match here {
+        Some(here) if waypoints.is_active() && areas.area_count() > 0 => {
+            match geofence(
+                fence,
+                onboard::execute_route(waypoints, here, Some(fcc_turns())),
+            ) {
+                Ok(()) => (GeofenceCheck::Passed, None),
+                Err(reason) => (GeofenceCheck::Failed, Some(reason)),
+            }
+        }
+        _ => (GeofenceCheck::NotRun, None),
     }
 }
 

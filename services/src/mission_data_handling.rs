@@ -56,9 +56,9 @@ use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationStatePayload, GuidanceProgressPayload, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionStatus,
-    EncodeError, ExecuteCommand, FrameError, Message, MissionPlanMode, Reason, SafetyOffset,
-    Timestamp,
+    AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionCommand,
+    AreaTransmissionStatus, EncodeError, ExecuteCommand, FrameError, Message, MissionPlanMode,
+    MissionReport, Reason, SafetyOffset, Text, Timestamp,
 };
 
 use crate::automation;
@@ -71,6 +71,7 @@ use crate::link::time::Instant;
 use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::AreaList;
 use crate::transfer::closer::{Closer, CloserMemory, ClosingAnswer};
+use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::Mission;
 use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received, TransferTimedOut};
 use crate::transfer::sender::{Script, SenderEvent, TransferSender};
@@ -131,13 +132,15 @@ pub enum FccEvent {
     MissionUploadClosed,
 }
 
-/// Mission (waypoints) or areas.
+/// Mission (waypoints), areas, or the report of both.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DataKind {
     /// Waypoint list.
     Mission,
     /// Area list.
     Areas,
+    /// The mission report (ICD §8, #50001): sent, never uploaded.
+    Report,
 }
 
 /// Events the queue holds; the driver drains it after every call.
@@ -158,15 +161,18 @@ pub enum FccTimer {
     /// The end of a mission upload interrupted by a restart: the transfer timeout after the
     /// GCS was last heard in it.
     InterruptedUpload = 4,
+    /// The ack timeout of the report message in flight (ICD §8).
+    Report = 5,
 }
 
-impl Timer<5> for FccTimer {
-    const ALL: [Self; 5] = [
+impl Timer<6> for FccTimer {
+    const ALL: [Self; 6] = [
         Self::MissionDownload,
         Self::AreaDownload,
         Self::MissionUpload,
         Self::AreaUpload,
         Self::InterruptedUpload,
+        Self::Report,
     ];
     fn index(self) -> usize {
         self as usize
@@ -182,6 +188,7 @@ pub struct MissionDataHandling {
     area_upload: AreaReceiver,
     mission_download: Option<TransferSender>,
     area_download: Option<TransferSender>,
+    report: Option<TransferSender>,
     active_mission: Option<Mission>,
     mission_generation: u64,
     active_areas: Option<AreaList>,
@@ -203,7 +210,7 @@ pub struct MissionDataHandling {
     interrupted_until: Option<Instant>,
     /// Whether the driver was last told that a mission upload is open.
     upload_recorded_open: bool,
-    timers: TimerTable<FccTimer, 5>,
+    timers: TimerTable<FccTimer, 6>,
 }
 
 /// What mission data handling resumes with after a restart: what the driver recorded.
@@ -231,6 +238,7 @@ impl MissionDataHandling {
             area_upload: AreaReceiver::new(config.transfer_timeout),
             mission_download: None,
             area_download: None,
+            report: None,
             active_mission: None,
             mission_generation: 0,
             active_areas: None,
@@ -578,8 +586,11 @@ impl MissionDataHandling {
         };
         self.answer_transfer(now, message, ack, outcome);
         if let (Ok(()), Some(mission)) = (outcome, self.active_mission.clone()) {
+            // Edition-2 fields only to an edition-2 request (ICD §10.2: it carries the window).
+            let edition_2 = matches!(message, Message::MissionTransferCommand(c) if c.transfer_window.is_some());
+            let checksum = edition_2.then(|| mission_checksum(&mission));
             self.mission_download = Some(TransferSender::start(
-                Script::MissionDownload { mission },
+                Script::MissionDownload { mission, checksum },
                 self.config.ack_timeout,
                 &mut self.endpoint,
                 now,
@@ -587,13 +598,21 @@ impl MissionDataHandling {
         }
     }
 
-    fn start_area_download(&mut self, now: Instant) {
+    fn start_area_download(&mut self, now: Instant, request: &AreaTransmissionCommand) {
         let busy = self.area_download.is_some() || self.area_upload.in_transfer();
         match (&self.active_areas, busy) {
             (Some(list), false) => {
                 self.closers.forget();
+                // Edition-2 fields only to an edition-2 request (ICD §10.2).
+                let checksum = request
+                    .transfer_window()
+                    .is_some()
+                    .then(|| areas_checksum(list));
                 self.area_download = Some(TransferSender::start(
-                    Script::AreaDownload { list: list.clone() },
+                    Script::AreaDownload {
+                        list: list.clone(),
+                        checksum,
+                    },
                     self.config.ack_timeout,
                     &mut self.endpoint,
                     now,
@@ -613,16 +632,67 @@ impl MissionDataHandling {
         }
     }
 
+    /// The sender of the download (or the report) of `kind`, and the endpoint it sends on.
+    fn outgoing(&mut self, kind: DataKind) -> (&mut Option<TransferSender>, &mut Endpoint) {
+        let slot = match kind {
+            DataKind::Mission => &mut self.mission_download,
+            DataKind::Areas => &mut self.area_download,
+            DataKind::Report => &mut self.report,
+        };
+        (slot, &mut self.endpoint)
+    }
+
+    /// #13000 mode 7 (ICD §8): acknowledged, then the report of the active lists (and, with
+    /// staged missions, of each). A new request replaces a report still in progress: the GCS
+    /// that asks again has given up the earlier one.
+    fn start_report(&mut self, now: Instant, message: &Message, ack: bool) {
+        self.endpoint.answer(now, message, ack, Ok(()));
+        if let Some(mut old) = self.report.take() {
+            old.cancel();
+        }
+        let (geofence_check, reason) = automation::report_check(
+            &self.waypoint_list,
+            &self.area_list,
+            &self.fence,
+            &self.navigation,
+        );
+        let active = MissionReport {
+            time_stamp: Timestamp::default(),
+            report_index: 1,
+            report_count: 1,
+            // Present and empty: the active lists (ICD §8).
+            mission_id: Some(Text::default()),
+            waypoint_count: self
+                .active_mission
+                .as_ref()
+                .map_or(0, |m| m.waypoints.len() as u16),
+            area_count: self
+                .active_areas
+                .as_ref()
+                .map_or(0, |a| a.areas.len() as u8),
+            geofence_check,
+            reason,
+            mission_checksum: self.active_mission.as_ref().map(mission_checksum),
+            area_checksum: self.active_areas.as_ref().map(areas_checksum),
+        };
+        let mut entries = heapless::Vec::new();
+        // The first of MAX_REPORT_ENTRIES: it fits.
+        let _ = entries.push(active);
+        self.report = Some(TransferSender::start(
+            Script::MissionReport { entries },
+            self.config.ack_timeout,
+            &mut self.endpoint,
+            now,
+        ));
+    }
+
     fn download_answer(&mut self, now: Instant, message: &Message) {
-        for kind in [DataKind::Mission, DataKind::Areas] {
-            let slot = match kind {
-                DataKind::Mission => &mut self.mission_download,
-                DataKind::Areas => &mut self.area_download,
-            };
+        for kind in [DataKind::Mission, DataKind::Areas, DataKind::Report] {
+            let (slot, endpoint) = self.outgoing(kind);
             let Some(sender) = slot.as_mut() else {
                 continue;
             };
-            if let Some(event) = sender.handle_answer(&mut self.endpoint, now, message) {
+            if let Some(event) = sender.handle_answer(endpoint, now, message) {
                 self.download_event(kind, event);
                 return;
             }
@@ -631,10 +701,7 @@ impl MissionDataHandling {
     }
 
     fn download_event(&mut self, kind: DataKind, event: SenderEvent) {
-        let slot = match kind {
-            DataKind::Mission => &mut self.mission_download,
-            DataKind::Areas => &mut self.area_download,
-        };
+        let (slot, _) = self.outgoing(kind);
         match event {
             SenderEvent::Progress { .. } => {}
             SenderEvent::Completed(_) => {
@@ -660,6 +727,7 @@ impl MissionDataHandling {
                 }
                 self.interrupted_until = None;
             }
+
             DataKind::Areas => {
                 if let Some(mut d) = self.area_download.take() {
                     d.cancel();
@@ -667,6 +735,11 @@ impl MissionDataHandling {
                 if self.area_upload.in_transfer() {
                     self.area_upload.abandon();
                     self.event(FccEvent::UploadAbandoned { kind, reason: None });
+                }
+            }
+            DataKind::Report => {
+                if let Some(mut r) = self.report.take() {
+                    r.cancel();
                 }
             }
         }
@@ -715,8 +788,8 @@ impl MissionDataHandling {
     }
 }
 
-impl Composite<FccTimer, 5> for MissionDataHandling {
-    fn timers(&mut self) -> &mut TimerTable<FccTimer, 5> {
+impl Composite<FccTimer, 6> for MissionDataHandling {
+    fn timers(&mut self) -> &mut TimerTable<FccTimer, 6> {
         &mut self.timers
     }
 
@@ -730,6 +803,7 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
         match timer {
             FccTimer::MissionDownload => download(&self.mission_download),
             FccTimer::AreaDownload => download(&self.area_download),
+            FccTimer::Report => download(&self.report),
             FccTimer::MissionUpload => self.mission_upload.poll_timeout(),
             FccTimer::AreaUpload => self.area_upload.poll_timeout(),
             FccTimer::InterruptedUpload => self.interrupted_until,
@@ -738,15 +812,14 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
 
     fn fire(&mut self, timer: FccTimer, now: Instant) {
         match timer {
-            FccTimer::MissionDownload | FccTimer::AreaDownload => {
-                let (kind, slot) = match timer {
-                    FccTimer::MissionDownload => (DataKind::Mission, &mut self.mission_download),
-                    _ => (DataKind::Areas, &mut self.area_download),
+            FccTimer::MissionDownload | FccTimer::AreaDownload | FccTimer::Report => {
+                let kind = match timer {
+                    FccTimer::MissionDownload => DataKind::Mission,
+                    FccTimer::AreaDownload => DataKind::Areas,
+                    _ => DataKind::Report,
                 };
-                if let Some(event) = slot
-                    .as_mut()
-                    .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
-                {
+                let (slot, endpoint) = self.outgoing(kind);
+                if let Some(event) = slot.as_mut().and_then(|s| s.handle_timeout(endpoint, now)) {
                     self.download_event(kind, event);
                 }
             }
@@ -783,13 +856,16 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
                 MissionPlanMode::TransmitMission => self.closer(now, message, ack),
                 MissionPlanMode::ReceiveMission => self.start_mission_download(now, message, ack),
                 MissionPlanMode::CancelTransfer => {
+                    // Every transfer of #13000: the mission upload or download, and the report
+                    // the mode 7 request started.
                     self.cancel(DataKind::Mission);
+                    self.cancel(DataKind::Report);
                     self.endpoint.answer(now, message, ack, Ok(()));
                 }
+                MissionPlanMode::ReportMissions => self.start_report(now, message, ack),
                 // Staged missions (ICD §8) are not implemented here yet: refused as an
                 // edition-1 FCC refuses them (ICD §10.1).
                 MissionPlanMode::DeleteStagedMission
-                | MissionPlanMode::ReportMissions
                 | MissionPlanMode::StageMission
                 | MissionPlanMode::ReceiveStagedMission
                 | MissionPlanMode::LoadWaypointBuffer => {
@@ -815,7 +891,7 @@ impl Composite<FccTimer, 5> for MissionDataHandling {
                 // Answered by #3012 instead of #17000 (ICD §5.3 step 3).
                 AreaTransferMode::UploadComplete => self.closer(now, message, ack),
                 // Answered by #3013 instead of #17000 (ICD §5.4 step 1).
-                AreaTransferMode::InitiateDownload => self.start_area_download(now),
+                AreaTransferMode::InitiateDownload => self.start_area_download(now, c),
                 AreaTransferMode::Cancel => {
                     self.cancel(DataKind::Areas);
                     self.endpoint.answer(now, message, ack, Ok(()));

@@ -122,7 +122,10 @@ fn resend_at_once_after_a_rejection_then_abort_after_the_second() {
         panic!("no abort after the second rejection");
     };
     assert_eq!(error.first, AttemptFailure::Rejected(Reason::WrongState));
-    assert_eq!(error.second, Some(AttemptFailure::Rejected(Reason::WrongState)));
+    assert_eq!(
+        error.second,
+        Some(AttemptFailure::Rejected(Reason::WrongState))
+    );
     assert_eq!(error.reason(), Some(Reason::WrongState));
 }
 

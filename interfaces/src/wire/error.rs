@@ -46,6 +46,9 @@ wire_enum! {
         /// (ext) The onboard geofence check of ICD §7 failed: a leg, the climb at the take-off
         /// or the route to the initial waypoint leaves the fly-zone or enters a no-fly-zone.
         GeofenceViolation = 14 => "geofence violation",
+        /// (ext, ICD §11) The list the receiver assembled is not the one the sender's checksum
+        /// describes.
+        IntegrityMismatch = 15 => "integrity mismatch",
     }
 }
 
@@ -71,6 +74,9 @@ impl Reason {
             Self::Busy => "another transfer is in progress",
             Self::GeofenceViolation => {
                 "the onboard geofence check failed: from where the aircraft is, the climb, the way to the route or a leg would leave the fly-zone or enter a no-fly-zone (ICD §7)"
+            }
+            Self::IntegrityMismatch => {
+                "the list the FCC assembled is not the one the sender's checksum describes (ICD §11): nothing was activated"
             }
         }
     }

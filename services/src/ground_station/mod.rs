@@ -470,7 +470,11 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(
             now,
             State::Uploading(Phase::MissionUpload),
-            Script::MissionUpload { mission, clear },
+            Script::MissionUpload {
+                mission,
+                clear,
+                checksum: None,
+            },
         );
         Ok(())
     }
@@ -616,7 +620,10 @@ impl<G: SafetyGateway> GroundStation<G> {
                         Some(list) => self.start(
                             now,
                             State::Uploading(Phase::AreaUpload),
-                            Script::AreaUpload { list },
+                            Script::AreaUpload {
+                                list,
+                                checksum: None,
+                            },
                         ),
                         None => self.finish(GcsEvent::UploadComplete),
                     }

@@ -99,7 +99,7 @@ impl Cause<8> for FrameCause {
 }
 
 /// The reject reasons of ICD §6, each a cause of its own.
-pub const REASONS: usize = 15;
+pub const REASONS: usize = 16;
 
 // A reason added to the ICD needs a slot and a name below.
 const _: () = assert!(Reason::ALL.len() == REASONS);
@@ -121,6 +121,7 @@ impl Cause<REASONS> for Reason {
         Self::BadGeometry,
         Self::Busy,
         Self::GeofenceViolation,
+        Self::IntegrityMismatch,
     ];
 
     /// The wire value (ICD §6 numbers the reasons from 0).
@@ -145,6 +146,7 @@ impl Cause<REASONS> for Reason {
             Self::BadGeometry => "reason_bad_geometry",
             Self::Busy => "reason_busy",
             Self::GeofenceViolation => "reason_geofence_violation",
+            Self::IntegrityMismatch => "reason_integrity_mismatch",
         }
     }
 }

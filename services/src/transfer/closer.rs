@@ -11,7 +11,7 @@
 //! way (this project's choice: a clear of the areas, for instance, makes "valid and active" of
 //! the last area closer untrue, and a retry must then be judged afresh).
 
-use missionlink_interfaces::wire::{Message, MessageType, Reason, Text};
+use missionlink_interfaces::wire::{Checksum, Message, MessageType, Reason, Text};
 
 /// What identifies a closer (ICD §11).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -20,6 +20,7 @@ pub struct Closer {
     mode: u8,
     mission_id: Option<Text<20>>,
     count: Option<u16>,
+    checksum: Option<Checksum>,
 }
 
 impl Closer {
@@ -34,6 +35,7 @@ impl Closer {
                     mode: c.mode as u8,
                     mission_id: c.mission_id,
                     count: c.waypoint_number,
+                    checksum: c.mission_checksum,
                 })
             }
             Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::UploadComplete => {
@@ -42,6 +44,7 @@ impl Closer {
                     mode: c.mode as u8,
                     mission_id: None,
                     count: c.loop_count.map(u16::from),
+                    checksum: c.area_checksum(),
                 })
             }
             _ => None,
@@ -111,6 +114,15 @@ mod tests {
         retry.set_time_stamp(Timestamp::from_millis(1_000).unwrap());
         assert_eq!(Closer::of(&first), Closer::of(&retry));
         assert_ne!(Closer::of(&first), Closer::of(&transmit(4)));
+        let mut with_checksum = first.clone();
+        if let Message::MissionTransferCommand(c) = &mut with_checksum {
+            c.mission_checksum = Some(Checksum::new(0x1234_5678));
+        }
+        assert_ne!(
+            Closer::of(&first),
+            Closer::of(&with_checksum),
+            "the checksum counts"
+        );
         let area_closer = area_request(AreaTransferMode::UploadComplete, None);
         assert!(Closer::of(&area_closer).is_some());
         assert_ne!(Closer::of(&first), Closer::of(&area_closer));

@@ -8,7 +8,8 @@
 //! ICD §11 is one presence byte (0x01 then its value, 0x00 then as many 0x00 as its width).
 
 use missionlink_interfaces::wire::{
-    Altitude, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType, SpecificData,
+    Altitude, AreaPolygonLoopSegment, AreaShape, AreaType, Checksum, GeoPoint, LegType,
+    SpecificData,
 };
 
 use super::areas::AreaList;
@@ -142,17 +143,17 @@ pub fn write_areas(list: &AreaList, out: &mut impl Canonical) {
 }
 
 /// The checksum of a mission (ICD §11): CRC-32/ISO-HDLC of its canonical form.
-pub fn mission_checksum(mission: &Mission) -> u32 {
+pub fn mission_checksum(mission: &Mission) -> Checksum {
     let mut crc = crc32fast::Hasher::new();
     write_mission(mission, &mut crc);
-    crc.finalize()
+    Checksum::new(crc.finalize())
 }
 
 /// The checksum of an area list (ICD §11): CRC-32/ISO-HDLC of its canonical form.
-pub fn areas_checksum(list: &AreaList) -> u32 {
+pub fn areas_checksum(list: &AreaList) -> Checksum {
     let mut crc = crc32fast::Hasher::new();
     write_areas(list, &mut crc);
-    crc.finalize()
+    Checksum::new(crc.finalize())
 }
 
 #[cfg(test)]

@@ -7,17 +7,23 @@
 //! areas. It never touches an active list: it hands a complete, valid list to its owner, who
 //! activates it. A receiver that hears nothing from its peer for the transfer timeout abandons
 //! the transfer (ICD §5).
+//!
+//! A closing message that carries a checksum (ICD §11: #13000 mode 2 and #2011 mode 2 from an
+//! edition-2 GCS, #14000 and #2011 mode 4 of a download to an edition-2 request) is accepted only
+//! when the list assembled has that checksum; otherwise it is refused with `IntegrityMismatch`
+//! and the buffer is emptied, so nothing of the transfer is left to assemble.
 
 use core::time::Duration;
 
 use missionlink_interfaces::capacity::MAX_AREAS;
 use missionlink_interfaces::wire::{
-    AreaTransferMode, Message, MissionPlanMode, Reason, SafetyOffset, TransferStatus,
+    AreaTransferMode, Checksum, Message, MissionPlanMode, Reason, SafetyOffset, TransferStatus,
 };
 
 use crate::link::time::Instant;
 use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::{AreaBuffer, AreaList};
+use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::{Mission, MissionBuffer};
 
 /// What a receiver made of a message it accepted.
@@ -173,6 +179,22 @@ impl MissionReceiver {
         self.complete.take()
     }
 
+    /// The closing message assembled `mission`: complete, unless the sender's `checksum` says it
+    /// meant another (ICD §11).
+    fn complete(
+        &mut self,
+        mission: Mission,
+        checksum: Option<Checksum>,
+    ) -> Result<Received, Reason> {
+        if checksum.is_some_and(|c| c != mission_checksum(&mission)) {
+            self.abandon(None);
+            return Err(Reason::IntegrityMismatch);
+        }
+        self.complete = Some(mission);
+        self.silence.close();
+        Ok(Received::Complete)
+    }
+
     /// Handles mission data: #13006, #13002, #13001, #13000 mode 2 transmit, #14000. The
     /// answer to the message is `Ok` (acknowledge type 2) or the reason (type 3).
     pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
@@ -180,21 +202,24 @@ impl MissionReceiver {
         match message {
             Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
                 if c.waypoint_number == Some(0) {
+                    // The empty list has no canonical form in ICD §11 (its report carries no
+                    // checksum): a checksum here contradicts the clear (our choice).
+                    if c.mission_checksum.is_some() {
+                        return Err(Reason::Malformed);
+                    }
                     if !self.buffer.is_empty() {
                         return Err(Reason::CountMismatch);
                     }
                     self.silence.close();
                     return Ok(Received::Emptied);
                 }
-                self.complete = Some(self.buffer.assemble(c.waypoint_number, c.mission_id)?);
-                self.silence.close();
-                Ok(Received::Complete)
+                let mission = self.buffer.assemble(c.waypoint_number, c.mission_id)?;
+                self.complete(mission, c.mission_checksum)
             }
             Message::MissionUploadDownloadStatus(s) => match s.status {
                 TransferStatus::Complete => {
-                    self.complete = Some(self.buffer.assemble(None, s.mission_id)?);
-                    self.silence.close();
-                    Ok(Received::Complete)
+                    let mission = self.buffer.assemble(None, s.mission_id)?;
+                    self.complete(mission, s.mission_checksum)
                 }
                 TransferStatus::Aborted => {
                     self.abandon(None);
@@ -288,6 +313,11 @@ impl AreaReceiver {
                     }
                     let list = self.buffer.assemble(announced, offset)?;
                     self.abandon();
+                    if c.area_checksum()
+                        .is_some_and(|sum| sum != areas_checksum(&list))
+                    {
+                        return Err(Reason::IntegrityMismatch);
+                    }
                     self.complete = Some(list);
                     return Ok(Received::Complete);
                 }

@@ -10,14 +10,19 @@
 //! | area upload | GCS | #2011 initiate upload, #2012 ..., #2011 upload complete (§5.3) |
 //! | area download | FCC | #3013 ready, #2012 ..., #2011 download complete (§5.4) |
 //! | mission clear | GCS | #13000 clear, #13000 transmit with 0 waypoints |
-//! | request | GCS | one message: download requests, clear areas, execute |
+//! | mission report | FCC | #50001 for the active lists, then per staged mission (§8) |
+//! | request | GCS | one message: download requests, report request, clear areas, execute |
+//!
+//! A script with a checksum (ICD §11) puts it into its closer: the GCS's transmit and upload
+//! complete toward an edition-2 FCC, the FCC's #14000 and #2011 mode 4 to an edition-2 request.
 
 use core::time::Duration;
 
+use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, AreaTransmissionStatus, Message,
-    MissionPlanMode, MissionTransferCommand, MissionUploadDownloadStatus, Reason, Timestamp,
-    TransferStatus,
+    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, AreaTransmissionStatus,
+    Checksum, Message, MissionPlanMode, MissionReport, MissionTransferCommand,
+    MissionUploadDownloadStatus, Reason, Timestamp, TransferStatus, WindowOrChecksum,
 };
 
 use crate::link::endpoint::Endpoint;
@@ -35,21 +40,34 @@ pub enum Script {
         mission: Mission,
         /// Start with #13000 mode 1 clear.
         clear: bool,
+        /// For the transmit (toward an edition-2 FCC).
+        checksum: Option<Checksum>,
     },
     /// FCC to GCS (ICD §5.2).
     MissionDownload {
         /// The active mission.
         mission: Mission,
+        /// For the #14000 (to an edition-2 request).
+        checksum: Option<Checksum>,
     },
     /// GCS to FCC (ICD §5.3).
     AreaUpload {
         /// The area list.
         list: AreaList,
+        /// For the upload complete (toward an edition-2 FCC).
+        checksum: Option<Checksum>,
     },
     /// FCC to GCS (ICD §5.4): the #3013 that answers the GCS's request opens it.
     AreaDownload {
         /// The active area list.
         list: AreaList,
+        /// For the download complete (to an edition-2 request).
+        checksum: Option<Checksum>,
+    },
+    /// FCC to GCS (ICD §8): the entries of the report, in order, each acknowledged.
+    MissionReport {
+        /// One #50001 per entry, Report Index and Count set.
+        entries: heapless::Vec<MissionReport, MAX_REPORT_ENTRIES>,
     },
     /// GCS to FCC: #13000 mode 1 clear, then #13000 mode 2 with Waypoint Number 0, which
     /// activates the empty list (see [`crate::mission_data_handling`]).
@@ -62,7 +80,7 @@ fn ts0() -> Timestamp {
     Timestamp::default()
 }
 
-fn area_command(mode: AreaTransferMode, list: &AreaList) -> Message {
+fn area_command(mode: AreaTransferMode, list: &AreaList, checksum: Option<Checksum>) -> Message {
     AreaTransmissionCommand {
         time_stamp: ts0(),
         mode,
@@ -71,7 +89,7 @@ fn area_command(mode: AreaTransferMode, list: &AreaList) -> Message {
         safety_offset: Some(list.safety_offset),
         activity_id: None,
         mission_id: None,
-        window_or_checksum: None,
+        window_or_checksum: checksum.map(WindowOrChecksum::AreaChecksum),
     }
     .into()
 }
@@ -80,11 +98,12 @@ impl Script {
     /// Messages the script sends.
     pub fn len(&self) -> usize {
         match self {
-            Self::MissionUpload { mission, clear } => {
+            Self::MissionUpload { mission, clear, .. } => {
                 usize::from(*clear) + mission.message_count() + 1
             }
-            Self::MissionDownload { mission } => mission.message_count() + 1,
-            Self::AreaUpload { list } | Self::AreaDownload { list } => list.areas.len() + 2,
+            Self::MissionDownload { mission, .. } => mission.message_count() + 1,
+            Self::AreaUpload { list, .. } | Self::AreaDownload { list, .. } => list.areas.len() + 2,
+            Self::MissionReport { entries } => entries.len(),
             Self::MissionClear => 2,
             Self::Request(_) => 1,
         }
@@ -98,7 +117,11 @@ impl Script {
     /// Message `index` of the script, time stamp not yet set.
     pub fn message(&self, index: usize) -> Option<Message> {
         match self {
-            Self::MissionUpload { mission, clear } => {
+            Self::MissionUpload {
+                mission,
+                clear,
+                checksum,
+            } => {
                 let body = if *clear {
                     if index == 0 {
                         return Some(mission_command(MissionPlanMode::ClearMission, None, None));
@@ -109,34 +132,40 @@ impl Script {
                 };
                 mission.messages().nth(body).or_else(|| {
                     (body == mission.message_count()).then(|| {
-                        mission_command(
-                            MissionPlanMode::TransmitMission,
-                            Some(mission.waypoints.len() as u16),
-                            mission.mission_id,
-                        )
+                        MissionTransferCommand {
+                            mission_checksum: *checksum,
+                            ..transfer_command(
+                                MissionPlanMode::TransmitMission,
+                                Some(mission.waypoints.len() as u16),
+                                mission.mission_id,
+                            )
+                        }
+                        .into()
                     })
                 })
             }
-            Self::MissionDownload { mission } => mission.messages().nth(index).or_else(|| {
-                (index == mission.message_count()).then(|| {
-                    MissionUploadDownloadStatus {
-                        time_stamp: ts0(),
-                        mission_id: mission.mission_id,
-                        status: TransferStatus::Complete,
-                        percent_complete: Some(100),
-                        waypoint_request: None,
-                        mode: Some(MissionPlanMode::ReceiveMission),
-                        reason: Some(Reason::None),
-                        mission_checksum: None,
-                    }
-                    .into()
+            Self::MissionDownload { mission, checksum } => {
+                mission.messages().nth(index).or_else(|| {
+                    (index == mission.message_count()).then(|| {
+                        MissionUploadDownloadStatus {
+                            time_stamp: ts0(),
+                            mission_id: mission.mission_id,
+                            status: TransferStatus::Complete,
+                            percent_complete: Some(100),
+                            waypoint_request: None,
+                            mode: Some(MissionPlanMode::ReceiveMission),
+                            reason: Some(Reason::None),
+                            mission_checksum: *checksum,
+                        }
+                        .into()
+                    })
                 })
-            }),
-            Self::AreaUpload { list } | Self::AreaDownload { list } => {
+            }
+            Self::AreaUpload { list, checksum } | Self::AreaDownload { list, checksum } => {
                 let n = list.areas.len();
                 match index {
                     0 if matches!(self, Self::AreaUpload { .. }) => {
-                        Some(area_command(AreaTransferMode::InitiateUpload, list))
+                        Some(area_command(AreaTransferMode::InitiateUpload, list, None))
                     }
                     0 => Some(
                         AreaTransmissionStatus {
@@ -156,6 +185,7 @@ impl Script {
                             AreaTransferMode::DownloadComplete
                         },
                         list,
+                        *checksum,
                     )),
                     _ => None,
                 }
@@ -169,6 +199,7 @@ impl Script {
                 )),
                 _ => None,
             },
+            Self::MissionReport { entries } => entries.get(index).copied().map(Message::from),
             Self::Request(m) => (index == 0).then(|| m.clone()),
         }
     }
@@ -180,7 +211,7 @@ impl Script {
             Self::MissionUpload { .. } | Self::MissionClear => {
                 Some(mission_command(MissionPlanMode::CancelTransfer, None, None))
             }
-            Self::MissionDownload { mission } => Some(
+            Self::MissionDownload { mission, .. } => Some(
                 MissionUploadDownloadStatus {
                     time_stamp: ts0(),
                     mission_id: mission.mission_id,
@@ -196,7 +227,8 @@ impl Script {
             Self::AreaUpload { .. } | Self::AreaDownload { .. } => {
                 Some(area_request(AreaTransferMode::Cancel, None))
             }
-            Self::Request(_) => None,
+            // The report is only the FCC's answer: the GCS asks again if it wants it.
+            Self::MissionReport { .. } | Self::Request(_) => None,
         }
     }
 }
@@ -207,6 +239,15 @@ pub fn mission_command(
     waypoint_number: Option<u16>,
     mission_id: Option<missionlink_interfaces::wire::Text<20>>,
 ) -> Message {
+    transfer_command(mode, waypoint_number, mission_id).into()
+}
+
+/// A #13000 of `mode` without the extension fields, to set them on.
+pub fn transfer_command(
+    mode: MissionPlanMode,
+    waypoint_number: Option<u16>,
+    mission_id: Option<missionlink_interfaces::wire::Text<20>>,
+) -> MissionTransferCommand {
     MissionTransferCommand {
         time_stamp: ts0(),
         mission_id,
@@ -217,7 +258,6 @@ pub fn mission_command(
         transfer_window: None,
         mission_checksum: None,
     }
-    .into()
 }
 
 /// A #2011 of `mode` that carries no list: cancel, clear areas, or the download request (which

@@ -98,6 +98,24 @@ pub struct AreaTransmissionCommand {
     pub window_or_checksum: Option<WindowOrChecksum>,
 }
 
+impl AreaTransmissionCommand {
+    /// Field 7 as the checksum of an area list (modes 2, 4 and 7, ICD §11).
+    pub fn area_checksum(&self) -> Option<Checksum> {
+        match self.window_or_checksum {
+            Some(WindowOrChecksum::AreaChecksum(c)) => Some(c),
+            _ => None,
+        }
+    }
+
+    /// Field 7 as the Transfer Window of a download request (modes 3 and 8, ICD §10.2).
+    pub fn transfer_window(&self) -> Option<TransferWindow> {
+        match self.window_or_checksum {
+            Some(WindowOrChecksum::TransferWindow(w)) => Some(w),
+            _ => None,
+        }
+    }
+}
+
 impl MessageBody for AreaTransmissionCommand {
     const TYPE: MessageType = MessageType::AreaTransmissionCommand;
     const FIELDS: &'static [&'static str] = &[
