@@ -6,7 +6,9 @@
 use std::time::Duration;
 
 use missionlink_interfaces::contracts::Link;
+use missionlink_interfaces::wire::MissionReport;
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
+use missionlink_services::ground_station::outcome::UploadReport;
 use missionlink_services::ground_station::{
     GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
 };
@@ -16,6 +18,29 @@ use missionlink_services::voting::Voter;
 use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
+
+/// How a request ended well.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Finished {
+    /// A command was accepted (or nothing was in progress).
+    Done,
+    /// An upload completed: both lists are active.
+    Uploaded(Box<UploadReport>),
+    /// The lists downloaded.
+    Downloaded(Box<ValidatedPlan>),
+    /// The FCC's report (ICD §8), the active lists first.
+    Reported(Vec<MissionReport>),
+}
+
+impl Finished {
+    /// The downloaded lists, if the request was a download.
+    pub fn into_plan(self) -> Option<ValidatedPlan> {
+        match self {
+            Self::Downloaded(plan) => Some(*plan),
+            _ => None,
+        }
+    }
+}
 
 /// Which way a logged message went.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -206,25 +231,29 @@ impl<G: SafetyGateway> GcsLink<G> {
         self.flush();
     }
 
-    /// Runs the links until the request in progress ends, and gives its outcome (the downloaded
-    /// lists for a download). The GCS logic ends every request by itself (2 x ack timeout per
-    /// message, the transfer timeout for a download). The other events (progress,
-    /// FROM-TO-NEXT) go to `on_event`. Without a request in progress it returns at once.
+    /// Runs the links until the request in progress ends, and gives its outcome. The GCS logic
+    /// ends every request by itself (2 x ack timeout per message, the transfer timeout for a
+    /// download). The other events (progress, FROM-TO-NEXT) go to `on_event`. Without a
+    /// request in progress it returns at once.
     pub fn finish(
         &mut self,
         mut on_event: impl FnMut(&GcsEvent<G::Report>),
-    ) -> Result<Option<ValidatedPlan>, GcsError<G::Report>> {
+    ) -> Result<Finished, GcsError<G::Report>> {
         loop {
             while let Some(event) = self.station.poll_event() {
                 match event {
-                    GcsEvent::UploadComplete | GcsEvent::CommandAccepted(_) => return Ok(None),
-                    GcsEvent::DownloadComplete(plan) => return Ok(Some(*plan)),
+                    GcsEvent::CommandAccepted(_) => return Ok(Finished::Done),
+                    GcsEvent::Uploaded(report) => return Ok(Finished::Uploaded(report)),
+                    GcsEvent::DownloadComplete(plan) => return Ok(Finished::Downloaded(plan)),
+                    GcsEvent::Reported(entries) => {
+                        return Ok(Finished::Reported(entries.into_iter().collect()));
+                    }
                     GcsEvent::Failed(e) => return Err(e),
                     other => on_event(&other),
                 }
             }
             if self.station.is_standby() {
-                return Ok(None);
+                return Ok(Finished::Done);
             }
             self.pump(Duration::from_millis(20));
         }

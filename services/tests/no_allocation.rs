@@ -75,7 +75,8 @@ fn the_fcc_frame_path_allocates_nothing() {
             gcs.handle_frame(now, &down[..len.unwrap()]).unwrap();
         }
         match gcs.poll_event() {
-            Some(GcsEvent::UploadComplete) if !downloading => {
+            Some(GcsEvent::Uploaded(report)) if !downloading => {
+                assert!(report.is_complete(), "{report}");
                 downloading = true;
                 gcs.download(now).unwrap();
             }

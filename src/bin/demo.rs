@@ -14,16 +14,17 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use missionlink_gcs::gcs_link::{Direction, GcsLink, Logged};
+use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink, Logged};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
 use missionlink_partitions::latency;
 use missionlink_partitions::launcher::{self, FccProcess};
 use missionlink_partitions::udp::LocalEnds;
-use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
-use missionlink_services::link::retry::AttemptFailure;
+use missionlink_services::ground_station::outcome::UploadOutcome;
+use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan};
 use missionlink_services::safety_gateway::{Report, SafetyGateway};
+use missionlink_services::transfer::integrity;
 
 const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
 const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
@@ -74,7 +75,7 @@ fn plan(text: &str, name: &str) -> Result<MissionPlan, String> {
 }
 
 /// Runs the link until the request in progress ends; prints FROM-TO-NEXT changes meanwhile.
-fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<Report>> {
+fn finish(link: &mut Link) -> Result<Finished, GcsError<Report>> {
     link.finish(|event| {
         if let GcsEvent::FromToNext(f) = event {
             println!("  {f}");
@@ -83,8 +84,10 @@ fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, GcsError<Report>> {
 }
 
 /// Uploads `plan`; while the FCC still flies the previous mission its clear is refused
-/// (`GuidanceActive`), and the upload is tried again until the aircraft has landed.
-/// Returns the time the successful attempt took and where its messages start in the log.
+/// (`GuidanceActive`, and the GCS confirms that the previous lists are still active), and the
+/// upload is tried again until the aircraft has landed. Prints the upload's outcome with the
+/// checksums (ICD §11); returns the time the successful attempt took and where its messages
+/// start in the log.
 fn upload(
     link: &mut Link,
     plan: &MissionPlan,
@@ -100,9 +103,18 @@ fn upload(
             .upload(now, plan, true)
             .map_err(|e| e.to_string())?;
         match finish(link) {
-            Ok(_) => return Ok((start.elapsed(), from)),
-            Err(GcsError::Transfer { error, .. })
-                if error.second == Some(AttemptFailure::Rejected(Reason::GuidanceActive))
+            Ok(finished) => {
+                let took = start.elapsed();
+                if let Finished::Uploaded(report) = finished {
+                    println!("  {report}");
+                }
+                return Ok((took, from));
+            }
+            Err(GcsError::Upload(report))
+                if report.outcome() == UploadOutcome::PreviousActive
+                    && report
+                        .failure
+                        .is_some_and(|(_, e)| e.reason() == Some(Reason::GuidanceActive))
                     && Instant::now() < deadline =>
             {
                 if !told {
@@ -251,6 +263,7 @@ fn run(args: &Args) -> Result<(), String> {
     link.station().download(now).map_err(|e| e.to_string())?;
     let downloaded = finish(&mut link)
         .map_err(|e| e.to_string())?
+        .into_plan()
         .ok_or("the download ended without lists")?;
     if downloaded != valid_2 {
         return Err(format!(
@@ -258,9 +271,11 @@ fn run(args: &Args) -> Result<(), String> {
         ));
     }
     println!(
-        "  {} waypoints, {} areas: equal to the upload, every field\n",
+        "  {} waypoints, {} areas: equal to the upload, every field (checksums: mission {}, areas {}, as the FCC sent them)\n",
         downloaded.mission.waypoints.len(),
-        downloaded.areas.areas.len()
+        downloaded.areas.areas.len(),
+        integrity::mission_checksum(&downloaded.mission),
+        integrity::areas_checksum(&downloaded.areas),
     );
 
     println!(

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use missionlink_gcs::gcs_link::GcsLink;
+use missionlink_gcs::gcs_link::{Finished, GcsLink};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
@@ -130,7 +130,7 @@ pub fn plan(file: &str) -> MissionPlan {
 }
 
 /// Runs the link until the request ends.
-pub fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, Error> {
+pub fn finish(link: &mut Link) -> Result<Finished, Error> {
     link.finish(|_| {})
 }
 
@@ -143,5 +143,5 @@ pub fn upload(link: &mut Link, plan: &MissionPlan) -> Result<(), Error> {
 pub fn download(link: &mut Link) -> Result<ValidatedPlan, Error> {
     let now = link.now();
     link.station().download(now)?;
-    finish(link).map(|p| p.expect("lists"))
+    finish(link).map(|f| f.into_plan().expect("lists"))
 }

@@ -8,17 +8,21 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use missionlink_gcs::gcs_link::GcsLink;
+use missionlink_gcs::gcs_link::{Finished, GcsLink};
 use missionlink_gcs::inspect::{
     MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
 use missionlink_gcs::{geojson, map, profile, qgc};
-use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, SafetyOffset};
+use missionlink_interfaces::wire::{
+    Checksum, ExecuteCommand, GeoPoint, GeofenceCheck, MissionReport, SafetyOffset,
+};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
-use missionlink_services::ground_station::{GcsEvent, MissionPlan, ValidatedPlan};
+use missionlink_services::ground_station::outcome::UploadOutcome;
+use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
 use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
 use missionlink_services::transfer::areas::AreaList;
+use missionlink_services::transfer::integrity;
 use missionlink_services::transfer::mission::Mission;
 
 /// Ground control station of missionlink: STANAG 4586 mission and area transfer.
@@ -58,6 +62,21 @@ enum Command {
     },
     /// Validate (the safety gateway included), then upload the waypoints, then the areas (paper
     /// Figure 11). An infeasible mission is refused with the report; nothing is sent.
+    ///
+    /// Toward an edition-2 FCC the checksums of both lists (ICD §11) go with the closers and
+    /// the FCC refuses a list it assembled otherwise. When the transfer fails, the GCS asks the
+    /// FCC what is active (its report, or a download from an edition-1 FCC) and says so, list
+    /// by list, with the checksums.
+    #[command(after_help = "Exit status:\n  \
+        0  complete: the new mission and areas are active (also when an answer was lost and the \
+           GCS confirmed it by asking)\n  \
+        1  nothing sent: the plan is infeasible or invalid; or the FCC did not answer at all\n  \
+        2  unreadable input\n  \
+        3  failed: the previous mission and areas are still active, whole\n  \
+        4  failed half way: one list is the new one, the other the previous one (the message \
+           says which)\n  \
+        5  failed, and what the FCC holds is unknown: it did not answer the question\n  \
+        6  failed: the FCC holds a list that is neither the new one nor the previous one")]
     Upload {
         /// Mission file (.toml or .plan).
         file: PathBuf,
@@ -94,6 +113,11 @@ enum Command {
         #[arg(short, long, value_name = "FILE")]
         output: Option<PathBuf>,
     },
+    /// Print what the FCC holds (ICD §8 report, #50001): for the active lists (and each staged
+    /// mission) the waypoint and area counts, the onboard geofence check and the checksums of
+    /// ICD §11, to compare with what `gcs validate` and `gcs upload` print. An edition-1 FCC
+    /// gives no report (exit status 1).
+    Missions,
     /// Clear the active mission (#13000 clear, then transmit of an empty list).
     Clear,
     /// Clear the active areas (#2011 mode 6).
@@ -445,7 +469,7 @@ fn violation_json(v: &Violation) -> serde_json::Value {
 }
 
 /// Runs the link until the request ends; prints progress on a terminal.
-fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, String> {
+fn finish(link: &mut Link) -> Result<Finished, Failure> {
     let progress = io::stderr().is_terminal();
     let outcome = link.finish(|event| {
         if let (true, GcsEvent::Progress { phase, sent, total }) = (progress, event) {
@@ -455,7 +479,55 @@ fn finish(link: &mut Link) -> Result<Option<ValidatedPlan>, String> {
     if progress {
         eprintln!();
     }
-    outcome.map_err(|e| e.to_string())
+    outcome.map_err(|e| match e {
+        GcsError::Upload(report) => Failure {
+            status: upload_status(report.outcome()),
+            message: report.to_string(),
+            refused: Vec::new(),
+        },
+        other => other.to_string().into(),
+    })
+}
+
+/// The exit status of `gcs upload` for each outcome (see the command's help).
+fn upload_status(outcome: UploadOutcome) -> u8 {
+    match outcome {
+        UploadOutcome::Complete | UploadOutcome::CompleteAfterLostAnswer => 0,
+        UploadOutcome::PreviousActive => 3,
+        UploadOutcome::Mixed => 4,
+        UploadOutcome::Unknown => 5,
+        UploadOutcome::Foreign => 6,
+    }
+}
+
+/// The FCC's report (ICD §8) as a table, one line per entry.
+fn print_report(entries: &[MissionReport]) {
+    println!(
+        "{:<20} {:>9} {:>5} {:<24} {:<10} {:<10}",
+        "mission", "waypoints", "areas", "geofence check", "mission", "areas"
+    );
+    let checksum = |c: Option<Checksum>| c.map_or_else(|| "-".to_owned(), |c| c.to_string());
+    for e in entries {
+        let name = match e.mission_id.as_ref().map(|t| t.as_str()) {
+            None | Some("") => "(active)".to_owned(),
+            Some(id) => id.to_owned(),
+        };
+        let check = match (e.geofence_check, e.reason) {
+            (GeofenceCheck::NotRun, _) => "not run".to_owned(),
+            (GeofenceCheck::Passed, _) => "passed".to_owned(),
+            (GeofenceCheck::Failed, Some(r)) => format!("failed: {r}"),
+            (GeofenceCheck::Failed, None) => "failed".to_owned(),
+        };
+        println!(
+            "{:<20} {:>9} {:>5} {:<24} {:<10} {:<10}",
+            name,
+            e.waypoint_count,
+            e.area_count,
+            check,
+            checksum(e.mission_checksum),
+            checksum(e.area_checksum)
+        );
+    }
 }
 
 /// `gcs validate`: the verdict on the plan as it will be uploaded (see the exit status in the
@@ -510,6 +582,13 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
         None => (Vec::new(), None),
     };
     let feasible = violations.is_empty() && icd_error.is_none();
+    // ICD §11: what the FCC will report for these lists once they are active.
+    let checksums = valid.as_ref().filter(|_| feasible).map(|v| {
+        (
+            integrity::mission_checksum(&v.mission),
+            integrity::areas_checksum(&v.areas),
+        )
+    });
     let summary = match (&valid, icd_error) {
         (Some(v), None) => v.to_string(),
         _ => plan.to_string(),
@@ -525,6 +604,8 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
                 "energy_wh": energy.map(|e| serde_json::json!({ "total": e.total_wh, "limit": e.limit_wh })),
                 "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
                 "error": icd_error.map(|e| e.to_string()),
+                "mission_checksum": checksums.map(|(m, _)| m.to_string()),
+                "area_checksum": checksums.map(|(_, a)| a.to_string()),
                 "dropped": dropped_json(&dropped),
             })
         );
@@ -548,6 +629,9 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
         }
         if feasible {
             println!("  feasible: every check of the safety gateway passes");
+        }
+        if let Some((m, a)) = checksums {
+            println!("  checksums (ICD §11): mission {m}, areas {a}");
         }
     }
     match (violations.len(), icd_error) {
@@ -573,8 +657,9 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
             link.station()
                 .upload(now, &plan, !edit)
                 .map_err(|e| format!("{}: {e}; nothing was sent", file.display()))?;
-            finish(&mut link)?;
-            println!("upload complete: waypoints and areas are active on the FCC");
+            if let Finished::Uploaded(report) = finish(&mut link)? {
+                println!("{report}");
+            }
             Ok(())
         }
         Command::Map {
@@ -658,8 +743,15 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
             let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
             link.station().download(now).map_err(|e| e.to_string())?;
-            let plan = finish(&mut link)?.ok_or("the download ended without lists")?;
+            let plan = finish(&mut link)?
+                .into_plan()
+                .ok_or("the download ended without lists")?;
             println!("downloaded {plan}");
+            println!(
+                "checksums (ICD §11): mission {}, areas {}",
+                integrity::mission_checksum(&plan.mission),
+                integrity::areas_checksum(&plan.areas)
+            );
             if let Some(path) = output {
                 // The FCC does not hold the take-off position: the file has none (its header
                 // says so), and it must be added before the file is uploaded again.
@@ -670,6 +762,16 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
                     path.display()
                 );
             }
+            Ok(())
+        }
+        Command::Missions => {
+            let mut link = open(config, SafetyGateway::default())?;
+            let now = link.now();
+            link.station().report(now).map_err(|e| e.to_string())?;
+            let Finished::Reported(entries) = finish(&mut link)? else {
+                return Err("the FCC sent no report".to_owned().into());
+            };
+            print_report(&entries);
             Ok(())
         }
         Command::Clear => {

@@ -9,6 +9,15 @@
 //! downloads with the FCC's upload receivers ([`TransferSender`], [`MissionReceiver`],
 //! [`AreaReceiver`]).
 //!
+//! **Editions and the truth (ICD §10.1, §11).** Before it uploads or downloads, the GCS asks the
+//! FCC for its report (#13000 mode 7) once per session: an edition-2 FCC answers with the active
+//! lists' checksums (what is active *before*), an edition-1 FCC refuses (`Unsupported`, final).
+//! Toward edition 2 the closers carry the checksums of the lists meant and download requests ask
+//! for them back. When an upload fails, the GCS asks again what is active (the report, or a
+//! download from an edition-1 FCC) and says for each list whether it is the new one or the
+//! previous one ([`outcome::UploadReport`]): a lost answer is not a failure, and a half-done
+//! upload is named as such.
+//!
 //! Their deadlines are the slots of one [`TimerTable`] ([`GcsTimer`]), kept in step with them as
 //! on the FCC (`link::composite::Composite`). Commands are typed:
 //! [`GroundStation::clear_areas`] and [`GroundStation::execute`] build #2011 mode 6 and #50000,
@@ -18,21 +27,31 @@ use core::fmt;
 use core::time::Duration;
 use std::collections::VecDeque;
 
+use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
-    GeoPoint, Message, MessageType, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
-    Text, Timestamp,
+    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, Checksum, EncodeError,
+    ExecuteCommand, FrameError, FromToNext, GeoPoint, Message, MessageType, MissionExecuteCommand,
+    MissionPlanMode, MissionReport, MissionTransferCommand, Reason, SafetyOffset, Text, Timestamp,
+    TransferWindow, WindowOrChecksum,
 };
 
 use crate::link::composite::Composite;
 use crate::link::endpoint::{Endpoint, EndpointConfig};
-use crate::link::retry::ExchangeError;
+use crate::link::retry::{AttemptFailure, ExchangeError};
 use crate::link::time::Instant;
 use crate::link::timer::{Timer, TimerTable};
 use crate::transfer::areas::{AreaBuffer, AreaList};
+use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::{Mission, MissionBuffer};
-use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received};
-use crate::transfer::sender::{Script, SenderEvent, TransferSender, area_request, mission_command};
+use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received, ReportReceiver};
+use crate::transfer::sender::{
+    Script, SenderEvent, TransferSender, area_request, area_transfer_command, mission_command,
+    transfer_command,
+};
+
+pub mod outcome;
+
+use outcome::{Before, Confirmation, ListOutcome, UploadReport};
 
 /// The safety gateway hook (paper §2.2): a mission is uploaded only if every check passes. The
 /// gateway itself (geometry, energy, environment) plugs in here.
@@ -249,6 +268,8 @@ pub enum Phase {
     AreaDownload,
     /// A single command (clear, clear areas, execute).
     Command,
+    /// The FCC's report of its lists (ICD §8, #13000 mode 7 and #50001).
+    Report,
 }
 
 impl fmt::Display for Phase {
@@ -259,6 +280,7 @@ impl fmt::Display for Phase {
             Self::MissionDownload => "mission download",
             Self::AreaDownload => "area download",
             Self::Command => "command",
+            Self::Report => "mission report",
         })
     }
 }
@@ -293,6 +315,8 @@ pub enum GcsError<R> {
         /// Where.
         phase: Phase,
     },
+    /// The upload did not complete: what the FCC holds now, list by list (ICD §11).
+    Upload(Box<UploadReport>),
     /// What the FCC sent does not assemble into a valid list.
     InvalidDownload {
         /// Where.
@@ -320,6 +344,7 @@ impl<R: fmt::Display> fmt::Display for GcsError<R> {
                     "{phase} abandoned: nothing heard from the FCC for the transfer timeout"
                 )
             }
+            Self::Upload(report) => write!(f, "{report}"),
             Self::InvalidDownload { phase, reason } => {
                 write!(f, "{phase}: what the FCC sent is invalid: {reason}")
             }
@@ -341,8 +366,12 @@ pub enum GcsEvent<R> {
         /// In the transfer.
         total: usize,
     },
-    /// Waypoints and areas are uploaded; the FCC activated both.
-    UploadComplete,
+    /// An upload completed: both lists are active on the FCC (confirmed after a lost answer,
+    /// perhaps: the report says). An upload that did not complete ends in
+    /// [`GcsEvent::Failed`] with [`GcsError::Upload`].
+    Uploaded(Box<UploadReport>),
+    /// The FCC's report of its lists (ICD §8): the active lists first.
+    Reported(heapless::Vec<MissionReport, MAX_REPORT_ENTRIES>),
     /// Mission and areas are downloaded.
     DownloadComplete(Box<ValidatedPlan>),
     /// The FCC accepted a command (the message type).
@@ -362,22 +391,76 @@ pub enum GcsTimer {
     MissionDownload = 1,
     /// The transfer timeout of the area download.
     AreaDownload = 2,
+    /// The transfer timeout of the mission report.
+    Report = 3,
 }
 
-impl Timer<3> for GcsTimer {
-    const ALL: [Self; 3] = [Self::Sender, Self::MissionDownload, Self::AreaDownload];
+impl Timer<4> for GcsTimer {
+    const ALL: [Self; 4] = [
+        Self::Sender,
+        Self::MissionDownload,
+        Self::AreaDownload,
+        Self::Report,
+    ];
     fn index(self) -> usize {
         self as usize
     }
 }
 
+/// Which edition of the ICD the FCC speaks (ICD §10.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Edition {
+    /// Edition 1: §5 only; it refuses the report request with `Unsupported`.
+    One,
+    /// Edition 2: §8-§11.
+    Two,
+}
+
+/// Why the GCS asks for the report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Purpose {
+    /// Edition discovery before a transfer (ICD §10.1); the report gives what is active before.
+    Discovery(Then),
+    /// After a failed upload: what is active now (ICD §11).
+    Truth,
+    /// The operator asked.
+    Query,
+}
+
+/// What follows the discovery.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Then {
+    Upload,
+    Download,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum State {
     Standby,
+    /// Waiting for the answer to the report request, or receiving the report.
+    Reporting(Purpose),
     Uploading(Phase),
-    /// Waiting for the answer to a download request of `Phase`, or receiving it.
+    /// Waiting for the answer to a download request of `Phase`, or receiving it (the truth
+    /// after a failed upload to an edition-1 FCC when an upload is in progress).
     Downloading(Phase),
     Commanding,
+}
+
+/// An upload request in progress.
+#[derive(Debug, Clone)]
+struct UploadJob {
+    mission: Mission,
+    areas: AreaList,
+    clear: bool,
+    /// ICD §11 checksums of both lists.
+    checksums: (Checksum, Checksum),
+    /// What was active before, from the edition-2 report.
+    before: Option<(Before, Before)>,
+    /// The transfer's failure, once it failed.
+    failure: Option<(Phase, ExchangeError)>,
+    /// The lists downloaded to find out what is active (edition 1): the mission, once known
+    /// (`Some(None)`: there is none).
+    verified_mission: Option<Option<Checksum>>,
 }
 
 /// The GCS logic.
@@ -388,12 +471,16 @@ pub struct GroundStation<G: SafetyGateway> {
     gateway: G,
     state: State,
     sender: Option<TransferSender>,
-    areas_to_upload: Option<AreaList>,
+    upload: Option<Box<UploadJob>>,
+    edition: Option<Edition>,
+    /// When the FCC was last heard (a frame that passed preprocessing).
+    last_heard: Option<Instant>,
+    report: ReportReceiver,
     mission_download: MissionReceiver,
     area_download: AreaReceiver,
     downloaded_mission: Option<Mission>,
     events: VecDeque<GcsEvent<G::Report>>,
-    timers: TimerTable<GcsTimer, 3>,
+    timers: TimerTable<GcsTimer, 4>,
 }
 
 impl<G: SafetyGateway> GroundStation<G> {
@@ -405,7 +492,10 @@ impl<G: SafetyGateway> GroundStation<G> {
             gateway,
             state: State::Standby,
             sender: None,
-            areas_to_upload: None,
+            upload: None,
+            edition: None,
+            last_heard: None,
+            report: ReportReceiver::new(config.transfer_timeout),
             mission_download: MissionReceiver::new(config.transfer_timeout),
             area_download: AreaReceiver::new(config.transfer_timeout),
             downloaded_mission: None,
@@ -456,8 +546,11 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// The upload request: validation first, then the waypoints (after a clear when `clear`,
-    /// else as an edit), then the areas. Nothing is sent when validation fails.
+    /// The upload request: validation first, then the report (ICD §8; the edition discovery of
+    /// §10.1 the first time; skipped toward an edition-1 FCC heard within the transfer timeout),
+    /// then the waypoints (after a clear when
+    /// `clear`, else as an edit), then the areas. Nothing is sent when validation fails. Ends in
+    /// [`GcsEvent::Uploaded`] once sending began (a failure included: it says what is active).
     pub fn upload(
         &mut self,
         now: Instant,
@@ -466,32 +559,122 @@ impl<G: SafetyGateway> GroundStation<G> {
     ) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
         let ValidatedPlan { mission, areas } = self.validate(plan)?;
-        self.areas_to_upload = Some(areas);
-        self.start(
-            now,
-            State::Uploading(Phase::MissionUpload),
-            Script::MissionUpload {
-                mission,
-                clear,
-                checksum: None,
-            },
-        );
+        self.upload = Some(Box::new(UploadJob {
+            checksums: (mission_checksum(&mission), areas_checksum(&areas)),
+            mission,
+            areas,
+            clear,
+            before: None,
+            failure: None,
+            verified_mission: None,
+        }));
+        // Toward edition 2 the report goes first every time: it is what was active before,
+        // for the truth after a failure (ICD §11).
+        if self.edition_known(now) && self.edition == Some(Edition::One) {
+            self.start_mission_upload(now);
+        } else {
+            self.start_report(now, Purpose::Discovery(Then::Upload));
+        }
         Ok(())
     }
 
-    /// The download request: the mission (#13000 mode 3), then the areas (#2011 mode 3).
+    /// The download request: the mission (#13000 mode 3), then the areas (#2011 mode 3), after
+    /// the edition discovery when needed; toward edition 2 the requests ask for the checksums,
+    /// which the receivers compare with what arrived (ICD §11).
     pub fn download(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
+        if self.edition_known(now) {
+            self.request_mission(now);
+        } else {
+            self.start_report(now, Purpose::Discovery(Then::Download));
+        }
+        Ok(())
+    }
+
+    /// The report request (ICD §8, #13000 mode 7): ends in [`GcsEvent::Reported`], or fails
+    /// with `Unsupported` from an edition-1 FCC.
+    pub fn report(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
+        self.ensure_standby()?;
+        self.start_report(now, Purpose::Query);
+        Ok(())
+    }
+
+    /// The edition the FCC speaks, if the GCS found out in this session.
+    pub fn edition(&self) -> Option<Edition> {
+        self.edition
+    }
+
+    /// Whether the edition is known and the FCC was heard within the transfer timeout (ICD
+    /// §10.1: after a silence that long, the GCS asks again).
+    fn edition_known(&self, now: Instant) -> bool {
+        self.edition.is_some()
+            && self
+                .last_heard
+                .is_some_and(|t| now.saturating_since(t) < self.config.transfer_timeout)
+    }
+
+    fn start_report(&mut self, now: Instant, purpose: Purpose) {
+        self.report.abandon();
+        let request = mission_command(MissionPlanMode::ReportMissions, None, None);
+        self.start(now, State::Reporting(purpose), Script::Request(request));
+    }
+
+    fn start_mission_upload(&mut self, now: Instant) {
+        let edition_2 = self.edition == Some(Edition::Two);
+        let Some(job) = self.upload.as_ref() else {
+            return;
+        };
+        let script = Script::MissionUpload {
+            mission: job.mission.clone(),
+            clear: job.clear,
+            checksum: edition_2.then_some(job.checksums.0),
+        };
+        self.start(now, State::Uploading(Phase::MissionUpload), script);
+    }
+
+    fn start_area_upload(&mut self, now: Instant) {
+        let edition_2 = self.edition == Some(Edition::Two);
+        let Some(job) = self.upload.as_ref() else {
+            return;
+        };
+        let script = Script::AreaUpload {
+            list: job.areas.clone(),
+            checksum: edition_2.then_some(job.checksums.1),
+        };
+        self.start(now, State::Uploading(Phase::AreaUpload), script);
+    }
+
+    /// The transfer window of a download request: 1 toward edition 2 (the field makes it an
+    /// edition-2 request, ICD §10.2), absent toward edition 1.
+    fn window(&self) -> Option<TransferWindow> {
+        (self.edition == Some(Edition::Two)).then_some(TransferWindow::ONE)
+    }
+
+    fn request_mission(&mut self, now: Instant) {
         self.downloaded_mission = None;
         self.mission_download.abandon(None);
         self.area_download.abandon();
-        let request = mission_command(MissionPlanMode::ReceiveMission, None, None);
+        let request = MissionTransferCommand {
+            transfer_window: self.window(),
+            ..transfer_command(MissionPlanMode::ReceiveMission, None, None)
+        };
         self.start(
             now,
             State::Downloading(Phase::MissionDownload),
-            Script::Request(request),
+            Script::Request(request.into()),
         );
-        Ok(())
+    }
+
+    fn request_areas(&mut self, now: Instant) {
+        let request = AreaTransmissionCommand {
+            window_or_checksum: self.window().map(WindowOrChecksum::TransferWindow),
+            ..area_transfer_command(AreaTransferMode::InitiateDownload, Some(0))
+        };
+        self.start(
+            now,
+            State::Downloading(Phase::AreaDownload),
+            Script::Request(request.into()),
+        );
     }
 
     /// Clears the active mission: #13000 mode 1, then mode 2 with 0 waypoints (see
@@ -544,7 +727,8 @@ impl<G: SafetyGateway> GroundStation<G> {
     fn finish(&mut self, event: GcsEvent<G::Report>) {
         self.state = State::Standby;
         self.sender = None;
-        self.areas_to_upload = None;
+        self.upload = None;
+        self.report.abandon();
         self.mission_download.abandon(None);
         self.area_download.abandon();
         self.events.push_back(event);
@@ -558,13 +742,16 @@ impl<G: SafetyGateway> GroundStation<G> {
     fn phase(&self) -> Phase {
         match self.state {
             State::Uploading(p) | State::Downloading(p) => p,
+            State::Reporting(_) => Phase::Report,
             State::Standby | State::Commanding => Phase::Command,
         }
     }
 
     /// Handles one downlink message (wrapper to checksum) received at `now`.
     pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
-        self.receive_frame(now, bytes)
+        self.receive_frame(now, bytes)?;
+        self.last_heard = Some(now);
+        Ok(())
     }
 
     /// Answers one message of the download of `phase` with its receiver's `outcome`, and fails
@@ -583,22 +770,55 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.endpoint.answer(now, message, ack, outcome.map(|_| ()));
         match outcome {
             Ok(Received::Complete) => return true,
-            Ok(Received::Abandoned(reason)) => self.fail(GcsError::Aborted { phase, reason }),
+            Ok(Received::Abandoned(reason)) => {
+                self.download_failed(GcsError::Aborted { phase, reason })
+            }
             Ok(Received::Stored | Received::Emptied) => {}
-            Err(reason) if closing => self.fail(GcsError::InvalidDownload { phase, reason }),
+            Err(reason) if closing => {
+                self.download_failed(GcsError::InvalidDownload { phase, reason })
+            }
             Err(_) => {}
         }
         false
     }
 
-    fn request_areas(&mut self, now: Instant, mission: Mission) {
-        self.downloaded_mission = Some(mission);
-        let request = area_request(AreaTransferMode::InitiateDownload, Some(0));
-        self.start(
-            now,
-            State::Downloading(Phase::AreaDownload),
-            Script::Request(request),
-        );
+    /// A download failed: the request fails, or, when the download was to find out what an
+    /// edition-1 FCC holds after a failed upload, the upload ends with that unknown.
+    fn download_failed(&mut self, error: GcsError<G::Report>) {
+        if self.upload.is_some() {
+            tracing::warn!(%error, "cannot find out what the FCC holds");
+            self.end_upload_unknown();
+        } else {
+            self.fail(error);
+        }
+    }
+
+    /// A download request failed twice. After a failed upload to an edition-1 FCC, a refusal
+    /// (`WrongState`) of the mission request or an aborted #3013 means there is no such list;
+    /// anything else leaves it unknown.
+    fn download_request_failed(&mut self, now: Instant, phase: Phase, error: ExchangeError) {
+        let Some(job) = self.upload.as_mut() else {
+            self.fail(GcsError::Transfer { phase, error });
+            return;
+        };
+        let none_active = match phase {
+            Phase::MissionDownload => error.reason() == Some(Reason::WrongState),
+            _ => error.first == AttemptFailure::Aborted,
+        };
+        if !none_active {
+            self.end_upload_unknown();
+            return;
+        }
+        match phase {
+            Phase::MissionDownload => {
+                job.verified_mission = Some(None);
+                self.request_areas(now);
+            }
+            _ => {
+                let mission = job.verified_mission.flatten();
+                self.end_upload_verified(mission, None, Confirmation::Download);
+            }
+        }
     }
 
     fn sender_event(&mut self, now: Instant, event: SenderEvent) {
@@ -608,27 +828,47 @@ impl<G: SafetyGateway> GroundStation<G> {
                 self.events
                     .push_back(GcsEvent::Progress { phase, sent, total });
             }
-            SenderEvent::Failed(error) => self.fail(GcsError::Transfer { phase, error }),
+            SenderEvent::Failed(error) => match self.state {
+                State::Uploading(phase) => {
+                    // The FCC may have carried out what it did not answer: ask (ICD §11).
+                    if let Some(job) = self.upload.as_mut() {
+                        job.failure = Some((phase, error));
+                    }
+                    self.find_out(now);
+                }
+                State::Reporting(purpose) => self.report_refused(now, purpose, error),
+                State::Downloading(phase) => self.download_request_failed(now, phase, error),
+                _ => self.fail(GcsError::Transfer { phase, error }),
+            },
             SenderEvent::Completed(answer) => match self.state {
                 State::Uploading(Phase::MissionUpload) => {
+                    let total = self.sender.as_ref().map_or(0, |s| s.script().len());
                     self.events.push_back(GcsEvent::Progress {
                         phase,
-                        sent: self.sender.as_ref().map_or(0, |s| s.script().len()),
-                        total: self.sender.as_ref().map_or(0, |s| s.script().len()),
+                        sent: total,
+                        total,
                     });
-                    match self.areas_to_upload.take() {
-                        Some(list) => self.start(
-                            now,
-                            State::Uploading(Phase::AreaUpload),
-                            Script::AreaUpload {
-                                list,
-                                checksum: None,
-                            },
-                        ),
-                        None => self.finish(GcsEvent::UploadComplete),
+                    self.start_area_upload(now);
+                }
+                State::Uploading(_) => {
+                    let checksums = self.upload.as_ref().map(|j| j.checksums);
+                    if let Some((m, a)) = checksums {
+                        self.end_upload(
+                            ListOutcome::new(m),
+                            ListOutcome::new(a),
+                            Confirmation::Answers,
+                        );
                     }
                 }
-                State::Uploading(_) => self.finish(GcsEvent::UploadComplete),
+                State::Reporting(_) => {
+                    // The FCC accepted the request: an edition-2 FCC (ICD §10.1); its entries
+                    // follow.
+                    self.edition = Some(Edition::Two);
+                    self.sender = None;
+                    if !self.report.in_transfer() {
+                        self.report.begin(now);
+                    }
+                }
                 State::Downloading(Phase::MissionDownload) => {
                     // The FCC accepted the request; its messages follow.
                     self.sender = None;
@@ -646,6 +886,142 @@ impl<G: SafetyGateway> GroundStation<G> {
                 }
                 State::Standby => {}
             },
+        }
+    }
+
+    /// After a failed upload: the report toward edition 2, a download toward edition 1.
+    fn find_out(&mut self, now: Instant) {
+        if self.edition == Some(Edition::Two) {
+            self.start_report(now, Purpose::Truth);
+        } else {
+            self.request_mission(now);
+        }
+    }
+
+    /// The report request failed twice, or was refused once for good (edition 1).
+    fn report_refused(&mut self, now: Instant, purpose: Purpose, error: ExchangeError) {
+        let edition_1 = error.second.is_none() && error.reason() == Some(Reason::Unsupported);
+        if edition_1 {
+            self.edition = Some(Edition::One);
+        }
+        match (purpose, edition_1) {
+            (Purpose::Discovery(Then::Upload), true) => self.start_mission_upload(now),
+            (Purpose::Discovery(Then::Download), true) => self.request_mission(now),
+            (Purpose::Truth, true) => self.request_mission(now),
+            (Purpose::Truth, false) => self.end_upload_unknown(),
+            (Purpose::Discovery(_) | Purpose::Query, _) => self.fail(GcsError::Transfer {
+                phase: Phase::Report,
+                error,
+            }),
+        }
+    }
+
+    /// The report is complete.
+    fn reported(&mut self, now: Instant, purpose: Purpose) {
+        let Some(entries) = self.report.take() else {
+            return;
+        };
+        // The active lists come first; their entry has an empty Mission ID (ICD §8).
+        let active = entries
+            .iter()
+            .find(|e| e.mission_id.is_none_or(|id| id.is_empty()))
+            .copied();
+        match purpose {
+            Purpose::Discovery(then) => {
+                if let (Some(job), Some(a)) = (self.upload.as_mut(), active) {
+                    job.before = Some((Before(a.mission_checksum), Before(a.area_checksum)));
+                }
+                match then {
+                    Then::Upload => self.start_mission_upload(now),
+                    Then::Download => self.request_mission(now),
+                }
+            }
+            Purpose::Truth => match active {
+                Some(a) => self.end_upload_verified(
+                    a.mission_checksum,
+                    a.area_checksum,
+                    Confirmation::Report,
+                ),
+                None => self.end_upload_unknown(),
+            },
+            Purpose::Query => self.finish(GcsEvent::Reported(entries)),
+        }
+    }
+
+    /// Ends the upload with what the FCC was found to hold.
+    fn end_upload_verified(
+        &mut self,
+        mission: Option<Checksum>,
+        areas: Option<Checksum>,
+        confirmation: Confirmation,
+    ) {
+        let Some(job) = self.upload.as_ref() else {
+            return;
+        };
+        let (before_m, before_a) = job.before.unzip();
+        let m = ListOutcome::compare(mission, job.checksums.0, before_m);
+        let a = ListOutcome::compare(areas, job.checksums.1, before_a);
+        self.end_upload(m, a, confirmation);
+    }
+
+    /// Ends the upload without knowing what the FCC holds.
+    fn end_upload_unknown(&mut self) {
+        self.end_upload(
+            ListOutcome::UNKNOWN,
+            ListOutcome::UNKNOWN,
+            Confirmation::None,
+        );
+    }
+
+    fn end_upload(&mut self, mission: ListOutcome, areas: ListOutcome, confirmation: Confirmation) {
+        let Some(job) = self.upload.take() else {
+            return;
+        };
+        let report = UploadReport {
+            mission,
+            areas,
+            uploaded: job.checksums,
+            failure: job.failure,
+            confirmation,
+        };
+        if report.is_complete() {
+            tracing::info!(%report, "upload ended");
+            self.finish(GcsEvent::Uploaded(Box::new(report)));
+        } else {
+            self.fail(GcsError::Upload(Box::new(report)));
+        }
+    }
+
+    /// The mission download is complete: the areas follow.
+    fn mission_downloaded(&mut self, now: Instant, mission: Mission) {
+        if let Some(job) = self.upload.as_mut() {
+            job.verified_mission = Some(Some(mission_checksum(&mission)));
+        } else {
+            self.downloaded_mission = Some(mission);
+        }
+        self.request_areas(now);
+    }
+
+    /// The area download is complete.
+    fn areas_downloaded(&mut self, areas: AreaList) {
+        if let Some(job) = self.upload.as_ref() {
+            let mission = job.verified_mission.flatten();
+            self.end_upload_verified(
+                mission,
+                Some(areas_checksum(&areas)),
+                Confirmation::Download,
+            );
+            return;
+        }
+        match self.downloaded_mission.take() {
+            Some(mission) => self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
+                mission,
+                areas,
+            }))),
+            None => self.fail(GcsError::InvalidDownload {
+                phase: Phase::AreaDownload,
+                reason: Reason::WrongState,
+            }),
         }
     }
 
@@ -670,8 +1046,8 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 }
 
-impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
-    fn timers(&mut self) -> &mut TimerTable<GcsTimer, 3> {
+impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
+    fn timers(&mut self) -> &mut TimerTable<GcsTimer, 4> {
         &mut self.timers
     }
 
@@ -684,6 +1060,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
             GcsTimer::Sender => self.sender.as_ref().and_then(TransferSender::poll_timeout),
             GcsTimer::MissionDownload => self.mission_download.poll_timeout(),
             GcsTimer::AreaDownload => self.area_download.poll_timeout(),
+            GcsTimer::Report => self.report.poll_timeout(),
         }
     }
 
@@ -701,10 +1078,14 @@ impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
             }
             GcsTimer::MissionDownload => self.mission_download.handle_timeout(now),
             GcsTimer::AreaDownload => self.area_download.handle_timeout(now),
+            GcsTimer::Report => self.report.handle_timeout(now),
         };
         if timed_out.is_some() {
             let phase = self.phase();
-            self.fail(GcsError::Timeout { phase });
+            match self.state {
+                State::Reporting(Purpose::Truth) => self.end_upload_unknown(),
+                _ => self.download_failed(GcsError::Timeout { phase }),
+            }
         }
     }
 
@@ -730,6 +1111,24 @@ impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
             Message::MessageAcknowledgement(_) | Message::AreaStatusAlert(_) => {
                 tracing::debug!("answer to nothing outstanding (late or duplicate)");
             }
+            Message::MissionReport(entry) => match self.state {
+                State::Reporting(purpose) => {
+                    // The FCC may start before its acceptance of the request arrives.
+                    if !self.report.in_transfer() {
+                        self.sender = None;
+                        self.edition = Some(Edition::Two);
+                        self.report.begin(now);
+                    }
+                    let outcome = self.report.handle(now, entry);
+                    self.endpoint.answer(now, message, ack, outcome.map(|_| ()));
+                    if outcome == Ok(Received::Complete) {
+                        self.reported(now, purpose);
+                    }
+                }
+                _ => self
+                    .endpoint
+                    .answer(now, message, ack, Err(Reason::WrongState)),
+            },
             Message::VehicleSpecificWaypoint(_)
             | Message::UaPositionWaypoint(_)
             | Message::UaRoute(_)
@@ -746,8 +1145,8 @@ impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
                 let closing = matches!(message, Message::MissionUploadDownloadStatus(_));
                 if self.downloaded(now, message, ack, Phase::MissionDownload, outcome, closing) {
                     match self.mission_download.take() {
-                        Some(mission) => self.request_areas(now, mission),
-                        None => self.fail(GcsError::InvalidDownload {
+                        Some(mission) => self.mission_downloaded(now, mission),
+                        None => self.download_failed(GcsError::InvalidDownload {
                             phase: Phase::MissionDownload,
                             reason: Reason::WrongState,
                         }),
@@ -762,14 +1161,9 @@ impl<G: SafetyGateway> Composite<GcsTimer, 3> for GroundStation<G> {
                 let outcome = self.area_download.handle(now, message);
                 let closing = matches!(message, Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::DownloadComplete);
                 if self.downloaded(now, message, ack, Phase::AreaDownload, outcome, closing) {
-                    match (self.downloaded_mission.take(), self.area_download.take()) {
-                        (Some(mission), Some(areas)) => {
-                            self.finish(GcsEvent::DownloadComplete(Box::new(ValidatedPlan {
-                                mission,
-                                areas,
-                            })))
-                        }
-                        _ => self.fail(GcsError::InvalidDownload {
+                    match self.area_download.take() {
+                        Some(areas) => self.areas_downloaded(areas),
+                        None => self.download_failed(GcsError::InvalidDownload {
                             phase: Phase::AreaDownload,
                             reason: Reason::WrongState,
                         }),

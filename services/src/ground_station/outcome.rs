@@ -184,7 +184,10 @@ impl fmt::Display for UploadReport {
         match (outcome, &self.failure) {
             (UploadOutcome::Complete, _) => f.write_str("upload complete")?,
             (UploadOutcome::CompleteAfterLostAnswer, Some((phase, e))) => {
-                write!(f, "upload complete (confirmed after a lost answer: {phase}: {e})")?;
+                write!(
+                    f,
+                    "upload complete (confirmed after a lost answer: {phase}: {e})"
+                )?;
             }
             (_, Some((phase, e))) => write!(f, "upload failed ({phase}: {e})")?,
             (_, None) => f.write_str("upload ended")?,

@@ -4,6 +4,9 @@
 //! time stamp; a second timeout or rejection fails the exchange with an error that names the
 //! message and both causes. Worst case for one message: 2 x ack timeout.
 //!
+//! One rejection is final, not retried: an edition-1 FCC's `Unsupported` to the report request
+//! (#13000 mode 7), which is how a GCS learns the FCC's edition (ICD §10.1).
+//!
 //! The answer is #17000 for most messages, #3012 for #2011 mode 2 (ICD §5.3) and #3013 for
 //! #2011 mode 3 (ICD §5.4).
 
@@ -11,8 +14,8 @@ use core::fmt;
 use core::time::Duration;
 
 use missionlink_interfaces::wire::{
-    AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, Message, MessageType, Reason,
-    SpecificData, Timestamp,
+    AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, Message, MessageType,
+    MissionPlanMode, Reason, SpecificData, Timestamp,
 };
 
 use crate::link::endpoint::Endpoint;
@@ -298,7 +301,21 @@ impl Exchange {
             self.timers.stop(ExchangeTimer::Ack);
             return Outcome::Retried(failure);
         };
+        // ICD §10.1: an edition-1 FCC's refusal of the report request says which edition it
+        // speaks; a retry would only be refused again.
+        let is_final = failure == AttemptFailure::Rejected(Reason::Unsupported)
+            && matches!(&pending.message, Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::ReportMissions);
         match pending.first_failure {
+            None if is_final => {
+                let error = ExchangeError {
+                    message_type: pending.message.message_type(),
+                    subject: None,
+                    first: failure,
+                    second: None,
+                };
+                self.settle();
+                Outcome::Failed(error)
+            }
             None => {
                 // The retry: the same message with a new time stamp (ICD §3).
                 let ts = endpoint.send(now, pending.message.clone(), true);

@@ -2,6 +2,8 @@
 //! ICD §5.6): the FCC receives a mission upload (paper §3.1.5) and an area upload (§3.1.8) with
 //! them, the GCS a mission download (§3.1.6) and an area download (§3.1.9).
 //!
+//! The GCS receives the FCC's mission report (ICD §8) with [`ReportReceiver`].
+//!
 //! A receiver stores what arrives and assembles the list when the closing message comes: #13000
 //! mode 2 (FCC) or #14000 complete (GCS) for missions, #2011 mode 2 (FCC) or mode 4 (GCS) for
 //! areas. It never touches an active list: it hands a complete, valid list to its owner, who
@@ -15,9 +17,10 @@
 
 use core::time::Duration;
 
-use missionlink_interfaces::capacity::MAX_AREAS;
+use missionlink_interfaces::capacity::{MAX_AREAS, MAX_REPORT_ENTRIES};
 use missionlink_interfaces::wire::{
-    AreaTransferMode, Checksum, Message, MissionPlanMode, Reason, SafetyOffset, TransferStatus,
+    AreaTransferMode, Checksum, Message, MissionPlanMode, MissionReport, Reason, SafetyOffset,
+    TransferStatus,
 };
 
 use crate::link::time::Instant;
@@ -349,6 +352,101 @@ impl AreaReceiver {
             }
             self.buffer = AreaBuffer::new();
             self.open = Some((count, offset));
+        }
+        Ok(Received::Stored)
+    }
+}
+
+/// Receives the mission report (ICD §8, #50001) on the GCS: the entries in order, the active
+/// lists first; complete when the entry of index Report Count has arrived.
+#[derive(Debug, Clone)]
+pub struct ReportReceiver {
+    entries: heapless::Vec<MissionReport, MAX_REPORT_ENTRIES>,
+    complete: bool,
+    silence: Silence,
+}
+
+impl ReportReceiver {
+    /// A receiver with no report open.
+    pub fn new(transfer_timeout: Duration) -> Self {
+        Self {
+            entries: heapless::Vec::new(),
+            complete: false,
+            silence: Silence::new(transfer_timeout),
+        }
+    }
+
+    /// The FCC accepted the request at `now`: its entries follow.
+    pub fn begin(&mut self, now: Instant) {
+        self.entries.clear();
+        self.complete = false;
+        self.silence.heard(now);
+    }
+
+    /// Whether a report is open.
+    pub fn in_transfer(&self) -> bool {
+        self.silence.is_open()
+    }
+
+    /// Ends the report in progress.
+    pub fn abandon(&mut self) {
+        self.entries.clear();
+        self.complete = false;
+        self.silence.close();
+    }
+
+    /// When [`ReportReceiver::handle_timeout`] must be called.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.silence.poll_timeout()
+    }
+
+    /// The transfer timeout may have passed at `now`: the report is abandoned.
+    pub fn handle_timeout(&mut self, now: Instant) -> Option<TransferTimedOut> {
+        let timed_out = self.silence.expire(now)?;
+        self.abandon();
+        Some(timed_out)
+    }
+
+    /// The entries of the complete report, once.
+    pub fn take(&mut self) -> Option<heapless::Vec<MissionReport, MAX_REPORT_ENTRIES>> {
+        if !self.complete {
+            return None;
+        }
+        self.complete = false;
+        Some(core::mem::take(&mut self.entries))
+    }
+
+    /// Handles one entry. Entries come one at a time, in index order (each waits for the
+    /// acknowledgement of the one before, ICD §8): the next index is stored, the last one stored
+    /// again (its retry, whose acknowledgement was lost) is accepted without change, any other
+    /// is refused (`WrongState`), as is a Report Count that changes within the report
+    /// (`Malformed`).
+    pub fn handle(&mut self, now: Instant, entry: &MissionReport) -> Result<Received, Reason> {
+        if !self.silence.is_open() {
+            return Err(Reason::WrongState);
+        }
+        self.silence.heard(now);
+        let count = self
+            .entries
+            .first()
+            .map_or(entry.report_count, |e| e.report_count);
+        if entry.report_count != count || usize::from(count) > MAX_REPORT_ENTRIES {
+            return Err(Reason::Malformed);
+        }
+        let stored = self.entries.len();
+        match usize::from(entry.report_index) {
+            i if i == stored + 1 => {
+                let mut e = *entry;
+                e.time_stamp = Default::default();
+                self.entries.push(e).map_err(|_| Reason::Capacity)?;
+            }
+            i if i == stored && stored > 0 => return Ok(Received::Stored),
+            _ => return Err(Reason::WrongState),
+        }
+        if self.entries.len() == usize::from(count) {
+            self.complete = true;
+            self.silence.close();
+            return Ok(Received::Complete);
         }
         Ok(Received::Stored)
     }

@@ -263,6 +263,14 @@ pub fn transfer_command(
 /// A #2011 of `mode` that carries no list: cancel, clear areas, or the download request (which
 /// names the area to start from, ICD §5.4).
 pub fn area_request(mode: AreaTransferMode, area_id: Option<u16>) -> Message {
+    area_transfer_command(mode, area_id).into()
+}
+
+/// A #2011 of `mode` that carries no list, without the extension fields, to set them on.
+pub fn area_transfer_command(
+    mode: AreaTransferMode,
+    area_id: Option<u16>,
+) -> AreaTransmissionCommand {
     AreaTransmissionCommand {
         time_stamp: ts0(),
         mode,
@@ -273,7 +281,6 @@ pub fn area_request(mode: AreaTransferMode, area_id: Option<u16>) -> Message {
         mission_id: None,
         window_or_checksum: None,
     }
-    .into()
 }
 
 /// What became of a transfer after a message or a timeout.
