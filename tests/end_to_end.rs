@@ -15,6 +15,7 @@ use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointLis
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMode};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
+use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{GcsError, Phase};
 use missionlink_services::transfer::sender::mission_command;
 
@@ -158,16 +159,24 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     )
     .unwrap();
 
-    // The GCS reports the abort after its retry, naming the message.
+    // The GCS reports the abort after its retry, naming the message, then asks the FCC what is
+    // active (ICD §11): the previous lists, or unknown while the partition is still down.
     let outcome = finish(&mut link);
-    let Err(GcsError::Transfer {
-        phase: Phase::MissionUpload,
-        error,
-    }) = outcome
-    else {
-        panic!("the upload did not abort in its mission phase: {outcome:?}");
+    let Err(GcsError::Upload(report)) = &outcome else {
+        panic!("the upload did not fail: {outcome:?}");
     };
-    eprintln!("the GCS reported: mission upload failed: {error}");
+    assert!(
+        matches!(report.failure, Some((Phase::MissionUpload, _))),
+        "{report}"
+    );
+    assert!(
+        matches!(
+            report.outcome(),
+            UploadOutcome::PreviousActive | UploadOutcome::Unknown
+        ),
+        "{report}"
+    );
+    eprintln!("the GCS reported: {report}");
     // The launcher restarted the partition, which resumed with mission 1.
     wait_for_log(&fcc, "partition died", Duration::from_secs(5));
     assert!(

@@ -218,3 +218,59 @@ fn a_flood_of_bad_frames_on_both_links_is_counted_in_full_and_logged_once_a_seco
     );
     assert_eq!(voter.reject_log_lines(), 4);
 }
+
+/// Uploads mission 2 over mission 1 and loses the FCC's answers to the closer `closer` (as
+/// `describe` names it) `times` times; the GCS's outcome.
+fn lose_closer_answers(closer: &str, times: usize) -> (Pair, UploadReport) {
+    let mut pair = Pair::new(7);
+    let now = pair.now;
+    pair.gcs.upload(now, &mission_1(), true).unwrap();
+    pair.run_until_standby(Duration::from_secs(10));
+    pair.take_gcs_events();
+    let now = pair.now;
+    pair.gcs.upload(now, &mission_2(), true).unwrap();
+    let mut lost = 0;
+    let mut checked = pair.sent.len();
+    while lost < times {
+        assert!(pair.step(), "{closer} never sent");
+        for s in &pair.sent[checked..] {
+            match s.direction {
+                Direction::Up if describe(&s.message) == closer => {
+                    pair.downlink = [Faults::DOWN; 2];
+                }
+                Direction::Down if pair.downlink == [Faults::DOWN; 2] => {
+                    lost += 1;
+                    pair.downlink = [Faults::NONE; 2];
+                }
+                _ => {}
+            }
+        }
+        checked = pair.sent.len();
+    }
+    pair.run_until_standby(Duration::from_secs(30));
+    let report = match pair.take_gcs_events().pop() {
+        Some(GcsEvent::Uploaded(r)) => *r,
+        Some(GcsEvent::Failed(GcsError::Upload(r))) => *r,
+        other => panic!("{closer}: {other:?}"),
+    };
+    (pair, report)
+}
+
+/// ICD §11: a closer whose answer is lost is retried and answered as the first was; when both
+/// answers are lost, the GCS asks and finds the new lists active. Either way it reports
+/// success, and the FCC holds the new lists.
+#[test]
+fn a_lost_closer_answer_still_ends_in_success() {
+    let new = mission_2().assemble().unwrap();
+    for closer in ["13000 mode 2", "2011 mode 2"] {
+        for (times, expected) in [
+            (1, UploadOutcome::Complete),
+            (2, UploadOutcome::CompleteAfterLostAnswer),
+        ] {
+            let (pair, report) = lose_closer_answers(closer, times);
+            assert_eq!(report.outcome(), expected, "{closer} x{times}: {report}");
+            assert_eq!(pair.fcc.active_mission(), Some(&new.mission));
+            assert_eq!(pair.fcc.active_areas(), Some(&new.areas));
+        }
+    }
+}

@@ -51,7 +51,7 @@ use crate::transfer::sender::{
 
 pub mod outcome;
 
-use outcome::{Before, Confirmation, ListOutcome, UploadReport};
+use outcome::{Before, Confirmation, Held, ListOutcome, UploadReport};
 
 /// The safety gateway hook (paper §2.2): a mission is uploaded only if every check passes. The
 /// gateway itself (geometry, energy, environment) plugs in here.
@@ -816,7 +816,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             }
             _ => {
                 let mission = job.verified_mission.flatten();
-                self.end_upload_verified(mission, None, Confirmation::Download);
+                self.end_upload_verified(now, mission, None, Confirmation::Download);
             }
         }
     }
@@ -938,6 +938,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             }
             Purpose::Truth => match active {
                 Some(a) => self.end_upload_verified(
+                    now,
                     a.mission_checksum,
                     a.area_checksum,
                     Confirmation::Report,
@@ -948,9 +949,11 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// Ends the upload with what the FCC was found to hold.
+    /// Ends the upload with what the FCC was found to hold; or, when the mission phase failed
+    /// only because its answers were lost (the new mission is active), goes on with the areas.
     fn end_upload_verified(
         &mut self,
+        now: Instant,
         mission: Option<Checksum>,
         areas: Option<Checksum>,
         confirmation: Confirmation,
@@ -961,6 +964,13 @@ impl<G: SafetyGateway> GroundStation<G> {
         let (before_m, before_a) = job.before.unzip();
         let m = ListOutcome::compare(mission, job.checksums.0, before_m);
         let a = ListOutcome::compare(areas, job.checksums.1, before_a);
+        if matches!(job.failure, Some((Phase::MissionUpload, _))) && m.held == Held::New {
+            tracing::info!(
+                "the new mission is active although its answer was lost: the areas follow"
+            );
+            self.start_area_upload(now);
+            return;
+        }
         self.end_upload(m, a, confirmation);
     }
 
@@ -1003,10 +1013,11 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// The area download is complete.
-    fn areas_downloaded(&mut self, areas: AreaList) {
+    fn areas_downloaded(&mut self, now: Instant, areas: AreaList) {
         if let Some(job) = self.upload.as_ref() {
             let mission = job.verified_mission.flatten();
             self.end_upload_verified(
+                now,
                 mission,
                 Some(areas_checksum(&areas)),
                 Confirmation::Download,
@@ -1162,7 +1173,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
                 let closing = matches!(message, Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::DownloadComplete);
                 if self.downloaded(now, message, ack, Phase::AreaDownload, outcome, closing) {
                     match self.area_download.take() {
-                        Some(areas) => self.areas_downloaded(areas),
+                        Some(areas) => self.areas_downloaded(now, areas),
                         None => self.download_failed(GcsError::InvalidDownload {
                             phase: Phase::AreaDownload,
                             reason: Reason::WrongState,

@@ -1,0 +1,142 @@
+//! Issue 12, "Done when": an upload of demo mission 2 over mission 1, with mission data handling
+//! killed (`kill -9`) right after the FCC's k-th message of the upload, for every k of the
+//! sequence (the report before the upload, the clear, every waypoint, the transmit, the area
+//! upload, the last answer). Afterwards the active lists are the old ones or the new ones, whole,
+//! and the GCS's report says which, every time.
+//!
+//! The launcher restarts the partition; it resumes with the lists it recorded before answering
+//! and refuses the rest of an upload it did not see from the start (the restart record of
+//! `services::mission_data_handling`).
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+mod common;
+
+use std::time::Duration;
+
+use common::*;
+use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_services::ground_station::outcome::{Held, UploadReport};
+use missionlink_services::ground_station::{GcsError, Phase};
+
+/// The process ID of the running `partition` (the last one the launcher started).
+fn partition_pid(fcc: &Process, partition: &str) -> i32 {
+    let tag = format!("partition=\"{partition}\"");
+    fcc.log_text()
+        .lines()
+        .filter(|l| l.contains("started") && l.contains(&tag))
+        .filter_map(|l| l.split("pid=").nth(1))
+        .filter_map(|p| p.trim().parse().ok())
+        .last()
+        .expect("pid of the partition")
+}
+
+/// Messages the FCC sent since log entry `from`.
+fn downlink_count(link: &Link, from: usize) -> usize {
+    link.log
+        .get(from..)
+        .unwrap_or_default()
+        .iter()
+        .filter(|l| l.direction == Direction::Down)
+        .count()
+}
+
+#[test]
+fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_the_gcs_says_which()
+{
+    let mut rig = Rig::new("restart-every-k");
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    let mut link = rig.gcs(&mut fcc);
+    link.enable_log();
+    let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
+    let old = link.station().validate(&mission_1).unwrap();
+    let new = link.station().validate(&mission_2).unwrap();
+
+    // How many messages the FCC sends in an undisturbed upload of mission 2 over mission 1.
+    upload(&mut link, &mission_1).unwrap();
+    let from = link.log.len();
+    upload(&mut link, &mission_2).unwrap();
+    let total = downlink_count(&link, from);
+    assert!(total >= 12, "{total} FCC messages");
+
+    let mut restarts = 0;
+    let mut seen = Vec::new();
+    for k in 1..=total {
+        upload(&mut link, &mission_1).unwrap();
+        let from = link.log.len();
+        let now = link.now();
+        link.station().upload(now, &mission_2, true).unwrap();
+        while downlink_count(&link, from) < k && !link.station().is_standby() {
+            link.pump(Duration::from_millis(1));
+        }
+        rustix::process::kill_process(
+            rustix::process::Pid::from_raw(partition_pid(&fcc, "mission-data-handling")).unwrap(),
+            rustix::process::Signal::KILL,
+        )
+        .unwrap();
+        let outcome = finish(&mut link);
+        restarts += 1;
+        wait_for_logs(
+            &fcc,
+            "resumed with the lists active before the restart",
+            restarts,
+            Duration::from_secs(20),
+        );
+
+        // What is active, asked of the restarted partition.
+        let active = download(&mut link).unwrap_or_else(|e| panic!("k {k}: download: {e}"));
+        let new_mission = active.mission == new.mission;
+        let new_areas = active.areas == new.areas;
+        assert!(
+            new_mission || active.mission == old.mission,
+            "k {k}: a mission neither old nor new: {active:?}"
+        );
+        assert!(
+            new_areas || active.areas == old.areas,
+            "k {k}: areas neither old nor new: {active:?}"
+        );
+
+        // What the GCS said.
+        let report: Option<UploadReport> = match outcome {
+            Ok(Finished::Uploaded(report)) => Some(*report),
+            Err(GcsError::Upload(report)) => Some(*report),
+            // The report before the upload failed: nothing that changes a list was sent.
+            Err(GcsError::Transfer {
+                phase: Phase::Report,
+                ..
+            }) => None,
+            other => panic!("k {k}: {other:?}"),
+        };
+        match &report {
+            None => assert!(
+                !new_mission && !new_areas,
+                "k {k}: nothing was sent, yet {active:?}"
+            ),
+            Some(report) => {
+                for (name, held, is_new) in [
+                    ("mission", report.mission.held, new_mission),
+                    ("areas", report.areas.held, new_areas),
+                ] {
+                    let said_new = match held {
+                        Held::New => true,
+                        Held::Previous => false,
+                        other => {
+                            panic!("k {k}: the GCS does not say which {name}: {other:?}: {report}")
+                        }
+                    };
+                    assert_eq!(said_new, is_new, "k {k}: {name}: {report}");
+                }
+            }
+        }
+        seen.push((
+            k,
+            report.map_or_else(
+                || "nothing sent".to_owned(),
+                |r| format!("{:?}", r.outcome()),
+            ),
+        ));
+    }
+    eprintln!("kill after FCC message k of {total}: {seen:?}");
+}
