@@ -25,10 +25,10 @@ fn partition_pid(fcc: &Process, partition: &str) -> i32 {
     let tag = format!("partition=\"{partition}\"");
     fcc.log_text()
         .lines()
+        .rev()
         .filter(|l| l.contains("started") && l.contains(&tag))
         .filter_map(|l| l.split("pid=").nth(1))
-        .filter_map(|p| p.trim().parse().ok())
-        .last()
+        .find_map(|p| p.trim().parse().ok())
         .expect("pid of the partition")
 }
 
