@@ -461,6 +461,8 @@ struct UploadJob {
     /// The lists downloaded to find out what is active (edition 1): the mission, once known
     /// (`Some(None)`: there is none).
     verified_mission: Option<Option<Checksum>>,
+    /// When the GCS began to ask what is active.
+    asking_since: Option<Instant>,
 }
 
 /// The GCS logic.
@@ -567,6 +569,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             before: None,
             failure: None,
             verified_mission: None,
+            asking_since: None,
         }));
         // Toward edition 2 the report goes first every time: it is what was active before,
         // for the truth after a failure (ICD §11).
@@ -891,6 +894,9 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// After a failed upload: the report toward edition 2, a download toward edition 1.
     fn find_out(&mut self, now: Instant) {
+        if let Some(job) = self.upload.as_mut() {
+            job.asking_since = Some(now);
+        }
         if self.edition == Some(Edition::Two) {
             self.start_report(now, Purpose::Truth);
         } else {
@@ -908,7 +914,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             (Purpose::Discovery(Then::Upload), true) => self.start_mission_upload(now),
             (Purpose::Discovery(Then::Download), true) => self.request_mission(now),
             (Purpose::Truth, true) => self.request_mission(now),
-            (Purpose::Truth, false) => self.end_upload_unknown(),
+            (Purpose::Truth, false) => self.ask_again_or_give_up(now),
             (Purpose::Discovery(_) | Purpose::Query, _) => self.fail(GcsError::Transfer {
                 phase: Phase::Report,
                 error,
@@ -972,6 +978,17 @@ impl<G: SafetyGateway> GroundStation<G> {
             return;
         }
         self.end_upload(m, a, confirmation);
+    }
+
+    /// The FCC did not answer the question what is active: it may be restarting (the failure
+    /// may have been its restart). The GCS asks again for the transfer timeout, then gives up.
+    fn ask_again_or_give_up(&mut self, now: Instant) {
+        let since = self.upload.as_ref().and_then(|j| j.asking_since);
+        if since.is_some_and(|t| now.saturating_since(t) < self.config.transfer_timeout) {
+            self.start_report(now, Purpose::Truth);
+        } else {
+            self.end_upload_unknown();
+        }
     }
 
     /// Ends the upload without knowing what the FCC holds.
@@ -1094,7 +1111,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
         if timed_out.is_some() {
             let phase = self.phase();
             match self.state {
-                State::Reporting(Purpose::Truth) => self.end_upload_unknown(),
+                State::Reporting(Purpose::Truth) => self.ask_again_or_give_up(now),
                 _ => self.download_failed(GcsError::Timeout { phase }),
             }
         }
