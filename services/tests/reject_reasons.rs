@@ -7,140 +7,19 @@
 mod support;
 
 use missionlink_interfaces::contracts::GuidanceProgressPayload;
-use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    self, AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, ExecuteCommand,
-    LegType, MAX_FRAME_LEN, Message, MissionExecuteCommand, MissionPlanMode, Reason, SafetyOffset,
-    Text, Timestamp,
+    self, AreaTransferMode, ExecuteCommand, LegType, Message, MissionExecuteCommand,
+    MissionPlanMode, Reason, Text, Timestamp,
 };
-use missionlink_services::link::endpoint::Endpoint;
-use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
+use missionlink_services::mission_data_handling::FccEvent;
 use missionlink_services::testkit;
+use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::sender::mission_command;
 use support::*;
 
-/// The FCC driven by hand: a GCS endpoint stamps and encodes, the FCC answers.
-struct Rig {
-    fcc: MissionDataHandling,
-    gcs: Endpoint,
-    now: Instant,
-}
-
-impl Rig {
-    fn new() -> Self {
-        Self {
-            fcc: MissionDataHandling::new(fcc_config()),
-            gcs: Endpoint::new(endpoint(defaults::GCS_ID, defaults::FCC_ID)),
-            now: Instant::from_millis(1),
-        }
-    }
-
-    /// Sends `message` with "acknowledgement requested"; returns the FCC's answers.
-    fn send(&mut self, message: impl Into<Message>) -> Vec<Message> {
-        self.now = self.now + std::time::Duration::from_millis(1);
-        self.gcs.send(self.now, message.into(), true);
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        let len = self.gcs.poll_transmit(&mut buf).unwrap().unwrap();
-        self.send_raw(&buf[..len])
-    }
-
-    fn send_raw(&mut self, frame: &[u8]) -> Vec<Message> {
-        self.fcc.handle_frame(self.now, frame).unwrap();
-        self.fcc.messages()
-    }
-
-    /// The reason of the FCC's answer to `message` (None when accepted).
-    fn reason(&mut self, message: impl Into<Message>) -> Option<Reason> {
-        reason_of(&self.send(message))
-    }
-
-    fn accepted(&mut self, message: impl Into<Message>) {
-        let m = message.into();
-        let what = describe(&m);
-        assert_eq!(self.reason(m), None, "{what} refused");
-    }
-
-    /// Uploads demo mission 2 and its areas.
-    fn with_mission_2(mut self) -> Self {
-        let plan = mission_2();
-        let gcs = missionlink_services::ground_station::GroundStation::new(
-            gcs_config(),
-            missionlink_services::ground_station::WithoutGateway,
-        );
-        let valid = gcs.validate(&plan).unwrap();
-        self.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
-        for m in valid.mission.messages() {
-            self.accepted(m);
-        }
-        self.accepted(mission_command(
-            MissionPlanMode::TransmitMission,
-            Some(3),
-            None,
-        ));
-        self.accepted(area_command(AreaTransferMode::InitiateUpload, Some(3)));
-        for a in valid.areas.areas {
-            self.accepted(a);
-        }
-        assert_eq!(
-            reason_of(&self.send(area_command(AreaTransferMode::UploadComplete, Some(3)))),
-            None
-        );
-        assert!(self.fcc.active_mission().is_some());
-        assert!(self.fcc.active_areas().is_some());
-        self
-    }
-}
-
-fn reason_of(answers: &[Message]) -> Option<Reason> {
-    match answers.first() {
-        Some(Message::MessageAcknowledgement(a)) => match a.ack_type {
-            AckType::Rejected => Some(a.reject_reason.unwrap_or(Reason::None)),
-            _ => None,
-        },
-        Some(Message::AreaStatusAlert(a)) => match a.status {
-            AreaListStatus::Invalid => Some(a.reason.unwrap_or(Reason::None)),
-            AreaListStatus::Valid => None,
-        },
-        other => panic!("no answer: {other:?}"),
-    }
-}
-
-fn area_command(mode: AreaTransferMode, loop_count: Option<u8>) -> AreaTransmissionCommand {
-    AreaTransmissionCommand {
-        time_stamp: Timestamp::default(),
-        mode,
-        loop_count,
-        area_id: None,
-        safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
-        activity_id: None,
-        mission_id: None,
-        window_or_checksum: None,
-    }
-}
-
-/// A frame from the GCS around hand-made message data (for rules the typed API cannot break).
-fn raw_frame(message_type: u16, data: &[u8]) -> Vec<u8> {
-    let mut f = Vec::new();
-    f.extend_from_slice(&0xFFFFu16.to_be_bytes());
-    f.extend_from_slice(&(data.len() as u16).to_be_bytes());
-    f.extend_from_slice(&defaults::GCS_ID.to_be_bytes());
-    f.extend_from_slice(&defaults::FCC_ID.to_be_bytes());
-    f.extend_from_slice(&message_type.to_be_bytes());
-    // Ack requested, IDD 40, 4-byte checksum.
-    f.extend_from_slice(&0xA880u16.to_be_bytes());
-    f.extend_from_slice(data);
-    let sum: u32 = f.iter().map(|b| u32::from(*b)).sum();
-    f.extend_from_slice(&sum.to_be_bytes());
-    f
-}
-
-/// Time stamp bytes of 2026-11-21T12:00:10Z (ms since 2000).
-const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
-
 #[test]
 fn malformed() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     let mut w = waypoint(1, 0, (48.275, 11.645), LegType::TrackToFix);
     w.waypoint_number = 0;
     assert_eq!(rig.reason(w), Some(Reason::Malformed));
@@ -148,7 +27,7 @@ fn malformed() {
 
 #[test]
 fn missing_field() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     assert_eq!(
         rig.reason(mission_command(
             MissionPlanMode::TransmitMission,
@@ -161,7 +40,7 @@ fn missing_field() {
 
 #[test]
 fn unknown_field() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     // #50000 with PV bit 3 set: only bits 0 to 2 are defined.
     let mut data = vec![0b1011];
     data.extend_from_slice(&TS);
@@ -174,7 +53,7 @@ fn unknown_field() {
 
 #[test]
 fn unsupported() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     // #13000 mode 4 is not implemented.
     let mut data = vec![0b101];
     data.extend_from_slice(&TS);
@@ -184,7 +63,7 @@ fn unsupported() {
         Some(Reason::Unsupported)
     );
     // Return to home on a route that is not bidirectional.
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     let mut route = route(1, false);
     route.time_stamp = Timestamp::default();
     rig.accepted(route);
@@ -205,7 +84,7 @@ fn unsupported() {
 
 #[test]
 fn capacity() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     assert_eq!(
         rig.reason(area_command(AreaTransferMode::InitiateUpload, Some(12))),
         Some(Reason::Capacity)
@@ -222,7 +101,7 @@ fn capacity() {
 
 #[test]
 fn wrong_state() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     // #13002 during a download (the ICD's example).
     let answers = rig.send(mission_command(MissionPlanMode::ReceiveMission, None, None));
     assert_eq!(reason_of(&answers), None);
@@ -232,7 +111,7 @@ fn wrong_state() {
         Some(Reason::WrongState)
     );
     // Execute without an active area list.
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     assert_eq!(
         rig.reason(MissionExecuteCommand {
             time_stamp: Timestamp::default(),
@@ -245,7 +124,7 @@ fn wrong_state() {
 
 #[test]
 fn guidance_active() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     rig.fcc.set_automation_state(&flying());
     let before = rig.fcc.active_mission().cloned();
     assert_eq!(
@@ -262,7 +141,7 @@ fn guidance_active() {
 
 #[test]
 fn count_mismatch() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned();
     assert_eq!(
         rig.reason(mission_command(
@@ -277,7 +156,7 @@ fn count_mismatch() {
 
 #[test]
 fn broken_chain() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned();
     // An edit: waypoint 2 now points at 9, which does not exist.
     rig.accepted(waypoint(2, 9, (48.278, 11.658), LegType::TrackToFix));
@@ -294,7 +173,7 @@ fn broken_chain() {
 
 #[test]
 fn missing_initial() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     rig.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
     rig.accepted(take_off(30.0));
     rig.accepted(waypoint(1, 0, (48.275, 11.645), LegType::TrackToFix));
@@ -312,7 +191,7 @@ fn missing_initial() {
 
 #[test]
 fn missing_rf_centre() {
-    let mut rig = Rig::new();
+    let mut rig = FccRig::new();
     rig.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
     rig.accepted(take_off(30.0));
     rig.accepted(waypoint(1, 0, (48.275, 11.645), LegType::RadiusToFix));
@@ -329,7 +208,7 @@ fn missing_rf_centre() {
 
 #[test]
 fn bad_geometry() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     let before = rig.fcc.active_areas().cloned();
     // No fly-zone: one no-fly-zone alone.
     rig.accepted(area_command(AreaTransferMode::InitiateUpload, Some(1)));
@@ -353,7 +232,7 @@ fn bad_geometry() {
 
 #[test]
 fn busy() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     // An upload is in progress: a download request must wait.
     rig.accepted(waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix));
     assert_eq!(
@@ -372,9 +251,32 @@ fn busy() {
     );
 }
 
+/// Reason 15 (ICD §11 ext): the closer's checksum describes another list than the one
+/// assembled. Here the GCS means mission 2, but the FCC assembled mission 1.
+#[test]
+fn integrity_mismatch() {
+    let mut rig = FccRig::new().with_mission_2();
+    let (mission, areas) = (
+        rig.fcc.active_mission().cloned().unwrap(),
+        rig.fcc.active_areas().cloned().unwrap(),
+    );
+    let other = validated(&mission_1());
+    assert_eq!(
+        reason_of(&rig.upload_mission(&other.mission, Some(mission_checksum(&mission)))),
+        Some(Reason::IntegrityMismatch)
+    );
+    assert_eq!(
+        reason_of(&rig.upload_areas(&other.areas, Some(areas_checksum(&areas)))),
+        Some(Reason::IntegrityMismatch)
+    );
+    assert_eq!(rig.fcc.active_mission(), Some(&mission));
+    assert_eq!(rig.fcc.active_areas(), Some(&areas));
+    assert_eq!(rig.fcc.generations(), (1, 1));
+}
+
 #[test]
 fn an_edit_changes_only_the_waypoints_sent() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned().unwrap();
     let mut w2 = waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix);
     w2.altitude = wire::Altitude::from_metres(150.0).unwrap();
@@ -397,7 +299,7 @@ fn an_edit_changes_only_the_waypoints_sent() {
 
 #[test]
 fn an_abandoned_edit_leaves_nothing_behind() {
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned().unwrap();
     rig.accepted(waypoint(2, 9, (48.278, 11.658), LegType::TrackToFix));
     // The GCS falls silent: after the transfer timeout the edit is dropped.
@@ -406,11 +308,7 @@ fn an_abandoned_edit_leaves_nothing_behind() {
     // A later edit of waypoint 3 alone is assembled on the active mission, not on the
     // abandoned edit of waypoint 2.
     rig.accepted(waypoint(3, 0, (48.280, 11.680), LegType::RadiusToFix));
-    rig.accepted(mission_command(
-        MissionPlanMode::TransmitMission,
-        Some(3),
-        None,
-    ));
+    rig.accepted(transmit(&before, None));
     assert_eq!(rig.fcc.active_mission(), Some(&before));
 }
 
@@ -433,7 +331,7 @@ fn geofence_violation() {
         command: ExecuteCommand::Execute,
         mission_id: None,
     };
-    let mut rig = Rig::new().with_mission_2();
+    let mut rig = FccRig::new().with_mission_2();
     // Without a position from navigation there is nothing to check from.
     assert_eq!(rig.reason(execute), Some(Reason::WrongState));
     let (mission, areas) = (

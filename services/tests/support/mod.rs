@@ -4,16 +4,29 @@
 //! its own loss, duplication and latency (random latency reorders), drawn from a seeded RNG. The
 //! receiving side votes each step's arrivals (paper §2.4) before its logic sees them, as the
 //! partitions do.
+//!
+//! Beside the pair, [`FccRig`]: the FCC alone, driven by hand one message at a time, for the
+//! tests that check its every answer (reject reasons, ICD §11).
 #![allow(dead_code)]
 
 use std::time::Duration;
 
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{AckType, Message, SpecificData};
-use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
+use missionlink_interfaces::wire::{
+    AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, Checksum, Envelope,
+    MAX_FRAME_LEN, Message, MissionPlanMode, MissionTransferCommand, Reason, SafetyOffset,
+    SpecificData, Timestamp, WindowOrChecksum,
+};
+use missionlink_services::ground_station::{
+    GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
+};
+use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
+use missionlink_services::transfer::areas::AreaList;
+use missionlink_services::transfer::mission::Mission;
+use missionlink_services::transfer::sender::{mission_command, transfer_command};
 use missionlink_services::voting::Voter;
 
 // The fixtures (configurations, messages, areas, the demo missions, the seeded RNG) come from
@@ -313,3 +326,216 @@ pub fn describe(m: &Message) -> String {
         other => format!("{}", other.message_type() as u16),
     }
 }
+
+// ---- The FCC driven by hand ----
+
+/// The FCC driven by hand: a GCS endpoint stamps and encodes each message (every one with a new
+/// time stamp, as a retry has), the FCC answers, and the test reads the answers off the wire.
+/// Simulated time moves 1 ms per message and otherwise only when the test says so.
+pub struct FccRig {
+    pub fcc: MissionDataHandling,
+    pub gcs: Endpoint,
+    pub now: Instant,
+}
+
+impl Default for FccRig {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FccRig {
+    /// An FCC with no active lists.
+    pub fn new() -> Self {
+        Self {
+            fcc: MissionDataHandling::new(fcc_config()),
+            gcs: Endpoint::new(endpoint(defaults::GCS_ID, defaults::FCC_ID)),
+            now: Instant::from_millis(1),
+        }
+    }
+
+    /// Sends `message` with "acknowledgement requested"; returns the FCC's answers with their
+    /// envelopes (everything it sent since the last call).
+    pub fn send_enveloped(&mut self, message: impl Into<Message>) -> Vec<(Envelope, Message)> {
+        self.now = self.now + Duration::from_millis(1);
+        self.gcs.send(self.now, message.into(), true);
+        self.gcs_frame()
+    }
+
+    /// Sends `message` with "acknowledgement requested"; returns the FCC's answers.
+    pub fn send(&mut self, message: impl Into<Message>) -> Vec<Message> {
+        self.send_enveloped(message)
+            .into_iter()
+            .map(|(_, m)| m)
+            .collect()
+    }
+
+    /// The frame the GCS endpoint has queued goes to the FCC; the FCC's answers.
+    fn gcs_frame(&mut self) -> Vec<(Envelope, Message)> {
+        let mut buf = [0u8; MAX_FRAME_LEN];
+        let len = self.gcs.poll_transmit(&mut buf).unwrap().unwrap();
+        self.fcc.handle_frame(self.now, &buf[..len]).unwrap();
+        self.out()
+    }
+
+    /// Hands `frame` to the FCC as it is; returns the FCC's answers.
+    pub fn send_raw(&mut self, frame: &[u8]) -> Vec<Message> {
+        self.fcc.handle_frame(self.now, frame).unwrap();
+        self.fcc.messages()
+    }
+
+    /// What the FCC sent since the last call, with the envelopes.
+    pub fn out(&mut self) -> Vec<(Envelope, Message)> {
+        self.fcc.frames().iter().map(|f| decoded(f)).collect()
+    }
+
+    /// The GCS answers `message` (which the FCC sent, acknowledgement requested) with #17000:
+    /// type 2, or type 3 with the reason. Returns the FCC's next messages.
+    pub fn acknowledge(
+        &mut self,
+        message: &Message,
+        outcome: Result<(), Reason>,
+    ) -> Vec<(Envelope, Message)> {
+        self.now = self.now + Duration::from_millis(1);
+        self.gcs.answer(self.now, message, true, outcome);
+        self.gcs_frame()
+    }
+
+    /// Simulated time moves to `at` and the FCC's due timers fire; returns what it sent.
+    pub fn advance_to(&mut self, at: Instant) -> Vec<(Envelope, Message)> {
+        self.now = at;
+        self.fcc.handle_timeout(at);
+        self.out()
+    }
+
+    /// The FCC's events since the last call.
+    pub fn events(&mut self) -> Vec<FccEvent> {
+        std::iter::from_fn(|| self.fcc.poll_event()).collect()
+    }
+
+    /// The reason of the FCC's answer to `message` (None when accepted).
+    pub fn reason(&mut self, message: impl Into<Message>) -> Option<Reason> {
+        reason_of(&self.send(message))
+    }
+
+    /// Sends `message` and checks that the FCC accepts it.
+    pub fn accepted(&mut self, message: impl Into<Message>) {
+        let m = message.into();
+        let what = describe(&m);
+        assert_eq!(self.reason(m), None, "{what} refused");
+    }
+
+    /// Uploads `mission` as ICD §5.1 (clear first, each message accepted); returns the answers
+    /// to the closer, which carries `checksum` (edition 2) or none (edition 1).
+    pub fn upload_mission(
+        &mut self,
+        mission: &Mission,
+        checksum: Option<Checksum>,
+    ) -> Vec<Message> {
+        self.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
+        for m in mission.messages() {
+            self.accepted(m);
+        }
+        self.send(transmit(mission, checksum))
+    }
+
+    /// Uploads `list` as ICD §5.3 (each message accepted); returns the answers to the closer,
+    /// which carries `checksum` (edition 2) or none (edition 1).
+    pub fn upload_areas(&mut self, list: &AreaList, checksum: Option<Checksum>) -> Vec<Message> {
+        let count = list.areas.len() as u8;
+        self.accepted(area_command(AreaTransferMode::InitiateUpload, Some(count)));
+        for a in &list.areas {
+            self.accepted(a.clone());
+        }
+        self.send(area_closer(list, checksum))
+    }
+
+    /// Uploads demo mission 2 and its areas (edition 1: no checksums).
+    pub fn with_mission_2(mut self) -> Self {
+        let valid = validated(&mission_2());
+        assert_eq!(reason_of(&self.upload_mission(&valid.mission, None)), None);
+        assert_eq!(reason_of(&self.upload_areas(&valid.areas, None)), None);
+        assert!(self.fcc.active_mission().is_some());
+        assert!(self.fcc.active_areas().is_some());
+        self
+    }
+}
+
+/// The GCS's own assembly of `plan` (what it uploads and what it checksums).
+pub fn validated(plan: &MissionPlan) -> ValidatedPlan {
+    GroundStation::new(gcs_config(), WithoutGateway)
+        .validate(plan)
+        .unwrap()
+}
+
+/// #13000 mode 2 that closes the upload of `mission`, with `checksum` or none.
+pub fn transmit(mission: &Mission, checksum: Option<Checksum>) -> MissionTransferCommand {
+    MissionTransferCommand {
+        mission_checksum: checksum,
+        ..transfer_command(
+            MissionPlanMode::TransmitMission,
+            Some(mission.waypoints.len() as u16),
+            mission.mission_id,
+        )
+    }
+}
+
+/// #2011 mode 2 that closes the upload of `list`, with `checksum` or none.
+pub fn area_closer(list: &AreaList, checksum: Option<Checksum>) -> AreaTransmissionCommand {
+    AreaTransmissionCommand {
+        safety_offset: Some(list.safety_offset),
+        window_or_checksum: checksum.map(WindowOrChecksum::AreaChecksum),
+        ..area_command(
+            AreaTransferMode::UploadComplete,
+            Some(list.areas.len() as u8),
+        )
+    }
+}
+
+/// The reason of the first answer: #17000 type 3 or #3012 status 0 (None when accepted).
+pub fn reason_of(answers: &[Message]) -> Option<Reason> {
+    match answers.first() {
+        Some(Message::MessageAcknowledgement(a)) => match a.ack_type {
+            AckType::Rejected => Some(a.reject_reason.unwrap_or(Reason::None)),
+            _ => None,
+        },
+        Some(Message::AreaStatusAlert(a)) => match a.status {
+            AreaListStatus::Invalid => Some(a.reason.unwrap_or(Reason::None)),
+            AreaListStatus::Valid => None,
+        },
+        other => panic!("no answer: {other:?}"),
+    }
+}
+
+/// A #2011 of `mode` with the demo safety offset (25 m).
+pub fn area_command(mode: AreaTransferMode, loop_count: Option<u8>) -> AreaTransmissionCommand {
+    AreaTransmissionCommand {
+        time_stamp: Timestamp::default(),
+        mode,
+        loop_count,
+        area_id: None,
+        safety_offset: Some(SafetyOffset::from_metres(25.0).unwrap()),
+        activity_id: None,
+        mission_id: None,
+        window_or_checksum: None,
+    }
+}
+
+/// A frame from the GCS around hand-made message data (for rules the typed API cannot break).
+pub fn raw_frame(message_type: u16, data: &[u8]) -> Vec<u8> {
+    let mut f = Vec::new();
+    f.extend_from_slice(&0xFFFFu16.to_be_bytes());
+    f.extend_from_slice(&(data.len() as u16).to_be_bytes());
+    f.extend_from_slice(&defaults::GCS_ID.to_be_bytes());
+    f.extend_from_slice(&defaults::FCC_ID.to_be_bytes());
+    f.extend_from_slice(&message_type.to_be_bytes());
+    // Ack requested, IDD 40, 4-byte checksum.
+    f.extend_from_slice(&0xA880u16.to_be_bytes());
+    f.extend_from_slice(data);
+    let sum: u32 = f.iter().map(|b| u32::from(*b)).sum();
+    f.extend_from_slice(&sum.to_be_bytes());
+    f
+}
+
+/// Time stamp bytes of 2026-11-21T12:00:10Z (ms since 2000).
+pub const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
