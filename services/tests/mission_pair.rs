@@ -63,10 +63,15 @@ fn demo_mission_1_upload_and_download_follow_icd_5_message_by_message() {
     );
     assert_eq!(pair.fcc.active_mission(), Some(&expected.mission));
     assert_eq!(pair.fcc.active_areas(), Some(&expected.areas));
-    // ICD §5.1 and §5.3, each message answered before the next.
+    // The report first (ICD §8, §10.1: the edition, and what is active before), then ICD §5.1
+    // and §5.3, each message answered before the next.
     assert_eq!(
         sequence(&pair, 0),
         [
+            "up 13000 mode 7",
+            "down 17000 completed 13000",
+            "down 50001",
+            "up 17000 completed 50001",
             "up 13000 mode 1",
             "down 17000 completed 13000",
             "up 13006 take-off",
@@ -93,8 +98,9 @@ fn demo_mission_1_upload_and_download_follow_icd_5_message_by_message() {
         );
         assert_eq!(s.ack_requested, !answer, "{}", describe(&s.message));
     }
-    // The whole upload took 8 + 3 round trips of 4 ms (2 ms latency each way).
-    assert_eq!(pair.now.micros(), 16 * 2_000);
+    // The whole upload took the report's round trip (the entry follows its acceptance at once,
+    // and is answered: 18 hops in all) and 8 + 3 round trips, 2 ms latency each way.
+    assert_eq!(pair.now.micros(), 18 * 2_000);
 
     let before = pair.sent.len();
     // ICD §5.2: every field equal.
@@ -154,6 +160,7 @@ fn mission_2_with_rf_leg_circle_and_polygon_round_trips() {
     assert_eq!(
         up,
         [
+            "up 13000 mode 7",
             "up 13000 mode 1",
             "up 13006 take-off",
             "up 13002 wp 1",

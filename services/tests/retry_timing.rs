@@ -14,7 +14,10 @@ use missionlink_interfaces::wire::{
     AckType, AreaTransferMode, AreaTransmissionCommand, AreaType, ExecuteCommand, MAX_FRAME_LEN,
     Message, MessageAcknowledgement, MessageType, Reason, SafetyOffset, Timestamp,
 };
-use missionlink_services::ground_station::{GcsError, GcsEvent, GroundStation, WithoutGateway};
+use missionlink_services::ground_station::outcome::UploadOutcome;
+use missionlink_services::ground_station::{
+    GcsError, GcsEvent, GroundStation, Phase, WithoutGateway,
+};
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::retry::{AttemptFailure, Subject};
 use missionlink_services::link::time::Instant;
@@ -158,27 +161,38 @@ fn an_upload_that_loses_its_link_names_the_message_after_the_retry() {
     let plan = mission_2();
     let now = pair.now;
     pair.gcs.upload(now, &plan, true).unwrap();
-    // Let the clear, the take-off height and waypoint 1 through, then cut both uplinks.
+    // Let the report (its request and the acknowledgement of its entry), the clear, the
+    // take-off height and waypoint 1 through, then cut both uplinks.
     while pair
         .sent
         .iter()
         .filter(|s| s.direction == Direction::Up)
         .count()
-        < 3
+        < 5
     {
         pair.step();
     }
     pair.uplink = [Faults::DOWN; 2];
     let cut = pair.now;
+    let before = pair.sent.len();
     pair.run_until_standby(Duration::from_secs(30));
     let events = pair.take_gcs_events();
-    let Some(GcsEvent::Failed(GcsError::Transfer { error, .. })) = events.last() else {
+    let Some(GcsEvent::Failed(GcsError::Upload(report))) = events.last() else {
         panic!("{events:?}");
+    };
+    let Some((Phase::MissionUpload, error)) = report.failure else {
+        panic!("{report}");
     };
     assert_eq!(error.message_type, MessageType::UaPositionWaypoint);
     assert_eq!(error.subject, Some(Subject::Waypoint(2)));
-    // Worst case for one message: 2 x ack timeout.
-    assert!(pair.now.saturating_since(cut) <= 2 * ACK_TIMEOUT + Duration::from_millis(10));
+    // Worst case for one message: 2 x ack timeout; then the GCS asks what is active (ICD §11),
+    // and with the uplink dead it cannot know.
+    let asked = pair.sent[before..]
+        .iter()
+        .find(|s| describe(&s.message) == "13000 mode 7")
+        .expect("the GCS asks what is active");
+    assert!(asked.at.saturating_since(cut) <= 2 * ACK_TIMEOUT + Duration::from_millis(10));
+    assert_eq!(report.outcome(), UploadOutcome::Unknown, "{report}");
     // The FCC abandons the upload after the transfer timeout; nothing was activated.
     let deadline = pair.now + TRANSFER_TIMEOUT;
     pair.run_until(deadline);
