@@ -6,7 +6,6 @@
 
 mod support;
 
-use missionlink_interfaces::contracts::GuidanceProgressPayload;
 use missionlink_interfaces::wire::{
     self, AreaTransferMode, ExecuteCommand, LegType, Message, MissionExecuteCommand,
     MissionPlanMode, Reason, Text, Timestamp,
@@ -310,16 +309,6 @@ fn an_abandoned_edit_leaves_nothing_behind() {
     rig.accepted(waypoint(3, 0, (48.280, 11.680), LegType::RadiusToFix));
     rig.accepted(transmit(&before, None));
     assert_eq!(rig.fcc.active_mission(), Some(&before));
-}
-
-/// Navigation's report of the aircraft on the ground at `(lat, lon)`.
-fn on_ground_at((lat, lon): (f64, f64)) -> GuidanceProgressPayload {
-    GuidanceProgressPayload {
-        sequence: 1,
-        latitude_deg: lat,
-        longitude_deg: lon,
-        ..GuidanceProgressPayload::IDLE
-    }
 }
 
 /// Reason 14 (ICD §7 ext): execute from where the way to the initial waypoint crosses a

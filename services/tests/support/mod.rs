@@ -292,6 +292,19 @@ pub fn flying() -> missionlink_interfaces::contracts::AutomationStatePayload {
     }
 }
 
+/// Navigation's report of the aircraft on the ground at `(lat, lon)`: where the onboard
+/// geofence check starts from (ICD §7).
+pub fn on_ground_at(
+    (lat, lon): (f64, f64),
+) -> missionlink_interfaces::contracts::GuidanceProgressPayload {
+    missionlink_interfaces::contracts::GuidanceProgressPayload {
+        sequence: 1,
+        latitude_deg: lat,
+        longitude_deg: lon,
+        ..missionlink_interfaces::contracts::GuidanceProgressPayload::IDLE
+    }
+}
+
 /// System automation's state on the ground.
 pub fn on_ground() -> missionlink_interfaces::contracts::AutomationStatePayload {
     missionlink_interfaces::contracts::AutomationStatePayload::ON_GROUND
