@@ -104,7 +104,8 @@ pub enum FccEvent {
     },
     /// The area list was cleared (publish the empty list).
     AreasCleared,
-    /// An upload was abandoned: cancelled by the GCS, timed out, or rejected at the end.
+    /// An upload was abandoned: cancelled by the GCS or timed out. A refused closer is answered
+    /// (and remembered, ICD §11) but raises no event of its own.
     UploadAbandoned {
         /// Mission or area upload.
         kind: DataKind,
