@@ -21,7 +21,7 @@ use crate::wire::{
 };
 
 /// Version of the payload layouts; part of every type name.
-pub const CONTRACT_VERSION: u32 = 1;
+pub const CONTRACT_VERSION: u32 = 2;
 
 /// Service-name prefix used when none is configured.
 pub const DEFAULT_SERVICE_PREFIX: &str = "missionlink";
@@ -181,7 +181,7 @@ impl TryFrom<u8> for Link {
 /// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::FramePayload/v1")]
+#[type_name("missionlink::FramePayload/v2")]
 pub struct FramePayload {
     /// CLOCK_MONOTONIC nanoseconds when the frame entered the FCC (socket receive) or was
     /// produced (downlink): the start of the per-frame latency measurement.
@@ -231,7 +231,7 @@ impl FramePayload {
 /// One waypoint of the assembled list, in flight-plan order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::WaypointEntry/v1")]
+#[type_name("missionlink::WaypointEntry/v2")]
 pub struct WaypointEntry {
     /// Waypoint Number.
     pub number: u16,
@@ -328,11 +328,13 @@ impl WaypointEntry {
 /// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::WaypointListPayload/v1")]
+#[type_name("missionlink::WaypointListPayload/v2")]
 pub struct WaypointListPayload {
     /// Counts activations of a new list since mission data handling started, from 1; 0 means
     /// no mission is active (after start or a clear).
     pub generation: u64,
+    /// The activation this list was published under: see [`same_activation`].
+    pub activation: u64,
     /// Take-off height above ground (#13006 type 1).
     pub take_off_height: Altitude,
     /// Waypoints used of `waypoints`.
@@ -351,6 +353,7 @@ impl WaypointListPayload {
     /// No active mission.
     pub const EMPTY: Self = Self {
         generation: 0,
+        activation: 0,
         take_off_height: Altitude::ZERO,
         count: 0,
         initial_waypoint: 0,
@@ -371,10 +374,25 @@ impl WaypointListPayload {
     }
 }
 
+/// Whether a waypoint list and an area list belong together (DESIGN.md "Activation is
+/// atomic"): they were published under the same activation.
+///
+/// Mission data handling publishes both lists together whenever either changes (an upload's
+/// closer, a clear, the activation of a staged mission, ICD §8), each under the same activation
+/// number, which grows with every change (it is the sum of the two generations, so it survives a
+/// restart of mission data handling without a record of its own). Publication on two services
+/// is not one step: a subscriber can hold the new waypoint list while the old area list is still
+/// its newest. A subscriber that uses both lists therefore uses a pair only when this holds, and
+/// keeps the pair it used before until the other list of the new activation arrives: so no
+/// partition ever acts on the new waypoint list with the old area list or the reverse.
+pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload) -> bool {
+    waypoints.activation == areas.activation
+}
+
 /// Altitude bounds of an area (#2012 bits 4 to 6), each optional.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AreaAltitudes/v1")]
+#[type_name("missionlink::AreaAltitudes/v2")]
 pub struct AreaAltitudes {
     /// Lower Altitude, valid when `has_lower`.
     pub lower: Altitude,
@@ -436,7 +454,7 @@ impl AreaAltitudes {
 /// A polygonal area: the fly-zone or a polygonal no-fly-zone.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::PolygonArea/v1")]
+#[type_name("missionlink::PolygonArea/v2")]
 pub struct PolygonArea {
     /// Area ID.
     pub area_id: u16,
@@ -473,7 +491,7 @@ impl PolygonArea {
 /// A circular no-fly-zone, kept apart from the polygons as the paper's Figure 8 does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::CircleArea/v1")]
+#[type_name("missionlink::CircleArea/v2")]
 pub struct CircleArea {
     /// Area ID.
     pub area_id: u16,
@@ -508,10 +526,12 @@ impl CircleArea {
 /// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AreaListPayload/v1")]
+#[type_name("missionlink::AreaListPayload/v2")]
 pub struct AreaListPayload {
     /// Counts activations of a new list, from 1; 0 means no area list is active.
     pub generation: u64,
+    /// The activation this list was published under: see [`same_activation`].
+    pub activation: u64,
     /// Distance the geofence keeps from every area border.
     pub safety_offset: SafetyOffset,
     /// No-fly-zone polygons used.
@@ -532,6 +552,7 @@ impl AreaListPayload {
     /// No active area list.
     pub const EMPTY: Self = Self {
         generation: 0,
+        activation: 0,
         safety_offset: SafetyOffset::from_raw(0),
         no_fly_polygon_count: 0,
         no_fly_circle_count: 0,
@@ -596,7 +617,7 @@ impl TryFrom<u8> for FlightPhase {
 /// `fcc/automation/state`: the flight phase and which functions are active (paper §2.5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AutomationStatePayload/v1")]
+#[type_name("missionlink::AutomationStatePayload/v2")]
 pub struct AutomationStatePayload {
     /// Counts state changes, from 1.
     pub sequence: u64,
@@ -638,7 +659,7 @@ impl AutomationStatePayload {
 /// `fcc/automation/command`: a #50000 command that mission data handling accepted (ICD §4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AutomationCommandPayload/v1")]
+#[type_name("missionlink::AutomationCommandPayload/v2")]
 pub struct AutomationCommandPayload {
     /// Counts commands, from 1.
     pub sequence: u64,
@@ -660,7 +681,7 @@ impl AutomationCommandPayload {
 /// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::GuidanceProgressPayload/v1")]
+#[type_name("missionlink::GuidanceProgressPayload/v2")]
 pub struct GuidanceProgressPayload {
     /// Counts updates, from 1.
     pub sequence: u64,
