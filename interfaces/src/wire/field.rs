@@ -602,7 +602,8 @@ unsigned_codec!(Timestamp, u64, 5);
 
 /// CharN text (ICD §3): `N` bytes, NUL padded, the width including the terminator, so at most
 /// `N - 1` characters. This project carries UTF-8.
-#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+// Ordered by its bytes: NUL padding sorts a text before every longer text it begins.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Text<const N: usize>([u8; N]);
 
 /// Why a string cannot be a [`Text`].
