@@ -116,8 +116,10 @@ fn main() {
         let valid = link.station().validate(&case.plan).unwrap();
         assert_eq!(valid.mission.waypoints.len(), case.waypoints);
         assert_eq!(valid.areas.areas.len(), case.areas);
-        // clear, take-off, waypoints (+ RF centres), route, transmit; initiate, areas, complete
-        let expected = 1 + valid.mission.message_count() + 1 + 1 + case.areas + 1;
+        // The report request and the acknowledgement of its one entry (ICD §10.1: the edition
+        // discovery before every upload, issue 12); clear, take-off, waypoints (+ RF centres),
+        // route, transmit; initiate, areas, complete.
+        let expected = 2 + 1 + valid.mission.message_count() + 1 + 1 + case.areas + 1;
         let mut result = Measured {
             case,
             expected,
