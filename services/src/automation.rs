@@ -52,14 +52,10 @@ pub fn check_command(
     match command {
         ExecuteCommand::Execute => {
             let on_ground = matches!(phase, Some(FlightPhase::OnGround | FlightPhase::Landed));
-            if !waypoints.is_active() || areas.area_count() == 0 || !on_ground {
+            if !on_ground {
                 return Err(Reason::WrongState);
             }
-            let here = here.ok_or(Reason::WrongState)?;
-            geofence(
-                fence,
-                onboard::execute_route(waypoints, here, Some(fcc_turns())),
-            )
+            take_off_check(waypoints, areas, fence, navigation)
         }
         ExecuteCommand::ReturnToHome => {
             if !waypoints.bidirectional {
@@ -87,9 +83,47 @@ pub fn check_command(
             }
             Ok(())
         }
-        // Activating a staged mission (ICD §8) is not implemented here yet.
+        // Mission data handling activates a staged mission itself ([`check_activation`]);
+        // system automation has nothing to carry out.
         ExecuteCommand::ActivateStaged => Err(Reason::Unsupported),
     }
+}
+
+/// Whether the staged mission of `waypoints` and `areas` may be activated now (ICD §8, #50000
+/// command 4): both lists there (the caller passes a staged list as active, generation not 0),
+/// trajectory generation not active (`WrongState`), and the onboard geofence check of ICD §7
+/// passed from where navigation says the aircraft is, as for execute (`GeofenceViolation`;
+/// `WrongState` without a position, as for execute).
+pub fn check_activation(
+    state: &AutomationStatePayload,
+    waypoints: &WaypointListPayload,
+    areas: &AreaListPayload,
+    fence: &Fence,
+    navigation: &GuidanceProgressPayload,
+) -> Result<(), Reason> {
+    if state.trajectory_generation_active {
+        return Err(Reason::WrongState);
+    }
+    take_off_check(waypoints, areas, fence, navigation)
+}
+
+/// The check before a take-off with `waypoints` and `areas` (execute, and the activation that
+/// makes them the lists an execute would fly): both lists there and a position from navigation
+/// (`WrongState`), then the onboard geofence check of ICD §7 from there (`GeofenceViolation`).
+fn take_off_check(
+    waypoints: &WaypointListPayload,
+    areas: &AreaListPayload,
+    fence: &Fence,
+    navigation: &GuidanceProgressPayload,
+) -> Result<(), Reason> {
+    if !waypoints.is_active() || areas.area_count() == 0 {
+        return Err(Reason::WrongState);
+    }
+    let here = navigation_position(navigation).ok_or(Reason::WrongState)?;
+    geofence(
+        fence,
+        onboard::execute_route(waypoints, here, Some(fcc_turns())),
+    )
 }
 
 /// A position navigation has reported, on the globe (guidance may be another program).

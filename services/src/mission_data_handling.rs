@@ -58,7 +58,7 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaListStatus, AreaStatusAlert, AreaTransferMode, AreaTransmissionCommand,
     AreaTransmissionStatus, EncodeError, ExecuteCommand, FrameError, Message, MissionPlanMode,
-    MissionReport, Reason, SafetyOffset, Text, Timestamp,
+    MissionReport, MissionTransferCommand, Reason, SafetyOffset, Text, Timestamp,
 };
 
 use crate::automation;
@@ -75,6 +75,7 @@ use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::Mission;
 use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received, TransferTimedOut};
 use crate::transfer::sender::{Script, SenderEvent, TransferSender};
+use crate::transfer::staged::{MissionId, StagedMissions};
 
 /// Settings of mission data handling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -131,6 +132,32 @@ pub enum FccEvent {
     MissionUploadOpened,
     /// No mission upload is open any more: remove the record.
     MissionUploadClosed,
+    /// A list was stored under a staged Mission ID (ICD §8: #13000 mode 8 or #2011 mode 7): record
+    /// it ([`MissionDataHandling::staged`]) so a restart keeps it. The active lists did not
+    /// change.
+    StagedStored {
+        /// The staged mission.
+        id: MissionId,
+        /// Which list: [`DataKind::Mission`] or [`DataKind::Areas`].
+        kind: DataKind,
+    },
+    /// A staged mission was deleted (ICD §8: #13000 mode 6): remove its record.
+    StagedDeleted {
+        /// The staged mission.
+        id: MissionId,
+    },
+    /// A staged mission replaced both active lists in one step (ICD §8: #50000 command 4):
+    /// publish both, which carry the same activation (see the module documentation). Raised
+    /// instead of [`FccEvent::MissionActivated`] and [`FccEvent::AreasActivated`]; the staged
+    /// copy stays staged.
+    StagedActivated {
+        /// The staged mission now active.
+        id: MissionId,
+        /// The new generation of the waypoint list.
+        mission_generation: u64,
+        /// The new generation of the area list.
+        area_generation: u64,
+    },
 }
 
 /// Mission (waypoints), areas, or the report of both.
@@ -204,6 +231,11 @@ pub struct MissionDataHandling {
     /// The active area list as the onboard geofence check takes it (ICD §7), rebuilt in place
     /// when the list changes.
     fence: Box<Fence>,
+    /// The staged missions (ICD §8).
+    staged: StagedMissions,
+    /// A staged area list as the onboard geofence check takes it, rebuilt in place for each
+    /// check of a staged mission (report, activation): allocated once.
+    staged_fence: Box<Fence>,
     from_to_next: FromToNextReporter,
     /// The last closer answered (ICD §11).
     closers: CloserMemory,
@@ -227,6 +259,8 @@ pub struct Resumed {
     pub area_generation: u64,
     /// A mission upload was open when the partition stopped.
     pub mission_upload_open: bool,
+    /// The staged missions (ICD §8), kept across a restart like the active lists.
+    pub staged: StagedMissions,
 }
 
 impl MissionDataHandling {
@@ -250,6 +284,8 @@ impl MissionDataHandling {
             waypoint_list: WaypointListPayload::EMPTY,
             area_list: AreaListPayload::EMPTY,
             fence: Box::new(Fence::empty()),
+            staged: StagedMissions::new(),
+            staged_fence: Box::new(Fence::empty()),
             from_to_next: FromToNextReporter::new(),
             closers: CloserMemory::new(),
             interrupted_until: None,
@@ -259,9 +295,10 @@ impl MissionDataHandling {
     }
 
     /// Resumes at `now` with what was recorded before a restart: the lists that were active
-    /// (or none, after a clear) under their generations, so guidance sees no change and later
-    /// lists get newer generations; and a mission upload that was open, which is now held
-    /// interrupted (see the module documentation).
+    /// (or none, after a clear) under their generations (and so under the same activation), so
+    /// guidance sees no change and later lists get newer generations; the staged missions; and
+    /// a mission upload that was open, which is now held interrupted (see the module
+    /// documentation).
     pub fn resume(&mut self, now: Instant, resumed: Resumed) {
         let Resumed {
             mission,
@@ -269,6 +306,7 @@ impl MissionDataHandling {
             areas,
             area_generation,
             mission_upload_open,
+            staged,
         } = resumed;
         self.mission_generation = mission_generation;
         self.waypoint_list = match &mission {
@@ -290,6 +328,8 @@ impl MissionDataHandling {
         };
         self.active_areas = areas;
         self.fence.set_payload(&self.area_list);
+        self.publish_activation();
+        self.staged = staged;
         if mission_upload_open {
             tracing::warn!(
                 "a mission upload was open when the partition stopped: its remaining messages \
@@ -332,6 +372,20 @@ impl MissionDataHandling {
         &self.area_list
     }
 
+    /// The staged missions (ICD §8), to record after [`FccEvent::StagedStored`] and
+    /// [`FccEvent::StagedDeleted`].
+    pub fn staged(&self) -> &StagedMissions {
+        &self.staged
+    }
+
+    /// Both published lists carry the activation of the pair they form now: the sum of the
+    /// generations, which grows with every change of either (see the module documentation).
+    fn publish_activation(&mut self) {
+        let activation = self.mission_generation + self.area_generation;
+        self.waypoint_list.activation = activation;
+        self.area_list.activation = activation;
+    }
+
     fn mission_changed(&mut self, event: FccEvent) {
         self.mission_generation += 1;
         self.waypoint_list = match &self.active_mission {
@@ -341,6 +395,7 @@ impl MissionDataHandling {
                 ..WaypointListPayload::EMPTY
             },
         };
+        self.publish_activation();
         self.from_to_next.reset();
         self.event(event);
     }
@@ -355,6 +410,7 @@ impl MissionDataHandling {
             },
         };
         self.fence.set_payload(&self.area_list);
+        self.publish_activation();
         self.event(event);
     }
 
@@ -442,10 +498,14 @@ impl MissionDataHandling {
         self.answer_closer(now, message, ack, answer);
     }
 
-    /// Carries out a closer: assembles and activates the list, or says why not.
+    /// Carries out a closer: assembles the list and activates it (mode 2) or stages it (ICD §8:
+    /// #13000 mode 8, #2011 mode 7), or says why not.
     fn close(&mut self, now: Instant, message: &Message) -> ClosingAnswer {
         match message {
             Message::AreaTransmissionCommand(_) => self.complete_area_upload(now, message),
+            Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::StageMission => {
+                ClosingAnswer::Acknowledgement(self.stage_mission(now, message, c.mission_id))
+            }
             _ => ClosingAnswer::Acknowledgement(self.mission_data(now, message)),
         }
     }
@@ -508,19 +568,25 @@ impl MissionDataHandling {
         Ok(())
     }
 
-    /// Mission upload: store, or assemble and activate on #13000 mode 2.
-    fn mission_data(&mut self, now: Instant, message: &Message) -> Result<(), Reason> {
+    /// One message of a mission upload to the waypoint buffer: a data message or a closer
+    /// (#13000 mode 2 or 8), handed to the receiver.
+    fn upload_step(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
         if self.mission_download.is_some() {
             return Err(Reason::WrongState);
         }
         if self.interrupted_until.is_some() {
-            return self.refuse_interrupted(now);
+            self.refuse_interrupted(now)?;
         }
         if !self.mission_upload.in_transfer() {
-            // An upload without clear edits the active mission.
+            // An upload without clear (or mode 10) edits the active mission, as in edition 1.
             self.mission_upload.abandon(self.active_mission.as_ref());
         }
-        match self.mission_upload.handle(now, message)? {
+        self.mission_upload.handle(now, message)
+    }
+
+    /// Mission upload: store, or assemble and activate on #13000 mode 2.
+    fn mission_data(&mut self, now: Instant, message: &Message) -> Result<(), Reason> {
+        match self.upload_step(now, message)? {
             Received::Complete => {
                 let Some(mission) = self.mission_upload.take() else {
                     return Err(Reason::WrongState);
@@ -543,53 +609,203 @@ impl MissionDataHandling {
         }
     }
 
-    fn complete_area_upload(&mut self, now: Instant, message: &Message) -> ClosingAnswer {
-        let outcome = if self.area_download.is_some() {
-            Err(Reason::WrongState)
-        } else {
-            self.area_upload.handle(now, message)
-        };
-        let result = match outcome {
-            Ok(Received::Complete) => match self.area_upload.take() {
-                Some(list) => {
-                    if self.active_areas.as_ref() != Some(&list) {
-                        self.active_areas = Some(list);
-                        self.areas_changed(FccEvent::AreasActivated {
-                            generation: self.area_generation + 1,
-                        });
-                    }
-                    Ok(())
+    /// #13000 mode 8 (ICD §8): assembles the waypoint buffer as mode 2 does and stores the list
+    /// under the Mission ID; the active lists do not change. A ninth ID is refused (`Capacity`)
+    /// before the assembly, so the upload stays as it was.
+    fn stage_mission(
+        &mut self,
+        now: Instant,
+        message: &Message,
+        id: Option<Text<20>>,
+    ) -> Result<(), Reason> {
+        let id = staged_id(id)?;
+        if !self.staged.can_store(&id) {
+            return Err(Reason::Capacity);
+        }
+        match self.upload_step(now, message)? {
+            Received::Complete => {
+                let mission = self.mission_upload.take().ok_or(Reason::WrongState)?;
+                if self.staged.store_mission(id, mission)? {
+                    self.event(FccEvent::StagedStored {
+                        id,
+                        kind: DataKind::Mission,
+                    });
                 }
-                None => Err(Reason::WrongState),
-            },
-            Ok(Received::Stored | Received::Abandoned(_) | Received::Emptied) => {
+                Ok(())
+            }
+            // Mode 8 never empties (the receiver activates the empty list for mode 2 only).
+            Received::Emptied | Received::Stored | Received::Abandoned(_) => {
                 Err(Reason::WrongState)
             }
-            Err(reason) => Err(reason),
-        };
-        let loop_count = self
-            .active_areas
-            .as_ref()
-            .map_or(0, |a| a.areas.len() as u8);
-        ClosingAnswer::AreaStatus {
-            loop_count: if result.is_ok() { loop_count } else { 0 },
-            outcome: result,
         }
     }
 
-    fn start_mission_download(&mut self, now: Instant, message: &Message, ack: bool) {
-        let outcome = if self.mission_download.is_some() || self.mission_upload.in_transfer() {
-            Err(Reason::Busy)
-        } else if self.active_mission.is_none() {
-            Err(Reason::WrongState)
+    /// #13000 mode 10 (ICD §8): the waypoint buffer becomes the staged mission's waypoint list,
+    /// the active one (empty Mission ID), or empty (no such list), and an upload that edits it
+    /// opens. Allowed while trajectory generation is active (nothing active changes); refused
+    /// during a mission download as the clear is (`Busy`). Like the clear, it opens a new
+    /// upload, so an upload cut by a restart is over.
+    fn load_buffer(&mut self, now: Instant, id: Option<Text<20>>) -> Result<(), Reason> {
+        if self.mission_download.is_some() {
+            return Err(Reason::Busy);
+        }
+        let id = id.ok_or(Reason::MissingField)?;
+        let base = if id.is_empty() {
+            self.active_mission.as_ref()
         } else {
-            Ok(())
+            let id = staged_id(Some(id))?;
+            self.staged.get(&id).and_then(|e| e.mission.as_ref())
         };
-        self.answer_transfer(now, message, ack, outcome);
-        if let (Ok(()), Some(mission)) = (outcome, self.active_mission.clone()) {
+        self.mission_upload.load(now, base);
+        self.interrupted_until = None;
+        Ok(())
+    }
+
+    /// #13000 mode 6 (ICD §8): deletes the staged mission (`WrongState` when there is none).
+    fn delete_staged(&mut self, id: Option<Text<20>>) -> Result<(), Reason> {
+        let id = staged_id(id)?;
+        if !self.staged.delete(&id) {
+            return Err(Reason::WrongState);
+        }
+        // A retried closer of that mission must be judged afresh (see `CloserMemory`).
+        self.closers.forget();
+        self.event(FccEvent::StagedDeleted { id });
+        Ok(())
+    }
+
+    /// #50000 command 4 (ICD §8): replaces both active lists by the staged mission's in one
+    /// step, when it has both, trajectory generation is not active and the onboard geofence
+    /// check passes for them ([`automation::check_activation`]); else `WrongState` or
+    /// `GeofenceViolation`, and nothing changes. The staged copy stays.
+    fn activate_staged(&mut self, id: Option<Text<20>>) -> Result<(), Reason> {
+        let id = staged_id(id)?;
+        let Some(entry) = self.staged.get(&id) else {
+            return Err(Reason::WrongState);
+        };
+        let (Some(mission), Some(areas)) = (&entry.mission, &entry.areas) else {
+            return Err(Reason::WrongState);
+        };
+        let (mission_generation, area_generation) =
+            (self.mission_generation + 1, self.area_generation + 1);
+        let waypoint_list = mission.to_payload(mission_generation);
+        let area_list = areas.to_payload(area_generation);
+        self.staged_fence.set_payload(&area_list);
+        automation::check_activation(
+            &self.automation,
+            &waypoint_list,
+            &area_list,
+            &self.staged_fence,
+            &self.navigation,
+        )?;
+        self.active_mission = Some(mission.clone());
+        self.active_areas = Some(areas.clone());
+        self.mission_generation = mission_generation;
+        self.area_generation = area_generation;
+        self.waypoint_list = waypoint_list;
+        self.area_list = area_list;
+        // The staged fence is the new active list's: swap instead of building it again.
+        core::mem::swap(&mut self.fence, &mut self.staged_fence);
+        self.publish_activation();
+        self.from_to_next.reset();
+        // The last closer's "valid and active" is no longer true (see `CloserMemory`).
+        self.closers.forget();
+        self.event(FccEvent::StagedActivated {
+            id,
+            mission_generation,
+            area_generation,
+        });
+        Ok(())
+    }
+
+    /// #2011 mode 2 or 7 (ICD §5.3, §8): assembles the area list, then activates it or stores it
+    /// under the Mission ID; answered by #3012 with the loop count of that list.
+    fn complete_area_upload(&mut self, now: Instant, message: &Message) -> ClosingAnswer {
+        let result = self.area_closer(now, message);
+        ClosingAnswer::AreaStatus {
+            loop_count: result.unwrap_or(0),
+            outcome: result.map(|_| ()),
+        }
+    }
+
+    /// The area closer `message`: the loop count of the list activated or staged, or why not.
+    fn area_closer(&mut self, now: Instant, message: &Message) -> Result<u8, Reason> {
+        let staged = match message {
+            Message::AreaTransmissionCommand(c)
+                if c.mode == AreaTransferMode::UploadCompleteStaged =>
+            {
+                Some(staged_id(c.mission_id)?)
+            }
+            _ => None,
+        };
+        if self.area_download.is_some() {
+            return Err(Reason::WrongState);
+        }
+        if staged.is_some_and(|id| !self.staged.can_store(&id)) {
+            return Err(Reason::Capacity);
+        }
+        match self.area_upload.handle(now, message)? {
+            Received::Complete => {}
+            Received::Stored | Received::Abandoned(_) | Received::Emptied => {
+                return Err(Reason::WrongState);
+            }
+        }
+        let list = self.area_upload.take().ok_or(Reason::WrongState)?;
+        let loop_count = list.areas.len() as u8;
+        match staged {
+            Some(id) => {
+                if self.staged.store_areas(id, list)? {
+                    self.event(FccEvent::StagedStored {
+                        id,
+                        kind: DataKind::Areas,
+                    });
+                }
+            }
+            None => {
+                if self.active_areas.as_ref() != Some(&list) {
+                    self.active_areas = Some(list);
+                    self.areas_changed(FccEvent::AreasActivated {
+                        generation: self.area_generation + 1,
+                    });
+                }
+            }
+        }
+        Ok(loop_count)
+    }
+
+    /// #13000 mode 3 (the active mission, ICD §5.2) or mode 9 (a staged mission's, ICD §8):
+    /// acknowledged, then the download. No such list: `WrongState`, nothing follows.
+    fn start_mission_download(
+        &mut self,
+        now: Instant,
+        message: &Message,
+        ack: bool,
+        request: &MissionTransferCommand,
+    ) {
+        let mission = if request.mode == MissionPlanMode::ReceiveStagedMission {
+            staged_id(request.mission_id)
+                .map(|id| self.staged.get(&id).and_then(|e| e.mission.clone()))
+        } else {
+            Ok(self.active_mission.clone())
+        };
+        let busy = self.mission_download.is_some() || self.mission_upload.in_transfer();
+        let mission = match mission {
+            Err(reason) => Err(reason),
+            Ok(_) if busy => Err(Reason::Busy),
+            Ok(None) => Err(Reason::WrongState),
+            Ok(Some(mission)) => Ok(mission),
+        };
+        self.answer_transfer(
+            now,
+            message,
+            ack,
+            mission.as_ref().map(|_| ()).map_err(|r| *r),
+        );
+        if let Ok(mission) = mission {
             // Edition-2 fields only to an edition-2 request (ICD §10.2: it carries the window).
-            let edition_2 = matches!(message, Message::MissionTransferCommand(c) if c.transfer_window.is_some());
-            let checksum = edition_2.then(|| mission_checksum(&mission));
+            let checksum = request
+                .transfer_window
+                .is_some()
+                .then(|| mission_checksum(&mission));
             self.mission_download = Some(TransferSender::start(
                 Script::MissionDownload { mission, checksum },
                 self.config.ack_timeout,
@@ -599,21 +815,44 @@ impl MissionDataHandling {
         }
     }
 
-    fn start_area_download(&mut self, now: Instant, request: &AreaTransmissionCommand) {
+    /// #2011 mode 3 (the active areas, ICD §5.4) or mode 8 (a staged mission's, ICD §8): opened
+    /// by #3013. With mode 8, an invalid Mission ID or no such list is answered by #17000 type 3
+    /// (`Malformed`, `WrongState`) and nothing follows (ICD §8); busy is answered as for mode 3.
+    fn start_area_download(
+        &mut self,
+        now: Instant,
+        message: &Message,
+        ack: bool,
+        request: &AreaTransmissionCommand,
+    ) {
+        let list = if request.mode == AreaTransferMode::InitiateStagedDownload {
+            let list = staged_id(request.mission_id).and_then(|id| {
+                self.staged
+                    .get(&id)
+                    .and_then(|e| e.areas.clone())
+                    .ok_or(Reason::WrongState)
+            });
+            match list {
+                Ok(list) => Some(list),
+                Err(reason) => {
+                    self.endpoint.answer(now, message, ack, Err(reason));
+                    return;
+                }
+            }
+        } else {
+            self.active_areas.clone()
+        };
         let busy = self.area_download.is_some() || self.area_upload.in_transfer();
-        match (&self.active_areas, busy) {
+        match (list, busy) {
             (Some(list), false) => {
                 self.closers.forget();
                 // Edition-2 fields only to an edition-2 request (ICD §10.2).
                 let checksum = request
                     .transfer_window()
                     .is_some()
-                    .then(|| areas_checksum(list));
+                    .then(|| areas_checksum(&list));
                 self.area_download = Some(TransferSender::start(
-                    Script::AreaDownload {
-                        list: list.clone(),
-                        checksum,
-                    },
+                    Script::AreaDownload { list, checksum },
                     self.config.ack_timeout,
                     &mut self.endpoint,
                     now,
@@ -657,10 +896,11 @@ impl MissionDataHandling {
             &self.fence,
             &self.navigation,
         );
+        let count = (1 + self.staged.len()) as u8;
         let active = MissionReport {
             time_stamp: Timestamp::default(),
             report_index: 1,
-            report_count: 1,
+            report_count: count,
             // Present and empty: the active lists (ICD §8).
             mission_id: Some(Text::default()),
             waypoint_count: self
@@ -677,8 +917,42 @@ impl MissionDataHandling {
             area_checksum: self.active_areas.as_ref().map(areas_checksum),
         };
         let mut entries = heapless::Vec::new();
-        // The first of MAX_REPORT_ENTRIES: it fits.
+        // At most MAX_REPORT_ENTRIES: the active lists and MAX_STAGED_MISSIONS.
         let _ = entries.push(active);
+        // Then each staged mission in ascending byte order of its ID (ICD §8), with the check
+        // execute would run after its activation, against a fence built for its areas.
+        for (index, entry) in self.staged.iter().enumerate() {
+            let waypoint_list = entry
+                .mission
+                .as_ref()
+                .map_or(WaypointListPayload::EMPTY, |m| m.to_payload(1));
+            let area_list = entry
+                .areas
+                .as_ref()
+                .map_or(AreaListPayload::EMPTY, |a| a.to_payload(1));
+            self.staged_fence.set_payload(&area_list);
+            let (geofence_check, reason) = automation::report_check(
+                &waypoint_list,
+                &area_list,
+                &self.staged_fence,
+                &self.navigation,
+            );
+            let _ = entries.push(MissionReport {
+                time_stamp: Timestamp::default(),
+                report_index: (index + 2) as u8,
+                report_count: count,
+                mission_id: Some(entry.id.text()),
+                waypoint_count: entry
+                    .mission
+                    .as_ref()
+                    .map_or(0, |m| m.waypoints.len() as u16),
+                area_count: entry.areas.as_ref().map_or(0, |a| a.areas.len() as u8),
+                geofence_check,
+                reason,
+                mission_checksum: entry.mission.as_ref().map(mission_checksum),
+                area_checksum: entry.areas.as_ref().map(areas_checksum),
+            });
+        }
         self.report = Some(TransferSender::start(
             Script::MissionReport { entries },
             self.config.ack_timeout,
@@ -789,6 +1063,15 @@ impl MissionDataHandling {
     }
 }
 
+/// The staged mission a request names (ICD §8: #13000 modes 6, 8, 9, #2011 modes 7, 8, #50000
+/// command 4): absent is `MissingField`; empty, or not printable ASCII, is `Malformed` (our
+/// choice: the ICD names the rule of the ID, not the reason; an empty ID names the active lists
+/// only with mode 10).
+fn staged_id(id: Option<Text<20>>) -> Result<MissionId, Reason> {
+    let id = id.ok_or(Reason::MissingField)?;
+    MissionId::of_text(&id).map_err(|_| Reason::Malformed)
+}
+
 impl Composite<FccTimer, 6> for MissionDataHandling {
     fn timers(&mut self) -> &mut TimerTable<FccTimer, 6> {
         &mut self.timers
@@ -855,7 +1138,9 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                     self.answer_transfer(now, message, ack, outcome);
                 }
                 MissionPlanMode::TransmitMission => self.closer(now, message, ack),
-                MissionPlanMode::ReceiveMission => self.start_mission_download(now, message, ack),
+                MissionPlanMode::ReceiveMission | MissionPlanMode::ReceiveStagedMission => {
+                    self.start_mission_download(now, message, ack, c);
+                }
                 MissionPlanMode::CancelTransfer => {
                     // Every transfer of #13000: the mission upload or download, and the report
                     // the mode 7 request started.
@@ -864,14 +1149,14 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                     self.endpoint.answer(now, message, ack, Ok(()));
                 }
                 MissionPlanMode::ReportMissions => self.start_report(now, message, ack),
-                // Staged missions (ICD §8) are not implemented here yet: refused as an
-                // edition-1 FCC refuses them (ICD §10.1).
-                MissionPlanMode::DeleteStagedMission
-                | MissionPlanMode::StageMission
-                | MissionPlanMode::ReceiveStagedMission
-                | MissionPlanMode::LoadWaypointBuffer => {
-                    self.endpoint
-                        .answer(now, message, ack, Err(Reason::Unsupported));
+                MissionPlanMode::StageMission => self.closer(now, message, ack),
+                MissionPlanMode::LoadWaypointBuffer => {
+                    let outcome = self.load_buffer(now, c.mission_id);
+                    self.answer_transfer(now, message, ack, outcome);
+                }
+                MissionPlanMode::DeleteStagedMission => {
+                    let outcome = self.delete_staged(c.mission_id);
+                    self.endpoint.answer(now, message, ack, outcome);
                 }
             },
             Message::UaRoute(_)
@@ -892,7 +1177,9 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                 // Answered by #3012 instead of #17000 (ICD §5.3 step 3).
                 AreaTransferMode::UploadComplete => self.closer(now, message, ack),
                 // Answered by #3013 instead of #17000 (ICD §5.4 step 1).
-                AreaTransferMode::InitiateDownload => self.start_area_download(now, c),
+                AreaTransferMode::InitiateDownload | AreaTransferMode::InitiateStagedDownload => {
+                    self.start_area_download(now, message, ack, c);
+                }
                 AreaTransferMode::Cancel => {
                     self.cancel(DataKind::Areas);
                     self.endpoint.answer(now, message, ack, Ok(()));
@@ -905,13 +1192,7 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                     self.endpoint
                         .answer(now, message, ack, Err(Reason::WrongState));
                 }
-                // Staged missions (ICD §8) are not implemented here yet: refused as an
-                // edition-1 FCC refuses them (ICD §10.1).
-                AreaTransferMode::UploadCompleteStaged
-                | AreaTransferMode::InitiateStagedDownload => {
-                    self.endpoint
-                        .answer(now, message, ack, Err(Reason::Unsupported));
-                }
+                AreaTransferMode::UploadCompleteStaged => self.closer(now, message, ack),
             },
             Message::AreaPolygonLoopSegment(_) => {
                 let outcome = if self.area_download.is_some() {
@@ -920,6 +1201,12 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                     self.area_upload.handle(now, message).map(|_| ())
                 };
                 self.answer_transfer(now, message, ack, outcome);
+            }
+            // Mission data handling activates a staged mission itself (ICD §8): it owns the
+            // lists; system automation has nothing to carry out.
+            Message::MissionExecuteCommand(c) if c.command == ExecuteCommand::ActivateStaged => {
+                let outcome = self.activate_staged(c.mission_id);
+                self.endpoint.answer(now, message, ack, outcome);
             }
             Message::MissionExecuteCommand(c) => {
                 let outcome = self.check_execute(c.command);

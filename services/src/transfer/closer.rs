@@ -24,12 +24,17 @@ pub struct Closer {
 }
 
 impl Closer {
-    /// The closer `message` is, if it is one: #13000 mode 2 (transmit) or #2011 mode 2 (upload
-    /// complete).
+    /// The closer `message` is, if it is one: #13000 mode 2 (transmit) or 8 (stage, ICD §8),
+    /// #2011 mode 2 (upload complete) or 7 (upload complete, staged).
     pub fn of(message: &Message) -> Option<Self> {
         use missionlink_interfaces::wire::{AreaTransferMode, MissionPlanMode};
         match message {
-            Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
+            Message::MissionTransferCommand(c)
+                if matches!(
+                    c.mode,
+                    MissionPlanMode::TransmitMission | MissionPlanMode::StageMission
+                ) =>
+            {
                 Some(Self {
                     message_type: MessageType::MissionTransferCommand,
                     mode: c.mode as u8,
@@ -38,11 +43,16 @@ impl Closer {
                     checksum: c.mission_checksum,
                 })
             }
-            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::UploadComplete => {
+            Message::AreaTransmissionCommand(c)
+                if matches!(
+                    c.mode,
+                    AreaTransferMode::UploadComplete | AreaTransferMode::UploadCompleteStaged
+                ) =>
+            {
                 Some(Self {
                     message_type: MessageType::AreaTransmissionCommand,
                     mode: c.mode as u8,
-                    mission_id: None,
+                    mission_id: c.mission_id,
                     count: c.loop_count.map(u16::from),
                     checksum: c.area_checksum(),
                 })

@@ -10,8 +10,13 @@
 //! activates it. A receiver that hears nothing from its peer for the transfer timeout abandons
 //! the transfer (ICD §5).
 //!
-//! A closing message that carries a checksum (ICD §11: #13000 mode 2 and #2011 mode 2 from an
-//! edition-2 GCS, #14000 and #2011 mode 4 of a download to an edition-2 request) is accepted only
+//! On the FCC, the closers of staging (ICD §8: #13000 mode 8, #2011 mode 7) assemble and check
+//! as mode 2 does; what happens to the list (activated or staged) is the owner's business. Mode
+//! 10 fills the waypoint buffer with a list of the owner's choice and opens the upload
+//! ([`MissionReceiver::load`]).
+//!
+//! A closing message that carries a checksum (ICD §11: #13000 mode 2 or 8 and #2011 mode 2 or 7
+//! from an edition-2 GCS, #14000 and #2011 mode 4 of a download to an edition-2 request) is accepted only
 //! when the list assembled has that checksum; otherwise it is refused with `IntegrityMismatch`
 //! and the buffer is emptied, so nothing of the transfer is left to assemble.
 
@@ -162,6 +167,16 @@ impl MissionReceiver {
         self.silence.heard(now);
     }
 
+    /// Fills the buffer with `base`, or empties it when there is none, and opens an upload that
+    /// edits it (#13000 mode 10, ICD §8: the owner chooses the staged or the active list).
+    pub fn load(&mut self, now: Instant, base: Option<&Mission>) {
+        match base {
+            Some(mission) => self.buffer = MissionBuffer::from_mission(mission),
+            None => self.buffer.clear(),
+        }
+        self.silence.heard(now);
+    }
+
     /// When [`MissionReceiver::handle_timeout`] must be called: the transfer timeout of the
     /// transfer in progress.
     pub fn poll_timeout(&self) -> Option<Instant> {
@@ -198,13 +213,20 @@ impl MissionReceiver {
         Ok(Received::Complete)
     }
 
-    /// Handles mission data: #13006, #13002, #13001, #13000 mode 2 transmit, #14000. The
-    /// answer to the message is `Ok` (acknowledge type 2) or the reason (type 3).
+    /// Handles mission data: #13006, #13002, #13001, #13000 mode 2 transmit or mode 8 stage
+    /// (ICD §8: assembled alike), #14000. The answer to the message is `Ok` (acknowledge type 2)
+    /// or the reason (type 3).
     pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
         self.silence.heard(now);
         match message {
-            Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::TransmitMission => {
-                if c.waypoint_number == Some(0) {
+            Message::MissionTransferCommand(c)
+                if matches!(
+                    c.mode,
+                    MissionPlanMode::TransmitMission | MissionPlanMode::StageMission
+                ) =>
+            {
+                // Only mode 2 activates the empty list; staged, an empty list fails §7.
+                if c.mode == MissionPlanMode::TransmitMission && c.waypoint_number == Some(0) {
                     // The empty list has no canonical form in ICD §11 (its report carries no
                     // checksum): a checksum here contradicts the clear (our choice).
                     if c.mission_checksum.is_some() {
@@ -289,7 +311,8 @@ impl AreaReceiver {
     }
 
     /// Handles area data: #2011 mode 1 (opens, FCC) or #3013 ready (opens, GCS), #2012, #2011
-    /// mode 2 (closes, FCC) or mode 4 (closes, GCS), #2011 mode 5 cancel.
+    /// mode 2 or 7 (closes, FCC; ICD §8: mode 7 assembles as mode 2 does) or mode 4 (closes,
+    /// GCS), #2011 mode 5 cancel.
     pub fn handle(&mut self, now: Instant, message: &Message) -> Result<Received, Reason> {
         let received = self.route(message);
         // The transfer timeout runs exactly while a transfer is open: a stray message outside
@@ -309,7 +332,9 @@ impl AreaReceiver {
                     c.loop_count.unwrap_or(0),
                     c.safety_offset.unwrap_or_default(),
                 )),
-                AreaTransferMode::UploadComplete | AreaTransferMode::DownloadComplete => {
+                AreaTransferMode::UploadComplete
+                | AreaTransferMode::UploadCompleteStaged
+                | AreaTransferMode::DownloadComplete => {
                     let (announced, offset) = self.open.ok_or(Reason::WrongState)?;
                     if c.loop_count != Some(announced) {
                         return Err(Reason::CountMismatch);
@@ -330,7 +355,6 @@ impl AreaReceiver {
                 }
                 AreaTransferMode::InitiateDownload
                 | AreaTransferMode::ClearAreas
-                | AreaTransferMode::UploadCompleteStaged
                 | AreaTransferMode::InitiateStagedDownload => {
                     return Err(Reason::WrongState);
                 }
