@@ -558,7 +558,7 @@ pub fn load_staged(dir: &Path) -> Vec<(MissionId, Option<Mission>, Option<AreaLi
             None => tracing::warn!(%id, path = %path.display(), "staged mission skipped"),
         }
     }
-    staged.sort_by(|a, b| a.0.cmp(&b.0));
+    staged.sort_by_key(|(id, _, _)| *id);
     staged
 }
 
