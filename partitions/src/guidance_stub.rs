@@ -1,8 +1,9 @@
 //! Guidance stub: the FCC partition that stands in for flight guidance in the rig, a thin
 //! driver around `services::guidance::Guidance`. It flies the active waypoint and area lists
-//! with a simple kinematic model when system automation says so, time-scaled for demos, and
-//! publishes FROM / TO / NEXT and the position on `fcc/guidance/progress`. It reports when the
-//! position leaves the fly-zone or enters a no-fly-zone.
+//! (taken only as a pair of one activation, `ipc::ListPairing`) with a simple kinematic model
+//! when system automation says so, time-scaled for demos, and publishes FROM / TO / NEXT and the
+//! position on `fcc/guidance/progress`. It reports when the position leaves the fly-zone or
+//! enters a no-fly-zone.
 
 use std::time::Duration;
 
@@ -15,7 +16,7 @@ use missionlink_services::guidance::{Guidance, GuidanceConfig};
 
 use crate::clock::DriverClock;
 use crate::config::Config;
-use crate::ipc::{ActiveLists, Ipc};
+use crate::ipc::{Ipc, ListPairing};
 use crate::runtime::{self, Control, PartitionError, Wake};
 
 /// The partition's name (binary, node, summary).
@@ -41,7 +42,7 @@ where
     Listener<S>: SynchronousMultiplexing,
 {
     let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
-    let ActiveLists { waypoints, areas } = ipc.active_lists()?;
+    let lists = ipc.active_lists()?;
     let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
     let progress = ipc.publisher::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
 
@@ -58,37 +59,38 @@ where
     let interval = Duration::from_millis(g.update_interval_ms.max(1));
 
     tracing::info!(time_scale = g.time_scale, "guidance-stub flies time-scaled");
+    let mut pairing = ListPairing::new();
     let mut last_published: Option<GuidanceProgressPayload> = None;
     let mut last_sent = std::time::Instant::now();
     let wake = Wake {
         on: &[
-            waypoints.listener(),
-            areas.listener(),
+            lists.waypoints.listener(),
+            lists.areas.listener(),
             automation.listener(),
         ],
         every: Some(interval),
         first_timeout: interval,
     };
     let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
-        waypoints.drain_notifications();
-        areas.drain_notifications();
         automation.drain_notifications();
-        waypoints.for_each(|list| {
+        // Only whole pairs of one activation, both set before the next step: guidance never
+        // flies the new waypoint list inside the old areas or the reverse.
+        if let Some((waypoint_list, area_list)) = lists.receive(&mut pairing) {
             tracing::info!(
-                generation = list.generation,
-                waypoints = list.count,
+                generation = waypoint_list.generation,
+                waypoints = waypoint_list.count,
+                activation = waypoint_list.activation,
                 "waypoint list received"
             );
-            guidance.set_waypoint_list(list);
-        });
-        areas.for_each(|list| {
             tracing::info!(
-                generation = list.generation,
-                areas = list.area_count(),
+                generation = area_list.generation,
+                areas = area_list.area_count(),
+                activation = area_list.activation,
                 "area list received"
             );
-            guidance.set_area_list(list);
-        });
+            guidance.set_waypoint_list(waypoint_list);
+            guidance.set_area_list(area_list);
+        }
         if let Some(state) = automation.latest() {
             guidance.set_automation(&state);
         }

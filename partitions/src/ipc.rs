@@ -13,7 +13,9 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
-use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
+use missionlink_interfaces::contracts::{
+    AreaListPayload, FccService, WaypointListPayload, same_activation,
+};
 
 /// Something iceoryx2 refused, with what was being done.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -185,6 +187,131 @@ pub struct ActiveLists<S: Service> {
     pub areas: Subscriber<S, AreaListPayload>,
 }
 
+impl<S: Service> ActiveLists<S> {
+    /// Hands every sample that arrived on either service to `pairing` (draining the
+    /// notifications) and returns the pair it releases, if any: a waypoint list and an area list
+    /// of the same activation, newer than the pair released before (see [`ListPairing`]).
+    pub fn receive<'p>(
+        &self,
+        pairing: &'p mut ListPairing,
+    ) -> Option<(&'p WaypointListPayload, &'p AreaListPayload)> {
+        self.waypoints.take_all(|w| pairing.offer_waypoints(w));
+        self.areas.take_all(|a| pairing.offer_areas(a));
+        pairing.take()
+    }
+}
+
+/// Pairs the active waypoint list with the active area list on the subscriber's side, so that a
+/// partition never acts on the new waypoint list with the old area list or the reverse
+/// (DESIGN.md "Activation is atomic", ICD §8 "Activate").
+///
+/// Mission data handling publishes both lists whenever either changes, under one activation
+/// number that grows with every change (`contracts::same_activation`). The two services deliver
+/// independently, so the newest sample of one may belong to a newer activation than the newest
+/// of the other. The pairing keeps the newest sample of each (by activation; copies, since a
+/// sample must go back to iceoryx2) and releases them as a pair only when they belong to the same
+/// activation and it is newer than the pair released last. Until then the partition keeps the
+/// pair it has.
+///
+/// - A sample of an older activation than the one held or the one released (a dead
+///   predecessor's port still delivering) is ignored.
+/// - A restarted mission data handling publishes again the lists it resumed with, under the same
+///   activation (it is the sum of the two generations, which are saved with the lists): that is
+///   not a new pair, and nothing is released.
+/// - Limit: the activation comes from mission data handling's state directory. If that
+///   directory is lost, the activation starts again from zero and subscribers that kept running
+///   hold their pair until the activation passes it: restart them with it (the launcher restarts
+///   the whole FCC).
+///
+/// The copies are made once on the heap and overwritten in place afterwards, so a running
+/// partition does not allocate per list.
+#[derive(Debug, Default)]
+pub struct ListPairing {
+    waypoints: Option<Box<WaypointListPayload>>,
+    areas: Option<Box<AreaListPayload>>,
+    released: Option<u64>,
+    mismatched: u64,
+}
+
+/// Keeps `list` in `held` unless it is older than what is held or was released (`activation`
+/// gives a list's activation); whether it was kept.
+fn keep_newest<T: Copy>(
+    held: &mut Option<Box<T>>,
+    list: &T,
+    released: Option<u64>,
+    activation: impl Fn(&T) -> u64,
+) -> bool {
+    let newest = held
+        .as_deref()
+        .map(&activation)
+        .into_iter()
+        .chain(released)
+        .max();
+    if newest.is_some_and(|n| activation(list) < n) {
+        return false;
+    }
+    match held {
+        Some(copy) => **copy = *list,
+        None => *held = Some(Box::new(*list)),
+    }
+    true
+}
+
+impl ListPairing {
+    /// Nothing received yet, nothing released.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A waypoint list arrived.
+    pub fn offer_waypoints(&mut self, list: &WaypointListPayload) {
+        if !keep_newest(&mut self.waypoints, list, self.released, |l| l.activation) {
+            tracing::debug!(
+                activation = list.activation,
+                "an older waypoint list arrived: ignored"
+            );
+        }
+    }
+
+    /// An area list arrived.
+    pub fn offer_areas(&mut self, list: &AreaListPayload) {
+        if !keep_newest(&mut self.areas, list, self.released, |l| l.activation) {
+            tracing::debug!(
+                activation = list.activation,
+                "an older area list arrived: ignored"
+            );
+        }
+    }
+
+    /// The newest lists as a pair, if they belong to the same activation and it is newer than
+    /// the pair released last; then that pair counts as released.
+    pub fn take(&mut self) -> Option<(&WaypointListPayload, &AreaListPayload)> {
+        let (Some(w), Some(a)) = (self.waypoints.as_deref(), self.areas.as_deref()) else {
+            return None;
+        };
+        if !same_activation(w, a) {
+            self.mismatched += 1;
+            return None;
+        }
+        if self.released.is_some_and(|r| w.activation <= r) {
+            return None;
+        }
+        self.released = Some(w.activation);
+        Some((w, a))
+    }
+
+    /// The activation of the pair released last.
+    pub fn released(&self) -> Option<u64> {
+        self.released
+    }
+
+    /// How often [`ListPairing::take`] found the newest lists of different activations: the
+    /// times a partition without the pairing would have held a mix.
+    pub fn mismatched(&self) -> u64 {
+        self.mismatched
+    }
+}
+
 /// A typed publisher with its notifier.
 #[derive(Debug)]
 pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
@@ -293,7 +420,7 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_interfaces::contracts::{FramePayload, Link, WaypointListPayload};
+    use missionlink_interfaces::contracts::{FramePayload, Link};
 
     /// A late subscriber of a history-1 service receives the active list (the contract the
     /// guidance partition relies on), through the QoS of the contracts as the ports here apply
@@ -325,6 +452,154 @@ mod tests {
             .map(|w| (w.number, w.next))
             .collect();
         assert_eq!(numbers, [(1, 2), (2, 0)]);
+    }
+
+    fn waypoints(activation: u64, count: u16) -> WaypointListPayload {
+        WaypointListPayload {
+            generation: activation,
+            activation,
+            count,
+            ..WaypointListPayload::EMPTY
+        }
+    }
+
+    fn areas(activation: u64, polygons: u8) -> AreaListPayload {
+        AreaListPayload {
+            generation: activation,
+            activation,
+            no_fly_polygon_count: polygons,
+            ..AreaListPayload::EMPTY
+        }
+    }
+
+    /// What `pairing` releases now, as (activation, waypoint count, polygon count).
+    fn released(pairing: &mut ListPairing) -> Option<(u64, u16, u8)> {
+        pairing
+            .take()
+            .map(|(w, a)| (w.activation, w.count, a.no_fly_polygon_count))
+    }
+
+    #[test]
+    fn a_new_waypoint_list_waits_for_its_area_list_and_the_old_pair_holds_meanwhile() {
+        let mut pairing = ListPairing::new();
+        assert_eq!(released(&mut pairing), None, "nothing received");
+        pairing.offer_waypoints(&waypoints(1, 3));
+        assert_eq!(
+            released(&mut pairing),
+            None,
+            "the areas of activation 1 missing"
+        );
+        pairing.offer_areas(&areas(1, 1));
+        assert_eq!(released(&mut pairing), Some((1, 3, 1)));
+        assert_eq!(released(&mut pairing), None, "released once");
+
+        pairing.offer_waypoints(&waypoints(2, 5));
+        assert_eq!(released(&mut pairing), None, "W2 with A1 is a mix");
+        assert_eq!(
+            pairing.released(),
+            Some(1),
+            "the pair of activation 1 holds"
+        );
+        pairing.offer_areas(&areas(2, 4));
+        assert_eq!(released(&mut pairing), Some((2, 5, 4)));
+        assert_eq!(pairing.mismatched(), 1);
+
+        // The areas may come first as well.
+        pairing.offer_areas(&areas(3, 0));
+        assert_eq!(released(&mut pairing), None);
+        pairing.offer_waypoints(&waypoints(3, 2));
+        assert_eq!(released(&mut pairing), Some((3, 2, 0)));
+        assert_eq!(pairing.mismatched(), 2);
+    }
+
+    #[test]
+    fn several_activations_between_two_looks_release_only_the_newest_whole_pair() {
+        let mut pairing = ListPairing::new();
+        for activation in 1..=3 {
+            pairing.offer_waypoints(&waypoints(activation, activation as u16));
+            pairing.offer_areas(&areas(activation, activation as u8));
+        }
+        pairing.offer_waypoints(&waypoints(4, 4));
+        assert_eq!(released(&mut pairing), None, "W4 with A3");
+        assert_eq!(pairing.released(), None, "no pair yet");
+        pairing.offer_areas(&areas(4, 4));
+        assert_eq!(released(&mut pairing), Some((4, 4, 4)));
+    }
+
+    #[test]
+    fn lists_older_than_those_held_or_released_are_ignored() {
+        let mut pairing = ListPairing::new();
+        pairing.offer_waypoints(&waypoints(5, 5));
+        pairing.offer_areas(&areas(5, 5));
+        assert_eq!(released(&mut pairing), Some((5, 5, 5)));
+        // A dead predecessor's port delivers an old pair: not released, and the held lists stay.
+        pairing.offer_waypoints(&waypoints(4, 9));
+        pairing.offer_areas(&areas(4, 9));
+        assert_eq!(released(&mut pairing), None);
+        pairing.offer_waypoints(&waypoints(6, 6));
+        // Older than the waypoint list held (6), though newer than the pair released (5).
+        pairing.offer_waypoints(&waypoints(5, 9));
+        pairing.offer_areas(&areas(6, 6));
+        assert_eq!(released(&mut pairing), Some((6, 6, 6)));
+    }
+
+    #[test]
+    fn a_restarted_publisher_that_publishes_the_same_activation_again_is_not_a_new_pair() {
+        let mut pairing = ListPairing::new();
+        pairing.offer_waypoints(&waypoints(7, 3));
+        pairing.offer_areas(&areas(7, 2));
+        assert_eq!(released(&mut pairing), Some((7, 3, 2)));
+        // Mission data handling resumed with the lists it saved and publishes them again.
+        pairing.offer_waypoints(&waypoints(7, 3));
+        assert_eq!(released(&mut pairing), None);
+        pairing.offer_areas(&areas(7, 2));
+        assert_eq!(released(&mut pairing), None);
+        assert_eq!(pairing.released(), Some(7));
+        assert_eq!(pairing.mismatched(), 0);
+    }
+
+    #[test]
+    fn lists_of_no_mission_are_a_pair_like_any_other() {
+        // A resumed mission data handling with nothing active publishes the empty lists.
+        let mut pairing = ListPairing::new();
+        pairing.offer_waypoints(&WaypointListPayload::EMPTY);
+        pairing.offer_areas(&AreaListPayload::EMPTY);
+        assert_eq!(released(&mut pairing), Some((0, 0, 0)));
+    }
+
+    /// The pairing over iceoryx2: the subscriber side of both list services, as guidance and
+    /// system automation use it, on the in-process service variant.
+    #[test]
+    fn active_lists_release_a_pair_only_once_both_lists_of_an_activation_arrived() {
+        let prefix = format!("ipc-test-pair-{}", std::process::id());
+        let ipc = Ipc::<local::Service>::open("ipc-test-pair", &prefix).unwrap();
+        let w = ipc
+            .publisher::<WaypointListPayload>(FccService::WaypointList)
+            .unwrap();
+        let a = ipc
+            .publisher::<AreaListPayload>(FccService::AreaList)
+            .unwrap();
+        w.send(&waypoints(1, 2)).unwrap();
+        a.send(&areas(1, 1)).unwrap();
+
+        // A late subscriber: the history gives it the pair.
+        let lists = ipc.active_lists().unwrap();
+        w.update_connections();
+        a.update_connections();
+        let mut pairing = ListPairing::new();
+        let pair = lists
+            .receive(&mut pairing)
+            .map(|(w, a)| (w.count, a.no_fly_polygon_count));
+        assert_eq!(pair, Some((2, 1)));
+
+        w.send(&waypoints(2, 4)).unwrap();
+        assert!(lists.receive(&mut pairing).is_none(), "W2 alone");
+        a.send(&areas(2, 3)).unwrap();
+        let pair = lists
+            .receive(&mut pairing)
+            .map(|(w, a)| (w.count, a.no_fly_polygon_count));
+        assert_eq!(pair, Some((4, 3)));
+        assert!(lists.receive(&mut pairing).is_none(), "nothing new");
     }
 
     /// A subscriber that never reads (stopped, hung) does not block the publisher of a frame

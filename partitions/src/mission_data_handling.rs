@@ -2,8 +2,10 @@
 //! `services::mission_data_handling::MissionDataHandling`. It consumes voted uplink frames, the
 //! automation state and guidance progress; it publishes the frames the core transmits on the
 //! downlink, the active waypoint and area lists (history 1: late joiners get them) and accepted
-//! #50000 commands. After a restart it resumes with the lists it published last, so guidance
-//! never sees them change, and with the record of a mission upload it cut.
+//! #50000 commands. Whenever either list changes it saves and publishes both, under the one
+//! activation the core gave them, the waypoint list first (DESIGN.md "Activation is atomic").
+//! After a restart it resumes with the lists it published last, so guidance never sees them
+//! change, and with the record of a mission upload it cut.
 //!
 //! Everything the core asks to record (an activated list, an open mission upload) is written
 //! before the answers it queued go out: an FCC that answered "valid and active" must still hold
@@ -53,12 +55,15 @@ where
     // Resume with the lists of a previous instance and publish them again, so late joiners
     // find them; their generations are unchanged, so guidance sees no change.
     let state_dir = config.ipc.state_dir();
-    let mission = state::load_mission(&state_dir);
-    let areas = state::load_areas(&state_dir);
+    let active = state::load_active(&state_dir);
     let mission_upload_open = state::load_mission_upload_open(&state_dir);
-    if mission.is_some() || areas.is_some() || mission_upload_open {
-        let (mission, mission_generation) = mission.unwrap_or((None, 0));
-        let (areas, area_generation) = areas.unwrap_or((None, 0));
+    if active.is_some() || mission_upload_open {
+        let state::ActiveLists {
+            mission,
+            mission_generation,
+            areas,
+            area_generation,
+        } = active.unwrap_or_default();
         core.resume(
             clock.now(),
             Resumed {
@@ -69,8 +74,7 @@ where
                 mission_upload_open,
             },
         );
-        waypoint_list.send(core.waypoint_list())?;
-        area_list.send(core.area_list())?;
+        publish_active(&core, &waypoint_list, &area_list)?;
         tracing::info!(
             waypoint_list = mission_generation,
             area_list = area_generation,
@@ -174,33 +178,14 @@ impl<S: Service> Outputs<'_, S> {
     fn publish_events(&mut self, core: &mut MissionDataHandling) -> Result<(), PartitionError> {
         while let Some(event) = core.poll_event() {
             match event {
-                FccEvent::MissionActivated { .. } | FccEvent::MissionCleared => {
-                    let generation = core.generations().0;
-                    if let Err(e) =
-                        state::save_mission(self.state_dir, core.active_mission(), generation)
-                    {
-                        tracing::error!(%e, "cannot save the waypoint list");
-                    }
-                    tracing::info!(
-                        generation = core.waypoint_list().generation,
-                        waypoints = core.waypoint_list().count,
-                        "waypoint list published"
-                    );
-                    self.waypoint_list.send(core.waypoint_list())?;
-                }
-                FccEvent::AreasActivated { .. } | FccEvent::AreasCleared => {
-                    let generation = core.generations().1;
-                    if let Err(e) =
-                        state::save_areas(self.state_dir, core.active_areas(), generation)
-                    {
-                        tracing::error!(%e, "cannot save the area list");
-                    }
-                    tracing::info!(
-                        generation = core.area_list().generation,
-                        areas = core.area_list().area_count(),
-                        "area list published"
-                    );
-                    self.area_list.send(core.area_list())?;
+                // Either list changed: both are saved in one file and both published, under the
+                // one activation the core gave them (DESIGN.md "Activation is atomic").
+                FccEvent::MissionActivated { .. }
+                | FccEvent::MissionCleared
+                | FccEvent::AreasActivated { .. }
+                | FccEvent::AreasCleared => {
+                    self.save_active(core);
+                    publish_active(core, self.waypoint_list, self.area_list)?;
                 }
                 FccEvent::Execute(command) => {
                     self.command_sequence += 1;
@@ -223,6 +208,44 @@ impl<S: Service> Outputs<'_, S> {
         }
         Ok(())
     }
+}
+
+impl<S: Service> Outputs<'_, S> {
+    /// Saves both active lists and their generations (one file, replaced atomically): an
+    /// activation is recorded whole before anything is published or answered.
+    fn save_active(&self, core: &MissionDataHandling) {
+        let (mission_generation, area_generation) = core.generations();
+        if let Err(e) = state::save_active(
+            self.state_dir,
+            core.active_mission(),
+            mission_generation,
+            core.active_areas(),
+            area_generation,
+        ) {
+            tracing::error!(%e, "cannot save the active lists");
+        }
+    }
+}
+
+/// Publishes both active lists, the waypoint list first. They carry the same activation, so a
+/// subscriber takes them only together (`ipc::ListPairing`).
+fn publish_active<S: Service>(
+    core: &MissionDataHandling,
+    waypoint_list: &Publisher<S, WaypointListPayload>,
+    area_list: &Publisher<S, AreaListPayload>,
+) -> Result<(), PartitionError> {
+    let (w, a) = (core.waypoint_list(), core.area_list());
+    waypoint_list.send(w)?;
+    area_list.send(a)?;
+    tracing::info!(
+        activation = w.activation,
+        waypoint_list = w.generation,
+        waypoints = w.count,
+        area_list = a.generation,
+        areas = a.area_count(),
+        "active lists published"
+    );
+    Ok(())
 }
 
 /// Publishes on the downlink every frame the core transmits (the driver moves bytes only: the

@@ -1,9 +1,9 @@
 //! System automation: the FCC partition of paper §2.5, a thin driver around
-//! `services::automation::SystemAutomation`. It follows the active lists and guidance's
-//! progress, carries out the #50000 commands mission data handling accepted, and publishes the
-//! flight phase and which functions are active (`fcc/automation/state`, history 1). A restarted
-//! automation adopts the phase guidance's progress shows, so it never drops an aircraft in the
-//! air back to "on ground".
+//! `services::automation::SystemAutomation`. It follows the active lists (taken only as a pair
+//! of one activation, `ipc::ListPairing`) and guidance's progress, carries out the #50000
+//! commands mission data handling accepted, and publishes the flight phase and which functions
+//! are active (`fcc/automation/state`, history 1). A restarted automation adopts the phase
+//! guidance's progress shows, so it never drops an aircraft in the air back to "on ground".
 
 use std::time::Duration;
 
@@ -16,7 +16,7 @@ use missionlink_services::automation::SystemAutomation;
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
-use crate::ipc::{ActiveLists, Ipc};
+use crate::ipc::{Ipc, ListPairing};
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
 
@@ -33,7 +33,7 @@ where
     Listener<S>: SynchronousMultiplexing,
 {
     let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
-    let ActiveLists { waypoints, areas } = ipc.active_lists()?;
+    let lists = ipc.active_lists()?;
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
     let commands = ipc.subscriber::<AutomationCommandPayload>(FccService::AutomationCommand)?;
     let state = ipc.publisher::<AutomationStatePayload>(FccService::AutomationState)?;
@@ -42,11 +42,12 @@ where
     // A restarted automation resumes from guidance's progress (see `handle_progress`).
     let mut automation = SystemAutomation::new();
     let mut command_latency = Recorder::new("command: accepted to carried out");
+    let mut pairing = ListPairing::new();
 
     let wake = Wake {
         on: &[
-            waypoints.listener(),
-            areas.listener(),
+            lists.waypoints.listener(),
+            lists.areas.listener(),
             progress.listener(),
             commands.listener(),
         ],
@@ -54,15 +55,13 @@ where
         first_timeout: CONNECT_INTERVAL,
     };
     let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
-        waypoints.drain_notifications();
-        areas.drain_notifications();
         progress.drain_notifications();
         commands.drain_notifications();
-        if let Some(list) = waypoints.latest() {
-            automation.handle_waypoint_list(&list);
-        }
-        if let Some(list) = areas.latest() {
-            automation.handle_area_list(&list);
+        // Only whole pairs of one activation: a command is never checked against the new
+        // waypoint list with the old areas or the reverse.
+        if let Some((waypoint_list, area_list)) = lists.receive(&mut pairing) {
+            automation.handle_waypoint_list(waypoint_list);
+            automation.handle_area_list(area_list);
         }
         let now = clock.now();
         commands.for_each(|c| match c.command() {

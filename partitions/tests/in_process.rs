@@ -204,7 +204,7 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
     );
     // Kept for a restart.
     let dir = config.ipc.state_dir();
-    assert!(state::load_mission(&dir).is_some_and(|(m, _)| m == Some(valid.mission)));
+    assert!(state::load_active(&dir).is_some_and(|a| a.mission == Some(valid.mission)));
     partition.stop();
 }
 

@@ -13,7 +13,7 @@ use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::launcher::{self, FccProcess};
-use missionlink_partitions::udp::LocalEnds;
+use missionlink_partitions::udp::{LinkPair, LocalEnds};
 use missionlink_services::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 
 pub type Link = GcsLink<WithoutGateway>;
@@ -80,12 +80,17 @@ impl Rig {
 
     /// The GCS over the rig's GCS ends, talking to the ports `fcc` announced (once per rig).
     pub fn gcs(&mut self, fcc: &mut Process) -> Link {
+        let links = self.gcs_links(fcc);
+        GcsLink::with_links(&self.config, links, WithoutGateway)
+    }
+
+    /// The rig's GCS ends connected to the ports `fcc` announced, for a test that plays the
+    /// ground itself (once per rig, like [`Rig::gcs`]).
+    pub fn gcs_links(&mut self, fcc: &mut Process) -> LinkPair {
         self.learn_links(fcc);
         let ends = self.gcs_ends.take().expect("one GCS per rig");
-        let links = ends
-            .connect(self.config.links.fcc_direct, self.config.links.fcc_lte)
-            .unwrap();
-        GcsLink::with_links(&self.config, links, WithoutGateway)
+        ends.connect(self.config.links.fcc_direct, self.config.links.fcc_lte)
+            .unwrap()
     }
 
     /// The summaries the partitions wrote at shutdown.
