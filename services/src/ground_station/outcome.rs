@@ -217,6 +217,23 @@ impl UploadReport {
         }
     }
 
+    /// What the reason of the failure means where it is about staged missions (ICD §8): the
+    /// activation's refusal, a staging closer's `Capacity`, and `IntegrityMismatch` anywhere.
+    fn hint(&self) -> Option<&'static str> {
+        use missionlink_interfaces::wire::{MessageType, Reason};
+        let (phase, e) = self.failure.as_ref()?;
+        let reason = e.reason()?;
+        let staging_closer = !matches!(self.kind, UploadKind::Paper { .. })
+            && matches!(
+                e.message_type,
+                MessageType::MissionTransferCommand | MessageType::AreaTransmissionCommand
+            );
+        let about_staging = *phase == Phase::Activation
+            || (staging_closer && reason == Reason::Capacity)
+            || reason == Reason::IntegrityMismatch;
+        about_staging.then(|| super::reason_hint(reason)).flatten()
+    }
+
     /// Whether both lists uploaded are active.
     pub fn is_complete(&self) -> bool {
         matches!(
@@ -266,7 +283,7 @@ impl fmt::Display for UploadReport {
             }
             (_, Some((phase, e))) => {
                 write!(f, "{request} failed ({phase}: {e}")?;
-                if let Some(hint) = e.reason().and_then(super::reason_hint) {
+                if let Some(hint) = self.hint() {
                     write!(f, "; {hint}")?;
                 }
                 f.write_str(")")?;
