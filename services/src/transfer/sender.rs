@@ -554,3 +554,96 @@ impl TransferSender {
         self.exchange.cancel();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testkit::mission_1;
+
+    fn describe(m: &Message) -> String {
+        match m {
+            Message::MissionTransferCommand(c) => format!(
+                "13000 mode {} {}",
+                c.mode as u8,
+                c.mission_id.as_ref().map_or("-", |t| t.as_str())
+            ),
+            Message::AreaTransmissionCommand(c) => format!(
+                "2011 mode {} {}",
+                c.mode as u8,
+                c.mission_id.as_ref().map_or("-", |t| t.as_str())
+            ),
+            other => format!("{}", other.message_type() as u16),
+        }
+    }
+
+    fn script(s: &Script) -> Vec<String> {
+        assert_eq!(
+            (0..).map_while(|i| s.message(i)).count(),
+            s.len(),
+            "len counts every message"
+        );
+        (0..s.len())
+            .filter_map(|i| s.message(i))
+            .map(|m| describe(&m))
+            .collect()
+    }
+
+    /// ICD §8: the openers and closers of a staged upload name the Mission ID; an edit sends
+    /// only its selection between them.
+    #[test]
+    fn staged_scripts_name_their_mission() {
+        let plan = mission_1().assemble().unwrap_or_else(|e| panic!("{e}"));
+        let id = MissionId::new("next").unwrap_or_else(|e| panic!("{e}"));
+        let staged = Script::MissionUpload {
+            mission: plan.mission.clone(),
+            opener: Opener::LoadBuffer(Target::Staged(id)),
+            selection: None,
+            target: Target::Staged(id),
+            checksum: None,
+        };
+        assert_eq!(
+            script(&staged),
+            [
+                "13000 mode 10 next",
+                "13006",
+                "13002",
+                "13001",
+                "13000 mode 8 next"
+            ]
+        );
+        let edit = Script::MissionUpload {
+            mission: plan.mission.clone(),
+            opener: Opener::LoadBuffer(Target::Active),
+            selection: Some(vec![1]),
+            target: Target::Active,
+            checksum: None,
+        };
+        assert_eq!(
+            script(&edit),
+            ["13000 mode 10 ", "13002", "13000 mode 2 MEDEVAC-1"]
+        );
+        let areas = Script::AreaUpload {
+            list: plan.areas.clone(),
+            target: Target::Staged(id),
+            checksum: None,
+        };
+        assert_eq!(
+            script(&areas),
+            ["2011 mode 1 -", "2012", "2011 mode 7 next"]
+        );
+        assert_eq!(
+            describe(&area_download_request(Target::Staged(id), None)),
+            "2011 mode 8 next"
+        );
+        assert_eq!(
+            describe(&mission_download_request(Target::Staged(id), None)),
+            "13000 mode 9 next"
+        );
+        assert_eq!(describe(&delete_staged(id)), "13000 mode 6 next");
+        assert!(matches!(
+            activate_staged(id),
+            Message::MissionExecuteCommand(c)
+                if c.command == ExecuteCommand::ActivateStaged && c.mission_id == Some(id.text())
+        ));
+    }
+}

@@ -555,6 +555,9 @@ pub const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
 
 // ---- The GCS logic against the FCC of a rig ----
 
+/// Which messages a [`StationRig`] loses: `true` drops the message going `Direction`.
+pub type Loss = Box<dyn FnMut(Direction, &Message) -> bool>;
+
 /// The GCS logic against the FCC of an [`FccRig`]: every frame moved at once, 1 ms of simulated
 /// time per message, no links and no voting, so that a test sees exactly the messages of each
 /// request. `lose` decides for each message whether it is lost on its way (to inject the loss
@@ -569,7 +572,7 @@ pub struct StationRig {
     /// Every message, in the order it was sent (lost ones included).
     pub sent: Vec<Sent>,
     pub events: Vec<GcsEvent<core::convert::Infallible>>,
-    pub lose: Box<dyn FnMut(Direction, &Message) -> bool>,
+    pub lose: Loss,
 }
 
 impl StationRig {
