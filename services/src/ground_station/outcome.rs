@@ -38,6 +38,9 @@ pub struct ListOutcome {
     /// The checksum of what the FCC holds (ICD §11); `None` when it holds no list, or when it
     /// is unknown.
     pub checksum: Option<Checksum>,
+    /// The list uploaded is the one held before (an edit that left it alone): new and previous
+    /// at once, so it alone never makes an upload half done.
+    pub unchanged: bool,
 }
 
 impl ListOutcome {
@@ -55,6 +58,7 @@ impl ListOutcome {
         Self {
             held: verdict,
             checksum: held,
+            unchanged: verdict == Held::New && before == Some(Before(Some(uploaded))),
         }
     }
 
@@ -63,6 +67,7 @@ impl ListOutcome {
         Self {
             held: Held::New,
             checksum: Some(uploaded),
+            unchanged: false,
         }
     }
 
@@ -70,7 +75,17 @@ impl ListOutcome {
     pub const UNKNOWN: Self = Self {
         held: Held::Unknown,
         checksum: None,
+        unchanged: false,
     };
+
+    /// The list held before: `checksum` (by construction, not asked).
+    pub const fn previous(checksum: Option<Checksum>) -> Self {
+        Self {
+            held: Held::Previous,
+            checksum,
+            unchanged: false,
+        }
+    }
 
     fn is_new(&self) -> bool {
         self.held == Held::New
@@ -210,7 +225,10 @@ impl UploadReport {
             } else {
                 UploadOutcome::Complete
             }
-        } else if self.mission.is_new() || self.areas.is_new() {
+        } else if [self.mission, self.areas]
+            .iter()
+            .any(|l| l.is_new() && !l.unchanged)
+        {
             UploadOutcome::Mixed
         } else {
             UploadOutcome::PreviousActive
@@ -269,9 +287,9 @@ fn list(f: &mut fmt::Formatter<'_>, name: &str, list: &ListOutcome) -> fmt::Resu
 impl fmt::Display for UploadReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let outcome = self.outcome();
-        let (request, active, previous) = match self.kind {
-            UploadKind::Staged(_) => ("stage", "staged", "held before"),
-            _ => ("upload", "active", "active"),
+        let request = match self.kind {
+            UploadKind::Staged(_) => "stage",
+            _ => "upload",
         };
         match (outcome, &self.failure) {
             (UploadOutcome::Complete, _) => write!(f, "{request} complete")?,
@@ -303,10 +321,14 @@ impl fmt::Display for UploadReport {
                 }
             }
             UploadOutcome::PreviousActive => {
-                write!(
-                    f,
-                    ": the mission and areas {previous} are {active}, unchanged: mission "
-                )?;
+                match self.kind {
+                    UploadKind::Staged(id) => {
+                        write!(f, ": staged mission {id:?} is as it was: mission ")?
+                    }
+                    _ => f.write_str(
+                        ": the previous mission and areas are active, unchanged: mission ",
+                    )?,
+                }
                 checksum(f, m.checksum)?;
                 f.write_str(", areas ")?;
                 checksum(f, a.checksum)

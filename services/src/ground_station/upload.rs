@@ -35,7 +35,7 @@ use missionlink_interfaces::wire::{Checksum, MissionReport};
 
 use super::edit::{FullUpload, difference};
 use super::outcome::{
-    Before, Confirmation, Held, ListOutcome, Messages, UploadKind, UploadReport, Warning,
+    Before, Confirmation, ListOutcome, Messages, UploadKind, UploadReport, Warning,
 };
 use super::{Edition, GcsError, GroundStation, MissionPlan, Phase, SafetyGateway, State, Then};
 use crate::link::retry::ExchangeError;
@@ -565,14 +565,8 @@ impl<G: SafetyGateway> GroundStation<G> {
         match by_construction {
             Some((Before(m), Before(a))) => self.end_upload(
                 now,
-                ListOutcome {
-                    held: Held::Previous,
-                    checksum: m,
-                },
-                ListOutcome {
-                    held: Held::Previous,
-                    checksum: a,
-                },
+                ListOutcome::previous(m),
+                ListOutcome::previous(a),
                 Confirmation::NotActivated,
             ),
             None => self.end_upload(
