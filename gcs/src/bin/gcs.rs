@@ -1,6 +1,13 @@
 //! `gcs`: the ground control station tool. Mission commands over the two UDP links (validate,
-//! upload, download, clear, execute, return to home, land, monitor), driving the GCS logic of
-//! paper Figure 11, and the frame inspector (`inspect`, `encode`) for captured traffic.
+//! upload, download, clear, execute, return to home, land, monitor; the staged missions of ICD
+//! §8: stage, activate, delete, missions), driving the GCS logic of paper Figure 11, and the
+//! frame inspector (`inspect`, `encode`) for captured traffic.
+//!
+//! **The state directory** (`--state-dir`, default `$XDG_STATE_HOME/missionlink`, else
+//! `$HOME/.local/state/missionlink`) keeps the missions this GCS uploaded or staged last, one
+//! mission file each, named by the mission's checksum (ICD §11): `missions/<CHECKSUM>.toml`, the
+//! newest [`CACHE_KEEP`] kept. An edit takes the FCC's mission from there when the FCC's report
+//! shows that checksum for the list edited, and downloads it otherwise.
 
 use std::io::{self, BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -18,12 +25,16 @@ use missionlink_interfaces::wire::{
     Checksum, ExecuteCommand, GeoPoint, GeofenceCheck, MissionReport, SafetyOffset,
 };
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
-use missionlink_services::ground_station::outcome::UploadOutcome;
-use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan, ValidatedPlan};
+use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
+use missionlink_services::ground_station::{
+    GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan,
+};
 use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
 use missionlink_services::transfer::areas::AreaList;
 use missionlink_services::transfer::integrity;
 use missionlink_services::transfer::mission::Mission;
+use missionlink_services::transfer::sender::Target;
+use missionlink_services::transfer::staged::MissionId;
 
 /// Ground control station of missionlink: STANAG 4586 mission and area transfer.
 #[derive(Debug, Parser)]
@@ -60,31 +71,105 @@ enum Command {
         #[command(flatten)]
         safety: SafetyArgs,
     },
-    /// Validate (the safety gateway included), then upload the waypoints, then the areas (paper
-    /// Figure 11). An infeasible mission is refused with the report; nothing is sent.
+    /// Validate (the safety gateway included), then upload mission and areas. An infeasible
+    /// mission is refused with the report; nothing is sent.
     ///
-    /// Toward an edition-2 FCC the checksums of both lists (ICD §11) go with the closers and
-    /// the FCC refuses a list it assembled otherwise. When the transfer fails, the GCS asks the
-    /// FCC what is active (its report, or a download from an edition-1 FCC) and says so, list
-    /// by list, with the checksums.
+    /// Toward an edition-2 FCC the upload is atomic (ICD §8): the mission and areas are staged
+    /// under a fresh Mission ID (`gcs-` and the mission's checksum), activated in one step
+    /// (#50000 command 4) and the staged copy deleted; any failure before the activation leaves
+    /// the active mission and areas as they were. Toward an edition-1 FCC, or with
+    /// `--paper-sequence`, the paper's sequence (Figure 11): the waypoints, then the areas, each
+    /// list active at its own closer, one after the other (the message says so).
+    ///
+    /// The checksums of both lists (ICD §11) go with the closers toward edition 2. When the
+    /// transfer fails, the GCS asks the FCC what is active (its report, or a download from an
+    /// edition-1 FCC) and says so, list by list, with the checksums.
+    ///
+    /// With `--edit` the file is compared with the active mission on the FCC (from the state
+    /// directory when the FCC's checksum confirms it, else downloaded) and only what changed is
+    /// sent: toward edition 2 #13000 mode 10 (load the buffer from the active list), the
+    /// waypoints that changed or are new, the take-off height and route if changed, and the
+    /// transmit (mode 2); if the areas changed too, the edit is staged and activated in one step.
+    /// An edit that removes waypoints is sent as a full upload (the message says why). It prints
+    /// "sent N messages (a full upload: M)".
     #[command(after_help = "Exit status:\n  \
         0  complete: the new mission and areas are active (also when an answer was lost and the \
            GCS confirmed it by asking)\n  \
         1  nothing sent: the plan is infeasible or invalid; or the FCC did not answer at all\n  \
         2  unreadable input\n  \
-        3  failed: the previous mission and areas are still active, whole\n  \
+        3  failed: the previous mission and areas are still active, whole (also: the FCC holds \
+           8 staged missions and an atomic upload needs one more; nothing was staged)\n  \
         4  failed half way: one list is the new one, the other the previous one (the message \
-           says which)\n  \
+           says which; only the paper's sequence can end so)\n  \
         5  failed, and what the FCC holds is unknown: it did not answer the question\n  \
         6  failed: the FCC holds a list that is neither the new one nor the previous one")]
     Upload {
         /// Mission file (.toml or .plan).
         file: PathBuf,
-        /// Edit the active mission: send no clear, only the waypoints of the file change.
+        /// Send only what changed from the active mission on the FCC.
+        #[arg(long)]
+        edit: bool,
+        /// The paper's sequence even toward an edition-2 FCC: the waypoint list, then the area
+        /// list, each active at its own closer (not atomic).
+        #[arg(long)]
+        paper_sequence: bool,
+        #[command(flatten)]
+        state: StateArgs,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Validate, then stage mission and areas under a Mission ID on an edition-2 FCC (ICD §8):
+    /// the active lists are untouched; `gcs activate ID` makes it active later.
+    ///
+    /// The FCC holds up to 8 staged missions; an ID already staged is replaced. With `--edit`
+    /// the file is compared with the staged mission of that ID (from the state directory when
+    /// the FCC's checksum confirms it, else downloaded) and only what changed is sent (#13000
+    /// mode 10 with the ID, the changes, mode 8), the areas only if they changed.
+    #[command(after_help = "Exit status:\n  \
+        0  staged: the FCC holds the mission and areas under the ID\n  \
+        1  nothing staged: the plan is infeasible or invalid, the FCC speaks edition 1, or it \
+           did not answer at all\n  \
+        2  unreadable input, or a bad Mission ID (nothing is sent)\n  \
+        3  failed: the staged mission of the ID is as it was (or still absent); also: the FCC \
+           holds 8 other staged missions\n  \
+        4  failed half way: one list of the staged mission is the new one\n  \
+        5  failed, and what the FCC holds under the ID is unknown\n  \
+        6  failed: the FCC holds lists under the ID that it was not sent")]
+    Stage {
+        /// Mission file (.toml or .plan).
+        file: PathBuf,
+        /// The Mission ID: printable ASCII, 1 to 19 characters.
+        #[arg(long, value_parser = parse_mission_id)]
+        id: MissionId,
+        /// Send only what changed from the staged mission of that ID.
         #[arg(long)]
         edit: bool,
         #[command(flatten)]
+        state: StateArgs,
+        #[command(flatten)]
         safety: SafetyArgs,
+    },
+    /// Make a staged mission the active mission and areas, both in one step (#50000 command 4,
+    /// ICD §8). The FCC refuses while airborne, when the mission lacks a list, or when its
+    /// onboard geofence check fails; then nothing changes. The staged copy stays staged.
+    #[command(after_help = "Exit status:\n  \
+        0  active: the staged mission's lists are the active ones\n  \
+        1  refused or unanswered (the message gives the reason); nothing changed if refused\n  \
+        2  a bad Mission ID (nothing is sent)")]
+    Activate {
+        /// The Mission ID of the staged mission.
+        #[arg(value_parser = parse_mission_id)]
+        id: MissionId,
+    },
+    /// Delete a staged mission (#13000 mode 6, ICD §8). The active lists are untouched.
+    #[command(after_help = "Exit status:\n  \
+        0  deleted\n  \
+        1  refused (no such staged mission) or unanswered\n  \
+        2  a bad Mission ID (nothing is sent)")]
+    Delete {
+        /// The Mission ID of the staged mission.
+        #[arg(value_parser = parse_mission_id)]
+        id: MissionId,
     },
     /// Draw the mission as SVG: areas with their safety offsets, waypoints, legs and arcs, the
     /// take-off, and every violation of the safety gateway in red.
@@ -107,11 +192,19 @@ enum Command {
         #[command(flatten)]
         safety: SafetyArgs,
     },
-    /// Download the active mission and areas; print them, or write a mission file.
+    /// Download the active mission and areas (or with `--id` a staged mission's, ICD §8);
+    /// print them, or write a mission file.
+    #[command(after_help = "Exit status:\n  \
+        0  downloaded\n  \
+        1  refused (no such list), aborted or unanswered\n  \
+        2  a bad Mission ID (nothing is sent), or the output cannot be written")]
     Download {
         /// Write the mission file here (upload it again for a round trip).
         #[arg(short, long, value_name = "FILE")]
         output: Option<PathBuf>,
+        /// Download the staged mission of this Mission ID instead of the active lists.
+        #[arg(long, value_parser = parse_mission_id)]
+        id: Option<MissionId>,
     },
     /// Print what the FCC holds (ICD §8 report, #50001): for the active lists (and each staged
     /// mission) the waypoint and area counts, the onboard geofence check and the checksums of
@@ -162,6 +255,92 @@ enum Command {
         /// Messages in JSON.
         json: Vec<String>,
     },
+}
+
+/// A Mission ID as ICD §8 defines it (one rule, `MissionId::new`): a bad one is refused by
+/// the argument parser, before anything is sent (exit status 2).
+fn parse_mission_id(s: &str) -> Result<MissionId, String> {
+    MissionId::new(s).map_err(|e| e.to_string())
+}
+
+/// Missions kept in the state directory.
+const CACHE_KEEP: usize = 16;
+
+/// Where this GCS keeps what it uploaded (see the module documentation).
+#[derive(Debug, Clone, Default, clap::Args)]
+struct StateArgs {
+    /// State directory (default: $XDG_STATE_HOME/missionlink, else
+    /// $HOME/.local/state/missionlink): the missions uploaded and staged last, by checksum.
+    #[arg(long, value_name = "DIR")]
+    state_dir: Option<PathBuf>,
+}
+
+impl StateArgs {
+    /// The cache directory, if one can be named.
+    fn missions_dir(&self) -> Option<PathBuf> {
+        let base = self.state_dir.clone().or_else(|| {
+            std::env::var_os("XDG_STATE_HOME")
+                .filter(|v| !v.is_empty())
+                .map(|v| PathBuf::from(v).join("missionlink"))
+                .or_else(|| {
+                    std::env::var_os("HOME")
+                        .map(|h| PathBuf::from(h).join(".local/state/missionlink"))
+                })
+        })?;
+        Some(base.join("missions"))
+    }
+
+    /// The missions in the cache whose file name is their checksum (a file that does not read
+    /// or whose content has another checksum is ignored).
+    fn known(&self) -> Vec<Mission> {
+        let Some(dir) = self.missions_dir() else {
+            return Vec::new();
+        };
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            return Vec::new();
+        };
+        entries
+            .filter_map(|e| e.ok())
+            .filter_map(|e| {
+                let path = e.path();
+                let name = path.file_stem()?.to_str()?.to_owned();
+                let plan = MissionFile::read(&path).and_then(|f| f.to_plan()).ok()?;
+                let mission = plan.assemble().ok()?.mission;
+                (integrity::mission_checksum(&mission).to_string() == name).then_some(mission)
+            })
+            .collect()
+    }
+
+    /// Keeps `plan` in the cache (a failure is a warning: the cache only saves a download).
+    fn remember(&self, plan: &ValidatedPlan) {
+        let Some(dir) = self.missions_dir() else {
+            return;
+        };
+        let path = dir.join(format!(
+            "{}.toml",
+            integrity::mission_checksum(&plan.mission)
+        ));
+        let written = std::fs::create_dir_all(&dir)
+            .and_then(|()| std::fs::write(&path, MissionFile::from_plan(plan, None).to_toml()));
+        if let Err(e) = written {
+            eprintln!("gcs: warning: {}: {e}", path.display());
+            return;
+        }
+        // The newest CACHE_KEEP stay.
+        let mut files: Vec<(std::time::SystemTime, PathBuf)> = std::fs::read_dir(&dir)
+            .map(|entries| {
+                entries
+                    .filter_map(|e| e.ok())
+                    .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
+                    .collect()
+            })
+            .unwrap_or_default();
+        files.sort();
+        let excess = files.len().saturating_sub(CACHE_KEEP);
+        for (_, old) in files.into_iter().take(excess) {
+            let _ = std::fs::remove_file(old);
+        }
+    }
 }
 
 /// The inputs: the arguments, or the non-blank, non-comment lines of stdin.
@@ -485,6 +664,12 @@ fn finish(link: &mut Link) -> Result<Finished, Failure> {
             message: report.to_string(),
             refused: Vec::new(),
         },
+        // Nothing was staged: the lists are as they were.
+        capacity @ GcsError::Capacity { .. } => Failure {
+            status: upload_status(UploadOutcome::PreviousActive),
+            message: capacity.to_string(),
+            refused: Vec::new(),
+        },
         other => other.to_string().into(),
     })
 }
@@ -646,19 +831,105 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
     }
 }
 
+/// `gcs upload` and `gcs stage`: validates, then uploads (or edits) `file` into `target`, prints
+/// the outcome and keeps the mission in the state directory once it is there.
+fn send_plan(
+    config: &Config,
+    file: &Path,
+    target: Target,
+    sequence: Sequence,
+    edit: bool,
+    state: &StateArgs,
+    safety: &SafetyArgs,
+) -> Result<(), Failure> {
+    let gateway = safety.gateway()?;
+    let plan = read_plan(file, safety)?.plan;
+    let mut link = open(config, gateway)?;
+    let now = link.now();
+    let station = link.station();
+    let requested = match (edit, target) {
+        (true, _) => station.edit(now, &plan, target, sequence, state.known()),
+        (false, Target::Active) => station.upload_with(now, &plan, sequence),
+        (false, Target::Staged(id)) => station.stage(now, id, &plan),
+    };
+    requested.map_err(|e| format!("{}: {e}; nothing was sent", file.display()))?;
+    let finished = finish(&mut link);
+    if let Ok(Finished::Uploaded(report)) = &finished {
+        println!("{report}");
+        print_messages(report);
+        if let Ok(valid) = plan.assemble() {
+            state.remember(&valid);
+        }
+    }
+    finished.map(|_| ())
+}
+
+/// "sent N messages (a full upload: M)" for an edit.
+fn print_messages(report: &UploadReport) {
+    if report.edit.is_some() {
+        println!(
+            "sent {} messages (a full upload: {})",
+            report.messages.sent, report.messages.full
+        );
+    }
+}
+
 fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
     match command {
         Command::Validate { file, json, safety } => validate(&file, json, &safety),
-        Command::Upload { file, edit, safety } => {
-            let gateway = safety.gateway()?;
-            let plan = read_plan(&file, &safety)?.plan;
-            let mut link = open(config, gateway)?;
+        Command::Upload {
+            file,
+            edit,
+            paper_sequence,
+            state,
+            safety,
+        } => {
+            let sequence = if paper_sequence {
+                Sequence::Paper { clear: true }
+            } else {
+                Sequence::Atomic
+            };
+            send_plan(
+                config,
+                &file,
+                Target::Active,
+                sequence,
+                edit,
+                &state,
+                &safety,
+            )
+        }
+        Command::Stage {
+            file,
+            id,
+            edit,
+            state,
+            safety,
+        } => send_plan(
+            config,
+            &file,
+            Target::Staged(id),
+            Sequence::Atomic,
+            edit,
+            &state,
+            &safety,
+        ),
+        Command::Activate { id } | Command::Delete { id } => {
+            let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
-            link.station()
-                .upload(now, &plan, !edit)
-                .map_err(|e| format!("{}: {e}; nothing was sent", file.display()))?;
-            if let Finished::Uploaded(report) = finish(&mut link)? {
-                println!("{report}");
+            let activate = matches!(command, Command::Activate { .. });
+            let station = link.station();
+            if activate {
+                station.activate(now, id)
+            } else {
+                station.delete(now, id)
+            }
+            .map_err(|e| e.to_string())?;
+            finish(&mut link)?;
+            if activate {
+                println!("staged mission {id:?} is active (mission and areas in one step)");
+            } else {
+                println!("staged mission {id:?} deleted");
             }
             Ok(())
         }
@@ -739,14 +1010,19 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
             println!("{} written", output.display());
             Ok(())
         }
-        Command::Download { output } => {
+        Command::Download { output, id } => {
             let mut link = open(config, SafetyGateway::default())?;
             let now = link.now();
-            link.station().download(now).map_err(|e| e.to_string())?;
+            link.station()
+                .download_of(now, id)
+                .map_err(|e| e.to_string())?;
             let plan = finish(&mut link)?
                 .into_plan()
                 .ok_or("the download ended without lists")?;
-            println!("downloaded {plan}");
+            match id {
+                Some(id) => println!("downloaded staged mission {id:?}: {plan}"),
+                None => println!("downloaded {plan}"),
+            }
             println!(
                 "checksums (ICD §11): mission {}, areas {}",
                 integrity::mission_checksum(&plan.mission),

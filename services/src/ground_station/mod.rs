@@ -18,6 +18,12 @@
 //! previous one ([`outcome::UploadReport`]): a lost answer is not a failure, and a half-done
 //! upload is named as such.
 //!
+//! **Staged missions (ICD §8).** [`GroundStation::stage`], [`GroundStation::activate`],
+//! [`GroundStation::delete`], [`GroundStation::download_of`] and the report reach the staged
+//! missions of an edition-2 FCC; [`GroundStation::upload_with`] uploads atomically through them
+//! ([`Sequence::Atomic`]) and [`GroundStation::edit`] sends only what changed ([`edit`]); the
+//! steps each upload takes are in [`upload`].
+//!
 //! Their deadlines are the slots of one [`TimerTable`] ([`GcsTimer`]), kept in step with them as
 //! on the FCC (`link::composite::Composite`). Commands are typed:
 //! [`GroundStation::clear_areas`] and [`GroundStation::execute`] build #2011 mode 6 and #50000,
@@ -29,10 +35,9 @@ use std::collections::VecDeque;
 
 use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, Checksum, EncodeError,
-    ExecuteCommand, FrameError, FromToNext, GeoPoint, Message, MessageType, MissionExecuteCommand,
-    MissionPlanMode, MissionReport, MissionTransferCommand, Reason, SafetyOffset, Text, Timestamp,
-    TransferWindow, WindowOrChecksum,
+    AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
+    GeoPoint, Message, MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport, Reason,
+    SafetyOffset, Text, Timestamp, TransferWindow,
 };
 
 use crate::link::composite::Composite;
@@ -45,13 +50,18 @@ use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::{Mission, MissionBuffer};
 use crate::transfer::receiver::{AreaReceiver, MissionReceiver, Received, ReportReceiver};
 use crate::transfer::sender::{
-    Script, SenderEvent, TransferSender, area_request, area_transfer_command, mission_command,
-    transfer_command,
+    Script, SenderEvent, Target, TransferSender, activate_staged, area_download_request,
+    area_request, delete_staged, mission_command, mission_download_request,
 };
+use crate::transfer::staged::MissionId;
 
+pub mod edit;
 pub mod outcome;
+pub mod upload;
 
-use outcome::{Before, Confirmation, Held, ListOutcome, UploadReport};
+use outcome::{Confirmation, UploadReport};
+use upload::UploadJob;
+pub use upload::{Sequence, fresh_mission_id};
 
 /// The safety gateway hook (paper §2.2): a mission is uploaded only if every check passes. The
 /// gateway itself (geometry, energy, environment) plugs in here.
@@ -270,6 +280,10 @@ pub enum Phase {
     Command,
     /// The FCC's report of its lists (ICD §8, #13000 mode 7 and #50001).
     Report,
+    /// The activation of an atomic upload's staged copy (#50000 command 4, ICD §8).
+    Activation,
+    /// The delete of an atomic upload's staged copy (#13000 mode 6, ICD §8).
+    Deletion,
 }
 
 impl fmt::Display for Phase {
@@ -281,6 +295,8 @@ impl fmt::Display for Phase {
             Self::AreaDownload => "area download",
             Self::Command => "command",
             Self::Report => "mission report",
+            Self::Activation => "activation",
+            Self::Deletion => "delete of the staged copy",
         })
     }
 }
@@ -324,6 +340,70 @@ pub enum GcsError<R> {
         /// Why.
         reason: Reason,
     },
+    /// The FCC holds as many staged missions as it can (ICD §8: 8) and the request needs one
+    /// more; nothing was staged and the active lists are untouched.
+    Capacity {
+        /// Staged missions the report listed.
+        staged: usize,
+    },
+    /// The FCC speaks edition 1 (it refused the report request, ICD §10.1): it holds no staged
+    /// missions. Nothing was sent but the report request.
+    Edition1 {
+        /// What needed edition 2.
+        request: &'static str,
+    },
+    /// A request about a staged mission failed (activate, delete, download).
+    Staged {
+        /// Which request.
+        request: StagedRequest,
+        /// The staged mission.
+        id: MissionId,
+        /// Which message and why.
+        error: ExchangeError,
+    },
+}
+
+/// A request about one staged mission (ICD §8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StagedRequest {
+    /// #50000 command 4.
+    Activate,
+    /// #13000 mode 6.
+    Delete,
+    /// #13000 mode 9, #2011 mode 8.
+    Download,
+}
+
+impl fmt::Display for StagedRequest {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Activate => "activation",
+            Self::Delete => "delete",
+            Self::Download => "download",
+        })
+    }
+}
+
+/// What a reason of ICD §6 means for a request about staged missions (ICD §8), in words for the
+/// operator; `None` where the reason's own meaning says it.
+pub fn reason_hint(reason: Reason) -> Option<&'static str> {
+    match reason {
+        Reason::Capacity => Some("the FCC holds 8 staged missions: delete one"),
+        Reason::WrongState => Some(
+            "no such staged mission, or it lacks a list (activation needs both), or the \
+             aircraft is airborne, or another transfer is open",
+        ),
+        Reason::GeofenceViolation => {
+            Some("the onboard geofence check of the mission against its areas failed")
+        }
+        Reason::Unsupported | Reason::UnknownField => {
+            Some("the FCC speaks ICD edition 1: it holds no staged missions")
+        }
+        Reason::IntegrityMismatch => {
+            Some("the FCC assembled another list than the one sent (ICD §11)")
+        }
+        _ => None,
+    }
 }
 
 impl<R: fmt::Display> fmt::Display for GcsError<R> {
@@ -347,6 +427,23 @@ impl<R: fmt::Display> fmt::Display for GcsError<R> {
             Self::Upload(report) => write!(f, "{report}"),
             Self::InvalidDownload { phase, reason } => {
                 write!(f, "{phase}: what the FCC sent is invalid: {reason}")
+            }
+            Self::Capacity { staged } => write!(
+                f,
+                "the FCC holds {staged} staged missions, the most it can (ICD §8): delete one \
+                 first; nothing was staged and the active lists are unchanged"
+            ),
+            Self::Edition1 { request } => write!(
+                f,
+                "the FCC speaks ICD edition 1 (it refused the report request): {request} needs \
+                 edition 2 (ICD §8)"
+            ),
+            Self::Staged { request, id, error } => {
+                write!(f, "{request} of staged mission {id:?} failed: {error}")?;
+                if let Some(hint) = error.reason().and_then(reason_hint) {
+                    write!(f, " ({hint})")?;
+                }
+                Ok(())
             }
         }
     }
@@ -446,25 +543,6 @@ enum State {
     Commanding,
 }
 
-/// An upload request in progress.
-#[derive(Debug, Clone)]
-struct UploadJob {
-    mission: Mission,
-    areas: AreaList,
-    clear: bool,
-    /// ICD §11 checksums of both lists.
-    checksums: (Checksum, Checksum),
-    /// What was active before, from the edition-2 report.
-    before: Option<(Before, Before)>,
-    /// The transfer's failure, once it failed.
-    failure: Option<(Phase, ExchangeError)>,
-    /// The lists downloaded to find out what is active (edition 1): the mission, once known
-    /// (`Some(None)`: there is none).
-    verified_mission: Option<Option<Checksum>>,
-    /// When the GCS began to ask what is active.
-    asking_since: Option<Instant>,
-}
-
 /// The GCS logic.
 #[derive(Debug)]
 pub struct GroundStation<G: SafetyGateway> {
@@ -483,6 +561,10 @@ pub struct GroundStation<G: SafetyGateway> {
     downloaded_mission: Option<Mission>,
     events: VecDeque<GcsEvent<G::Report>>,
     timers: TimerTable<GcsTimer, 4>,
+    /// Which lists the download in progress reads.
+    download_target: Target,
+    /// The staged mission the command in progress is about.
+    staged_command: Option<(StagedRequest, MissionId)>,
 }
 
 impl<G: SafetyGateway> GroundStation<G> {
@@ -503,6 +585,8 @@ impl<G: SafetyGateway> GroundStation<G> {
             downloaded_mission: None,
             events: VecDeque::new(),
             timers: TimerTable::new(),
+            download_target: Target::Active,
+            staged_command: None,
         }
     }
 
@@ -548,45 +632,35 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// The upload request: validation first, then the report (ICD §8; the edition discovery of
-    /// §10.1 the first time; skipped toward an edition-1 FCC heard within the transfer timeout),
-    /// then the waypoints (after a clear when
-    /// `clear`, else as an edit), then the areas. Nothing is sent when validation fails. Ends in
-    /// [`GcsEvent::Uploaded`] once sending began (a failure included: it says what is active).
+    /// The upload request by the paper's sequence ([`Sequence::Paper`], after a clear when
+    /// `clear`, else as an edition-1 edit); see [`GroundStation::upload_with`].
     pub fn upload(
         &mut self,
         now: Instant,
         plan: &MissionPlan,
         clear: bool,
     ) -> Result<(), GcsError<G::Report>> {
-        self.ensure_standby()?;
-        let ValidatedPlan { mission, areas } = self.validate(plan)?;
-        self.upload = Some(Box::new(UploadJob {
-            checksums: (mission_checksum(&mission), areas_checksum(&areas)),
-            mission,
-            areas,
-            clear,
-            before: None,
-            failure: None,
-            verified_mission: None,
-            asking_since: None,
-        }));
-        // Toward edition 2 the report goes first every time: it is what was active before,
-        // for the truth after a failure (ICD §11).
-        if self.edition_known(now) && self.edition == Some(Edition::One) {
-            self.start_mission_upload(now);
-        } else {
-            self.start_report(now, Purpose::Discovery(Then::Upload));
-        }
-        Ok(())
+        self.upload_with(now, plan, Sequence::Paper { clear })
     }
 
     /// The download request: the mission (#13000 mode 3), then the areas (#2011 mode 3), after
     /// the edition discovery when needed; toward edition 2 the requests ask for the checksums,
     /// which the receivers compare with what arrived (ICD §11).
     pub fn download(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
+        self.download_of(now, None)
+    }
+
+    /// The download request of the active lists (`None`) or of the staged mission `id` (ICD §8:
+    /// #13000 mode 9, then #2011 mode 8; refused toward an edition-1 FCC with
+    /// [`GcsError::Edition1`]).
+    pub fn download_of(
+        &mut self,
+        now: Instant,
+        id: Option<MissionId>,
+    ) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
-        if self.edition_known(now) {
+        self.download_target = id.map_or(Target::Active, Target::Staged);
+        if self.edition_known(now) && !(id.is_some() && self.edition == Some(Edition::One)) {
             self.request_mission(now);
         } else {
             self.start_report(now, Purpose::Discovery(Then::Download));
@@ -622,31 +696,6 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(now, State::Reporting(purpose), Script::Request(request));
     }
 
-    fn start_mission_upload(&mut self, now: Instant) {
-        let edition_2 = self.edition == Some(Edition::Two);
-        let Some(job) = self.upload.as_ref() else {
-            return;
-        };
-        let script = Script::MissionUpload {
-            mission: job.mission.clone(),
-            clear: job.clear,
-            checksum: edition_2.then_some(job.checksums.0),
-        };
-        self.start(now, State::Uploading(Phase::MissionUpload), script);
-    }
-
-    fn start_area_upload(&mut self, now: Instant) {
-        let edition_2 = self.edition == Some(Edition::Two);
-        let Some(job) = self.upload.as_ref() else {
-            return;
-        };
-        let script = Script::AreaUpload {
-            list: job.areas.clone(),
-            checksum: edition_2.then_some(job.checksums.1),
-        };
-        self.start(now, State::Uploading(Phase::AreaUpload), script);
-    }
-
     /// The transfer window of a download request: 1 toward edition 2 (the field makes it an
     /// edition-2 request, ICD §10.2), absent toward edition 1.
     fn window(&self) -> Option<TransferWindow> {
@@ -657,26 +706,20 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.downloaded_mission = None;
         self.mission_download.abandon(None);
         self.area_download.abandon();
-        let request = MissionTransferCommand {
-            transfer_window: self.window(),
-            ..transfer_command(MissionPlanMode::ReceiveMission, None, None)
-        };
+        let request = mission_download_request(self.download_target, self.window());
         self.start(
             now,
             State::Downloading(Phase::MissionDownload),
-            Script::Request(request.into()),
+            Script::Request(request),
         );
     }
 
     fn request_areas(&mut self, now: Instant) {
-        let request = AreaTransmissionCommand {
-            window_or_checksum: self.window().map(WindowOrChecksum::TransferWindow),
-            ..area_transfer_command(AreaTransferMode::InitiateDownload, Some(0))
-        };
+        let request = area_download_request(self.download_target, self.window());
         self.start(
             now,
             State::Downloading(Phase::AreaDownload),
-            Script::Request(request.into()),
+            Script::Request(request),
         );
     }
 
@@ -709,6 +752,23 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.command(now, execute.into())
     }
 
+    /// Activates the staged mission `id` (ICD §8, #50000 command 4): the FCC replaces the active
+    /// waypoint list and area list by it in one step, or refuses (see [`reason_hint`]); its
+    /// failure is [`GcsError::Staged`].
+    pub fn activate(&mut self, now: Instant, id: MissionId) -> Result<(), GcsError<G::Report>> {
+        self.command(now, activate_staged(id))?;
+        self.staged_command = Some((StagedRequest::Activate, id));
+        Ok(())
+    }
+
+    /// Deletes the staged mission `id` (ICD §8, #13000 mode 6); its failure is
+    /// [`GcsError::Staged`].
+    pub fn delete(&mut self, now: Instant, id: MissionId) -> Result<(), GcsError<G::Report>> {
+        self.command(now, delete_staged(id))?;
+        self.staged_command = Some((StagedRequest::Delete, id));
+        Ok(())
+    }
+
     /// A single command and its answer.
     fn command(&mut self, now: Instant, message: Message) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
@@ -716,7 +776,17 @@ impl<G: SafetyGateway> GroundStation<G> {
         Ok(())
     }
 
+    /// The sender's messages count toward the upload in progress; the sender goes.
+    fn account_sender(&mut self) {
+        if let Some(sender) = self.sender.take()
+            && let Some(job) = self.upload.as_mut()
+        {
+            job.sent += sender.sent();
+        }
+    }
+
     fn start(&mut self, now: Instant, state: State, script: Script) {
+        self.account_sender();
         self.state = state;
         self.sender = Some(TransferSender::start(
             script,
@@ -731,6 +801,8 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.state = State::Standby;
         self.sender = None;
         self.upload = None;
+        self.download_target = Target::Active;
+        self.staged_command = None;
         self.report.abandon();
         self.mission_download.abandon(None);
         self.area_download.abandon();
@@ -774,11 +846,11 @@ impl<G: SafetyGateway> GroundStation<G> {
         match outcome {
             Ok(Received::Complete) => return true,
             Ok(Received::Abandoned(reason)) => {
-                self.download_failed(GcsError::Aborted { phase, reason })
+                self.download_failed(now, GcsError::Aborted { phase, reason })
             }
             Ok(Received::Stored | Received::Emptied) => {}
             Err(reason) if closing => {
-                self.download_failed(GcsError::InvalidDownload { phase, reason })
+                self.download_failed(now, GcsError::InvalidDownload { phase, reason })
             }
             Err(_) => {}
         }
@@ -786,30 +858,57 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// A download failed: the request fails, or, when the download was to find out what an
-    /// edition-1 FCC holds after a failed upload, the upload ends with that unknown.
-    fn download_failed(&mut self, error: GcsError<G::Report>) {
-        if self.upload.is_some() {
+    /// edition-1 FCC holds after a failed upload, the upload ends with that unknown. The
+    /// download of an edit's base fails the edit (nothing but requests was sent).
+    fn download_failed(&mut self, now: Instant, error: GcsError<G::Report>) {
+        if self.upload.is_some() && !self.fetching_edit_base() {
             tracing::warn!(%error, "cannot find out what the FCC holds");
-            self.end_upload_unknown();
+            self.end_upload_unknown(now);
         } else {
             self.fail(error);
         }
     }
 
+    /// A request about the staged mission of the download (or command) failed.
+    fn staged_error(&self, phase: Phase, error: ExchangeError) -> GcsError<G::Report> {
+        match (self.staged_command, self.download_target) {
+            (Some((request, id)), _) => GcsError::Staged { request, id, error },
+            (None, Target::Staged(id)) => GcsError::Staged {
+                request: StagedRequest::Download,
+                id,
+                error,
+            },
+            (None, Target::Active) => GcsError::Transfer { phase, error },
+        }
+    }
+
     /// A download request failed twice. After a failed upload to an edition-1 FCC, a refusal
     /// (`WrongState`) of the mission request or an aborted #3013 means there is no such list;
-    /// anything else leaves it unknown.
+    /// anything else leaves it unknown. For an edit's base the same refusal means there is
+    /// nothing to edit.
     fn download_request_failed(&mut self, now: Instant, phase: Phase, error: ExchangeError) {
-        let Some(job) = self.upload.as_mut() else {
-            self.fail(GcsError::Transfer { phase, error });
-            return;
-        };
-        let none_active = match phase {
+        let none_held = match phase {
             Phase::MissionDownload => error.reason() == Some(Reason::WrongState),
             _ => error.first == AttemptFailure::Aborted,
         };
-        if !none_active {
-            self.end_upload_unknown();
+        if self.fetching_edit_base() {
+            if !none_held {
+                let error = self.staged_error(phase, error);
+                return self.fail(error);
+            }
+            let _ = match phase {
+                Phase::MissionDownload => self.edit_base_downloaded(now, None),
+                _ => self.edit_areas_downloaded(now, None),
+            };
+            return;
+        }
+        let Some(job) = self.upload.as_mut() else {
+            let error = self.staged_error(phase, error);
+            self.fail(error);
+            return;
+        };
+        if !none_held {
+            self.end_upload_unknown(now);
             return;
         }
         match phase {
@@ -819,7 +918,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             }
             _ => {
                 let mission = job.verified_mission.flatten();
-                self.end_upload_verified(now, mission, None, Confirmation::Download);
+                self.resolve(now, (mission, None), None, Confirmation::Download);
             }
         }
     }
@@ -832,49 +931,37 @@ impl<G: SafetyGateway> GroundStation<G> {
                     .push_back(GcsEvent::Progress { phase, sent, total });
             }
             SenderEvent::Failed(error) => match self.state {
-                State::Uploading(phase) => {
-                    // The FCC may have carried out what it did not answer: ask (ICD §11).
-                    if let Some(job) = self.upload.as_mut() {
-                        job.failure = Some((phase, error));
-                    }
-                    self.find_out(now);
-                }
+                // The FCC may have carried out what it did not answer: ask (ICD §11).
+                State::Uploading(phase) => self.step_failed(now, phase, error),
                 State::Reporting(purpose) => self.report_refused(now, purpose, error),
                 State::Downloading(phase) => self.download_request_failed(now, phase, error),
-                _ => self.fail(GcsError::Transfer { phase, error }),
+                _ => {
+                    let error = self.staged_error(phase, error);
+                    self.fail(error)
+                }
             },
             SenderEvent::Completed(answer) => match self.state {
-                State::Uploading(Phase::MissionUpload) => {
+                State::Uploading(phase) => {
                     let total = self.sender.as_ref().map_or(0, |s| s.script().len());
                     self.events.push_back(GcsEvent::Progress {
                         phase,
                         sent: total,
                         total,
                     });
-                    self.start_area_upload(now);
-                }
-                State::Uploading(_) => {
-                    let checksums = self.upload.as_ref().map(|j| j.checksums);
-                    if let Some((m, a)) = checksums {
-                        self.end_upload(
-                            ListOutcome::new(m),
-                            ListOutcome::new(a),
-                            Confirmation::Answers,
-                        );
-                    }
+                    self.step_completed(now, phase);
                 }
                 State::Reporting(_) => {
                     // The FCC accepted the request: an edition-2 FCC (ICD §10.1); its entries
                     // follow.
                     self.edition = Some(Edition::Two);
-                    self.sender = None;
+                    self.account_sender();
                     if !self.report.in_transfer() {
                         self.report.begin(now);
                     }
                 }
                 State::Downloading(Phase::MissionDownload) => {
                     // The FCC accepted the request; its messages follow.
-                    self.sender = None;
+                    self.account_sender();
                     if !self.mission_download.in_transfer() {
                         self.mission_download.begin(now);
                     }
@@ -882,7 +969,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                 State::Downloading(_) => {
                     // The #3013 that accepted the request opens the area download (handled
                     // by the caller).
-                    self.sender = None;
+                    self.account_sender();
                 }
                 State::Commanding => {
                     self.finish(GcsEvent::CommandAccepted(answer_type(&answer)));
@@ -897,6 +984,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         if let Some(job) = self.upload.as_mut() {
             job.asking_since = Some(now);
         }
+        self.download_target = Target::Active;
         if self.edition == Some(Edition::Two) {
             self.start_report(now, Purpose::Truth);
         } else {
@@ -911,8 +999,13 @@ impl<G: SafetyGateway> GroundStation<G> {
             self.edition = Some(Edition::One);
         }
         match (purpose, edition_1) {
-            (Purpose::Discovery(Then::Upload), true) => self.start_mission_upload(now),
-            (Purpose::Discovery(Then::Download), true) => self.request_mission(now),
+            (Purpose::Discovery(Then::Upload), true) => self.plan_upload(now),
+            (Purpose::Discovery(Then::Download), true) => match self.download_target {
+                Target::Active => self.request_mission(now),
+                Target::Staged(_) => self.fail(GcsError::Edition1 {
+                    request: "downloading a staged mission",
+                }),
+            },
             (Purpose::Truth, true) => self.request_mission(now),
             (Purpose::Truth, false) => self.ask_again_or_give_up(now),
             (Purpose::Discovery(_) | Purpose::Query, _) => self.fail(GcsError::Transfer {
@@ -927,57 +1020,15 @@ impl<G: SafetyGateway> GroundStation<G> {
         let Some(entries) = self.report.take() else {
             return;
         };
-        // The active lists come first; their entry has an empty Mission ID (ICD §8).
-        let active = entries
-            .iter()
-            .find(|e| e.mission_id.is_none_or(|id| id.is_empty()))
-            .copied();
         match purpose {
-            Purpose::Discovery(then) => {
-                if let (Some(job), Some(a)) = (self.upload.as_mut(), active) {
-                    job.before = Some((Before(a.mission_checksum), Before(a.area_checksum)));
-                }
-                match then {
-                    Then::Upload => self.start_mission_upload(now),
-                    Then::Download => self.request_mission(now),
-                }
+            Purpose::Discovery(Then::Upload) => {
+                self.upload_discovered(&entries);
+                self.plan_upload(now);
             }
-            Purpose::Truth => match active {
-                Some(a) => self.end_upload_verified(
-                    now,
-                    a.mission_checksum,
-                    a.area_checksum,
-                    Confirmation::Report,
-                ),
-                None => self.end_upload_unknown(),
-            },
+            Purpose::Discovery(Then::Download) => self.request_mission(now),
+            Purpose::Truth => self.truth_reported(now, &entries),
             Purpose::Query => self.finish(GcsEvent::Reported(entries)),
         }
-    }
-
-    /// Ends the upload with what the FCC was found to hold; or, when the mission phase failed
-    /// only because its answers were lost (the new mission is active), goes on with the areas.
-    fn end_upload_verified(
-        &mut self,
-        now: Instant,
-        mission: Option<Checksum>,
-        areas: Option<Checksum>,
-        confirmation: Confirmation,
-    ) {
-        let Some(job) = self.upload.as_ref() else {
-            return;
-        };
-        let (before_m, before_a) = job.before.unzip();
-        let m = ListOutcome::compare(mission, job.checksums.0, before_m);
-        let a = ListOutcome::compare(areas, job.checksums.1, before_a);
-        if matches!(job.failure, Some((Phase::MissionUpload, _))) && m.held == Held::New {
-            tracing::info!(
-                "the new mission is active although its answer was lost: the areas follow"
-            );
-            self.start_area_upload(now);
-            return;
-        }
-        self.end_upload(m, a, confirmation);
     }
 
     /// The FCC did not answer the question what is active: it may be restarting (the failure
@@ -987,40 +1038,16 @@ impl<G: SafetyGateway> GroundStation<G> {
         if since.is_some_and(|t| now.saturating_since(t) < self.config.transfer_timeout) {
             self.start_report(now, Purpose::Truth);
         } else {
-            self.end_upload_unknown();
-        }
-    }
-
-    /// Ends the upload without knowing what the FCC holds.
-    fn end_upload_unknown(&mut self) {
-        self.end_upload(
-            ListOutcome::UNKNOWN,
-            ListOutcome::UNKNOWN,
-            Confirmation::None,
-        );
-    }
-
-    fn end_upload(&mut self, mission: ListOutcome, areas: ListOutcome, confirmation: Confirmation) {
-        let Some(job) = self.upload.take() else {
-            return;
-        };
-        let report = UploadReport {
-            mission,
-            areas,
-            uploaded: job.checksums,
-            failure: job.failure,
-            confirmation,
-        };
-        if report.is_complete() {
-            tracing::info!(%report, "upload ended");
-            self.finish(GcsEvent::Uploaded(Box::new(report)));
-        } else {
-            self.fail(GcsError::Upload(Box::new(report)));
+            self.end_upload_unknown(now);
         }
     }
 
     /// The mission download is complete: the areas follow.
     fn mission_downloaded(&mut self, now: Instant, mission: Mission) {
+        if self.fetching_edit_base() {
+            self.edit_base_downloaded(now, Some(mission));
+            return;
+        }
         if let Some(job) = self.upload.as_mut() {
             job.verified_mission = Some(Some(mission_checksum(&mission)));
         } else {
@@ -1031,12 +1058,16 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// The area download is complete.
     fn areas_downloaded(&mut self, now: Instant, areas: AreaList) {
+        if self.fetching_edit_base() {
+            self.edit_areas_downloaded(now, Some(&areas));
+            return;
+        }
         if let Some(job) = self.upload.as_ref() {
             let mission = job.verified_mission.flatten();
-            self.end_upload_verified(
+            self.resolve(
                 now,
-                mission,
-                Some(areas_checksum(&areas)),
+                (mission, Some(areas_checksum(&areas))),
+                None,
                 Confirmation::Download,
             );
             return;
@@ -1112,7 +1143,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
             let phase = self.phase();
             match self.state {
                 State::Reporting(Purpose::Truth) => self.ask_again_or_give_up(now),
-                _ => self.download_failed(GcsError::Timeout { phase }),
+                _ => self.download_failed(now, GcsError::Timeout { phase }),
             }
         }
     }
@@ -1143,7 +1174,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
                 State::Reporting(purpose) => {
                     // The FCC may start before its acceptance of the request arrives.
                     if !self.report.in_transfer() {
-                        self.sender = None;
+                        self.account_sender();
                         self.edition = Some(Edition::Two);
                         self.report.begin(now);
                     }
@@ -1166,7 +1197,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
                 // The FCC may start before its acceptance of the request arrives (the links
                 // reorder): the first mission message opens the download as well.
                 if !self.mission_download.in_transfer() {
-                    self.sender = None;
+                    self.account_sender();
                     self.mission_download.begin(now);
                 }
                 let outcome = self.mission_download.handle(now, message);
@@ -1174,10 +1205,13 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
                 if self.downloaded(now, message, ack, Phase::MissionDownload, outcome, closing) {
                     match self.mission_download.take() {
                         Some(mission) => self.mission_downloaded(now, mission),
-                        None => self.download_failed(GcsError::InvalidDownload {
-                            phase: Phase::MissionDownload,
-                            reason: Reason::WrongState,
-                        }),
+                        None => self.download_failed(
+                            now,
+                            GcsError::InvalidDownload {
+                                phase: Phase::MissionDownload,
+                                reason: Reason::WrongState,
+                            },
+                        ),
                     }
                 }
             }
@@ -1191,10 +1225,13 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
                 if self.downloaded(now, message, ack, Phase::AreaDownload, outcome, closing) {
                     match self.area_download.take() {
                         Some(areas) => self.areas_downloaded(now, areas),
-                        None => self.download_failed(GcsError::InvalidDownload {
-                            phase: Phase::AreaDownload,
-                            reason: Reason::WrongState,
-                        }),
+                        None => self.download_failed(
+                            now,
+                            GcsError::InvalidDownload {
+                                phase: Phase::AreaDownload,
+                                reason: Reason::WrongState,
+                            },
+                        ),
                     }
                 }
             }

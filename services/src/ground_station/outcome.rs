@@ -9,7 +9,9 @@ use core::fmt;
 use missionlink_interfaces::wire::Checksum;
 
 use crate::ground_station::Phase;
+use crate::ground_station::edit::FullUpload;
 use crate::link::retry::ExchangeError;
+use crate::transfer::staged::MissionId;
 
 /// What the FCC holds of one list, compared with the upload.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,6 +38,9 @@ pub struct ListOutcome {
     /// The checksum of what the FCC holds (ICD §11); `None` when it holds no list, or when it
     /// is unknown.
     pub checksum: Option<Checksum>,
+    /// The list uploaded is the one held before (an edit that left it alone): new and previous
+    /// at once, so it alone never makes an upload half done.
+    pub unchanged: bool,
 }
 
 impl ListOutcome {
@@ -53,6 +58,7 @@ impl ListOutcome {
         Self {
             held: verdict,
             checksum: held,
+            unchanged: verdict == Held::New && before == Some(Before(Some(uploaded))),
         }
     }
 
@@ -61,6 +67,7 @@ impl ListOutcome {
         Self {
             held: Held::New,
             checksum: Some(uploaded),
+            unchanged: false,
         }
     }
 
@@ -68,7 +75,17 @@ impl ListOutcome {
     pub const UNKNOWN: Self = Self {
         held: Held::Unknown,
         checksum: None,
+        unchanged: false,
     };
+
+    /// The list held before: `checksum` (by construction, not asked).
+    pub const fn previous(checksum: Option<Checksum>) -> Self {
+        Self {
+            held: Held::Previous,
+            checksum,
+            unchanged: false,
+        }
+    }
 
     fn is_new(&self) -> bool {
         self.held == Held::New
@@ -90,6 +107,66 @@ pub enum Confirmation {
     Download,
     /// Neither: the FCC did not answer the question.
     None,
+    /// By construction: an atomic upload failed before it sent the activation (#50000 command
+    /// 4), the only message that changes the active lists, and the FCC did not answer the
+    /// question.
+    NotActivated,
+}
+
+/// How the upload changed the FCC's lists.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UploadKind {
+    /// Staged and activated in one step (ICD §8), or an edit of the waypoint list alone.
+    Atomic,
+    /// The paper's sequence: the waypoint list became active before the area list, one after
+    /// the other; `edition_1`: because the FCC speaks only edition 1 (else it was asked for).
+    Paper {
+        /// The FCC speaks edition 1.
+        edition_1: bool,
+    },
+    /// Into a staged mission (ICD §8): the lists compared are that mission's, the active lists
+    /// are untouched.
+    Staged(MissionId),
+}
+
+/// Messages the GCS sent for the upload (first attempts, the report request included) and what
+/// a full upload of the same lists would have sent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Messages {
+    /// Sent.
+    pub sent: usize,
+    /// A full upload's.
+    pub full: usize,
+}
+
+/// What went wrong beside the upload itself (the upload's outcome stands).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Warning {
+    /// The temporary staged copy of an atomic upload may still be on the FCC: its delete failed
+    /// (with the error), or the FCC did not say whether it holds it.
+    StagedCopyLeft {
+        /// Its Mission ID.
+        id: MissionId,
+        /// The failure of #13000 mode 6, if it was sent.
+        error: Option<ExchangeError>,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::StagedCopyLeft { id, error } => {
+                write!(
+                    f,
+                    "the temporary staged mission {id:?} may be left on the FCC"
+                )?;
+                if let Some(e) = error {
+                    write!(f, " (its delete failed: {e})")?;
+                }
+                write!(f, "; delete it with `gcs delete {id}`")
+            }
+        }
+    }
 }
 
 /// The outcome of an upload in one word, each with its exit status of `gcs upload`.
@@ -123,6 +200,15 @@ pub struct UploadReport {
     pub failure: Option<(Phase, ExchangeError)>,
     /// How the GCS knows.
     pub confirmation: Confirmation,
+    /// How the lists changed.
+    pub kind: UploadKind,
+    /// Messages sent, and a full upload's.
+    pub messages: Messages,
+    /// For an edit: `None` inside when only the difference was sent, else why it was a full
+    /// upload. `None`: not an edit.
+    pub edit: Option<Option<FullUpload>>,
+    /// What went wrong beside the upload.
+    pub warning: Option<Warning>,
 }
 
 impl UploadReport {
@@ -139,11 +225,31 @@ impl UploadReport {
             } else {
                 UploadOutcome::Complete
             }
-        } else if self.mission.is_new() || self.areas.is_new() {
+        } else if [self.mission, self.areas]
+            .iter()
+            .any(|l| l.is_new() && !l.unchanged)
+        {
             UploadOutcome::Mixed
         } else {
             UploadOutcome::PreviousActive
         }
+    }
+
+    /// What the reason of the failure means where it is about staged missions (ICD §8): the
+    /// activation's refusal, a staging closer's `Capacity`, and `IntegrityMismatch` anywhere.
+    fn hint(&self) -> Option<&'static str> {
+        use missionlink_interfaces::wire::{MessageType, Reason};
+        let (phase, e) = self.failure.as_ref()?;
+        let reason = e.reason()?;
+        let staging_closer = !matches!(self.kind, UploadKind::Paper { .. })
+            && matches!(
+                e.message_type,
+                MessageType::MissionTransferCommand | MessageType::AreaTransmissionCommand
+            );
+        let about_staging = *phase == Phase::Activation
+            || (staging_closer && reason == Reason::Capacity)
+            || reason == Reason::IntegrityMismatch;
+        about_staging.then(|| super::reason_hint(reason)).flatten()
     }
 
     /// Whether both lists uploaded are active.
@@ -181,16 +287,26 @@ fn list(f: &mut fmt::Formatter<'_>, name: &str, list: &ListOutcome) -> fmt::Resu
 impl fmt::Display for UploadReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let outcome = self.outcome();
+        let request = match self.kind {
+            UploadKind::Staged(_) => "stage",
+            _ => "upload",
+        };
         match (outcome, &self.failure) {
-            (UploadOutcome::Complete, _) => f.write_str("upload complete")?,
+            (UploadOutcome::Complete, _) => write!(f, "{request} complete")?,
             (UploadOutcome::CompleteAfterLostAnswer, Some((phase, e))) => {
                 write!(
                     f,
-                    "upload complete (confirmed after a lost answer: {phase}: {e})"
+                    "{request} complete (confirmed after a lost answer: {phase}: {e})"
                 )?;
             }
-            (_, Some((phase, e))) => write!(f, "upload failed ({phase}: {e})")?,
-            (_, None) => f.write_str("upload ended")?,
+            (_, Some((phase, e))) => {
+                write!(f, "{request} failed ({phase}: {e}")?;
+                if let Some(hint) = self.hint() {
+                    write!(f, "; {hint}")?;
+                }
+                f.write_str(")")?;
+            }
+            (_, None) => write!(f, "{request} ended")?,
         }
         let (m, a) = (&self.mission, &self.areas);
         match outcome {
@@ -199,10 +315,20 @@ impl fmt::Display for UploadReport {
                 checksum(f, m.checksum)?;
                 f.write_str(" and areas ")?;
                 checksum(f, a.checksum)?;
-                f.write_str(" active on the FCC")
+                match self.kind {
+                    UploadKind::Staged(id) => write!(f, " staged as {id:?} on the FCC"),
+                    _ => f.write_str(" active on the FCC"),
+                }
             }
             UploadOutcome::PreviousActive => {
-                f.write_str(": the previous mission and areas are active: mission ")?;
+                match self.kind {
+                    UploadKind::Staged(id) => {
+                        write!(f, ": staged mission {id:?} is as it was: mission ")?
+                    }
+                    _ => f.write_str(
+                        ": the previous mission and areas are active, unchanged: mission ",
+                    )?,
+                }
                 checksum(f, m.checksum)?;
                 f.write_str(", areas ")?;
                 checksum(f, a.checksum)
@@ -235,9 +361,33 @@ impl fmt::Display for UploadReport {
                 match self.confirmation {
                     Confirmation::Report => "as the FCC reports",
                     Confirmation::Download => "as downloaded from the FCC",
+                    Confirmation::NotActivated => {
+                        "the FCC did not answer, but the activation was never sent"
+                    }
                     Confirmation::Answers | Confirmation::None => "the FCC did not answer",
                 }
             )?;
+        }
+        match self.kind {
+            UploadKind::Atomic => {}
+            UploadKind::Paper { edition_1: true } => f.write_str(
+                " [edition-1 FCC: the paper's sequence, the waypoint list and the area list \
+                 changed one after the other]",
+            )?,
+            UploadKind::Paper { edition_1: false } => f.write_str(
+                " [the paper's sequence, as asked: the waypoint list and the area list changed \
+                 one after the other]",
+            )?,
+            UploadKind::Staged(_) => f.write_str(" [the active lists are untouched]")?,
+        }
+        if let Some(edit) = self.edit {
+            match edit {
+                None => f.write_str("; edit: only what changed was sent")?,
+                Some(why) => write!(f, "; edit sent as a full upload: {why}")?,
+            }
+        }
+        if let Some(w) = self.warning {
+            write!(f, "; warning: {w}")?;
         }
         Ok(())
     }

@@ -27,9 +27,10 @@ use crate::link::timer::{Timer, TimerTable};
 pub enum Expected {
     /// #17000 matching the message's type and time stamp.
     Acknowledgement,
-    /// #3012, the answer to #2011 mode 2 upload complete.
+    /// #3012, the answer to #2011 mode 2 upload complete (and mode 7, its staged twin, ICD §8).
     AreaStatusAlert,
-    /// #3013, the answer to #2011 mode 3 initiate download.
+    /// #3013, the answer to #2011 mode 3 initiate download (and mode 8, ICD §8, which an FCC
+    /// without that staged mission refuses by #17000 type 3 instead).
     AreaTransmissionStatus,
 }
 
@@ -37,10 +38,20 @@ impl Expected {
     /// What `message` waits for.
     pub fn of(message: &Message) -> Self {
         match message {
-            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::UploadComplete => {
+            Message::AreaTransmissionCommand(c)
+                if matches!(
+                    c.mode,
+                    AreaTransferMode::UploadComplete | AreaTransferMode::UploadCompleteStaged
+                ) =>
+            {
                 Self::AreaStatusAlert
             }
-            Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::InitiateDownload => {
+            Message::AreaTransmissionCommand(c)
+                if matches!(
+                    c.mode,
+                    AreaTransferMode::InitiateDownload | AreaTransferMode::InitiateStagedDownload
+                ) =>
+            {
                 Self::AreaTransmissionStatus
             }
             _ => Self::Acknowledgement,
@@ -274,6 +285,17 @@ impl Exchange {
                     alert.reason.unwrap_or(Reason::Malformed),
                 )),
             },
+            // ICD §8: a staged mission's area download request is refused by #17000 type 3
+            // (`WrongState`) when there is no such list, not by #3013.
+            (Expected::AreaTransmissionStatus, Message::MessageAcknowledgement(ack))
+                if ack.original_message_type == pending.message.message_type() as u16
+                    && matches!(ack.ack_type, AckType::Rejected | AckType::ReceiveFailed)
+                    && Some(ack.original_time_stamp) == current =>
+            {
+                Err(AttemptFailure::Rejected(
+                    ack.reject_reason.unwrap_or(Reason::Malformed),
+                ))
+            }
             (Expected::AreaTransmissionStatus, Message::AreaTransmissionStatus(status)) => {
                 match status.status {
                     AreaDownloadStatus::Ready => Ok(()),

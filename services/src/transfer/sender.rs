@@ -5,13 +5,17 @@
 //!
 //! | script | sent by | messages (ICD) |
 //! |---|---|---|
-//! | mission upload | GCS | [#13000 clear], #13006 take-off, #13002 (+ #13006 RF) ..., #13001, #13000 transmit (§5.1) |
+//! | mission upload | GCS | [#13000 clear or load buffer], #13006 take-off, #13002 (+ #13006 RF) ..., #13001, #13000 transmit or stage (§5.1, §8) |
 //! | mission download | FCC | #13006 take-off, #13002 (+ #13006 RF) ..., #13001, #14000 complete (§5.2) |
-//! | area upload | GCS | #2011 initiate upload, #2012 ..., #2011 upload complete (§5.3) |
+//! | area upload | GCS | #2011 initiate upload, #2012 ..., #2011 upload complete or stage (§5.3, §8) |
 //! | area download | FCC | #3013 ready, #2012 ..., #2011 download complete (§5.4) |
 //! | mission clear | GCS | #13000 clear, #13000 transmit with 0 waypoints |
 //! | mission report | FCC | #50001 for the active lists, then per staged mission (§8) |
-//! | request | GCS | one message: download requests, report request, clear areas, execute |
+//! | request | GCS | one message: download requests, report request, clear areas, execute, delete and activate a staged mission |
+//!
+//! The uploads serve the active lists and the staged missions of ICD §8 alike: only the opener
+//! ([`Opener`]) and the closer (its [`Target`]) differ, and an edit sends a selection of the
+//! mission's messages (the waypoint buffer keeps the rest, ICD §8).
 //!
 //! A script with a checksum (ICD §11) puts it into its closer: the GCS's transmit and upload
 //! complete toward an edition-2 FCC, the FCC's #14000 and #2011 mode 4 to an edition-2 request.
@@ -21,8 +25,9 @@ use core::time::Duration;
 use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, AreaTransmissionStatus,
-    Checksum, Message, MissionPlanMode, MissionReport, MissionTransferCommand,
-    MissionUploadDownloadStatus, Reason, Timestamp, TransferStatus, WindowOrChecksum,
+    Checksum, ExecuteCommand, Message, MissionExecuteCommand, MissionPlanMode, MissionReport,
+    MissionTransferCommand, MissionUploadDownloadStatus, Reason, Text, Timestamp, TransferStatus,
+    TransferWindow, WindowOrChecksum,
 };
 
 use crate::link::endpoint::Endpoint;
@@ -30,17 +35,67 @@ use crate::link::retry::{Exchange, ExchangeError, Outcome};
 use crate::link::time::Instant;
 use crate::transfer::areas::AreaList;
 use crate::transfer::mission::Mission;
+use crate::transfer::staged::MissionId;
+
+/// Which lists a transfer writes or reads (ICD §8): the active lists, or a staged mission.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// The active waypoint list and area list: closers #13000 mode 2 and #2011 mode 2,
+    /// downloads by #13000 mode 3 and #2011 mode 3.
+    Active,
+    /// The staged mission of this ID: closers #13000 mode 8 and #2011 mode 7, downloads by
+    /// #13000 mode 9 and #2011 mode 8.
+    Staged(MissionId),
+}
+
+impl Target {
+    /// The Mission ID field that names the target: empty for the active lists (ICD §8, #13000
+    /// mode 10 and the report).
+    pub fn mission_id_field(&self) -> Text<20> {
+        match self {
+            Self::Active => Text::default(),
+            Self::Staged(id) => id.text(),
+        }
+    }
+}
+
+impl core::fmt::Display for Target {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::Active => f.write_str("the active lists"),
+            Self::Staged(id) => write!(f, "staged mission {id:?}"),
+        }
+    }
+}
+
+/// What a mission upload sends before the mission's messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Opener {
+    /// Nothing: the waypoint buffer holds what it held (an edition-1 edit, ICD §5.1, §8).
+    None,
+    /// #13000 mode 1 clear: empties the buffer and the active list (ICD §5.1).
+    Clear,
+    /// #13000 mode 10 (ICD §8): fills the buffer with the waypoint list of the target (the
+    /// active list, or a staged mission's), or empties it when the target has none.
+    LoadBuffer(Target),
+}
 
 /// What a transfer sends.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Script {
-    /// GCS to FCC (ICD §5.1). Without `clear`, an edit: only the waypoints of `mission` change.
+    /// GCS to FCC (ICD §5.1; §8 for a staged mission): the opener, the mission's messages (all,
+    /// or a selection for an edit), the closer of `target` (#13000 mode 2 or mode 8).
     MissionUpload {
         /// The mission.
         mission: Mission,
-        /// Start with #13000 mode 1 clear.
-        clear: bool,
-        /// For the transmit (toward an edition-2 FCC).
+        /// What goes first.
+        opener: Opener,
+        /// For an edit: the indices into [`Mission::messages`] to send, ascending; `None`
+        /// sends every message.
+        selection: Option<Vec<u16>>,
+        /// Whose closer ends it: the active list (mode 2) or a staged mission (mode 8).
+        target: Target,
+        /// For the closer (toward an edition-2 FCC).
         checksum: Option<Checksum>,
     },
     /// FCC to GCS (ICD §5.2).
@@ -50,10 +105,12 @@ pub enum Script {
         /// For the #14000 (to an edition-2 request).
         checksum: Option<Checksum>,
     },
-    /// GCS to FCC (ICD §5.3).
+    /// GCS to FCC (ICD §5.3; §8 for a staged mission, closed by #2011 mode 7).
     AreaUpload {
         /// The area list.
         list: AreaList,
+        /// Whose closer ends it: the active list (mode 2) or a staged mission (mode 7).
+        target: Target,
         /// For the upload complete (toward an edition-2 FCC).
         checksum: Option<Checksum>,
     },
@@ -80,7 +137,12 @@ fn ts0() -> Timestamp {
     Timestamp::default()
 }
 
-fn area_command(mode: AreaTransferMode, list: &AreaList, checksum: Option<Checksum>) -> Message {
+fn area_command(
+    mode: AreaTransferMode,
+    list: &AreaList,
+    mission_id: Option<Text<20>>,
+    checksum: Option<Checksum>,
+) -> Message {
     AreaTransmissionCommand {
         time_stamp: ts0(),
         mode,
@@ -88,8 +150,22 @@ fn area_command(mode: AreaTransferMode, list: &AreaList, checksum: Option<Checks
         area_id: None,
         safety_offset: Some(list.safety_offset),
         activity_id: None,
-        mission_id: None,
+        mission_id,
         window_or_checksum: checksum.map(WindowOrChecksum::AreaChecksum),
+    }
+    .into()
+}
+
+/// The closer of a mission upload to `target`: #13000 mode 2 (transmit, the plan's Mission ID
+/// informational) or mode 8 (stage under the Mission ID), with the count and the checksum.
+fn mission_closer(mission: &Mission, target: Target, checksum: Option<Checksum>) -> Message {
+    let (mode, mission_id) = match target {
+        Target::Active => (MissionPlanMode::TransmitMission, mission.mission_id),
+        Target::Staged(id) => (MissionPlanMode::StageMission, Some(id.text())),
+    };
+    MissionTransferCommand {
+        mission_checksum: checksum,
+        ..transfer_command(mode, Some(mission.waypoints.len() as u16), mission_id)
     }
     .into()
 }
@@ -98,8 +174,15 @@ impl Script {
     /// Messages the script sends.
     pub fn len(&self) -> usize {
         match self {
-            Self::MissionUpload { mission, clear, .. } => {
-                usize::from(*clear) + mission.message_count() + 1
+            Self::MissionUpload {
+                mission,
+                opener,
+                selection,
+                ..
+            } => {
+                usize::from(*opener != Opener::None)
+                    + selection.as_ref().map_or(mission.message_count(), Vec::len)
+                    + 1
             }
             Self::MissionDownload { mission, .. } => mission.message_count() + 1,
             Self::AreaUpload { list, .. } | Self::AreaDownload { list, .. } => list.areas.len() + 2,
@@ -119,29 +202,30 @@ impl Script {
         match self {
             Self::MissionUpload {
                 mission,
-                clear,
+                opener,
+                selection,
+                target,
                 checksum,
             } => {
-                let body = if *clear {
-                    if index == 0 {
+                let body = match opener {
+                    Opener::None => index,
+                    _ if index > 0 => index - 1,
+                    Opener::Clear => {
                         return Some(mission_command(MissionPlanMode::ClearMission, None, None));
                     }
-                    index - 1
-                } else {
-                    index
+                    Opener::LoadBuffer(from) => return Some(load_buffer(*from)),
                 };
-                mission.messages().nth(body).or_else(|| {
-                    (body == mission.message_count()).then(|| {
-                        MissionTransferCommand {
-                            mission_checksum: *checksum,
-                            ..transfer_command(
-                                MissionPlanMode::TransmitMission,
-                                Some(mission.waypoints.len() as u16),
-                                mission.mission_id,
-                            )
-                        }
-                        .into()
-                    })
+                let (data, count) = match selection {
+                    Some(selection) => (
+                        selection
+                            .get(body)
+                            .and_then(|i| mission.messages().nth(usize::from(*i))),
+                        selection.len(),
+                    ),
+                    None => (mission.messages().nth(body), mission.message_count()),
+                };
+                data.or_else(|| {
+                    (body == count).then(|| mission_closer(mission, *target, *checksum))
                 })
             }
             Self::MissionDownload { mission, checksum } => {
@@ -161,12 +245,15 @@ impl Script {
                     })
                 })
             }
-            Self::AreaUpload { list, checksum } | Self::AreaDownload { list, checksum } => {
+            Self::AreaUpload { list, checksum, .. } | Self::AreaDownload { list, checksum } => {
                 let n = list.areas.len();
                 match index {
-                    0 if matches!(self, Self::AreaUpload { .. }) => {
-                        Some(area_command(AreaTransferMode::InitiateUpload, list, None))
-                    }
+                    0 if matches!(self, Self::AreaUpload { .. }) => Some(area_command(
+                        AreaTransferMode::InitiateUpload,
+                        list,
+                        None,
+                        None,
+                    )),
                     0 => Some(
                         AreaTransmissionStatus {
                             time_stamp: ts0(),
@@ -178,15 +265,17 @@ impl Script {
                         .into(),
                     ),
                     i if i <= n => list.areas.get(i - 1).cloned().map(Message::from),
-                    i if i == n + 1 => Some(area_command(
-                        if matches!(self, Self::AreaUpload { .. }) {
-                            AreaTransferMode::UploadComplete
-                        } else {
-                            AreaTransferMode::DownloadComplete
-                        },
-                        list,
-                        *checksum,
-                    )),
+                    i if i == n + 1 => {
+                        let (mode, mission_id) = match self {
+                            Self::AreaUpload {
+                                target: Target::Staged(id),
+                                ..
+                            } => (AreaTransferMode::UploadCompleteStaged, Some(id.text())),
+                            Self::AreaUpload { .. } => (AreaTransferMode::UploadComplete, None),
+                            _ => (AreaTransferMode::DownloadComplete, None),
+                        };
+                        Some(area_command(mode, list, mission_id, *checksum))
+                    }
                     _ => None,
                 }
             }
@@ -258,6 +347,63 @@ pub fn transfer_command(
         transfer_window: None,
         mission_checksum: None,
     }
+}
+
+/// #13000 mode 10 (ICD §8): load the waypoint buffer from `target`'s waypoint list (empty
+/// Mission ID: the active list), or empty it when the target has none.
+pub fn load_buffer(target: Target) -> Message {
+    mission_command(
+        MissionPlanMode::LoadWaypointBuffer,
+        None,
+        Some(target.mission_id_field()),
+    )
+}
+
+/// #13000 mode 6 (ICD §8): delete the staged mission `id`.
+pub fn delete_staged(id: MissionId) -> Message {
+    mission_command(MissionPlanMode::DeleteStagedMission, None, Some(id.text()))
+}
+
+/// #50000 command 4 (ICD §8): make the staged mission `id` the active waypoint and area lists
+/// in one step.
+pub fn activate_staged(id: MissionId) -> Message {
+    MissionExecuteCommand {
+        time_stamp: ts0(),
+        command: ExecuteCommand::ActivateStaged,
+        mission_id: Some(id.text()),
+    }
+    .into()
+}
+
+/// The request of a mission download from `target`: #13000 mode 3 (active) or mode 9 (staged),
+/// with the Transfer Window when given (an edition-2 request, ICD §10.2).
+pub fn mission_download_request(target: Target, window: Option<TransferWindow>) -> Message {
+    let command = match target {
+        Target::Active => transfer_command(MissionPlanMode::ReceiveMission, None, None),
+        Target::Staged(id) => {
+            transfer_command(MissionPlanMode::ReceiveStagedMission, None, Some(id.text()))
+        }
+    };
+    MissionTransferCommand {
+        transfer_window: window,
+        ..command
+    }
+    .into()
+}
+
+/// The request of an area download (all areas) from `target`: #2011 mode 3 (active) or mode 8
+/// (staged), with the Transfer Window when given (ICD §10.2).
+pub fn area_download_request(target: Target, window: Option<TransferWindow>) -> Message {
+    let (mode, mission_id) = match target {
+        Target::Active => (AreaTransferMode::InitiateDownload, None),
+        Target::Staged(id) => (AreaTransferMode::InitiateStagedDownload, Some(id.text())),
+    };
+    AreaTransmissionCommand {
+        mission_id,
+        window_or_checksum: window.map(WindowOrChecksum::TransferWindow),
+        ..area_transfer_command(mode, Some(0))
+    }
+    .into()
 }
 
 /// A #2011 of `mode` that carries no list: cancel, clear areas, or the download request (which
@@ -340,6 +486,11 @@ impl TransferSender {
         &self.script
     }
 
+    /// Messages of the script sent so far: first attempts (a retry is the same message again).
+    pub fn sent(&self) -> usize {
+        self.next
+    }
+
     /// (messages answered, messages in the script).
     pub fn progress(&self) -> (usize, usize) {
         (self.next.saturating_sub(1), self.script.len())
@@ -401,5 +552,98 @@ impl TransferSender {
     /// Drops the transfer without telling the peer (the peer cancelled it).
     pub fn cancel(&mut self) {
         self.exchange.cancel();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testkit::mission_1;
+
+    fn describe(m: &Message) -> String {
+        match m {
+            Message::MissionTransferCommand(c) => format!(
+                "13000 mode {} {}",
+                c.mode as u8,
+                c.mission_id.as_ref().map_or("-", |t| t.as_str())
+            ),
+            Message::AreaTransmissionCommand(c) => format!(
+                "2011 mode {} {}",
+                c.mode as u8,
+                c.mission_id.as_ref().map_or("-", |t| t.as_str())
+            ),
+            other => format!("{}", other.message_type() as u16),
+        }
+    }
+
+    fn script(s: &Script) -> Vec<String> {
+        assert_eq!(
+            (0..).map_while(|i| s.message(i)).count(),
+            s.len(),
+            "len counts every message"
+        );
+        (0..s.len())
+            .filter_map(|i| s.message(i))
+            .map(|m| describe(&m))
+            .collect()
+    }
+
+    /// ICD §8: the openers and closers of a staged upload name the Mission ID; an edit sends
+    /// only its selection between them.
+    #[test]
+    fn staged_scripts_name_their_mission() {
+        let plan = mission_1().assemble().unwrap_or_else(|e| panic!("{e}"));
+        let id = MissionId::new("next").unwrap_or_else(|e| panic!("{e}"));
+        let staged = Script::MissionUpload {
+            mission: plan.mission.clone(),
+            opener: Opener::LoadBuffer(Target::Staged(id)),
+            selection: None,
+            target: Target::Staged(id),
+            checksum: None,
+        };
+        assert_eq!(
+            script(&staged),
+            [
+                "13000 mode 10 next",
+                "13006",
+                "13002",
+                "13001",
+                "13000 mode 8 next"
+            ]
+        );
+        let edit = Script::MissionUpload {
+            mission: plan.mission.clone(),
+            opener: Opener::LoadBuffer(Target::Active),
+            selection: Some(vec![1]),
+            target: Target::Active,
+            checksum: None,
+        };
+        assert_eq!(
+            script(&edit),
+            ["13000 mode 10 ", "13002", "13000 mode 2 MEDEVAC-1"]
+        );
+        let areas = Script::AreaUpload {
+            list: plan.areas.clone(),
+            target: Target::Staged(id),
+            checksum: None,
+        };
+        assert_eq!(
+            script(&areas),
+            ["2011 mode 1 -", "2012", "2011 mode 7 next"]
+        );
+        assert_eq!(
+            describe(&area_download_request(Target::Staged(id), None)),
+            "2011 mode 8 next"
+        );
+        assert_eq!(
+            describe(&mission_download_request(Target::Staged(id), None)),
+            "13000 mode 9 next"
+        );
+        assert_eq!(describe(&delete_staged(id)), "13000 mode 6 next");
+        assert!(matches!(
+            activate_staged(id),
+            Message::MissionExecuteCommand(c)
+                if c.command == ExecuteCommand::ActivateStaged && c.mission_id == Some(id.text())
+        ));
     }
 }

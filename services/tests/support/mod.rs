@@ -552,3 +552,132 @@ pub fn raw_frame(message_type: u16, data: &[u8]) -> Vec<u8> {
 
 /// Time stamp bytes of 2026-11-21T12:00:10Z (ms since 2000).
 pub const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
+
+// ---- The GCS logic against the FCC of a rig ----
+
+/// Which messages a [`StationRig`] loses: `true` drops the message going `Direction`.
+pub type Loss = Box<dyn FnMut(Direction, &Message) -> bool>;
+
+/// The GCS logic against the FCC of an [`FccRig`]: every frame moved at once, 1 ms of simulated
+/// time per message, no links and no voting, so that a test sees exactly the messages of each
+/// request. `lose` decides for each message whether it is lost on its way (to inject the loss
+/// of one answer); `edition_1` makes the FCC an edition-1 FCC as ICD §10.1 sees it: its
+/// endpoint refuses #13000 mode 7 with `Unsupported` before the FCC sees it, and the FCC never
+/// hears an edition-2 request (the GCS sends none after that refusal).
+pub struct StationRig {
+    pub rig: FccRig,
+    pub gcs: GroundStation<WithoutGateway>,
+    /// The FCC's refusing endpoint when it plays edition 1.
+    pub edition_1: Option<Endpoint>,
+    /// Every message, in the order it was sent (lost ones included).
+    pub sent: Vec<Sent>,
+    pub events: Vec<GcsEvent<core::convert::Infallible>>,
+    pub lose: Loss,
+}
+
+impl StationRig {
+    /// The GCS logic against `rig`'s FCC, nothing lost.
+    pub fn new(rig: FccRig) -> Self {
+        Self {
+            rig,
+            gcs: GroundStation::new(gcs_config(), WithoutGateway),
+            edition_1: None,
+            sent: Vec::new(),
+            events: Vec::new(),
+            lose: Box::new(|_, _| false),
+        }
+    }
+
+    /// The same with `rig`'s FCC playing an edition-1 FCC.
+    pub fn edition_1(rig: FccRig) -> Self {
+        Self {
+            edition_1: Some(Endpoint::new(endpoint(defaults::FCC_ID, defaults::GCS_ID))),
+            ..Self::new(rig)
+        }
+    }
+
+    fn tick(&mut self) -> Instant {
+        self.rig.now = self.rig.now + Duration::from_millis(1);
+        self.rig.now
+    }
+
+    fn record(&mut self, direction: Direction, frame: &[u8]) -> Option<Message> {
+        let (envelope, message) = decoded(frame);
+        self.sent.push(Sent {
+            at: self.rig.now,
+            direction,
+            message: message.clone(),
+            ack_requested: envelope.ack_requested,
+        });
+        (!(self.lose)(direction, &message)).then_some(message)
+    }
+
+    /// Moves frames and fires timers until the GCS is back in standby (at most `limit` of
+    /// simulated time); returns the GCS's events of the request.
+    pub fn run(&mut self, limit: Duration) -> Vec<GcsEvent<core::convert::Infallible>> {
+        let end = self.rig.now + limit;
+        while self.rig.now < end {
+            let mut moved = false;
+            for frame in self.gcs.frames() {
+                moved = true;
+                let Some(message) = self.record(Direction::Up, &frame) else {
+                    continue;
+                };
+                let now = self.tick();
+                let report_request = matches!(&message, Message::MissionTransferCommand(c)
+                    if c.mode == MissionPlanMode::ReportMissions);
+                match self.edition_1.as_mut() {
+                    Some(e1) if report_request => {
+                        e1.answer(now, &message, true, Err(Reason::Unsupported));
+                    }
+                    _ => {
+                        let _ = self.rig.fcc.handle_frame(now, &frame);
+                    }
+                }
+            }
+            let mut down = self.rig.fcc.frames();
+            if let Some(e1) = self.edition_1.as_mut() {
+                down.extend(e1.frames());
+            }
+            for frame in down {
+                moved = true;
+                if self.record(Direction::Down, &frame).is_some() {
+                    let now = self.tick();
+                    let _ = self.gcs.handle_frame(now, &frame);
+                }
+            }
+            while let Some(e) = self.gcs.poll_event() {
+                self.events.push(e);
+            }
+            let _ = self.rig.events();
+            if moved {
+                continue;
+            }
+            if self.gcs.is_standby() {
+                break;
+            }
+            let Some(next) = [self.gcs.poll_timeout(), self.rig.fcc.poll_timeout()]
+                .into_iter()
+                .flatten()
+                .min()
+            else {
+                break;
+            };
+            self.rig.now = self.rig.now.max(next);
+            let now = self.rig.now;
+            self.rig.fcc.handle_timeout(now);
+            self.gcs.handle_timeout(now);
+        }
+        std::mem::take(&mut self.events)
+    }
+
+    /// The GCS's requests (messages that ask for an answer) since `from`, described.
+    pub fn requests(&self, from: usize) -> Vec<String> {
+        self.sent
+            .iter()
+            .skip(from)
+            .filter(|s| s.direction == Direction::Up && s.ack_requested)
+            .map(|s| describe(&s.message))
+            .collect()
+    }
+}

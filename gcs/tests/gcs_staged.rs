@@ -1,0 +1,100 @@
+//! The staged-mission commands of `gcs` (ICD §8) as the operator meets their arguments: a bad
+//! Mission ID is refused with the rule it breaks before anything is sent, and every command
+//! documents its exit statuses.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+use std::net::UdpSocket;
+use std::path::Path;
+use std::process::{Command, Output};
+use std::time::Duration;
+
+fn gcs(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gcs"))
+        .args(args)
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("gcs runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn repo(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(path)
+        .display()
+        .to_string()
+}
+
+#[test]
+fn a_bad_mission_id_is_refused_before_anything_is_sent() {
+    // Two sockets stand in for the FCC's links: nothing may arrive on them.
+    let direct = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let links = [
+        "--fcc-direct".to_owned(),
+        direct.local_addr().unwrap().to_string(),
+        "--fcc-lte".to_owned(),
+        lte.local_addr().unwrap().to_string(),
+        "--gcs-direct".to_owned(),
+        "127.0.0.1:0".to_owned(),
+        "--gcs-lte".to_owned(),
+        "127.0.0.1:0".to_owned(),
+    ];
+    let mission = repo("missions/mission-1.toml");
+    let long = "a".repeat(20);
+    let cases: [(Vec<&str>, &str); 5] = [
+        (
+            vec!["stage", &mission, "--id", ""],
+            "the Mission ID is empty",
+        ),
+        (
+            vec!["activate", &long],
+            "the Mission ID has 20 characters, at most 19 fit",
+        ),
+        (vec!["delete", "tab\there"], "not printable ASCII at byte 3"),
+        (
+            vec!["download", "--id", "né"],
+            "not printable ASCII at byte 1",
+        ),
+        (
+            vec!["stage", &mission, "--edit", "--id", &long],
+            "at most 19 fit",
+        ),
+    ];
+    for (args, rule) in cases {
+        let mut all: Vec<&str> = links.iter().map(String::as_str).collect();
+        all.extend(&args);
+        let o = gcs(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = text(&o.stderr);
+        assert!(err.contains(rule), "{args:?}: {err}");
+    }
+    for s in [&direct, &lte] {
+        s.set_read_timeout(Some(Duration::from_millis(200)))
+            .unwrap();
+        let mut buf = [0u8; 600];
+        assert!(s.recv_from(&mut buf).is_err(), "a frame was sent");
+    }
+}
+
+#[test]
+fn every_staged_command_documents_its_exit_statuses() {
+    for command in ["upload", "stage", "activate", "delete", "download"] {
+        let o = gcs(&[command, "--help"]);
+        assert!(o.status.success(), "{command}");
+        let help = text(&o.stdout);
+        assert!(help.contains("Exit status:"), "{command}: {help}");
+        assert!(help.contains("  0  "), "{command}: {help}");
+    }
+    let upload = text(&gcs(&["upload", "--help"]).stdout);
+    for flag in ["--edit", "--paper-sequence", "--state-dir"] {
+        assert!(upload.contains(flag), "{flag}: {upload}");
+    }
+    let stage = text(&gcs(&["stage", "--help"]).stdout);
+    assert!(stage.contains("--id <ID>"), "{stage}");
+}
