@@ -21,6 +21,7 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
+use missionlink_services::transfer::staged::StagedMissions;
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
@@ -57,7 +58,19 @@ where
     let state_dir = config.ipc.state_dir();
     let active = state::load_active(&state_dir);
     let mission_upload_open = state::load_mission_upload_open(&state_dir);
-    if active.is_some() || mission_upload_open {
+    let mut staged = StagedMissions::new();
+    for (id, mission, areas) in state::load_staged(&state_dir) {
+        // Capacity: the records were made by an FCC that held at most as many.
+        let stored = mission
+            .map(|m| staged.store_mission(id, m))
+            .into_iter()
+            .chain(areas.map(|a| staged.store_areas(id, a)))
+            .collect::<Result<Vec<_>, _>>();
+        if let Err(reason) = stored {
+            tracing::error!(%id, %reason, "staged mission record not resumed");
+        }
+    }
+    if active.is_some() || mission_upload_open || !staged.is_empty() {
         let state::ActiveLists {
             mission,
             mission_generation,
@@ -72,6 +85,7 @@ where
                 areas,
                 area_generation,
                 mission_upload_open,
+                staged,
             },
         );
         publish_active(&core, &waypoint_list, &area_list)?;
@@ -79,8 +93,9 @@ where
             waypoint_list = mission_generation,
             area_list = area_generation,
             mission_upload_open,
+            staged = core.staged().len(),
             dir = %state_dir.display(),
-            "resumed with the lists active before the restart"
+            "resumed with the lists active before the restart and the staged missions"
         );
     }
 
@@ -183,9 +198,32 @@ impl<S: Service> Outputs<'_, S> {
                 FccEvent::MissionActivated { .. }
                 | FccEvent::MissionCleared
                 | FccEvent::AreasActivated { .. }
-                | FccEvent::AreasCleared => {
+                | FccEvent::AreasCleared
+                | FccEvent::StagedActivated { .. } => {
+                    if let FccEvent::StagedActivated { id, .. } = &event {
+                        tracing::info!(%id, "staged mission activated: both lists replaced");
+                    }
                     self.save_active(core);
                     publish_active(core, self.waypoint_list, self.area_list)?;
+                }
+                // A staged mission is kept across a restart like the active lists (ICD §8).
+                FccEvent::StagedStored { id, kind } => {
+                    let entry = core.staged().get(&id);
+                    if let Err(e) = state::save_staged(
+                        self.state_dir,
+                        &id,
+                        entry.and_then(|s| s.mission.as_ref()),
+                        entry.and_then(|s| s.areas.as_ref()),
+                    ) {
+                        tracing::error!(%e, %id, "cannot save the staged mission");
+                    }
+                    tracing::info!(%id, ?kind, "staged");
+                }
+                FccEvent::StagedDeleted { id } => {
+                    if let Err(e) = state::delete_staged(self.state_dir, &id) {
+                        tracing::error!(%e, %id, "cannot remove the staged mission's record");
+                    }
+                    tracing::info!(%id, "staged mission deleted");
                 }
                 FccEvent::Execute(command) => {
                     self.command_sequence += 1;

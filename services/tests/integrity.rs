@@ -214,6 +214,7 @@ fn restarted(upload_open: bool) -> FccRig {
             areas: Some(valid.areas),
             area_generation: 1,
             mission_upload_open: upload_open,
+            ..Resumed::default()
         },
     );
     rig

@@ -581,7 +581,9 @@ fn an_edit_that_removes_a_waypoint_is_a_full_upload() {
             now,
             &shorter,
             Target::Active,
-            Sequence::Atomic,
+            // The paper's sequence: the shorter zig-zag fails the onboard geofence check from
+            // TROL, which an activation runs (the fallback to a full upload is the same).
+            Sequence::Paper { clear: true },
             vec![validated(&generated_plan(5)).mission],
         )
         .unwrap();

@@ -577,7 +577,11 @@ pub struct StationRig {
 
 impl StationRig {
     /// The GCS logic against `rig`'s FCC, nothing lost.
-    pub fn new(rig: FccRig) -> Self {
+    pub fn new(mut rig: FccRig) -> Self {
+        // Navigation reports the aircraft on the ground at TROL: the onboard geofence check of
+        // an activation (ICD §8) and of execute starts from there.
+        rig.fcc.handle_progress(rig.now, &on_ground_at(TROL));
+        let _ = rig.fcc.messages();
         Self {
             rig,
             gcs: GroundStation::new(gcs_config(), WithoutGateway),
