@@ -262,7 +262,6 @@ fn watch(
 }
 
 #[test]
-#[ignore = "needs staged missions in mission data handling (wt-fcc)"]
 fn alternate_activations_of_two_staged_missions_hand_out_only_whole_pairs() {
     let mut rig = Rig::new("atomic-activation");
     let mut fcc = rig.start("fcc");

@@ -55,7 +55,7 @@ pub fn check_command(
             if !on_ground {
                 return Err(Reason::WrongState);
             }
-            take_off_check(waypoints, areas, fence, navigation)
+            take_off_check(waypoints, areas, fence, here)
         }
         ExecuteCommand::ReturnToHome => {
             if !waypoints.bidirectional {
@@ -92,8 +92,12 @@ pub fn check_command(
 /// Whether the staged mission of `waypoints` and `areas` may be activated now (ICD §8, #50000
 /// command 4): both lists there (the caller passes a staged list as active, generation not 0),
 /// trajectory generation not active (`WrongState`), and the onboard geofence check of ICD §7
-/// passed from where navigation says the aircraft is, as for execute (`GeofenceViolation`;
-/// `WrongState` without a position, as for execute).
+/// passed from where navigation says the aircraft is, as for execute (`GeofenceViolation`).
+///
+/// Without a position from navigation yet (an FCC just started, a guidance swapped in that has
+/// not reported), the check starts at the mission's initial waypoint: the climb there and every
+/// leg (our choice: the ICD does not say; refusing would make every upload fail until guidance
+/// reports, and execute checks again from the position before anything flies).
 pub fn check_activation(
     state: &AutomationStatePayload,
     waypoints: &WaypointListPayload,
@@ -104,22 +108,33 @@ pub fn check_activation(
     if state.trajectory_generation_active {
         return Err(Reason::WrongState);
     }
-    take_off_check(waypoints, areas, fence, navigation)
+    let initial = waypoints.waypoints().first().map(|w| {
+        Site::new(
+            w.position.latitude.degrees(),
+            w.position.longitude.degrees(),
+        )
+    });
+    take_off_check(
+        waypoints,
+        areas,
+        fence,
+        navigation_position(navigation).or(initial),
+    )
 }
 
 /// The check before a take-off with `waypoints` and `areas` (execute, and the activation that
-/// makes them the lists an execute would fly): both lists there and a position from navigation
+/// makes them the lists an execute would fly): both lists there and a position to start from
 /// (`WrongState`), then the onboard geofence check of ICD §7 from there (`GeofenceViolation`).
 fn take_off_check(
     waypoints: &WaypointListPayload,
     areas: &AreaListPayload,
     fence: &Fence,
-    navigation: &GuidanceProgressPayload,
+    here: Option<Site>,
 ) -> Result<(), Reason> {
     if !waypoints.is_active() || areas.area_count() == 0 {
         return Err(Reason::WrongState);
     }
-    let here = navigation_position(navigation).ok_or(Reason::WrongState)?;
+    let here = here.ok_or(Reason::WrongState)?;
     geofence(
         fence,
         onboard::execute_route(waypoints, here, Some(fcc_turns())),
