@@ -5,7 +5,8 @@
 //! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
 //!   export; [`geojson`]: areas as GeoJSON.
 //! - [`map`]: the mission map as SVG; [`inspect`]: the frame inspector; [`profile`]: the
-//!   aircraft profile and environment the safety gateway checks against.
+//!   aircraft profile and environment the safety gateway checks against; [`report_table`]: the
+//!   FCC's mission report (ICD §8) as a table.
 
 pub mod gcs_link;
 pub mod geojson;
@@ -14,4 +15,5 @@ pub mod map;
 pub mod mission_file;
 pub mod profile;
 pub mod qgc;
+pub mod report_table;
 mod values;

@@ -34,10 +34,24 @@ fn missing(dir: &Path, names: &[&str]) -> Vec<String> {
         .collect()
 }
 
-/// `dir` holding every one of `names`, built with cargo first if some are missing.
-pub fn ensure(dir: &Path, names: &[&str]) -> Result<PathBuf, String> {
+/// When [`ensure`] runs cargo.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Build {
+    /// Only when a binary is missing (the tests: `cargo test` builds the workspace's binaries
+    /// before it runs them, or CI builds them first).
+    IfMissing,
+    /// Always, when the caller was started by cargo (`cargo run`): a binary built before the
+    /// last change of the sources would otherwise be started as it is, an FCC older than the
+    /// GCS that talks to it. Cargo does nothing when they are up to date.
+    UnderCargo,
+}
+
+/// `dir` holding every one of `names`, built with cargo first if some are missing (or, with
+/// [`Build::UnderCargo`], to bring them up to date).
+pub fn ensure(dir: &Path, names: &[&str], build: Build) -> Result<PathBuf, String> {
     let absent = missing(dir, names);
-    if absent.is_empty() {
+    let under_cargo = build == Build::UnderCargo && std::env::var_os("CARGO").is_some();
+    if absent.is_empty() && !under_cargo {
         return Ok(dir.to_path_buf());
     }
     // The cargo and the workspace that built this binary.
@@ -46,10 +60,12 @@ pub fn ensure(dir: &Path, names: &[&str]) -> Result<PathBuf, String> {
         .or_else(|| option_env!("CARGO").map(str::to_owned))
         .unwrap_or_else(|| "cargo".to_owned());
     let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
-    eprintln!(
-        "building the partition binaries ({}) ...",
-        absent.join(", ")
-    );
+    if !absent.is_empty() {
+        eprintln!(
+            "building the partition binaries ({}) ...",
+            absent.join(", ")
+        );
+    }
     let mut command = Command::new(cargo);
     command
         .args([
@@ -66,7 +82,7 @@ pub fn ensure(dir: &Path, names: &[&str]) -> Result<PathBuf, String> {
     }
     let status = command
         .status()
-        .map_err(|e| format!("cannot run cargo to build {}: {e}", absent.join(", ")))?;
+        .map_err(|e| format!("cannot run cargo to build {}: {e}", names.join(", ")))?;
     let still = missing(dir, names);
     if !status.success() || !still.is_empty() {
         return Err(format!(

@@ -3,10 +3,13 @@
 //! It starts the FCC (the `fcc` launcher and its four partitions, separate processes sharing
 //! iceoryx2 services under a fresh prefix, on UDP ports the system chooses), then acts as the GCS: validates
 //! (ICD §7 and the safety gateway with the demo eVTOL's profile) and uploads mission 1 (TROL to CCP) with its fly-zone and prints the message sequence as the
-//! paper's Figure 15 does; executes it (time-scaled) and prints each FROM-TO-NEXT change; uploads
-//! the richer mission 2 (radius-to-fix leg, circle and polygon no-fly-zones, bidirectional route)
-//! once the aircraft has landed, flies it; downloads mission and areas and shows that they equal
-//! the upload; prints the per-frame latency percentiles of every partition; shuts all down.
+//! paper's Figure 15 does; executes it (time-scaled) and prints each FROM-TO-NEXT change; while
+//! mission 1 flies, stages the richer mission 2 (radius-to-fix leg, circle and polygon
+//! no-fly-zones, bidirectional route) under a Mission ID (ICD §8: the paper's future work,
+//! "multiple missions defined prior to flight") and prints the FCC's report; once the aircraft
+//! has landed, activates it (both lists in one step) and flies it; downloads mission and areas
+//! and shows that they equal the upload; prints the per-frame latency percentiles of every
+//! partition; shuts all down.
 //! Exit status 0 on success, 1 with the error otherwise.
 
 use std::path::PathBuf;
@@ -16,6 +19,7 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink, Logged};
 use missionlink_gcs::mission_file::MissionFile;
+use missionlink_gcs::report_table;
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
 use missionlink_partitions::latency;
@@ -25,9 +29,12 @@ use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan};
 use missionlink_services::safety_gateway::{Report, SafetyGateway};
 use missionlink_services::transfer::integrity;
+use missionlink_services::transfer::staged::MissionId;
 
 const MISSION_1: &str = include_str!("../../missions/mission-1.toml");
 const MISSION_2: &str = include_str!("../../missions/mission-2.toml");
+/// The Mission ID mission 2 is staged under (ICD §8).
+const MISSION_2_ID: &str = "MEDEVAC-2";
 
 /// The paper's demo, end to end.
 #[derive(Debug, Parser)]
@@ -143,6 +150,49 @@ fn execute(link: &mut Link) -> Result<(), String> {
     finish(link).map(|_| ()).map_err(|e| e.to_string())
 }
 
+/// Activates the staged mission `id` (ICD §8, #50000 command 4). Until the aircraft has landed
+/// (trajectory generation active) the FCC refuses it (`WrongState`) and changes nothing; it is
+/// asked again every 500 ms for up to `patience`. Returns the time the accepted request took.
+fn activate(link: &mut Link, id: MissionId, patience: Duration) -> Result<Duration, String> {
+    let deadline = Instant::now() + patience;
+    let mut told = false;
+    loop {
+        let start = Instant::now();
+        let now = link.now();
+        link.station()
+            .activate(now, id)
+            .map_err(|e| e.to_string())?;
+        match finish(link) {
+            Ok(_) => return Ok(start.elapsed()),
+            Err(GcsError::Staged { error, .. })
+                if error.reason() == Some(Reason::WrongState) && Instant::now() < deadline =>
+            {
+                if !told {
+                    println!(
+                        "  the FCC still flies: activation refused (WrongState); waiting for the landing"
+                    );
+                    told = true;
+                }
+                link.run_until(Duration::from_millis(500), |_| false);
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+}
+
+/// Asks the FCC for its report (ICD §8) and prints it as `gcs missions` does.
+fn print_missions(link: &mut Link) -> Result<(), String> {
+    let now = link.now();
+    link.station().report(now).map_err(|e| e.to_string())?;
+    let Finished::Reported(entries) = finish(link).map_err(|e| e.to_string())? else {
+        return Err("the report request ended without a report".to_owned());
+    };
+    for line in report_table::render(&entries).lines() {
+        println!("  {line}");
+    }
+    Ok(())
+}
+
 /// Prints FROM-TO-NEXT until the route is flown (TO and NEXT none).
 fn fly(link: &mut Link, limit: Duration) -> Result<(), String> {
     let done = link.run_until(limit, |event| match event {
@@ -169,7 +219,11 @@ fn run(args: &Args) -> Result<(), String> {
         .clone()
         .or_else(binaries::build_dir)
         .ok_or("cannot find the partition binaries: give --bin-dir")?;
-    let bin_dir = binaries::ensure(&bin_dir, &binaries::FCC_BINARIES)?;
+    let bin_dir = binaries::ensure(
+        &bin_dir,
+        &binaries::FCC_BINARIES,
+        binaries::Build::UnderCargo,
+    )?;
     let run_dir = std::env::temp_dir().join(format!("missionlink-demo-{}", std::process::id()));
     std::fs::create_dir_all(&run_dir).map_err(|e| e.to_string())?;
     // The GCS binds its ends (port 0) and tells the FCC; voting-monitoring binds the FCC's and
@@ -227,19 +281,23 @@ fn run(args: &Args) -> Result<(), String> {
         link.log.len() - from
     );
 
-    println!("2. Execute mission 1");
+    println!("2. Execute mission 1, and stage mission 2 while it flies (ICD §8)");
     execute(&mut link)?;
-    fly(&mut link, Duration::from_secs(60))?;
-    println!();
-
-    println!(
-        "3. Upload mission 2 (CCP -> W1 -> ROLE2: radius-to-fix leg, circle and polygon no-fly-zones, bidirectional)"
-    );
     let valid_2 = link
         .station()
         .validate(&mission_2)
         .map_err(|e| e.to_string())?;
-    let (took, from) = upload(&mut link, &mission_2, Duration::from_secs(120))?;
+    let id = MissionId::new(MISSION_2_ID).map_err(|e| e.to_string())?;
+    let start = Instant::now();
+    let from = link.log.len();
+    let now = link.now();
+    link.station()
+        .stage(now, id, &mission_2)
+        .map_err(|e| e.to_string())?;
+    match finish(&mut link).map_err(|e| e.to_string())? {
+        Finished::Uploaded(report) => println!("  {report}"),
+        other => return Err(format!("staging ended without its report: {other:?}")),
+    }
     let sent = link
         .log
         .get(from..)
@@ -248,10 +306,22 @@ fn run(args: &Args) -> Result<(), String> {
         .filter(|l| l.direction == Direction::Up)
         .count();
     println!(
-        "  mission 2 transfer: {:.1} ms, {sent} messages up, {} down\n",
-        took.as_secs_f64() * 1000.0,
+        "  mission 2 (CCP -> W1 -> ROLE2: radius-to-fix leg, circle and polygon no-fly-zones, bidirectional) staged as {id:?} in {:.1} ms, {sent} messages up, {} down; mission 1 flies on",
+        start.elapsed().as_secs_f64() * 1000.0,
         link.log.len() - from - sent
     );
+    print_missions(&mut link)?;
+    fly(&mut link, Duration::from_secs(60))?;
+    println!();
+
+    println!("3. Landed: activate mission 2 (waypoints and areas replaced in one step)");
+    let took = activate(&mut link, id, Duration::from_secs(120))?;
+    println!(
+        "  #50000 command 4 accepted in {:.1} ms",
+        took.as_secs_f64() * 1000.0
+    );
+    print_missions(&mut link)?;
+    println!();
 
     println!("4. Execute mission 2");
     execute(&mut link)?;

@@ -23,7 +23,8 @@ pub type Process = FccProcess;
 /// The directory of the partition binaries, built if missing.
 pub fn bin_dir() -> PathBuf {
     let dir = binaries::build_dir().expect("build directory");
-    binaries::ensure(&dir, &binaries::FCC_BINARIES).expect("partition binaries")
+    binaries::ensure(&dir, &binaries::FCC_BINARIES, binaries::Build::IfMissing)
+        .expect("partition binaries")
 }
 
 /// One test's FCC setup: a configuration no other test shares (prefix, GCS ports, state and

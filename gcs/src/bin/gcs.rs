@@ -20,10 +20,8 @@ use missionlink_gcs::inspect::{
     MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
-use missionlink_gcs::{geojson, map, profile, qgc};
-use missionlink_interfaces::wire::{
-    Checksum, ExecuteCommand, GeoPoint, GeofenceCheck, MissionReport, SafetyOffset,
-};
+use missionlink_gcs::{geojson, map, profile, qgc, report_table};
+use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
 use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_services::ground_station::{
@@ -687,32 +685,7 @@ fn upload_status(outcome: UploadOutcome) -> u8 {
 
 /// The FCC's report (ICD §8) as a table, one line per entry.
 fn print_report(entries: &[MissionReport]) {
-    println!(
-        "{:<20} {:>9} {:>5} {:<24} {:<10} {:<10}",
-        "mission", "waypoints", "areas", "geofence check", "mission", "areas"
-    );
-    let checksum = |c: Option<Checksum>| c.map_or_else(|| "-".to_owned(), |c| c.to_string());
-    for e in entries {
-        let name = match e.mission_id.as_ref().map(|t| t.as_str()) {
-            None | Some("") => "(active)".to_owned(),
-            Some(id) => id.to_owned(),
-        };
-        let check = match (e.geofence_check, e.reason) {
-            (GeofenceCheck::NotRun, _) => "not run".to_owned(),
-            (GeofenceCheck::Passed, _) => "passed".to_owned(),
-            (GeofenceCheck::Failed, Some(r)) => format!("failed: {r}"),
-            (GeofenceCheck::Failed, None) => "failed".to_owned(),
-        };
-        println!(
-            "{:<20} {:>9} {:>5} {:<24} {:<10} {:<10}",
-            name,
-            e.waypoint_count,
-            e.area_count,
-            check,
-            checksum(e.mission_checksum),
-            checksum(e.area_checksum)
-        );
-    }
+    print!("{}", report_table::render(entries));
 }
 
 /// `gcs validate`: the verdict on the plan as it will be uploaded (see the exit status in the
