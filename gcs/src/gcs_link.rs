@@ -112,6 +112,12 @@ impl<G: SafetyGateway> GcsLink<G> {
         }
     }
 
+    /// Ends this GCS as a crash would (nothing more is sent, answered or retried) and hands back
+    /// its sockets, for a GCS started again on the same ports (the FCC answers to them).
+    pub fn into_links(self) -> LinkPair {
+        self.links
+    }
+
     /// Logs every message from now on.
     pub fn enable_log(&mut self) {
         self.logging = true;
