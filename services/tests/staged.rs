@@ -690,12 +690,12 @@ fn naming_requests(field: Option<Text<20>>) -> Vec<Message> {
         mission_command(MissionPlanMode::StageMission, Some(1), field),
         mission_command(MissionPlanMode::ReceiveStagedMission, None, field),
         AreaTransmissionCommand {
+            mode: AreaTransferMode::UploadCompleteStaged,
             mission_id: field,
             ..area_closer(&areas, None)
         }
         .into(),
         AreaTransmissionCommand {
-            mode: AreaTransferMode::InitiateStagedDownload,
             area_id: Some(0),
             mission_id: field,
             ..area_command(AreaTransferMode::InitiateStagedDownload, None)
@@ -703,19 +703,6 @@ fn naming_requests(field: Option<Text<20>>) -> Vec<Message> {
         .into(),
         activate(field),
     ]
-    .into_iter()
-    .map(|m| match m {
-        // #2011 mode 7, built from mode 2's closer.
-        Message::AreaTransmissionCommand(c) if c.mode == AreaTransferMode::UploadComplete => {
-            AreaTransmissionCommand {
-                mode: AreaTransferMode::UploadCompleteStaged,
-                ..c
-            }
-            .into()
-        }
-        other => other,
-    })
-    .collect()
 }
 
 /// Sends each request naming a staged mission by `field` to an FCC with a staged mission and
