@@ -1,8 +1,12 @@
 //! End-to-end transfer time: the real FCC (the `fcc` launcher and its four partitions, over
-//! iceoryx2) and the real GCS link (`GcsLink`, both UDP links on loopback), an upload request as
-//! `gcs upload` makes it: validation, clear, take-off height, waypoints, route, transmit, then
-//! the areas (initiate, one #2012 per area, complete). Each message waits for its answer before
-//! the next goes out (ICD §5, one message in flight), so the time is dominated by round trips.
+//! iceoryx2) and the real GCS link (`GcsLink`, both UDP links on loopback), each mission uploaded
+//! both ways `gcs upload` can, in the same run: by the paper's sequence (`--paper-sequence`:
+//! the report, clear, take-off height, waypoints, route, transmit, then the areas: initiate, one
+//! #2012 per area, complete) and atomically (the default toward an edition-2 FCC, ICD §8: the
+//! report, mode 10, the mission's messages, mode 8, the areas closed by #2011 mode 7, #50000
+//! command 4, the staged copy deleted), with the ratio of the medians. Each message waits for
+//! its answer before the next goes out (ICD §5, one message in flight), so the time is dominated
+//! by round trips.
 //!
 //! Missions: demo mission 1 (one waypoint and its fly-zone; the paper reports about 0.4 s for
 //! this transfer) and generated missions of 10, 100 and 256 waypoints, each with 11 areas of 60
@@ -26,12 +30,13 @@ use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
 use missionlink_partitions::binaries;
-use missionlink_services::ground_station::MissionPlan;
+use missionlink_services::ground_station::{MissionPlan, Sequence};
 use missionlink_services::testkit;
 
 const DEFAULT_RUNS: usize = 30;
 const WARM_UP_RUNS: usize = 2;
 
+#[derive(Clone)]
 struct Case {
     name: String,
     waypoints: usize,
@@ -41,6 +46,8 @@ struct Case {
 
 struct Measured {
     case: Case,
+    /// The paper's sequence, or the atomic upload of ICD §8.
+    sequence: Sequence,
     /// Messages the upload request sends (computed from the plan).
     expected: usize,
     up: Vec<usize>,
@@ -69,36 +76,30 @@ fn load_average() -> String {
         .unwrap_or_else(|_| "unknown".to_owned())
 }
 
-fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let bench_mode = args.iter().any(|a| a == "--bench");
-    let runs = args
-        .iter()
-        .position(|a| a == "--runs")
-        .and_then(|i| args.get(i + 1))
-        .map(|v| v.parse::<usize>().expect("--runs N"))
-        .unwrap_or(if bench_mode { DEFAULT_RUNS } else { 1 })
-        .max(1);
-    let warm_up = if bench_mode { WARM_UP_RUNS } else { 0 };
-
-    let mut cases = vec![Case {
-        name: "mission-1".to_owned(),
-        waypoints: 1,
-        areas: 1,
-        plan: common::plan("mission-1.toml"),
-    }];
-    for n in [10u16, 100, 256] {
-        cases.push(Case {
-            name: format!("generated-{n}"),
-            waypoints: usize::from(n),
-            areas: 11,
-            plan: testkit::generated_plan(n),
-        });
+fn generated(n: u16) -> Case {
+    Case {
+        name: format!("generated-{n}"),
+        waypoints: usize::from(n),
+        areas: 11,
+        plan: testkit::generated_plan(n),
     }
+}
 
-    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
-    let load_before = load_average();
-    let mut rig = common::Rig::new("bench-transfer");
+/// Starts an FCC whose guidance starts at `start` (latitude, longitude; the configuration's
+/// default when `None`) and uploads each case `runs` times after `warm_up` runs, once per
+/// sequence given; how the FCC launcher stopped.
+fn measure(
+    name: &str,
+    start: Option<(f64, f64)>,
+    cases: Vec<(Case, Vec<Sequence>)>,
+    warm_up: usize,
+    runs: usize,
+) -> (Vec<Measured>, Option<std::process::ExitStatus>) {
+    let mut rig = common::Rig::new(name);
+    if let Some((latitude, longitude)) = start {
+        rig.config.guidance.start_latitude_deg = latitude;
+        rig.config.guidance.start_longitude_deg = longitude;
+    }
     let mut fcc = rig.start("fcc");
     for partition in [
         "voting-monitoring",
@@ -112,43 +113,123 @@ fn main() {
     link.enable_log();
 
     let mut results = Vec::new();
-    for case in cases {
+    for (case, sequences) in cases {
         let valid = link.station().validate(&case.plan).unwrap();
         assert_eq!(valid.mission.waypoints.len(), case.waypoints);
         assert_eq!(valid.areas.areas.len(), case.areas);
-        // The report request and the acknowledgement of its one entry (ICD §10.1: the edition
-        // discovery before every upload, issue 12); clear, take-off, waypoints (+ RF centres),
-        // route, transmit; initiate, areas, complete.
-        let expected = 2 + 1 + valid.mission.message_count() + 1 + 1 + case.areas + 1;
-        let mut result = Measured {
-            case,
-            expected,
-            up: Vec::new(),
-            down: Vec::new(),
-            ms: Vec::new(),
-        };
-        for run in 0..warm_up + runs {
-            link.log.clear();
-            let start = Instant::now();
-            common::upload(&mut link, &result.case.plan)
-                .unwrap_or_else(|e| panic!("{} run {run}: {e}", result.case.name));
-            let elapsed = start.elapsed();
-            if run < warm_up {
-                continue;
+        // The paper's sequence (ICD §5): the report request and the acknowledgement of its one
+        // entry (ICD §10.1, the edition discovery before every upload); clear, take-off,
+        // waypoints (+ RF centres), route, transmit; initiate, areas, complete. The atomic
+        // upload (ICD §8): the report; mode 10, the mission's messages, mode 8; initiate, areas,
+        // mode 7; activate; delete the staged copy.
+        let body = valid.mission.message_count() + 1 + 1 + case.areas + 1;
+        for sequence in sequences {
+            let expected = match sequence {
+                Sequence::Paper { .. } => 2 + 1 + body,
+                Sequence::Atomic => 2 + 1 + body + 2,
+            };
+            let mut result = Measured {
+                case: case.clone(),
+                sequence,
+                expected,
+                up: Vec::new(),
+                down: Vec::new(),
+                ms: Vec::new(),
+            };
+            for run in 0..warm_up + runs {
+                link.log.clear();
+                let start = Instant::now();
+                let now = link.now();
+                let outcome = link
+                    .station()
+                    .upload_with(now, &result.case.plan, sequence)
+                    .and_then(|()| common::finish(&mut link));
+                let elapsed = start.elapsed();
+                match outcome {
+                    Ok(missionlink_gcs::gcs_link::Finished::Uploaded(report))
+                        if report.failure.is_none() => {}
+                    other => panic!("{} run {run}: {other:?}", result.case.name),
+                }
+                if run < warm_up {
+                    continue;
+                }
+                let up = link
+                    .log
+                    .iter()
+                    .filter(|l| l.direction == Direction::Up)
+                    .count();
+                result.up.push(up);
+                result.down.push(link.log.len() - up);
+                result.ms.push(elapsed.as_secs_f64() * 1e3);
             }
-            let up = link
-                .log
-                .iter()
-                .filter(|l| l.direction == Direction::Up)
-                .count();
-            result.up.push(up);
-            result.down.push(link.log.len() - up);
-            result.ms.push(elapsed.as_secs_f64() * 1e3);
+            results.push(result);
         }
-        results.push(result);
     }
-    let load_after = load_average();
     let status = fcc.stop().ok();
+    let _ = std::fs::remove_dir_all(&rig.dir);
+    (results, status)
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let bench_mode = args.iter().any(|a| a == "--bench");
+    let runs = args
+        .iter()
+        .position(|a| a == "--runs")
+        .and_then(|i| args.get(i + 1))
+        .map(|v| v.parse::<usize>().expect("--runs N"))
+        .unwrap_or(if bench_mode { DEFAULT_RUNS } else { 1 })
+        .max(1);
+    let warm_up = if bench_mode { WARM_UP_RUNS } else { 0 };
+
+    // The paper's sequence for every mission. The atomic upload only where the activation's
+    // onboard geofence check (ICD §7, §8) passes from where guidance starts: demo mission 1
+    // from TROL, and the geofence worst case (256 waypoints, 11 areas of 60 vertices) from its
+    // take-off point, on an FCC of its own. The generated zig-zags cross their no-fly-zones
+    // (they were made to measure transfers, not to be flown), so an activation refuses them.
+    let paper = Sequence::Paper { clear: true };
+    let trol = vec![
+        (
+            Case {
+                name: "mission-1".to_owned(),
+                waypoints: 1,
+                areas: 1,
+                plan: common::plan("mission-1.toml"),
+            },
+            vec![paper, Sequence::Atomic],
+        ),
+        (generated(10), vec![paper]),
+        (generated(100), vec![paper]),
+        (generated(256), vec![paper]),
+    ];
+    let worst = testkit::geofence_worst_case_plan();
+    let take_off = worst
+        .take_off_position
+        .expect("the worst case has a take-off point");
+    let worst_case = vec![(
+        Case {
+            name: "worst-case-256".to_owned(),
+            waypoints: 256,
+            areas: 11,
+            plan: worst,
+        },
+        vec![paper, Sequence::Atomic],
+    )];
+
+    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let load_before = load_average();
+    let mut results = measure("bench-transfer", None, trol, warm_up, runs);
+    let status = results.1;
+    let worst = measure(
+        "bench-transfer-worst",
+        Some((take_off.latitude.degrees(), take_off.longitude.degrees())),
+        worst_case,
+        warm_up,
+        runs,
+    );
+    results.0.extend(worst.0);
+    let results = results.0;
+    let load_after = load_average();
 
     println!();
     println!(
@@ -157,15 +238,27 @@ fn main() {
          before {load_before}, after {load_after})"
     );
     println!(
-        "{:<14} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9}",
-        "mission", "wps", "areas", "msgs up", "median", "p99", "min", "max", "msg/s", "RTT/msg"
+        "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}",
+        "mission",
+        "upload",
+        "wps",
+        "areas",
+        "msgs up",
+        "median",
+        "p99",
+        "min",
+        "max",
+        "msg/s",
+        "RTT/msg",
+        "/ paper"
     );
     println!(
-        "{:<14} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9}",
-        "", "", "", "(+down)", "ms", "ms", "ms", "ms", "both dirs", "ms"
+        "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}",
+        "", "", "", "", "(+down)", "ms", "ms", "ms", "ms", "both dirs", "ms", "median"
     );
     let mut json = Vec::new();
-    let mut medians = std::collections::HashMap::new();
+    // The paper's sequence by waypoints: the growth and the atomic upload's ratio.
+    let mut paper_medians = std::collections::HashMap::new();
     for r in &results {
         let mut sorted = r.ms.clone();
         sorted.sort_by(f64::total_cmp);
@@ -176,10 +269,19 @@ fn main() {
         let retried = r.up.iter().filter(|&&u| u != r.expected).count();
         let per_s = (up + down) as f64 / (med / 1e3);
         let per_message = med / up as f64;
-        medians.insert(r.case.waypoints, (med, up));
+        let atomic = matches!(r.sequence, Sequence::Atomic);
+        let ratio = if atomic {
+            paper_medians
+                .get(&r.case.waypoints)
+                .map_or_else(String::new, |(p, _)| format!("{:.2}", med / p))
+        } else {
+            paper_medians.insert(r.case.waypoints, (med, up));
+            "1.00".to_owned()
+        };
         println!(
-            "{:<14} {:>4} {:>5} {:>9} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>10.0} {:>9.3}",
+            "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>10.0} {:>9.3} {:>8}",
             r.case.name,
+            if atomic { "atomic" } else { "paper" },
             r.case.waypoints,
             r.case.areas,
             format!("{up}+{down}"),
@@ -188,9 +290,10 @@ fn main() {
             min,
             max,
             per_s,
-            per_message
+            per_message,
+            ratio
         );
-        if retried > 0 || up != down {
+        if retried > 0 {
             println!(
                 "  note: {retried} runs sent other than the {} messages expected (retries?), \
                  {up} up, {down} down",
@@ -199,6 +302,7 @@ fn main() {
         }
         json.push(serde_json::json!({
             "mission": r.case.name,
+            "upload": if matches!(r.sequence, Sequence::Atomic) { "atomic (ICD §8: stage, activate, delete the copy)" } else { "paper's sequence (ICD §5.1, §5.3)" },
             "waypoints": r.case.waypoints,
             "areas": r.case.areas,
             "messages_up": up,
@@ -215,7 +319,7 @@ fn main() {
             "samples_ms": r.ms,
         }));
     }
-    let growth = match (medians.get(&10), medians.get(&256)) {
+    let growth = match (paper_medians.get(&10), paper_medians.get(&256)) {
         (Some((t10, m10)), Some((t256, m256))) => {
             let per = (t256 - t10) / (m256 - m10) as f64;
             println!();
@@ -260,5 +364,4 @@ fn main() {
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
         println!("written to {}", path.display());
     }
-    let _ = std::fs::remove_dir_all(&rig.dir);
 }
