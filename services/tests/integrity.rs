@@ -18,10 +18,10 @@
 mod support;
 
 use missionlink_interfaces::wire::{
-    AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, AreaTransmissionCommand,
-    Checksum, Envelope, ExecuteCommand, GeofenceCheck, LegType, Message, MessageType,
-    MissionExecuteCommand, MissionPlanMode, MissionReport, MissionTransferCommand, Reason, Text,
-    Timestamp, TransferStatus, TransferWindow, WindowOrChecksum,
+    AckType, AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, Checksum,
+    ExecuteCommand, GeofenceCheck, LegType, Message, MessageType, MissionExecuteCommand,
+    MissionPlanMode, MissionReport, MissionTransferCommand, Reason, Text, Timestamp,
+    TransferStatus, TransferWindow, WindowOrChecksum,
 };
 use missionlink_services::link::retry::AttemptFailure;
 use missionlink_services::link::time::Instant;
@@ -59,23 +59,6 @@ fn acknowledged_stamp(answers: &[Message]) -> Timestamp {
     match answers {
         [Message::MessageAcknowledgement(a)] => a.original_time_stamp,
         other => panic!("one #17000 expected: {other:?}"),
-    }
-}
-
-/// The FCC's one answer by #3012 to #2011 mode 2: the loop count, and valid or the reason.
-fn area_status(answers: &[Message]) -> (u8, Result<(), Reason>) {
-    let [Message::AreaStatusAlert(a)] = answers else {
-        panic!("one #3012 expected: {answers:?}");
-    };
-    match a.status {
-        AreaListStatus::Valid => {
-            assert_eq!(a.reason, Some(Reason::None));
-            (a.loop_count, Ok(()))
-        }
-        AreaListStatus::Invalid => (
-            a.loop_count,
-            Err(a.reason.expect("an invalid list names its reason")),
-        ),
     }
 }
 
@@ -131,23 +114,6 @@ fn window() -> Option<TransferWindow> {
 }
 
 // ---- Driving transfers the FCC sends ----
-
-/// Acknowledges (type 2) every message the FCC sends, starting with `pending`, until it sends
-/// no more; returns what it sent, in order. Every message of a download or a report is sent with
-/// "acknowledgement requested" (ICD §5, §8).
-fn follow(rig: &mut FccRig, mut pending: Vec<(Envelope, Message)>) -> Vec<Message> {
-    let mut sent = Vec::new();
-    while !pending.is_empty() {
-        let mut next = Vec::new();
-        for (envelope, message) in pending {
-            assert!(envelope.ack_requested, "{message:?} without ack request");
-            next.extend(rig.acknowledge(&message, Ok(())));
-            sent.push(message);
-        }
-        pending = next;
-    }
-    sent
-}
 
 /// Asks for the report (ICD §8), checks its acknowledgement, acknowledges the #50001 and
 /// returns it: the report of the active lists, the only entry while staging is not there.

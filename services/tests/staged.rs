@@ -23,10 +23,10 @@
 mod support;
 
 use missionlink_interfaces::wire::{
-    AckType, Altitude, AreaDownloadStatus, AreaListStatus, AreaTransferMode,
-    AreaTransmissionCommand, Checksum, Envelope, ExecuteCommand, GeofenceCheck, LegType, Message,
-    MissionExecuteCommand, MissionPlanMode, MissionReport, MissionTransferCommand, Reason, Text,
-    Timestamp, TransferStatus, TransferWindow, WindowOrChecksum,
+    Altitude, AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, Checksum,
+    ExecuteCommand, GeofenceCheck, LegType, Message, MissionExecuteCommand, MissionPlanMode,
+    MissionReport, MissionTransferCommand, Reason, Text, Timestamp, TransferStatus, TransferWindow,
+    WindowOrChecksum,
 };
 use missionlink_services::ground_station::ValidatedPlan;
 use missionlink_services::mission_data_handling::{DataKind, FccEvent, Resumed};
@@ -85,32 +85,6 @@ fn window() -> Option<TransferWindow> {
 }
 
 // ---- Reading the answers ----
-
-/// The FCC's only answer, a #17000: accepted, or the reason.
-fn one_ack(answers: &[Message]) -> Result<(), Reason> {
-    let [Message::MessageAcknowledgement(a)] = answers else {
-        panic!("one #17000 expected: {answers:?}");
-    };
-    match a.ack_type {
-        AckType::Completed => Ok(()),
-        AckType::Rejected => Err(a.reject_reason.expect("a rejection names its reason")),
-        other => panic!("ack type {other:?}"),
-    }
-}
-
-/// The FCC's only answer, a #3012: the loop count, and valid or the reason.
-fn area_status(answers: &[Message]) -> (u8, Result<(), Reason>) {
-    let [Message::AreaStatusAlert(a)] = answers else {
-        panic!("one #3012 expected: {answers:?}");
-    };
-    match a.status {
-        AreaListStatus::Valid => (a.loop_count, Ok(())),
-        AreaListStatus::Invalid => (
-            a.loop_count,
-            Err(a.reason.expect("an invalid list names its reason")),
-        ),
-    }
-}
 
 /// Whether `e` changes an active list (what guidance would be given).
 fn changes_active(e: &FccEvent) -> bool {
@@ -197,22 +171,6 @@ fn stage_plan(rig: &mut FccRig, plan: &ValidatedPlan, id: MissionId) {
     );
     assert!(rig.fcc.staged().get(&id).is_some_and(|e| e.is_complete()));
     rig.events();
-}
-
-/// Acknowledges (type 2) every message the FCC sends, starting with `pending`, until it sends
-/// no more; returns what it sent, in order.
-fn follow(rig: &mut FccRig, mut pending: Vec<(Envelope, Message)>) -> Vec<Message> {
-    let mut sent = Vec::new();
-    while !pending.is_empty() {
-        let mut next = Vec::new();
-        for (envelope, message) in pending {
-            assert!(envelope.ack_requested, "{message:?} without ack request");
-            next.extend(rig.acknowledge(&message, Ok(())));
-            sent.push(message);
-        }
-        pending = next;
-    }
-    sent
 }
 
 /// Asks for the report (#13000 mode 7, Mission ID empty), checks its acknowledgement,

@@ -685,3 +685,51 @@ impl StationRig {
             .collect()
     }
 }
+
+// ---- Reading the FCC's answers (integrity.rs, staged.rs) ----
+
+/// The FCC's only answer, a #17000: accepted, or the reason.
+pub fn one_ack(answers: &[Message]) -> Result<(), Reason> {
+    let [Message::MessageAcknowledgement(a)] = answers else {
+        panic!("one #17000 expected: {answers:?}");
+    };
+    match a.ack_type {
+        AckType::Completed => Ok(()),
+        AckType::Rejected => Err(a.reject_reason.expect("a rejection names its reason")),
+        other => panic!("ack type {other:?}"),
+    }
+}
+
+/// The FCC's one answer by #3012 to #2011 mode 2: the loop count, and valid or the reason.
+pub fn area_status(answers: &[Message]) -> (u8, Result<(), Reason>) {
+    let [Message::AreaStatusAlert(a)] = answers else {
+        panic!("one #3012 expected: {answers:?}");
+    };
+    match a.status {
+        AreaListStatus::Valid => {
+            assert_eq!(a.reason, Some(Reason::None));
+            (a.loop_count, Ok(()))
+        }
+        AreaListStatus::Invalid => (
+            a.loop_count,
+            Err(a.reason.expect("an invalid list names its reason")),
+        ),
+    }
+}
+
+/// Acknowledges (type 2) every message the FCC sends, starting with `pending`, until it sends
+/// no more; returns what it sent, in order. Every message of a download or a report is sent with
+/// "acknowledgement requested" (ICD §5, §8).
+pub fn follow(rig: &mut FccRig, mut pending: Vec<(Envelope, Message)>) -> Vec<Message> {
+    let mut sent = Vec::new();
+    while !pending.is_empty() {
+        let mut next = Vec::new();
+        for (envelope, message) in pending {
+            assert!(envelope.ack_requested, "{message:?} without ack request");
+            next.extend(rig.acknowledge(&message, Ok(())));
+            sent.push(message);
+        }
+        pending = next;
+    }
+    sent
+}
