@@ -17,8 +17,11 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_interfaces::wire::MissionReport;
 use missionlink_services::ground_station::outcome::{Held, UploadReport};
 use missionlink_services::ground_station::{GcsError, Phase};
+use missionlink_services::transfer::integrity;
+use missionlink_services::transfer::staged::MissionId;
 
 /// The process ID of the running `partition` (the last one the launcher started).
 fn partition_pid(fcc: &Process, partition: &str) -> i32 {
@@ -139,4 +142,64 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
         ));
     }
     eprintln!("kill after FCC message k of {total}: {seen:?}");
+}
+
+/// Issue 13: staged missions are kept across a restart of mission data handling like the active
+/// lists (ICD §8). Mission 2 is staged, the partition is killed (`kill -9`); the restarted one
+/// reports the same staged mission (its checksums) and activates it.
+#[test]
+fn staged_missions_survive_a_restart_of_mission_data_handling() {
+    let mut rig = Rig::new("restart-staged");
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    let mut link = rig.gcs(&mut fcc);
+    let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
+    upload(&mut link, &mission_1).unwrap();
+    let id = MissionId::new("MEDEVAC-2").unwrap();
+    let now = link.now();
+    link.station().stage(now, id, &mission_2).unwrap();
+    finish(&mut link).unwrap();
+    let before = report(&mut link);
+    assert_eq!(before.len(), 2, "{before:?}");
+
+    rustix::process::kill_process(
+        rustix::process::Pid::from_raw(partition_pid(&fcc, "mission-data-handling")).unwrap(),
+        rustix::process::Signal::KILL,
+    )
+    .unwrap();
+    wait_for_logs(
+        &fcc,
+        "resumed with the lists active before the restart",
+        1,
+        Duration::from_secs(20),
+    );
+    let after = report(&mut link);
+    assert_eq!(after.len(), 2, "{after:?}");
+    for (b, a) in before.iter().zip(&after) {
+        assert_eq!(
+            (b.mission_id, b.mission_checksum, b.area_checksum),
+            (a.mission_id, a.mission_checksum, a.area_checksum)
+        );
+    }
+
+    let now = link.now();
+    link.station().activate(now, id).unwrap();
+    finish(&mut link).unwrap();
+    let new = link.station().validate(&mission_2).unwrap();
+    let active = download(&mut link).unwrap();
+    assert_eq!(active.areas, new.areas);
+    assert_eq!(
+        integrity::mission_checksum(&active.mission),
+        integrity::mission_checksum(&new.mission)
+    );
+}
+
+/// The FCC's report (ICD §8): the active lists, then each staged mission.
+fn report(link: &mut Link) -> Vec<MissionReport> {
+    let now = link.now();
+    link.station().report(now).unwrap();
+    match finish(link) {
+        Ok(Finished::Reported(entries)) => entries,
+        other => panic!("no report: {other:?}"),
+    }
 }
