@@ -34,6 +34,7 @@ use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Reason
 
 use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter, REASONS};
 use crate::link::sampling::{MessageSampler, Sample};
+use crate::link::signing::{Authenticity, SignatureCause, SignatureCheck};
 use crate::link::time::Instant;
 
 /// Messages one step considers at most; the rest of the step is dropped and counted as
@@ -43,8 +44,8 @@ use crate::link::time::Instant;
 pub const VOTING_STEP_MESSAGES: usize = 64;
 
 /// What the voter did since it was created. Every message of every datagram lands in exactly
-/// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames` (by cause), `unreadable_messages`,
-/// `overflow`.
+/// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames` (by cause),
+/// `rejected_signatures` (by cause), `unreadable_messages`, `overflow`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct VotingStats {
     /// Messages forwarded, per link: `[direct, LTE]` (includes `rejected_messages_forwarded`).
@@ -57,6 +58,9 @@ pub struct VotingStats {
     /// Frames dropped by a rule of ICD §2, by cause (as [`crate::link::endpoint::EndpointStats`]
     /// counts them).
     pub rejected_frames: ByCause<FrameCause, 8>,
+    /// Frames that fail the signature check of ICD §9, by cause: dropped like a frame with a
+    /// bad checksum.
+    pub rejected_signatures: ByCause<SignatureCause, 4>,
     /// Messages that break a rule of ICD §3 or §4 but carry a readable time stamp: forwarded
     /// (and counted in `forwarded` too) so that mission data handling rejects them with #17000.
     pub rejected_messages_forwarded: u64,
@@ -81,6 +85,8 @@ impl VotingStats {
         ]
         .into_iter()
         .chain(self.rejected_frames.counters())
+        .chain([("rejected_signatures", self.rejected_signatures.total())])
+        .chain(self.rejected_signatures.counters())
         .chain([
             (
                 "rejected_messages_forwarded",
@@ -142,8 +148,10 @@ pub struct Voter {
     local_id: u32,
     peer_id: u32,
     sampler: MessageSampler,
+    signatures: SignatureCheck,
     stats: VotingStats,
     frame_log: LogLimiter<FrameCause, 8>,
+    signature_log: LogLimiter<SignatureCause, 4>,
     unreadable_log: LogLimiter<Reason, REASONS>,
     overflow_log: LogLimiter<StepFull, 1>,
 }
@@ -173,11 +181,24 @@ impl Voter {
             local_id,
             peer_id,
             sampler: MessageSampler::new(sampling_window),
+            signatures: SignatureCheck::off(),
             stats: VotingStats::default(),
             frame_log: LogLimiter::new(),
+            signature_log: LogLimiter::new(),
             unreadable_log: LogLimiter::new(),
             overflow_log: LogLimiter::new(),
         }
+    }
+
+    /// The same voter checking signatures (ICD §9) as `check` says; without it, policy `off`.
+    pub fn with_signatures(mut self, check: SignatureCheck) -> Self {
+        self.signatures = check;
+        self
+    }
+
+    /// The signature check (its policy and counters).
+    pub fn signatures(&self) -> &SignatureCheck {
+        &self.signatures
     }
 
     /// Votes one step: `arrivals` are the datagrams received since the last step, each with its
@@ -252,7 +273,10 @@ impl Voter {
     /// Log lines about rejected frames, unreadable messages and full steps so far (at most one
     /// per cause per [`crate::link::rejects::LOG_INTERVAL`]).
     pub fn reject_log_lines(&self) -> u64 {
-        self.frame_log.lines() + self.unreadable_log.lines() + self.overflow_log.lines()
+        self.frame_log.lines()
+            + self.signature_log.lines()
+            + self.unreadable_log.lines()
+            + self.overflow_log.lines()
     }
 
     /// Counts one more message of the step; `false` (and counted as overflow) once the step
@@ -290,8 +314,31 @@ impl Voter {
         }
     }
 
-    /// Decodes the message of a frame that passed the wrapper and addressing rules; `None` when
-    /// it is dropped because its time stamp cannot be read.
+    /// Drops a frame that fails the signature check (ICD §9): counted, logged at most once a
+    /// second per cause, never processed.
+    fn reject_signature(
+        &mut self,
+        now: Instant,
+        link: Link,
+        cause: SignatureCause,
+        message_type: u16,
+    ) {
+        self.stats.rejected_signatures.add(cause);
+        if let Some(rejected) = self.signature_log.admit(cause, now) {
+            tracing::warn!(
+                ?link,
+                cause = cause.counter_name(),
+                rejected,
+                last_message_type = message_type,
+                "frames failing the signature check since the last line of this cause"
+            );
+        }
+    }
+
+    /// Checks the signature of a frame that passed the wrapper and addressing rules and decodes
+    /// its message; `None` when it is dropped: its signature fails, or its time stamp cannot be
+    /// read. The signature is checked first, so a forger's bytes reach no decoder under
+    /// `require`; the replay check needs the time stamp, so it follows decoding.
     fn candidate<'a>(
         &mut self,
         now: Instant,
@@ -299,7 +346,28 @@ impl Voter {
         frame: Frame<'a>,
         arrival: usize,
     ) -> Option<Candidate<'a>> {
-        let (time_stamp, rejected) = match frame.message() {
+        let authenticity = match self.signatures.verify(link, &frame) {
+            Ok(a) => a,
+            Err(cause) => {
+                self.reject_signature(now, link, cause, frame.message_type());
+                return None;
+            }
+        };
+        let decoded = frame.message();
+        if authenticity == Authenticity::Verified {
+            let stamp = match &decoded {
+                Ok(message) => Some(message.time_stamp()),
+                Err(error) => error.time_stamp,
+            };
+            let admitted =
+                self.signatures
+                    .admit(now, link, frame.source_id(), frame.message_type(), stamp);
+            if let Err(cause) = admitted {
+                self.reject_signature(now, link, cause, frame.message_type());
+                return None;
+            }
+        }
+        let (time_stamp, rejected) = match decoded {
             Ok(message) => (message.time_stamp(), None),
             Err(error) => match error.time_stamp {
                 Some(time_stamp) => (time_stamp, Some(error)),

@@ -4,6 +4,11 @@
 //! [`Frame::new_checked`] and [`Frames`] apply every structural reject rule of §2, so no accessor
 //! of a [`Frame`] can fail afterwards. The addressing rules (destination, source) need the node's
 //! configuration and live in [`Frame::check_addressing`].
+//!
+//! A frame whose Message Properties bit 5 is set is *signed* (ICD §9): a 16-byte
+//! [`SignatureTrailer`] follows its checksum in the same datagram. The walker hands the trailer
+//! over with the frame ([`Frame::trailer`]) and goes on after it; whether it verifies is the
+//! receiver's business (`services::link::signing`), since it needs keys.
 
 use zerocopy::byteorder::big_endian::{U16, U32};
 use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
@@ -26,6 +31,12 @@ pub const IDD_VERSION: u8 = 40;
 pub const ACCEPTED_IDD_VERSIONS: core::ops::RangeInclusive<u8> = 30..=40;
 /// The Reserved (sequence) field as sent; ignored on receive.
 pub const RESERVED: u16 = 0xFFFF;
+/// Bytes of the signature trailer of ICD §9.
+pub const TRAILER_LEN: usize = 16;
+/// Largest signed frame with its trailer (ICD §1: 564 bytes).
+pub const MAX_SIGNED_FRAME_LEN: usize = MAX_FRAME_LEN + TRAILER_LEN;
+/// Message Properties bit 5: the frame is signed (ICD §9; edition 1 sends 0).
+const SIGNED_BIT: u16 = 1 << 5;
 
 /// The wrapper header, field by field, big-endian (ICD §2 table).
 #[derive(Debug, FromBytes, IntoBytes, KnownLayout, Immutable, Unaligned)]
@@ -86,7 +97,8 @@ impl ChecksumWidth {
 }
 
 /// The Message Properties field: bit 15 acknowledgement requested, bits 14..8 IDD version,
-/// bits 7..6 checksum length, bits 5..0 zero (sent as 0, ignored on receive).
+/// bits 7..6 checksum length, bit 5 signed (ICD §9), bits 4..0 zero (sent as 0, ignored on
+/// receive).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct MessageProperties(pub u16);
 
@@ -108,6 +120,16 @@ impl MessageProperties {
     /// Bits 14..8.
     pub const fn idd_version(self) -> u8 {
         ((self.0 >> 8) & 0x7f) as u8
+    }
+
+    /// Bit 5: a [`SignatureTrailer`] follows the checksum (ICD §9).
+    pub const fn signed(self) -> bool {
+        self.0 & SIGNED_BIT != 0
+    }
+
+    /// The same properties with bit 5 set.
+    pub const fn with_signed(self) -> Self {
+        Self(self.0 | SIGNED_BIT)
     }
 
     /// Bits 7..6; code 11 is invalid.
@@ -133,16 +155,47 @@ pub fn checksum(bytes: &[u8], width: ChecksumWidth) -> u32 {
     }
 }
 
+/// The signature trailer of ICD §9, right after a signed frame's checksum.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, FromBytes, IntoBytes, KnownLayout, Immutable, Unaligned,
+)]
+#[repr(C)]
+pub struct SignatureTrailer {
+    /// Which configured key signed the frame.
+    pub key_id: u8,
+    /// The link the frame was sent on: 0 direct, 1 LTE.
+    pub link_id: u8,
+    /// Reserved, 0.
+    pub reserved: U16,
+    /// The first 12 bytes of HMAC-SHA-256 over the frame and the first
+    /// [`SignatureTrailer::SIGNED_PREFIX`] bytes of this trailer.
+    pub signature: [u8; 12],
+}
+
+impl SignatureTrailer {
+    /// Bytes of the trailer the signature covers: Key ID, Link ID, Reserved.
+    pub const SIGNED_PREFIX: usize = 4;
+
+    /// The bytes the signature covers after the frame.
+    pub fn signed_prefix(&self) -> &[u8] {
+        self.as_bytes()
+            .get(..Self::SIGNED_PREFIX)
+            .unwrap_or_default()
+    }
+}
+
 /// A frame that passed the structural rules of ICD §2: a typed view over its bytes.
 #[derive(Debug, Clone, Copy)]
 pub struct Frame<'a> {
     header: &'a WrapperHeader,
     bytes: &'a [u8],
     data: &'a [u8],
+    trailer: Option<&'a SignatureTrailer>,
 }
 
 impl<'a> Frame<'a> {
-    /// Checks `bytes`, which must hold exactly one message (one datagram, one message).
+    /// Checks `bytes`, which must hold exactly one message (one datagram, one message), with
+    /// its signature trailer when it is signed.
     pub fn new_checked(bytes: &'a [u8]) -> Result<Self, FrameError> {
         let (frame, rest) = Self::split_first(bytes)?;
         if !rest.is_empty() {
@@ -186,11 +239,22 @@ impl<'a> Frame<'a> {
         if !ACCEPTED_IDD_VERSIONS.contains(&version) {
             return Err(FrameError::UnsupportedVersion { version });
         }
+        // A signed frame without the room for its trailer keeps what follows as the next
+        // message (which then fails as too short): the receiver's policy decides what a
+        // signed frame without a trailer is worth.
+        let (trailer, rest) = match properties.signed() {
+            true => match SignatureTrailer::ref_from_prefix(rest) {
+                Ok((trailer, after)) => (Some(trailer), after),
+                Err(_) => (None, rest),
+            },
+            false => (None, rest),
+        };
         Ok((
             Self {
                 header,
                 bytes: frame,
                 data,
+                trailer,
             },
             rest,
         ))
@@ -210,9 +274,14 @@ impl<'a> Frame<'a> {
         Ok(())
     }
 
-    /// The whole frame: header, data, checksum.
+    /// The whole frame: header, data, checksum (not the trailer).
     pub fn as_bytes(&self) -> &'a [u8] {
         self.bytes
+    }
+
+    /// The signature trailer of a signed frame (ICD §9), when the datagram holds one.
+    pub fn trailer(&self) -> Option<&'a SignatureTrailer> {
+        self.trailer
     }
 
     /// The message data (presence vector and fields).
@@ -373,6 +442,26 @@ pub fn encode(
     let (covered, sum) = frame.split_at_mut(data_end);
     write_be(u64::from(checksum(covered, envelope.checksum)), sum);
     Ok(total)
+}
+
+/// Marks the one frame in `frame` (wrapper to checksum, as [`encode`] wrote it) as signed: sets
+/// Message Properties bit 5 and writes the checksum again, which covers it (ICD §9). The
+/// trailer is the signer's to append.
+pub fn mark_signed(frame: &mut [u8]) -> Result<(), FrameError> {
+    let checked = Frame::new_checked(frame)?;
+    let width = checked.properties().checksum_width()?;
+    let data_end = checked.bytes.len() - width.len();
+    if checked.bytes.len() != frame.len() {
+        // A trailer was already there: the frame is signed.
+        return Ok(());
+    }
+    let (header, _) = WrapperHeader::mut_from_prefix(&mut *frame)
+        .map_err(|_| FrameError::TooShort { len: HEADER_LEN })?;
+    let properties = MessageProperties(header.message_properties.get()).with_signed();
+    header.message_properties.set(properties.0);
+    let (covered, sum) = frame.split_at_mut(data_end);
+    write_be(u64::from(checksum(covered, width)), sum);
+    Ok(())
 }
 
 /// Decodes a datagram that holds exactly one message: the wrapper rules of ICD §2 (but for

@@ -99,6 +99,7 @@ pub use field::{
 };
 pub use frame::{
     BROADCAST_ID, ChecksumWidth, Envelope, Frame, Frames, HEADER_LEN, IDD_VERSION, MAX_DATA_LEN,
-    MAX_FRAME_LEN, MessageProperties, decode, encode, frames,
+    MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, MessageProperties, SignatureTrailer, TRAILER_LEN, decode,
+    encode, frames, mark_signed,
 };
 pub use msg::*;

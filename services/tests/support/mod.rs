@@ -22,6 +22,7 @@ use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
 };
 use missionlink_services::link::endpoint::Endpoint;
+use missionlink_services::link::signing::{Keyring, LinkKey, Policy, SignatureCheck, Signer};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
 use missionlink_services::transfer::areas::AreaList;
@@ -101,7 +102,12 @@ pub struct Pair {
     to_gcs: Vec<InFlight>,
     order: u64,
     rng: Rng,
+    /// The signer of each direction's frames, `[up, down]` (ICD §9); none: unsigned.
+    signers: [Option<Signer>; 2],
     pub sent: Vec<Sent>,
+    /// Every datagram put on a link, as it went: direction, link, bytes (signed where a signer
+    /// is set), for the tests that replay captures or compare bytes.
+    pub wire: Vec<(Direction, Link, Vec<u8>)>,
     pub gcs_events: Vec<GcsEvent<core::convert::Infallible>>,
     pub fcc_events: Vec<FccEvent>,
 }
@@ -120,10 +126,51 @@ impl Pair {
             to_gcs: Vec::new(),
             order: 0,
             rng: Rng::new(seed),
+            signers: [None, None],
             sent: Vec::new(),
+            wire: Vec::new(),
             gcs_events: Vec::new(),
             fcc_events: Vec::new(),
         }
+    }
+
+    /// A pair whose both sides hold [`link_key`] as Key ID 1, sign every frame with it and check
+    /// received frames with `gcs_policy` and `fcc_policy` (ICD §9).
+    pub fn signed(seed: u64, gcs_policy: Policy, fcc_policy: Policy) -> Self {
+        let mut pair = Self::new(seed);
+        pair.signers = [Some(Signer::new(link_key())), Some(Signer::new(link_key()))];
+        pair.gcs_voter = pair.gcs_voter.with_signatures(signature_check(gcs_policy));
+        pair.fcc_voter = pair.fcc_voter.with_signatures(signature_check(fcc_policy));
+        pair
+    }
+
+    /// Sets the receivers' signature checks (the GCS's, the FCC's) as they are now.
+    pub fn set_signature_checks(&mut self, gcs: SignatureCheck, fcc: SignatureCheck) {
+        let fresh = || Voter::new(0, 0, TRANSFER_TIMEOUT);
+        self.gcs_voter = std::mem::replace(&mut self.gcs_voter, fresh()).with_signatures(gcs);
+        self.fcc_voter = std::mem::replace(&mut self.fcc_voter, fresh()).with_signatures(fcc);
+    }
+
+    /// The FCC's voter (its counters).
+    pub fn fcc_voter(&self) -> &Voter {
+        &self.fcc_voter
+    }
+
+    /// The GCS's voter (its counters).
+    pub fn gcs_voter(&self) -> &Voter {
+        &self.gcs_voter
+    }
+
+    /// Puts `bytes` on `link` toward the FCC as they are (a foreign sender, a replay), arriving
+    /// after `latency`.
+    pub fn inject_uplink(&mut self, link: Link, bytes: &[u8], latency: Duration) {
+        self.order += 1;
+        self.to_fcc.push(InFlight {
+            deliver_at: self.now + latency,
+            order: self.order,
+            link,
+            bytes: bytes.to_vec(),
+        });
     }
 
     /// Puts the frames both sides have to send (from their `poll_transmit`) on both links of
@@ -157,6 +204,21 @@ impl Pair {
     }
 
     fn transmit(&mut self, direction: Direction, link: Link, faults: Faults, bytes: &[u8]) {
+        let signer = match direction {
+            Direction::Up => &self.signers[0],
+            Direction::Down => &self.signers[1],
+        };
+        let mut signed = [0u8; missionlink_interfaces::wire::MAX_SIGNED_FRAME_LEN];
+        let bytes = match signer {
+            Some(signer) => {
+                let len = signer
+                    .sign(link, bytes, &mut signed)
+                    .expect("a frame to sign");
+                &signed[..len]
+            }
+            None => bytes,
+        };
+        self.wire.push((direction, link, bytes.to_vec()));
         let copies = if self.rng.chance(faults.loss) {
             0
         } else if self.rng.chance(faults.duplicate) {
@@ -280,6 +342,18 @@ impl Pair {
     pub fn take_gcs_events(&mut self) -> Vec<GcsEvent<core::convert::Infallible>> {
         std::mem::take(&mut self.gcs_events)
     }
+}
+
+/// The key of the signed pairs: Key ID 1.
+pub fn link_key() -> LinkKey {
+    LinkKey::new(1, &[0x5a; 32])
+}
+
+/// A signature check with `policy` holding [`link_key`], on the testkit's clock.
+pub fn signature_check(policy: Policy) -> SignatureCheck {
+    let mut keys = Keyring::new();
+    keys.insert(link_key()).expect("one key");
+    SignatureCheck::new(policy, keys, utc_at_zero(), Instant::ZERO)
 }
 
 /// System automation's state while the aircraft flies (trajectory generation active).
