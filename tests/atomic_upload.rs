@@ -135,7 +135,7 @@ fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_a
 
         // The GCS dies; another starts on its ports.
         let links = link.into_links();
-        link = GcsLink::with_links(&rig.config, links, WithoutGateway);
+        link = GcsLink::with_links(&rig.config, links, WithoutGateway).unwrap();
         link.enable_log();
         let lists = active(&mut link);
         if k < activation {

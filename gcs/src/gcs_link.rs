@@ -17,7 +17,9 @@ use missionlink_services::voting::Voter;
 
 use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::config::Config;
+use missionlink_partitions::keys::LinkSigning;
 use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
+use missionlink_services::link::signing::Signer;
 
 /// How a request ended well.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,6 +68,8 @@ pub struct Logged {
 #[derive(Debug)]
 pub struct GcsLink<G: SafetyGateway> {
     links: LinkPair,
+    /// The Key ID the uplink is signed with.
+    signing: Option<u8>,
     voter: Voter,
     station: GroundStation<G>,
     clock: DriverClock,
@@ -88,28 +92,43 @@ impl<G: SafetyGateway> GcsLink<G> {
             config.links.fcc_direct,
             config.links.fcc_lte,
         )?;
-        Ok(Self::with_links(config, links, gateway))
+        Self::with_links(config, links, gateway)
     }
 
     /// Over links the caller bound already (the demo and the tests bind port 0 themselves and
-    /// hand the FCC the ports they got); `config` gives the IDs and timeouts.
-    pub fn with_links(config: &Config, links: LinkPair, gateway: G) -> Self {
+    /// hand the FCC the ports they got); `config` gives the IDs, timeouts and link signing
+    /// (ICD §9: an unusable key file is the error).
+    pub fn with_links(config: &Config, links: LinkPair, gateway: G) -> Result<Self, LinkError> {
+        let signing = LinkSigning::load(&config.signing).map_err(|e| LinkError(e.to_string()))?;
         let clock = DriverClock::start();
         let station = GroundStation::new(config.gcs_core(clock.utc_at_zero()), gateway);
-        Self {
-            links,
+        tracing::debug!(signing = %signing.summary(), "link signing (ICD §9)");
+        Ok(Self {
+            signing: signing.signer.as_ref().map(Signer::key_id),
+            links: links.with_signer(signing.signer.clone()),
             voter: Voter::new(
                 config.ids.gcs,
                 config.ids.fcc,
                 config.timing.transfer_timeout(),
-            ),
+            )
+            .with_signatures(signing.check(clock.utc_at_zero(), clock.now())),
             station,
             clock,
             started: std::time::Instant::now(),
             slots: vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE],
             log: Vec::new(),
             logging: false,
-        }
+        })
+    }
+
+    /// The Key ID this GCS signs with, if it signs (ICD §9).
+    pub fn signing_key_id(&self) -> Option<u8> {
+        self.signing
+    }
+
+    /// The voter of the downlink (its counters, the signature check's among them).
+    pub fn voter(&self) -> &Voter {
+        &self.voter
     }
 
     /// Ends this GCS as a crash would (nothing more is sent, answered or retried) and hands back

@@ -37,6 +37,11 @@
 //!
 //! [launcher]
 //! restart_delay_ms = 200
+//!
+//! [signing]                       # link signing, ICD §9 (see `keys`)
+//! policy = "off"                  # off | accept | require: what this node's receiver checks
+//! key_files = ["/etc/missionlink/link-1.key"]   # 32-byte keys with their Key IDs, mode 0600
+//! send_key_id = 1                 # sign with this key (optional with one key file)
 //! ```
 
 use std::net::SocketAddr;
@@ -222,6 +227,46 @@ impl Default for Launcher {
     }
 }
 
+/// What a receiver does with signature trailers (ICD §9); see
+/// [`missionlink_services::link::signing::Policy`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum SigningPolicy {
+    /// Trailers are ignored and not checked (edition 1).
+    #[default]
+    Off,
+    /// A signed frame must verify; unsigned frames are still accepted.
+    Accept,
+    /// Only frames that verify are accepted.
+    Require,
+}
+
+impl From<SigningPolicy> for missionlink_services::link::signing::Policy {
+    fn from(p: SigningPolicy) -> Self {
+        match p {
+            SigningPolicy::Off => Self::Off,
+            SigningPolicy::Accept => Self::Accept,
+            SigningPolicy::Require => Self::Require,
+        }
+    }
+}
+
+/// Link signing (ICD §9): the receiver's policy and the key files. The keys themselves never
+/// enter the configuration (so `--print-config` and the hand-over to the partitions carry
+/// paths only); [`crate::keys::LinkSigning::load`] reads them.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Signing {
+    /// What this node's receiver does with signature trailers.
+    pub policy: SigningPolicy,
+    /// Key files (`keys`), one key with its Key ID each: the key in use and those a rotation
+    /// brings or retires.
+    pub key_files: Vec<PathBuf>,
+    /// The Key ID to sign with; may be left out with one key file. No key file: frames go out
+    /// unsigned.
+    pub send_key_id: Option<u8>,
+}
+
 /// Every setting.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -240,6 +285,8 @@ pub struct Config {
     pub latency: Latency,
     /// Launcher.
     pub launcher: Launcher,
+    /// Link signing.
+    pub signing: Signing,
 }
 
 /// A configuration file that cannot be used.
@@ -445,6 +492,16 @@ pub struct ConfigArgs {
     /// Directory for the latency summaries written at shutdown.
     #[arg(long, value_name = "DIR")]
     pub summary_dir: Option<PathBuf>,
+    /// What this node's receiver does with link signatures (ICD §9).
+    #[arg(long, value_name = "POLICY")]
+    pub signing: Option<SigningPolicy>,
+    /// A link key file (ICD §9; `gcs keygen` writes one); repeat for several keys. Replaces the
+    /// configuration's key files.
+    #[arg(long = "key-file", value_name = "FILE")]
+    pub key_files: Vec<PathBuf>,
+    /// The Key ID to sign with (needed with several key files).
+    #[arg(long, value_name = "ID")]
+    pub send_key_id: Option<u8>,
     /// End when the parent process ends (the launcher passes it, so that its partitions do not
     /// outlive it even after a `kill -9` of the launcher).
     #[arg(long, hide = true)]
@@ -494,6 +551,15 @@ impl ConfigArgs {
         }
         if let Some(d) = &self.summary_dir {
             c.latency.summary_dir = Some(d.clone());
+        }
+        if let Some(p) = self.signing {
+            c.signing.policy = p;
+        }
+        if !self.key_files.is_empty() {
+            c.signing.key_files = self.key_files.clone();
+        }
+        if let Some(id) = self.send_key_id {
+            c.signing.send_key_id = Some(id);
         }
         // A resolved configuration can always be handed on (see `hand_to`).
         c.to_toml()?;

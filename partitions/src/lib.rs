@@ -11,6 +11,7 @@ pub mod clock;
 pub mod config;
 pub mod guidance_stub;
 pub mod ipc;
+pub mod keys;
 pub mod latency;
 pub mod launcher;
 pub mod mission_data_handling;

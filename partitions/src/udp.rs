@@ -1,6 +1,7 @@
 //! The two UDP links of ICD §1 as one pair of sockets: each node receives on its direct and its
-//! LTE port and sends every frame on both links (the FCC's downlink, the GCS's uplink). The
-//! sockets are non-blocking and can sleep in an iceoryx2 WaitSet next to the listeners.
+//! LTE port and sends every frame on both links (the FCC's downlink, the GCS's uplink), each
+//! copy signed for its link when the node has a sending key (ICD §9). The sockets are
+//! non-blocking and can sleep in an iceoryx2 WaitSet next to the listeners.
 
 use std::fmt;
 use std::io::ErrorKind;
@@ -9,6 +10,8 @@ use std::os::fd::AsRawFd;
 
 use iceoryx2::prelude::{FileDescriptor, FileDescriptorBased, SynchronousMultiplexing};
 use missionlink_interfaces::contracts::Link;
+use missionlink_interfaces::wire::MAX_SIGNED_FRAME_LEN;
+use missionlink_services::link::signing::Signer;
 
 use crate::clock::monotonic_ns;
 
@@ -82,6 +85,7 @@ pub struct LinkPair {
     lte_fd: SocketFd,
     peer_direct: SocketAddr,
     peer_lte: SocketAddr,
+    signer: Option<Signer>,
 }
 
 /// A socket that could not be set up.
@@ -152,7 +156,14 @@ impl LinkPair {
             lte_fd,
             peer_direct,
             peer_lte,
+            signer: None,
         })
+    }
+
+    /// The same pair signing every frame it sends with `signer` (ICD §9); `None`: unsigned.
+    pub fn with_signer(mut self, signer: Option<Signer>) -> Self {
+        self.signer = signer;
+        self
     }
 
     /// Where the direct and the LTE socket are bound.
@@ -192,14 +203,27 @@ impl LinkPair {
         }
     }
 
-    /// Sends `frame` on both links. A link that fails is logged; the other still carries it.
+    /// Sends `frame` on both links, each copy signed for its link when the pair has a signer.
+    /// A link that fails is logged; the other still carries it.
     pub fn send_both(&self, frame: &[u8]) -> usize {
         let mut sent = 0;
+        let mut signed = [0u8; MAX_SIGNED_FRAME_LEN];
         for (link, socket, peer) in [
             (Link::Direct, &self.direct, self.peer_direct),
             (Link::Lte, &self.lte, self.peer_lte),
         ] {
-            match socket.send_to(frame, peer) {
+            let datagram = match &self.signer {
+                None => frame,
+                Some(signer) => match signer.sign(link, frame, &mut signed) {
+                    Ok(len) => signed.get(..len).unwrap_or_default(),
+                    Err(e) => {
+                        // Our own frame: a defect, never an input; nothing unsigned goes out.
+                        tracing::error!(?link, %e, "cannot sign a frame: not sent");
+                        continue;
+                    }
+                },
+            };
+            match socket.send_to(datagram, peer) {
                 Ok(_) => sent += 1,
                 Err(e) => tracing::debug!(?link, %peer, %e, "send failed"),
             }

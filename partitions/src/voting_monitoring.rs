@@ -1,8 +1,9 @@
 //! Voting-monitoring: the FCC partition that owns the two data links (paper §2.4). It votes
 //! every step's datagrams from the direct and the LTE link (integrity and validity checks of ICD
-//! §2, newest by time stamp, the direct link on a tie, never waiting for the other link),
-//! publishes the voted uplink frames on `fcc/link/uplink`, and sends every frame of
-//! `fcc/link/downlink` on both links.
+//! §2, the signature check of §9, newest by time stamp, the direct link on a tie, never waiting
+//! for the other link), publishes the voted uplink frames on `fcc/link/uplink`, and sends every
+//! frame of `fcc/link/downlink` on both links, signed per link when it has a key. It is the
+//! only FCC partition that holds the link keys.
 //!
 //! It binds the FCC's ends of the links itself (port 0 in the configuration: the system chooses)
 //! and announces where in the state directory ([`state::BoundLinks`]); after a restart it binds
@@ -20,6 +21,7 @@ use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
 use crate::ipc::Ipc;
+use crate::keys::LinkSigning;
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
 use crate::state::{self, BoundLinks};
@@ -97,13 +99,17 @@ where
     let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
     let uplink = ipc.publisher::<FramePayload>(FccService::Uplink)?;
     let downlink = ipc.subscriber::<FramePayload>(FccService::Downlink)?;
-    let links = open_links(config, &config.ipc.state_dir())?;
+    let signing =
+        LinkSigning::load(&config.signing).map_err(|e| PartitionError::Config(e.to_string()))?;
+    let links = open_links(config, &config.ipc.state_dir())?.with_signer(signing.signer.clone());
     let clock = DriverClock::start();
     let mut voter = Voter::new(
         config.ids.fcc,
         config.ids.gcs,
         config.timing.transfer_timeout(),
-    );
+    )
+    .with_signatures(signing.check(clock.utc_at_zero(), clock.now()));
+    tracing::info!(signing = %signing.summary(), "link signing (ICD §9)");
     let mut received = Recorder::new("uplink: UDP receive to published");
     let mut downlink_hop = Recorder::new("downlink: shared-memory hop");
     let mut turnaround = Recorder::new("FCC turnaround: UDP receive to answer sent");

@@ -22,6 +22,8 @@ use missionlink_gcs::mission_file::MissionFile;
 use missionlink_gcs::report_table;
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
+use missionlink_partitions::config::{Signing, SigningPolicy};
+use missionlink_partitions::keys;
 use missionlink_partitions::latency;
 use missionlink_partitions::launcher::{self, FccProcess};
 use missionlink_partitions::udp::LocalEnds;
@@ -233,6 +235,15 @@ fn run(args: &Args) -> Result<(), String> {
     let mut config =
         launcher::local_config(&run_dir, prefix, &gcs_ends).map_err(|e| e.to_string())?;
     config.guidance.time_scale = args.time_scale;
+    // The links are signed (ICD §9) with a key made for this run: every frame on both links,
+    // both ways, and each side requires it.
+    let key_file = run_dir.join("link.key");
+    keys::generate_key_file(&key_file, 1).map_err(|e| e.to_string())?;
+    config.signing = Signing {
+        policy: SigningPolicy::Require,
+        key_files: vec![key_file],
+        send_key_id: Some(1),
+    };
 
     println!(
         "missionlink demo: medical evacuation after Heimsch et al. (Aerospace 2024), section 4"
@@ -254,10 +265,14 @@ fn run(args: &Args) -> Result<(), String> {
         "FCC: 4 partitions, iceoryx2 prefix {:?}; links: direct {}, LTE {}; time scale {}x\n",
         config.ipc.service_prefix, config.links.fcc_direct, config.links.fcc_lte, args.time_scale
     );
+    println!(
+        "Links signed (ICD §9): HMAC-SHA-256 with key 1, made for this run; both sides require it\n"
+    );
     let links = gcs_ends
         .connect(config.links.fcc_direct, config.links.fcc_lte)
         .map_err(|e| e.to_string())?;
-    let mut link = GcsLink::with_links(&config, links, SafetyGateway::default());
+    let mut link =
+        GcsLink::with_links(&config, links, SafetyGateway::default()).map_err(|e| e.to_string())?;
     link.enable_log();
 
     let mission_1 = plan(MISSION_1, "missions/mission-1.toml")?;
@@ -352,6 +367,12 @@ fn run(args: &Args) -> Result<(), String> {
         "6. Shut down; per-frame latency of the partitions (a debug build is several times slower than --release)"
     );
     fcc.stop().map_err(|e| e.to_string())?;
+    let voted = link.voter();
+    println!(
+        "  link signing on the ground: {} downlink frames verified, {} rejected",
+        voted.signatures().stats().verified,
+        voted.stats().rejected_signatures.total()
+    );
     println!(
         "  {:<22} {:<45} {:>6} {:>9} {:>9} {:>9} {:>9}",
         "partition", "measured", "frames", "p50 us", "p99 us", "p99.9 us", "max us"

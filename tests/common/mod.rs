@@ -82,7 +82,7 @@ impl Rig {
     /// The GCS over the rig's GCS ends, talking to the ports `fcc` announced (once per rig).
     pub fn gcs(&mut self, fcc: &mut Process) -> Link {
         let links = self.gcs_links(fcc);
-        GcsLink::with_links(&self.config, links, WithoutGateway)
+        GcsLink::with_links(&self.config, links, WithoutGateway).unwrap()
     }
 
     /// The rig's GCS ends connected to the ports `fcc` announced, for a test that plays the

@@ -1,0 +1,379 @@
+//! Link key files (ICD §9): one 32-byte key with its Key ID per file, readable by its owner
+//! only, and the signing of one node as its configuration says (`[signing]`).
+//!
+//! A key file is TOML, so an operator can tell keys apart without a tool:
+//!
+//! ```toml
+//! # missionlink link key (ICD §9): secret, mode 0600
+//! key_id = 1
+//! key = "<64 hexadecimal digits>"
+//! ```
+//!
+//! A file that group or others may read or write is refused, as ssh refuses such a private key:
+//! the key is the only thing between a stranger on the LTE network and the mission. No error
+//! message, log line or `Debug` output carries key material.
+
+use std::fmt;
+use std::io::Write;
+use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
+use std::path::{Path, PathBuf};
+
+use missionlink_interfaces::wire::Timestamp;
+use missionlink_services::link::signing::{
+    KEY_LEN, Keyring, KeyringError, LinkKey, Policy, SignatureCheck, Signer,
+};
+use missionlink_services::link::time::Instant;
+use serde::Deserialize;
+
+use crate::config::Signing;
+
+/// A key file or a signing configuration that cannot be used. Never holds key material.
+#[derive(Debug)]
+pub enum KeyError {
+    /// The file cannot be read or written.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        error: std::io::Error,
+    },
+    /// Group or others may read or write the file.
+    Exposed {
+        /// The file.
+        path: PathBuf,
+        /// Its permission bits.
+        mode: u32,
+    },
+    /// The file is not a key file: what is wrong (never the key's value).
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Two key files, or more than the keyring holds.
+    Keyring {
+        /// The file that did not fit.
+        path: PathBuf,
+        /// Why.
+        error: KeyringError,
+    },
+    /// The signing configuration contradicts itself.
+    Config(String),
+}
+
+impl fmt::Display for KeyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Io { path, error } => write!(f, "{}: {error}", path.display()),
+            Self::Exposed { path, mode } => write!(
+                f,
+                "{}: a link key must be readable by its owner only, and this file has mode {:04o}; \
+                 run `chmod 600 {}`",
+                path.display(),
+                mode & 0o7777,
+                path.display()
+            ),
+            Self::Format { path, message } => {
+                write!(f, "{}: not a link key file: {message}", path.display())
+            }
+            Self::Keyring { path, error } => write!(f, "{}: {error}", path.display()),
+            Self::Config(message) => write!(f, "signing: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for KeyError {}
+
+/// The fields of a key file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KeyFile {
+    key_id: u8,
+    key: String,
+}
+
+/// Reads the key file at `path`.
+pub fn read_key_file(path: &Path) -> Result<LinkKey, KeyError> {
+    let io = |error| KeyError::Io {
+        path: path.to_owned(),
+        error,
+    };
+    let mode = std::fs::metadata(path).map_err(io)?.permissions().mode();
+    if mode & 0o077 != 0 {
+        return Err(KeyError::Exposed {
+            path: path.to_owned(),
+            mode,
+        });
+    }
+    let text = std::fs::read_to_string(path).map_err(io)?;
+    let format = |message: String| KeyError::Format {
+        path: path.to_owned(),
+        message,
+    };
+    // The parser's message only: its rendering would quote the line, which may be the key.
+    let file: KeyFile = toml::from_str(&text).map_err(|e| {
+        let (line, _) = e
+            .span()
+            .map_or((0, 0), |s| crate::config::line_column(&text, s.start));
+        format(format!("line {line}: {}", e.message()))
+    })?;
+    let secret = parse_secret(&file.key).ok_or_else(|| {
+        format(format!(
+            "`key` must be {} hexadecimal digits ({KEY_LEN} bytes)",
+            2 * KEY_LEN
+        ))
+    })?;
+    Ok(LinkKey::new(file.key_id, &secret))
+}
+
+fn parse_secret(hex: &str) -> Option<[u8; KEY_LEN]> {
+    let digits = hex.as_bytes();
+    if digits.len() != 2 * KEY_LEN {
+        return None;
+    }
+    let mut secret = [0u8; KEY_LEN];
+    for (byte, pair) in secret.iter_mut().zip(digits.chunks_exact(2)) {
+        let text = std::str::from_utf8(pair).ok()?;
+        *byte = u8::from_str_radix(text, 16).ok()?;
+    }
+    Some(secret)
+}
+
+/// Writes a new key file at `path` with Key ID `key_id` and a key from the operating system's
+/// random source, readable by its owner only. An existing file is never overwritten.
+pub fn generate_key_file(path: &Path, key_id: u8) -> Result<(), KeyError> {
+    let io = |error| KeyError::Io {
+        path: path.to_owned(),
+        error,
+    };
+    let mut secret = [0u8; KEY_LEN];
+    getrandom::fill(&mut secret)
+        .map_err(|e| io(std::io::Error::other(format!("no random source: {e}"))))?;
+    let hex: String = secret.iter().map(|b| format!("{b:02x}")).collect();
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .mode(0o600)
+        .open(path)
+        .map_err(io)?;
+    writeln!(
+        file,
+        "# missionlink link key (ICD §9): secret, readable by its owner only\n\
+         key_id = {key_id}\n\
+         key = \"{hex}\""
+    )
+    .and_then(|()| file.sync_all())
+    .map_err(io)
+}
+
+/// The signing of one node, loaded: the keys, the policy of its receiver, and the signer of
+/// what it sends (none: it sends unsigned, as edition 1).
+#[derive(Debug, Clone)]
+pub struct LinkSigning {
+    /// The receiver's policy.
+    pub policy: Policy,
+    /// Every configured key.
+    pub keys: Keyring,
+    /// The sender's key.
+    pub signer: Option<Signer>,
+}
+
+impl LinkSigning {
+    /// Reads the key files `signing` names and checks that it holds together: a policy that
+    /// checks needs a key, the sending key must be one of them, several keys need the sending
+    /// one named.
+    pub fn load(signing: &Signing) -> Result<Self, KeyError> {
+        let mut keys = Keyring::new();
+        for path in &signing.key_files {
+            let key = read_key_file(path)?;
+            keys.insert(key).map_err(|error| KeyError::Keyring {
+                path: path.clone(),
+                error,
+            })?;
+        }
+        let policy = Policy::from(signing.policy);
+        if policy != Policy::Off && keys.is_empty() {
+            return Err(KeyError::Config(format!(
+                "policy {policy} checks signatures, and no key file is configured (key_files)"
+            )));
+        }
+        let ids: Vec<u8> = keys.ids().collect();
+        let send_id = match (signing.send_key_id, ids.as_slice()) {
+            (Some(id), _) => Some(id),
+            (None, []) => None,
+            (None, [only]) => Some(*only),
+            (None, _) => {
+                return Err(KeyError::Config(format!(
+                    "keys {ids:?} are configured: name the one to sign with (send_key_id)"
+                )));
+            }
+        };
+        let signer = match send_id {
+            None => None,
+            Some(id) => Some(Signer::new(keys.get(id).cloned().ok_or_else(|| {
+                KeyError::Config(format!(
+                    "send_key_id = {id}, and no configured key file has that Key ID ({ids:?})"
+                ))
+            })?)),
+        };
+        Ok(Self {
+            policy,
+            keys,
+            signer,
+        })
+    }
+
+    /// The receiver's check, on a driver clock whose instant zero is `utc_at_zero`, started at
+    /// `now`.
+    pub fn check(&self, utc_at_zero: Timestamp, now: Instant) -> SignatureCheck {
+        SignatureCheck::new(self.policy, self.keys.clone(), utc_at_zero, now)
+    }
+
+    /// One line for the start-up log: the policy and Key IDs, never a key.
+    pub fn summary(&self) -> String {
+        let ids: Vec<u8> = self.keys.ids().collect();
+        match &self.signer {
+            Some(s) => format!(
+                "policy {}, keys {ids:?}, signing with key {}",
+                self.policy,
+                s.key_id()
+            ),
+            None => format!("policy {}, keys {ids:?}, sending unsigned", self.policy),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::SigningPolicy;
+
+    fn write(dir: &Path, name: &str, text: &str, mode: u32) -> PathBuf {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(mode)).unwrap();
+        path
+    }
+
+    const HEX: &str = "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f";
+
+    #[test]
+    fn a_generated_key_file_is_private_and_reads_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("link.key");
+        generate_key_file(&path, 7).unwrap();
+        let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o600);
+        assert_eq!(read_key_file(&path).unwrap().id(), 7);
+        // Never overwritten.
+        assert!(matches!(
+            generate_key_file(&path, 8),
+            Err(KeyError::Io { .. })
+        ));
+        // Two generated keys differ.
+        let other = dir.path().join("other.key");
+        generate_key_file(&other, 7).unwrap();
+        assert_ne!(
+            std::fs::read_to_string(&path).unwrap(),
+            std::fs::read_to_string(&other).unwrap()
+        );
+    }
+
+    #[test]
+    fn a_key_file_others_can_read_is_refused_and_the_message_says_how_to_fix_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = format!("key_id = 1\nkey = \"{HEX}\"\n");
+        for mode in [0o644, 0o640, 0o604, 0o620] {
+            let path = write(dir.path(), "k", &text, mode);
+            let error = read_key_file(&path).unwrap_err();
+            let message = error.to_string();
+            assert!(matches!(error, KeyError::Exposed { .. }), "{message}");
+            assert!(message.contains("chmod 600"), "{message}");
+            assert!(message.contains(&format!("{mode:04o}")), "{message}");
+        }
+        let path = write(dir.path(), "k", &text, 0o400);
+        assert_eq!(read_key_file(&path).unwrap().id(), 1);
+    }
+
+    #[test]
+    fn a_malformed_key_file_is_refused_without_quoting_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        for (text, expected) in [
+            (
+                format!("key_id = 1\nkey = \"{}\"\n", &HEX[..62]),
+                "64 hexadecimal",
+            ),
+            (
+                format!("key_id = 1\nkey = \"{}zz\"\n", &HEX[..62]),
+                "64 hexadecimal",
+            ),
+            (format!("key_id = 300\nkey = \"{HEX}\"\n"), "line 1"),
+            (format!("key = \"{HEX}\"\n"), "key_id"),
+            (format!("key_id = 1\nkey = {HEX}\n"), "line 2"),
+        ] {
+            let path = write(dir.path(), "k", &text, 0o600);
+            let message = read_key_file(&path).unwrap_err().to_string();
+            assert!(message.contains(expected), "{text:?}: {message}");
+            assert!(!message.contains(&HEX[..16]), "the key leaked: {message}");
+        }
+    }
+
+    #[test]
+    fn the_signing_configuration_must_hold_together() {
+        let dir = tempfile::tempdir().unwrap();
+        let one = write(
+            dir.path(),
+            "1",
+            &format!("key_id = 1\nkey = \"{HEX}\"\n"),
+            0o600,
+        );
+        let two = write(
+            dir.path(),
+            "2",
+            &format!("key_id = 2\nkey = \"{HEX}\"\n"),
+            0o600,
+        );
+        let dup = write(
+            dir.path(),
+            "3",
+            &format!("key_id = 2\nkey = \"{HEX}\"\n"),
+            0o600,
+        );
+        let signing = |policy, key_files: &[&PathBuf], send_key_id| Signing {
+            policy,
+            key_files: key_files.iter().map(|p| (*p).clone()).collect(),
+            send_key_id,
+        };
+        let off = LinkSigning::load(&Signing::default()).unwrap();
+        assert_eq!(off.policy, Policy::Off);
+        assert!(off.signer.is_none());
+        let only = LinkSigning::load(&signing(SigningPolicy::Require, &[&one], None)).unwrap();
+        assert_eq!(only.signer.unwrap().key_id(), 1);
+        let named =
+            LinkSigning::load(&signing(SigningPolicy::Accept, &[&one, &two], Some(2))).unwrap();
+        assert_eq!(named.signer.as_ref().unwrap().key_id(), 2);
+        assert_eq!(
+            named.summary(),
+            "policy accept, keys [1, 2], signing with key 2"
+        );
+        for (bad, expected) in [
+            (signing(SigningPolicy::Require, &[], None), "no key file"),
+            (
+                signing(SigningPolicy::Off, &[&one, &two], None),
+                "send_key_id",
+            ),
+            (
+                signing(SigningPolicy::Off, &[&one], Some(5)),
+                "send_key_id = 5",
+            ),
+            (
+                signing(SigningPolicy::Off, &[&two, &dup], Some(2)),
+                "Key ID 2",
+            ),
+        ] {
+            let message = LinkSigning::load(&bad).unwrap_err().to_string();
+            assert!(message.contains(expected), "{message}");
+        }
+    }
+}
