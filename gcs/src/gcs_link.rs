@@ -126,6 +126,31 @@ impl<G: SafetyGateway> GcsLink<G> {
         self.signing
     }
 
+    /// When this GCS signs and has heard nothing from the FCC, why (ICD §9: a GCS with a key
+    /// never falls back to unsigned frames, so it says what the silence may mean instead): the
+    /// FCC's frames fail this GCS's check, or the FCC does not verify this GCS's key (or does
+    /// not run). `None` when the GCS does not sign or has heard the FCC.
+    pub fn unheard_while_signing(&self) -> Option<String> {
+        let key_id = self.signing?;
+        let stats = self.voter.stats();
+        if stats.forwarded.iter().any(|n| *n > 0) {
+            return None;
+        }
+        let rejected = stats.rejected_signatures;
+        Some(if rejected.total() > 0 {
+            format!(
+                "the FCC answers, but its frames fail this GCS's signature check ({rejected:?}): \
+                 the two sides hold different keys or policies (ICD §9)"
+            )
+        } else {
+            format!(
+                "nothing was heard from the FCC. This GCS signs with key {key_id}: an FCC that does \
+                 not hold that key, or does not run, stays silent. The GCS does not fall back to \
+                 unsigned frames (ICD §9)"
+            )
+        })
+    }
+
     /// The voter of the downlink (its counters, the signature check's among them).
     pub fn voter(&self) -> &Voter {
         &self.voter

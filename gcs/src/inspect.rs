@@ -14,14 +14,22 @@
 //! Units in `fields`: angles in degrees, altitudes, heights and distances in metres, speeds in
 //! m/s, time stamps as RFC 3339 UTC (milliseconds since 2000-01-01 are accepted on input); an
 //! absent optional field is `null`.
+//!
+//! A signed frame (ICD §9) has `"signature"`: the trailer's Key ID, Link ID and signature, and
+//! whether it verifies with the keys given (`--key`): `"verified"`, `"bad signature"`,
+//! `"unknown key"`, `"no trailer"`, or `"not checked"` without keys. The Link ID is the one the
+//! trailer names (a capture does not say which link a datagram came by). `gcs encode` ignores
+//! it: it writes unsigned frames.
 
 use core::fmt;
 use std::fmt::Write as _;
 
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    self, ChecksumWidth, DecodeError, Envelope, IDD_VERSION, MAX_FRAME_LEN, Message, MessageType,
+    self, ChecksumWidth, DecodeError, Envelope, Frame, IDD_VERSION, MAX_FRAME_LEN, Message,
+    MessageType,
 };
+use missionlink_services::link::signing::{self, Keyring, SignatureCause};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -137,6 +145,49 @@ pub struct MessageJson {
     pub length: usize,
     /// The message fields.
     pub fields: Value,
+    /// The signature trailer of a signed frame (output only; ignored on input).
+    #[serde(default, skip_deserializing, skip_serializing_if = "Option::is_none")]
+    pub signature: Option<SignatureJson>,
+}
+
+/// The signature trailer of ICD §9 as the inspector shows it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct SignatureJson {
+    /// Key ID.
+    pub key_id: u8,
+    /// Link ID: 0 direct, 1 LTE.
+    pub link_id: u8,
+    /// Reserved (0).
+    pub reserved: u16,
+    /// The 12 bytes of the signature, hex.
+    pub signature: String,
+    /// `verified`, `bad signature`, `unknown key`, `no trailer` (bit 5 set, the datagram ends
+    /// before the 16 bytes), or `not checked` (no key given).
+    pub verification: String,
+}
+
+impl SignatureJson {
+    /// The trailer of `frame` and what `keys` make of it; `None` for an unsigned frame.
+    fn of(frame: &Frame<'_>, keys: Option<&Keyring>) -> Option<Self> {
+        if !frame.properties().signed() {
+            return None;
+        }
+        let verification = match keys.map(|k| signing::check_signature(k, frame)) {
+            None if frame.trailer().is_some() => "not checked",
+            None | Some(Err(SignatureCause::NoTrailer)) => "no trailer",
+            Some(Ok(_)) => "verified",
+            Some(Err(SignatureCause::UnknownKey)) => "unknown key",
+            Some(Err(SignatureCause::BadSignature | SignatureCause::Replay)) => "bad signature",
+        };
+        let trailer = frame.trailer();
+        Some(Self {
+            key_id: trailer.map_or(0, |t| t.key_id),
+            link_id: trailer.map_or(0, |t| t.link_id),
+            reserved: trailer.map_or(0, |t| t.reserved.get()),
+            signature: trailer.map_or_else(String::new, |t| hex::encode(t.signature)),
+            verification: verification.to_owned(),
+        })
+    }
 }
 
 impl MessageJson {
@@ -166,6 +217,7 @@ impl MessageJson {
             checksum: envelope.checksum,
             length,
             fields,
+            signature: None,
         })
     }
 
@@ -198,14 +250,18 @@ pub struct Inspected {
     pub message: Message,
     /// Bytes of the frame.
     pub length: usize,
+    /// The signature trailer of a signed frame.
+    pub signature: Option<SignatureJson>,
 }
 
 /// Every message of a datagram, each decoded or with the error that stopped it. The walker stops
 /// at a broken frame (nothing after it can be located); a rejected message does not stop it.
-/// With `addressing = Some((local, peer))` the addressing rules of ICD §2 apply too.
+/// With `addressing = Some((local, peer))` the addressing rules of ICD §2 apply too; with `keys`
+/// the signature of a signed frame is checked (ICD §9).
 pub fn inspect_datagram(
     datagram: &[u8],
     addressing: Option<(u32, u32)>,
+    keys: Option<&Keyring>,
 ) -> Vec<Result<Inspected, InspectError>> {
     wire::frames(datagram)
         .map(|frame| {
@@ -222,6 +278,7 @@ pub fn inspect_datagram(
                 envelope: frame.envelope(),
                 message,
                 length: frame.as_bytes().len(),
+                signature: SignatureJson::of(&frame, keys),
             })
         })
         .collect()
@@ -305,6 +362,18 @@ pub fn render_text(m: &MessageJson) -> String {
         m.checksum.len(),
         m.length,
     );
+    if let Some(s) = &m.signature {
+        let link = match s.link_id {
+            0 => "direct",
+            1 => "LTE",
+            _ => "unknown link",
+        };
+        let _ = writeln!(
+            out,
+            "  signed (ICD §9): key {}, link {} ({link}), signature {}: {}",
+            s.key_id, s.link_id, s.signature, s.verification
+        );
+    }
     match &m.fields {
         Value::Object(map) => {
             for (k, v) in map {
@@ -353,9 +422,49 @@ mod tests {
     }
 
     #[test]
+    fn a_signed_frame_shows_its_trailer_and_whether_it_verifies() {
+        use missionlink_interfaces::contracts::Link;
+        use missionlink_services::link::signing::{LinkKey, Signer};
+        let frame = parse_hex(README_13002).unwrap();
+        let key = LinkKey::new(3, &[9; 32]);
+        let mut signed = [0u8; wire::MAX_SIGNED_FRAME_LEN];
+        let len = Signer::new(key.clone())
+            .sign(Link::Lte, &frame, &mut signed)
+            .unwrap();
+        let signed = &signed[..len];
+        let mut right = Keyring::new();
+        right.insert(key).unwrap();
+        let mut wrong = Keyring::new();
+        wrong.insert(LinkKey::new(3, &[8; 32])).unwrap();
+        let mut other = Keyring::new();
+        other.insert(LinkKey::new(4, &[9; 32])).unwrap();
+        for (keys, expected) in [
+            (None, "not checked"),
+            (Some(&right), "verified"),
+            (Some(&wrong), "bad signature"),
+            (Some(&other), "unknown key"),
+        ] {
+            let all = inspect_datagram(signed, None, keys);
+            let inspected = all[0].as_ref().unwrap();
+            let s = inspected.signature.as_ref().unwrap();
+            assert_eq!((s.key_id, s.link_id, s.reserved), (3, 1, 0));
+            assert_eq!(s.signature, hex::encode(&signed[len - 12..]));
+            assert_eq!(s.verification, expected);
+            assert_eq!(inspected.length, frame.len());
+        }
+        // Marked signed, the trailer cut off.
+        let all = inspect_datagram(&signed[..frame.len()], None, Some(&right));
+        let s = all[0].as_ref().unwrap().signature.clone().unwrap();
+        assert_eq!(s.verification, "no trailer");
+        // An unsigned frame has none.
+        let all = inspect_datagram(&frame, None, Some(&right));
+        assert!(all[0].as_ref().unwrap().signature.is_none());
+    }
+
+    #[test]
     fn readme_frame_decodes() {
         let bytes = parse_hex(README_13002).unwrap();
-        let all = inspect_datagram(&bytes, None);
+        let all = inspect_datagram(&bytes, None, None);
         assert_eq!(all.len(), 1);
         assert!(all[0].is_ok(), "{:?}", all[0]);
     }

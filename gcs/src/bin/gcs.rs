@@ -17,16 +17,18 @@ use std::time::Duration;
 use clap::{Parser, Subcommand, ValueEnum};
 use missionlink_gcs::gcs_link::{Finished, GcsLink};
 use missionlink_gcs::inspect::{
-    MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
+    Inspected, MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
+use missionlink_partitions::keys;
 use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_services::ground_station::{
     GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan,
 };
+use missionlink_services::link::signing::Keyring;
 use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
 use missionlink_services::transfer::areas::AreaList;
 use missionlink_services::transfer::integrity;
@@ -241,8 +243,24 @@ enum Command {
         /// The configured peer whose frames are accepted (needs --local-id).
         #[arg(long, value_parser = parse_id, requires = "local_id")]
         peer_id: Option<u32>,
+        /// A link key file (ICD §9): say whether each signed frame verifies with it. Repeat for
+        /// several keys.
+        #[arg(long = "key", value_name = "FILE")]
+        keys: Vec<PathBuf>,
         /// Datagrams in hex.
         hex: Vec<String>,
+    },
+    /// Write a new link key file (ICD §9): 32 random bytes with a Key ID, readable by its owner
+    /// only (mode 0600). An existing file is never overwritten.
+    ///
+    /// Give the same file to the FCC and the GCS (`[signing] key_files`, or `--key-file`), and
+    /// choose the policy with `--signing off|accept|require`.
+    Keygen {
+        /// Where to write the key.
+        file: PathBuf,
+        /// Its Key ID (0-255): keys in rotation differ by it.
+        #[arg(long, default_value_t = 1)]
+        key_id: u8,
     },
     /// Encode messages given as JSON (the objects `gcs inspect --json` prints) into hex frames.
     ///
@@ -357,9 +375,24 @@ fn inputs(args: Vec<String>) -> io::Result<Vec<String>> {
     Ok(lines)
 }
 
+/// The keys of `gcs inspect --key`; none given: `None`.
+fn read_keys(files: &[PathBuf]) -> Result<Option<Keyring>, String> {
+    if files.is_empty() {
+        return Ok(None);
+    }
+    let mut ring = Keyring::new();
+    for file in files {
+        let key = keys::read_key_file(file).map_err(|e| e.to_string())?;
+        ring.insert(key)
+            .map_err(|e| format!("{}: {e}", file.display()))?;
+    }
+    Ok(Some(ring))
+}
+
 fn inspect(
     json: bool,
     addressing: Option<(u32, u32)>,
+    keys: Option<&Keyring>,
     hex: Vec<String>,
     out: &mut impl Write,
 ) -> io::Result<bool> {
@@ -367,12 +400,18 @@ fn inspect(
     for (n, text) in inputs(hex)?.iter().enumerate() {
         let datagram = n + 1;
         let results = match parse_hex(text) {
-            Ok(bytes) => inspect_datagram(&bytes, addressing),
+            Ok(bytes) => inspect_datagram(&bytes, addressing, keys),
             Err(e) => vec![Err(e)],
         };
         for (i, result) in results.into_iter().enumerate() {
             let message = i + 1;
-            match result.and_then(|m| MessageJson::new(&m.envelope, &m.message, m.length)) {
+            let json_of = |m: Inspected| {
+                MessageJson::new(&m.envelope, &m.message, m.length).map(|mut j| {
+                    j.signature = m.signature;
+                    j
+                })
+            };
+            match result.and_then(json_of) {
                 Ok(m) if json => {
                     let line = serde_json::to_string(&m).map_err(io::Error::other)?;
                     writeln!(out, "{line}")?;
@@ -656,20 +695,28 @@ fn finish(link: &mut Link) -> Result<Finished, Failure> {
     if progress {
         eprintln!();
     }
-    outcome.map_err(|e| match e {
-        GcsError::Upload(report) => Failure {
-            status: upload_status(report.outcome()),
-            message: report.to_string(),
-            refused: Vec::new(),
-        },
-        // Nothing was staged: the lists are as they were.
-        capacity @ GcsError::Capacity { .. } => Failure {
-            status: upload_status(UploadOutcome::PreviousActive),
-            message: capacity.to_string(),
-            refused: Vec::new(),
-        },
-        other => other.to_string().into(),
-    })
+    let unheard = link.unheard_while_signing();
+    outcome
+        .map_err(|e| match e {
+            GcsError::Upload(report) => Failure {
+                status: upload_status(report.outcome()),
+                message: report.to_string(),
+                refused: Vec::new(),
+            },
+            // Nothing was staged: the lists are as they were.
+            capacity @ GcsError::Capacity { .. } => Failure {
+                status: upload_status(UploadOutcome::PreviousActive),
+                message: capacity.to_string(),
+                refused: Vec::new(),
+            },
+            other => other.to_string().into(),
+        })
+        .map_err(|mut failure| {
+            if let Some(why) = unheard {
+                failure.message = format!("{}\n{why}", failure.message);
+            }
+            failure
+        })
 }
 
 /// The exit status of `gcs upload` for each outcome (see the command's help).
@@ -1066,7 +1113,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
             }
             Ok(())
         }
-        Command::Inspect { .. } | Command::Encode { .. } => Ok(()),
+        Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),
     }
 }
 
@@ -1075,7 +1122,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if !matches!(
         cli.command,
-        Command::Inspect { .. } | Command::Encode { .. }
+        Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. }
     ) {
         let config = match cli.config.resolve() {
             Ok(c) => c,
@@ -1098,8 +1145,29 @@ fn main() -> ExitCode {
             json,
             local_id,
             peer_id,
+            keys,
             hex,
-        } => inspect(json, local_id.zip(peer_id), hex, &mut out),
+        } => match read_keys(&keys) {
+            Ok(ring) => inspect(json, local_id.zip(peer_id), ring.as_ref(), hex, &mut out),
+            Err(e) => {
+                eprintln!("gcs: {e}");
+                return ExitCode::from(2);
+            }
+        },
+        Command::Keygen { file, key_id } => match keys::generate_key_file(&file, key_id) {
+            Ok(()) => {
+                println!(
+                    "wrote link key {key_id} to {} (mode 0600); give it to both sides: \
+                     [signing] key_files, or --key-file",
+                    file.display()
+                );
+                Ok(true)
+            }
+            Err(e) => {
+                eprintln!("gcs: {e}");
+                return ExitCode::from(2);
+            }
+        },
         Command::Encode { json } => encode(json, &mut out),
         _ => Ok(true),
     };

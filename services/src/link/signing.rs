@@ -313,6 +313,22 @@ impl Cause<4> for SignatureCause {
     }
 }
 
+/// The signature of `frame` checked with `keys`, whatever link it arrived on: its trailer when
+/// it verifies. For the receiver ([`SignatureCheck::verify`], which also checks the Link ID)
+/// and for tools that read captures.
+pub fn check_signature<'a>(
+    keys: &Keyring,
+    frame: &Frame<'a>,
+) -> Result<&'a SignatureTrailer, SignatureCause> {
+    let trailer = frame.trailer().ok_or(SignatureCause::NoTrailer)?;
+    let key = keys.get(trailer.key_id).ok_or(SignatureCause::UnknownKey)?;
+    // Constant time: the comparison does not tell a forger how many bytes were right.
+    key.mac(frame.as_bytes(), trailer)
+        .verify_truncated_left(&trailer.signature)
+        .map_err(|_| SignatureCause::BadSignature)?;
+    Ok(trailer)
+}
+
 /// What [`SignatureCheck::verify`] found in a frame that passes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Authenticity {
@@ -452,18 +468,10 @@ impl SignatureCheck {
             (Policy::Require, false) => return Err(SignatureCause::NoTrailer),
             (Policy::Accept | Policy::Require, true) => {}
         }
-        let trailer = frame.trailer().ok_or(SignatureCause::NoTrailer)?;
-        let key = self
-            .keys
-            .get(trailer.key_id)
-            .ok_or(SignatureCause::UnknownKey)?;
+        let trailer = check_signature(&self.keys, frame)?;
         if link_id(link) != Some(trailer.link_id) {
             return Err(SignatureCause::BadSignature);
         }
-        // Constant time: the comparison does not tell a forger how many bytes were right.
-        key.mac(frame.as_bytes(), trailer)
-            .verify_truncated_left(&trailer.signature)
-            .map_err(|_| SignatureCause::BadSignature)?;
         Ok(Authenticity::Verified)
     }
 
