@@ -622,6 +622,39 @@ mod tests {
     }
 
     #[test]
+    fn the_signing_section_names_key_files_and_the_flags_override_it() {
+        let c = Config::parse(
+            "[signing]\npolicy = \"require\"\nkey_files = [\"/k/1.key\", \"/k/2.key\"]\nsend_key_id = 2\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(c.signing.policy, SigningPolicy::Require);
+        assert_eq!(c.signing.key_files.len(), 2);
+        assert_eq!(c.signing.send_key_id, Some(2));
+        // What --print-config shows and the partitions receive: paths, no key.
+        let text = c.to_toml().unwrap();
+        assert!(
+            text.contains("/k/2.key") && text.contains("require"),
+            "{text}"
+        );
+        assert_eq!(Config::parse(&text, Path::new("y")).unwrap(), c);
+        let e = Config::parse("[signing]\npolicy = \"always\"\n", Path::new("f")).unwrap_err();
+        assert!(e.to_string().contains("f:2:10"), "{e}");
+        let args = ConfigArgs {
+            config_toml: Some(text),
+            signing: Some(SigningPolicy::Accept),
+            key_files: vec![PathBuf::from("/other.key")],
+            send_key_id: Some(7),
+            ..ConfigArgs::default()
+        };
+        let resolved = args.resolve().unwrap();
+        assert_eq!(resolved.signing.policy, SigningPolicy::Accept);
+        assert_eq!(resolved.signing.key_files, [PathBuf::from("/other.key")]);
+        assert_eq!(resolved.signing.send_key_id, Some(7));
+        assert_eq!(Config::default().signing.policy, SigningPolicy::Off);
+    }
+
+    #[test]
     fn errors_name_file_line_and_column() {
         let e = Config::parse("[ids]\ngcs = 1\nfcc = \"x\"\n", Path::new("fcc.toml")).unwrap_err();
         let text = e.to_string();

@@ -1,6 +1,8 @@
 //! The FCC's per-frame path allocates nothing (DESIGN.md, "The sans-IO core"): a counting global
 //! allocator around every call into voting and mission data handling, while the GCS uploads and
-//! then downloads demo mission 2 with its areas, and guidance reports progress.
+//! then downloads demo mission 2 with its areas, and guidance reports progress. The links are
+//! signed (ICD §9): the voter requires signatures and the FCC's answers are signed, inside the
+//! count.
 #![allow(unsafe_code, reason = "a global allocator is unsafe to implement")]
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -15,8 +17,9 @@ use std::time::Duration;
 use counting_alloc::counted;
 use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::MAX_FRAME_LEN;
+use missionlink_interfaces::wire::{MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN};
 use missionlink_services::ground_station::{GcsEvent, GroundStation, WithoutGateway};
+use missionlink_services::link::signing::{Policy, Signer};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
 use missionlink_services::voting::Voter;
@@ -30,7 +33,12 @@ fn the_fcc_frame_path_allocates_nothing() {
 
     let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
     let mut fcc = MissionDataHandling::new(fcc_config());
-    let mut voter = Voter::new(defaults::FCC_ID, defaults::GCS_ID, TRANSFER_TIMEOUT);
+    let mut voter = Voter::new(defaults::FCC_ID, defaults::GCS_ID, TRANSFER_TIMEOUT)
+        .with_signatures(signature_check(Policy::Require));
+    let signer = Signer::new(link_key());
+    let mut signed_direct = [0u8; MAX_SIGNED_FRAME_LEN];
+    let mut signed_lte = [0u8; MAX_SIGNED_FRAME_LEN];
+    let mut signed_down = [0u8; MAX_SIGNED_FRAME_LEN];
     let mut now = Instant::ZERO;
     let mut frames = 0u64;
     let mut total = 0u64;
@@ -43,9 +51,17 @@ fn the_fcc_frame_path_allocates_nothing() {
         now = now + Duration::from_millis(2);
         while let Some(len) = gcs.poll_transmit(&mut up) {
             let len = len.unwrap();
+            // The GCS signs each link's copy.
+            let direct = signer
+                .sign(Link::Direct, &up[..len], &mut signed_direct)
+                .unwrap();
+            let lte = signer.sign(Link::Lte, &up[..len], &mut signed_lte).unwrap();
             // The FCC side: voting of both links' copies, mission data handling, the answers.
             let ((), n) = counted(|| {
-                let arrivals = [(Link::Direct, &up[..len]), (Link::Lte, &up[..len])];
+                let arrivals = [
+                    (Link::Direct, &signed_direct[..direct]),
+                    (Link::Lte, &signed_lte[..lte]),
+                ];
                 voter.vote_step(now, &arrivals, |_, frame| {
                     let _ = fcc.handle_frame(now, frame);
                 });
@@ -54,10 +70,18 @@ fn the_fcc_frame_path_allocates_nothing() {
             total += n;
             frames += 1;
             loop {
-                let (out, n) = counted(|| fcc.poll_transmit(&mut down));
+                let (out, n) = counted(|| {
+                    let len = fcc.poll_transmit(&mut down)?.unwrap();
+                    Some(
+                        signer
+                            .sign(Link::Direct, &down[..len], &mut signed_down)
+                            .unwrap()
+                            - 16,
+                    )
+                });
                 total += n;
                 let Some(len) = out else { break };
-                gcs.handle_frame(now, &down[..len.unwrap()]).unwrap();
+                gcs.handle_frame(now, &down[..len]).unwrap();
             }
         }
         let ((), n) = counted(|| {
