@@ -91,6 +91,7 @@ fn generated(n: u16) -> Case {
 fn measure(
     name: &str,
     start: Option<(f64, f64)>,
+    signed: bool,
     cases: Vec<(Case, Vec<Sequence>)>,
     warm_up: usize,
     runs: usize,
@@ -99,6 +100,16 @@ fn measure(
     if let Some((latitude, longitude)) = start {
         rig.config.guidance.start_latitude_deg = latitude;
         rig.config.guidance.start_longitude_deg = longitude;
+    }
+    if signed {
+        // ICD §9 on both links, both ways, required by both sides.
+        let key = rig.dir.join("link.key");
+        missionlink_partitions::keys::generate_key_file(&key, 1).unwrap();
+        rig.config.signing = missionlink_partitions::config::Signing {
+            policy: missionlink_partitions::config::SigningPolicy::Require,
+            key_files: vec![key],
+            send_key_id: None,
+        };
     }
     let mut fcc = rig.start("fcc");
     for partition in [
@@ -218,16 +229,46 @@ fn main() {
 
     let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
     let load_before = load_average();
-    let mut results = measure("bench-transfer", None, trol, warm_up, runs);
+    let mut results = measure("bench-transfer", None, false, trol, warm_up, runs);
     let status = results.1;
     let worst = measure(
         "bench-transfer-worst",
         Some((take_off.latitude.degrees(), take_off.longitude.degrees())),
+        false,
         worst_case,
         warm_up,
         runs,
     );
     results.0.extend(worst.0);
+    // The same transfers with signed links (ICD §9), on an FCC of their own that requires
+    // them: the ratio column compares with the unsigned run of the same case above.
+    let signed_cases = vec![
+        (
+            Case {
+                name: "mission-1 signed".to_owned(),
+                waypoints: 1,
+                areas: 1,
+                plan: common::plan("mission-1.toml"),
+            },
+            vec![paper],
+        ),
+        (
+            Case {
+                name: "generated-256 signed".to_owned(),
+                ..generated(256)
+            },
+            vec![paper],
+        ),
+    ];
+    let signed = measure(
+        "bench-transfer-signed",
+        None,
+        true,
+        signed_cases,
+        warm_up,
+        runs,
+    );
+    results.0.extend(signed.0);
     let results = results.0;
     let load_after = load_average();
 
@@ -270,7 +311,8 @@ fn main() {
         let per_s = (up + down) as f64 / (med / 1e3);
         let per_message = med / up as f64;
         let atomic = matches!(r.sequence, Sequence::Atomic);
-        let ratio = if atomic {
+        let signed = r.case.name.ends_with(" signed");
+        let ratio = if atomic || signed {
             paper_medians
                 .get(&r.case.waypoints)
                 .map_or_else(String::new, |(p, _)| format!("{:.2}", med / p))
@@ -303,6 +345,7 @@ fn main() {
         json.push(serde_json::json!({
             "mission": r.case.name,
             "upload": if matches!(r.sequence, Sequence::Atomic) { "atomic (ICD §8: stage, activate, delete the copy)" } else { "paper's sequence (ICD §5.1, §5.3)" },
+            "signed": signed,
             "waypoints": r.case.waypoints,
             "areas": r.case.areas,
             "messages_up": up,
