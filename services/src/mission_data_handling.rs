@@ -842,6 +842,14 @@ impl MissionDataHandling {
         } else {
             self.active_areas.clone()
         };
+        // ICD §4 #2011 field 3: "mode 3: 0 = all areas, else that one" (mode 8 "as with mode
+        // 3"). An Area ID the list does not hold leaves nothing to send: aborted, as an empty
+        // list is.
+        let area_id = request.area_id.unwrap_or(0);
+        let list = match area_id {
+            0 => list,
+            id => list.and_then(|l| l.only(id)),
+        };
         let busy = self.area_download.is_some() || self.area_upload.in_transfer();
         match (list, busy) {
             (Some(list), false) => {
@@ -852,7 +860,11 @@ impl MissionDataHandling {
                     .is_some()
                     .then(|| areas_checksum(&list));
                 self.area_download = Some(TransferSender::start(
-                    Script::AreaDownload { list, checksum },
+                    Script::AreaDownload {
+                        list,
+                        area_id,
+                        checksum,
+                    },
                     self.config.ack_timeout,
                     &mut self.endpoint,
                     now,
@@ -862,7 +874,7 @@ impl MissionDataHandling {
             _ => {
                 let status = AreaTransmissionStatus {
                     time_stamp: Timestamp::default(),
-                    area_id: 0,
+                    area_id,
                     loop_count: 0,
                     safety_offset: SafetyOffset::default(),
                     status: AreaDownloadStatus::Aborted,

@@ -919,6 +919,61 @@ fn an_edition_2_area_download_carries_the_checksum() {
     assert_eq!(rig.fcc.generations(), (1, 1));
 }
 
+/// ICD §4 #2011 field 3, "mode 3: 0 = all areas, else that one": a download of one Area ID
+/// sends that area alone, its #3013 names it, and the checksum is of what was sent; an Area ID
+/// the list does not hold is answered by #3013 aborted.
+#[test]
+fn an_area_download_of_one_area_id_sends_that_area() {
+    let mut rig = FccRig::new().with_mission_2();
+    let active = rig.fcc.active_areas().cloned().unwrap();
+    let wanted = active.areas[1].area_id;
+    rig.events();
+    let request = AreaTransmissionCommand {
+        area_id: Some(wanted),
+        ..area_download_request(window())
+    };
+    let answers = rig.send_enveloped(request.clone());
+    let sent = follow(&mut rig, answers);
+    let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
+        panic!("the download starts with #3013: {sent:?}");
+    };
+    assert_eq!(
+        (ready.status, ready.area_id, ready.loop_count),
+        (AreaDownloadStatus::Ready, wanted, 1)
+    );
+    let areas: Vec<_> = sent
+        .iter()
+        .filter_map(|m| match m {
+            Message::AreaPolygonLoopSegment(a) => Some(a.area_id),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(areas, [wanted]);
+    let one = active.only(wanted).unwrap();
+    let Some(Message::AreaTransmissionCommand(done)) = sent.last() else {
+        panic!("the download ends with #2011 mode 4: {sent:?}");
+    };
+    assert_eq!(done.loop_count, Some(1));
+    assert_eq!(
+        done.window_or_checksum,
+        Some(WindowOrChecksum::AreaChecksum(areas_checksum(&one)))
+    );
+
+    let missing = AreaTransmissionCommand {
+        area_id: Some(999),
+        ..request
+    };
+    let sent = rig.send(missing);
+    let [Message::AreaTransmissionStatus(aborted)] = sent.as_slice() else {
+        panic!("only #3013 aborted: {sent:?}");
+    };
+    assert_eq!(
+        (aborted.status, aborted.area_id, aborted.loop_count),
+        (AreaDownloadStatus::Aborted, 999, 0)
+    );
+    assert_eq!(rig.fcc.active_areas(), Some(&active), "nothing changed");
+}
+
 // ---- The report (#13000 mode 7, #50001) ----
 
 /// ICD §8: with no lists the report says so: counts 0, check not run, no checksums.

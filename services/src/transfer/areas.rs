@@ -23,6 +23,18 @@ pub struct AreaList {
 }
 
 impl AreaList {
+    /// The list of the one area `area_id` with this list's safety offset (a #2011 mode 3 of
+    /// one area, ICD §4), if the list holds it.
+    pub fn only(&self, area_id: u16) -> Option<Self> {
+        let area = self.areas.iter().find(|a| a.area_id == area_id)?;
+        let mut areas = Vec::new();
+        areas.push(area.clone()).ok()?;
+        Some(Self {
+            safety_offset: self.safety_offset,
+            areas,
+        })
+    }
+
     /// The list as guidance receives it (`fcc/mission/area-list`): the fly-zone, the polygonal
     /// no-fly-zones and the circular ones apart.
     pub fn to_payload(&self, generation: u64) -> AreaListPayload {

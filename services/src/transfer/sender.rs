@@ -116,8 +116,10 @@ pub enum Script {
     },
     /// FCC to GCS (ICD §5.4): the #3013 that answers the GCS's request opens it.
     AreaDownload {
-        /// The active area list.
+        /// The areas sent: the active list, a staged one, or the one area requested.
         list: AreaList,
+        /// The Area ID requested (#3013 field 1: as requested, 0 = all).
+        area_id: u16,
         /// For the download complete (to an edition-2 request).
         checksum: Option<Checksum>,
     },
@@ -245,7 +247,7 @@ impl Script {
                     })
                 })
             }
-            Self::AreaUpload { list, checksum, .. } | Self::AreaDownload { list, checksum } => {
+            Self::AreaUpload { list, checksum, .. } | Self::AreaDownload { list, checksum, .. } => {
                 let n = list.areas.len();
                 match index {
                     0 if matches!(self, Self::AreaUpload { .. }) => Some(area_command(
@@ -257,7 +259,10 @@ impl Script {
                     0 => Some(
                         AreaTransmissionStatus {
                             time_stamp: ts0(),
-                            area_id: 0,
+                            area_id: match self {
+                                Self::AreaDownload { area_id, .. } => *area_id,
+                                _ => 0,
+                            },
                             loop_count: n as u8,
                             safety_offset: list.safety_offset,
                             status: AreaDownloadStatus::Ready,
