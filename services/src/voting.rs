@@ -12,11 +12,12 @@
 //!   ([`crate::link::rejects`]), so a flood of bad datagrams cannot flood the log. A message that breaks a message rule but whose time stamp could be
 //!   read is still forwarded, because mission data handling must answer it with #17000 type 3
 //!   and the reason; without a readable time stamp nobody can answer it, so it is dropped.
-//! - **Newest wins (paper §2.4; ICD §3 "Time stamps are identities").** Message sampling
-//!   ([`MessageSampler`], keyed by source, message type and time stamp) drops the redundant copy
-//!   from the other link (or a repeated frame) and any copy older than the newest forwarded of its
-//!   source and type. The voter never waits for the other link: a message that arrives alone is
-//!   forwarded at once, so a dead link costs no latency.
+//! - **Each message once (paper §2.4; ICD §3 "Time stamps are identities", §10.2).** Message
+//!   sampling ([`MessageSampler`], keyed by source, message type and time stamp) drops the
+//!   redundant copy from the other link (or a repeated frame); it keeps the identities it
+//!   forwarded, so a message that arrives after a newer one of its type (a window of data
+//!   messages in flight, reordering) is still forwarded. The voter never waits for the other
+//!   link: a message that arrives alone is forwarded at once, so a dead link costs no latency.
 //! - **Tie goes to the direct link.** The driver hands over a *step*: every datagram received
 //!   since its last wake-up. Within a step the messages are handled in order of (time stamp,
 //!   direct before LTE), so when both copies arrive in the same step the direct copy is the one
@@ -52,8 +53,8 @@ pub struct VotingStats {
     pub forwarded: [u64; 2],
     /// Redundant copies dropped: the same (source, type, time stamp) was already forwarded.
     pub duplicates: u64,
-    /// Copies dropped because a newer message of the same source and type was already
-    /// forwarded (a delayed duplicate or a reordered frame).
+    /// Copies dropped as stale: at or below a stamp of the same source and type that sampling
+    /// forgot to make room (see [`crate::link::sampling`]), so possibly a delayed duplicate.
     pub stale: u64,
     /// Frames dropped by a rule of ICD §2, by cause (as [`crate::link::endpoint::EndpointStats`]
     /// counts them).
@@ -174,7 +175,7 @@ impl Cause<1> for StepFull {
 
 impl Voter {
     /// A voter for the node `local_id` that accepts frames from `peer_id` only (ICD §2).
-    /// `sampling_window` is how long the newest time stamp of a (source, type) is remembered
+    /// `sampling_window` is how long the time stamps of a (source, type) are remembered
     /// without traffic (see [`MessageSampler::new`]; the transfer timeout of ICD §1 fits).
     pub fn new(local_id: u32, peer_id: u32, sampling_window: Duration) -> Self {
         Self {
@@ -603,8 +604,10 @@ mod tests {
         assert_eq!(v.stats().duplicates, 1);
     }
 
+    /// ICD §10.2: an older message that arrives after a newer one is forwarded (it was never
+    /// processed); its copy on the other link is then a duplicate.
     #[test]
-    fn older_message_is_stale() {
+    fn an_older_message_after_a_newer_one_is_forwarded_once() {
         let mut v = fcc();
         let new = uplink(200);
         let old = uplink(100);
@@ -612,14 +615,34 @@ mod tests {
             step(&mut v, Instant::from_millis(1), &[(Link::Direct, &new)]).len(),
             1
         );
-        assert!(step(&mut v, Instant::from_millis(2), &[(Link::Lte, &old)]).is_empty());
+        assert_eq!(
+            step(&mut v, Instant::from_millis(2), &[(Link::Lte, &old)]).len(),
+            1
+        );
+        assert!(step(&mut v, Instant::from_millis(3), &[(Link::Direct, &old)]).is_empty());
         assert_eq!(
             v.stats(),
             &VotingStats {
-                stale: 1,
-                ..stats([1, 0])
+                duplicates: 1,
+                ..stats([1, 1])
             }
         );
+    }
+
+    #[test]
+    fn a_copy_below_what_sampling_forgot_is_stale() {
+        use crate::link::sampling::RECENT_STAMPS;
+        let mut v = fcc();
+        for i in 0..RECENT_STAMPS as u64 + 1 {
+            let m = uplink(1000 + i);
+            assert_eq!(
+                step(&mut v, Instant::from_millis(1), &[(Link::Direct, &m)]).len(),
+                1
+            );
+        }
+        let oldest = uplink(1000);
+        assert!(step(&mut v, Instant::from_millis(2), &[(Link::Lte, &oldest)]).is_empty());
+        assert_eq!(v.stats().stale, 1);
     }
 
     #[test]
