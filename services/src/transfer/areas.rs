@@ -111,16 +111,20 @@ impl AreaBuffer {
         self.areas.is_empty()
     }
 
-    /// Stores one area; an Area ID already stored is replaced in place. More than
-    /// [`MAX_AREAS`] different areas are refused (`Capacity`).
+    /// Stores one area in ascending Area ID (ICD §5.4: the FCC keeps its area lists so, and a
+    /// windowed transfer, ICD §10, delivers them in any order); an Area ID already stored is
+    /// replaced in place. More than [`MAX_AREAS`] different areas are refused (`Capacity`).
     pub fn store(&mut self, area: &AreaPolygonLoopSegment) -> Result<(), Reason> {
         let mut area = area.clone();
         area.time_stamp = Timestamp::default();
-        if let Some(slot) = self.areas.iter_mut().find(|a| a.area_id == area.area_id) {
-            *slot = area;
-            return Ok(());
+        let at = self.areas.partition_point(|a| a.area_id < area.area_id);
+        match self.areas.get_mut(at) {
+            Some(slot) if slot.area_id == area.area_id => {
+                *slot = area;
+                Ok(())
+            }
+            _ => self.areas.insert(at, area).map_err(|_| Reason::Capacity),
         }
-        self.areas.push(area).map_err(|_| Reason::Capacity)
     }
 
     /// The stored areas as a list without the checks of ICD §7, for the safety gateway to name
@@ -202,9 +206,10 @@ mod tests {
         let list = b
             .assemble(3, SafetyOffset::from_metres(25.0).unwrap())
             .unwrap();
-        // Upload order is kept in the list (a download gives it back as uploaded).
+        // Ascending Area ID whatever the arrival order (ICD §5.4, §10): the GCS's plan is
+        // assembled the same way, so a download gives back the list as validated.
         let ids: std::vec::Vec<u16> = list.areas.iter().map(|a| a.area_id).collect();
-        assert_eq!(ids, [3, 1, 2]);
+        assert_eq!(ids, [1, 2, 3]);
         let p = list.to_payload(1);
         assert_eq!(p.fly_zone.area_id, 1);
         assert_eq!(p.fly_zone.vertices().len(), 4);
