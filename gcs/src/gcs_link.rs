@@ -71,7 +71,9 @@ pub struct GcsLink<G: SafetyGateway> {
     /// The Key ID the uplink is signed with.
     signing: Option<u8>,
     voter: Voter,
-    station: GroundStation<G>,
+    /// Boxed: the GCS logic holds its transfers inline (over 100 KB), and a link moves by value
+    /// through the tool's commands (in a debug build each move is a copy on the stack).
+    station: Box<GroundStation<G>>,
     clock: DriverClock,
     started: std::time::Instant,
     /// One pump's datagrams, copied out of the socket buffer: as many slots as
@@ -101,7 +103,10 @@ impl<G: SafetyGateway> GcsLink<G> {
     pub fn with_links(config: &Config, links: LinkPair, gateway: G) -> Result<Self, LinkError> {
         let signing = LinkSigning::load(&config.signing).map_err(|e| LinkError(e.to_string()))?;
         let clock = DriverClock::start();
-        let station = GroundStation::new(config.gcs_core(clock.utc_at_zero()), gateway);
+        let station = Box::new(GroundStation::new(
+            config.gcs_core(clock.utc_at_zero()),
+            gateway,
+        ));
         tracing::debug!(signing = %signing.summary(), "link signing (ICD §9)");
         Ok(Self {
             signing: signing.signer.as_ref().map(Signer::key_id),

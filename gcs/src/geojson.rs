@@ -488,14 +488,15 @@ mod tests {
         let (buffer, dropped) = import_areas(text, Unsupported::Drop).unwrap();
         assert_eq!(lines(&dropped), expected);
         let list = buffer.assemble(2, SafetyOffset::default()).unwrap();
-        assert_eq!(list.areas[0].area_id, 2, "1 is given to the fly-zone");
-        assert_eq!(list.areas[1].area_id, 1);
-        let AreaShape::Polygon(v) = &list.areas[1].shape else {
+        // The list is in ascending Area ID (ICD §5.4): the fly-zone's 1 first.
+        assert_eq!(list.areas[1].area_id, 2, "1 is given to the fly-zone");
+        assert_eq!(list.areas[0].area_id, 1);
+        let AreaShape::Polygon(v) = &list.areas[0].shape else {
             panic!()
         };
         assert_eq!(v.len(), 3, "the closing position is dropped");
         assert_eq!(v[1], GeoPoint::from_degrees(48.2, 11.7).unwrap());
-        let AreaShape::Circle { centre, border } = list.areas[0].shape else {
+        let AreaShape::Circle { centre, border } = list.areas[1].shape else {
             panic!()
         };
         assert_eq!(centre, GeoPoint::from_degrees(48.27, 11.66).unwrap());

@@ -1117,9 +1117,30 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
     }
 }
 
+/// The stack of the thread that runs a command. Mission plans, validated lists and the link hold
+/// their fixed-capacity lists inline (a 256-waypoint mission is tens of KB), and a debug build
+/// keeps a copy of each in every frame they pass through: measured, `gcs upload` of a debug
+/// build needed between 3 and 4 MB. 64 MB leaves room for the largest plans in any build.
+const COMMAND_STACK: usize = 64 << 20;
+
 fn main() -> ExitCode {
     missionlink_partitions::init_logging();
     let cli = Cli::parse();
+    let command = std::thread::Builder::new()
+        .name("gcs".to_owned())
+        .stack_size(COMMAND_STACK)
+        .spawn(move || run(cli));
+    match command.map(|thread| thread.join()) {
+        Ok(Ok(status)) => status,
+        Ok(Err(_)) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("gcs: cannot start: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> ExitCode {
     if !matches!(
         cli.command,
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. }

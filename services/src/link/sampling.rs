@@ -85,7 +85,9 @@ impl Seen {
 /// The sampling table of one receiver.
 #[derive(Debug, Clone)]
 pub struct MessageSampler {
-    seen: FnvIndexMap<(u32, u16), Seen, SAMPLING_KEYS>,
+    /// Boxed (37 KB), allocated once with the sampler: it lives in every endpoint and voter,
+    /// and those move by value.
+    seen: Box<FnvIndexMap<(u32, u16), Seen, SAMPLING_KEYS>>,
     window: Duration,
 }
 
@@ -94,7 +96,7 @@ impl MessageSampler {
     /// timeout of ICD §1 is a good window).
     pub fn new(window: Duration) -> Self {
         Self {
-            seen: FnvIndexMap::new(),
+            seen: Box::new(FnvIndexMap::new()),
             window,
         }
     }
