@@ -932,7 +932,7 @@ fn an_area_download_of_one_area_id_sends_that_area() {
         area_id: Some(wanted),
         ..area_download_request(window())
     };
-    let answers = rig.send_enveloped(request.clone());
+    let answers = rig.send_enveloped(request);
     let sent = follow(&mut rig, answers);
     let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
         panic!("the download starts with #3013: {sent:?}");
