@@ -4,6 +4,10 @@
 //! time stamp; a second timeout or rejection fails the exchange with an error that names the
 //! message and both causes. Worst case for one message: 2 x ack timeout.
 //!
+//! An [`Exchange`] keeps what identifies its message and its answers, not the message: a window
+//! of 32 in flight (ICD §10) stays small. Its owner sends the message again when told to
+//! ([`Outcome::Retry`], [`Exchange::resend`]).
+//!
 //! One rejection is final, not retried: an edition-1 FCC's `Unsupported` to the report request
 //! (#13000 mode 7), which is how a GCS learns the FCC's edition (ICD §10.1).
 //!
@@ -154,9 +158,12 @@ impl fmt::Display for ExchangeError {
 
 impl core::error::Error for ExchangeError {}
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 struct Pending {
-    message: Message,
+    message_type: MessageType,
+    subject: Option<Subject>,
+    /// The report request, whose `Unsupported` is final (ICD §10.1).
+    report_request: bool,
     expected: Expected,
     /// Time stamps of the first attempt and, after a retry, of the second.
     stamps: [Option<Timestamp>; 2],
@@ -168,8 +175,8 @@ struct Pending {
 pub enum Outcome {
     /// The peer accepted it; the answer.
     Accepted(Message),
-    /// The first attempt failed; the message was sent again with a new time stamp.
-    Retried(AttemptFailure),
+    /// The first attempt failed: the owner sends the message again ([`Exchange::resend`]).
+    Retry(AttemptFailure),
     /// Both attempts failed.
     Failed(ExchangeError),
 }
@@ -189,7 +196,7 @@ impl Timer<1> for ExchangeTimer {
 }
 
 /// One message in flight and its timer.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 pub struct Exchange {
     ack_timeout: Duration,
     pending: Option<Pending>,
@@ -215,16 +222,31 @@ impl Exchange {
     /// Sends `message` through `endpoint` with "acknowledgement requested" and waits for its
     /// answer. A message still outstanding is given up.
     pub fn send(&mut self, endpoint: &mut Endpoint, now: Instant, message: Message) {
-        let ts = endpoint.send(now, message.clone(), true);
-        let mut message = message;
-        message.set_time_stamp(ts);
-        self.pending = Some(Pending {
+        let pending = Pending {
+            message_type: message.message_type(),
+            subject: Subject::of(&message),
+            report_request: matches!(&message, Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::ReportMissions),
             expected: Expected::of(&message),
-            message,
-            stamps: [Some(ts), None],
+            stamps: [Some(endpoint.send(now, message, true)), None],
             first_failure: None,
-        });
+        };
+        self.pending = Some(pending);
         self.timers.set(ExchangeTimer::Ack, now + self.ack_timeout);
+    }
+
+    /// Sends `message`, the one of this exchange, once more with a new time stamp (ICD §3):
+    /// the retry after [`Outcome::Retry`].
+    pub fn resend(&mut self, endpoint: &mut Endpoint, now: Instant, message: Message) {
+        let Some(pending) = self.pending.as_mut() else {
+            return;
+        };
+        pending.stamps[1] = Some(endpoint.send(now, message, true));
+        self.timers.set(ExchangeTimer::Ack, now + self.ack_timeout);
+        tracing::info!(
+            message = pending.message_type as u16,
+            failure = ?pending.first_failure,
+            "resending once"
+        );
     }
 
     /// Gives up the outstanding message without error (the transfer was cancelled).
@@ -245,26 +267,21 @@ impl Exchange {
 
     /// The ack timeout has passed at `now`: retry, or fail after the retry. `None` before the
     /// deadline.
-    pub fn handle_timeout(&mut self, endpoint: &mut Endpoint, now: Instant) -> Option<Outcome> {
+    pub fn handle_timeout(&mut self, now: Instant) -> Option<Outcome> {
         if !self.timers.is_expired(ExchangeTimer::Ack, now) {
             return None;
         }
-        Some(self.fail_attempt(endpoint, now, AttemptFailure::Timeout))
+        Some(self.fail_attempt(AttemptFailure::Timeout))
     }
 
     /// Offers `answer` to the exchange. `None` when it is not an answer to the outstanding
     /// message (the caller routes it elsewhere) or says nothing final (#17000 type 1).
-    pub fn handle_answer(
-        &mut self,
-        endpoint: &mut Endpoint,
-        now: Instant,
-        answer: &Message,
-    ) -> Option<Outcome> {
+    pub fn handle_answer(&mut self, answer: &Message) -> Option<Outcome> {
         let pending = self.pending.as_ref()?;
         let current = pending.stamps[1].or(pending.stamps[0]);
         let verdict = match (pending.expected, answer) {
             (Expected::Acknowledgement, Message::MessageAcknowledgement(ack))
-                if ack.original_message_type == pending.message.message_type() as u16 =>
+                if ack.original_message_type == pending.message_type as u16 =>
             {
                 let of_current = Some(ack.original_time_stamp) == current;
                 let of_any = pending.stamps.contains(&Some(ack.original_time_stamp));
@@ -288,7 +305,7 @@ impl Exchange {
             // ICD §8: a staged mission's area download request is refused by #17000 type 3
             // (`WrongState`) when there is no such list, not by #3013.
             (Expected::AreaTransmissionStatus, Message::MessageAcknowledgement(ack))
-                if ack.original_message_type == pending.message.message_type() as u16
+                if ack.original_message_type == pending.message_type as u16
                     && matches!(ack.ack_type, AckType::Rejected | AckType::ReceiveFailed)
                     && Some(ack.original_time_stamp) == current =>
             {
@@ -309,28 +326,23 @@ impl Exchange {
                 self.settle();
                 Outcome::Accepted(answer.clone())
             }
-            Err(failure) => self.fail_attempt(endpoint, now, failure),
+            Err(failure) => self.fail_attempt(failure),
         })
     }
 
-    fn fail_attempt(
-        &mut self,
-        endpoint: &mut Endpoint,
-        now: Instant,
-        failure: AttemptFailure,
-    ) -> Outcome {
+    fn fail_attempt(&mut self, failure: AttemptFailure) -> Outcome {
         let Some(pending) = self.pending.as_mut() else {
             self.timers.stop(ExchangeTimer::Ack);
-            return Outcome::Retried(failure);
+            return Outcome::Retry(failure);
         };
         // ICD §10.1: an edition-1 FCC's refusal of the report request says which edition it
         // speaks; a retry would only be refused again.
-        let is_final = failure == AttemptFailure::Rejected(Reason::Unsupported)
-            && matches!(&pending.message, Message::MissionTransferCommand(c) if c.mode == MissionPlanMode::ReportMissions);
+        let is_final =
+            failure == AttemptFailure::Rejected(Reason::Unsupported) && pending.report_request;
         match pending.first_failure {
             None if is_final => {
                 let error = ExchangeError {
-                    message_type: pending.message.message_type(),
+                    message_type: pending.message_type,
                     subject: None,
                     first: failure,
                     second: None,
@@ -339,23 +351,15 @@ impl Exchange {
                 Outcome::Failed(error)
             }
             None => {
-                // The retry: the same message with a new time stamp (ICD §3).
-                let ts = endpoint.send(now, pending.message.clone(), true);
-                pending.message.set_time_stamp(ts);
-                pending.stamps[1] = Some(ts);
+                // The owner resends (a new time stamp, ICD §3); until then no timer runs.
                 pending.first_failure = Some(failure);
-                self.timers.set(ExchangeTimer::Ack, now + self.ack_timeout);
-                tracing::info!(
-                    message = pending.message.message_type() as u16,
-                    %failure,
-                    "resending once"
-                );
-                Outcome::Retried(failure)
+                self.timers.stop(ExchangeTimer::Ack);
+                Outcome::Retry(failure)
             }
             Some(first) => {
                 let error = ExchangeError {
-                    message_type: pending.message.message_type(),
-                    subject: Subject::of(&pending.message),
+                    message_type: pending.message_type,
+                    subject: pending.subject,
                     first,
                     second: Some(failure),
                 };

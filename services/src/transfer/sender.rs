@@ -194,6 +194,22 @@ impl Script {
         }
     }
 
+    /// The indices of the script's data messages (ICD §10.2), which may be in flight together:
+    /// between the opener and the closer of an upload or a download. Reports, clears and
+    /// single requests have none.
+    pub fn data_messages(&self) -> core::ops::Range<usize> {
+        let len = self.len();
+        match self {
+            Self::MissionUpload { opener, .. } => {
+                let first = usize::from(*opener != Opener::None);
+                first..len.saturating_sub(1)
+            }
+            Self::MissionDownload { .. } => 0..len.saturating_sub(1),
+            Self::AreaUpload { .. } | Self::AreaDownload { .. } => 1..len.saturating_sub(1),
+            Self::MissionReport { .. } | Self::MissionClear | Self::Request(_) => 0..0,
+        }
+    }
+
     /// Whether the script sends nothing (never: every script has at least one message).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
@@ -450,18 +466,50 @@ pub enum SenderEvent {
     Failed(ExchangeError),
 }
 
-/// A transfer in progress.
-#[derive(Debug, Clone)]
-pub struct TransferSender {
-    script: Script,
-    next: usize,
+/// Data messages in flight at most (ICD §10.2: receivers of edition 2 accept up to 32).
+pub const MAX_WINDOW: usize = 32;
+
+/// One message of the script in flight.
+#[derive(Debug, Clone, Copy)]
+struct InFlight {
+    /// Its index in the script (to send it again, and to tell data messages from the rest).
+    index: usize,
     exchange: Exchange,
 }
 
+/// A transfer in progress: the opener and the closer stop-and-wait, up to `window` data
+/// messages in flight between them, each with its own ack timeout and one retry (ICD §5,
+/// §10.2). The closer goes out only when every data message was accepted. Window 1 is
+/// edition 1, message for message.
+#[derive(Debug, Clone)]
+pub struct TransferSender {
+    script: Script,
+    /// The next message of the script to send.
+    next: usize,
+    /// Messages of the script answered with an acceptance.
+    answered: usize,
+    window: usize,
+    in_flight: heapless::Vec<InFlight, MAX_WINDOW>,
+    ack_timeout: Duration,
+}
+
 impl TransferSender {
-    /// Starts sending `script` at `now`: its first message goes out.
+    /// Starts sending `script` at `now`, one message at a time (ICD §5): its first message
+    /// goes out.
     pub fn start(
         script: Script,
+        ack_timeout: Duration,
+        endpoint: &mut Endpoint,
+        now: Instant,
+    ) -> Self {
+        Self::start_windowed(script, 1, ack_timeout, endpoint, now)
+    }
+
+    /// Starts sending `script` at `now` with up to `window` data messages in flight (ICD
+    /// §10.2; 0 counts as 1, above [`MAX_WINDOW`] as [`MAX_WINDOW`]).
+    pub fn start_windowed(
+        script: Script,
+        window: usize,
         ack_timeout: Duration,
         endpoint: &mut Endpoint,
         now: Instant,
@@ -469,26 +517,56 @@ impl TransferSender {
         let mut sender = Self {
             script,
             next: 0,
-            exchange: Exchange::new(ack_timeout),
+            answered: 0,
+            window: window.clamp(1, MAX_WINDOW),
+            in_flight: heapless::Vec::new(),
+            ack_timeout,
         };
-        sender.send_next(endpoint, now);
+        sender.fill(endpoint, now);
         sender
     }
 
-    fn send_next(&mut self, endpoint: &mut Endpoint, now: Instant) -> bool {
-        match self.script.message(self.next) {
-            Some(m) => {
-                self.exchange.send(endpoint, now, m);
-                self.next += 1;
-                true
+    /// Sends what may go now: data messages while the window has room and no opener waits;
+    /// an opener or a closer only when nothing is in flight, and then nothing after it until
+    /// it is answered.
+    fn fill(&mut self, endpoint: &mut Endpoint, now: Instant) {
+        let data = self.script.data_messages();
+        while self.next < self.script.len() {
+            let is_data = data.contains(&self.next);
+            let room = if is_data {
+                self.in_flight.len() < self.window
+                    && self.in_flight.iter().all(|f| data.contains(&f.index))
+            } else {
+                self.in_flight.is_empty()
+            };
+            if !room {
+                break;
             }
-            None => false,
+            let Some(message) = self.script.message(self.next) else {
+                break;
+            };
+            let mut exchange = Exchange::new(self.ack_timeout);
+            exchange.send(endpoint, now, message);
+            // `room` checked the capacity (window <= MAX_WINDOW).
+            let _ = self.in_flight.push(InFlight {
+                index: self.next,
+                exchange,
+            });
+            self.next += 1;
+            if !is_data {
+                break;
+            }
         }
     }
 
     /// The script.
     pub fn script(&self) -> &Script {
         &self.script
+    }
+
+    /// The window of data messages in flight.
+    pub fn window(&self) -> usize {
+        self.window
     }
 
     /// Messages of the script sent so far: first attempts (a retry is the same message again).
@@ -498,47 +576,82 @@ impl TransferSender {
 
     /// (messages answered, messages in the script).
     pub fn progress(&self) -> (usize, usize) {
-        (self.next.saturating_sub(1), self.script.len())
+        (self.answered, self.script.len())
     }
 
-    /// When [`TransferSender::handle_timeout`] must be called.
+    /// When [`TransferSender::handle_timeout`] must be called: the earliest ack timeout in
+    /// flight.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.exchange.poll_timeout()
+        self.in_flight
+            .iter()
+            .filter_map(|f| f.exchange.poll_timeout())
+            .min()
     }
 
-    /// Offers `message` as the answer to the outstanding message; `None` when it is not one.
+    /// Offers `message` as the answer to a message in flight; `None` when it answers none.
     pub fn handle_answer(
         &mut self,
         endpoint: &mut Endpoint,
         now: Instant,
         message: &Message,
     ) -> Option<SenderEvent> {
-        let outcome = self.exchange.handle_answer(endpoint, now, message)?;
-        self.after(endpoint, now, outcome)
+        let (slot, outcome) = self
+            .in_flight
+            .iter_mut()
+            .enumerate()
+            .find_map(|(i, f)| f.exchange.handle_answer(message).map(|o| (i, o)))?;
+        self.after(endpoint, now, slot, outcome)
     }
 
-    /// The ack timeout may have passed.
+    /// The ack timeouts due at `now`: retries, or the failure of the transfer.
     pub fn handle_timeout(&mut self, endpoint: &mut Endpoint, now: Instant) -> Option<SenderEvent> {
-        let outcome = self.exchange.handle_timeout(endpoint, now)?;
-        self.after(endpoint, now, outcome)
+        let mut slot = 0;
+        while slot < self.in_flight.len() {
+            let outcome = self
+                .in_flight
+                .get_mut(slot)
+                .and_then(|f| f.exchange.handle_timeout(now));
+            if let Some(outcome) = outcome {
+                if let Some(event) = self.after(endpoint, now, slot, outcome) {
+                    return Some(event);
+                }
+            }
+            slot += 1;
+        }
+        None
     }
 
     fn after(
         &mut self,
         endpoint: &mut Endpoint,
         now: Instant,
+        slot: usize,
         outcome: Outcome,
     ) -> Option<SenderEvent> {
         match outcome {
             Outcome::Accepted(answer) => {
-                if self.send_next(endpoint, now) {
+                if slot < self.in_flight.len() {
+                    self.in_flight.swap_remove(slot);
+                }
+                self.answered += 1;
+                self.fill(endpoint, now);
+                if self.next >= self.script.len() && self.in_flight.is_empty() {
+                    Some(SenderEvent::Completed(answer))
+                } else {
                     let (sent, total) = self.progress();
                     Some(SenderEvent::Progress { sent, total })
-                } else {
-                    Some(SenderEvent::Completed(answer))
                 }
             }
-            Outcome::Retried(_) => None,
+            Outcome::Retry(_) => {
+                if let Some(f) = self.in_flight.get_mut(slot) {
+                    match self.script.message(f.index) {
+                        Some(message) => f.exchange.resend(endpoint, now, message),
+                        // The script gave this message before; it cannot fail to now.
+                        None => f.exchange.cancel(),
+                    }
+                }
+                None
+            }
             Outcome::Failed(error) => {
                 self.abandon(endpoint, now, error.reason().unwrap_or(Reason::None));
                 Some(SenderEvent::Failed(error))
@@ -548,7 +661,7 @@ impl TransferSender {
 
     /// Abandons the transfer and tells the peer, once, without waiting for an answer.
     pub fn abandon(&mut self, endpoint: &mut Endpoint, now: Instant, reason: Reason) {
-        self.exchange.cancel();
+        self.cancel();
         if let Some(m) = self.script.abandon_message(reason) {
             endpoint.send(now, m, false);
         }
@@ -556,7 +669,7 @@ impl TransferSender {
 
     /// Drops the transfer without telling the peer (the peer cancelled it).
     pub fn cancel(&mut self) {
-        self.exchange.cancel();
+        self.in_flight.clear();
     }
 }
 
