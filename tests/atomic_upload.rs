@@ -17,9 +17,9 @@ mod common;
 use std::time::Duration;
 
 use common::*;
-use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink};
+use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_interfaces::wire::{Message, MissionReport};
-use missionlink_services::ground_station::{MissionPlan, Sequence, ValidatedPlan, WithoutGateway};
+use missionlink_services::ground_station::{MissionPlan, Sequence, ValidatedPlan};
 use missionlink_services::testkit::Rng;
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::staged::MissionId;
@@ -135,7 +135,7 @@ fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_a
 
         // The GCS dies; another starts on its ports.
         let links = link.into_links();
-        link = GcsLink::with_links(&rig.config, links, WithoutGateway).unwrap();
+        link = rig.gcs_on(links);
         link.enable_log();
         let lists = active(&mut link);
         if k < activation {

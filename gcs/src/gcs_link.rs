@@ -21,6 +21,9 @@ use missionlink_partitions::keys::LinkSigning;
 use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
 use missionlink_services::link::signing::Signer;
 
+/// How far ahead of the last stamp used [`GcsLink::with_stamp_lease`] reserves.
+const STAMP_LEASE: Duration = Duration::from_secs(1);
+
 /// How a request ended well.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Finished {
@@ -80,6 +83,8 @@ pub struct GcsLink<G: SafetyGateway> {
     /// [`LinkPair::receive`] reads, so every datagram it reads reaches the voter (the voter
     /// counts what a step cannot hold). Allocated once.
     slots: Vec<[u8; MAX_DATAGRAM]>,
+    /// The file that reserves time stamps across processes, and how far it reserves.
+    stamp_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
     /// Every message sent and every voted message received, when logging is on.
     pub log: Vec<Logged>,
     logging: bool,
@@ -121,9 +126,46 @@ impl<G: SafetyGateway> GcsLink<G> {
             clock,
             started: std::time::Instant::now(),
             slots: vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE],
+            stamp_lease: None,
             log: Vec::new(),
             logging: false,
         })
+    }
+
+    /// Reserves this GCS's time stamps in `file` (see the module documentation): every stamp is
+    /// above what the file reserved for earlier processes, and the file is moved ahead before a
+    /// stamp beyond it is sent. A file that cannot be read counts as empty; one that cannot be
+    /// written is the error.
+    pub fn with_stamp_lease(mut self, file: &std::path::Path) -> Result<Self, LinkError> {
+        let reserved = std::fs::read_to_string(file)
+            .ok()
+            .and_then(|t| t.trim().parse::<u64>().ok())
+            .and_then(wire::Timestamp::from_millis);
+        if let Some(floor) = reserved {
+            self.station.resume_stamps_after(floor);
+        }
+        let now = self.clock.utc_at_zero();
+        let start = reserved.map_or(now, |r| r.max(now));
+        self.stamp_lease = Some((file.to_owned(), start));
+        self.reserve_stamps(start)?;
+        Ok(self)
+    }
+
+    /// Moves the reservation to one second past `stamp` and writes it (a temporary file renamed
+    /// over the old one, so a reader never sees half a number).
+    fn reserve_stamps(&mut self, stamp: wire::Timestamp) -> Result<(), LinkError> {
+        let Some((file, reserved)) = self.stamp_lease.as_mut() else {
+            return Ok(());
+        };
+        let ahead = stamp
+            .millis()
+            .saturating_add(STAMP_LEASE.as_millis() as u64);
+        let tmp = file.with_extension("tmp");
+        std::fs::write(&tmp, format!("{ahead}\n"))
+            .and_then(|()| std::fs::rename(&tmp, &*file))
+            .map_err(|e| LinkError(format!("{}: {e}", file.display())))?;
+        *reserved = wire::Timestamp::from_millis(ahead).unwrap_or(stamp);
+        Ok(())
     }
 
     /// The Key ID this GCS signs with, if it signs (ICD §9).
@@ -195,6 +237,14 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// Sends the frames the GCS logic encoded, on both links: the driver only moves bytes (it
     /// decodes a frame again only to log it, when asked to).
     fn flush(&mut self) {
+        // The stamps of the frames about to leave were issued already: reserve past them first.
+        let last = self.station.endpoint().last_stamp();
+        if let (Some(last), Some((_, reserved))) = (last, &self.stamp_lease)
+            && last >= *reserved
+            && let Err(e) = self.reserve_stamps(last)
+        {
+            tracing::warn!(%e, "cannot reserve time stamps: a GCS started next may reuse them");
+        }
         let mut buf = [0u8; MAX_FRAME_LEN];
         while let Some(encoded) = self.station.poll_transmit(&mut buf) {
             let frame = match encoded {

@@ -17,6 +17,7 @@
 //! [timing]
 //! ack_timeout_ms = 500
 //! transfer_timeout_ms = 3000
+//! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10)
 //!
 //! [ipc]
 //! service_prefix = "missionlink"  # every iceoryx2 service name starts with it
@@ -51,7 +52,7 @@ use std::time::Duration;
 use clap::Args;
 use missionlink_interfaces::contracts::DEFAULT_SERVICE_PREFIX;
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::Timestamp;
+use missionlink_interfaces::wire::{Timestamp, TransferWindow};
 use missionlink_services::ground_station::GcsConfig;
 use missionlink_services::link::endpoint::EndpointConfig;
 use missionlink_services::mission_data_handling::FccConfig;
@@ -116,6 +117,9 @@ pub struct Timing {
     pub ack_timeout_ms: u64,
     /// How long a receiver in a transfer waits for its peer.
     pub transfer_timeout_ms: u64,
+    /// Data messages the GCS keeps in flight toward an edition-2 FCC, 1..=32 (ICD §10.2): its
+    /// uploads' window and the one its download requests ask for. Toward edition 1 it is 1.
+    pub transfer_window: u8,
 }
 
 impl Default for Timing {
@@ -123,6 +127,7 @@ impl Default for Timing {
         Self {
             ack_timeout_ms: defaults::ACK_TIMEOUT.as_millis() as u64,
             transfer_timeout_ms: defaults::TRANSFER_TIMEOUT.as_millis() as u64,
+            transfer_window: TransferWindow::MAX,
         }
     }
 }
@@ -135,6 +140,13 @@ impl Timing {
     /// The transfer timeout.
     pub fn transfer_timeout(&self) -> Duration {
         Duration::from_millis(self.transfer_timeout_ms)
+    }
+    /// The transfer window, clamped to 1..=32.
+    pub fn transfer_window(&self) -> TransferWindow {
+        let w = self
+            .transfer_window
+            .clamp(TransferWindow::MIN, TransferWindow::MAX);
+        TransferWindow::new(w).unwrap_or_default()
     }
 }
 
@@ -412,6 +424,7 @@ impl Config {
             endpoint: self.endpoint(self.ids.gcs, self.ids.fcc, utc_at_zero),
             ack_timeout: self.timing.ack_timeout(),
             transfer_timeout: self.timing.transfer_timeout(),
+            transfer_window: self.timing.transfer_window(),
         }
     }
 }
@@ -483,6 +496,9 @@ pub struct ConfigArgs {
     /// Transfer timeout in ms.
     #[arg(long, value_name = "MS")]
     pub transfer_timeout_ms: Option<u64>,
+    /// Data messages in flight toward an edition-2 FCC, 1..=32 (ICD §10).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=32))]
+    pub transfer_window: Option<u8>,
     /// Guidance time scale (simulated seconds per second).
     #[arg(long, value_name = "FACTOR")]
     pub time_scale: Option<f64>,
@@ -542,6 +558,9 @@ impl ConfigArgs {
         }
         if let Some(v) = self.transfer_timeout_ms {
             c.timing.transfer_timeout_ms = v;
+        }
+        if let Some(v) = self.transfer_window {
+            c.timing.transfer_window = v;
         }
         if let Some(v) = self.time_scale {
             c.guidance.time_scale = v;

@@ -93,6 +93,28 @@ fn next<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static, R
 }
 
 /// As [`next`], `None` after `limit`.
+/// Every sample `subscriber` holds once one arrives within `limit` (a window of answers comes
+/// at once, ICD §10: none may be dropped).
+fn all_within<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static>(
+    subscriber: &Subscriber<S, T>,
+    limit: Duration,
+) -> Vec<T> {
+    let waitset = runtime::waitset::<S>().unwrap();
+    let _guard = waitset.attach_notification(subscriber.listener()).unwrap();
+    let control = Control::new();
+    let end = Instant::now() + limit;
+    let mut all = Vec::new();
+    loop {
+        subscriber.take_all(|v| all.push(*v));
+        if !all.is_empty() || Instant::now() >= end {
+            return all;
+        }
+        control
+            .wait(&waitset, false, Duration::from_millis(20))
+            .unwrap();
+    }
+}
+
 fn within<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static, R>(
     subscriber: &Subscriber<S, T>,
     limit: Duration,
@@ -174,7 +196,7 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
         let until_timer = gcs
             .poll_timeout()
             .map_or(LIMIT, |t| t.saturating_since(clock.now()));
-        if let Some(frame) = within(&downlink, until_timer, |f| Some(*f)) {
+        for frame in all_within(&downlink, until_timer) {
             answers += 1;
             assert_eq!(
                 frame.link(),

@@ -806,8 +806,11 @@ impl MissionDataHandling {
                 .transfer_window
                 .is_some()
                 .then(|| mission_checksum(&mission));
-            self.mission_download = Some(TransferSender::start(
+            // ICD §10.2: the window the GCS put into its request, 1 when absent.
+            let window = request.transfer_window.unwrap_or_default().get();
+            self.mission_download = Some(TransferSender::start_windowed(
                 Script::MissionDownload { mission, checksum },
+                usize::from(window),
                 self.config.ack_timeout,
                 &mut self.endpoint,
                 now,
@@ -859,12 +862,14 @@ impl MissionDataHandling {
                     .transfer_window()
                     .is_some()
                     .then(|| areas_checksum(&list));
-                self.area_download = Some(TransferSender::start(
+                let window = request.transfer_window().unwrap_or_default().get();
+                self.area_download = Some(TransferSender::start_windowed(
                     Script::AreaDownload {
                         list,
                         area_id,
                         checksum,
                     },
+                    usize::from(window),
                     self.config.ack_timeout,
                     &mut self.endpoint,
                     now,

@@ -89,6 +89,9 @@ pub fn gcs_config() -> GcsConfig {
         endpoint: endpoint(defaults::GCS_ID, defaults::FCC_ID),
         ack_timeout: defaults::ACK_TIMEOUT,
         transfer_timeout: defaults::TRANSFER_TIMEOUT,
+        // Stop-and-wait, so that the sequence tests see ICD §5 message by message; the
+        // windowed tests set their window.
+        transfer_window: missionlink_interfaces::wire::TransferWindow::ONE,
     }
 }
 

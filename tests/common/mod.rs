@@ -82,7 +82,16 @@ impl Rig {
     /// The GCS over the rig's GCS ends, talking to the ports `fcc` announced (once per rig).
     pub fn gcs(&mut self, fcc: &mut Process) -> Link {
         let links = self.gcs_links(fcc);
-        GcsLink::with_links(&self.config, links, WithoutGateway).unwrap()
+        self.gcs_on(links)
+    }
+
+    /// A GCS on `links`, its time stamps reserved in the rig's directory as the gcs tool
+    /// reserves them: a GCS started again on the same links continues after them.
+    pub fn gcs_on(&self, links: LinkPair) -> Link {
+        GcsLink::with_links(&self.config, links, WithoutGateway)
+            .unwrap()
+            .with_stamp_lease(&self.dir.join("gcs-time-stamps"))
+            .unwrap()
     }
 
     /// The rig's GCS ends connected to the ports `fcc` announced, for a test that plays the
@@ -100,9 +109,14 @@ impl Rig {
     }
 }
 
-/// The rig's directory (state, logs, summaries) goes with it.
+/// The rig's directory (state, logs, summaries) goes with it, unless
+/// `MISSIONLINK_KEEP_TEST_DIRS` is set (to read the partitions' logs after a failure).
 impl Drop for Rig {
     fn drop(&mut self) {
+        if std::env::var_os("MISSIONLINK_KEEP_TEST_DIRS").is_some() {
+            eprintln!("kept {}", self.dir.display());
+            return;
+        }
         let _ = std::fs::remove_dir_all(&self.dir);
     }
 }

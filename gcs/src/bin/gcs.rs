@@ -279,6 +279,19 @@ fn parse_mission_id(s: &str) -> Result<MissionId, String> {
     MissionId::new(s).map_err(|e| e.to_string())
 }
 
+/// The state directory: `dir`, else $XDG_STATE_HOME/missionlink, else
+/// $HOME/.local/state/missionlink.
+fn state_base(dir: Option<PathBuf>) -> Option<PathBuf> {
+    dir.or_else(|| {
+        std::env::var_os("XDG_STATE_HOME")
+            .filter(|v| !v.is_empty())
+            .map(|v| PathBuf::from(v).join("missionlink"))
+            .or_else(|| {
+                std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/state/missionlink"))
+            })
+    })
+}
+
 /// Missions kept in the state directory.
 const CACHE_KEEP: usize = 16;
 
@@ -294,16 +307,7 @@ struct StateArgs {
 impl StateArgs {
     /// The cache directory, if one can be named.
     fn missions_dir(&self) -> Option<PathBuf> {
-        let base = self.state_dir.clone().or_else(|| {
-            std::env::var_os("XDG_STATE_HOME")
-                .filter(|v| !v.is_empty())
-                .map(|v| PathBuf::from(v).join("missionlink"))
-                .or_else(|| {
-                    std::env::var_os("HOME")
-                        .map(|h| PathBuf::from(h).join(".local/state/missionlink"))
-                })
-        })?;
-        Some(base.join("missions"))
+        Some(state_base(self.state_dir.clone())?.join("missions"))
     }
 
     /// The missions in the cache whose file name is their checksum (a file that does not read
@@ -444,7 +448,17 @@ fn encode(json: Vec<String>, out: &mut impl Write) -> io::Result<bool> {
 type Link = GcsLink<SafetyGateway>;
 
 fn open(config: &Config, gateway: SafetyGateway) -> Result<Link, String> {
-    GcsLink::open(config, gateway).map_err(|e| e.to_string())
+    let link = GcsLink::open(config, gateway).map_err(|e| e.to_string())?;
+    // Time stamps reserved across gcs runs (see `gcs_link`), in the default state directory;
+    // without one (no HOME), each run stamps with the clock alone.
+    match state_base(None) {
+        Some(dir) => {
+            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            link.with_stamp_lease(&dir.join("time-stamps"))
+                .map_err(|e| e.to_string())
+        }
+        None => Ok(link),
+    }
 }
 
 /// What `--drop` may leave out of an imported file.

@@ -263,6 +263,9 @@ pub struct GcsConfig {
     pub ack_timeout: Duration,
     /// How long a download waits for the FCC before it is abandoned (ICD §1: 3 s).
     pub transfer_timeout: Duration,
+    /// Data messages in flight toward an edition-2 FCC (ICD §10.2): the uploads' window and
+    /// the one download requests ask for. Toward edition 1 it is always 1.
+    pub transfer_window: TransferWindow,
 }
 
 /// The steps of Figure 11 that talk to the FCC.
@@ -590,9 +593,15 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// The endpoint (counters).
+    /// The endpoint (counters, the last time stamp issued).
     pub fn endpoint(&self) -> &Endpoint {
         &self.endpoint
+    }
+
+    /// Time stamps from now on are strictly greater than `floor`
+    /// ([`Endpoint::resume_stamps_after`]).
+    pub fn resume_stamps_after(&mut self, floor: Timestamp) {
+        self.endpoint.resume_stamps_after(floor);
     }
 
     /// Whether the logic is in standby (no request in progress).
@@ -696,10 +705,10 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(now, State::Reporting(purpose), Script::Request(request));
     }
 
-    /// The transfer window of a download request: 1 toward edition 2 (the field makes it an
-    /// edition-2 request, ICD §10.2), absent toward edition 1.
+    /// The transfer window of a download request: the configured one toward edition 2 (the
+    /// field makes it an edition-2 request, ICD §10.2), absent toward edition 1.
     fn window(&self) -> Option<TransferWindow> {
-        (self.edition == Some(Edition::Two)).then_some(TransferWindow::ONE)
+        (self.edition == Some(Edition::Two)).then_some(self.config.transfer_window)
     }
 
     fn request_mission(&mut self, now: Instant) {
@@ -788,8 +797,15 @@ impl<G: SafetyGateway> GroundStation<G> {
     fn start(&mut self, now: Instant, state: State, script: Script) {
         self.account_sender();
         self.state = state;
-        self.sender = Some(TransferSender::start(
+        // ICD §10.2: a window above 1 only toward an edition-2 FCC; the scripts without data
+        // messages send one at a time whatever the window.
+        let window = match self.edition {
+            Some(Edition::Two) => self.config.transfer_window.get(),
+            _ => TransferWindow::MIN,
+        };
+        self.sender = Some(TransferSender::start_windowed(
             script,
+            usize::from(window),
             self.config.ack_timeout,
             &mut self.endpoint,
             now,

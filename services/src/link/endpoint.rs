@@ -21,8 +21,9 @@ use crate::link::time::{Instant, UtcClock};
 use crate::link::time_stamp::TimeStamper;
 
 /// Messages the outgoing queue holds. A driver drains it after every call into the core; a
-/// call queues at most an acknowledgement and the next message of each transfer.
-pub const OUTBOX_CAPACITY: usize = 16;
+/// call queues at most an acknowledgement, a cancel, and the messages a transfer may have in
+/// flight (a window of up to 32 data messages, ICD §10.2).
+pub const OUTBOX_CAPACITY: usize = 48;
 
 /// Addresses and clocks of an endpoint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -228,6 +229,19 @@ impl Endpoint {
                 "frames rejected since the last line of this cause"
             );
         }
+    }
+
+    /// Stamps from now on are strictly greater than `floor` (see [`TimeStamper::resume_after`]):
+    /// a GCS started again continues after what its previous process may have sent, so an
+    /// answer to one of those is never taken for an answer to its own (ICD §3: stamps are
+    /// identities).
+    pub fn resume_stamps_after(&mut self, floor: Timestamp) {
+        self.stamper.resume_after(floor);
+    }
+
+    /// The last time stamp this endpoint issued.
+    pub fn last_stamp(&self) -> Option<Timestamp> {
+        self.stamper.last()
     }
 
     /// Stamps `message` with the next time stamp of this sender and queues it; returns the stamp.

@@ -34,6 +34,17 @@ impl TimeStamper {
         Self { last: None }
     }
 
+    /// Stamps from now on are strictly greater than `floor` (and than every stamp issued): how
+    /// a sender that restarts continues after what an earlier process of it may have sent.
+    pub fn resume_after(&mut self, floor: Timestamp) {
+        self.last = Some(self.last.map_or(floor, |last| last.max(floor)));
+    }
+
+    /// The last stamp issued.
+    pub fn last(&self) -> Option<Timestamp> {
+        self.last
+    }
+
     /// The time stamp for a message originated at `now`: `now`, or 1 ms after the previous
     /// stamp when the clock has not moved past it (same millisecond, or a clock step back).
     pub fn stamp(&mut self, now: Timestamp) -> Result<Timestamp, TimeStampsExhausted> {
@@ -52,6 +63,20 @@ mod tests {
 
     fn ts(ms: u64) -> Timestamp {
         Timestamp::from_millis(ms).unwrap()
+    }
+
+    #[test]
+    fn resumes_strictly_after_a_floor() {
+        let mut s = TimeStamper::new();
+        s.resume_after(ts(500));
+        assert_eq!(s.stamp(ts(100)), Ok(ts(501)));
+        s.resume_after(ts(200));
+        assert_eq!(
+            s.stamp(ts(100)),
+            Ok(ts(502)),
+            "a lower floor changes nothing"
+        );
+        assert_eq!(s.last(), Some(ts(502)));
     }
 
     #[test]
