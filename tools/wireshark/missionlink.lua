@@ -301,7 +301,12 @@ for t, m in pairs(MESSAGES) do
             mf[t].bidirectional = ProtoField.bool(string.format("missionlink.m%d.bidirectional", t),
                 "Bidirectional route", 24, nil, 0x000001)
         elseif K[kind].make == ProtoField.string then
-            mf[t][key] = ProtoField.string(abbrev, label, base.UNICODE, blurb)
+            -- Wireshark 4.2 added the display argument before the description.
+            if base.UNICODE then
+                mf[t][key] = ProtoField.string(abbrev, label, base.UNICODE, blurb)
+            else
+                mf[t][key] = ProtoField.string(abbrev, label, blurb)
+            end
         elseif K[kind].make == ProtoField.double then
             mf[t][key] = ProtoField.double(abbrev, label, blurb)
         else
@@ -534,13 +539,20 @@ function p.dissector(tvb, pinfo, root)
     pinfo.cols.protocol = "STANAG4586"
     local off, index, names = 0, 1, {}
     while off and off < tvb:len() do
-        local t = tvb:len() - off >= 14 and tvb(off + 12, 2):uint() or nil
-        table.insert(names, t and ("#" .. t) or "?")
+        if tvb:len() - off >= 14 then
+            local t = tvb(off + 12, 2):uint()
+            local m = MESSAGES[t]
+            table.insert(names, string.format("#%d %s", t, m and m.name or "?"))
+        end
         off = dissect_frame(tvb, pinfo, root, off, index)
         index = index + 1
     end
-    pinfo.cols.info = table.concat(names, " ") .. "  " .. tostring(pinfo.src_port) .. " → " ..
-        tostring(pinfo.dst_port)
+    if #names > 0 and tvb:len() >= 12 then
+        -- Who speaks to whom: the IDs of the first frame (ICD §1 defaults: GCS 0x0A000001, FCC
+        -- 0x0B000001).
+        pinfo.cols.info = string.format("0x%08x → 0x%08x  %s", tvb(4, 4):uint(), tvb(8, 4):uint(),
+            table.concat(names, "; "))
+    end
     return tvb:len()
 end
 
