@@ -40,19 +40,23 @@ fn demo_capture() -> PathBuf {
     repo().join("tools/wireshark/demo.pcap")
 }
 
-/// Runs tshark with the dissector; fails the test with what to do when tshark is missing.
+/// Fails the test with what to do: CI installs tshark, so its absence is a failure, not a skip.
+fn missing_tshark(e: std::io::Error) -> ! {
+    panic!(
+        "cannot run tshark ({e}): the dissector test needs it. Install it with \
+         `DEBIAN_FRONTEND=noninteractive apt-get install -y tshark` (.ci/run does)"
+    )
+}
+
+/// Runs tshark with the dissector (its heuristic on, whatever the user's preferences say: the
+/// demo's ports are the system's choice).
 fn tshark(args: &[&str]) -> String {
     let lua = format!("lua_script:{}", dissector().display());
     let out = Command::new("tshark")
         .args(args)
-        .args(["-X", &lua])
+        .args(["-X", &lua, "-o", "missionlink.heuristic:TRUE"])
         .output()
-        .unwrap_or_else(|e| {
-            panic!(
-                "cannot run tshark ({e}): the dissector test needs it. Install it with \
-                 `DEBIAN_FRONTEND=noninteractive apt-get install -y tshark` (.ci/run does)"
-            )
-        });
+        .unwrap_or_else(|e| missing_tshark(e));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "tshark {args:?} failed: {stderr}");
     // A Lua error is printed, not fatal: treat it as a failure.
@@ -616,7 +620,7 @@ fn tshark_g(what: &str, lua: &str) -> String {
     let out: Output = Command::new("tshark")
         .args(["-G", what, "-X", lua])
         .output()
-        .unwrap_or_else(|e| panic!("cannot run tshark ({e}): install it (.ci/run does)"));
+        .unwrap_or_else(|e| missing_tshark(e));
     assert!(out.status.success());
     String::from_utf8(out.stdout).unwrap()
 }
