@@ -502,10 +502,10 @@ fn the_committed_demo_capture_shows_what_inspect_shows() {
     assert!(compared >= datagrams.len());
 }
 
-/// The frames of ICD §2 a receiver rejects, each with the expert info the dissector gives it
-/// and the words `gcs inspect` uses.
+/// The frames of ICD §2 a receiver rejects, and messages that break §3, each with the expert
+/// info the dissector gives it and the words `gcs inspect` uses.
 #[test]
-fn frames_that_break_the_wrapper_rules_carry_expert_info() {
+fn frames_that_break_the_icd_rules_carry_expert_info() {
     let good = frames()[0].clone();
     let mut bad_checksum = good.clone();
     *bad_checksum.last_mut().unwrap() ^= 1;
@@ -531,7 +531,37 @@ fn frames_that_break_the_wrapper_rules_carry_expert_info() {
     let n = version.len();
     let sum: u32 = version[..n - 4].iter().map(|b| u32::from(*b)).sum();
     version[n - 4..].copy_from_slice(&sum.to_be_bytes());
+    // ICD §3 in a #50000 (PV U1, fields 0..=2): bit 7 set; bit 2 (Mission ID) set without
+    // its 20 bytes. The checksum is made right again, so only the message is at fault.
+    let execute = encode_json(
+        r#"{"message_type":50000,"fields":{"time_stamp":"2026-11-21T12:03:00.000Z","command":"land"}}"#,
+    )
+    .unwrap();
+    let with_checksum = |mut f: Vec<u8>| {
+        let n = f.len();
+        let sum: u32 = f[..n - 4].iter().map(|b| u32::from(*b)).sum();
+        f[n - 4..].copy_from_slice(&sum.to_be_bytes());
+        f
+    };
+    let mut unknown_bit = execute.clone();
+    unknown_bit[16] |= 0x80;
+    let unknown_bit = with_checksum(unknown_bit);
+    let mut truncated = execute;
+    truncated[16] |= 0x04;
+    let truncated = with_checksum(truncated);
     let cases: Vec<(&str, Vec<u8>, &str, &str)> = vec![
+        (
+            "presence bit beyond the fields",
+            unknown_bit,
+            "missionlink.unknown_field",
+            "beyond the defined fields",
+        ),
+        (
+            "field cut off",
+            truncated,
+            "missionlink.truncated",
+            "ends inside the field",
+        ),
         (
             "bad checksum",
             bad_checksum,
@@ -589,9 +619,10 @@ fn frames_that_break_the_wrapper_rules_carry_expert_info() {
         assert!(flagged, "{what}: no {expert} in {dissected:#?}");
     }
     // The good message before the broken one is shown as inspect shows it.
-    let (messages, _) = inspect(&cases[8].1);
+    let last = cases.len() - 1;
+    let (messages, _) = inspect(&cases[last].1);
     assert_eq!(messages.len(), 1);
-    assert!(compare(&messages[0], &packets[8][0]).is_empty());
+    assert!(compare(&messages[0], &packets[last][0]).is_empty());
 }
 
 // ---------------------------------------------------------------------------------------------
