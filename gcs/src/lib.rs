@@ -13,6 +13,7 @@ pub mod geojson;
 pub mod inspect;
 pub mod map;
 pub mod mission_file;
+pub mod pcap;
 pub mod profile;
 pub mod qgc;
 pub mod report_table;

@@ -1,12 +1,14 @@
 //! The two UDP links of ICD §1 as one pair of sockets: each node receives on its direct and its
 //! LTE port and sends every frame on both links (the FCC's downlink, the GCS's uplink), each
 //! copy signed for its link when the node has a sending key (ICD §9). The sockets are
-//! non-blocking and can sleep in an iceoryx2 WaitSet next to the listeners.
+//! non-blocking and can sleep in an iceoryx2 WaitSet next to the listeners. A [`DatagramTap`]
+//! may watch every datagram the pair sends and receives (the GCS's `--pcap` capture).
 
 use std::fmt;
 use std::io::ErrorKind;
 use std::net::{SocketAddr, UdpSocket};
 use std::os::fd::AsRawFd;
+use std::sync::Arc;
 
 use iceoryx2::prelude::{FileDescriptor, FileDescriptorBased, SynchronousMultiplexing};
 use missionlink_interfaces::contracts::Link;
@@ -14,6 +16,15 @@ use missionlink_interfaces::wire::MAX_SIGNED_FRAME_LEN;
 use missionlink_services::link::signing::Signer;
 
 use crate::clock::monotonic_ns;
+
+/// Sees every datagram a [`LinkPair`] sends or receives, as it went on the wire (signed copies
+/// included): a capture of the links for Wireshark. It lives here, in the link driver, so the
+/// sans-IO services never know of it; what it does with the bytes is the tap's business (the
+/// GCS writes pcap, `missionlink_gcs::pcap`).
+pub trait DatagramTap: fmt::Debug + Send + Sync {
+    /// A datagram of `link` from `from` to `to`.
+    fn datagram(&self, link: Link, from: SocketAddr, to: SocketAddr, bytes: &[u8]);
+}
 
 /// A socket's descriptor as a WaitSet attachment (not owning: the socket closes it).
 pub struct SocketFd(FileDescriptor);
@@ -86,6 +97,8 @@ pub struct LinkPair {
     peer_direct: SocketAddr,
     peer_lte: SocketAddr,
     signer: Option<Signer>,
+    /// The capture, with the local addresses of the direct and the LTE socket (read once).
+    tap: Option<(Arc<dyn DatagramTap>, [SocketAddr; 2])>,
 }
 
 /// A socket that could not be set up.
@@ -157,7 +170,14 @@ impl LinkPair {
             peer_direct,
             peer_lte,
             signer: None,
+            tap: None,
         })
+    }
+
+    /// The same pair showing every datagram it sends and receives to `tap`.
+    pub fn with_tap(mut self, tap: Arc<dyn DatagramTap>) -> Result<Self, LinkError> {
+        self.tap = Some((tap, self.local_addrs()?));
+        Ok(self)
     }
 
     /// The same pair signing every frame it sends with `signer` (ICD §9); `None`: unsigned.
@@ -187,9 +207,14 @@ impl LinkPair {
         for (link, socket) in [(Link::Direct, &self.direct), (Link::Lte, &self.lte)] {
             for _ in 0..MAX_READS_PER_WAKE {
                 match socket.recv_from(buf) {
-                    Ok((len, _from)) => {
+                    Ok((len, from)) => {
                         let at = monotonic_ns();
-                        f(link, buf.get(..len).unwrap_or_default(), at);
+                        let datagram = buf.get(..len).unwrap_or_default();
+                        if let Some((tap, [direct, lte])) = &self.tap {
+                            let to = if link == Link::Direct { *direct } else { *lte };
+                            tap.datagram(link, from, to, datagram);
+                        }
+                        f(link, datagram, at);
                     }
                     Err(e) if e.kind() == ErrorKind::WouldBlock => break,
                     Err(e) if e.kind() == ErrorKind::Interrupted => continue,
@@ -224,7 +249,13 @@ impl LinkPair {
                 },
             };
             match socket.send_to(datagram, peer) {
-                Ok(_) => sent += 1,
+                Ok(_) => {
+                    sent += 1;
+                    if let Some((tap, [direct, lte])) = &self.tap {
+                        let from = if link == Link::Direct { *direct } else { *lte };
+                        tap.datagram(link, from, peer, datagram);
+                    }
+                }
                 Err(e) => tracing::debug!(?link, %peer, %e, "send failed"),
             }
         }

@@ -14,11 +14,13 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
 use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink, Logged};
 use missionlink_gcs::mission_file::MissionFile;
+use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::report_table;
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
@@ -48,6 +50,10 @@ struct Args {
     /// Where the partition binaries are (default: next to this one).
     #[arg(long, value_name = "DIR")]
     bin_dir: Option<PathBuf>,
+    /// Write every datagram the GCS sends and receives on both links to FILE (pcap, UDP over
+    /// IPv4 with the real ports; open it with tools/wireshark/missionlink.lua).
+    #[arg(long, value_name = "FILE")]
+    pcap: Option<PathBuf>,
 }
 
 type Link = GcsLink<SafetyGateway>;
@@ -268,9 +274,16 @@ fn run(args: &Args) -> Result<(), String> {
     println!(
         "Links signed (ICD §9): HMAC-SHA-256 with key 1, made for this run; both sides require it\n"
     );
-    let links = gcs_ends
+    let mut links = gcs_ends
         .connect(config.links.fcc_direct, config.links.fcc_lte)
         .map_err(|e| e.to_string())?;
+    if let Some(path) = &args.pcap {
+        let capture = PcapWriter::create(path)
+            .map_err(|e| format!("cannot write the capture {}: {e}", path.display()))?;
+        links = links
+            .with_tap(Arc::new(capture))
+            .map_err(|e| e.to_string())?;
+    }
     let mut link =
         GcsLink::with_links(&config, links, SafetyGateway::default()).map_err(|e| e.to_string())?;
     link.enable_log();

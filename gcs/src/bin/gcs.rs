@@ -12,6 +12,7 @@
 use std::io::{self, BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -20,10 +21,12 @@ use missionlink_gcs::inspect::{
     Inspected, MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
+use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
 use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
 use missionlink_partitions::keys;
+use missionlink_partitions::udp::LinkPair;
 use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_services::ground_station::{
     GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan,
@@ -42,6 +45,10 @@ use missionlink_services::transfer::staged::MissionId;
 struct Cli {
     #[command(flatten)]
     config: ConfigArgs,
+    /// Write every datagram sent and received on both links to FILE (pcap, UDP over IPv4 with
+    /// the real addresses and ports): open it in Wireshark with tools/wireshark/missionlink.lua.
+    #[arg(long, global = true, value_name = "FILE")]
+    pcap: Option<PathBuf>,
     #[command(subcommand)]
     command: Command,
 }
@@ -447,8 +454,26 @@ fn encode(json: Vec<String>, out: &mut impl Write) -> io::Result<bool> {
 
 type Link = GcsLink<SafetyGateway>;
 
+/// The capture of `--pcap`, set once in `main` before any link opens (a flag of the whole
+/// process, read by every command that opens the links).
+static CAPTURE: OnceLock<Arc<PcapWriter>> = OnceLock::new();
+
 fn open(config: &Config, gateway: SafetyGateway) -> Result<Link, String> {
-    let link = GcsLink::open(config, gateway).map_err(|e| e.to_string())?;
+    let link = match CAPTURE.get() {
+        None => GcsLink::open(config, gateway).map_err(|e| e.to_string())?,
+        Some(capture) => {
+            // The same ends `GcsLink::open` binds, with the capture on them.
+            let links = LinkPair::bind(
+                config.links.gcs_direct,
+                config.links.gcs_lte,
+                config.links.fcc_direct,
+                config.links.fcc_lte,
+            )
+            .and_then(|l| l.with_tap(capture.clone()))
+            .map_err(|e| e.to_string())?;
+            GcsLink::with_links(config, links, gateway).map_err(|e| e.to_string())?
+        }
+    };
     // Time stamps reserved across gcs runs (see `gcs_link`), in the default state directory;
     // without one (no HOME), each run stamps with the clock alone.
     match state_base(None) {
@@ -1155,6 +1180,17 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> ExitCode {
+    if let Some(path) = &cli.pcap {
+        match PcapWriter::create(path) {
+            Ok(w) => {
+                let _ = CAPTURE.set(Arc::new(w));
+            }
+            Err(e) => {
+                eprintln!("gcs: cannot write the capture {}: {e}", path.display());
+                return ExitCode::from(2);
+            }
+        }
+    }
     if !matches!(
         cli.command,
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. }
