@@ -34,6 +34,9 @@ use missionlink_services::voting::Voter;
 // the testkit that every test and bench shares.
 pub use missionlink_services::testkit::*;
 
+/// Datagrams a driver reads per link per step (`partitions::udp::MAX_READS_PER_WAKE`).
+const READS_PER_LINK: usize = 32;
+
 /// How long a sender waits for an answer (ICD §1).
 pub const ACK_TIMEOUT: Duration = defaults::ACK_TIMEOUT;
 /// How long a transfer waits for its peer (ICD §1).
@@ -277,9 +280,21 @@ impl Pair {
         mut handle: impl FnMut(&[u8]),
     ) {
         let due = Self::take_due(queue, now);
-        let arrivals: Vec<(Link, &[u8])> =
-            due.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
-        voter.vote_step(now, &arrivals, |_, frame| handle(frame));
+        // As the drivers read them: at most `READS_PER_LINK` datagrams per link per step (the
+        // partitions' `MAX_READS_PER_WAKE`), the rest in the next step.
+        let mut rest: Vec<&InFlight> = due.iter().collect();
+        while !rest.is_empty() {
+            let mut taken = [0usize; 2];
+            let (step, later): (Vec<&InFlight>, Vec<&InFlight>) = rest.into_iter().partition(|f| {
+                let n = &mut taken[usize::from(f.link != Link::Direct)];
+                *n += 1;
+                *n <= READS_PER_LINK
+            });
+            let arrivals: Vec<(Link, &[u8])> =
+                step.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
+            voter.vote_step(now, &arrivals, |_, frame| handle(frame));
+            rest = later;
+        }
     }
 
     /// Advances to the next event and handles it. `false` when nothing is left to happen.
