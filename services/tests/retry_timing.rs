@@ -16,7 +16,7 @@ use missionlink_interfaces::wire::{
 };
 use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{
-    GcsError, GcsEvent, GroundStation, Phase, WithoutGateway,
+    GcsError, GcsEvent, GroundStation, Phase, Sequence, WithoutGateway,
 };
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::retry::{AttemptFailure, Subject};
@@ -301,4 +301,24 @@ fn a_stray_area_outside_a_transfer_starts_no_timer() {
     assert_eq!(fcc.poll_timeout(), None);
     fcc.handle_timeout(at(10) + TRANSFER_TIMEOUT);
     assert_eq!(fcc.poll_event(), None, "no upload to abandon");
+}
+
+/// Issue 15: the ack timer of an upload's first message starts when the message goes out, after
+/// the validation (which takes up to a second for a large plan in a debug build), not when the
+/// operator asked: validated first, the request at the time it is sent.
+#[test]
+fn an_uploads_first_ack_timer_starts_after_the_validation() {
+    let mut gcs = GroundStation::new(gcs_config(), WithoutGateway);
+    let plan = generated_plan(256);
+    let validated = gcs.validate(&plan).unwrap();
+    // The validation took 900 ms of the driver's clock.
+    gcs.upload_validated(at(900), validated, Sequence::Atomic)
+        .unwrap();
+    assert_eq!(gcs.messages().len(), 1, "the report request");
+    assert_eq!(gcs.poll_timeout(), Some(at(1400)));
+    gcs.handle_timeout(at(1399));
+    assert!(
+        gcs.messages().is_empty(),
+        "no resend before its own ack timeout"
+    );
 }

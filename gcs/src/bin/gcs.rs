@@ -904,14 +904,17 @@ fn send_plan(
     let gateway = safety.gateway()?;
     let plan = read_plan(file, safety)?.plan;
     let mut link = open(config, gateway)?;
+    let nothing_sent = |e| format!("{}: {e}; nothing was sent", file.display());
+    let validated = link.station().validate(&plan).map_err(nothing_sent)?;
+    // Read after the validation: the first message's ack timer starts when it is sent.
     let now = link.now();
     let station = link.station();
     let requested = match (edit, target) {
-        (true, _) => station.edit(now, &plan, target, sequence, state.known()),
-        (false, Target::Active) => station.upload_with(now, &plan, sequence),
-        (false, Target::Staged(id)) => station.stage(now, id, &plan),
+        (true, _) => station.edit_validated(now, validated, target, sequence, state.known()),
+        (false, Target::Active) => station.upload_validated(now, validated, sequence),
+        (false, Target::Staged(id)) => station.stage_validated(now, id, validated),
     };
-    requested.map_err(|e| format!("{}: {e}; nothing was sent", file.display()))?;
+    requested.map_err(nothing_sent)?;
     let finished = finish(&mut link);
     if let Ok(Finished::Uploaded(report)) = &finished {
         println!("{report}");

@@ -164,11 +164,25 @@ impl<G: SafetyGateway> GroundStation<G> {
         plan: &MissionPlan,
         sequence: Sequence,
     ) -> Result<(), GcsError<G::Report>> {
+        let validated = self.validate(plan)?;
+        self.upload_validated(now, validated, sequence)
+    }
+
+    /// [`GroundStation::upload_with`] of a plan validated already: `now` read after the
+    /// validation, which takes up to a second for a large plan in a debug build. With `now` read
+    /// before it, the first message's ack timer would have run during the validation and its one
+    /// retry would be spent before the FCC could answer (issue 15).
+    pub fn upload_validated(
+        &mut self,
+        now: Instant,
+        validated: super::ValidatedPlan,
+        sequence: Sequence,
+    ) -> Result<(), GcsError<G::Report>> {
         let kind = match sequence {
             Sequence::Atomic => Kind::Atomic,
             Sequence::Paper { clear } => Kind::Paper { clear },
         };
-        self.begin_upload(now, plan, kind, None)
+        self.begin_upload(now, validated, kind, None)
     }
 
     /// The stage request (ICD §8): the plan's mission and areas stored under `id`, the active
@@ -180,7 +194,19 @@ impl<G: SafetyGateway> GroundStation<G> {
         id: MissionId,
         plan: &MissionPlan,
     ) -> Result<(), GcsError<G::Report>> {
-        self.begin_upload(now, plan, Kind::Stage(id), None)
+        let validated = self.validate(plan)?;
+        self.stage_validated(now, id, validated)
+    }
+
+    /// [`GroundStation::stage`] of a plan validated already (`now` read after the validation,
+    /// see [`GroundStation::upload_validated`]).
+    pub fn stage_validated(
+        &mut self,
+        now: Instant,
+        id: MissionId,
+        validated: super::ValidatedPlan,
+    ) -> Result<(), GcsError<G::Report>> {
+        self.begin_upload(now, validated, Kind::Stage(id), None)
     }
 
     /// The edit request: the plan compared with the mission `target` holds on the FCC, and only
@@ -192,6 +218,20 @@ impl<G: SafetyGateway> GroundStation<G> {
         &mut self,
         now: Instant,
         plan: &MissionPlan,
+        target: Target,
+        sequence: Sequence,
+        known: Vec<Mission>,
+    ) -> Result<(), GcsError<G::Report>> {
+        let validated = self.validate(plan)?;
+        self.edit_validated(now, validated, target, sequence, known)
+    }
+
+    /// [`GroundStation::edit`] of a plan validated already (`now` read after the validation,
+    /// see [`GroundStation::upload_validated`]).
+    pub fn edit_validated(
+        &mut self,
+        now: Instant,
+        validated: super::ValidatedPlan,
         target: Target,
         sequence: Sequence,
         known: Vec<Mission>,
@@ -208,18 +248,18 @@ impl<G: SafetyGateway> GroundStation<G> {
             fetching: false,
             fallback: None,
         };
-        self.begin_upload(now, plan, kind, Some(edit))
+        self.begin_upload(now, validated, kind, Some(edit))
     }
 
     fn begin_upload(
         &mut self,
         now: Instant,
-        plan: &MissionPlan,
+        validated: super::ValidatedPlan,
         kind: Kind,
         edit: Option<EditJob>,
     ) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
-        let super::ValidatedPlan { mission, areas } = self.validate(plan)?;
+        let super::ValidatedPlan { mission, areas } = validated;
         self.upload = Some(Box::new(UploadJob {
             checksums: (mission_checksum(&mission), areas_checksum(&areas)),
             mission,
