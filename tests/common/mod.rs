@@ -94,6 +94,22 @@ impl Rig {
             .unwrap()
     }
 
+    /// Where the rig's GCS ends are bound (direct, LTE).
+    pub fn gcs_addrs(&self) -> [std::net::SocketAddr; 2] {
+        self.gcs_ends
+            .as_ref()
+            .expect("the GCS ends are not taken yet")
+            .addrs()
+            .unwrap()
+    }
+
+    /// The rig's GCS ends connected to `peer` (direct, LTE): the link emulator's ports, say
+    /// (once per rig).
+    pub fn gcs_links_to(&mut self, peer: [std::net::SocketAddr; 2]) -> LinkPair {
+        let ends = self.gcs_ends.take().expect("one GCS per rig");
+        ends.connect(peer[0], peer[1]).unwrap()
+    }
+
     /// The rig's GCS ends connected to the ports `fcc` announced, for a test that plays the
     /// ground itself (once per rig, like [`Rig::gcs`]).
     pub fn gcs_links(&mut self, fcc: &mut Process) -> LinkPair {

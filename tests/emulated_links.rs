@@ -1,0 +1,67 @@
+//! The real GCS and the real FCC through the link emulator (`missionlink::link_emulator`):
+//! windowed transfers (ICD §10) over an LTE link with its delay, jitter and loss on both links,
+//! and over one link when the other is cut.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+mod common;
+
+use std::time::Instant;
+
+use common::*;
+use missionlink::link_emulator::{Emulator, EmulatorConfig, Flow, Profile};
+
+const SEED: u64 = 15;
+
+/// An FCC and a GCS talking through an emulator with `config`'s flows.
+fn through(test: &str, profile: Profile) -> (Rig, Process, Link, Emulator) {
+    let mut rig = Rig::new(test);
+    let emulator =
+        Emulator::start(EmulatorConfig::profile(rig.gcs_addrs(), profile, SEED)).unwrap();
+    let [direct, lte] = emulator.fcc_facing();
+    rig.config.links.gcs_direct = direct;
+    rig.config.links.gcs_lte = lte;
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    rig.learn_links(&mut fcc);
+    emulator.set_fcc([rig.config.links.fcc_direct, rig.config.links.fcc_lte]);
+    let links = rig.gcs_links_to(emulator.gcs_facing());
+    let link = rig.gcs_on(links);
+    (rig, fcc, link, emulator)
+}
+
+#[test]
+fn an_upload_and_a_download_over_lte_on_both_links() {
+    let (_rig, mut fcc, mut link, emulator) = through("emulated-lte", Profile::Lte);
+    let plan = plan("mission-2.toml");
+    let valid = link.station().validate(&plan).unwrap();
+    let started = Instant::now();
+    upload(&mut link, &plan).unwrap();
+    let took = started.elapsed();
+    assert_eq!(download(&mut link).unwrap(), valid);
+    let stats = emulator.stats();
+    println!("mission 2 over lte: upload {took:?}; per flow {stats:?}");
+    // Everything went through the emulator, both ways, both links.
+    assert!(stats.iter().all(|s| s.offered > 0), "{stats:?}");
+    fcc.stop().unwrap();
+}
+
+#[test]
+fn with_the_direct_link_cut_the_lte_link_carries_everything() {
+    let (_rig, mut fcc, mut link, emulator) = through("emulated-cut", Profile::Lte);
+    for flow in [Flow::UpDirect, Flow::DownDirect] {
+        emulator.set(flow, Profile::Lte.impairments().cut());
+    }
+    let plan = plan("mission-2.toml");
+    let valid = link.station().validate(&plan).unwrap();
+    upload(&mut link, &plan).unwrap();
+    assert_eq!(download(&mut link).unwrap(), valid);
+    let stats = emulator.stats();
+    assert_eq!(
+        stats[Flow::UpDirect as usize].lost,
+        stats[Flow::UpDirect as usize].offered
+    );
+    assert!(stats[Flow::UpLte as usize].offered > 0);
+    fcc.stop().unwrap();
+}
