@@ -598,6 +598,11 @@ impl<G: SafetyGateway> GroundStation<G> {
         &self.endpoint
     }
 
+    /// The window of the transfers started from now on (ICD §10.2; toward an edition-2 FCC).
+    pub fn set_transfer_window(&mut self, window: TransferWindow) {
+        self.config.transfer_window = window;
+    }
+
     /// Time stamps from now on are strictly greater than `floor`
     /// ([`Endpoint::resume_stamps_after`]).
     pub fn resume_stamps_after(&mut self, floor: Timestamp) {

@@ -1,0 +1,304 @@
+//! Transfers over emulated links (issue 15): the real FCC (the `fcc` launcher and its
+//! partitions) and the real GCS link, through the user-space link emulator
+//! (`missionlink::link_emulator`) with a named profile on both links, both ways. Each case is
+//! uploaded (the paper's sequence, clear first) and downloaded, stop-and-wait (window 1, ICD §5)
+//! against windowed (window 32, ICD §10), in the same run. Reports per profile, case and window:
+//! the median and p99 of the upload and the download, the completion rate, the ratio of the
+//! windowed median to stop-and-wait's, and the ratio to n x RTT (messages up times the
+//! profile's round trip, what any stop-and-wait protocol needs).
+//!
+//! ```sh
+//! cargo bench --bench links                                   # every profile, 10 runs
+//! cargo bench --bench links -- --profiles lte,satcom --runs 5 --cases 1,256
+//! cargo bench --bench links -- --profiles bad --cases 2 --windows 32 --runs 200
+//! ```
+//!
+//! Cases: 1 and 2 are demo missions 1 and 2, any other number a generated mission of that many
+//! waypoints with 11 areas of 60 vertices.
+//!
+//! The ack timeout is set per profile above its round trip (ICD §1 lets every peer change it):
+//! 500 ms (lan, lte, bad), 1500 ms (satcom). Results: `target/links/results.json`.
+// A benchmark stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::{Duration, Instant};
+
+use missionlink::link_emulator::{Emulator, EmulatorConfig, Profile};
+use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_interfaces::wire::TransferWindow;
+use missionlink_services::ground_station::{MissionPlan, Sequence};
+use missionlink_services::testkit;
+
+/// Stop-and-wait and the default window, unless `--windows` names others.
+const WINDOWS: [u8; 2] = [1, 32];
+
+#[derive(Clone)]
+struct Case {
+    name: String,
+    plan: MissionPlan,
+}
+
+struct Row {
+    profile: Profile,
+    case: String,
+    window: u8,
+    messages_up: usize,
+    upload_ms: Vec<f64>,
+    download_ms: Vec<f64>,
+    runs: usize,
+    failures: Vec<String>,
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = (p * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+fn sorted(v: &[f64]) -> Vec<f64> {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s
+}
+
+/// The profile's round trip: twice the one-way delay and the mean jitter.
+fn rtt(profile: Profile) -> Duration {
+    let i = profile.impairments();
+    2 * (i.delay + i.jitter / 2)
+}
+
+fn cases(sizes: &[u16]) -> Vec<Case> {
+    sizes
+        .iter()
+        .map(|&n| match n {
+            1 => Case {
+                name: "mission-1".to_owned(),
+                plan: common::plan("mission-1.toml"),
+            },
+            2 => Case {
+                name: "mission-2".to_owned(),
+                plan: common::plan("mission-2.toml"),
+            },
+            n => Case {
+                name: format!("generated-{n}"),
+                plan: testkit::generated_plan(n),
+            },
+        })
+        .collect()
+}
+
+fn measure(profile: Profile, cases: &[Case], windows: &[u8], runs: usize, seed: u64) -> Vec<Row> {
+    let mut rig = common::Rig::new(&format!("bench-links-{}", profile.name()));
+    let ack = match profile {
+        Profile::Satcom => 1500,
+        _ => 500,
+    };
+    rig.config.timing.ack_timeout_ms = ack;
+    rig.config.timing.transfer_timeout_ms = 3 * ack + 2 * rtt(profile).as_millis() as u64;
+    let emulator =
+        Emulator::start(EmulatorConfig::profile(rig.gcs_addrs(), profile, seed)).unwrap();
+    let [direct, lte] = emulator.fcc_facing();
+    rig.config.links.gcs_direct = direct;
+    rig.config.links.gcs_lte = lte;
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    rig.learn_links(&mut fcc);
+    emulator.set_fcc([rig.config.links.fcc_direct, rig.config.links.fcc_lte]);
+    let links = rig.gcs_links_to(emulator.gcs_facing());
+    let mut link = rig.gcs_on(links);
+    link.enable_log();
+
+    let mut rows = Vec::new();
+    for case in cases {
+        let valid = link.station().validate(&case.plan).unwrap();
+        for &window in windows {
+            link.station()
+                .set_transfer_window(TransferWindow::new(window).unwrap());
+            let mut row = Row {
+                profile,
+                case: case.name.clone(),
+                window,
+                messages_up: 0,
+                upload_ms: Vec::new(),
+                download_ms: Vec::new(),
+                runs,
+                failures: Vec::new(),
+            };
+            for run in 0..runs {
+                link.log.clear();
+                let now = link.now();
+                let start = Instant::now();
+                let up = link
+                    .station()
+                    .upload_validated(now, valid.clone(), Sequence::Paper { clear: true })
+                    .and_then(|()| common::finish(&mut link));
+                let took = start.elapsed();
+                match up {
+                    Ok(Finished::Uploaded(r)) if r.failure.is_none() => {
+                        row.upload_ms.push(took.as_secs_f64() * 1e3);
+                        row.messages_up = link
+                            .log
+                            .iter()
+                            .filter(|l| l.direction == Direction::Up)
+                            .count();
+                    }
+                    other => row.failures.push(format!("run {run} upload: {other:?}")),
+                }
+                let now = link.now();
+                let start = Instant::now();
+                let down = link
+                    .station()
+                    .download(now)
+                    .and_then(|()| common::finish(&mut link));
+                let took = start.elapsed();
+                match down {
+                    Ok(Finished::Downloaded(plan)) if *plan == valid => {
+                        row.download_ms.push(took.as_secs_f64() * 1e3)
+                    }
+                    other => row.failures.push(format!("run {run} download: {other:?}")),
+                }
+            }
+            eprintln!(
+                "{} {} window {window}: {} of {runs} uploads, {} downloads",
+                profile.name(),
+                case.name,
+                row.upload_ms.len(),
+                row.download_ms.len()
+            );
+            rows.push(row);
+        }
+    }
+    fcc.stop().unwrap();
+    println!(
+        "{}: emulator flows (up direct, up LTE, down direct, down LTE): {:?}",
+        profile.name(),
+        emulator.stats()
+    );
+    rows
+}
+
+fn arg<'a>(args: &'a [String], name: &str) -> Option<&'a str> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .map(String::as_str)
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let bench = args.iter().any(|a| a == "--bench");
+    let runs: usize = arg(&args, "--runs")
+        .map(|v| v.parse().expect("--runs N"))
+        .unwrap_or(if bench { 10 } else { 1 });
+    let profiles: Vec<Profile> = arg(&args, "--profiles")
+        .map(|v| {
+            v.split(',')
+                .map(|p| Profile::named(p).expect("lan, lte, satcom or bad"))
+                .collect()
+        })
+        .unwrap_or_else(|| {
+            if bench {
+                Profile::ALL.to_vec()
+            } else {
+                vec![Profile::Lte]
+            }
+        });
+    let sizes: Vec<u16> = arg(&args, "--cases")
+        .map(|v| {
+            v.split(',')
+                .map(|n| n.parse().expect("--cases 1,10,100,256"))
+                .collect()
+        })
+        .unwrap_or_else(|| {
+            if bench {
+                vec![1, 10, 100, 256]
+            } else {
+                vec![1]
+            }
+        });
+    let cases = cases(&sizes);
+    let windows: Vec<u8> = arg(&args, "--windows")
+        .map(|v| {
+            v.split(',')
+                .map(|n| n.parse().expect("--windows 1,32"))
+                .collect()
+        })
+        .unwrap_or_else(|| WINDOWS.to_vec());
+
+    let mut rows = Vec::new();
+    for (i, profile) in profiles.iter().enumerate() {
+        rows.extend(measure(*profile, &cases, &windows, runs, 15 + i as u64));
+    }
+
+    println!(
+        "\n{:<7} {:<14} {:>3} {:>5} {:>10} {:>10} {:>10} {:>10} {:>9} {:>8} {:>9}",
+        "profile",
+        "case",
+        "W",
+        "msgs",
+        "up p50 ms",
+        "up p99 ms",
+        "dn p50 ms",
+        "dn p99 ms",
+        "complete",
+        "/ W=1",
+        "/ n x RTT"
+    );
+    let mut json = Vec::new();
+    for row in &rows {
+        let up = sorted(&row.upload_ms);
+        let down = sorted(&row.download_ms);
+        let up50 = percentile(&up, 0.5);
+        let stop_and_wait = rows
+            .iter()
+            .find(|r| r.profile == row.profile && r.case == row.case && r.window == 1)
+            .map(|r| percentile(&sorted(&r.upload_ms), 0.5))
+            .unwrap_or(f64::NAN);
+        let n_rtt = row.messages_up as f64 * rtt(row.profile).as_secs_f64() * 1e3;
+        let complete = row.upload_ms.len().min(row.download_ms.len());
+        println!(
+            "{:<7} {:<14} {:>3} {:>5} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>4}/{:<4} {:>8.2} {:>9.2}",
+            row.profile.name(),
+            row.case,
+            row.window,
+            row.messages_up,
+            up50,
+            percentile(&up, 0.99),
+            percentile(&down, 0.5),
+            percentile(&down, 0.99),
+            complete,
+            row.runs,
+            up50 / stop_and_wait,
+            up50 / n_rtt,
+        );
+        for f in &row.failures {
+            println!("    {f}");
+        }
+        json.push(serde_json::json!({
+            "profile": row.profile.name(),
+            "case": row.case,
+            "window": row.window,
+            "messages_up": row.messages_up,
+            "runs": row.runs,
+            "uploads_completed": row.upload_ms.len(),
+            "downloads_completed": row.download_ms.len(),
+            "upload_ms": row.upload_ms,
+            "download_ms": row.download_ms,
+            "failures": row.failures,
+            "rtt_ms": rtt(row.profile).as_secs_f64() * 1e3,
+        }));
+    }
+    if bench {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/links");
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("results.json");
+        std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+        println!("written to {}", path.display());
+    }
+}
