@@ -27,7 +27,7 @@ mod common;
 
 use std::time::{Duration, Instant};
 
-use missionlink::link_emulator::{Emulator, EmulatorConfig, Profile};
+use missionlink::link_emulator::Profile;
 use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_interfaces::wire::TransferWindow;
 use missionlink_services::ground_station::{MissionPlan, Sequence};
@@ -101,17 +101,7 @@ fn measure(profile: Profile, cases: &[Case], windows: &[u8], runs: usize, seed: 
     };
     rig.config.timing.ack_timeout_ms = ack;
     rig.config.timing.transfer_timeout_ms = 3 * ack + 2 * rtt(profile).as_millis() as u64;
-    let emulator =
-        Emulator::start(EmulatorConfig::profile(rig.gcs_addrs(), profile, seed)).unwrap();
-    let [direct, lte] = emulator.fcc_facing();
-    rig.config.links.gcs_direct = direct;
-    rig.config.links.gcs_lte = lte;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    rig.learn_links(&mut fcc);
-    emulator.set_fcc([rig.config.links.fcc_direct, rig.config.links.fcc_lte]);
-    let links = rig.gcs_links_to(emulator.gcs_facing());
-    let mut link = rig.gcs_on(links);
+    let (mut fcc, mut link, emulator) = rig.start_through([profile.impairments(); 4], seed);
     link.enable_log();
 
     let mut rows = Vec::new();

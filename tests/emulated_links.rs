@@ -10,24 +10,14 @@ mod common;
 use std::time::Instant;
 
 use common::*;
-use missionlink::link_emulator::{Emulator, EmulatorConfig, Flow, Profile};
+use missionlink::link_emulator::{Emulator, Flow, Profile};
 
 const SEED: u64 = 15;
 
-/// An FCC and a GCS talking through an emulator with `config`'s flows.
+/// An FCC and a GCS talking through an emulator with `profile` on every flow.
 fn through(test: &str, profile: Profile) -> (Rig, Process, Link, Emulator) {
     let mut rig = Rig::new(test);
-    let emulator =
-        Emulator::start(EmulatorConfig::profile(rig.gcs_addrs(), profile, SEED)).unwrap();
-    let [direct, lte] = emulator.fcc_facing();
-    rig.config.links.gcs_direct = direct;
-    rig.config.links.gcs_lte = lte;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    rig.learn_links(&mut fcc);
-    emulator.set_fcc([rig.config.links.fcc_direct, rig.config.links.fcc_lte]);
-    let links = rig.gcs_links_to(emulator.gcs_facing());
-    let link = rig.gcs_on(links);
+    let (fcc, link, emulator) = rig.start_through([profile.impairments(); 4], SEED);
     (rig, fcc, link, emulator)
 }
 

@@ -258,14 +258,10 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
     assert_eq!(download(&mut link).unwrap(), valid, "nothing changed");
 
     fcc.stop().unwrap();
-    let summaries = rig.summaries();
-    let vm = summaries
-        .iter()
-        .find(|s| s.partition == "voting-monitoring")
-        .expect("voting-monitoring summary");
-    assert_eq!(vm.counters["unknown_source"], 2, "{:?}", vm.counters);
-    assert_eq!(vm.counters["checksum_mismatch"], 2, "{:?}", vm.counters);
-    assert_eq!(vm.counters["rejected_frames"], 4, "{:?}", vm.counters);
+    let counters = rig.counters("voting-monitoring");
+    assert_eq!(counters["unknown_source"], 2, "{counters:?}");
+    assert_eq!(counters["checksum_mismatch"], 2, "{counters:?}");
+    assert_eq!(counters["rejected_frames"], 4, "{counters:?}");
 }
 
 #[test]
@@ -375,22 +371,18 @@ fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
     fcc.stop().unwrap();
     let seconds = started.elapsed().as_secs() + 1;
 
-    let vm = rig
-        .summaries()
-        .into_iter()
-        .find(|s| s.partition == "voting-monitoring")
-        .expect("voting-monitoring summary");
-    let rejected = vm.counters["rejected_frames"];
+    let counters = rig.counters("voting-monitoring");
+    let rejected = counters["rejected_frames"];
     // The kernel may drop datagrams when a socket's buffer is full; every one that arrived is
     // counted, by its cause.
-    assert!(rejected <= N as u64 && rejected > 0, "{:?}", vm.counters);
+    assert!(rejected <= N as u64 && rejected > 0, "{counters:?}");
     for cause in [
         "unknown_source",
         "checksum_mismatch",
         "length_out_of_range",
         "too_short",
     ] {
-        assert!(vm.counters[cause] > 0, "{cause}: {:?}", vm.counters);
+        assert!(counters[cause] > 0, "{cause}: {counters:?}");
     }
     // At most one line per cause per second of flood (and one to start with), whatever the
     // number of frames.

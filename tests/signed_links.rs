@@ -107,15 +107,11 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     assert!(link.voter().signatures().stats().verified > 0);
 
     fcc.stop().unwrap();
-    let summaries = rig.summaries();
-    let vm = summaries
-        .iter()
-        .find(|s| s.partition == "voting-monitoring")
-        .expect("voting-monitoring summary");
+    let counters = rig.counters("voting-monitoring");
     // Two frames, each on both links, per disguise.
-    assert_eq!(vm.counters["signature_no_trailer"], 4, "{:?}", vm.counters);
-    assert_eq!(vm.counters["signature_bad"], 4, "{:?}", vm.counters);
-    assert_eq!(vm.counters["rejected_signatures"], 8, "{:?}", vm.counters);
+    assert_eq!(counters["signature_no_trailer"], 4, "{counters:?}");
+    assert_eq!(counters["signature_bad"], 4, "{counters:?}");
+    assert_eq!(counters["rejected_signatures"], 8, "{counters:?}");
     // Counted, not logged per frame.
     let lines = fcc
         .log_text()
@@ -144,19 +140,11 @@ fn a_gcs_whose_key_the_fcc_does_not_hold_hears_nothing_and_says_why() {
     assert!(why.contains("does not fall back"), "{why}");
     // Nothing unsigned went out after the silence: the FCC saw only frames with key 2.
     fcc.stop().unwrap();
-    let summaries = rig.summaries();
-    let vm = summaries
-        .iter()
-        .find(|s| s.partition == "voting-monitoring")
-        .expect("voting-monitoring summary");
+    let counters = rig.counters("voting-monitoring");
     assert!(
-        vm.counters["signature_unknown_key"] > 0,
-        "{error}: {:?}",
-        vm.counters
+        counters["signature_unknown_key"] > 0,
+        "{error}: {counters:?}"
     );
-    assert_eq!(vm.counters["signature_no_trailer"], 0, "{:?}", vm.counters);
-    assert_eq!(
-        vm.counters["forwarded_direct"] + vm.counters["forwarded_lte"],
-        0
-    );
+    assert_eq!(counters["signature_no_trailer"], 0, "{counters:?}");
+    assert_eq!(counters["forwarded_direct"] + counters["forwarded_lte"], 0);
 }

@@ -123,6 +123,42 @@ impl Rig {
     pub fn summaries(&self) -> Vec<Summary> {
         missionlink_partitions::latency::read_summaries(&self.dir.join("latency"))
     }
+
+    /// The counters `partition` wrote in its summary at shutdown.
+    pub fn counters(&self, partition: &str) -> std::collections::BTreeMap<String, u64> {
+        self.summaries()
+            .into_iter()
+            .find(|s| s.partition == partition)
+            .unwrap_or_else(|| panic!("no summary of {partition}"))
+            .counters
+    }
+
+    /// Starts the FCC (the `fcc` launcher) behind a link emulator with `config` (its `gcs`
+    /// taken from the rig's GCS ends): the FCC sends to the emulator's fcc-facing ports, the
+    /// GCS to its gcs-facing ones. The rig's configuration (timeouts, say) is set before.
+    pub fn start_through(
+        &mut self,
+        flows: [missionlink::link_emulator::Impairments; 4],
+        seed: u64,
+    ) -> (Process, Link, missionlink::link_emulator::Emulator) {
+        use missionlink::link_emulator::{Emulator, EmulatorConfig};
+        let emulator = Emulator::start(EmulatorConfig {
+            gcs: self.gcs_addrs(),
+            flows,
+            seed,
+        })
+        .unwrap();
+        let [direct, lte] = emulator.fcc_facing();
+        self.config.links.gcs_direct = direct;
+        self.config.links.gcs_lte = lte;
+        let mut fcc = self.start("fcc");
+        self.ready(&mut fcc);
+        self.learn_links(&mut fcc);
+        emulator.set_fcc([self.config.links.fcc_direct, self.config.links.fcc_lte]);
+        let links = self.gcs_links_to(emulator.gcs_facing());
+        let link = self.gcs_on(links);
+        (fcc, link, emulator)
+    }
 }
 
 /// The rig's directory (state, logs, summaries) goes with it, unless
