@@ -412,8 +412,9 @@ pub struct SignatureCheck {
     policy: Policy,
     keys: Keyring,
     clock: UtcClock,
-    /// Direct, then LTE; boxed, since each holds [`REPLAY_MEMORY`] identities.
-    memories: [Box<ReplayMemory>; 2],
+    /// Direct, then LTE; boxed, since each holds [`REPLAY_MEMORY`] identities (some 300 KB).
+    /// None under policy `off`, which never checks a replay.
+    memories: Option<[Box<ReplayMemory>; 2]>,
     stats: SignatureStats,
 }
 
@@ -427,10 +428,12 @@ impl SignatureCheck {
             policy,
             keys,
             clock,
-            memories: [
-                Box::new(ReplayMemory::new(start)),
-                Box::new(ReplayMemory::new(start)),
-            ],
+            memories: (policy != Policy::Off).then(|| {
+                [
+                    Box::new(ReplayMemory::new(start)),
+                    Box::new(ReplayMemory::new(start)),
+                ]
+            }),
             stats: SignatureStats::default(),
         }
     }
@@ -490,9 +493,11 @@ impl SignatureCheck {
         time_stamp: Option<Timestamp>,
     ) -> Result<(), SignatureCause> {
         let time_stamp = time_stamp.ok_or(SignatureCause::Replay)?;
+        // Without a memory (policy `off`) nothing can be shown to be fresh: fail closed.
+        let [direct, lte] = self.memories.as_mut().ok_or(SignatureCause::Replay)?;
         let memory = match link {
-            Link::Direct => &mut self.memories[0],
-            Link::Lte | Link::Both => &mut self.memories[1],
+            Link::Direct => direct,
+            Link::Lte | Link::Both => lte,
         };
         memory.admit(self.clock.utc(now), (source, message_type, time_stamp))?;
         self.stats.verified += 1;
