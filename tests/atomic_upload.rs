@@ -18,10 +18,9 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
-use missionlink_interfaces::wire::{Message, MissionReport};
-use missionlink_services::ground_station::{MissionPlan, Sequence, ValidatedPlan};
+use missionlink_interfaces::wire::Message;
+use missionlink_services::ground_station::{MissionPlan, Sequence};
 use missionlink_services::testkit::Rng;
-use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::staged::MissionId;
 
 /// Upload runs cut at a random message.
@@ -51,26 +50,6 @@ fn atomic(link: &mut Link, plan: &MissionPlan) {
     }
 }
 
-fn report(link: &mut Link) -> Vec<MissionReport> {
-    let now = link.now();
-    link.station().report(now).unwrap();
-    match finish(link) {
-        Ok(Finished::Reported(entries)) => entries,
-        other => panic!("no report: {other:?}"),
-    }
-}
-
-/// The checksums of the active lists, as the FCC reports them.
-fn active(link: &mut Link) -> (Option<u32>, Option<u32>) {
-    let entries = report(link);
-    let a = &entries[0];
-    assert!(a.mission_id.is_some_and(|t| t.is_empty()), "{a:?}");
-    (
-        a.mission_checksum.map(|c| c.value()),
-        a.area_checksum.map(|c| c.value()),
-    )
-}
-
 /// Deletes every staged mission the report lists (what a dead GCS left).
 fn delete_staged(link: &mut Link) {
     for e in report(link).iter().skip(1) {
@@ -81,13 +60,6 @@ fn delete_staged(link: &mut Link) {
     }
 }
 
-fn checksums(plan: &ValidatedPlan) -> (Option<u32>, Option<u32>) {
-    (
-        Some(mission_checksum(&plan.mission).value()),
-        Some(areas_checksum(&plan.areas).value()),
-    )
-}
-
 #[test]
 fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_activated() {
     let mut rig = Rig::new("atomic-upload-kill");
@@ -96,8 +68,8 @@ fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_a
     let mut link = rig.gcs(&mut fcc);
     link.enable_log();
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
-    let old = checksums(&link.station().validate(&mission_1).unwrap());
-    let new = checksums(&link.station().validate(&mission_2).unwrap());
+    let old = plan_checksums(&link.station().validate(&mission_1).unwrap());
+    let new = plan_checksums(&link.station().validate(&mission_2).unwrap());
 
     // An undisturbed atomic upload of mission 2 over mission 1: its messages, and which one is
     // the activation.
@@ -119,7 +91,7 @@ fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_a
     let (mut before, mut after) = (0, 0);
     for run in 0..RUNS {
         atomic(&mut link, &mission_1);
-        assert_eq!(active(&mut link), old, "run {run}: the old lists");
+        assert_eq!(active_checksums(&mut link), old, "run {run}: the old lists");
         let k = rng.range(1, total as u64) as usize;
         let from = link.log.len();
         let now = link.now();
@@ -137,7 +109,7 @@ fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_a
         let links = link.into_links();
         link = rig.gcs_on(links);
         link.enable_log();
-        let lists = active(&mut link);
+        let lists = active_checksums(&mut link);
         if k < activation {
             before += 1;
             assert_eq!(

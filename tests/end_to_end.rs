@@ -146,18 +146,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     {
         link.pump(Duration::from_millis(5));
     }
-    let text = fcc.log_text();
-    let pid: i32 = text
-        .lines()
-        .find(|l| l.contains("started") && l.contains("partition=\"mission-data-handling\""))
-        .and_then(|l| l.split("pid=").nth(1))
-        .and_then(|p| p.trim().parse().ok())
-        .expect("pid of mission-data-handling");
-    rustix::process::kill_process(
-        rustix::process::Pid::from_raw(pid).unwrap(),
-        rustix::process::Signal::KILL,
-    )
-    .unwrap();
+    signal_partition(&fcc, "mission-data-handling", rustix::process::Signal::KILL);
 
     // The GCS reports the abort after its retry, naming the message, then asks the FCC what is
     // active (ICD §11): the previous lists, or unknown while the partition is still down.

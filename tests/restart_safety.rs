@@ -17,23 +17,10 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
-use missionlink_interfaces::wire::MissionReport;
 use missionlink_services::ground_station::outcome::{Held, UploadReport};
 use missionlink_services::ground_station::{GcsError, Phase};
 use missionlink_services::transfer::integrity;
 use missionlink_services::transfer::staged::MissionId;
-
-/// The process ID of the running `partition` (the last one the launcher started).
-fn partition_pid(fcc: &Process, partition: &str) -> i32 {
-    let tag = format!("partition=\"{partition}\"");
-    fcc.log_text()
-        .lines()
-        .rev()
-        .filter(|l| l.contains("started") && l.contains(&tag))
-        .filter_map(|l| l.split("pid=").nth(1))
-        .find_map(|p| p.trim().parse().ok())
-        .expect("pid of the partition")
-}
 
 /// Messages the FCC sent since log entry `from`.
 fn downlink_count(link: &Link, from: usize) -> usize {
@@ -74,11 +61,7 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
         while downlink_count(&link, from) < k && !link.station().is_standby() {
             link.pump(Duration::from_millis(1));
         }
-        rustix::process::kill_process(
-            rustix::process::Pid::from_raw(partition_pid(&fcc, "mission-data-handling")).unwrap(),
-            rustix::process::Signal::KILL,
-        )
-        .unwrap();
+        signal_partition(&fcc, "mission-data-handling", rustix::process::Signal::KILL);
         let outcome = finish(&mut link);
         restarts += 1;
         wait_for_logs(
@@ -162,11 +145,7 @@ fn staged_missions_survive_a_restart_of_mission_data_handling() {
     let before = report(&mut link);
     assert_eq!(before.len(), 2, "{before:?}");
 
-    rustix::process::kill_process(
-        rustix::process::Pid::from_raw(partition_pid(&fcc, "mission-data-handling")).unwrap(),
-        rustix::process::Signal::KILL,
-    )
-    .unwrap();
+    signal_partition(&fcc, "mission-data-handling", rustix::process::Signal::KILL);
     wait_for_logs(
         &fcc,
         "resumed with the lists active before the restart",
@@ -192,14 +171,4 @@ fn staged_missions_survive_a_restart_of_mission_data_handling() {
         integrity::mission_checksum(&active.mission),
         integrity::mission_checksum(&new.mission)
     );
-}
-
-/// The FCC's report (ICD §8): the active lists, then each staged mission.
-fn report(link: &mut Link) -> Vec<MissionReport> {
-    let now = link.now();
-    link.station().report(now).unwrap();
-    match finish(link) {
-        Ok(Finished::Reported(entries)) => entries,
-        other => panic!("no report: {other:?}"),
-    }
 }

@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::{Finished, GcsLink};
 use missionlink_gcs::mission_file::MissionFile;
+use missionlink_interfaces::wire::MissionReport;
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
@@ -216,4 +217,66 @@ pub fn download(link: &mut Link) -> Result<ValidatedPlan, Error> {
     let now = link.now();
     link.station().download(now)?;
     finish(link).map(|f| f.into_plan().expect("lists"))
+}
+
+/// The FCC's report (ICD §8): the active lists, then each staged mission.
+pub fn report(link: &mut Link) -> Vec<MissionReport> {
+    let now = link.now();
+    link.station().report(now).unwrap();
+    match finish(link) {
+        Ok(Finished::Reported(entries)) => entries,
+        other => panic!("no report: {other:?}"),
+    }
+}
+
+/// The process ID of the running `partition` (the last one the launcher `fcc` started).
+pub fn partition_pid(fcc: &Process, partition: &str) -> i32 {
+    let tag = format!("partition=\"{partition}\"");
+    fcc.log_text()
+        .lines()
+        .rev()
+        .filter(|l| l.contains("started") && l.contains(&tag))
+        .filter_map(|l| l.split("pid=").nth(1))
+        .find_map(|p| p.trim().parse().ok())
+        .expect("pid of the partition")
+}
+
+/// Waits until the launcher `fcc` has started `partition` `times` times (once, and once per
+/// restart), or panics after `limit`.
+pub fn wait_for_starts(fcc: &Process, partition: &str, times: usize, limit: Duration) {
+    wait_for_logs(
+        fcc,
+        &format!("started partition=\"{partition}\""),
+        times,
+        limit,
+    );
+}
+
+/// Sends `signal` to the running `partition` of the launcher `fcc`.
+pub fn signal_partition(fcc: &Process, partition: &str, signal: rustix::process::Signal) {
+    let pid = rustix::process::Pid::from_raw(partition_pid(fcc, partition)).unwrap();
+    rustix::process::kill_process(pid, signal).unwrap();
+}
+
+/// The checksums of the active lists (mission, areas), as the FCC reports them (ICD §11).
+pub fn active_checksums(link: &mut Link) -> (Option<u32>, Option<u32>) {
+    let entries = report(link);
+    let active = &entries[0];
+    assert!(
+        active.mission_id.is_some_and(|t| t.is_empty()),
+        "{active:?}"
+    );
+    (
+        active.mission_checksum.map(|c| c.value()),
+        active.area_checksum.map(|c| c.value()),
+    )
+}
+
+/// The checksums of `plan`'s lists (mission, areas), as the FCC computes them (ICD §11).
+pub fn plan_checksums(plan: &ValidatedPlan) -> (Option<u32>, Option<u32>) {
+    use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
+    (
+        Some(mission_checksum(&plan.mission).value()),
+        Some(areas_checksum(&plan.areas).value()),
+    )
 }
