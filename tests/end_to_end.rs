@@ -107,6 +107,9 @@ fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
 #[test]
 fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_lists() {
     let mut rig = Rig::new("kill9");
+    // One attempt: this test is about the abort; a second one would complete the upload on the
+    // restarted partition (tests/link_faults.rs).
+    rig.config.timing.upload_attempts = 1;
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
     let mut link = rig.gcs(&mut fcc);

@@ -7,7 +7,8 @@
 //! next trial runs on the same FCC with nothing cleaned up by hand.
 //!
 //! Each trial draws from the seed: which links are impaired and how, which partition dies (or
-//! none), and after which of the GCS's messages. Uploads go round the demo's two missions and
+//! none), after which of the GCS's messages, and whether the GCS may attempt the upload a second
+//! time (`upload_attempts`). Uploads go round the demo's two missions and
 //! one of 100 waypoints with 11 areas, so every trial changes the active lists.
 //!
 //! The test runs [`DEFAULT_TRIALS`] trials, some 30 s. The soak runs more:
@@ -193,6 +194,10 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
             emulator.set(flow, impairments);
         }
         let victim = PARTITIONS.get(rng.range(0, PARTITIONS.len() as u64) as usize);
+        // One attempt or two (the default): a failed attempt shows the clean abort, a second one
+        // that the upload completes anyway.
+        let attempts = rng.range(1, 2) as u8;
+        link.station().set_upload_attempts(attempts);
         let next = (active + 1) % plans.len();
         let cut_after = rng.range(1, total[next]) as usize;
 
@@ -241,6 +246,11 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
             );
         }
         let staged = report(&mut link).len() - 1;
+        let made = match &outcome {
+            Ok(Finished::Uploaded(report)) => report.attempts,
+            Err(GcsError::Upload(report)) => report.attempts,
+            _ => 1,
+        };
         let line = format!(
             "plan {next}, {} links impaired, {} killed{}, {} active",
             ["direct", "lte", "both"][which as usize],
@@ -252,7 +262,7 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
             if is_new { "new" } else { "previous" },
         );
         println!(
-            "trial {trial}: {line}; GCS said {said_new:?}; {staged} staged left; {:?}",
+            "trial {trial}: {line}; GCS said {said_new:?} after {made} of {attempts} attempt(s); {staged} staged left; {:?}",
             outcome
                 .as_ref()
                 .map(|_| "uploaded")
@@ -266,8 +276,11 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
                     " after a kill"
                 } else {
                     ""
-                }
+                },
             ))
+            .or_default() += 1;
+        *tally
+            .entry(format!("{made} of {attempts} attempt(s) made"))
             .or_default() += 1;
         if is_new {
             active = next;

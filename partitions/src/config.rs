@@ -18,6 +18,7 @@
 //! ack_timeout_ms = 500
 //! transfer_timeout_ms = 3000
 //! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10)
+//! upload_attempts = 2             # a GCS upload that failed with the lists as they were, again
 //!
 //! [ipc]
 //! service_prefix = "missionlink"  # every iceoryx2 service name starts with it
@@ -120,6 +121,10 @@ pub struct Timing {
     /// Data messages the GCS keeps in flight toward an edition-2 FCC, 1..=32 (ICD §10.2): its
     /// uploads' window and the one its download requests ask for. Toward edition 1 it is 1.
     pub transfer_window: u8,
+    /// How often the GCS attempts an upload in all, at least 1: an attempt that failed with
+    /// the lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is
+    /// begun again once more by default.
+    pub upload_attempts: u8,
 }
 
 impl Default for Timing {
@@ -128,6 +133,7 @@ impl Default for Timing {
             ack_timeout_ms: defaults::ACK_TIMEOUT.as_millis() as u64,
             transfer_timeout_ms: defaults::TRANSFER_TIMEOUT.as_millis() as u64,
             transfer_window: TransferWindow::MAX,
+            upload_attempts: 2,
         }
     }
 }
@@ -425,6 +431,7 @@ impl Config {
             ack_timeout: self.timing.ack_timeout(),
             transfer_timeout: self.timing.transfer_timeout(),
             transfer_window: self.timing.transfer_window(),
+            upload_attempts: self.timing.upload_attempts.max(1),
         }
     }
 }
@@ -499,6 +506,10 @@ pub struct ConfigArgs {
     /// Data messages in flight toward an edition-2 FCC, 1..=32 (ICD §10).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=32))]
     pub transfer_window: Option<u8>,
+    /// How often the GCS attempts an upload in all (a failed attempt that left the lists as
+    /// they were is begun again).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..))]
+    pub upload_attempts: Option<u8>,
     /// Guidance time scale (simulated seconds per second).
     #[arg(long, value_name = "FACTOR")]
     pub time_scale: Option<f64>,
@@ -561,6 +572,9 @@ impl ConfigArgs {
         }
         if let Some(v) = self.transfer_window {
             c.timing.transfer_window = v;
+        }
+        if let Some(v) = self.upload_attempts {
+            c.timing.upload_attempts = v;
         }
         if let Some(v) = self.time_scale {
             c.guidance.time_scale = v;

@@ -92,6 +92,8 @@ pub fn gcs_config() -> GcsConfig {
         // Stop-and-wait, so that the sequence tests see ICD §5 message by message; the
         // windowed tests set their window.
         transfer_window: missionlink_interfaces::wire::TransferWindow::ONE,
+        // One attempt, so that a test of a failure sees it; the tests of attempts set theirs.
+        upload_attempts: 1,
     }
 }
 

@@ -266,6 +266,10 @@ pub struct GcsConfig {
     /// Data messages in flight toward an edition-2 FCC (ICD §10.2): the uploads' window and
     /// the one download requests ask for. Toward edition 1 it is always 1.
     pub transfer_window: TransferWindow,
+    /// How often an upload is attempted in all, at least 1: a failed attempt that left the
+    /// lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is
+    /// begun again (the upload module, `attempt_again`).
+    pub upload_attempts: u8,
 }
 
 /// The steps of Figure 11 that talk to the FCC.
@@ -598,6 +602,12 @@ impl<G: SafetyGateway> GroundStation<G> {
         &self.endpoint
     }
 
+    /// How often the uploads requested from now on are attempted in all (at least 1; see
+    /// [`GcsConfig::upload_attempts`]).
+    pub fn set_upload_attempts(&mut self, attempts: u8) {
+        self.config.upload_attempts = attempts.max(1);
+    }
+
     /// The window of the transfers started from now on (ICD §10.2; toward an edition-2 FCC).
     pub fn set_transfer_window(&mut self, window: TransferWindow) {
         self.config.transfer_window = window;
@@ -819,6 +829,12 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     fn finish(&mut self, event: GcsEvent<G::Report>) {
+        self.reset();
+        self.events.push_back(event);
+    }
+
+    /// Back to standby, every request's state dropped.
+    fn reset(&mut self) {
         self.state = State::Standby;
         self.sender = None;
         self.upload = None;
@@ -827,7 +843,6 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.report.abandon();
         self.mission_download.abandon(None);
         self.area_download.abandon();
-        self.events.push_back(event);
     }
 
     fn fail(&mut self, error: GcsError<G::Report>) {
@@ -1029,6 +1044,9 @@ impl<G: SafetyGateway> GroundStation<G> {
             },
             (Purpose::Truth, true) => self.request_mission(now),
             (Purpose::Truth, false) => self.ask_again_or_give_up(now),
+            // Nothing was sent that changes a list: an upload may be attempted again.
+            (Purpose::Discovery(Then::Upload), false)
+                if self.attempt_again(now, Some((Phase::Report, error)), true) => {}
             (Purpose::Discovery(_) | Purpose::Query, _) => self.fail(GcsError::Transfer {
                 phase: Phase::Report,
                 error,

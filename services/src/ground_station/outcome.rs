@@ -209,6 +209,8 @@ pub struct UploadReport {
     pub edit: Option<Option<FullUpload>>,
     /// What went wrong beside the upload.
     pub warning: Option<Warning>,
+    /// Attempts made (more than 1: the ones before failed with the lists as they were).
+    pub attempts: u8,
 }
 
 impl UploadReport {
@@ -388,6 +390,9 @@ impl fmt::Display for UploadReport {
         }
         if let Some(w) = self.warning {
             write!(f, "; warning: {w}")?;
+        }
+        if self.attempts > 1 {
+            write!(f, "; attempt {}", self.attempts)?;
         }
         Ok(())
     }

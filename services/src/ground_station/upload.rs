@@ -35,7 +35,7 @@ use missionlink_interfaces::wire::{Checksum, MissionReport};
 
 use super::edit::{FullUpload, difference};
 use super::outcome::{
-    Before, Confirmation, ListOutcome, Messages, UploadKind, UploadReport, Warning,
+    Before, Confirmation, ListOutcome, Messages, UploadKind, UploadOutcome, UploadReport, Warning,
 };
 use super::{Edition, GcsError, GroundStation, MissionPlan, Phase, SafetyGateway, State, Then};
 use crate::link::retry::ExchangeError;
@@ -125,6 +125,19 @@ pub(super) struct UploadJob {
     /// The report, held while the staged copy is deleted.
     ending: Option<Box<UploadReport>>,
     warning: Option<Warning>,
+    /// Which attempt this is, from 1 (see [`GcsConfig::upload_attempts`](super::GcsConfig)).
+    attempt: u8,
+    /// What began the upload, to begin it again.
+    request: Box<Request>,
+}
+
+/// An upload request as it was made: what another attempt begins with.
+#[derive(Debug, Clone)]
+pub(super) struct Request {
+    plan: super::ValidatedPlan,
+    kind: Kind,
+    /// For an edit: the missions the GCS knew.
+    known: Option<Vec<Mission>>,
 }
 
 /// The entry of the report for `target`: the active lists (empty Mission ID) or a staged mission.
@@ -241,14 +254,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             (Target::Active, Sequence::Atomic) => Kind::Atomic,
             (Target::Active, Sequence::Paper { clear }) => Kind::Paper { clear },
         };
-        let edit = EditJob {
-            known,
-            base: None,
-            base_areas: None,
-            fetching: false,
-            fallback: None,
-        };
-        self.begin_upload(now, validated, kind, Some(edit))
+        self.begin_upload(now, validated, kind, Some(known))
     }
 
     fn begin_upload(
@@ -256,15 +262,33 @@ impl<G: SafetyGateway> GroundStation<G> {
         now: Instant,
         validated: super::ValidatedPlan,
         kind: Kind,
-        edit: Option<EditJob>,
+        known: Option<Vec<Mission>>,
     ) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
-        let super::ValidatedPlan { mission, areas } = validated;
+        let request = Request {
+            plan: validated,
+            kind,
+            known,
+        };
+        self.begin_attempt(now, Box::new(request), 1, 0);
+        Ok(())
+    }
+
+    /// Begins attempt `attempt` of `request`, `sent` messages sent by the attempts before.
+    fn begin_attempt(&mut self, now: Instant, request: Box<Request>, attempt: u8, sent: usize) {
+        let super::ValidatedPlan { mission, areas } = request.plan.clone();
+        let edit = request.known.clone().map(|known| EditJob {
+            known,
+            base: None,
+            base_areas: None,
+            fetching: false,
+            fallback: None,
+        });
         self.upload = Some(Box::new(UploadJob {
             checksums: (mission_checksum(&mission), areas_checksum(&areas)),
             mission,
             areas,
-            kind,
+            kind: request.kind,
             edit,
             before: None,
             entries: Vec::new(),
@@ -277,9 +301,11 @@ impl<G: SafetyGateway> GroundStation<G> {
             verified_mission: None,
             asking_since: None,
             confirmation: Confirmation::Answers,
-            sent: 0,
+            sent,
             ending: None,
             warning: None,
+            attempt,
+            request,
         }));
         // Toward edition 2 the report goes first every time: it is what is held before, for
         // the plan and for the truth after a failure (ICD §11).
@@ -288,7 +314,42 @@ impl<G: SafetyGateway> GroundStation<G> {
         } else {
             self.start_report(now, super::Purpose::Discovery(Then::Upload));
         }
-        Ok(())
+    }
+
+    /// After a failed attempt that left the lists the upload targets as they were (`clean`):
+    /// begins the next attempt when the failure may pass (the FCC did not answer, was busy, or
+    /// lost the transfer in a restart: [`ExchangeError::may_pass`]) and attempts are left.
+    /// `true` when it did.
+    ///
+    /// ICD §5 allows each message one resend; on a link that loses a burst, a message and its
+    /// resend are lost together more often than the loss rate says. An operator would press
+    /// upload again; the GCS does it for them, only when nothing was changed and nothing was
+    /// refused for what the lists are, so the outcome is the one upload would have had.
+    pub(super) fn attempt_again(
+        &mut self,
+        now: Instant,
+        failure: Option<(Phase, ExchangeError)>,
+        clean: bool,
+    ) -> bool {
+        let attempts = self.config.upload_attempts;
+        let Some(job) = self.upload.as_ref() else {
+            return false;
+        };
+        let Some((phase, error)) = failure.filter(|(_, e)| e.may_pass()) else {
+            return false;
+        };
+        if !clean || job.attempt >= attempts {
+            return false;
+        }
+        let (attempt, sent, request) = (job.attempt, job.sent, job.request.clone());
+        tracing::warn!(
+            attempt,
+            attempts,
+            "upload attempt failed ({phase}: {error}) with the lists as they were: attempting it again"
+        );
+        self.reset();
+        self.begin_attempt(now, request, attempt + 1, sent);
+        true
     }
 
     /// The discovery's report arrived (edition 2): what the target holds before.
@@ -505,7 +566,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                 Phase::Deletion => {
                     job.temp_staged = Some(false);
                     if let Some(report) = job.ending.take() {
-                        return self.emit_upload(report);
+                        return self.emit_upload(now, report);
                     }
                 }
                 _ => {}
@@ -527,7 +588,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                 error: Some(error),
             });
             match job.ending.take() {
-                Some(report) => self.emit_upload(report),
+                Some(report) => self.emit_upload(now, report),
                 None => {
                     let (m, a) = job.checksums;
                     let confirmation = job.confirmation;
@@ -652,6 +713,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             },
             edit: job.edit.as_ref().map(|e| e.fallback),
             warning: None,
+            attempts: job.attempt,
         };
         // The staged copy goes when the FCC holds it and no delete was tried yet; when the FCC
         // may hold it (it did not answer), the operator is told.
@@ -670,16 +732,24 @@ impl<G: SafetyGateway> GroundStation<G> {
             }
             job.warning = Some(Warning::StagedCopyLeft { id, error: None });
         }
-        self.emit_upload(Box::new(report));
+        self.emit_upload(now, Box::new(report));
     }
 
-    fn emit_upload(&mut self, mut report: Box<UploadReport>) {
+    fn emit_upload(&mut self, now: Instant, mut report: Box<UploadReport>) {
         self.account_sender();
+        let Some(job) = self.upload.as_ref() else {
+            return;
+        };
+        let clean = report.outcome() == UploadOutcome::PreviousActive && job.warning.is_none();
+        if !report.is_complete() && self.attempt_again(now, report.failure, clean) {
+            return;
+        }
         let Some(job) = self.upload.take() else {
             return;
         };
         report.messages.sent = job.sent;
         report.warning = job.warning;
+        report.attempts = job.attempt;
         if report.is_complete() {
             tracing::info!(%report, "upload ended");
             self.finish(super::GcsEvent::Uploaded(report));

@@ -127,6 +127,18 @@ pub struct ExchangeError {
 }
 
 impl ExchangeError {
+    /// Whether the cause may pass, so that the same request may succeed when made again: the
+    /// peer did not answer (a lossy link, a restart), was busy with another transfer
+    /// (`Busy`), or did not expect the message (`WrongState`: it lost the transfer, say in a
+    /// restart). Any other rejection is about the content and comes again.
+    pub fn may_pass(&self) -> bool {
+        match self.second.unwrap_or(self.first) {
+            AttemptFailure::Timeout => true,
+            AttemptFailure::Rejected(reason) => matches!(reason, Reason::Busy | Reason::WrongState),
+            AttemptFailure::Aborted => false,
+        }
+    }
+
     /// The reason of the last rejection, if the peer gave one.
     pub fn reason(&self) -> Option<Reason> {
         match (self.second, self.first) {
