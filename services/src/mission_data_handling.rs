@@ -31,6 +31,10 @@
 //! list ([`crate::transfer::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
 //! nothing.
 //!
+//! **A newer opener ends a download.** A transfer opener from the GCS stamped after the request
+//! of the download in progress of the same kind ends that download: the GCS has it or gave it
+//! up (this project's choice where the ICD is silent; see `end_download_before`).
+//!
 //! **Closers are idempotent (ICD §11).** The last closer answered and its answer are remembered
 //! ([`CloserMemory`]): its retry, until an opener or a data message is accepted, gets the same
 //! answer and changes nothing, so a lost "valid and active" never turns into a reported failure.
@@ -115,6 +119,12 @@ pub enum FccEvent {
     },
     /// A download was complete and acknowledged.
     DownloadComplete {
+        /// Mission or area download.
+        kind: DataKind,
+    },
+    /// A download ended without its last answer: the GCS opened a new transfer of the same
+    /// kind after it ([`MissionDataHandling`]'s `end_download_before`).
+    DownloadEnded {
         /// Mission or area download.
         kind: DataKind,
     },
@@ -216,6 +226,9 @@ pub struct MissionDataHandling {
     area_upload: AreaReceiver,
     mission_download: Option<TransferSender>,
     area_download: Option<TransferSender>,
+    /// The time stamps of the requests that opened the downloads in progress, `[mission,
+    /// areas]`: a newer opener from the GCS ends its download ([`Self::end_download_before`]).
+    download_requests: [Timestamp; 2],
     report: Option<TransferSender>,
     active_mission: Option<Mission>,
     mission_generation: u64,
@@ -273,6 +286,7 @@ impl MissionDataHandling {
             area_upload: AreaReceiver::new(config.transfer_timeout),
             mission_download: None,
             area_download: None,
+            download_requests: [Timestamp::default(); 2],
             report: None,
             active_mission: None,
             mission_generation: 0,
@@ -774,6 +788,31 @@ impl MissionDataHandling {
 
     /// #13000 mode 3 (the active mission, ICD §5.2) or mode 9 (a staged mission's, ICD §8):
     /// acknowledged, then the download. No such list: `WrongState`, nothing follows.
+    /// Ends the download of `kind` in progress when `opener`, a transfer's opener from the GCS,
+    /// is stamped after the request that opened it.
+    ///
+    /// The GCS runs one transfer at a time (ICD §5) and opens the next only when it has the
+    /// download or gave it up, so the download has no receiver left. Kept, it would refuse the
+    /// GCS's new transfer `Busy` while it waits, up to twice the ack timeout, for the answer to
+    /// its last message that the GCS sent and the link lost; the GCS's opener and its one resend
+    /// fall into that time and the new transfer fails (issue 15, the `bad` link). An opener
+    /// stamped before the request is an old one, delayed on the link: it is refused `Busy` as
+    /// before. This project's choice: the ICD says nothing of a download that outlives its GCS.
+    fn end_download_before(&mut self, kind: DataKind, opener: &Message) {
+        let (slot, requested) = match kind {
+            DataKind::Mission => (&mut self.mission_download, self.download_requests[0]),
+            DataKind::Areas => (&mut self.area_download, self.download_requests[1]),
+            DataKind::Report => return,
+        };
+        if opener.time_stamp() <= requested {
+            return;
+        }
+        if let Some(mut download) = slot.take() {
+            download.cancel();
+            self.event(FccEvent::DownloadEnded { kind });
+        }
+    }
+
     fn start_mission_download(
         &mut self,
         now: Instant,
@@ -808,6 +847,7 @@ impl MissionDataHandling {
                 .then(|| mission_checksum(&mission));
             // ICD §10.2: the window the GCS put into its request, 1 when absent.
             let window = request.transfer_window.unwrap_or_default().get();
+            self.download_requests[0] = message.time_stamp();
             self.mission_download = Some(TransferSender::start_windowed(
                 Script::MissionDownload { mission, checksum },
                 usize::from(window),
@@ -863,6 +903,7 @@ impl MissionDataHandling {
                     .is_some()
                     .then(|| areas_checksum(&list));
                 let window = request.transfer_window().unwrap_or_default().get();
+                self.download_requests[1] = message.time_stamp();
                 self.area_download = Some(TransferSender::start_windowed(
                     Script::AreaDownload {
                         list,
@@ -1143,6 +1184,9 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
 
     /// The moding of paper §3.1.2.
     fn route(&mut self, now: Instant, message: &Message, ack: bool) {
+        if let Some(kind) = opens_transfer(message) {
+            self.end_download_before(kind, message);
+        }
         match message {
             Message::MessageAcknowledgement(_) => self.download_answer(now, message),
             Message::MissionTransferCommand(c) => match c.mode {
@@ -1242,5 +1286,30 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                     .answer(now, message, ack, Err(Reason::WrongState));
             }
         }
+    }
+}
+
+/// Which data `message` opens a transfer of, when it is an opener from the GCS (ICD §10.2): a
+/// clear, a download request or a buffer load of #13000; an upload or download opener, or the
+/// clear, of #2011.
+fn opens_transfer(message: &Message) -> Option<DataKind> {
+    match message {
+        Message::MissionTransferCommand(c) => matches!(
+            c.mode,
+            MissionPlanMode::ClearMission
+                | MissionPlanMode::ReceiveMission
+                | MissionPlanMode::ReceiveStagedMission
+                | MissionPlanMode::LoadWaypointBuffer
+        )
+        .then_some(DataKind::Mission),
+        Message::AreaTransmissionCommand(c) => matches!(
+            c.mode,
+            AreaTransferMode::InitiateUpload
+                | AreaTransferMode::InitiateDownload
+                | AreaTransferMode::InitiateStagedDownload
+                | AreaTransferMode::ClearAreas
+        )
+        .then_some(DataKind::Areas),
+        _ => None,
     }
 }

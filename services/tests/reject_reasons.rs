@@ -6,11 +6,13 @@
 
 mod support;
 
+use std::time::Duration;
+
 use missionlink_interfaces::wire::{
     self, AreaTransferMode, ExecuteCommand, LegType, Message, MissionExecuteCommand,
     MissionPlanMode, Reason, Text, Timestamp,
 };
-use missionlink_services::mission_data_handling::FccEvent;
+use missionlink_services::mission_data_handling::{DataKind, FccEvent};
 use missionlink_services::testkit;
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::sender::mission_command;
@@ -238,15 +240,43 @@ fn busy() {
         rig.reason(mission_command(MissionPlanMode::ReceiveMission, None, None)),
         Some(Reason::Busy)
     );
-    // An area download is in progress: an area upload must wait.
+}
+
+/// An area upload opener the GCS stamped before its area download request, delayed on the
+/// link, finds the download in progress: `Busy`. One stamped after it ends the download (the
+/// GCS has moved on) and opens the upload.
+#[test]
+fn a_newer_opener_ends_the_download_an_older_one_is_busy() {
+    let mut rig = FccRig::new().with_mission_2();
+    rig.now = rig.now + Duration::from_millis(1);
+    let opener = area_command(AreaTransferMode::InitiateUpload, Some(1));
+    rig.gcs.send(rig.now, opener.into(), true);
+    let mut buf = [0u8; wire::MAX_FRAME_LEN];
+    let len = rig.gcs.poll_transmit(&mut buf).unwrap().unwrap();
+    let delayed = buf[..len].to_vec();
+
     let answers = rig.send(area_command(AreaTransferMode::InitiateDownload, None));
     assert!(matches!(
         answers.first(),
         Some(Message::AreaTransmissionStatus(_))
     ));
-    assert_eq!(
-        rig.reason(area_command(AreaTransferMode::InitiateUpload, Some(1))),
-        Some(Reason::Busy)
+    assert_eq!(reason_of(&rig.send_raw(&delayed)), Some(Reason::Busy));
+    let ended = |events: Vec<FccEvent>| {
+        events.contains(&FccEvent::DownloadEnded {
+            kind: DataKind::Areas,
+        })
+    };
+    assert!(!ended(rig.events()));
+
+    assert_eq!(rig.reason(opener), None);
+    assert!(ended(rig.events()));
+    // Nothing more of the download: no resend of its areas at their ack timeouts.
+    let later = rig.now + Duration::from_secs(5);
+    let sent = rig.advance_to(later);
+    assert!(
+        sent.iter()
+            .all(|(_, m)| !matches!(m, Message::AreaPolygonLoopSegment(_))),
+        "{sent:?}"
     );
 }
 
