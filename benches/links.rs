@@ -10,14 +10,18 @@
 //! ```sh
 //! cargo bench --bench links                                   # every profile, 10 runs
 //! cargo bench --bench links -- --profiles lte,satcom --runs 5 --cases 1,256
-//! cargo bench --bench links -- --profiles bad --cases 2 --windows 32 --runs 200
+//! cargo bench --bench links -- --profiles bad --cases 2 --windows 32 --runs 200 --attempts 1,2
 //! ```
+//!
+//! `--attempts` names how often the GCS may attempt each upload in all (`[timing]
+//! upload_attempts`, default 2): `1,2` measures one attempt against the default in one run.
 //!
 //! Cases: 1 and 2 are demo missions 1 and 2, any other number a generated mission of that many
 //! waypoints with 11 areas of 60 vertices.
 //!
 //! The ack timeout is set per profile above its round trip (ICD §1 lets every peer change it):
-//! 500 ms (lan, lte, bad), 1500 ms (satcom). Results: `target/links/results.json`.
+//! 500 ms (lan, lte, bad), 1500 ms (satcom). Results: `target/links/results.json`, and the plot
+//! of the upload medians `target/links/links.svg` (committed as `docs/links.svg`).
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -46,6 +50,10 @@ struct Row {
     profile: Profile,
     case: String,
     window: u8,
+    /// Attempts the GCS may make per upload.
+    attempts: u8,
+    /// Uploads that completed in their second attempt or later.
+    again: usize,
     messages_up: usize,
     upload_ms: Vec<f64>,
     download_ms: Vec<f64>,
@@ -93,7 +101,14 @@ fn cases(sizes: &[u16]) -> Vec<Case> {
         .collect()
 }
 
-fn measure(profile: Profile, cases: &[Case], windows: &[u8], runs: usize, seed: u64) -> Vec<Row> {
+fn measure(
+    profile: Profile,
+    cases: &[Case],
+    windows: &[u8],
+    attempts: &[u8],
+    runs: usize,
+    seed: u64,
+) -> Vec<Row> {
     let mut rig = common::Rig::new(&format!("bench-links-{}", profile.name()));
     let ack = match profile {
         Profile::Satcom => 1500,
@@ -107,13 +122,19 @@ fn measure(profile: Profile, cases: &[Case], windows: &[u8], runs: usize, seed: 
     let mut rows = Vec::new();
     for case in cases {
         let valid = link.station().validate(&case.plan).unwrap();
-        for &window in windows {
+        for (&window, &attempts) in windows
+            .iter()
+            .flat_map(|w| attempts.iter().map(move |a| (w, a)))
+        {
             link.station()
                 .set_transfer_window(TransferWindow::new(window).unwrap());
+            link.station().set_upload_attempts(attempts);
             let mut row = Row {
                 profile,
                 case: case.name.clone(),
                 window,
+                attempts,
+                again: 0,
                 messages_up: 0,
                 upload_ms: Vec::new(),
                 download_ms: Vec::new(),
@@ -132,11 +153,19 @@ fn measure(profile: Profile, cases: &[Case], windows: &[u8], runs: usize, seed: 
                 match up {
                     Ok(Finished::Uploaded(r)) if r.failure.is_none() => {
                         row.upload_ms.push(took.as_secs_f64() * 1e3);
-                        row.messages_up = link
-                            .log
-                            .iter()
-                            .filter(|l| l.direction == Direction::Up)
-                            .count();
+                        if r.attempts > 1 {
+                            row.again += 1;
+                            row.failures.push(format!(
+                                "run {run} upload: complete in attempt {}",
+                                r.attempts
+                            ));
+                        } else {
+                            row.messages_up = link
+                                .log
+                                .iter()
+                                .filter(|l| l.direction == Direction::Up)
+                                .count();
+                        }
                     }
                     other => row.failures.push(format!("run {run} upload: {other:?}")),
                 }
@@ -155,10 +184,11 @@ fn measure(profile: Profile, cases: &[Case], windows: &[u8], runs: usize, seed: 
                 }
             }
             eprintln!(
-                "{} {} window {window}: {} of {runs} uploads, {} downloads",
+                "{} {} window {window}, {attempts} attempt(s): {} of {runs} uploads ({} in a later attempt), {} downloads",
                 profile.name(),
                 case.name,
                 row.upload_ms.len(),
+                row.again,
                 row.download_ms.len()
             );
             rows.push(row);
@@ -220,23 +250,39 @@ fn main() {
                 .collect()
         })
         .unwrap_or_else(|| WINDOWS.to_vec());
+    let attempts: Vec<u8> = arg(&args, "--attempts")
+        .map(|v| {
+            v.split(',')
+                .map(|n| n.parse().expect("--attempts 1,2"))
+                .collect()
+        })
+        .unwrap_or_else(|| vec![2]);
 
     let mut rows = Vec::new();
     for (i, profile) in profiles.iter().enumerate() {
-        rows.extend(measure(*profile, &cases, &windows, runs, 15 + i as u64));
+        rows.extend(measure(
+            *profile,
+            &cases,
+            &windows,
+            &attempts,
+            runs,
+            15 + i as u64,
+        ));
     }
 
     println!(
-        "\n{:<7} {:<14} {:>3} {:>5} {:>10} {:>10} {:>10} {:>10} {:>9} {:>8} {:>9}",
+        "\n{:<7} {:<14} {:>3} {:>3} {:>5} {:>10} {:>10} {:>10} {:>10} {:>9} {:>5} {:>8} {:>9}",
         "profile",
         "case",
         "W",
+        "att",
         "msgs",
         "up p50 ms",
         "up p99 ms",
         "dn p50 ms",
         "dn p99 ms",
         "complete",
+        "later",
         "/ W=1",
         "/ n x RTT"
     );
@@ -247,16 +293,22 @@ fn main() {
         let up50 = percentile(&up, 0.5);
         let stop_and_wait = rows
             .iter()
-            .find(|r| r.profile == row.profile && r.case == row.case && r.window == 1)
+            .find(|r| {
+                r.profile == row.profile
+                    && r.case == row.case
+                    && r.window == 1
+                    && r.attempts == row.attempts
+            })
             .map(|r| percentile(&sorted(&r.upload_ms), 0.5))
             .unwrap_or(f64::NAN);
         let n_rtt = row.messages_up as f64 * rtt(row.profile).as_secs_f64() * 1e3;
         let complete = row.upload_ms.len().min(row.download_ms.len());
         println!(
-            "{:<7} {:<14} {:>3} {:>5} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>4}/{:<4} {:>8.2} {:>9.2}",
+            "{:<7} {:<14} {:>3} {:>3} {:>5} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>4}/{:<4} {:>5} {:>8.2} {:>9.2}",
             row.profile.name(),
             row.case,
             row.window,
+            row.attempts,
             row.messages_up,
             up50,
             percentile(&up, 0.99),
@@ -264,6 +316,7 @@ fn main() {
             percentile(&down, 0.99),
             complete,
             row.runs,
+            row.again,
             up50 / stop_and_wait,
             up50 / n_rtt,
         );
@@ -274,6 +327,8 @@ fn main() {
             "profile": row.profile.name(),
             "case": row.case,
             "window": row.window,
+            "attempts": row.attempts,
+            "completed_in_a_later_attempt": row.again,
             "messages_up": row.messages_up,
             "runs": row.runs,
             "uploads_completed": row.upload_ms.len(),
@@ -289,6 +344,135 @@ fn main() {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("results.json");
         std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap()).unwrap();
-        println!("written to {}", path.display());
+        let plot = dir.join("links.svg");
+        std::fs::write(&plot, svg(&rows)).unwrap();
+        println!("written to {} and {}", path.display(), plot.display());
     }
+}
+
+/// The plot: per profile and case the upload medians of each window (and number of attempts)
+/// measured, bars on a logarithmic ms axis, the n x RTT of stop-and-wait as a tick.
+fn svg(rows: &[Row]) -> String {
+    use std::fmt::Write as _;
+    const COLOURS: [&str; 4] = ["#e45756", "#4c78a8", "#72b7b2", "#f58518"];
+    const BAR: f64 = 16.0;
+    const GAP: f64 = 28.0;
+    const LEFT: f64 = 70.0;
+    const TOP: f64 = 70.0;
+    const PLOT_H: f64 = 320.0;
+    let mut groups: Vec<(Profile, &str)> = Vec::new();
+    let mut series: Vec<(u8, u8)> = Vec::new();
+    for r in rows {
+        if !groups.contains(&(r.profile, r.case.as_str())) {
+            groups.push((r.profile, r.case.as_str()));
+        }
+        if !series.contains(&(r.window, r.attempts)) {
+            series.push((r.window, r.attempts));
+        }
+    }
+    let group_w = BAR * series.len() as f64 + GAP;
+    let width = LEFT + groups.len() as f64 * group_w + 20.0;
+    let height = TOP + PLOT_H + 110.0;
+    let bottom = TOP + PLOT_H;
+    let medians: Vec<f64> = rows
+        .iter()
+        .map(|r| percentile(&sorted(&r.upload_ms), 0.5))
+        .filter(|v| *v > 0.0)
+        .collect();
+    let lo = medians
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .log10()
+        .floor();
+    let hi = medians
+        .iter()
+        .copied()
+        .fold(0.0, f64::max)
+        .log10()
+        .ceil()
+        .max(lo + 1.0);
+    let y = |v: f64| bottom - (v.max(10f64.powf(lo)).log10() - lo) / (hi - lo) * PLOT_H;
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(
+        w,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(w, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        w,
+        r#"<text x="{LEFT}" y="22" font-size="16" font-weight="bold">Upload over emulated links, median (log scale)</text>"#
+    );
+    for (i, (window, attempts)) in series.iter().enumerate() {
+        let x = LEFT + i as f64 * 170.0;
+        let colour = COLOURS[i % COLOURS.len()];
+        let _ = writeln!(
+            w,
+            r#"<rect x="{x}" y="36" width="12" height="12" fill="{colour}"/><text x="{}" y="46">window {window}, {attempts} attempt(s)</text>"#,
+            x + 16.0
+        );
+    }
+    let _ = writeln!(
+        w,
+        r#"<text x="{}" y="46">| n x RTT</text>"#,
+        LEFT + series.len() as f64 * 170.0
+    );
+    for decade in lo as i32..=hi as i32 {
+        let v = 10f64.powi(decade);
+        let yy = y(v);
+        let _ = writeln!(
+            w,
+            r##"<line x1="{LEFT}" x2="{}" y1="{yy}" y2="{yy}" stroke="#ddd"/><text x="{}" y="{}" text-anchor="end">{} ms</text>"##,
+            width - 20.0,
+            LEFT - 6.0,
+            yy + 4.0,
+            v
+        );
+    }
+    for (g, (profile, case)) in groups.iter().enumerate() {
+        let x0 = LEFT + g as f64 * group_w + GAP / 2.0;
+        for (i, key) in series.iter().enumerate() {
+            let Some(row) = rows.iter().find(|r| {
+                r.profile == *profile && r.case == *case && (r.window, r.attempts) == *key
+            }) else {
+                continue;
+            };
+            let median = percentile(&sorted(&row.upload_ms), 0.5);
+            if median.is_nan() {
+                continue;
+            }
+            let (x, top) = (x0 + i as f64 * BAR, y(median));
+            let colour = COLOURS[i % COLOURS.len()];
+            let _ = writeln!(
+                w,
+                r#"<rect x="{x}" y="{top}" width="{}" height="{}" fill="{colour}"><title>{} {case} W={} attempts {}: {median:.0} ms</title></rect>"#,
+                BAR - 2.0,
+                bottom - top,
+                profile.name(),
+                row.window,
+                row.attempts
+            );
+            let n_rtt = row.messages_up as f64 * rtt(row.profile).as_secs_f64() * 1e3;
+            if n_rtt > 0.0 {
+                let ty = y(n_rtt);
+                let _ = writeln!(
+                    w,
+                    r#"<line x1="{}" x2="{}" y1="{ty}" y2="{ty}" stroke="black" stroke-width="2"/>"#,
+                    x - 1.0,
+                    x + BAR - 1.0
+                );
+            }
+        }
+        let cx = x0 + BAR * series.len() as f64 / 2.0;
+        let _ = writeln!(
+            w,
+            r##"<text x="{cx}" y="{}" text-anchor="middle">{}</text><text x="{cx}" y="{}" text-anchor="middle" fill="#555">{case}</text>"##,
+            bottom + 18.0,
+            profile.name(),
+            bottom + 34.0
+        );
+    }
+    let _ = writeln!(w, "</svg>");
+    s
 }
