@@ -114,8 +114,12 @@ fn what_is_active(link: &mut Link, trial: usize) -> ((Option<u32>, Option<u32>),
     for _ in 0..ATTEMPTS {
         let now = link.now();
         link.station().report(now).unwrap();
-        let Ok(Finished::Reported(entries)) = finish(link) else {
-            continue;
+        let entries = match finish(link) {
+            Ok(Finished::Reported(entries)) => entries,
+            other => {
+                eprintln!("trial {trial}: no report: {other:?}");
+                continue;
+            }
         };
         let active = &entries[0];
         let checksums = (
@@ -123,8 +127,9 @@ fn what_is_active(link: &mut Link, trial: usize) -> ((Option<u32>, Option<u32>),
             active.area_checksum.map(|c| c.value()),
         );
         for _ in 0..ATTEMPTS {
-            if let Ok(lists) = download(link) {
-                return (checksums, lists);
+            match download(link) {
+                Ok(lists) => return (checksums, lists),
+                Err(e) => eprintln!("trial {trial}: no download: {e}"),
             }
         }
     }
@@ -217,6 +222,13 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
             *killed += 1;
         }
         let outcome = finish(&mut link);
+        eprintln!(
+            "trial {trial}: plan {next}, links {which}, {victim:?} killed after GCS message {cut_after}: {:?}",
+            outcome
+                .as_ref()
+                .map(|_| "uploaded")
+                .map_err(|e| e.to_string())
+        );
         let said_new = claim(&outcome, trial);
 
         let (checksums, lists) = what_is_active(&mut link, trial);

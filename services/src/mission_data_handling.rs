@@ -31,9 +31,10 @@
 //! list ([`crate::transfer::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
 //! nothing.
 //!
-//! **A newer opener ends a download.** A transfer opener from the GCS stamped after the request
-//! of the download in progress of the same kind ends that download: the GCS has it or gave it
-//! up (this project's choice where the ICD is silent; see `end_download_before`).
+//! **A newer opener ends what is left open.** A transfer opener from the GCS ends the download of
+//! the same kind whose request it is stamped after, and the upload of the same kind whose newest
+//! message it is stamped after: the GCS is done with them (this project's choice where the ICD
+//! is silent; see `end_transfers_before`).
 //!
 //! **Closers are idempotent (ICD §11).** The last closer answered and its answer are remembered
 //! ([`CloserMemory`]): its retry, until an opener or a data message is accepted, gets the same
@@ -227,8 +228,11 @@ pub struct MissionDataHandling {
     mission_download: Option<TransferSender>,
     area_download: Option<TransferSender>,
     /// The time stamps of the requests that opened the downloads in progress, `[mission,
-    /// areas]`: a newer opener from the GCS ends its download ([`Self::end_download_before`]).
+    /// areas]`: a newer opener from the GCS ends its download ([`Self::end_transfers_before`]).
     download_requests: [Timestamp; 2],
+    /// The newest time stamp of a message of each kind's upload, `[mission, areas]`: a newer
+    /// opener from the GCS ends the upload still open ([`Self::end_transfers_before`]).
+    upload_stamps: [Timestamp; 2],
     report: Option<TransferSender>,
     active_mission: Option<Mission>,
     mission_generation: u64,
@@ -287,6 +291,7 @@ impl MissionDataHandling {
             mission_download: None,
             area_download: None,
             download_requests: [Timestamp::default(); 2],
+            upload_stamps: [Timestamp::default(); 2],
             report: None,
             active_mission: None,
             mission_generation: 0,
@@ -788,28 +793,59 @@ impl MissionDataHandling {
 
     /// #13000 mode 3 (the active mission, ICD §5.2) or mode 9 (a staged mission's, ICD §8):
     /// acknowledged, then the download. No such list: `WrongState`, nothing follows.
-    /// Ends the download of `kind` in progress when `opener`, a transfer's opener from the GCS,
-    /// is stamped after the request that opened it.
+    /// Ends the transfers of `kind` still open when `opener`, a transfer's opener from the GCS,
+    /// is stamped after them: a download stamped-after its request, an upload after its newest
+    /// message.
     ///
-    /// The GCS runs one transfer at a time (ICD §5) and opens the next only when it has the
-    /// download or gave it up, so the download has no receiver left. Kept, it would refuse the
-    /// GCS's new transfer `Busy` while it waits, up to twice the ack timeout, for the answer to
-    /// its last message that the GCS sent and the link lost; the GCS's opener and its one resend
-    /// fall into that time and the new transfer fails (issue 15, the `bad` link). An opener
-    /// stamped before the request is an old one, delayed on the link: it is refused `Busy` as
-    /// before. This project's choice: the ICD says nothing of a download that outlives its GCS.
-    fn end_download_before(&mut self, kind: DataKind, opener: &Message) {
-        let (slot, requested) = match kind {
-            DataKind::Mission => (&mut self.mission_download, self.download_requests[0]),
-            DataKind::Areas => (&mut self.area_download, self.download_requests[1]),
+    /// The GCS runs one transfer at a time (ICD §5) and opens the next only when it is done
+    /// with the one before, so such a transfer has no peer left. Kept, it would refuse the
+    /// GCS's new transfer `Busy`:
+    /// - a download, for up to twice the ack timeout, while it waits for the answer to its last
+    ///   message that the GCS sent and the link lost (issue 15, the `bad` link);
+    /// - an upload, for the transfer timeout, when a data message resent before the GCS gave
+    ///   up arrives late, after the cancel, and opens an edit of its own (ICD §5.1: an upload
+    ///   without clear edits the active mission).
+    ///
+    /// Ending an upload abandons its buffer; the active lists never change by it (§7). An
+    /// opener stamped before is an old one, delayed on the link: it meets the transfer as
+    /// before. This project's choice: the ICD says nothing of transfers that outlive their GCS.
+    fn end_transfers_before(&mut self, kind: DataKind, opener: &Message) {
+        let stamp = opener.time_stamp();
+        let (requested, uploaded, download) = match kind {
+            DataKind::Mission => (
+                self.download_requests[0],
+                self.upload_stamps[0],
+                &mut self.mission_download,
+            ),
+            DataKind::Areas => (
+                self.download_requests[1],
+                self.upload_stamps[1],
+                &mut self.area_download,
+            ),
             DataKind::Report => return,
         };
-        if opener.time_stamp() <= requested {
+        if stamp > requested {
+            if let Some(mut d) = download.take() {
+                d.cancel();
+                self.event(FccEvent::DownloadEnded { kind });
+            }
+        }
+        if stamp <= uploaded {
             return;
         }
-        if let Some(mut download) = slot.take() {
-            download.cancel();
-            self.event(FccEvent::DownloadEnded { kind });
+        let abandoned = match kind {
+            DataKind::Mission if self.mission_upload.in_transfer() => {
+                self.mission_upload.abandon(self.active_mission.as_ref());
+                true
+            }
+            DataKind::Areas if self.area_upload.in_transfer() => {
+                self.area_upload.abandon();
+                true
+            }
+            _ => false,
+        };
+        if abandoned {
+            self.event(FccEvent::UploadAbandoned { kind, reason: None });
         }
     }
 
@@ -1185,7 +1221,14 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
     /// The moding of paper §3.1.2.
     fn route(&mut self, now: Instant, message: &Message, ack: bool) {
         if let Some(kind) = opens_transfer(message) {
-            self.end_download_before(kind, message);
+            self.end_transfers_before(kind, message);
+        }
+        if let Some(kind) = uploads(message) {
+            let newest = match kind {
+                DataKind::Areas => &mut self.upload_stamps[1],
+                _ => &mut self.upload_stamps[0],
+            };
+            *newest = (*newest).max(message.time_stamp());
         }
         match message {
             Message::MessageAcknowledgement(_) => self.download_answer(now, message),
@@ -1286,6 +1329,32 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
                     .answer(now, message, ack, Err(Reason::WrongState));
             }
         }
+    }
+}
+
+/// Which data's upload `message` belongs to, when it does (ICD §5.1, §5.3, §8).
+fn uploads(message: &Message) -> Option<DataKind> {
+    match message {
+        Message::UaRoute(_)
+        | Message::UaPositionWaypoint(_)
+        | Message::VehicleSpecificWaypoint(_) => Some(DataKind::Mission),
+        Message::MissionTransferCommand(c) => matches!(
+            c.mode,
+            MissionPlanMode::ClearMission
+                | MissionPlanMode::TransmitMission
+                | MissionPlanMode::StageMission
+                | MissionPlanMode::LoadWaypointBuffer
+        )
+        .then_some(DataKind::Mission),
+        Message::AreaPolygonLoopSegment(_) => Some(DataKind::Areas),
+        Message::AreaTransmissionCommand(c) => matches!(
+            c.mode,
+            AreaTransferMode::InitiateUpload
+                | AreaTransferMode::UploadComplete
+                | AreaTransferMode::UploadCompleteStaged
+        )
+        .then_some(DataKind::Areas),
+        _ => None,
     }
 }
 

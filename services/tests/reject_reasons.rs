@@ -231,15 +231,31 @@ fn bad_geometry() {
     );
 }
 
+/// A download request the GCS stamped before the newest message of its mission upload, delayed
+/// on the link, finds the upload open: `Busy`. One stamped after it ends the upload (the GCS has
+/// given it up; the active list stays) and the download begins.
 #[test]
 fn busy() {
     let mut rig = FccRig::new().with_mission_2();
-    // An upload is in progress: a download request must wait.
+    let before = rig.fcc.active_mission().cloned();
+    rig.now = rig.now + Duration::from_millis(1);
+    let request = mission_command(MissionPlanMode::ReceiveMission, None, None);
+    rig.gcs.send(rig.now, request.clone().into(), true);
+    let mut buf = [0u8; wire::MAX_FRAME_LEN];
+    let len = rig.gcs.poll_transmit(&mut buf).unwrap().unwrap();
+    let delayed = buf[..len].to_vec();
+
     rig.accepted(waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix));
-    assert_eq!(
-        rig.reason(mission_command(MissionPlanMode::ReceiveMission, None, None)),
-        Some(Reason::Busy)
-    );
+    rig.events();
+    assert_eq!(reason_of(&rig.send_raw(&delayed)), Some(Reason::Busy));
+    assert!(rig.events().is_empty());
+
+    assert_eq!(rig.reason(request), None);
+    assert!(rig.events().contains(&FccEvent::UploadAbandoned {
+        kind: DataKind::Mission,
+        reason: None
+    }));
+    assert_eq!(rig.fcc.active_mission().cloned(), before);
 }
 
 /// An area upload opener the GCS stamped before its area download request, delayed on the
