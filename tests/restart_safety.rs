@@ -89,10 +89,19 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
             Ok(Finished::Uploaded(report)) => Some(*report),
             Err(GcsError::Upload(report)) => Some(*report),
             // The report before the upload failed: nothing that changes a list was sent.
-            Err(GcsError::Transfer {
-                phase: Phase::Report,
-                ..
-            }) => None,
+            Err(
+                GcsError::Transfer {
+                    phase: Phase::Report,
+                    ..
+                }
+                | GcsError::Timeout {
+                    phase: Phase::Report,
+                }
+                | GcsError::Aborted {
+                    phase: Phase::Report,
+                    ..
+                },
+            ) => None,
             other => panic!("k {k}: {other:?}"),
         };
         match &report {

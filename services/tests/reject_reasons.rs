@@ -240,7 +240,7 @@ fn busy() {
     let before = rig.fcc.active_mission().cloned();
     rig.now = rig.now + Duration::from_millis(1);
     let request = mission_command(MissionPlanMode::ReceiveMission, None, None);
-    rig.gcs.send(rig.now, request.clone().into(), true);
+    rig.gcs.send(rig.now, request.clone(), true);
     let mut buf = [0u8; wire::MAX_FRAME_LEN];
     let len = rig.gcs.poll_transmit(&mut buf).unwrap().unwrap();
     let delayed = buf[..len].to_vec();

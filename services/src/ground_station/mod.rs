@@ -897,6 +897,15 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// edition-1 FCC holds after a failed upload, the upload ends with that unknown. The
     /// download of an edit's base fails the edit (nothing but requests was sent).
     fn download_failed(&mut self, now: Instant, error: GcsError<G::Report>) {
+        // The report before an upload (ICD §8, §10.1) broke off: nothing that changes a list
+        // was sent, so the upload may begin again, or fails as the report did.
+        if self.state == State::Reporting(Purpose::Discovery(Then::Upload)) {
+            let may_pass = matches!(error, GcsError::Timeout { .. } | GcsError::Aborted { .. });
+            if !self.attempt_again(now, &error, may_pass, true) {
+                self.fail(error);
+            }
+            return;
+        }
         if self.upload.is_some() && !self.fetching_edit_base() {
             tracing::warn!(%error, "cannot find out what the FCC holds");
             self.end_upload_unknown(now);
@@ -1046,7 +1055,12 @@ impl<G: SafetyGateway> GroundStation<G> {
             (Purpose::Truth, false) => self.ask_again_or_give_up(now),
             // Nothing was sent that changes a list: an upload may be attempted again.
             (Purpose::Discovery(Then::Upload), false)
-                if self.attempt_again(now, Some((Phase::Report, error)), true) => {}
+                if self.attempt_again(
+                    now,
+                    &format_args!("{}: {error}", Phase::Report),
+                    error.may_pass(),
+                    true,
+                ) => {}
             (Purpose::Discovery(_) | Purpose::Query, _) => self.fail(GcsError::Transfer {
                 phase: Phase::Report,
                 error,

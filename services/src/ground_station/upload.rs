@@ -317,9 +317,9 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// After a failed attempt that left the lists the upload targets as they were (`clean`):
-    /// begins the next attempt when the failure may pass (the FCC did not answer, was busy, or
-    /// lost the transfer in a restart: [`ExchangeError::may_pass`]) and attempts are left.
-    /// `true` when it did.
+    /// begins the next attempt when the failure may pass (`may_pass`: the FCC did not answer,
+    /// was busy, or lost the transfer in a restart, see [`ExchangeError::may_pass`]) and
+    /// attempts are left. `true` when it did; `failure` says what failed, for the log.
     ///
     /// ICD §5 allows each message one resend; on a link that loses a burst, a message and its
     /// resend are lost together more often than the loss rate says. An operator would press
@@ -328,24 +328,22 @@ impl<G: SafetyGateway> GroundStation<G> {
     pub(super) fn attempt_again(
         &mut self,
         now: Instant,
-        failure: Option<(Phase, ExchangeError)>,
+        failure: &dyn core::fmt::Display,
+        may_pass: bool,
         clean: bool,
     ) -> bool {
         let attempts = self.config.upload_attempts;
         let Some(job) = self.upload.as_ref() else {
             return false;
         };
-        let Some((phase, error)) = failure.filter(|(_, e)| e.may_pass()) else {
-            return false;
-        };
-        if !clean || job.attempt >= attempts {
+        if !may_pass || !clean || job.attempt >= attempts {
             return false;
         }
         let (attempt, sent, request) = (job.attempt, job.sent, job.request.clone());
         tracing::warn!(
             attempt,
             attempts,
-            "upload attempt failed ({phase}: {error}) with the lists as they were: attempting it again"
+            "upload attempt failed ({failure}) with the lists as they were: attempting it again"
         );
         self.reset();
         self.begin_attempt(now, request, attempt + 1, sent);
@@ -741,8 +739,11 @@ impl<G: SafetyGateway> GroundStation<G> {
             return;
         };
         let clean = report.outcome() == UploadOutcome::PreviousActive && job.warning.is_none();
-        if !report.is_complete() && self.attempt_again(now, report.failure, clean) {
-            return;
+        if let Some((phase, error)) = report.failure.filter(|_| !report.is_complete()) {
+            let failure = format_args!("{phase}: {error}");
+            if self.attempt_again(now, &failure, error.may_pass(), clean) {
+                return;
+            }
         }
         let Some(job) = self.upload.take() else {
             return;
