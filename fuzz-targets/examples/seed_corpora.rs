@@ -16,7 +16,8 @@
 //! ```
 //!
 //! Seeds are only a start: `cargo fuzz cmin` keeps those that add coverage.
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::path::{Path, PathBuf};
 

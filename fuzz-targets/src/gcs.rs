@@ -143,11 +143,11 @@ impl Rig {
             self.advance(Duration::from_millis(1));
         }
         match tag % TAGS {
-            tag::RAW => self.to_gcs(body),
+            tag::RAW => self.hand_to_gcs(body),
             tag::WRAP => {
                 if let Some(frame) = MessageBody::parse(body).and_then(|b| wrap(&b, FCC_ID, GCS_ID))
                 {
-                    self.to_gcs(&frame);
+                    self.hand_to_gcs(&frame);
                 }
             }
             tag::SEND => {
@@ -175,7 +175,7 @@ impl Rig {
         }
     }
 
-    fn to_gcs(&mut self, frame: &[u8]) {
+    fn hand_to_gcs(&mut self, frame: &[u8]) {
         // A frame error is the driver's to count.
         let _ = self.gcs.handle_frame(self.now, frame);
         self.drain();
@@ -186,7 +186,7 @@ impl Rig {
         while let Some(sent) = self.forger.poll_transmit(&mut buf) {
             let len = sent.unwrap_or_else(|e| panic!("the forger cannot encode: {e}"));
             let frame = buf.get(..len).unwrap_or_default().to_vec();
-            self.to_gcs(&frame);
+            self.hand_to_gcs(&frame);
         }
     }
 

@@ -85,7 +85,8 @@ struct Model {
 impl Model {
     /// Checks the replay decision `passed` on the identity against the model, and remembers it.
     fn admit(&mut self, now: Instant, link: Link, identity: (u32, u16, Timestamp), passed: bool) {
-        let seen = &mut self.admitted[usize::from(link != Link::Direct)];
+        let [direct, lte] = &mut self.admitted;
+        let seen = if link == Link::Direct { direct } else { lte };
         let utc = self.clock.utc(now).millis();
         let window = REPLAY_WINDOW.as_millis() as u64;
         let fresh = identity.2.millis().abs_diff(utc) <= window
