@@ -9,7 +9,7 @@
 //!
 //! | tag | body | step |
 //! |---|---|---|
-//! | 0 raw | any bytes | every frame of the datagram is checked on the tag's link |
+//! | 0 raw | any bytes | every frame of the datagram is checked on the tag's link (and a verified one for replay) |
 //! | 1 sign | `[stamp offset (2)]` then a [`MessageBody`] | the message, stamped at the clock plus the offset (10 ms each), signed for the tag's link (bit 4: with a key the receiver does not hold), becomes the datagram at hand |
 //! | 2 mutate | pairs `[position (2), xor]` | bytes of the datagram at hand change |
 //! | 3 verify | nothing | the datagram at hand is checked on the tag's link |
@@ -17,8 +17,10 @@
 //! | 5 time | ms (2 bytes) | the clock moves on, by 10 ms per unit |
 //!
 //! Checked:
-//! - bytes the input made without the key never verify (raw frames, and a signed datagram once
-//!   any byte changed): a forger cannot pass;
+//! - a frame verifies only if it is, byte for byte with its trailer, one the key's holder
+//!   signed in this input (a forger cannot pass; a captured frame replayed can, and then the
+//!   replay check must stop it). The fuzzer does learn signed frames (libFuzzer takes the bytes
+//!   the harness compares into its dictionary), so replays are fuzzed too;
 //! - a signed datagram as signed verifies exactly when the policy checks signatures, the
 //!   receiver holds the key and it arrived on the link its trailer names, and fails with the
 //!   cause ICD §9 gives otherwise (unknown key, bad signature);
@@ -122,6 +124,8 @@ pub fn signature(input: &[u8]) {
     };
     let mut now = Instant::from_millis(1);
     let mut at_hand: Option<AtHand> = None;
+    // Every datagram signed with the receiver's key in this input.
+    let mut signed_before: HashSet<Vec<u8>> = HashSet::new();
     for (tag, body) in records(rest) {
         let link = if tag & tag::LTE != 0 {
             Link::Lte
@@ -131,16 +135,17 @@ pub fn signature(input: &[u8]) {
         match tag % TAGS {
             tag::RAW => {
                 for frame in wire::frames(body).flatten() {
-                    assert!(
-                        check_signature(&ring, &frame).is_err(),
-                        "bytes made without the key verify"
-                    );
+                    let authentic = check_signature(&ring, &frame).is_ok();
                     let verdict = receiver.verify(link, &frame);
-                    assert_ne!(
-                        verdict,
-                        Ok(Authenticity::Verified),
-                        "bytes made without the key verify"
-                    );
+                    if authentic || verdict == Ok(Authenticity::Verified) {
+                        assert!(
+                            signed_before.contains(&with_trailer(&frame)),
+                            "a frame the key's holder never signed verifies"
+                        );
+                    }
+                    if verdict == Ok(Authenticity::Verified) {
+                        replay_check(&mut receiver, &mut model, now, link, &frame);
+                    }
                 }
             }
             tag::SIGN => {
@@ -159,6 +164,9 @@ pub fn signature(input: &[u8]) {
                         link,
                         known_key,
                     });
+                if let Some(hand) = at_hand.as_ref().filter(|h| h.known_key) {
+                    signed_before.insert(hand.pristine.clone());
+                }
             }
             tag::MUTATE => {
                 if let Some(hand) = at_hand.as_mut() {
@@ -176,7 +184,7 @@ pub fn signature(input: &[u8]) {
             }
             tag::VERIFY => {
                 if let Some(hand) = &at_hand {
-                    verify(&mut receiver, &mut model, now, link, hand);
+                    verify(&mut receiver, &mut model, now, link, hand, &signed_before);
                 }
             }
             tag::ADMIT => {
@@ -199,6 +207,15 @@ pub fn signature(input: &[u8]) {
     }
 }
 
+/// The bytes a signature covers and carries: the frame and its trailer.
+fn with_trailer(frame: &wire::Frame<'_>) -> Vec<u8> {
+    let mut bytes = frame.as_bytes().to_vec();
+    if let Some(trailer) = frame.trailer() {
+        bytes.extend_from_slice(zerocopy::IntoBytes::as_bytes(trailer));
+    }
+    bytes
+}
+
 /// Checks the datagram at hand on `link` against what the model says.
 fn verify(
     receiver: &mut SignatureCheck,
@@ -206,21 +223,21 @@ fn verify(
     now: Instant,
     link: Link,
     hand: &AtHand,
+    signed_before: &HashSet<Vec<u8>>,
 ) {
     let Some(Ok(frame)) = wire::frames(&hand.bytes).next() else {
-        assert_ne!(
-            hand.bytes, hand.pristine,
-            "a signed frame the walker refuses"
-        );
+        assert_ne!(hand.bytes, hand.pristine, "a signed frame the walker refuses");
         return;
     };
     let verdict = receiver.verify(link, &frame);
     if hand.bytes != hand.pristine {
-        assert_ne!(
-            verdict,
-            Ok(Authenticity::Verified),
-            "a signed frame verifies after its bytes changed"
-        );
+        if verdict == Ok(Authenticity::Verified) {
+            assert!(
+                signed_before.contains(&with_trailer(&frame)),
+                "a signed frame verifies after its bytes changed"
+            );
+            replay_check(receiver, model, now, link, &frame);
+        }
         return;
     }
     let expected = match model.policy {
@@ -231,15 +248,26 @@ fn verify(
     };
     assert_eq!(verdict, expected, "the signature check of a signed frame");
     if verdict == Ok(Authenticity::Verified) {
-        let stamp = frame
-            .message()
-            .map(|m| m.time_stamp())
-            .unwrap_or_else(|e| panic!("a frame signed from a decoded message: {e}"));
-        let identity = (frame.source_id(), frame.message_type(), stamp);
-        assert_eq!(frame.destination_id(), FCC_ID);
-        let passed = receiver
-            .admit(now, link, identity.0, identity.1, Some(stamp))
-            .is_ok();
-        model.admit(now, link, identity, passed);
+        replay_check(receiver, model, now, link, &frame);
     }
+}
+
+/// The replay check of a verified frame, against the model.
+fn replay_check(
+    receiver: &mut SignatureCheck,
+    model: &mut Model,
+    now: Instant,
+    link: Link,
+    frame: &wire::Frame<'_>,
+) {
+    let stamp = frame
+        .message()
+        .map(|m| m.time_stamp())
+        .unwrap_or_else(|e| panic!("a frame signed from a decoded message: {e}"));
+    assert_eq!(frame.destination_id(), FCC_ID);
+    let identity = (frame.source_id(), frame.message_type(), stamp);
+    let passed = receiver
+        .admit(now, link, identity.0, identity.1, Some(stamp))
+        .is_ok();
+    model.admit(now, link, identity, passed);
 }
