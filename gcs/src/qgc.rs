@@ -1156,7 +1156,9 @@ pub(crate) fn parse_json(text: &str) -> Result<Value, MissionFileError> {
         };
         MissionFileError::Syntax {
             line: e.line(),
-            column: e.column(),
+            // serde_json says column 0 for an error before a line's first character (an empty
+            // file, a file that ends right after a newline); our columns count from 1.
+            column: e.column().max(1),
             message,
         }
     })
@@ -1906,6 +1908,19 @@ pub(crate) mod tests {
             &plan_with(&take_off("0", "0"), "").replace("[47.397, 8.5455, 488]", "[0, 0, 0]"),
         );
         assert_eq!(unset.plan.take_off_position, None);
+    }
+
+    /// Found by fuzz_qgc_plan and fuzz_geojson: an empty file was "line 1, column 0".
+    #[test]
+    fn an_early_end_is_at_column_1() {
+        for (text, line) in [("", 1), ("{\"fileType\": \"Plan\",\n", 2)] {
+            match import_plan(text, &ImportOptions::default()).unwrap_err() {
+                MissionFileError::Syntax {
+                    line: l, column, ..
+                } => assert_eq!((l, column), (line, 1), "{text:?}"),
+                other => panic!("{other:?}"),
+            }
+        }
     }
 
     #[test]

@@ -684,3 +684,22 @@ fn an_edition_1_fcc_stages_nothing() {
     assert!(matches!(f, GcsError::Edition1 { .. }), "{f:?}");
     assert_eq!(s.requests(0), ["13000 mode 7"]);
 }
+
+/// Found by fuzz_gcs: `execute` with command 4 put a #50000 without its Mission ID on the wire,
+/// a message the FCC can only refuse (`MissingField`). Command 4 goes through `activate`;
+/// `execute` refuses it and sends nothing.
+#[test]
+fn execute_refuses_command_4_and_sends_nothing() {
+    let mut s = StationRig::new(FccRig::new().with_mission_2());
+    let now = s.rig.now;
+    assert_eq!(
+        s.gcs.execute(
+            now,
+            missionlink_interfaces::wire::ExecuteCommand::ActivateStaged
+        ),
+        Err(GcsError::ActivateWithoutId)
+    );
+    assert!(s.gcs.is_standby());
+    assert!(s.gcs.frames().is_empty(), "a message went out");
+    assert!(s.run(LIMIT).is_empty());
+}

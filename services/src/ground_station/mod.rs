@@ -359,6 +359,9 @@ pub enum GcsError<R> {
         /// What needed edition 2.
         request: &'static str,
     },
+    /// [`GroundStation::execute`] was asked for #50000 command 4, which must name the staged
+    /// mission (ICD §8): [`GroundStation::activate`] sends it. Nothing was sent.
+    ActivateWithoutId,
     /// A request about a staged mission failed (activate, delete, download).
     Staged {
         /// Which request.
@@ -444,6 +447,11 @@ impl<R: fmt::Display> fmt::Display for GcsError<R> {
                 f,
                 "the FCC speaks ICD edition 1 (it refused the report request): {request} needs \
                  edition 2 (ICD §8)"
+            ),
+            Self::ActivateWithoutId => write!(
+                f,
+                "#50000 command 4 activates a staged mission and must name it (ICD §8): \
+                 nothing was sent"
             ),
             Self::Staged { request, id, error } => {
                 write!(f, "{request} of staged mission {id:?} failed: {error}")?;
@@ -762,12 +770,19 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// #50000 Mission Execute Command (ICD §4): execute the active mission, return to home or
-    /// land. The FCC accepts it by the rule of [`crate::automation::check_command`].
+    /// land. The FCC accepts it by the rule of [`crate::automation::check_command`]. Command 4
+    /// names a staged mission and goes through [`GroundStation::activate`]: here it is refused
+    /// ([`GcsError::ActivateWithoutId`]) and nothing is sent.
     pub fn execute(
         &mut self,
         now: Instant,
         command: ExecuteCommand,
     ) -> Result<(), GcsError<G::Report>> {
+        if command == ExecuteCommand::ActivateStaged {
+            // Without its Mission ID, command 4 is a message the FCC must refuse as
+            // `MissingField` (ICD §8 #50000 field 2): never put it on the wire.
+            return Err(GcsError::ActivateWithoutId);
+        }
         let execute = MissionExecuteCommand {
             time_stamp: Timestamp::default(),
             command,

@@ -347,7 +347,8 @@ pub(crate) fn assert_display(message: impl fmt::Display + Into<Message>, expecte
 
 /// Golden-frame check shared by the message modules: `frame` decodes to `envelope` and
 /// `message`, and encoding them into a buffer pre-filled with 0xa5 writes exactly `frame` and
-/// nothing past it.
+/// nothing past it. With `MISSIONLINK_GOLDEN_DIR` set, writes `frame` there too (the seeds of
+/// the fuzz targets, `fuzz-targets/examples/seed_corpora.rs`).
 #[cfg(test)]
 pub(crate) fn assert_golden(frame: &[u8], envelope: super::frame::Envelope, message: Message) {
     assert_eq!(
@@ -362,6 +363,13 @@ pub(crate) fn assert_golden(frame: &[u8], envelope: super::frame::Envelope, mess
         buf[len..].iter().all(|&b| b == 0xa5),
         "emit wrote past the frame"
     );
+    // The golden frames seed the fuzzers (README, "Fuzzing"): with MISSIONLINK_GOLDEN_DIR set,
+    // each is also written there, named by its type and its byte sum.
+    if let Some(dir) = std::env::var_os("MISSIONLINK_GOLDEN_DIR") {
+        let sum = super::frame::checksum(frame, super::frame::ChecksumWidth::Four);
+        let name = format!("golden-{}-{sum:08x}", message.message_type() as u16);
+        std::fs::write(std::path::Path::new(&dir).join(name), frame).unwrap();
+    }
 }
 
 #[cfg(test)]
