@@ -28,7 +28,7 @@ use common::*;
 use missionlink::link_emulator::{Flow, Impairments};
 use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_services::ground_station::outcome::Held;
-use missionlink_services::ground_station::{GcsError, MissionPlan, Phase, Sequence, ValidatedPlan};
+use missionlink_services::ground_station::{GcsError, MissionPlan, Sequence, ValidatedPlan};
 use missionlink_services::testkit::{Rng, area_buffer, eleven_areas, generated_plan};
 
 /// Trials in an ordinary test run: bounded so that CI spends well under two minutes here.
@@ -92,13 +92,8 @@ fn claim(outcome: &Result<Finished, Error>, trial: usize) -> Option<bool> {
         Err(GcsError::Upload(report)) => report,
         // The report before the upload went unanswered, or a request found no room: nothing that
         // changes a list was sent.
-        Err(
-            GcsError::Transfer { .. }
-            | GcsError::Capacity { .. }
-            | GcsError::Timeout {
-                phase: Phase::Report,
-            },
-        ) => return Some(false),
+        Err(e) if e.in_report() => return Some(false),
+        Err(GcsError::Capacity { .. }) => return Some(false),
         other => panic!("trial {trial}: an upload ended with {other:?}"),
     };
     let said = |held: Held| match held {

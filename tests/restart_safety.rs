@@ -17,8 +17,8 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_services::ground_station::GcsError;
 use missionlink_services::ground_station::outcome::{Held, UploadReport};
-use missionlink_services::ground_station::{GcsError, Phase};
 use missionlink_services::transfer::integrity;
 use missionlink_services::transfer::staged::MissionId;
 
@@ -89,19 +89,7 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
             Ok(Finished::Uploaded(report)) => Some(*report),
             Err(GcsError::Upload(report)) => Some(*report),
             // The report before the upload failed: nothing that changes a list was sent.
-            Err(
-                GcsError::Transfer {
-                    phase: Phase::Report,
-                    ..
-                }
-                | GcsError::Timeout {
-                    phase: Phase::Report,
-                }
-                | GcsError::Aborted {
-                    phase: Phase::Report,
-                    ..
-                },
-            ) => None,
+            Err(e) if e.in_report() => None,
             other => panic!("k {k}: {other:?}"),
         };
         match &report {

@@ -73,11 +73,9 @@ fn run(seed: u64, both_links: bool, max_loss: f64, tally: &mut Tally) {
         .filter_map(|e| match e {
             GcsEvent::Uploaded(r) => Some(Some(&**r)),
             GcsEvent::Failed(GcsError::Upload(r)) => Some(Some(&**r)),
-            // The report before the upload (ICD §8, §10.1) failed: the upload never began.
-            GcsEvent::Failed(GcsError::Transfer {
-                phase: Phase::Report,
-                ..
-            }) => Some(None),
+            // The report before the upload (ICD §8, §10.1) failed or broke off: the upload
+            // never began.
+            GcsEvent::Failed(e) if e.in_report() => Some(None),
             GcsEvent::Failed(other) => panic!("seed {seed}: not an upload outcome: {other}"),
             _ => None,
         })

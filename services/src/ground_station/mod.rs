@@ -416,6 +416,26 @@ pub fn reason_hint(reason: Reason) -> Option<&'static str> {
     }
 }
 
+impl<R> GcsError<R> {
+    /// Whether the request failed in the FCC's report (ICD §8, §10.1): unanswered, silent or
+    /// aborted. Before an upload that means it never began: nothing that changes a list was
+    /// sent.
+    pub fn in_report(&self) -> bool {
+        matches!(
+            self,
+            Self::Transfer {
+                phase: Phase::Report,
+                ..
+            } | Self::Timeout {
+                phase: Phase::Report
+            } | Self::Aborted {
+                phase: Phase::Report,
+                ..
+            }
+        )
+    }
+}
+
 impl<R: fmt::Display> fmt::Display for GcsError<R> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
