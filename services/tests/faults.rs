@@ -13,7 +13,7 @@ mod support;
 use std::time::Duration;
 
 use missionlink_services::ground_station::outcome::{Held, UploadOutcome, UploadReport};
-use missionlink_services::ground_station::{GcsError, GcsEvent, Phase};
+use missionlink_services::ground_station::{GcsError, GcsEvent};
 use support::*;
 
 fn random_faults(rng: &mut Rng, max_loss: f64) -> Faults {
