@@ -73,16 +73,6 @@ const CLEAN: Impairments = Impairments {
     ..Impairments::NONE
 };
 
-/// Messages the GCS sent since log entry `from`.
-fn sent_since(link: &Link, from: usize) -> usize {
-    link.log
-        .get(from..)
-        .unwrap_or_default()
-        .iter()
-        .filter(|l| l.direction == Direction::Up)
-        .count()
-}
-
 /// What the GCS said the upload left active: `Some(true)` the new lists, `Some(false)` the
 /// previous ones, `None` it could not tell (or said nothing that an atomic upload would leave
 /// half: the test checks the FCC either way).
@@ -181,7 +171,7 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
             .upload_with(now, &plans[next], Sequence::Atomic)
             .unwrap();
         finish(&mut link).unwrap();
-        total[next] = sent_since(&link, from) as u64;
+        total[next] = logged_since(&link, from, Direction::Up) as u64;
     }
     let mut active = 0;
 
@@ -213,7 +203,9 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
             .upload_with(now, &plans[next], Sequence::Atomic)
             .unwrap();
         if let Some(victim) = victim {
-            while sent_since(&link, from) < cut_after && !link.station().is_standby() {
+            while logged_since(&link, from, Direction::Up) < cut_after
+                && !link.station().is_standby()
+            {
                 link.pump(Duration::from_millis(1));
             }
             // The one before must have been restarted: a partition dies once at a time.

@@ -22,16 +22,6 @@ use missionlink_services::ground_station::outcome::{Held, UploadReport};
 use missionlink_services::transfer::integrity;
 use missionlink_services::transfer::staged::MissionId;
 
-/// Messages the FCC sent since log entry `from`.
-fn downlink_count(link: &Link, from: usize) -> usize {
-    link.log
-        .get(from..)
-        .unwrap_or_default()
-        .iter()
-        .filter(|l| l.direction == Direction::Down)
-        .count()
-}
-
 #[test]
 fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_the_gcs_says_which()
 {
@@ -48,7 +38,7 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
     upload(&mut link, &mission_1).unwrap();
     let from = link.log.len();
     upload(&mut link, &mission_2).unwrap();
-    let total = downlink_count(&link, from);
+    let total = logged_since(&link, from, Direction::Down);
     assert!(total >= 12, "{total} FCC messages");
 
     let mut restarts = 0;
@@ -58,7 +48,7 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
         let from = link.log.len();
         let now = link.now();
         link.station().upload(now, &mission_2, true).unwrap();
-        while downlink_count(&link, from) < k && !link.station().is_standby() {
+        while logged_since(&link, from, Direction::Down) < k && !link.station().is_standby() {
             link.pump(Duration::from_millis(1));
         }
         signal_partition(&fcc, "mission-data-handling", rustix::process::Signal::KILL);

@@ -29,17 +29,17 @@ use core::time::Duration;
 
 use missionlink_interfaces::contracts::{AutomationStatePayload, GuidanceProgressPayload};
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message, Reason};
+use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
-use missionlink_services::testkit;
+use missionlink_services::testkit::{self, Transmit};
 use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::mission::{Mission, MissionBuffer};
 use missionlink_services::transfer::staged::StagedMissions;
 
-use crate::input::{MessageBody, records, u16_at, wrap};
+use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
@@ -136,10 +136,7 @@ impl Rig {
             tag::TIME => self.advance(Duration::from_millis(u64::from(u16_at(body, 0)))),
             tag::ANSWER => {
                 if let Some(request) = self.request.clone() {
-                    let outcome = match body.first().copied().unwrap_or(0) {
-                        0 => Ok(()),
-                        r => Err(Reason::try_from(r).unwrap_or(Reason::Malformed)),
-                    };
+                    let outcome = answer_outcome(body);
                     self.gcs.answer(self.now, &request, true, outcome);
                     self.gcs_frames();
                 }
@@ -157,10 +154,7 @@ impl Rig {
 
     /// What the GCS endpoint queued goes to the FCC.
     fn gcs_frames(&mut self) {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some(sent) = self.gcs.poll_transmit(&mut buf) {
-            let len = sent.unwrap_or_else(|e| panic!("the GCS endpoint cannot encode: {e}"));
-            let frame = buf.get(..len).unwrap_or_default().to_vec();
+        for frame in Transmit::frames(&mut self.gcs) {
             self.frame(&frame);
         }
     }

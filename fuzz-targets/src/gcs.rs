@@ -34,20 +34,18 @@ use missionlink_interfaces::contracts::{
     AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
 };
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{
-    self, ExecuteCommand, MAX_FRAME_LEN, Message, Reason, TransferWindow,
-};
+use missionlink_interfaces::wire::{self, ExecuteCommand, MAX_FRAME_LEN, Message, TransferWindow};
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
 };
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit;
+use missionlink_services::testkit::{self, Transmit};
 use missionlink_services::transfer::staged::MissionId;
 
 use crate::fcc::{Lists, check_areas, check_mission};
-use crate::input::{MessageBody, records, u16_at, wrap};
+use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
@@ -163,10 +161,7 @@ impl Rig {
             tag::PUMP => self.pump(body),
             tag::ANSWER => {
                 if let Some(request) = self.request.clone() {
-                    let outcome = match body.first().copied().unwrap_or(0) {
-                        0 => Ok(()),
-                        r => Err(Reason::try_from(r).unwrap_or(Reason::Malformed)),
-                    };
+                    let outcome = answer_outcome(body);
                     self.forger.answer(self.now, &request, true, outcome);
                     self.forged();
                 }
@@ -182,10 +177,7 @@ impl Rig {
     }
 
     fn forged(&mut self) {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some(sent) = self.forger.poll_transmit(&mut buf) {
-            let len = sent.unwrap_or_else(|e| panic!("the forger cannot encode: {e}"));
-            let frame = buf.get(..len).unwrap_or_default().to_vec();
+        for frame in Transmit::frames(&mut self.forger) {
             self.hand_to_gcs(&frame);
         }
     }

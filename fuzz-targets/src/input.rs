@@ -15,7 +15,7 @@
 //! takes as new, so the frame handlers see it).
 
 use missionlink_interfaces::wire::{
-    self, ChecksumWidth, MAX_SIGNED_FRAME_LEN, Message, MessageProperties,
+    self, ChecksumWidth, MAX_SIGNED_FRAME_LEN, Message, MessageProperties, Reason,
 };
 
 /// Bytes of a record's header: the tag and the length.
@@ -142,6 +142,15 @@ pub fn wrap(body: &MessageBody<'_>, source: u32, destination: u32) -> Option<Vec
     let sum = sum.to_be_bytes();
     frame.extend_from_slice(sum.get(4 - width.len()..).unwrap_or_default());
     Some(frame)
+}
+
+/// The outcome an answer record's body asks for: its first byte 0 accepts, any other is a
+/// rejection with that reason (an undefined one as `Malformed`).
+pub fn answer_outcome(body: &[u8]) -> Result<(), Reason> {
+    match body.first().copied().unwrap_or(0) {
+        0 => Ok(()),
+        r => Err(Reason::try_from(r).unwrap_or(Reason::Malformed)),
+    }
 }
 
 /// Two bytes of `body` from `at` as a big-endian number, missing bytes as 0.

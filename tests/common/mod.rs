@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use missionlink_gcs::gcs_link::{Finished, GcsLink};
+use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_interfaces::wire::MissionReport;
 use missionlink_partitions::binaries;
@@ -279,4 +279,14 @@ pub fn plan_checksums(plan: &ValidatedPlan) -> (Option<u32>, Option<u32>) {
         Some(mission_checksum(&plan.mission).value()),
         Some(areas_checksum(&plan.areas).value()),
     )
+}
+
+/// Messages logged in `direction` since log entry `from` (the GCS's log, `enable_log`).
+pub fn logged_since(link: &Link, from: usize, direction: Direction) -> usize {
+    link.log
+        .get(from..)
+        .unwrap_or_default()
+        .iter()
+        .filter(|l| l.direction == direction)
+        .count()
 }
