@@ -62,12 +62,17 @@
     reason = "the shared-memory floor maps a file and views two of its cache lines as atomics"
 )]
 
+#[path = "support/log_axis.rs"]
+mod log_axis;
+
 use std::fmt::Write as _;
 use std::io::{BufRead, BufReader};
 use std::net::UdpSocket;
 use std::os::linux::net::SocketAddrExt;
 use std::os::unix::net::{SocketAddr, UnixDatagram};
 use std::path::{Path, PathBuf};
+
+use log_axis::LogAxis;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -966,22 +971,9 @@ fn svg(results: &[Value], subtitle: &str) -> String {
     let values: Vec<f64> = results
         .iter()
         .flat_map(|r| PERCENTILES.iter().map(move |(k, _, _)| us(r, k)))
-        .filter(|v| *v > 0.0)
         .collect();
-    let lo = values
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min)
-        .log10()
-        .floor();
-    let hi = values
-        .iter()
-        .copied()
-        .fold(0.0, f64::max)
-        .log10()
-        .ceil()
-        .max(lo + 1.0);
-    let y = |v: f64| bottom - (v.max(10f64.powf(lo)).log10() - lo) / (hi - lo) * PLOT_H;
+    let axis = LogAxis::new(values.iter().copied(), bottom, PLOT_H);
+    let y = |v: f64| axis.y(v);
 
     let mut s = String::new();
     let w = &mut s;
@@ -1008,30 +1000,7 @@ fn svg(results: &[Value], subtitle: &str) -> String {
         );
     }
     // Decades of the µs axis, with faint lines at 2 and 5.
-    for decade in (lo as i32)..=(hi as i32) {
-        let v = 10f64.powi(decade);
-        let label = if decade < 0 {
-            format!("{v:.*}", decade.unsigned_abs() as usize)
-        } else {
-            format!("{v:.0}")
-        };
-        let (right, at) = (width - 20.0, y(v));
-        let _ = writeln!(
-            w,
-            r##"<line x1="{LEFT}" x2="{right}" y1="{at:.1}" y2="{at:.1}" stroke="#bbb"/><text x="{:.1}" y="{:.1}" text-anchor="end">{label} µs</text>"##,
-            LEFT - 6.0,
-            at + 4.0,
-        );
-        if decade < hi as i32 {
-            for m in [2.0, 5.0] {
-                let at = y(v * m);
-                let _ = writeln!(
-                    w,
-                    r##"<line x1="{LEFT}" x2="{right}" y1="{at:.1}" y2="{at:.1}" stroke="#eee"/>"##
-                );
-            }
-        }
-    }
+    axis.grid(w, LEFT, width - 20.0, "µs");
     let _ = writeln!(
         w,
         r#"<text transform="translate(20,{}) rotate(-90)" text-anchor="middle">latency (µs)</text>"#,

@@ -29,6 +29,8 @@
 
 #[path = "../tests/common/mod.rs"]
 mod common;
+#[path = "support/log_axis.rs"]
+mod log_axis;
 
 use std::time::{Duration, Instant};
 
@@ -407,25 +409,12 @@ fn svg(rows: &[Row]) -> String {
     let width = LEFT + groups.len() as f64 * group_w + 20.0;
     let height = TOP + PLOT_H + 110.0;
     let bottom = TOP + PLOT_H;
-    let medians: Vec<f64> = rows
-        .iter()
-        .map(|r| percentile(&sorted(&r.upload_ms), 0.5))
-        .filter(|v| *v > 0.0)
-        .collect();
-    let lo = medians
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min)
-        .log10()
-        .floor();
-    let hi = medians
-        .iter()
-        .copied()
-        .fold(0.0, f64::max)
-        .log10()
-        .ceil()
-        .max(lo + 1.0);
-    let y = |v: f64| bottom - (v.max(10f64.powf(lo)).log10() - lo) / (hi - lo) * PLOT_H;
+    let axis = log_axis::LogAxis::new(
+        rows.iter().map(|r| percentile(&sorted(&r.upload_ms), 0.5)),
+        bottom,
+        PLOT_H,
+    );
+    let y = |v: f64| axis.y(v);
     let mut s = String::new();
     let w = &mut s;
     let _ = writeln!(
@@ -451,18 +440,7 @@ fn svg(rows: &[Row]) -> String {
         r#"<text x="{}" y="46">| n x RTT</text>"#,
         LEFT + series.len() as f64 * 170.0
     );
-    for decade in lo as i32..=hi as i32 {
-        let v = 10f64.powi(decade);
-        let yy = y(v);
-        let _ = writeln!(
-            w,
-            r##"<line x1="{LEFT}" x2="{}" y1="{yy}" y2="{yy}" stroke="#ddd"/><text x="{}" y="{}" text-anchor="end">{} ms</text>"##,
-            width - 20.0,
-            LEFT - 6.0,
-            yy + 4.0,
-            v
-        );
-    }
+    axis.grid(w, LEFT, width - 20.0, "ms");
     for (g, (profile, case)) in groups.iter().enumerate() {
         let x0 = LEFT + g as f64 * group_w + GAP / 2.0;
         for (i, key) in series.iter().enumerate() {

@@ -1,0 +1,68 @@
+//! The logarithmic value axis of the benches' SVG plots (`benches/latency.rs`,
+//! `benches/links.rs`): the decades that hold the values, where a value sits, and the grid.
+
+use std::fmt::Write as _;
+
+/// A vertical axis of whole decades, `height` pixels high above `bottom`.
+pub struct LogAxis {
+    /// The lowest decade (log10).
+    lo: f64,
+    /// The highest decade (log10), above `lo`.
+    hi: f64,
+    bottom: f64,
+    height: f64,
+}
+
+impl LogAxis {
+    /// The decades around every positive value of `values`.
+    pub fn new(values: impl Iterator<Item = f64> + Clone, bottom: f64, height: f64) -> Self {
+        let positive = values.filter(|v| *v > 0.0);
+        let lo = positive
+            .clone()
+            .fold(f64::INFINITY, f64::min)
+            .log10()
+            .floor();
+        let hi = positive.fold(0.0, f64::max).log10().ceil().max(lo + 1.0);
+        Self {
+            lo,
+            hi,
+            bottom,
+            height,
+        }
+    }
+
+    /// Where `v` sits (values below the lowest decade sit on it).
+    pub fn y(&self, v: f64) -> f64 {
+        self.bottom
+            - (v.max(10f64.powf(self.lo)).log10() - self.lo) / (self.hi - self.lo) * self.height
+    }
+
+    /// Lines from `left` to `right` at every decade, labelled with `unit`, and faint ones at 2
+    /// and 5 times each decade.
+    pub fn grid(&self, w: &mut String, left: f64, right: f64, unit: &str) {
+        for decade in (self.lo as i32)..=(self.hi as i32) {
+            let v = 10f64.powi(decade);
+            let label = if decade < 0 {
+                format!("{v:.*}", decade.unsigned_abs() as usize)
+            } else {
+                format!("{v:.0}")
+            };
+            let at = self.y(v);
+            let _ = writeln!(
+                w,
+                r##"<line x1="{left}" x2="{right}" y1="{at:.1}" y2="{at:.1}" stroke="#bbb"/><text x="{:.1}" y="{:.1}" text-anchor="end">{label} {unit}</text>"##,
+                left - 6.0,
+                at + 4.0,
+            );
+            if decade < self.hi as i32 {
+                for m in [2.0, 5.0] {
+                    let at = self.y(v * m);
+                    let _ = writeln!(
+                        w,
+                        r##"<line x1="{left}" x2="{right}" y1="{at:.1}" y2="{at:.1}" stroke="#eee"/>"##
+                    );
+                }
+            }
+        }
+    }
+}
