@@ -975,17 +975,14 @@ fn svg(results: &[Value], subtitle: &str) -> String {
     let axis = LogAxis::new(values.iter().copied(), bottom, PLOT_H);
     let y = |v: f64| axis.y(v);
 
-    let mut s = String::new();
+    let mut s = log_axis::begin(
+        width,
+        height,
+        LEFT,
+        24.0,
+        "One-way frame latency between two processes",
+    );
     let w = &mut s;
-    let _ = writeln!(
-        w,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">"#
-    );
-    let _ = writeln!(w, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(
-        w,
-        r#"<text x="{LEFT}" y="24" font-size="16" font-weight="bold">One-way frame latency between two processes</text>"#
-    );
     let _ = writeln!(
         w,
         r##"<text x="{LEFT}" y="44" fill="#555">{subtitle}</text>"##

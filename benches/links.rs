@@ -415,17 +415,14 @@ fn svg(rows: &[Row]) -> String {
         PLOT_H,
     );
     let y = |v: f64| axis.y(v);
-    let mut s = String::new();
+    let mut s = log_axis::begin(
+        width,
+        height,
+        LEFT,
+        22.0,
+        "Upload over emulated links, median (log scale)",
+    );
     let w = &mut s;
-    let _ = writeln!(
-        w,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">"#
-    );
-    let _ = writeln!(w, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(
-        w,
-        r#"<text x="{LEFT}" y="22" font-size="16" font-weight="bold">Upload over emulated links, median (log scale)</text>"#
-    );
     for (i, (window, attempts)) in series.iter().enumerate() {
         let x = LEFT + i as f64 * 170.0;
         let colour = COLOURS[i % COLOURS.len()];

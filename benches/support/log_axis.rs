@@ -1,7 +1,24 @@
-//! The logarithmic value axis of the benches' SVG plots (`benches/latency.rs`,
-//! `benches/links.rs`): the decades that hold the values, where a value sits, and the grid.
+//! The benches' SVG plots (`benches/latency.rs`, `benches/links.rs`): the document with its
+//! title, and the logarithmic value axis (the decades that hold the values, where a value sits,
+//! the grid).
 
 use std::fmt::Write as _;
+
+/// An SVG document `width` x `height` on white, its title in bold at (`x`, `y`); the caller
+/// closes it with `</svg>`.
+pub fn begin(width: f64, height: f64, x: f64, y: f64, title: &str) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        s,
+        r#"<text x="{x}" y="{y}" font-size="16" font-weight="bold">{title}</text>"#
+    );
+    s
+}
 
 /// A vertical axis of whole decades, `height` pixels high above `bottom`.
 pub struct LogAxis {
