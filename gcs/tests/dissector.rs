@@ -12,11 +12,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
+mod support;
+
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 use std::time::SystemTime;
 
 use missionlink_gcs::inspect::encode_json;
@@ -69,21 +70,10 @@ fn tshark(args: &[&str]) -> String {
 
 /// `gcs inspect --json` of one datagram: the messages it prints and whether it accepted all.
 fn inspect(datagram: &[u8]) -> (Vec<Value>, Output) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gcs"))
-        .args(["inspect", "--json"])
-        .env("RUST_LOG", "warn")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("gcs starts");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(format!("{}\n", hex::encode(datagram)).as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
+    let out = support::gcs(
+        &["inspect", "--json"],
+        &format!("{}\n", hex::encode(datagram)),
+    );
     let messages = String::from_utf8_lossy(&out.stdout)
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
