@@ -21,7 +21,7 @@ use crate::wire::{
 };
 
 /// Version of the payload layouts; part of every type name.
-pub const CONTRACT_VERSION: u32 = 2;
+pub const CONTRACT_VERSION: u32 = 3;
 
 /// Service-name prefix used when none is configured.
 pub const DEFAULT_SERVICE_PREFIX: &str = "missionlink";
@@ -67,6 +67,50 @@ pub enum FccService {
     /// automation to carry out (queue, no history: a restarted automation must not replay an
     /// old command).
     AutomationCommand,
+    /// `fcc/health/<partition>`: the partition's heartbeat on its fixed period (DESIGN.md
+    /// "Health"), history 1; the launcher and system automation watch it.
+    Heartbeat(Partition),
+}
+
+/// The partitions of the FCC by their role, whatever binary (or language) fills it: the
+/// heartbeat service a partition beats on is named after its role (`fcc/health/guidance` for
+/// the Rust guidance stub and for a guidance written in Python alike).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Partition {
+    /// Voting and monitoring of the two links.
+    VotingMonitoring,
+    /// Mission data handling.
+    MissionDataHandling,
+    /// System automation.
+    SystemAutomation,
+    /// Flight guidance (the guidance stub, or its replacement in the rig).
+    Guidance,
+}
+
+impl Partition {
+    /// Every partition, in start order.
+    pub const ALL: [Partition; 4] = [
+        Self::VotingMonitoring,
+        Self::MissionDataHandling,
+        Self::SystemAutomation,
+        Self::Guidance,
+    ];
+
+    /// The role's name, the last part of its heartbeat service's path.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::VotingMonitoring => "voting-monitoring",
+            Self::MissionDataHandling => "mission-data-handling",
+            Self::SystemAutomation => "system-automation",
+            Self::Guidance => "guidance",
+        }
+    }
+}
+
+impl fmt::Display for Partition {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// The quality of service of a service: every partition opens it with these, so that whoever
@@ -91,7 +135,7 @@ pub struct Qos {
 
 impl FccService {
     /// Every service.
-    pub const ALL: [FccService; 7] = [
+    pub const ALL: [FccService; 11] = [
         Self::Uplink,
         Self::Downlink,
         Self::WaypointList,
@@ -99,6 +143,10 @@ impl FccService {
         Self::AutomationState,
         Self::GuidanceProgress,
         Self::AutomationCommand,
+        Self::Heartbeat(Partition::VotingMonitoring),
+        Self::Heartbeat(Partition::MissionDataHandling),
+        Self::Heartbeat(Partition::SystemAutomation),
+        Self::Heartbeat(Partition::Guidance),
     ];
 
     /// The path under the prefix.
@@ -111,6 +159,10 @@ impl FccService {
             Self::AutomationState => "fcc/automation/state",
             Self::GuidanceProgress => "fcc/guidance/progress",
             Self::AutomationCommand => "fcc/automation/command",
+            Self::Heartbeat(Partition::VotingMonitoring) => "fcc/health/voting-monitoring",
+            Self::Heartbeat(Partition::MissionDataHandling) => "fcc/health/mission-data-handling",
+            Self::Heartbeat(Partition::SystemAutomation) => "fcc/health/system-automation",
+            Self::Heartbeat(Partition::Guidance) => "fcc/health/guidance",
         }
     }
 
@@ -136,7 +188,8 @@ impl FccService {
             Self::WaypointList
             | Self::AreaList
             | Self::AutomationState
-            | Self::GuidanceProgress => Qos {
+            | Self::GuidanceProgress
+            | Self::Heartbeat(_) => Qos {
                 history_size: 1,
                 subscriber_max_buffer_size: 1,
                 max_publishers: 2,
@@ -181,7 +234,7 @@ impl TryFrom<u8> for Link {
 /// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::FramePayload/v2")]
+#[type_name("missionlink::FramePayload/v3")]
 pub struct FramePayload {
     /// CLOCK_MONOTONIC nanoseconds when the frame entered the FCC (socket receive) or was
     /// produced (downlink): the start of the per-frame latency measurement.
@@ -231,7 +284,7 @@ impl FramePayload {
 /// One waypoint of the assembled list, in flight-plan order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::WaypointEntry/v2")]
+#[type_name("missionlink::WaypointEntry/v3")]
 pub struct WaypointEntry {
     /// Waypoint Number.
     pub number: u16,
@@ -328,7 +381,7 @@ impl WaypointEntry {
 /// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::WaypointListPayload/v2")]
+#[type_name("missionlink::WaypointListPayload/v3")]
 pub struct WaypointListPayload {
     /// Counts activations of a new list since mission data handling started, from 1; 0 means
     /// no mission is active (after start or a clear).
@@ -392,7 +445,7 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
 /// Altitude bounds of an area (#2012 bits 4 to 6), each optional.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AreaAltitudes/v2")]
+#[type_name("missionlink::AreaAltitudes/v3")]
 pub struct AreaAltitudes {
     /// Lower Altitude, valid when `has_lower`.
     pub lower: Altitude,
@@ -454,7 +507,7 @@ impl AreaAltitudes {
 /// A polygonal area: the fly-zone or a polygonal no-fly-zone.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::PolygonArea/v2")]
+#[type_name("missionlink::PolygonArea/v3")]
 pub struct PolygonArea {
     /// Area ID.
     pub area_id: u16,
@@ -491,7 +544,7 @@ impl PolygonArea {
 /// A circular no-fly-zone, kept apart from the polygons as the paper's Figure 8 does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::CircleArea/v2")]
+#[type_name("missionlink::CircleArea/v3")]
 pub struct CircleArea {
     /// Area ID.
     pub area_id: u16,
@@ -526,7 +579,7 @@ impl CircleArea {
 /// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AreaListPayload/v2")]
+#[type_name("missionlink::AreaListPayload/v3")]
 pub struct AreaListPayload {
     /// Counts activations of a new list, from 1; 0 means no area list is active.
     pub generation: u64,
@@ -617,7 +670,7 @@ impl TryFrom<u8> for FlightPhase {
 /// `fcc/automation/state`: the flight phase and which functions are active (paper §2.5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AutomationStatePayload/v2")]
+#[type_name("missionlink::AutomationStatePayload/v3")]
 pub struct AutomationStatePayload {
     /// Counts state changes, from 1.
     pub sequence: u64,
@@ -633,8 +686,11 @@ pub struct AutomationStatePayload {
     pub route_reversed: bool,
     /// Land at this waypoint instead of the last one (#50000 command 3), 0 for the last.
     pub land_at: u16,
+    /// Guidance's heartbeat ([`HeartbeatPayload`] on `fcc/health/guidance`) came within its
+    /// limit: without it the flight commands of #50000 are refused (`WrongState`).
+    pub guidance_alive: bool,
     /// Zero.
-    pub reserved: [u8; 4],
+    pub reserved: [u8; 3],
 }
 
 impl AutomationStatePayload {
@@ -647,7 +703,8 @@ impl AutomationStatePayload {
         trajectory_generation_active: false,
         route_reversed: false,
         land_at: 0,
-        reserved: [0; 4],
+        guidance_alive: false,
+        reserved: [0; 3],
     };
 
     /// The flight phase, or `None` for a value no publisher of this version writes.
@@ -659,7 +716,7 @@ impl AutomationStatePayload {
 /// `fcc/automation/command`: a #50000 command that mission data handling accepted (ICD §4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::AutomationCommandPayload/v2")]
+#[type_name("missionlink::AutomationCommandPayload/v3")]
 pub struct AutomationCommandPayload {
     /// Counts commands, from 1.
     pub sequence: u64,
@@ -678,10 +735,30 @@ impl AutomationCommandPayload {
     }
 }
 
+/// `fcc/health/<partition>`: a partition shows it is alive (DESIGN.md "Health"). It sends one
+/// from its event loop on a fixed period, so a partition that is stopped (SIGSTOP), stuck in a
+/// step or dead sends none; whoever watches it takes the time the sample arrived, not
+/// `time_ns`, and the period the partition says it beats at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("missionlink::HeartbeatPayload/v3")]
+pub struct HeartbeatPayload {
+    /// Counts heartbeats of this process, from 1.
+    pub sequence: u64,
+    /// CLOCK_MONOTONIC nanoseconds when it was sent.
+    pub time_ns: u64,
+    /// The period the partition beats at, nanoseconds (above 0).
+    pub period_ns: u64,
+    /// The process ID of the partition.
+    pub pid: u32,
+    /// Zero.
+    pub reserved: [u8; 4],
+}
+
 /// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("missionlink::GuidanceProgressPayload/v2")]
+#[type_name("missionlink::GuidanceProgressPayload/v3")]
 pub struct GuidanceProgressPayload {
     /// Counts updates, from 1.
     pub sequence: u64,
