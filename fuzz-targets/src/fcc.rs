@@ -161,9 +161,9 @@ impl Rig {
 
     /// Body `[kind, a, b, c, d, e, f, g]`: an even `kind` publishes automation's state (flight
     /// phase `a`, any value; `b` bit 0 trajectory generation active, bit 1 route reversed, bit
-    /// 2 flying the active list; land at `c, d`); an odd one guidance's progress (near TROL,
-    /// CCP or 0/0 by `a`, `b` bit 0 on ground, bit 1 trajectory generation active, offsets `c`,
-    /// `d` in millidegrees, FROM `e`, TO `f`, NEXT `g`).
+    /// 2 flying the active list, bit 3 guidance not alive; land at `c, d`); an odd one
+    /// guidance's progress (near TROL, CCP or 0/0 by `a`, `b` bit 0 on ground, bit 1 trajectory
+    /// generation active, offsets `c`, `d` in millidegrees, FROM `e`, TO `f`, NEXT `g`).
     fn state(&mut self, body: &[u8]) {
         let byte = |i: usize| body.get(i).copied().unwrap_or(0);
         let (kind, a, b) = (byte(0), byte(1), byte(2));
@@ -175,6 +175,7 @@ impl Rig {
                 route_reversed: b & 2 != 0,
                 flown_waypoint_list: if b & 4 != 0 { list } else { 0 },
                 land_at: u16_at(body, 3),
+                guidance_alive: b & 8 == 0,
                 ..AutomationStatePayload::ON_GROUND
             });
         } else {

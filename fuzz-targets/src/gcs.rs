@@ -277,6 +277,7 @@ impl Rig {
                 FlightPhase::OnGround as u8
             },
             trajectory_generation_active: flying,
+            guidance_alive: true,
             ..AutomationStatePayload::ON_GROUND
         });
         let (lat, lon) = testkit::TROL;

@@ -735,6 +735,9 @@ impl AutomationCommandPayload {
     }
 }
 
+/// The period partitions beat at when the configuration does not say (DESIGN.md "Health").
+pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration::from_millis(100);
+
 /// `fcc/health/<partition>`: a partition shows it is alive (DESIGN.md "Health"). It sends one
 /// from its event loop on a fixed period, so a partition that is stopped (SIGSTOP), stuck in a
 /// step or dead sends none; whoever watches it takes the time the sample arrived, not

@@ -39,6 +39,12 @@
 //!
 //! [launcher]
 //! restart_delay_ms = 200
+//! without = []                    # partitions not to start, e.g. ["guidance-stub"] when a
+//!                                 # replacement (a HIL rig's, another language's) fills the role
+//!
+//! [health]                        # DESIGN.md "Health" (see `health`)
+//! period_ms = 100                 # every partition beats on fcc/health/<role> this often
+//! start_timeout_ms = 5000         # a partition started must beat within this
 //!
 //! [signing]                       # link signing, ICD §9 (see `keys`)
 //! policy = "off"                  # off | accept | require: what this node's receiver checks
@@ -51,7 +57,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use clap::Args;
-use missionlink_interfaces::contracts::DEFAULT_SERVICE_PREFIX;
+use missionlink_interfaces::contracts::{DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX};
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{Timestamp, TransferWindow};
 use missionlink_services::ground_station::GcsConfig;
@@ -230,18 +236,55 @@ pub struct Latency {
 }
 
 /// The fcc launcher.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Launcher {
     /// Pause before a dead partition is started again.
     pub restart_delay_ms: u64,
+    /// Partitions (binary names, `launcher::PARTITIONS`) the launcher does not start: their
+    /// role is filled by another process, whose heartbeat it still watches.
+    pub without: Vec<String>,
 }
 
 impl Default for Launcher {
     fn default() -> Self {
         Self {
             restart_delay_ms: 200,
+            without: Vec::new(),
         }
+    }
+}
+
+/// Health (DESIGN.md "Health"): the heartbeat every partition sends, and how long a partition
+/// may take to send its first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Health {
+    /// Every partition beats this often; one silent for 2.5 periods counts as hung
+    /// (`missionlink_services::health`). At least 1.
+    pub period_ms: u64,
+    /// A partition started must send its first beat within this.
+    pub start_timeout_ms: u64,
+}
+
+impl Default for Health {
+    fn default() -> Self {
+        Self {
+            period_ms: u64::try_from(DEFAULT_HEARTBEAT_PERIOD.as_millis()).unwrap_or(100),
+            start_timeout_ms: 5000,
+        }
+    }
+}
+
+impl Health {
+    /// The heartbeat period (at least 1 ms).
+    pub fn period(&self) -> Duration {
+        Duration::from_millis(self.period_ms.max(1))
+    }
+
+    /// The start timeout.
+    pub fn start_timeout(&self) -> Duration {
+        Duration::from_millis(self.start_timeout_ms)
     }
 }
 
@@ -303,6 +346,8 @@ pub struct Config {
     pub latency: Latency,
     /// Launcher.
     pub launcher: Launcher,
+    /// Heartbeats.
+    pub health: Health,
     /// Link signing.
     pub signing: Signing,
 }
@@ -529,6 +574,9 @@ pub struct ConfigArgs {
     /// The Key ID to sign with (needed with several key files).
     #[arg(long, value_name = "ID")]
     pub send_key_id: Option<u8>,
+    /// Heartbeat period of every partition, milliseconds (`[health] period_ms`).
+    #[arg(long, value_name = "MS")]
+    pub heartbeat_ms: Option<u64>,
     /// End when the parent process ends (the launcher passes it, so that its partitions do not
     /// outlive it even after a `kill -9` of the launcher).
     #[arg(long, hide = true)]
@@ -593,6 +641,9 @@ impl ConfigArgs {
         }
         if let Some(id) = self.send_key_id {
             c.signing.send_key_id = Some(id);
+        }
+        if let Some(ms) = self.heartbeat_ms {
+            c.health.period_ms = ms;
         }
         // A resolved configuration can always be handed on (see `hand_to`).
         c.to_toml()?;

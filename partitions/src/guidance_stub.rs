@@ -10,7 +10,7 @@ use std::time::Duration;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
-    AutomationStatePayload, FccService, GuidanceProgressPayload,
+    AutomationStatePayload, FccService, GuidanceProgressPayload, Partition,
 };
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 
@@ -21,6 +21,9 @@ use crate::runtime::{self, Control, PartitionError, Wake};
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "guidance-stub";
+
+/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
+pub const ROLE: Partition = Partition::Guidance;
 
 /// Progress is published on every change and at least this often.
 const REPUBLISH: Duration = Duration::from_secs(1);
@@ -71,7 +74,7 @@ where
         every: Some(interval),
         first_timeout: interval,
     };
-    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
+    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
         automation.drain_notifications();
         // Only whole pairs of one activation, both set before the next step: guidance never
         // flies the new waypoint list inside the old areas or the reverse.

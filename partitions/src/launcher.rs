@@ -2,9 +2,17 @@
 //!
 //! The launcher starts the four partitions as child processes with one configuration (the
 //! resolved settings, handed over in the environment: no file a `kill -9` could leave behind),
-//! restarts a partition that dies (a log line names it and its exit status), and on SIGINT,
-//! SIGTERM or [`Control::stop`] stops them all: SIGTERM first, SIGKILL for one that has not
-//! ended within the grace period, guidance first and the links last.
+//! and on SIGINT, SIGTERM or [`Control::stop`] stops them all: SIGTERM first, SIGKILL for one
+//! that has not ended within the grace period, guidance first and the links last.
+//!
+//! Supervision (DESIGN.md "Health"): a partition that dies is restarted (a log line names it and
+//! its exit status). A partition that hangs (stopped, stuck in a step) is found by its heartbeat
+//! (`fcc/health/<role>`, [`Liveness`]): silent for 2.5 heartbeat periods, or without a first
+//! beat within the start timeout, it is logged by name, killed (SIGKILL ends a stopped process
+//! too) and restarted like a dead one. A partition left out (`[launcher] without`, `fcc
+//! --without guidance-stub`) is not started: another process fills its role, in any language;
+//! the launcher still watches that role's heartbeat and logs when it is alive and when it falls
+//! silent, but cannot restart what it did not start.
 //!
 //! [`FccProcess`] serves the demo and the cross-process tests: it starts the launcher (or one
 //! partition) under a configuration, waits until it announces that it is up, reads the ports
@@ -17,7 +25,14 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
+use iceoryx2::prelude::ipc;
+use missionlink_interfaces::contracts::Partition;
+use missionlink_services::health::Liveness;
+
+use crate::clock::DriverClock;
 use crate::config::{self, Config, ConfigArgs};
+use crate::health::Watch;
+use crate::ipc::Ipc;
 use crate::runtime::{Control, PartitionError, config_error};
 use crate::state::{self, BoundLinks};
 use crate::udp::{LinkError, LocalEnds};
@@ -41,10 +56,50 @@ const SUPERVISION_PERIOD: Duration = Duration::from_millis(20);
 /// The flag that makes a partition end with its parent (see `runtime::partition_main`).
 const EXIT_WITH_PARENT: &str = "--exit-with-parent";
 
-struct Partition {
+/// The role of the partition binary `name` (one of [`PARTITIONS`]).
+fn role(name: &str) -> Option<Partition> {
+    match name {
+        voting_monitoring::NAME => Some(voting_monitoring::ROLE),
+        mission_data_handling::NAME => Some(mission_data_handling::ROLE),
+        system_automation::NAME => Some(system_automation::ROLE),
+        guidance_stub::NAME => Some(guidance_stub::ROLE),
+        _ => None,
+    }
+}
+
+/// The partitions of `config` the launcher leaves out (`[launcher] without`), each checked
+/// against [`PARTITIONS`].
+pub fn left_out(config: &Config) -> Result<Vec<&'static str>, String> {
+    config
+        .launcher
+        .without
+        .iter()
+        .map(|name| {
+            PARTITIONS
+                .iter()
+                .find(|p| **p == name.as_str())
+                .copied()
+                .ok_or_else(|| {
+                    format!(
+                        "[launcher] without: no partition {name:?} (the partitions: {})",
+                        PARTITIONS.join(", ")
+                    )
+                })
+        })
+        .collect()
+}
+
+/// One partition under supervision.
+struct Supervised {
     name: &'static str,
+    role: Partition,
+    /// Started by the launcher (else left out: another process fills the role).
+    started_here: bool,
     child: Option<Child>,
     restart_at: Option<Instant>,
+    liveness: Liveness,
+    /// A left-out role's heartbeat was heard since it was last silent.
+    heard: bool,
 }
 
 fn signal(child: &Child, signal: rustix::process::Signal) {
@@ -93,20 +148,34 @@ pub fn describe(status: ExitStatus) -> String {
 /// with [`Control::handle_signals`]) stops it.
 pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), PartitionError> {
     let restart_delay = Duration::from_millis(config.launcher.restart_delay_ms);
-    let mut partitions: Vec<Partition> = PARTITIONS
+    let without = left_out(config).map_err(PartitionError::Config)?;
+    let mut partitions = PARTITIONS
         .iter()
-        .map(|name| Partition {
-            name,
-            child: None,
-            restart_at: Some(Instant::now()),
+        .map(|&name| {
+            let started_here = !without.contains(&name);
+            Ok(Supervised {
+                name,
+                role: role(name)
+                    .ok_or_else(|| PartitionError::Config(format!("no role for {name}")))?,
+                started_here,
+                child: None,
+                restart_at: started_here.then(Instant::now),
+                liveness: Liveness::new(config.health.period()),
+                heard: false,
+            })
         })
-        .collect();
+        .collect::<Result<Vec<_>, PartitionError>>()?;
     tracing::info!(
         prefix = %config.ipc.service_prefix,
         direct = %config.links.fcc_direct,
         lte = %config.links.fcc_lte,
+        heartbeat_ms = config.health.period().as_millis(),
+        without = ?without,
         "starting the FCC partitions"
     );
+    let ipc = Ipc::<ipc::Service>::open(NAME, &config.ipc.service_prefix)?;
+    let health = Watch::open(&ipc, &Partition::ALL)?;
+    let clock = DriverClock::start();
     // Announcements of an earlier instance in the same directory say nothing about this one.
     let state_dir = config.ipc.state_dir();
     for name in PARTITIONS.iter().chain([&NAME]) {
@@ -118,7 +187,39 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
     let mut all_up = false;
     control.set_ready();
     while !control.stop_requested() {
+        let now = clock.now();
+        health.receive(|role, beat| {
+            for p in partitions.iter_mut().filter(|p| p.role == role) {
+                if p.liveness.handle_beat(now, beat) && !p.started_here && !p.heard {
+                    p.heard = true;
+                    tracing::info!(partition = %role, pid = beat.pid, "alive (not started by the launcher)");
+                }
+            }
+        });
         for p in &mut partitions {
+            if let Some(silence) = p.liveness.poll(now) {
+                match p.child.as_ref() {
+                    Some(child) => {
+                        tracing::error!(
+                            partition = p.name,
+                            pid = child.id(),
+                            %silence,
+                            limit_ms = p.liveness.limit().as_millis(),
+                            "partition hung: killing it to restart it"
+                        );
+                        signal(child, rustix::process::Signal::KILL);
+                    }
+                    None if !p.started_here => {
+                        p.heard = false;
+                        tracing::warn!(
+                            partition = %p.role,
+                            %silence,
+                            "not alive (not started by the launcher, so not restarted)"
+                        );
+                    }
+                    None => {}
+                }
+            }
             if let Some(child) = p.child.as_mut() {
                 if let Ok(Some(status)) = child.try_wait() {
                     let pid = child.id();
@@ -129,6 +230,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                         restart_delay.as_millis()
                     );
                     p.child = None;
+                    p.liveness.forget();
                     p.restart_at = Some(Instant::now() + restart_delay);
                     // Killed, it could not withdraw its announcement itself.
                     withdraw_ready(&state_dir, p.name, pid);
@@ -148,6 +250,8 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 match spawned {
                     Ok(child) => {
                         tracing::info!(partition = p.name, pid = child.id(), "started");
+                        p.liveness
+                            .expect(clock.now(), child.id(), config.health.start_timeout());
                         p.child = Some(child);
                     }
                     Err(e) => {
@@ -158,9 +262,10 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
             }
         }
         if !all_up
-            && PARTITIONS
+            && partitions
                 .iter()
-                .all(|name| state::is_ready(&state_dir, name))
+                .filter(|p| p.started_here)
+                .all(|p| state::is_ready(&state_dir, p.name))
         {
             all_up = true;
             tracing::info!("all partitions up");
@@ -188,14 +293,26 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
     Ok(())
 }
 
-/// The `main` of `fcc`: the configuration (exit status 2 when it is wrong), `--print-config`,
-/// then [`run`] until SIGINT or SIGTERM.
-pub fn main(args: &ConfigArgs, bin_dir: Option<PathBuf>, print_config: bool) -> ExitCode {
+/// The `main` of `fcc`: the configuration (exit status 2 when it is wrong) with the partitions
+/// `without` added to those it leaves out, `--print-config`, then [`run`] until SIGINT or
+/// SIGTERM.
+pub fn main(
+    args: &ConfigArgs,
+    without: &[String],
+    bin_dir: Option<PathBuf>,
+    print_config: bool,
+) -> ExitCode {
     crate::init_logging();
-    let config = match args.resolve() {
+    crate::ipc::quiet_iceoryx2_log();
+    let mut config = match args.resolve() {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
+    config.launcher.without.extend(without.iter().cloned());
+    if let Err(e) = left_out(&config) {
+        tracing::error!(%e, "configuration");
+        return ExitCode::from(2);
+    }
     if print_config {
         return match config.to_toml() {
             Ok(text) => {

@@ -10,6 +10,7 @@ pub mod binaries;
 pub mod clock;
 pub mod config;
 pub mod guidance_stub;
+pub mod health;
 pub mod ipc;
 pub mod keys;
 pub mod latency;

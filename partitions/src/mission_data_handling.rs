@@ -17,7 +17,7 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FramePayload,
-    GuidanceProgressPayload, Link, WaypointListPayload,
+    GuidanceProgressPayload, Link, Partition, WaypointListPayload,
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
@@ -32,6 +32,9 @@ use crate::state;
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "mission-data-handling";
+
+/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
+pub const ROLE: Partition = Partition::MissionDataHandling;
 
 /// How often late subscribers are connected to the list histories.
 const CONNECT_INTERVAL: Duration = Duration::from_millis(100);
@@ -120,7 +123,7 @@ where
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };
-    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
+    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
         if let Some(state) = automation.latest() {
             core.set_automation_state(&state);
         }

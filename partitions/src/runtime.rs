@@ -12,8 +12,11 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 
+use missionlink_interfaces::contracts::Partition;
+
 use crate::config::{Config, ConfigArgs, ConfigError};
-use crate::ipc::IpcError;
+use crate::health::Heartbeat;
+use crate::ipc::{Ipc, IpcError};
 use crate::latency::{self, Recorder};
 use crate::state;
 use crate::udp::LinkError;
@@ -221,10 +224,18 @@ pub struct Wake<'a> {
 /// The event loop of every partition: attaches `wake` to a [`waitset`], logs "`name` up",
 /// tells `control` it is ready, then calls `step` after every wake-up until `control` or a
 /// termination request stops it. `step` does the partition's work, may log through the
-/// [`Report`], and returns how long the loop may sleep next. Returns the report, for the
+/// [`Report`], and returns how long the loop may sleep next. Between the steps the loop beats
+/// `role`'s heartbeat on the configured period ([`Heartbeat`], DESIGN.md "Health"): from the loop
+/// itself, so a partition stuck in a step or stopped falls silent. Returns the report, for the
 /// caller's [`Report::finish`] with its final counters.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "what every partition hands its loop, each once"
+)]
 pub fn run_loop<S: Service>(
     name: &'static str,
+    role: Partition,
+    ipc: &Ipc<S>,
     config: &Config,
     control: &Control,
     wake: Wake<'_>,
@@ -242,14 +253,21 @@ pub fn run_loop<S: Service>(
         .map(|every| waitset.attach_interval(every))
         .transpose()
         .map_err(PartitionError::waitset)?;
+    let mut heartbeat = Heartbeat::open(ipc, role, config.health.period())?;
     let mut report = Report::new(config, name, control);
-    tracing::info!(prefix = %config.ipc.service_prefix, "{name} up");
+    tracing::info!(
+        prefix = %config.ipc.service_prefix,
+        heartbeat_ms = config.health.period().as_millis(),
+        "{name} up"
+    );
     control.set_ready();
+    let mut until_beat = heartbeat.beat_if_due()?;
     let mut timeout = wake.first_timeout;
     while control
-        .wait(&waitset, config.ipc.poll, timeout)
+        .wait(&waitset, config.ipc.poll, timeout.min(until_beat))
         .map_err(PartitionError::waitset)?
     {
+        until_beat = heartbeat.beat_if_due()?;
         timeout = step(&mut report)?;
     }
     Ok(report)

@@ -1,7 +1,8 @@
 //! System automation: the FCC partition of paper §2.5, a thin driver around
 //! `services::automation::SystemAutomation`. It follows the active lists (taken only as a pair
-//! of one activation, `ipc::ListPairing`) and guidance's progress, carries out the #50000
-//! commands mission data handling accepted, and publishes the flight phase and which functions
+//! of one activation, `ipc::ListPairing`), guidance's progress and guidance's heartbeat
+//! (guidance alive or not, DESIGN.md "Health"), carries out the #50000 commands mission data
+//! handling accepted, and publishes the flight phase and which functions
 //! are active (`fcc/automation/state`, history 1). A restarted automation adopts the phase
 //! guidance's progress shows, so it never drops an aircraft in the air back to "on ground".
 
@@ -11,17 +12,22 @@ use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
     AutomationCommandPayload, AutomationStatePayload, FccService, GuidanceProgressPayload,
+    Partition,
 };
 use missionlink_services::automation::SystemAutomation;
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
+use crate::health::Watch;
 use crate::ipc::{Ipc, ListPairing};
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "system-automation";
+
+/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
+pub const ROLE: Partition = Partition::SystemAutomation;
 
 /// How often late subscribers are connected to the state's history.
 const CONNECT_INTERVAL: Duration = Duration::from_millis(100);
@@ -37,10 +43,12 @@ where
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
     let commands = ipc.subscriber::<AutomationCommandPayload>(FccService::AutomationCommand)?;
     let state = ipc.publisher::<AutomationStatePayload>(FccService::AutomationState)?;
+    let health = Watch::open(&ipc, &[Partition::Guidance])?;
 
     let clock = DriverClock::start();
-    // A restarted automation resumes from guidance's progress (see `handle_progress`).
-    let mut automation = SystemAutomation::new();
+    // A restarted automation resumes from guidance's progress (see `handle_progress`); it
+    // takes guidance as not alive until guidance's next beat.
+    let mut automation = SystemAutomation::with_heartbeat_period(config.health.period());
     let mut command_latency = Recorder::new("command: accepted to carried out");
     let mut pairing = ListPairing::new();
 
@@ -50,11 +58,15 @@ where
             lists.areas.listener(),
             progress.listener(),
             commands.listener(),
+            health
+                .subscriber(Partition::Guidance)
+                .ok_or_else(|| PartitionError::Config("no watch of guidance".to_owned()))?
+                .listener(),
         ],
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };
-    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
+    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
         progress.drain_notifications();
         commands.drain_notifications();
         // Only whole pairs of one activation: a command is never checked against the new
@@ -64,6 +76,8 @@ where
             automation.handle_area_list(area_list);
         }
         let now = clock.now();
+        health.receive(|_, beat| automation.handle_guidance_heartbeat(now, beat));
+        automation.handle_timeout(now);
         commands.for_each(|c| match c.command() {
             Some(command) => match automation.handle_command(now, command) {
                 Ok(()) => command_latency.record_between(c.accepted_ns, monotonic_ns()),
@@ -80,7 +94,11 @@ where
         }
         state.update_connections();
         report.log_if_due(&[&command_latency]);
-        Ok(CONNECT_INTERVAL)
+        // Awake when guidance would fall silent, so the state says so at once.
+        let until_silent = automation
+            .poll_timeout()
+            .map_or(CONNECT_INTERVAL, |t| t.saturating_since(now));
+        Ok(CONNECT_INTERVAL.min(until_silent))
     })?;
     report.finish(&[&command_latency], &[]);
     Ok(())

@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
-use missionlink_interfaces::contracts::{FccService, FramePayload, Link};
+use missionlink_interfaces::contracts::{FccService, FramePayload, Link, Partition};
 use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 
 use crate::clock::{DriverClock, monotonic_ns};
@@ -32,6 +32,9 @@ const _: () = assert!(MAX_READS_PER_RECEIVE <= VOTING_STEP_MESSAGES);
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "voting-monitoring";
+
+/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
+pub const ROLE: Partition = Partition::VotingMonitoring;
 
 /// The longest sleep without data (nothing else is due).
 const IDLE_WAIT: Duration = Duration::from_secs(1);
@@ -128,7 +131,7 @@ where
         every: None,
         first_timeout: IDLE_WAIT,
     };
-    let report = runtime::run_loop::<S>(NAME, config, control, wake, |report| {
+    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
         // The answers first: they are the turnaround's path.
         downlink.take_all(|frame| {
             downlink_hop.record_between(frame.published_ns, monotonic_ns());

@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::local;
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FlightPhase,
-    FramePayload, GuidanceProgressPayload, Link, WaypointListPayload,
+    FramePayload, GuidanceProgressPayload, HeartbeatPayload, Link, Partition, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{
     AreaType, ExecuteCommand, LegType, MAX_FRAME_LEN, MissionPlanMode,
@@ -297,7 +297,10 @@ fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_
 
 #[test]
 fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
-    let (config, _dir) = config("sa");
+    let (mut config, _dir) = config("sa");
+    // One beat keeps guidance alive through the test, however slowly the machine runs it: the
+    // state changes counted below are the commands' alone.
+    config.health.period_ms = 10_000;
     let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
     let state: Subscriber<S, AutomationStatePayload> =
         ipc.subscriber(FccService::AutomationState).unwrap();
@@ -308,8 +311,21 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
         ipc.publisher(FccService::AutomationCommand).unwrap();
     let progress: Publisher<S, GuidanceProgressPayload> =
         ipc.publisher(FccService::GuidanceProgress).unwrap();
+    let heartbeat: Publisher<S, HeartbeatPayload> = ipc
+        .publisher(FccService::Heartbeat(Partition::Guidance))
+        .unwrap();
     let partition = Running::start(system_automation::run::<S>, &config);
+    // Guidance beats before every command: nothing flies without it (DESIGN.md "Health").
     let command = |sequence, command: ExecuteCommand| {
+        heartbeat
+            .send(&HeartbeatPayload {
+                sequence,
+                time_ns: 0,
+                period_ns: 100_000_000,
+                pid: 1,
+                reserved: [0; 4],
+            })
+            .unwrap();
         commands
             .send(&AutomationCommandPayload {
                 sequence,
@@ -323,6 +339,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
 
     let first = next(&state, |s| Some(*s));
     assert_eq!(phase(&first), Some(FlightPhase::OnGround));
+    assert!(!first.guidance_alive, "no heartbeat yet");
     let valid = valid();
     waypoints.send(&valid.mission.to_payload(1)).unwrap();
     areas.send(&valid.areas.to_payload(1)).unwrap();
@@ -353,7 +370,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
         }
     };
     assert_eq!(take_off.flown_waypoint_list, 1);
-    assert!(take_off.trajectory_generation_active);
+    assert!(take_off.trajectory_generation_active && take_off.guidance_alive);
 
     // In the air an execute is refused and a return to home carried out, in queue order: one
     // state change, not two.

@@ -13,11 +13,15 @@
 //!
 //! [`check_command`] is the one rule for #50000: mission data handling applies it to answer the
 //! command (type 2 or type 3 with the reason), system automation applies it again when it
-//! carries the command out. Part of it is the onboard geofence check of ICD §7 (ext).
+//! carries the command out. Part of it is the onboard geofence check of ICD §7 (ext), and part
+//! guidance's heartbeat (DESIGN.md "Health"): system automation watches it and says in its
+//! state whether guidance is alive; without it nothing flies.
+
+use core::time::Duration;
 
 use missionlink_interfaces::contracts::{
-    AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
-    WaypointListPayload,
+    AreaListPayload, AutomationStatePayload, DEFAULT_HEARTBEAT_PERIOD, FlightPhase,
+    GuidanceProgressPayload, HeartbeatPayload, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{ExecuteCommand, GeofenceCheck, Reason};
 
@@ -25,9 +29,14 @@ use crate::geofence::earth::Site;
 use crate::geofence::onboard;
 use crate::geofence::zone::Fence;
 use crate::guidance::GuidanceConfig;
+use crate::health::Liveness;
 use crate::link::time::Instant;
 
-/// Whether system automation accepts `command` now (ICD §4, #50000): execute needs a valid
+/// Whether system automation accepts `command` now (ICD §4, #50000). Execute, return to home
+/// and land need guidance alive (its heartbeat within the limit, DESIGN.md "Health"): nothing
+/// would fly them, so they are refused with `WrongState`, the ICD's reason for "not now" (our
+/// choice: the ICD has no reason of its own for it, and a new one would be unknown to an
+/// edition-1 GCS). Then: execute needs a valid
 /// waypoint and area list and the aircraft on the ground (`WrongState`); return to home needs a
 /// bidirectional route (`Unsupported`), the aircraft in the air and flying the active list
 /// (`WrongState`); landing at
@@ -46,6 +55,13 @@ pub fn check_command(
     navigation: &GuidanceProgressPayload,
     command: ExecuteCommand,
 ) -> Result<(), Reason> {
+    let flies = matches!(
+        command,
+        ExecuteCommand::Execute | ExecuteCommand::ReturnToHome | ExecuteCommand::Land
+    );
+    if flies && !state.guidance_alive {
+        return Err(Reason::WrongState);
+    }
     let phase = state.flight_phase();
     let airborne = matches!(phase, Some(FlightPhase::TakeOff | FlightPhase::Cruise));
     let here = navigation_position(navigation);
@@ -206,6 +222,8 @@ pub struct SystemAutomation {
     /// Guidance's last progress: the TO waypoint (where "land at the next waypoint" lands) and
     /// the position the onboard geofence check starts from.
     navigation: GuidanceProgressPayload,
+    /// Guidance's heartbeats: whether it is alive (`state.guidance_alive`).
+    guidance: Liveness,
     changed: bool,
 }
 
@@ -224,8 +242,46 @@ impl SystemAutomation {
             areas: AreaListPayload::EMPTY,
             fence: Box::new(Fence::empty()),
             navigation: GuidanceProgressPayload::IDLE,
+            guidance: Liveness::new(DEFAULT_HEARTBEAT_PERIOD),
             // The first state is published too.
             changed: true,
+        }
+    }
+
+    /// As [`SystemAutomation::new`], with guidance expected to beat on `period`.
+    pub fn with_heartbeat_period(period: Duration) -> Self {
+        Self {
+            guidance: Liveness::new(period),
+            ..Self::new()
+        }
+    }
+
+    /// Guidance's heartbeat arrived: guidance is alive (published if it was not).
+    pub fn handle_guidance_heartbeat(&mut self, now: Instant, beat: &HeartbeatPayload) {
+        self.guidance.handle_beat(now, beat);
+        if !self.state.guidance_alive {
+            self.state.guidance_alive = true;
+            tracing::info!("guidance alive");
+            self.touch(now);
+        }
+    }
+
+    /// When guidance falls silent if no heartbeat comes first ([`SystemAutomation::handle_timeout`]).
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.state
+            .guidance_alive
+            .then(|| self.guidance.deadline())
+            .flatten()
+    }
+
+    /// Time passed: guidance silent for longer than the limit is no longer alive.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if let Some(silence) = self.guidance.poll(now) {
+            if self.state.guidance_alive {
+                self.state.guidance_alive = false;
+                tracing::warn!(%silence, "guidance not alive: execute, return to home and land are refused");
+                self.touch(now);
+            }
         }
     }
 
@@ -359,7 +415,7 @@ mod tests {
 
     /// Automation that has carried out execute of demo mission 2 from TROL (take-off phase).
     fn taken_off() -> SystemAutomation {
-        let mut sa = SystemAutomation::new();
+        let mut sa = alive();
         let (w, a) = lists(true);
         sa.handle_waypoint_list(&w);
         sa.handle_area_list(&a);
@@ -367,6 +423,23 @@ mod tests {
         sa.handle_command(Instant::ZERO, ExecuteCommand::Execute)
             .unwrap();
         sa
+    }
+
+    /// Automation with guidance's heartbeat heard at instant zero.
+    fn alive() -> SystemAutomation {
+        let mut sa = SystemAutomation::new();
+        sa.handle_guidance_heartbeat(Instant::ZERO, &beat());
+        sa
+    }
+
+    fn beat() -> HeartbeatPayload {
+        HeartbeatPayload {
+            sequence: 1,
+            time_ns: 0,
+            period_ns: 100_000_000,
+            pid: 1,
+            reserved: [0; 4],
+        }
     }
 
     /// Guidance's progress with the aircraft at TROL, changed by `f`.
@@ -384,7 +457,7 @@ mod tests {
 
     #[test]
     fn a_mission_goes_through_every_phase() {
-        let mut sa = SystemAutomation::new();
+        let mut sa = alive();
         assert!(sa.take_changed(), "the first state is published");
         let (w, a) = lists(false);
         sa.handle_waypoint_list(&w);
@@ -411,14 +484,14 @@ mod tests {
         sa.handle_progress(t, &progress(|p| p.on_ground = true));
         assert_eq!(sa.state().flight_phase(), Some(FlightPhase::Landed));
         assert!(!sa.state().trajectory_generation_active);
-        assert_eq!(sa.state().sequence, 4);
+        assert_eq!(sa.state().sequence, 5, "guidance alive, then four phases");
         // A landed aircraft can fly the next mission.
         assert_eq!(sa.handle_command(t, ExecuteCommand::Execute), Ok(()));
     }
 
     #[test]
     fn commands_are_checked_against_lists_and_phase() {
-        let mut sa = SystemAutomation::new();
+        let mut sa = alive();
         let t = Instant::ZERO;
         // No lists.
         assert_eq!(
@@ -519,7 +592,7 @@ mod tests {
     fn a_position_off_the_globe_is_no_position() {
         let (w, a) = lists(false);
         for (lat, lon) in [(f64::NAN, 11.66), (48.26, f64::INFINITY), (91.0, 11.66)] {
-            let mut sa = SystemAutomation::new();
+            let mut sa = alive();
             sa.handle_waypoint_list(&w);
             sa.handle_area_list(&a);
             let t = Instant::ZERO;
@@ -556,5 +629,47 @@ mod tests {
         );
         sa.handle_progress(t, &progress(|p| p.waypoint_list = 2));
         assert_eq!(sa.handle_command(t, ExecuteCommand::ReturnToHome), Ok(()));
+    }
+
+    /// DESIGN.md "Health": no heartbeat from guidance, nothing flies; a silence of the limit
+    /// makes it not alive again, and the state says so.
+    #[test]
+    fn flight_commands_are_refused_while_guidance_is_not_alive() {
+        let mut sa = SystemAutomation::new();
+        let (w, a) = lists(true);
+        sa.handle_waypoint_list(&w);
+        sa.handle_area_list(&a);
+        let t = Instant::ZERO;
+        sa.handle_progress(t, &progress(|_| {}));
+        assert!(!sa.state().guidance_alive);
+        assert_eq!(sa.poll_timeout(), None);
+        for command in [
+            ExecuteCommand::Execute,
+            ExecuteCommand::ReturnToHome,
+            ExecuteCommand::Land,
+        ] {
+            assert_eq!(
+                sa.handle_command(t, command),
+                Err(Reason::WrongState),
+                "{command:?}"
+            );
+        }
+        sa.take_changed();
+        sa.handle_guidance_heartbeat(t, &beat());
+        assert!(sa.state().guidance_alive && sa.take_changed());
+        let limit = crate::health::silence_limit(DEFAULT_HEARTBEAT_PERIOD);
+        assert_eq!(sa.poll_timeout(), Some(t + limit));
+        sa.handle_command(t, ExecuteCommand::Execute).unwrap();
+        sa.take_changed();
+        // Silent: at the deadline, not before.
+        sa.handle_timeout(Instant::from_micros(limit.as_micros() as u64 - 1));
+        assert!(sa.state().guidance_alive && !sa.take_changed());
+        sa.handle_timeout(t + limit);
+        assert!(!sa.state().guidance_alive && sa.take_changed());
+        assert_eq!(sa.poll_timeout(), None);
+        assert_eq!(
+            sa.handle_command(t + limit, ExecuteCommand::Land),
+            Err(Reason::WrongState)
+        );
     }
 }

@@ -10,7 +10,7 @@
 //!   (§3.1.5-9, inverted use §3.2);
 //! - [`mission_data_handling`] (the FCC, §3.1) and [`ground_station`] (the GCS logic, §3.2);
 //! - [`voting`] (§2.4), [`from_to_next`] (§3.1.7), [`automation`] (§2.5), [`guidance`] (the
-//!   guidance stub's kinematics);
+//!   guidance stub's kinematics), [`health`] (liveness from heartbeats);
 //! - [`geofence`]: the one Earth model; [`safety_gateway`] (§2.2) on it;
 //! - `testkit` (feature `testkit`): the fixtures tests and benches share.
 // A `Message` (up to a 60-vertex #2012) lives inline wherever it goes, so that handling a frame
@@ -22,6 +22,7 @@ pub mod from_to_next;
 pub mod geofence;
 pub mod ground_station;
 pub mod guidance;
+pub mod health;
 pub mod link;
 pub mod mission_data_handling;
 pub mod safety_gateway;

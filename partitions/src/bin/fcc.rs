@@ -1,6 +1,6 @@
-//! `fcc`: the launcher of the FCC. It starts the four partitions as child processes with one
-//! configuration, restarts a partition that dies, and on SIGINT or SIGTERM stops them all
-//! (`missionlink_partitions::launcher`).
+//! `fcc`: the launcher of the FCC. It starts the four partitions (or those not left out with
+//! `--without`) as child processes with one configuration, restarts a partition that dies or
+//! hangs, and on SIGINT or SIGTERM stops them all (`missionlink_partitions::launcher`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -21,9 +21,13 @@ struct Args {
     /// Print the resolved configuration and exit.
     #[arg(long)]
     print_config: bool,
+    /// Do not start this partition: another process (a HIL rig's, one in another language)
+    /// fills its role. Repeatable; adds to `[launcher] without`.
+    #[arg(long, value_name = "PARTITION", value_parser = clap::builder::PossibleValuesParser::new(launcher::PARTITIONS))]
+    without: Vec<String>,
 }
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    launcher::main(&args.config, args.bin_dir, args.print_config)
+    launcher::main(&args.config, &args.without, args.bin_dir, args.print_config)
 }

@@ -377,6 +377,7 @@ pub fn flying() -> missionlink_interfaces::contracts::AutomationStatePayload {
     AutomationStatePayload {
         flight_phase: FlightPhase::Cruise as u8,
         trajectory_generation_active: true,
+        guidance_alive: true,
         ..AutomationStatePayload::ON_GROUND
     }
 }
@@ -394,9 +395,12 @@ pub fn on_ground_at(
     }
 }
 
-/// System automation's state on the ground.
+/// System automation's state on the ground, guidance alive.
 pub fn on_ground() -> missionlink_interfaces::contracts::AutomationStatePayload {
-    missionlink_interfaces::contracts::AutomationStatePayload::ON_GROUND
+    missionlink_interfaces::contracts::AutomationStatePayload {
+        guidance_alive: true,
+        ..missionlink_interfaces::contracts::AutomationStatePayload::ON_GROUND
+    }
 }
 
 /// A compact description of a message for sequence checks: type, then mode, ack type and the
