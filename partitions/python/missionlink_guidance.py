@@ -1,0 +1,1090 @@
+#!/usr/bin/env python3
+"""Guidance partition in Python: stands in for the Rust guidance stub (partitions/src/
+guidance_stub.rs) in the rig, opening the same iceoryx2 services with the same payload types
+(DESIGN.md: "Replacing one in HIL means starting another process, in any language iceoryx2
+serves, that opens the same services with the same payload types").
+
+It subscribes to the active waypoint and area lists (taken only as a pair of one activation,
+as `ipc::ListPairing` takes them) and to the automation state, flies the list with the
+point-mass model of services/src/guidance.rs (ported below: same phases, sub-steps, fly-by
+anticipation, radius-to-fix arcs, return to home and land-at, on the same WGS-84 geodesics),
+time-scaled for demos, and publishes FROM / TO / NEXT and the position on
+`fcc/guidance/progress`, notifying the event service of the same name as the Rust publishers
+do. It beats on `fcc/health/guidance` with a HeartbeatPayload every period, from its event
+loop, so system automation sees a live guidance.
+
+Usage (the FCC started without its stub: `fcc --without guidance-stub`):
+
+    python3 -m pip install -r partitions/python/requirements.txt
+    python3 partitions/python/missionlink_guidance.py --service-prefix missionlink \
+        --time-scale 20
+
+Logs go to stderr; SIGTERM or SIGINT ends it cleanly (exit status 0).
+
+Where the Rust model and this port differ (on purpose, to stay short): the zone tests. Rust
+densifies every geodesic border and decides in the tangent plane with the geofence's pieces;
+here a polygon is taken with straight edges in the azimuthal equidistant projection about the
+aircraft (geodesics through the aircraft are straight there, the others bow by well under a
+metre over the demo's few-kilometre zones). The zone flags are information only: nothing
+decides on them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ctypes
+import logging
+import math
+import os
+import signal
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Optional, TypeVar
+
+try:
+    import missionlink_contracts as contracts
+except ImportError:  # run from the repository: the contracts live in interfaces/python
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "interfaces" / "python"))
+    import missionlink_contracts as contracts
+
+try:
+    from geographiclib.geodesic import Geodesic
+except ImportError as e:
+    raise ImportError(
+        f"{e}: install the requirements (python3 -m pip install -r "
+        "partitions/python/requirements.txt)"
+    ) from e
+
+from missionlink_contracts import (
+    AreaListPayload,
+    AutomationStatePayload,
+    FlightPhase,
+    GuidanceProgressPayload,
+    HeartbeatPayload,
+    LegType,
+    TurnDirection,
+    TurnType,
+    WaypointEntry,
+    WaypointListPayload,
+    enum_or_none,
+)
+
+log = logging.getLogger("missionlink_guidance")
+
+# ---------------------------------------------------------------------------------------------
+# The Earth model: WGS-84 geodesics, as services/src/geofence/earth.rs (Karney's algorithms; the
+# Rust side uses geographiclib-rs, a port of this same library). Points are (latitude,
+# longitude) in degrees.
+# ---------------------------------------------------------------------------------------------
+
+WGS84 = Geodesic(6_378_137.0, 1.0 / 298.257_223_563)
+
+Point = tuple[float, float]
+
+
+def distance_m(a: Point, b: Point) -> float:
+    """Length of the geodesic from `a` to `b`, metres."""
+    return WGS84.Inverse(a[0], a[1], b[0], b[1], Geodesic.DISTANCE)["s12"]
+
+
+def bearing_deg(a: Point, b: Point) -> float:
+    """Initial bearing of the geodesic from `a` to `b`, degrees clockwise from north, 0..360."""
+    return WGS84.Inverse(a[0], a[1], b[0], b[1], Geodesic.AZIMUTH)["azi1"] % 360.0
+
+
+def destination(start: Point, bearing: float, distance: float) -> Point:
+    """The point `distance` metres from `start` along the geodesic leaving it at `bearing`."""
+    r = WGS84.Direct(start[0], start[1], bearing, distance, Geodesic.LATITUDE | Geodesic.LONGITUDE)
+    return (r["lat2"], r["lon2"])
+
+
+def point(p: contracts.GeoPoint) -> Point:
+    """A wire position as a point."""
+    return p.lat_lon_deg()
+
+
+# ---------------------------------------------------------------------------------------------
+# The guidance model (services/src/guidance.rs; its module documentation describes the model).
+# ---------------------------------------------------------------------------------------------
+
+#: Longest sub-step of the integration, simulated seconds.
+MAX_SUB_STEP_S = 0.05
+#: Speed flown towards a waypoint whose commanded speed is 0, m/s.
+FALLBACK_SPEED_MPS = 10.0
+#: A waypoint closer than this is reached, metres.
+REACHED_M = 0.01
+#: Climb and descent end this close to their target altitude, metres.
+ALTITUDE_EPSILON_M = 1e-6
+#: Arcs with a smaller radius (or a position closer to the centre) are flown direct, metres.
+MIN_ARC_RADIUS_M = 1.0
+#: Leg switches (or arrivals) handled within one sub-step at most.
+MAX_LEGS_PER_SUB_STEP = 4
+GRAVITY_MPS2 = 9.806_65
+
+
+@dataclass(frozen=True)
+class GuidanceConfig:
+    """Settings of the guidance model (the defaults of services::guidance::GuidanceConfig)."""
+
+    start_latitude_deg: float = 48.26
+    start_longitude_deg: float = 11.66
+    climb_rate_mps: float = 3.0
+    descent_rate_mps: float = 2.0
+    max_bank_deg: float = 25.0
+    #: Simulated seconds per real second; 0 pauses.
+    time_scale: float = 1.0
+
+    def sanitized(self) -> "GuidanceConfig":
+        """Every unusable value replaced by its default (as the Rust model does)."""
+        d = GuidanceConfig()
+
+        def positive(v: float, default: float) -> float:
+            return v if math.isfinite(v) and v > 0.0 else default
+
+        return GuidanceConfig(
+            start_latitude_deg=self.start_latitude_deg
+            if -90.0 <= self.start_latitude_deg <= 90.0
+            else d.start_latitude_deg,
+            start_longitude_deg=self.start_longitude_deg
+            if -180.0 <= self.start_longitude_deg <= 180.0
+            else d.start_longitude_deg,
+            climb_rate_mps=positive(self.climb_rate_mps, d.climb_rate_mps),
+            descent_rate_mps=positive(self.descent_rate_mps, d.descent_rate_mps),
+            max_bank_deg=self.max_bank_deg if 0.0 < self.max_bank_deg < 90.0 else d.max_bank_deg,
+            time_scale=self.time_scale
+            if math.isfinite(self.time_scale) and self.time_scale >= 0.0
+            else d.time_scale,
+        )
+
+    def turn_radius_m(self, v: float) -> float:
+        """Radius of a turn at `v` and the bank limit: v^2 / (g tan(bank)), metres."""
+        return v * v / (GRAVITY_MPS2 * math.tan(math.radians(self.max_bank_deg)))
+
+    def anticipation_m(self, v: float, turn_deg: float, next_length: float) -> float:
+        """How far before a fly-by waypoint the next leg starts: r tan(turn / 2), at most half
+        the next leg."""
+        cap = next_length / 2.0
+        if turn_deg >= 179.999:
+            return cap
+        return min(self.turn_radius_m(v) * math.tan(math.radians(turn_deg / 2.0)), cap)
+
+
+@dataclass(frozen=True)
+class Arc:
+    """A radius-to-fix leg: an arc around `centre` ending at the TO waypoint."""
+
+    centre: Point
+    clockwise: bool
+
+
+#: The geometry of a leg: None for a geodesic from the current position to the TO waypoint.
+Leg = Optional[Arc]
+
+
+@dataclass
+class Route:
+    """Where the aircraft is on the route; indices are into the list's waypoints."""
+
+    started: bool = False
+    reversed: bool = False
+    from_: int = 0
+    to: Optional[int] = None
+    complete: bool = False
+    leg: Leg = None
+
+
+@dataclass
+class ArcState:
+    """An arc leg seen from its centre (see services/src/guidance.rs)."""
+
+    rho: float
+    theta: float
+    r: float
+    alpha: float
+
+
+def angle_to_go(from_deg: float, to_deg: float, clockwise: bool) -> float:
+    """Angle from bearing `from_deg` to `to_deg` in the turn direction, 0..360."""
+    return (to_deg - from_deg) % 360.0 if clockwise else (from_deg - to_deg) % 360.0
+
+
+def tangent(radial_deg: float, clockwise: bool) -> float:
+    """Direction of flight on a circle at bearing `radial_deg` from its centre."""
+    return radial_deg + 90.0 if clockwise else radial_deg - 90.0
+
+
+def arc_state(centre: Point, clockwise: bool, p: Point, to: Point) -> Optional[ArcState]:
+    rho = distance_m(centre, p)
+    r = distance_m(centre, to)
+    if rho < MIN_ARC_RADIUS_M or r < MIN_ARC_RADIUS_M:
+        return None
+    theta = bearing_deg(centre, p)
+    alpha = angle_to_go(theta, bearing_deg(centre, to), clockwise)
+    return ArcState(rho, theta, r, alpha)
+
+
+def leg_speed(e: WaypointEntry) -> float:
+    """The speed flown towards `e`: its commanded speed, or the fallback."""
+    v = e.speed.mps()
+    return v if v > 0.0 else FALLBACK_SPEED_MPS
+
+
+def copy_of(payload: ctypes.Structure) -> ctypes.Structure:
+    """A copy of a payload in this process's memory (a sample goes back to iceoryx2)."""
+    return type(payload).from_buffer_copy(payload)
+
+
+class Areas:
+    """The area list for the zone tests (see the module documentation for the geometry)."""
+
+    def __init__(self, areas: Optional[AreaListPayload] = None):
+        self.fly_zone: Optional[list[Point]] = None
+        #: (area ID, vertices) of every polygonal no-fly-zone, then circles as (ID, centre,
+        #: radius): the fence's order.
+        self.polygons: list[tuple[int, list[Point]]] = []
+        self.circles: list[tuple[int, Point, float]] = []
+        if areas is None or areas.generation == 0:
+            return
+        self.fly_zone = [point(v) for v in areas.fly_zone.used()]
+        self.polygons = [(p.area_id, [point(v) for v in p.used()]) for p in areas.polygons()]
+        self.circles = [
+            (c.area_id, point(c.centre), distance_m(point(c.centre), point(c.border)))
+            for c in areas.circles()
+        ]
+
+    @staticmethod
+    def polygon_contains(vertices: list[Point], at: Point) -> bool:
+        """Even-odd rule in the azimuthal equidistant projection about `at`."""
+        if len(vertices) < contracts.MIN_POLYGON_VERTICES:
+            return False
+        xy = []
+        for v in vertices:
+            g = WGS84.Inverse(at[0], at[1], v[0], v[1], Geodesic.DISTANCE | Geodesic.AZIMUTH)
+            a = math.radians(g["azi1"])
+            xy.append((g["s12"] * math.sin(a), g["s12"] * math.cos(a)))
+        inside = False
+        for (x1, y1), (x2, y2) in zip(xy, xy[1:] + xy[:1]):
+            # Does the edge cross the ray from the origin towards +x?
+            if (y1 > 0.0) != (y2 > 0.0):
+                x = x1 + (0.0 - y1) * (x2 - x1) / (y2 - y1)
+                if x > 0.0:
+                    inside = not inside
+        return inside
+
+    def inside_fly_zone(self, at: Point) -> bool:
+        return self.fly_zone is not None and self.polygon_contains(self.fly_zone, at)
+
+    def no_fly_zone_at(self, at: Point) -> int:
+        """Area ID of the first no-fly-zone (polygons, then circles) containing `at`, else 0."""
+        for area_id, vertices in self.polygons:
+            if self.polygon_contains(vertices, at):
+                return area_id
+        for area_id, centre, radius in self.circles:
+            if distance_m(centre, at) <= radius:
+                return area_id
+        return 0
+
+
+def _empty_list() -> WaypointListPayload:
+    return WaypointListPayload()
+
+
+def _on_ground_state() -> AutomationStatePayload:
+    state = AutomationStatePayload()
+    state.flight_phase = FlightPhase.ON_GROUND
+    return state
+
+
+class Guidance:
+    """The guidance model: flies the waypoint list through the flight phases of system
+    automation (a port of services::guidance::Guidance; sans-IO like it: the driver hands it
+    the lists and the automation state and calls `step` with the time)."""
+
+    def __init__(self, config: GuidanceConfig):
+        self.config = config.sanitized()
+        self.list = _empty_list()
+        self.waypoints: list[WaypointEntry] = []
+        self.pending: Optional[WaypointListPayload] = None
+        self.areas = Areas()
+        self.automation = _on_ground_state()
+        self.position: Point = (self.config.start_latitude_deg, self.config.start_longitude_deg)
+        self.altitude_m = 0.0
+        self.ground_speed_mps = 0.0
+        self.climb_complete = False
+        self.route = Route()
+        self.last_step_ns: Optional[int] = None
+        self.sequence = 0
+        self.inside_fly_zone = False
+        self.in_no_fly_zone = 0
+        #: Warnings logged for leaving the fly-zone or entering a no-fly-zone.
+        self.zone_warnings = 0
+
+    # The inputs.
+
+    def set_waypoint_list(self, waypoints: WaypointListPayload) -> None:
+        """A waypoint list was published: a new generation is flown at once on the ground, in
+        the air only once the automation state's `flown_waypoint_list` names it."""
+        if waypoints.generation == self.list.generation:
+            return
+        if self.on_ground() or self.automation.flown_waypoint_list == waypoints.generation:
+            self.adopt(copy_of(waypoints))
+        else:
+            self.pending = copy_of(waypoints)
+
+    def set_area_list(self, areas: AreaListPayload) -> None:
+        """An area list was published: kept for the zone tests."""
+        self.areas = Areas(areas)
+        # The aircraft did not move: the new status is taken without a warning.
+        self.inside_fly_zone, self.in_no_fly_zone = self.zone_status()
+
+    def set_automation(self, state: AutomationStatePayload) -> None:
+        """The automation state changed."""
+        turned = state.route_reversed and not self.automation.route_reversed
+        if turned and not self.list.bidirectional:
+            log.warning(
+                "return to home requested on a route that is not bidirectional: ignored "
+                "generation=%d",
+                self.list.generation,
+            )
+        self.automation = copy_of(state)
+        self.adopt_pending_if_due()
+
+    def phase(self) -> Optional[FlightPhase]:
+        return enum_or_none(FlightPhase, self.automation.flight_phase)
+
+    # The step.
+
+    def step(self, now_ns: int) -> GuidanceProgressPayload:
+        """Integrates from the previous step to `now_ns` (CLOCK_MONOTONIC nanoseconds;
+        simulated elapsed = real elapsed x time scale; nothing on the first call), in sub-steps
+        of at most MAX_SUB_STEP_S simulated seconds, and returns the progress."""
+        self.sequence += 1
+        elapsed = 0.0 if self.last_step_ns is None else max(0, now_ns - self.last_step_ns) / 1e9
+        self.last_step_ns = now_ns
+        self.adopt_pending_if_due()
+
+        phase = self.phase()
+        if phase in (FlightPhase.TAKE_OFF, FlightPhase.CRUISE):
+            self.start_route_if_needed()
+        elif phase == FlightPhase.LANDING:
+            pass
+        else:
+            self.altitude_m = 0.0
+            self.route = Route()
+            self.climb_complete = False
+        self.sync_direction()
+        if phase != FlightPhase.CRUISE:
+            self.ground_speed_mps = 0.0
+
+        simulated = elapsed * self.config.time_scale
+        if simulated > 0.0:
+            n = max(math.ceil(simulated / MAX_SUB_STEP_S), 1)
+            h = simulated / n
+            for _ in range(n):
+                if phase == FlightPhase.TAKE_OFF:
+                    busy = self.climb(h)
+                elif phase == FlightPhase.CRUISE:
+                    busy = self.fly(h)
+                elif phase == FlightPhase.LANDING:
+                    busy = self.descend(h)
+                else:
+                    busy = False
+                if not busy:
+                    break
+
+        self.check_zones()
+        from_, to, next_ = self.triple(phase)
+        p = GuidanceProgressPayload(
+            sequence=self.sequence,
+            time_ns=now_ns,
+            waypoint_list=self.list.generation,
+            latitude_deg=self.position[0],
+            longitude_deg=self.position[1],
+            altitude_m=self.altitude_m,
+            ground_speed_mps=self.ground_speed_mps,
+            to=to,
+            next=next_,
+            in_no_fly_zone=self.in_no_fly_zone,
+            inside_fly_zone=self.inside_fly_zone,
+            trajectory_generation_active=phase == FlightPhase.CRUISE,
+            climb_complete=self.climb_complete,
+            route_complete=self.route.complete,
+            on_ground=self.on_ground(),
+        )
+        p.from_ = from_
+        return p
+
+    def on_ground(self) -> bool:
+        """On the ground: before take-off, after touchdown, or in an unknown phase."""
+        phase = self.phase()
+        if phase in (FlightPhase.TAKE_OFF, FlightPhase.LANDING):
+            return self.altitude_m <= 0.0
+        return phase != FlightPhase.CRUISE
+
+    # The route.
+
+    def adopt(self, waypoints: WaypointListPayload) -> None:
+        self.list = waypoints
+        self.waypoints = waypoints.used()
+        self.pending = None
+        self.route = Route()
+
+    def adopt_pending_if_due(self) -> None:
+        p = self.pending
+        if p is not None and (
+            self.on_ground() or self.automation.flown_waypoint_list == p.generation
+        ):
+            self.adopt(p)
+
+    def reversal_wanted(self) -> bool:
+        return bool(self.automation.route_reversed and self.list.bidirectional)
+
+    def entry(self, index: Optional[int]) -> Optional[WaypointEntry]:
+        if index is None or not 0 <= index < len(self.waypoints):
+            return None
+        return self.waypoints[index]
+
+    def index_of(self, number: int) -> Optional[int]:
+        for i, w in enumerate(self.waypoints):
+            if w.number == number:
+                return i
+        return None
+
+    def number(self, index: Optional[int]) -> int:
+        e = self.entry(index)
+        return 0 if e is None else e.number
+
+    def start_route_if_needed(self) -> None:
+        """Starts the route of the list flown: FROM 0, TO the first waypoint (or, reversed, the
+        nearest one), flown direct."""
+        if self.route.started:
+            return
+        reversed_ = self.reversal_wanted()
+        if not self.waypoints:
+            to = None
+        elif reversed_:
+            distances = [distance_m(self.position, point(w.position)) for w in self.waypoints]
+            to = min(range(len(distances)), key=distances.__getitem__)
+        else:
+            to = 0
+        self.route = Route(started=True, reversed=reversed_, from_=0, to=to)
+
+    def sync_direction(self) -> None:
+        """Applies a change of `route_reversed`: the TO waypoint stays, what follows it turns
+        round; a complete route restarts from its final waypoint."""
+        wanted = self.reversal_wanted()
+        if not self.route.started or wanted == self.route.reversed:
+            return
+        self.route.reversed = wanted
+        if self.route.complete:
+            i = self.index_of(self.route.from_)
+            nxt = None if i is None else self.next_index(i)
+            if nxt is not None:
+                self.route.complete = False
+                self.route.to = nxt
+                self.route.leg = self.leg_into(nxt)
+
+    def end_index(self, to: int) -> int:
+        """Index of the last waypoint of the route, seen from TO at `to`."""
+        reversed_ = self.route.reversed
+        land_at = self.automation.land_at
+        if land_at != 0:
+            i = self.index_of(land_at)
+            if i is not None and ((not reversed_ and i >= to) or (reversed_ and i <= to)):
+                return i
+        return 0 if reversed_ else max(len(self.waypoints) - 1, 0)
+
+    def next_index(self, to: int) -> Optional[int]:
+        """Index of the waypoint after `to` on the route, None on the last leg."""
+        end = self.end_index(to)
+        if self.route.reversed:
+            return to - 1 if to > end else None
+        return to + 1 if to < end else None
+
+    def leg_into(self, index: int) -> Leg:
+        """Geometry of the leg that ends at `index`: forwards the leg type of that waypoint;
+        backwards the leg that ended at the waypoint after it, arcs turned round."""
+        if self.route.reversed:
+            defining, flip = self.entry(index + 1), True
+        else:
+            defining, flip = self.entry(index), False
+        if defining is None or enum_or_none(LegType, defining.leg_type) != LegType.RADIUS_TO_FIX:
+            return None
+        direction = enum_or_none(TurnDirection, defining.rf_turn_direction)
+        if direction is None:
+            return None
+        return Arc(point(defining.rf_centre), (direction == TurnDirection.CLOCKWISE) != flip)
+
+    def triple(self, phase: Optional[FlightPhase]) -> tuple[int, int, int]:
+        if (
+            phase in (FlightPhase.TAKE_OFF, FlightPhase.CRUISE, FlightPhase.LANDING)
+            and self.route.started
+        ):
+            to = self.route.to
+            nxt = None if to is None else self.next_index(to)
+            return (self.route.from_, self.number(to), self.number(nxt))
+        return (0, 0, 0)
+
+    # The motion.
+
+    def climb(self, h: float) -> bool:
+        """One climb sub-step; False once at (or above) the take-off height."""
+        target = max(self.list.take_off_height.metres(), 0.0)
+        if self.altitude_m >= target:
+            self.climb_complete = True
+            return False
+        self.altitude_m = min(self.altitude_m + self.config.climb_rate_mps * h, target)
+        # Sums of sub-steps miss the height by rounding: a micrometre short is there.
+        if self.altitude_m >= target - ALTITUDE_EPSILON_M:
+            self.altitude_m = target
+            self.climb_complete = True
+        return True
+
+    def descend(self, h: float) -> bool:
+        """One descent sub-step; False once on the ground."""
+        if self.altitude_m <= 0.0:
+            self.altitude_m = 0.0
+            return False
+        self.altitude_m = max(self.altitude_m - self.config.descent_rate_mps * h, 0.0)
+        if self.altitude_m <= ALTITUDE_EPSILON_M:
+            self.altitude_m = 0.0
+        return True
+
+    def fly(self, h: float) -> bool:
+        """One cruise sub-step of `h` seconds; False when holding (route complete, no list)."""
+        left = h
+        for _ in range(MAX_LEGS_PER_SUB_STEP):
+            if left <= 0.0:
+                break
+            used = self.fly_leg(left, h)
+            if used is None:
+                self.ground_speed_mps = 0.0
+                return False
+            left -= used
+        return True
+
+    def fly_leg(self, dt: float, h: float) -> Optional[float]:
+        """Flies towards TO for up to `dt` seconds (`h` is the sub-step, for the fly-by
+        minimum). Returns the time used (0 on a fly-by switch), None with nothing to fly."""
+        to_index = self.route.to
+        to = self.entry(to_index)
+        if to_index is None or to is None:
+            return None
+        target = point(to.position)
+        v = leg_speed(to)
+        remaining = self.remaining(target)
+
+        nxt = self.next_index(to_index)
+        if nxt is not None and enum_or_none(TurnType, to.turn_type) != TurnType.FLY_OVER:
+            threshold = max(self.turn_anticipation(v, target, nxt), v * h)
+            if remaining <= threshold:
+                self.switch_to(to_index, nxt)
+                return 0.0
+
+        self.ground_speed_mps = v
+        budget = v * dt
+        target_alt = to.altitude.metres()
+        if remaining <= budget + REACHED_M:
+            self.position = target
+            self.altitude_m = target_alt
+            nxt = self.next_index(to_index)
+            if nxt is not None:
+                self.switch_to(to_index, nxt)
+            else:
+                self.route.from_ = to.number
+                self.route.to = None
+                self.route.complete = True
+            return remaining / v
+        self.altitude_m += (target_alt - self.altitude_m) * budget / remaining
+        self.advance(target, budget, remaining, v)
+        return dt
+
+    def switch_to(self, to_index: int, nxt: int) -> None:
+        self.route.from_ = self.number(to_index)
+        self.route.to = nxt
+        self.route.leg = self.leg_into(nxt)
+
+    def remaining(self, target: Point) -> float:
+        """Distance to go to `target` along the current leg, metres."""
+        straight = distance_m(self.position, target)
+        if straight <= REACHED_M:
+            return 0.0
+        leg = self.route.leg
+        if leg is not None:
+            a = arc_state(leg.centre, leg.clockwise, self.position, target)
+            if a is not None:
+                return math.hypot(math.radians(a.alpha) * (a.rho + a.r) / 2.0, a.rho - a.r)
+        return straight
+
+    def advance(self, target: Point, distance: float, remaining: float, v: float) -> None:
+        """Moves `distance` metres (less than `remaining`) along the current leg to `target`."""
+        leg = self.route.leg
+        a = None if leg is None else arc_state(leg.centre, leg.clockwise, self.position, target)
+        if leg is not None and a is not None:
+            # Close the radial offset: exponentially over one turn radius, and linearly by
+            # the TO waypoint at the latest.
+            length = max(self.config.turn_radius_m(v), MIN_ARC_RADIUS_M)
+            keep = min(math.exp(-distance / length), max(1.0 - distance / remaining, 0.0))
+            dr = min(max((a.r - a.rho) * (1.0 - keep), -0.9 * distance), 0.9 * distance)
+            along = math.sqrt(max(distance * distance - dr * dr, 0.0))
+            dtheta = min(math.degrees(along / (a.rho + dr / 2.0)), a.alpha)
+            theta = a.theta + dtheta if leg.clockwise else a.theta - dtheta
+            self.position = destination(leg.centre, theta % 360.0, a.rho + dr)
+        else:
+            self.position = destination(self.position, bearing_deg(self.position, target), distance)
+
+    def turn_anticipation(self, v: float, to: Point, nxt: int) -> float:
+        """Fly-by turn anticipation at the TO waypoint `to` before the leg to `nxt`."""
+        e = self.entry(nxt)
+        if e is None:
+            return 0.0
+        next_point = point(e.position)
+        leg = self.route.leg
+        if leg is not None and distance_m(leg.centre, to) >= MIN_ARC_RADIUS_M:
+            inbound = tangent(bearing_deg(leg.centre, to), leg.clockwise)
+        else:
+            # Final course of the geodesic from here: the reverse of the initial bearing from
+            # the waypoint back to here.
+            inbound = bearing_deg(to, self.position) + 180.0
+        out_leg = self.leg_into(nxt)
+        arc_out = (
+            None
+            if out_leg is None
+            else arc_state(out_leg.centre, out_leg.clockwise, to, next_point)
+        )
+        if out_leg is not None and arc_out is not None:
+            outbound = tangent(arc_out.theta, out_leg.clockwise)
+            next_length = math.radians(arc_out.alpha) * arc_out.r
+        else:
+            outbound = bearing_deg(to, next_point)
+            next_length = distance_m(to, next_point)
+        turn = abs((outbound - inbound + 180.0) % 360.0 - 180.0)
+        return self.config.anticipation_m(v, turn, next_length)
+
+    # The zones.
+
+    def zone_status(self) -> tuple[bool, int]:
+        return (
+            self.areas.inside_fly_zone(self.position),
+            self.areas.no_fly_zone_at(self.position),
+        )
+
+    def check_zones(self) -> None:
+        """Updates the zone status; logs leaving the fly-zone and entering a no-fly-zone."""
+        inside, nfz = self.zone_status()
+        if self.inside_fly_zone and not inside:
+            self.zone_warnings += 1
+            log.warning(
+                "left the fly-zone latitude_deg=%.7f longitude_deg=%.7f", *self.position
+            )
+        if nfz != 0 and nfz != self.in_no_fly_zone:
+            self.zone_warnings += 1
+            log.warning(
+                "entered a no-fly-zone area_id=%d latitude_deg=%.7f longitude_deg=%.7f",
+                nfz,
+                *self.position,
+            )
+        self.inside_fly_zone = inside
+        self.in_no_fly_zone = nfz
+
+
+# ---------------------------------------------------------------------------------------------
+# Pairing the lists (partitions/src/ipc.rs, ListPairing; DESIGN.md "Activation is atomic").
+# ---------------------------------------------------------------------------------------------
+
+
+class ListPairing:
+    """Releases the newest waypoint list and area list only as a pair of one activation, newer
+    than the pair released before; until then the partition keeps the pair it has. Lists
+    older than those held or released (a dead predecessor's port) are ignored."""
+
+    def __init__(self) -> None:
+        self.waypoints: Optional[WaypointListPayload] = None
+        self.areas: Optional[AreaListPayload] = None
+        self.released: Optional[int] = None
+        #: How often the newest lists were of different activations.
+        self.mismatched = 0
+
+    def _newest(self, held: Optional[ctypes.Structure]) -> Optional[int]:
+        known = [] if held is None else [held.activation]
+        if self.released is not None:
+            known.append(self.released)
+        return max(known) if known else None
+
+    def offer_waypoints(self, waypoints: WaypointListPayload) -> None:
+        newest = self._newest(self.waypoints)
+        if newest is not None and waypoints.activation < newest:
+            log.debug("an older waypoint list arrived: ignored activation=%d", waypoints.activation)
+            return
+        self.waypoints = copy_of(waypoints)
+
+    def offer_areas(self, areas: AreaListPayload) -> None:
+        newest = self._newest(self.areas)
+        if newest is not None and areas.activation < newest:
+            log.debug("an older area list arrived: ignored activation=%d", areas.activation)
+            return
+        self.areas = copy_of(areas)
+
+    def take(self) -> Optional[tuple[WaypointListPayload, AreaListPayload]]:
+        w, a = self.waypoints, self.areas
+        if w is None or a is None:
+            return None
+        if not contracts.same_activation(w, a):
+            self.mismatched += 1
+            return None
+        if self.released is not None and w.activation <= self.released:
+            return None
+        self.released = w.activation
+        return (w, a)
+
+
+# ---------------------------------------------------------------------------------------------
+# The partition: iceoryx2 services opened as partitions/src/ipc.rs opens them.
+# ---------------------------------------------------------------------------------------------
+
+T = TypeVar("T", bound=ctypes.Structure)
+
+#: The node's name (iceoryx2's node list shows it).
+NODE_NAME = "guidance-py"
+#: Progress is published on every change and at least this often, nanoseconds.
+REPUBLISH_NS = 1_000_000_000
+#: The position is logged this often, nanoseconds.
+POSITION_LOG_NS = 5_000_000_000
+
+
+class Ports:
+    """The iceoryx2 side: a node that cleans up dead nodes on start, and each service's
+    publish-subscribe port paired with an event port of the same name, with the QoS of
+    `FccService::qos()` (missionlink_contracts.SERVICE_*) so that Rust and Python open the
+    same services whoever comes first."""
+
+    def __init__(self, iox2, prefix: str):
+        self.iox2 = iox2
+        self.prefix = prefix
+        self.node = (
+            iox2.NodeBuilder.new()
+            .name(iox2.NodeName.new(NODE_NAME))
+            .create(iox2.ServiceType.Ipc)
+        )
+        cleanup = self.node.try_cleanup_dead_nodes()
+        if getattr(cleanup, "cleanups", 0) or getattr(cleanup, "failed_cleanups", 0):
+            log.info("removed the resources of dead nodes %s", cleanup)
+        self._ports: list = []
+
+    def _name(self, service: contracts.Service):
+        return self.iox2.ServiceName.new(service.name(self.prefix))
+
+    def _pubsub(self, service: contracts.Service, payload: type[T]):
+        q = service.qos
+        return (
+            self.node.service_builder(self._name(service))
+            .publish_subscribe(payload)
+            .history_size(q.history_size)
+            .subscriber_max_buffer_size(q.subscriber_max_buffer_size)
+            .max_publishers(q.max_publishers)
+            .max_subscribers(q.max_subscribers)
+            .enable_safe_overflow(q.safe_overflow)
+            .open_or_create()
+        )
+
+    def _event(self, service: contracts.Service):
+        q = service.qos
+        return (
+            self.node.service_builder(self._name(service))
+            .event()
+            .max_notifiers(q.max_publishers)
+            .max_listeners(q.max_subscribers)
+            .open_or_create()
+        )
+
+    def publisher(self, service: contracts.Service, payload: type[T]) -> "Publisher":
+        # A subscriber that stopped must never block this publisher (ipc.rs: DiscardData).
+        publisher = (
+            self._pubsub(service, payload)
+            .publisher_builder()
+            .backpressure_strategy(self.iox2.BackpressureStrategy.DiscardData)
+            .create()
+        )
+        notifier = self._event(service).notifier_builder().create()
+        self._ports += [notifier, publisher]
+        return Publisher(service, publisher, notifier)
+
+    def subscriber(self, service: contracts.Service, payload: type[T]) -> "Subscriber":
+        subscriber = self._pubsub(service, payload).subscriber_builder().create()
+        listener = self._event(service).listener_builder().create()
+        self._ports += [listener, subscriber]
+        return Subscriber(service, payload, subscriber, listener)
+
+    def close(self) -> None:
+        """Releases every port, newest first (the node goes with the last reference)."""
+        for port in reversed(self._ports):
+            port.delete()
+        self._ports = []
+
+
+class Publisher:
+    """A publisher with its notifier: every sample is followed by a notification."""
+
+    def __init__(self, service: contracts.Service, publisher, notifier):
+        self.service = service
+        self.publisher = publisher
+        self.notifier = notifier
+
+    def send(self, value: ctypes.Structure) -> None:
+        self.publisher.loan_uninit().write_payload(value).send()
+        self.notifier.notify()
+
+    def update_connections(self) -> None:
+        """Connects subscribers that joined since the last send (late joiners get history)."""
+        self.publisher.update_connections()
+
+
+class Subscriber:
+    """A subscriber with the listener to attach to the WaitSet."""
+
+    def __init__(self, service: contracts.Service, payload: type[T], subscriber, listener):
+        self.service = service
+        self.payload = payload
+        self.subscriber = subscriber
+        self.listener = listener
+
+    def drain_notifications(self) -> None:
+        """Consumes the pending notifications (a WaitSet spins on a listener not drained)."""
+        self.listener.try_wait()
+
+    def for_each(self, f: Callable[[ctypes.Structure], None]) -> int:
+        """Hands a copy of every waiting sample to `f`, oldest first."""
+        n = 0
+        while True:
+            sample = self.subscriber.receive()
+            if sample is None:
+                return n
+            value = self.payload.from_buffer_copy(sample.payload().contents)
+            sample.delete()
+            f(value)
+            n += 1
+
+    def take_all(self, f: Callable[[ctypes.Structure], None]) -> int:
+        """Every waiting sample, the notifications drained, then a second look (as ipc.rs)."""
+        first = self.for_each(f)
+        self.drain_notifications()
+        return first + self.for_each(f)
+
+    def latest(self) -> Optional[ctypes.Structure]:
+        last = []
+        self.for_each(last.append)
+        return last[-1] if last else None
+
+
+def changed(last: Optional[GuidanceProgressPayload], p: GuidanceProgressPayload) -> bool:
+    """Whether `p` differs from `last` in anything but the counters (sequence, time)."""
+    if last is None:
+        return True
+    a, b = copy_of(last), copy_of(p)
+    for x in (a, b):
+        x.sequence = 0
+        x.time_ns = 0
+    return bytes(a) != bytes(b)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Runs the partition until SIGTERM or SIGINT; the exit status."""
+    import iceoryx2 as iox2
+
+    # Without a config file iceoryx2 warns at every start: errors only, unless IOX2_LOG_LEVEL.
+    iox2.set_log_level_from_env_or(iox2.LogLevel.Error)
+    ports = Ports(iox2, args.service_prefix)
+    waypoints = ports.subscriber(contracts.SERVICE_MISSION_WAYPOINT_LIST, WaypointListPayload)
+    areas = ports.subscriber(contracts.SERVICE_MISSION_AREA_LIST, AreaListPayload)
+    automation = ports.subscriber(contracts.SERVICE_AUTOMATION_STATE, AutomationStatePayload)
+    progress = ports.publisher(contracts.SERVICE_GUIDANCE_PROGRESS, GuidanceProgressPayload)
+    heartbeat = ports.publisher(contracts.SERVICE_HEALTH_GUIDANCE, HeartbeatPayload)
+
+    guidance = Guidance(
+        GuidanceConfig(
+            start_latitude_deg=args.start_latitude,
+            start_longitude_deg=args.start_longitude,
+            climb_rate_mps=args.climb_rate,
+            descent_rate_mps=args.descent_rate,
+            time_scale=args.time_scale,
+        )
+    )
+    pairing = ListPairing()
+    period_ns = args.heartbeat_period_ms * 1_000_000
+    pid = os.getpid()
+    beats = 0
+
+    def beat() -> None:
+        nonlocal beats
+        beats += 1
+        heartbeat.send(
+            HeartbeatPayload(
+                sequence=beats, time_ns=time.monotonic_ns(), period_ns=period_ns, pid=pid
+            )
+        )
+
+    last_published: Optional[GuidanceProgressPayload] = None
+    last_sent_ns = 0
+    last_position_log_ns = 0
+
+    def step() -> None:
+        nonlocal last_published, last_sent_ns, last_position_log_ns
+        automation.drain_notifications()
+        waypoints.take_all(pairing.offer_waypoints)
+        areas.take_all(pairing.offer_areas)
+        # Only whole pairs of one activation, both set before the next step.
+        pair = pairing.take()
+        if pair is not None:
+            w, a = pair
+            log.info(
+                "waypoint list received generation=%d waypoints=%d activation=%d",
+                w.generation,
+                w.count,
+                w.activation,
+            )
+            log.info(
+                "area list received generation=%d areas=%d activation=%d",
+                a.generation,
+                a.area_count(),
+                a.activation,
+            )
+            guidance.set_waypoint_list(w)
+            guidance.set_area_list(a)
+        state = automation.latest()
+        if state is not None:
+            guidance.set_automation(state)
+        now = time.monotonic_ns()
+        p = guidance.step(now)
+        if last_published is None or p.from_to_next() != last_published.from_to_next():
+            log.info("from-to-next from=%d to=%d next=%d", *p.from_to_next())
+        if changed(last_published, p) or now - last_sent_ns >= REPUBLISH_NS:
+            progress.send(p)
+            last_published = p
+            last_sent_ns = now
+        progress.update_connections()
+        heartbeat.update_connections()
+        if now - last_position_log_ns >= POSITION_LOG_NS:
+            last_position_log_ns = now
+            log.info(
+                "position latitude=%.7f longitude=%.7f altitude=%.2f from=%d to=%d next=%d",
+                p.latitude_deg,
+                p.longitude_deg,
+                p.altitude_m,
+                *p.from_to_next(),
+            )
+
+    waitset = iox2.WaitSetBuilder.new().create(iox2.ServiceType.Ipc)
+    guards = [waitset.attach_notification(s.listener) for s in (waypoints, areas, automation)]
+    tick = waitset.attach_interval(iox2.Duration.from_millis(args.update_interval_ms))
+    pulse = waitset.attach_interval(iox2.Duration.from_millis(args.heartbeat_period_ms))
+
+    log.info(
+        "guidance up prefix=%s time_scale=%s heartbeat_period_ms=%d pid=%d",
+        args.service_prefix,
+        args.time_scale,
+        args.heartbeat_period_ms,
+        pid,
+    )
+    # The first heartbeat and progress at once: automation and mission data handling need not
+    # wait a period for them.
+    beat()
+    step()
+    try:
+        while True:
+            attachments, result = waitset.wait_and_process()
+            if result in (
+                iox2.WaitSetRunResult.TerminationRequest,
+                iox2.WaitSetRunResult.Interrupt,
+            ):
+                break
+            if any(a.has_event_from(pulse) for a in attachments):
+                beat()
+            step()
+    except KeyboardInterrupt:
+        pass
+    log.info("guidance stopping heartbeats=%d steps=%d", beats, guidance.sequence)
+    for guard in [pulse, tick, *guards]:
+        guard.delete()
+    waitset.delete()
+    ports.close()
+    return 0
+
+
+def parse_args(argv: Optional[list[str]] = None) -> argparse.Namespace:
+    d = GuidanceConfig()
+    parser = argparse.ArgumentParser(
+        description="Guidance partition of the FCC in Python (replaces guidance-stub)."
+    )
+    parser.add_argument(
+        "--service-prefix",
+        default=contracts.DEFAULT_SERVICE_PREFIX,
+        help="iceoryx2 service-name prefix of the FCC (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--time-scale",
+        type=float,
+        default=d.time_scale,
+        help="simulated seconds per second (default: %(default)s)",
+    )
+    for flag, default, what in [
+        ("--start-latitude", d.start_latitude_deg, "start latitude, degrees (TROL)"),
+        ("--start-longitude", d.start_longitude_deg, "start longitude, degrees (TROL)"),
+        ("--climb-rate", d.climb_rate_mps, "take-off climb rate, m/s"),
+        ("--descent-rate", d.descent_rate_mps, "landing descent rate, m/s"),
+    ]:
+        text = what + " (default: %(default)s)"
+        parser.add_argument(flag, type=float, default=default, help=text)
+    parser.add_argument(
+        "--update-interval-ms",
+        type=int,
+        default=50,
+        help="integrate and publish at least this often (default: %(default)s, as the stub)",
+    )
+    parser.add_argument(
+        "--heartbeat-period-ms",
+        type=int,
+        default=100,
+        help="beat on fcc/health/guidance this often; at most the FCC's [health] period_ms "
+        "(default: %(default)s)",
+    )
+    parser.add_argument(
+        "--log-level", default="INFO", help="DEBUG, INFO, WARNING or ERROR (default: %(default)s)"
+    )
+    args = parser.parse_args(argv)
+    if args.update_interval_ms <= 0 or args.heartbeat_period_ms <= 0:
+        parser.error("--update-interval-ms and --heartbeat-period-ms must be above 0")
+    return args
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
+
+
+def main(argv: Optional[list[str]] = None) -> int:
+    # SIGTERM before the WaitSet exists (iceoryx2 then handles SIGTERM and SIGINT itself and
+    # ends the loop) ends the start as SIGINT does: cleanly.
+    signal.signal(signal.SIGTERM, _terminate)
+    args = parse_args(argv)
+    logging.basicConfig(
+        stream=sys.stderr,
+        level=getattr(logging, str(args.log_level).upper(), logging.INFO),
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+    )
+    try:
+        return run(args)
+    except KeyboardInterrupt:
+        log.info("guidance stopped while starting")
+        return 0
+    except ImportError as e:
+        log.error(
+            "%s: install the requirements "
+            "(python3 -m pip install -r partitions/python/requirements.txt)",
+            e,
+        )
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
