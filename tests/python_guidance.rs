@@ -7,12 +7,13 @@
 //!   progress the Python process published; the launcher hears its heartbeat, and a Rust
 //!   subscriber reads its heartbeat and progress with the Rust payload types.
 //! - **Same kinematics**: the Python model and `services::guidance` fly demo missions 1 and 2
-//!   (and mission 2 with return to home and with land-at) from the same lists, each in its own
-//!   process but in simulated time: the same steps of 100 ms, the same scripted system
-//!   automation (execute, then the next phase whenever guidance reports the current one
-//!   complete). The FROM-TO-NEXT sequences must be equal; positions, steps and flags are
-//!   compared too. Simulated time makes this exact and independent of the machine's load,
-//!   which flying both time-scaled through the FCC would not be.
+//!   (and mission 2 with return to home and with land-at, and a route through mission 2's
+//!   no-fly-zones and out of its fly-zone) from the same lists, each in its own process but in
+//!   simulated time: the same steps of 100 ms, the same scripted system automation (execute,
+//!   then the next phase whenever guidance reports the current one complete). The FROM-TO-NEXT
+//!   sequences must be equal; steps, flags, zones and positions are compared too. Simulated
+//!   time makes this exact and independent of the machine's load, which flying both
+//!   time-scaled through the FCC would not be.
 //!
 //! Both need `python3` with the packages of partitions/python/requirements.txt; without them
 //! they fail and say how to install them, never skip.
@@ -663,7 +664,39 @@ fn scenarios() -> Vec<Scenario> {
         mission_2("mission 2", 0, None),
         mission_2("mission 2, return to home at W1", 0, Some((1, 2, 3))),
         mission_2("mission 2, land at W1", 2, None),
+        Scenario {
+            name: "mission 2's areas, a route through both no-fly-zones and out of the fly-zone",
+            waypoints: through_the_zones(&m2),
+            areas: a2,
+            start: trol,
+            land_at: 0,
+            return_home_at: None,
+        },
     ]
+}
+
+/// A route in mission 2's airspace that the safety gateway would refuse, to compare the zone
+/// tests: over a fly-over waypoint in the polygonal no-fly-zone (area 3), through the circular
+/// one (area 2), then north out of the fly-zone.
+fn through_the_zones(like: &WaypointListPayload) -> WaypointListPayload {
+    let mut list = *like;
+    let points = [(48.264, 11.643), (48.268, 11.675), (48.29, 11.675)];
+    list.count = points.len() as u16;
+    list.bidirectional = false;
+    for (i, (lat, lon)) in points.into_iter().enumerate() {
+        let w = &mut list.waypoints[i];
+        *w = like.waypoints[0];
+        w.number = i as u16 + 1;
+        w.next = if i + 1 < points.len() {
+            i as u16 + 2
+        } else {
+            0
+        };
+        w.position = GeoPoint::from_degrees(lat, lon).unwrap();
+    }
+    // Fly-over, or the sharp turn's anticipation would cut the polygon off.
+    list.waypoints[0].turn_type = wire::TurnType::FlyOver as u8;
+    list
 }
 
 #[test]
@@ -694,14 +727,17 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             "{}",
             s.name
         );
-        // The same flight, step by step: same length, the same triple at every step, and the
-        // positions (geodesics of the same algorithms) together to well under a metre.
+        // The same flight, step by step: same length, the same triple, flags and zones at
+        // every step, and the positions (geodesics of the same algorithms) together to well
+        // under a centimetre.
         assert_eq!(python.len(), rust.len(), "{}: steps", s.name);
         let mut worst_m: f64 = 0.0;
         let mut worst_alt: f64 = 0.0;
         for (i, (p, r)) in python.iter().zip(&rust).enumerate() {
             assert_eq!(p.triple, r.triple, "{}: step {i}", s.name);
             assert_eq!(p.speed, r.speed, "{}: step {i}", s.name);
+            assert_eq!(p.flags, r.flags, "{}: step {i}", s.name);
+            assert_eq!(p.zones, r.zones, "{}: step {i}", s.name);
             let d = distance_m(
                 Site::new(p.latitude, p.longitude),
                 Site::new(r.latitude, r.longitude),
@@ -716,11 +752,13 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             s.name
         );
         println!(
-            "{}: {} steps of {} ms, FROM-TO-NEXT {rust_triples:?}; worst position difference \
-             {worst_m:.2e} m, altitude {worst_alt:.2e} m ({:.1} s)",
+            "{}: {} steps of {} ms, FROM-TO-NEXT {rust_triples:?}, zones (inside the fly-zone, \
+             in no-fly-zone) {:?}; worst position difference {worst_m:.2e} m, altitude \
+             {worst_alt:.2e} m ({:.1} s)",
             s.name,
             rust.len(),
             STEP.as_millis(),
+            changes(rust.iter().map(|r| r.zones)),
             started.elapsed().as_secs_f64()
         );
     }
