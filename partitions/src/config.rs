@@ -762,4 +762,35 @@ mod tests {
         handed.ids.fcc = 5;
         assert_eq!(resolved, handed);
     }
+
+    #[test]
+    fn health_and_the_partitions_left_out_come_from_the_file_and_the_flags() {
+        let c = Config::parse(
+            "[launcher]\nwithout = [\"guidance-stub\"]\n[health]\nperiod_ms = 50\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(c.launcher.without, ["guidance-stub"]);
+        assert_eq!(c.health.period(), Duration::from_millis(50));
+        assert_eq!(c.health.start_timeout(), Duration::from_secs(5));
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
+        let args = ConfigArgs {
+            config_toml: Some(c.to_toml().unwrap()),
+            heartbeat_ms: Some(0),
+            ..ConfigArgs::default()
+        };
+        let resolved = args.resolve().unwrap();
+        assert_eq!(
+            resolved.health.period(),
+            Duration::from_millis(1),
+            "at least 1 ms"
+        );
+        assert_eq!(
+            Config::default().health.period(),
+            Duration::from_millis(100)
+        );
+    }
 }
