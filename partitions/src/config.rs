@@ -44,7 +44,7 @@
 //!
 //! [health]                        # DESIGN.md "Health" (see `health`)
 //! period_ms = 100                 # every partition beats on fcc/health/<role> this often
-//! start_timeout_ms = 5000         # a partition started must beat within this
+//! start_timeout_ms = 10000        # a partition started must beat within this
 //!
 //! [signing]                       # link signing, ICD §9 (see `keys`)
 //! policy = "off"                  # off | accept | require: what this node's receiver checks
@@ -271,7 +271,7 @@ impl Default for Health {
     fn default() -> Self {
         Self {
             period_ms: u64::try_from(DEFAULT_HEARTBEAT_PERIOD.as_millis()).unwrap_or(100),
-            start_timeout_ms: 5000,
+            start_timeout_ms: 10_000,
         }
     }
 }
@@ -772,7 +772,7 @@ mod tests {
         .unwrap();
         assert_eq!(c.launcher.without, ["guidance-stub"]);
         assert_eq!(c.health.period(), Duration::from_millis(50));
-        assert_eq!(c.health.start_timeout(), Duration::from_secs(5));
+        assert_eq!(c.health.start_timeout(), Duration::from_secs(10));
         assert_eq!(
             Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
             c
