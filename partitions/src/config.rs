@@ -44,7 +44,7 @@
 //!
 //! [health]                        # DESIGN.md "Health" (see `health`)
 //! period_ms = 100                 # every partition beats on fcc/health/<role> this often
-//! start_timeout_ms = 5000         # a partition started must beat within this
+//! start_timeout_ms = 10000        # a partition started must beat within this
 //!
 //! [signing]                       # link signing, ICD §9 (see `keys`)
 //! policy = "off"                  # off | accept | require: what this node's receiver checks
@@ -271,7 +271,7 @@ impl Default for Health {
     fn default() -> Self {
         Self {
             period_ms: u64::try_from(DEFAULT_HEARTBEAT_PERIOD.as_millis()).unwrap_or(100),
-            start_timeout_ms: 5000,
+            start_timeout_ms: 10_000,
         }
     }
 }
@@ -761,5 +761,36 @@ mod tests {
         let resolved = args.resolve().unwrap();
         handed.ids.fcc = 5;
         assert_eq!(resolved, handed);
+    }
+
+    #[test]
+    fn health_and_the_partitions_left_out_come_from_the_file_and_the_flags() {
+        let c = Config::parse(
+            "[launcher]\nwithout = [\"guidance-stub\"]\n[health]\nperiod_ms = 50\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(c.launcher.without, ["guidance-stub"]);
+        assert_eq!(c.health.period(), Duration::from_millis(50));
+        assert_eq!(c.health.start_timeout(), Duration::from_secs(10));
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
+        let args = ConfigArgs {
+            config_toml: Some(c.to_toml().unwrap()),
+            heartbeat_ms: Some(0),
+            ..ConfigArgs::default()
+        };
+        let resolved = args.resolve().unwrap();
+        assert_eq!(
+            resolved.health.period(),
+            Duration::from_millis(1),
+            "at least 1 ms"
+        );
+        assert_eq!(
+            Config::default().health.period(),
+            Duration::from_millis(100)
+        );
     }
 }

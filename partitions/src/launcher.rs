@@ -492,3 +492,23 @@ impl Drop for FccProcess {
         let _ = self.stop();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_partition_left_out_must_be_one_of_the_partitions() {
+        let mut config = Config::default();
+        assert!(left_out(&config).unwrap().is_empty());
+        config.launcher.without = vec!["guidance-stub".to_owned()];
+        assert_eq!(left_out(&config).unwrap(), ["guidance-stub"]);
+        config.launcher.without.push("guidance".to_owned());
+        let e = left_out(&config).unwrap_err();
+        assert!(
+            e.contains("no partition \"guidance\"") && e.contains("guidance-stub"),
+            "{e}"
+        );
+        assert!(PARTITIONS.iter().all(|p| role(p).is_some()));
+    }
+}

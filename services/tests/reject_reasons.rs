@@ -392,3 +392,32 @@ fn geofence_violation() {
     rig.fcc.messages();
     assert_eq!(rig.reason(execute), None);
 }
+
+/// DESIGN.md "Health": while system automation says guidance is not alive, execute is refused
+/// with `WrongState` (the ICD's "not now") and nothing goes to system automation; alive again,
+/// the same execute is accepted.
+#[test]
+fn execute_while_guidance_is_not_alive() {
+    let execute = MissionExecuteCommand {
+        time_stamp: Timestamp::default(),
+        command: ExecuteCommand::Execute,
+        mission_id: None,
+    };
+    let mut rig = FccRig::new().with_mission_2();
+    rig.fcc
+        .handle_progress(rig.now, &on_ground_at(testkit::TROL));
+    rig.fcc.messages();
+    while rig.fcc.poll_event().is_some() {}
+    rig.fcc
+        .set_automation_state(&missionlink_interfaces::contracts::AutomationStatePayload {
+            guidance_alive: false,
+            ..on_ground()
+        });
+    assert_eq!(rig.reason(execute), Some(Reason::WrongState));
+    assert!(
+        std::iter::from_fn(|| rig.fcc.poll_event()).all(|e| !matches!(e, FccEvent::Execute(_))),
+        "nothing goes to system automation"
+    );
+    rig.fcc.set_automation_state(&on_ground());
+    assert_eq!(rig.reason(execute), None);
+}

@@ -453,8 +453,11 @@ impl Default for FccRig {
 impl FccRig {
     /// An FCC with no active lists.
     pub fn new() -> Self {
+        let mut fcc = MissionDataHandling::new(fcc_config());
+        // System automation on the ground with guidance alive, as on a running FCC.
+        fcc.set_automation_state(&on_ground());
         Self {
-            fcc: MissionDataHandling::new(fcc_config()),
+            fcc,
             gcs: Endpoint::new(endpoint(defaults::GCS_ID, defaults::FCC_ID)),
             now: Instant::from_millis(1),
         }
