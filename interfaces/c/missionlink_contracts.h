@@ -47,6 +47,8 @@ extern "C" {
 #define MISSIONLINK_DEFAULT_SERVICE_PREFIX "missionlink"
 /* Marks an optional enumeration byte as absent. */
 #define MISSIONLINK_ABSENT 0xff
+/* The period partitions beat at when the configuration does not say (HeartbeatPayload). */
+#define MISSIONLINK_DEFAULT_HEARTBEAT_PERIOD_MS 100
 
 /* Capacities (interfaces/src/capacity.rs, and the wire layer's largest frame). */
 #define MISSIONLINK_MAX_WAYPOINTS 256

@@ -31,6 +31,8 @@ CONTRACT_VERSION = 3
 DEFAULT_SERVICE_PREFIX = "missionlink"
 #: Marks an optional enumeration byte as absent.
 ABSENT = 0xFF
+#: The period partitions beat at when the configuration does not say (HeartbeatPayload).
+DEFAULT_HEARTBEAT_PERIOD_MS = 100
 
 # Capacities (interfaces/src/capacity.rs, and the wire layer's largest frame).
 MAX_WAYPOINTS = 256

@@ -35,9 +35,9 @@ use missionlink_interfaces::capacity::{
 };
 use missionlink_interfaces::contracts::{
     ABSENT, AreaAltitudes, AreaListPayload, AutomationCommandPayload, AutomationStatePayload,
-    CONTRACT_VERSION, CircleArea, DEFAULT_SERVICE_PREFIX, FccService, FlightPhase, FramePayload,
-    GuidanceProgressPayload, HeartbeatPayload, Link, PolygonArea, WaypointEntry,
-    WaypointListPayload,
+    CONTRACT_VERSION, CircleArea, DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX, FccService,
+    FlightPhase, FramePayload, GuidanceProgressPayload, HeartbeatPayload, Link, PolygonArea,
+    WaypointEntry, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{
     Altitude, AltitudeType, Angle, ExecuteCommand, GeoPoint, LegType, MAX_FRAME_LEN, SafetyOffset,
@@ -403,6 +403,10 @@ fn rust_constants() -> Vec<(&'static str, Value)> {
             Value::Text(DEFAULT_SERVICE_PREFIX),
         ),
         ("ABSENT", Value::Number(u64::from(ABSENT))),
+        (
+            "DEFAULT_HEARTBEAT_PERIOD_MS",
+            Value::Number(DEFAULT_HEARTBEAT_PERIOD.as_millis() as u64),
+        ),
         ("MAX_WAYPOINTS", n(MAX_WAYPOINTS)),
         ("MAX_AREAS", n(MAX_AREAS)),
         ("MAX_NO_FLY_ZONES", n(MAX_NO_FLY_ZONES)),

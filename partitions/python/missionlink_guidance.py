@@ -1045,7 +1045,7 @@ def parse_args(argv: Optional[list[str]] = None) -> argparse.Namespace:
     parser.add_argument(
         "--heartbeat-period-ms",
         type=int,
-        default=100,
+        default=contracts.DEFAULT_HEARTBEAT_PERIOD_MS,
         help="beat on fcc/health/guidance this often; at most the FCC's [health] period_ms "
         "(default: %(default)s)",
     )
