@@ -2,8 +2,9 @@
 //! configuration): the CPUs it runs on, SCHED_FIFO at a priority, and all of its memory locked.
 //! [`apply_and_log`] is what a partition calls once at start, before its loop: it asks the
 //! kernel for each setting, reads back what the thread and the process actually have, logs
-//! that, and logs a warning naming each setting the kernel refused. A refusal is never an
-//! error: a partition without its real-time settings still does its work, later than it could.
+//! that, and logs a warning naming each setting the kernel refused ([`Warning`]). A refusal is
+//! never an error: a partition without its real-time settings still does its work, later than
+//! it could.
 //!
 //! What a setting reaches: the affinity and the scheduling policy are per thread in Linux.
 //! They are set on the calling thread (the one that goes on to run the partition's loop) and
@@ -26,9 +27,10 @@ use thread_priority::{
 
 use crate::config::{FifoPriority, RealtimeSettings};
 
-/// A setting the kernel did not grant in full. The process goes on without it.
+/// A setting the kernel did not grant in full, or granted under a limit that a later
+/// allocation will meet. The process goes on without it.
 #[derive(Debug)]
-pub enum Refused {
+pub enum Warning {
     /// A CPU number at or beyond [`CpuSet::MAX_CPU`], which no CPU mask of this interface can
     /// hold: nothing was asked of the kernel and the affinity is as it was.
     CpuBeyondMask {
@@ -65,20 +67,27 @@ pub enum Refused {
         /// The kernel's answer.
         error: io::Error,
     },
+    /// Memory is locked, but under an RLIMIT_MEMLOCK and without CAP_IPC_LOCK: every later
+    /// mapping is locked too (MCL_FUTURE) and counts against the limit, so a mapping that would
+    /// pass it fails (`EAGAIN`), iceoryx2's shared memory for a port opened later included.
+    LockMemoryLimit {
+        /// The soft limit, in KiB.
+        limit_kib: u64,
+    },
 }
 
-impl Refused {
+impl Warning {
     /// The configuration key of the setting (in `[realtime.<partition>]`).
     pub fn setting(&self) -> &'static str {
         match self {
             Self::CpuBeyondMask { .. } | Self::Affinity { .. } | Self::CpusLeftOut { .. } => "cpus",
             Self::FifoPriority { .. } => "fifo_priority",
-            Self::LockMemory { .. } => "lock_memory",
+            Self::LockMemory { .. } | Self::LockMemoryLimit { .. } => "lock_memory",
         }
     }
 }
 
-impl fmt::Display for Refused {
+impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::CpuBeyondMask { cpu } => write!(
@@ -107,6 +116,11 @@ impl fmt::Display for Refused {
                     "lock_memory: mlockall refused: {error}; memory not locked"
                 )
             }
+            Self::LockMemoryLimit { limit_kib } => write!(
+                f,
+                "lock_memory: locked, but under RLIMIT_MEMLOCK {limit_kib} KiB without \
+                 CAP_IPC_LOCK: a later mapping beyond it (an iceoryx2 port) will fail"
+            ),
         }
     }
 }
@@ -178,11 +192,11 @@ impl fmt::Display for Observed {
     }
 }
 
-/// What [`apply`] did: the refusals, one per setting at most, and what the thread has now.
+/// What [`apply`] did: the warnings, and what the thread has now.
 #[derive(Debug)]
 pub struct Applied {
-    /// The settings the kernel did not grant in full.
-    pub refused: Vec<Refused>,
+    /// The settings the kernel did not grant in full (or granted with a limit that will bite).
+    pub warnings: Vec<Warning>,
     /// What the thread and the process have after the calls.
     pub got: Observed,
 }
@@ -225,37 +239,39 @@ impl fmt::Display for CpuList<'_> {
 /// Applies `settings` to the calling thread (affinity, scheduling) and its process (locked
 /// memory), in that order: memory is locked before the thread may take a CPU from everyone
 /// else, since locking faults every page in. Settings left at their defaults are not touched.
-/// Never fails: what the kernel refuses is in [`Applied::refused`].
+/// Never fails: what the kernel refuses is in [`Applied::warnings`].
 pub fn apply(settings: &RealtimeSettings) -> Applied {
-    let mut refused = Vec::new();
+    let mut warnings = Vec::new();
     if !settings.cpus.is_empty() {
-        refused.extend(set_affinity(&settings.cpus));
+        warnings.extend(set_affinity(&settings.cpus));
     }
     if settings.lock_memory {
         let flags = rustix::mm::MlockAllFlags::CURRENT | rustix::mm::MlockAllFlags::FUTURE;
-        if let Err(e) = rustix::mm::mlockall(flags) {
-            refused.push(Refused::LockMemory { error: e.into() });
+        match rustix::mm::mlockall(flags) {
+            Err(e) => warnings.push(Warning::LockMemory { error: e.into() }),
+            Ok(()) => warnings
+                .extend(memlock_limit().map(|limit_kib| Warning::LockMemoryLimit { limit_kib })),
         }
     }
     if let Some(priority) = settings.fifo_priority {
         if let Err(error) = set_fifo(priority) {
-            refused.push(Refused::FifoPriority { priority, error });
+            warnings.push(Warning::FifoPriority { priority, error });
         }
     }
     Applied {
-        refused,
+        warnings,
         got: observe(),
     }
 }
 
 /// [`apply`], then a log line of what the partition got (at info when it asked for anything,
-/// else at debug) and a warning per refused setting.
+/// else at debug) and a warning per [`Warning`], naming its setting.
 pub fn apply_and_log(partition: &str, settings: &RealtimeSettings) -> Applied {
     let applied = apply(settings);
-    for r in &applied.refused {
+    for r in &applied.warnings {
         tracing::warn!(
             setting = r.setting(),
-            "{partition}: real-time setting refused, going on without it: {r}"
+            "{partition}: real-time setting not granted in full, going on: {r}"
         );
     }
     let got = &applied.got;
@@ -272,17 +288,17 @@ pub fn apply_and_log(partition: &str, settings: &RealtimeSettings) -> Applied {
     applied
 }
 
-/// Sets the calling thread's affinity to `cpus` (not empty); the refusals.
-fn set_affinity(cpus: &[usize]) -> Vec<Refused> {
+/// Sets the calling thread's affinity to `cpus` (not empty); the warnings.
+fn set_affinity(cpus: &[usize]) -> Vec<Warning> {
     if let Some(&cpu) = cpus.iter().find(|&&c| c >= CpuSet::MAX_CPU) {
-        return vec![Refused::CpuBeyondMask { cpu }];
+        return vec![Warning::CpuBeyondMask { cpu }];
     }
     let mut set = CpuSet::new();
     for &cpu in cpus {
         set.set(cpu);
     }
     if let Err(e) = rustix::thread::sched_setaffinity(None, &set) {
-        return vec![Refused::Affinity {
+        return vec![Warning::Affinity {
             cpus: cpus.to_vec(),
             error: e.into(),
         }];
@@ -298,8 +314,19 @@ fn set_affinity(cpus: &[usize]) -> Vec<Refused> {
     if left_out.is_empty() {
         Vec::new()
     } else {
-        vec![Refused::CpusLeftOut { cpus: left_out }]
+        vec![Warning::CpusLeftOut { cpus: left_out }]
     }
+}
+
+/// The RLIMIT_MEMLOCK in KiB that locked memory counts against: `None` when there is no limit
+/// or the process holds CAP_IPC_LOCK (which lifts it).
+fn memlock_limit() -> Option<u64> {
+    let limit = rustix::process::getrlimit(rustix::process::Resource::Memlock).current?;
+    let privileged = rustix::thread::capabilities(None).is_ok_and(|c| {
+        c.effective
+            .contains(rustix::thread::CapabilitySet::IPC_LOCK)
+    });
+    (!privileged).then_some(limit / 1024)
 }
 
 /// Puts the calling thread under SCHED_FIFO at `priority`.
@@ -377,7 +404,7 @@ mod tests {
     #[test]
     fn nothing_asked_nothing_changed() {
         let (before, applied) = on_own_thread(|| (observe(), apply(&RealtimeSettings::default())));
-        assert!(applied.refused.is_empty(), "{:?}", applied.refused);
+        assert!(applied.warnings.is_empty(), "{:?}", applied.warnings);
         assert_eq!(applied.got.cpus, before.cpus);
         assert_eq!(applied.got.scheduling, before.scheduling);
     }
@@ -394,11 +421,11 @@ mod tests {
             };
             (before, apply_and_log("test", &settings))
         });
-        let [refused] = applied.refused.as_slice() else {
-            panic!("one refusal: {:?}", applied.refused)
+        let [refused] = applied.warnings.as_slice() else {
+            panic!("one warning: {:?}", applied.warnings)
         };
         assert!(
-            matches!(refused, Refused::Affinity { cpus, error }
+            matches!(refused, Warning::Affinity { cpus, error }
                 if *cpus == [last] && error.raw_os_error() == Some(rustix::io::Errno::INVAL.raw_os_error())),
             "{refused:?}"
         );
@@ -415,11 +442,11 @@ mod tests {
                 ..RealtimeSettings::default()
             })
         });
-        let [refused] = applied.refused.as_slice() else {
-            panic!("one refusal: {:?}", applied.refused)
+        let [refused] = applied.warnings.as_slice() else {
+            panic!("one warning: {:?}", applied.warnings)
         };
         assert!(
-            matches!(refused, Refused::CpuBeyondMask { cpu: 5000 }),
+            matches!(refused, Warning::CpuBeyondMask { cpu: 5000 }),
             "{refused:?}"
         );
         assert_eq!(refused.setting(), "cpus");
@@ -436,11 +463,11 @@ mod tests {
             })
         });
         assert_eq!(applied.got.cpus, Some(vec![first]));
-        let [refused] = applied.refused.as_slice() else {
-            panic!("one refusal: {:?}", applied.refused)
+        let [refused] = applied.warnings.as_slice() else {
+            panic!("one warning: {:?}", applied.warnings)
         };
         assert!(
-            matches!(refused, Refused::CpusLeftOut { cpus } if *cpus == [CpuSet::MAX_CPU - 1]),
+            matches!(refused, Warning::CpusLeftOut { cpus } if *cpus == [CpuSet::MAX_CPU - 1]),
             "{refused:?}"
         );
     }
@@ -457,9 +484,9 @@ mod tests {
             };
             (before, apply(&settings))
         });
-        match applied.refused.as_slice() {
+        match applied.warnings.as_slice() {
             [] => assert_eq!(applied.got.scheduling, Scheduling::Fifo(10)),
-            [Refused::FifoPriority { priority, .. }] => {
+            [Warning::FifoPriority { priority, .. }] => {
                 assert_eq!(priority.get(), 10);
                 assert_eq!(applied.got.scheduling, before.scheduling);
             }
@@ -470,7 +497,7 @@ mod tests {
 
     #[test]
     fn a_refused_fifo_priority_and_memory_lock_name_their_settings() {
-        let fifo = Refused::FifoPriority {
+        let fifo = Warning::FifoPriority {
             priority: FifoPriority::new(50).unwrap(),
             error: io::Error::from_raw_os_error(rustix::io::Errno::PERM.raw_os_error()),
         };
@@ -480,11 +507,41 @@ mod tests {
                 .starts_with("fifo_priority = 50: SCHED_FIFO refused: Operation not permitted"),
             "{fifo}"
         );
-        let lock = Refused::LockMemory {
+        let lock = Warning::LockMemory {
             error: io::Error::from_raw_os_error(rustix::io::Errno::NOMEM.raw_os_error()),
         };
         assert_eq!(lock.setting(), "lock_memory");
         assert!(lock.to_string().contains("mlockall refused"), "{lock}");
+        let limit = Warning::LockMemoryLimit { limit_kib: 8192 };
+        assert_eq!(limit.setting(), "lock_memory");
+        assert!(
+            limit.to_string().contains("RLIMIT_MEMLOCK 8192 KiB"),
+            "{limit}"
+        );
+    }
+
+    #[test]
+    fn a_memlock_limit_counts_only_without_cap_ipc_lock() {
+        // Capabilities are per thread: dropping CAP_IPC_LOCK here leaves the others' alone.
+        let (limit, with_cap) = on_own_thread(|| {
+            let with_cap = memlock_limit();
+            let mut sets = rustix::thread::capabilities(None).unwrap();
+            sets.effective
+                .remove(rustix::thread::CapabilitySet::IPC_LOCK);
+            rustix::thread::set_capabilities(None, sets).unwrap();
+            (memlock_limit(), with_cap)
+        });
+        let soft = rustix::process::getrlimit(rustix::process::Resource::Memlock).current;
+        assert_eq!(limit, soft.map(|l| l / 1024));
+        let privileged = rustix::thread::capabilities(None)
+            .unwrap()
+            .effective
+            .contains(rustix::thread::CapabilitySet::IPC_LOCK);
+        if privileged {
+            assert_eq!(with_cap, None);
+        } else {
+            assert_eq!(with_cap, limit);
+        }
     }
 
     #[test]
