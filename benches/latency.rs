@@ -54,6 +54,26 @@
 //!
 //! Results: a table per payload size on stdout, all numbers as JSON in
 //! `target/latency/results.json` and a plot in `target/latency/latency.svg`.
+//!
+//! # Under CPU load (`-- --load`)
+//!
+//! `cargo bench --bench latency -- --load` measures instead the partition-to-partition hop of
+//! the largest STANAG frame over `iox2-event` (the same code as above: the partitions'
+//! publisher, subscriber and WaitSet) in three cases, one after the other in one run:
+//!
+//! 1. no load, default scheduling (the reference);
+//! 2. a CPU hog per CPU, default scheduling: what the partitions get without real-time
+//!    settings;
+//! 3. the same hogs, with the real-time settings applied to both sides through the partitions'
+//!    own `missionlink_partitions::realtime::apply` (the sender on the first CPU, the receiver
+//!    on the second, SCHED_FIFO priority 50, memory locked).
+//!
+//! A hog is this binary started again (`--role hog --cpu N`): a busy loop pinned to its CPU, at
+//! default scheduling (it checks that it is SCHED_OTHER, so a real-time policy inherited by
+//! mistake would end the run rather than measure the wrong thing). The hogs of a case are
+//! killed when it ends, also when the bench panics (a drop guard), and a hog ends by itself
+//! when the bench is gone (`kill -9`). Case 3 comes last since the sender keeps its real-time
+//! settings to the end. Results: a table on stdout, the numbers in `target/latency/load.json`.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -82,7 +102,9 @@ use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_partitions::clock::monotonic_ns;
+use missionlink_partitions::config::{FifoPriority, RealtimeSettings};
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
+use missionlink_partitions::realtime::{self, Scheduling};
 use missionlink_partitions::runtime::{self, Control};
 use serde_json::{Value, json};
 
@@ -90,6 +112,10 @@ use serde_json::{Value, json};
 const DEFAULT_FRAMES: u64 = 100_000;
 /// Frames sent before recording unless `--warmup` says otherwise.
 const DEFAULT_WARMUP: u64 = 2_000;
+/// The SCHED_FIFO priority of both sides in the real-time case of `--load`.
+const LOAD_FIFO_PRIORITY: u8 = 50;
+/// The goal of issue 16 for the hop under load with real-time settings: p99.9 at most this.
+const LOAD_GOAL_P999: Duration = Duration::from_micros(200);
 /// A side that hears nothing for this long gives up: the other process is gone.
 const TIMEOUT: Duration = Duration::from_secs(10);
 /// Size of the reply to every frame.
@@ -172,6 +198,9 @@ struct Run {
     warmup: u64,
     /// Unique per run and host: the parent's pid, the transport and the size.
     id: String,
+    /// The receiver applies the real-time settings of `--load` (on its `--cpu`) instead of
+    /// only pinning itself.
+    realtime: bool,
 }
 
 impl Run {
@@ -194,6 +223,9 @@ impl Run {
             "--id".into(),
             self.id.clone(),
         ]
+        .into_iter()
+        .chain(self.realtime.then(|| "--realtime".into()))
+        .collect()
     }
 }
 
@@ -797,10 +829,15 @@ fn load_average() -> String {
 
 /// The receiver process: pins itself, listens, records, prints the result as one JSON line.
 fn receiver_main(run: &Run, cpu: Option<usize>) {
-    if let Some(cpu) = cpu {
-        if let Err(e) = pin_to(cpu) {
-            eprintln!("receiver: cannot pin to CPU {cpu}: {e}");
+    let mut realtime = Value::Null;
+    match cpu {
+        Some(cpu) if run.realtime => realtime = apply_realtime("receiver", cpu),
+        Some(cpu) => {
+            if let Err(e) = pin_to(cpu) {
+                eprintln!("receiver: cannot pin to CPU {cpu}: {e}");
+            }
         }
+        None => {}
     }
     let start = Usage::now();
     let histogram = match run.transport {
@@ -822,6 +859,7 @@ fn receiver_main(run: &Run, cpu: Option<usize>) {
         "mean_ns": h.mean(),
         "receiver_involuntary_switches": usage.switches,
         "receiver_cpu_ticks": usage.ticks,
+        "receiver_realtime": realtime,
     });
     println!("result {result}");
 }
@@ -1064,6 +1102,243 @@ fn output_dir() -> PathBuf {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Under CPU load (--load)
+// ---------------------------------------------------------------------------------------------
+
+/// Applies the real-time settings of `--load` to the calling thread and process, through the
+/// partitions' own module, with `cpu` as the affinity; what it got (and the warnings of what
+/// was not granted) for the results.
+fn apply_realtime(side: &str, cpu: usize) -> Value {
+    let settings = RealtimeSettings {
+        cpus: vec![cpu],
+        fifo_priority: FifoPriority::new(LOAD_FIFO_PRIORITY),
+        lock_memory: true,
+    };
+    let applied = realtime::apply(&settings);
+    let warnings: Vec<String> = applied.warnings.iter().map(ToString::to_string).collect();
+    for w in &warnings {
+        eprintln!("{side}: real-time setting not granted in full: {w}");
+    }
+    json!({ "got": applied.got.to_string(), "warnings": warnings })
+}
+
+/// A hog: pins itself to `cpu`, says it is ready, and spins until it is killed or its parent,
+/// the bench, is gone.
+fn hog_main(cpu: Option<usize>) {
+    if let Some(cpu) = cpu {
+        if let Err(e) = pin_to(cpu) {
+            eprintln!("hog: cannot pin to CPU {cpu}: {e}");
+        }
+    }
+    let scheduling = realtime::observe().scheduling;
+    assert_eq!(
+        scheduling,
+        Scheduling::Other,
+        "a hog must run at default scheduling"
+    );
+    println!("ready");
+    let parent = rustix::process::getppid();
+    let mut x: u64 = 0;
+    loop {
+        for _ in 0..10_000_000 {
+            x = std::hint::black_box(x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1));
+        }
+        if rustix::process::getppid() != parent {
+            return;
+        }
+    }
+}
+
+/// The hogs of a case, one per CPU; killed when dropped (see [`ChildGuard`]), so a panic of
+/// the bench leaves none behind.
+struct Hogs {
+    _guards: Vec<ChildGuard>,
+}
+
+impl Hogs {
+    /// Starts a hog on each of `cpus` and waits until each is spinning.
+    fn start(cpus: &[usize]) -> Self {
+        let mut hogs = Vec::new();
+        for &cpu in cpus {
+            let mut command = Command::new(std::env::current_exe().expect("own executable"));
+            command
+                .args(["--role", "hog", "--cpu", &cpu.to_string()])
+                .stdout(Stdio::piped());
+            let mut hog = ChildGuard(command.spawn().expect("start a hog"));
+            let stdout = hog.0.stdout.take().expect("piped stdout");
+            // Pushed first, so that a hog that fails to start is killed with the others.
+            hogs.push(hog);
+            let mut line = String::new();
+            BufReader::new(stdout)
+                .read_line(&mut line)
+                .expect("the hog's output");
+            assert_eq!(line.trim(), "ready", "the hog on CPU {cpu} did not start");
+        }
+        Self { _guards: hogs }
+    }
+}
+
+/// The cases of `--load`, in the order they run: the real-time one last, since the sender (this
+/// process) keeps its settings.
+const LOAD_CASES: [(&str, &str, bool, bool); 3] = [
+    ("idle-default", "no load, default scheduling", false, false),
+    ("load-default", "CPU hogs, default scheduling", true, false),
+    ("load-realtime", "CPU hogs, real-time settings", true, true),
+];
+
+/// `--load`: the hop of the largest STANAG frame over iceoryx2 event-driven in the cases of
+/// [`LOAD_CASES`].
+fn load_main(frames: u64, warmup: u64) {
+    let allowed: Vec<usize> = rustix::thread::sched_getaffinity(None)
+        .map(|set| {
+            (0..rustix::thread::CpuSet::MAX_CPU)
+                .filter(|&c| set.is_set(c))
+                .collect()
+        })
+        .unwrap_or_default();
+    let (sender_cpu, receiver_cpu) = cpu_pair().expect("two CPUs for the real-time case");
+    let load_before = load_average();
+    println!(
+        "Partition-to-partition hop under CPU load: iceoryx2 event-driven (the partitions' \
+         publisher, subscriber and WaitSet), {MAX_FRAME_LEN} B frames, {frames} frames per case \
+         after {warmup} warm-up frames, each sent after the previous one was answered. CPU hogs: \
+         one busy process per CPU ({}), default scheduling. Real-time settings (the partitions' \
+         realtime module): sender on CPU {sender_cpu}, receiver on CPU {receiver_cpu}, \
+         SCHED_FIFO priority {LOAD_FIFO_PRIORITY}, memory locked; default scheduling: not \
+         pinned. Load average before: {load_before}",
+        realtime::CpuList(&allowed)
+    );
+    let pid = std::process::id();
+    let mut results = Vec::new();
+    for (key, label, load, rt) in LOAD_CASES {
+        let started = Instant::now();
+        let hogs = load.then(|| Hogs::start(&allowed));
+        let sender_realtime = if rt {
+            apply_realtime("sender", sender_cpu)
+        } else {
+            Value::Null
+        };
+        let run = Run {
+            transport: Transport::Iox2Event,
+            size: MAX_FRAME_LEN,
+            frames,
+            warmup,
+            id: format!("{pid}-load-{key}"),
+            realtime: rt,
+        };
+        let mut result = measure(&run, rt.then_some(receiver_cpu));
+        drop(hogs);
+        result["case"] = json!(key);
+        result["case_label"] = json!(label);
+        result["hogs"] = json!(if load { allowed.len() } else { 0 });
+        result["sender_realtime"] = sender_realtime;
+        eprintln!(
+            "  {label:<30} p50 {:>9.2} µs  p99.9 {:>9.2} µs  ({:.1} s)",
+            us(&result, "p50_ns"),
+            us(&result, "p999_ns"),
+            started.elapsed().as_secs_f64()
+        );
+        results.push(result);
+    }
+    print_load_table(&results);
+    let load_after = load_average();
+    println!("Load average after: {load_after}");
+
+    let dir = output_dir();
+    std::fs::create_dir_all(&dir).expect("create the output directory");
+    let document = json!({
+        "what": "one-way latency of the largest STANAG frame between two processes over iceoryx2 event-driven, without and with a CPU hog per CPU, default scheduling and real-time settings",
+        "frames": frames,
+        "warmup": warmup,
+        "payload_bytes": MAX_FRAME_LEN,
+        "fifo_priority": LOAD_FIFO_PRIORITY,
+        "sender_cpu_realtime": sender_cpu,
+        "receiver_cpu_realtime": receiver_cpu,
+        "load_average_before": load_before,
+        "load_average_after": load_after,
+        "goal_p999_us": LOAD_GOAL_P999.as_secs_f64() * 1e6,
+        "results": results,
+    });
+    let path = dir.join("load.json");
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&document).expect("JSON"),
+    )
+    .expect("write load.json");
+    println!("Results: {}", path.display());
+}
+
+fn print_load_table(results: &[Value]) {
+    println!(
+        "\n{:<30} {:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>7}",
+        "case",
+        "samples",
+        "p50 µs",
+        "p99 µs",
+        "p99.9 µs",
+        "max µs",
+        "p50/load",
+        "p99.9/load",
+        "preempt",
+        "others"
+    );
+    let reference = results.iter().find(|r| r["case"] == "load-default");
+    let (p50_ref, p999_ref) = reference.map_or((0.0, 0.0), |r| (us(r, "p50_ns"), us(r, "p999_ns")));
+    for r in results {
+        println!(
+            "{:<30} {:>8} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>10} {:>10} {:>9} {:>6.0}%",
+            r["case_label"].as_str().unwrap_or_default(),
+            r["samples"].as_u64().unwrap_or(0),
+            us(r, "p50_ns"),
+            us(r, "p99_ns"),
+            us(r, "p999_ns"),
+            us(r, "max_ns"),
+            ratio(us(r, "p50_ns"), p50_ref),
+            ratio(us(r, "p999_ns"), p999_ref),
+            format!(
+                "{}/{}",
+                r["sender_involuntary_switches"], r["receiver_involuntary_switches"]
+            ),
+            r["others_cpu_percent"].as_f64().unwrap_or(f64::NAN),
+        );
+    }
+    println!(
+        "(µs; p50/load and p99.9/load: ratio to CPU hogs with default scheduling; preempt: \
+         involuntary context switches of sender/receiver while measuring; others: CPU time used \
+         by other processes meanwhile, the hogs included, in % of all CPUs)"
+    );
+    for r in results.iter().filter(|r| !r["sender_realtime"].is_null()) {
+        for side in ["sender", "receiver"] {
+            let got = &r[format!("{side}_realtime")];
+            println!(
+                "{side} with real-time settings: {}{}",
+                got["got"].as_str().unwrap_or("unknown"),
+                match got["warnings"].as_array() {
+                    Some(warnings) if !warnings.is_empty() => format!(
+                        "; NOT GRANTED IN FULL: {}",
+                        warnings
+                            .iter()
+                            .filter_map(Value::as_str)
+                            .collect::<Vec<_>>()
+                            .join("; ")
+                    ),
+                    _ => String::new(),
+                }
+            );
+        }
+    }
+    if let Some(r) = results.iter().find(|r| r["case"] == "load-realtime") {
+        let p999 = us(r, "p999_ns");
+        let goal = LOAD_GOAL_P999.as_secs_f64() * 1e6;
+        println!(
+            "Goal (issue 16): under load with real-time settings p99.9 at most {goal:.0} µs: \
+             {p999:.2} µs, {}",
+            if p999 <= goal { "met" } else { "NOT met" }
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
 // main
 // ---------------------------------------------------------------------------------------------
 
@@ -1076,6 +1351,8 @@ struct Args {
     warmup: Option<u64>,
     id: Option<String>,
     cpu: Option<usize>,
+    load: bool,
+    realtime: bool,
 }
 
 fn parse_args() -> Args {
@@ -1093,9 +1370,13 @@ fn parse_args() -> Args {
             "--warmup" => args.warmup = Some(number(value())),
             "--id" => args.id = Some(value()),
             "--cpu" => args.cpu = Some(number(value()) as usize),
+            "--load" => args.load = true,
+            "--realtime" => args.realtime = true,
             // `cargo bench` adds it.
             "--bench" => {}
-            other => eprintln!("latency: ignoring `{other}` (options: --frames N, --warmup N)"),
+            other => {
+                eprintln!("latency: ignoring `{other}` (options: --frames N, --warmup N, --load)")
+            }
         }
     }
     args
@@ -1107,6 +1388,10 @@ fn main() {
     let frames = args.frames.unwrap_or(DEFAULT_FRAMES).max(1);
     let warmup = args.warmup.unwrap_or(DEFAULT_WARMUP);
 
+    if args.role.as_deref() == Some("hog") {
+        hog_main(args.cpu);
+        return;
+    }
     if args.role.as_deref() == Some("receiver") {
         let transport = args.transport.as_deref().and_then(Transport::from_arg);
         let run = Run {
@@ -1115,8 +1400,13 @@ fn main() {
             frames,
             warmup,
             id: args.id.expect("--id"),
+            realtime: args.realtime,
         };
         receiver_main(&run, args.cpu);
+        return;
+    }
+    if args.load {
+        load_main(frames, warmup);
         return;
     }
 
@@ -1151,6 +1441,7 @@ fn main() {
                 frames,
                 warmup,
                 id: format!("{pid}-{}-{size}", transport.arg()),
+                realtime: false,
             };
             let started = Instant::now();
             let result = measure(&run, receiver_cpu);

@@ -50,6 +50,13 @@
 //! policy = "off"                  # off | accept | require: what this node's receiver checks
 //! key_files = ["/etc/missionlink/link-1.key"]   # 32-byte keys with their Key IDs, mode 0600
 //! send_key_id = 1                 # sign with this key (optional with one key file)
+//!
+//! [realtime.voting-monitoring]    # one table per partition (see `realtime`); default: none
+//! cpus = [1]                      # CPU affinity; [] (the default): every CPU
+//! fifo_priority = 50              # SCHED_FIFO 1..=99; left out (the default): SCHED_OTHER
+//! lock_memory = true              # mlockall(MCL_CURRENT | MCL_FUTURE); default false
+//! # and [realtime.mission-data-handling], [realtime.system-automation],
+//! # [realtime.guidance-stub]
 //! ```
 
 use std::net::SocketAddr;
@@ -350,6 +357,8 @@ pub struct Config {
     pub health: Health,
     /// Link signing.
     pub signing: Signing,
+    /// Real-time settings per partition.
+    pub realtime: Realtime,
 }
 
 /// A configuration file that cannot be used.
@@ -651,6 +660,109 @@ impl ConfigArgs {
     }
 }
 
+/// The real-time settings of the partitions, one table each (`[realtime.voting-monitoring]` and
+/// so on), applied by each partition to itself at start (`realtime::apply`). None by default:
+/// every partition runs as any other process.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "kebab-case")]
+pub struct Realtime {
+    /// voting-monitoring.
+    pub voting_monitoring: RealtimeSettings,
+    /// mission-data-handling.
+    pub mission_data_handling: RealtimeSettings,
+    /// system-automation.
+    pub system_automation: RealtimeSettings,
+    /// guidance-stub.
+    pub guidance_stub: RealtimeSettings,
+}
+
+impl Realtime {
+    /// The settings of the partition named `partition` (its binary's name); `None` for a name
+    /// that is not one of the four.
+    pub fn of(&self, partition: &str) -> Option<&RealtimeSettings> {
+        match partition {
+            crate::voting_monitoring::NAME => Some(&self.voting_monitoring),
+            crate::mission_data_handling::NAME => Some(&self.mission_data_handling),
+            crate::system_automation::NAME => Some(&self.system_automation),
+            crate::guidance_stub::NAME => Some(&self.guidance_stub),
+            _ => None,
+        }
+    }
+}
+
+/// The real-time settings of one partition process. Each one left at its default leaves the
+/// process as the system started it.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RealtimeSettings {
+    /// The CPUs the partition runs on (its affinity); empty: every CPU it was started with.
+    pub cpus: Vec<usize>,
+    /// SCHED_FIFO at this priority; `None`: the default scheduling (SCHED_OTHER).
+    pub fifo_priority: Option<FifoPriority>,
+    /// Lock all memory, current and future (`mlockall(MCL_CURRENT | MCL_FUTURE)`), so that no
+    /// page fault to swap or to a dropped file page stalls the loop.
+    pub lock_memory: bool,
+}
+
+impl RealtimeSettings {
+    /// Whether any setting asks for something (else applying them changes nothing).
+    pub fn any(&self) -> bool {
+        !self.cpus.is_empty() || self.fifo_priority.is_some() || self.lock_memory
+    }
+}
+
+/// A SCHED_FIFO priority, 1 (lowest) to 99 (highest): the range Linux gives SCHED_FIFO
+/// (`sched_get_priority_min/max(2)`). A configuration with another number is refused when it
+/// is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(try_from = "u8", into = "u8")]
+pub struct FifoPriority(u8);
+
+impl FifoPriority {
+    /// The lowest priority.
+    pub const MIN: u8 = 1;
+    /// The highest priority.
+    pub const MAX: u8 = 99;
+
+    /// The priority `value`, if it is in 1..=99.
+    pub fn new(value: u8) -> Option<Self> {
+        (Self::MIN..=Self::MAX)
+            .contains(&value)
+            .then_some(Self(value))
+    }
+
+    /// The number.
+    pub fn get(self) -> u8 {
+        self.0
+    }
+}
+
+impl TryFrom<u8> for FifoPriority {
+    type Error = String;
+
+    fn try_from(value: u8) -> Result<Self, Self::Error> {
+        Self::new(value).ok_or_else(|| {
+            format!(
+                "a SCHED_FIFO priority is {} to {}, not {value}",
+                Self::MIN,
+                Self::MAX
+            )
+        })
+    }
+}
+
+impl From<FifoPriority> for u8 {
+    fn from(p: FifoPriority) -> Self {
+        p.0
+    }
+}
+
+impl std::fmt::Display for FifoPriority {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -792,5 +904,68 @@ mod tests {
             Config::default().health.period(),
             Duration::from_millis(100)
         );
+    }
+
+    #[test]
+    fn the_realtime_section_is_per_partition_and_empty_by_default() {
+        let defaults = Config::default();
+        for name in crate::launcher::PARTITIONS {
+            let settings = defaults.realtime.of(name).unwrap();
+            assert!(!settings.any(), "{name}: no real-time settings by default");
+        }
+        assert_eq!(defaults.realtime.of("fcc"), None);
+        // --print-config shows the section, one table per partition.
+        let text = defaults.to_toml().unwrap();
+        for name in crate::launcher::PARTITIONS {
+            assert!(text.contains(&format!("[realtime.{name}]")), "{text}");
+        }
+        let c = Config::parse(
+            "[realtime.voting-monitoring]\ncpus = [1]\nfifo_priority = 50\nlock_memory = true\n\
+             [realtime.guidance-stub]\ncpus = [0, 1]\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        let voting = c.realtime.of(crate::voting_monitoring::NAME).unwrap();
+        assert_eq!(voting.cpus, [1]);
+        assert_eq!(voting.fifo_priority.map(FifoPriority::get), Some(50));
+        assert!(voting.lock_memory);
+        let guidance = c.realtime.of(crate::guidance_stub::NAME).unwrap();
+        assert_eq!(guidance.cpus, [0, 1]);
+        assert_eq!(guidance.fifo_priority, None);
+        assert!(!guidance.lock_memory);
+        assert!(!c.realtime.mission_data_handling.any());
+        // The hand-over to the partitions carries it.
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
+        // A priority outside 1..=99, a partition or a key that does not exist: refused, with
+        // the place.
+        for (text, expected) in [
+            (
+                "[realtime.voting-monitoring]\nfifo_priority = 0\n",
+                "f:2:17: ",
+            ),
+            (
+                "[realtime.voting-monitoring]\nfifo_priority = 100\n",
+                "f:2:17: ",
+            ),
+            (
+                "[realtime.voting-monitoring]\nfifo_priority = 300\n",
+                "f:2:17: ",
+            ),
+            ("[realtime.voting-monitoring]\ncpus = [-1]\n", "f:2:"),
+            ("[realtime.gcs]\ncpus = [1]\n", "f:1:"),
+            ("[realtime.guidance-stub]\npriority = 5\n", "f:2:1: "),
+        ] {
+            let e = Config::parse(text, Path::new("f")).unwrap_err();
+            assert!(e.to_string().starts_with(expected), "{text:?}: {e}");
+        }
+        let e = Config::parse(
+            "[realtime.system-automation]\nfifo_priority = 0\n",
+            Path::new("f"),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("1 to 99, not 0"), "{e}");
     }
 }

@@ -16,6 +16,7 @@ pub mod keys;
 pub mod latency;
 pub mod launcher;
 pub mod mission_data_handling;
+pub mod realtime;
 pub mod runtime;
 pub mod state;
 pub mod system_automation;

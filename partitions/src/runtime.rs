@@ -338,7 +338,8 @@ impl Report {
 }
 
 /// The `main` of every partition binary: logging, the configuration (exit status 2 when it is
-/// wrong), then `run` with a [`Control`] driven by the signals that announces the partition's
+/// wrong), the partition's real-time settings (`realtime`: a refused one is a warning), then
+/// `run` with a [`Control`] driven by the signals that announces the partition's
 /// readiness in the state directory while it runs (exit status 1 with the error when it fails).
 pub fn partition_main<E: std::fmt::Display>(
     name: &str,
@@ -354,6 +355,10 @@ pub fn partition_main<E: std::fmt::Display>(
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
+    // On this thread, which runs the loop; the watch-parent thread keeps the defaults.
+    if let Some(settings) = config.realtime.of(name) {
+        crate::realtime::apply_and_log(name, settings);
+    }
     let control = Control::new().announcing_ready(config.ipc.state_dir(), name);
     if let Err(e) = control.handle_signals() {
         tracing::error!(%e, "{name} failed");
