@@ -97,7 +97,12 @@ where
         if let Some(state) = automation.latest() {
             guidance.set_automation(&state);
         }
-        let p = guidance.step(clock.now());
+        let now = clock.now();
+        // The core counts time from the driver's start; the contract says CLOCK_MONOTONIC.
+        let p = GuidanceProgressPayload {
+            time_ns: clock.monotonic_ns(now),
+            ..guidance.step(now)
+        };
         if changed(last_published.as_ref(), &p) || last_sent.elapsed() >= REPUBLISH {
             progress.send(&p)?;
             last_published = Some(p);

@@ -15,6 +15,7 @@ use missionlink_interfaces::contracts::{
     Partition,
 };
 use missionlink_services::automation::SystemAutomation;
+use missionlink_services::link::time::Instant;
 
 use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
@@ -90,7 +91,13 @@ where
             automation.handle_progress(now, &p);
         }
         if automation.take_changed() {
-            state.send(automation.state())?;
+            // The core counts time from the driver's start; the contract says CLOCK_MONOTONIC.
+            let s = automation.state();
+            let changed = Instant::from_micros(s.changed_ns / 1000);
+            state.send(&AutomationStatePayload {
+                changed_ns: clock.monotonic_ns(changed),
+                ..*s
+            })?;
         }
         state.update_connections();
         report.log_if_due(&[&command_latency]);
