@@ -43,6 +43,28 @@ fn wait_for_line(process: &Process, parts: &[&str], before: usize, limit: Durati
     );
 }
 
+/// The wall-clock seconds of the day now, as the log lines' UTC time stamps count them.
+fn seconds_of_day_now() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64()
+        % 86_400.0
+}
+
+/// The seconds of the day of a log line's time stamp (`2026-11-26T02:43:35.060416Z ...`).
+fn logged_at(line: &str) -> Option<f64> {
+    let clock = line
+        .split_whitespace()
+        .next()?
+        .split('T')
+        .nth(1)?
+        .strip_suffix('Z')?;
+    let mut parts = clock.split(':');
+    let (h, m, s) = (parts.next()?, parts.next()?, parts.next()?);
+    Some(h.parse::<f64>().ok()? * 3600.0 + m.parse::<f64>().ok()? * 60.0 + s.parse::<f64>().ok()?)
+}
+
 /// Whether process `pid` exists (a zombie counts as gone: the launcher reaps its children).
 fn exists(pid: i32) -> bool {
     std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
@@ -63,8 +85,9 @@ fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
     for partition in PARTITIONS {
         let tag = format!("partition=\"{partition}\"");
         let pid = partition_pid(&fcc, partition);
+        let stopped_at = seconds_of_day_now();
         signal_partition(&fcc, partition, Signal::STOP);
-        let found = wait_for_line(&fcc, &["partition hung", &tag], 0, LIMIT);
+        wait_for_line(&fcc, &["partition hung", &tag], 0, LIMIT);
         wait_for_starts(&fcc, partition, 2, LIMIT);
         assert!(!exists(pid), "the stopped {partition} ({pid}) was killed");
         let line = fcc
@@ -73,9 +96,11 @@ fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
             .find(|l| l.contains("partition hung") && l.contains(&tag))
             .map(str::to_owned)
             .unwrap();
+        let found_ms = logged_at(&line)
+            .map(|t| format!("{:.0}", (t - stopped_at).rem_euclid(86_400.0) * 1000.0))
+            .unwrap_or_else(|| "?".to_owned());
         println!(
-            "{partition}: found {} ms after SIGSTOP (as the test saw the log): {}",
-            found.as_millis(),
+            "{partition}: the launcher logged it {found_ms} ms after the SIGSTOP: {}",
             line.split("silence=").nth(1).unwrap_or(&line)
         );
         rig.ready(&mut fcc);
