@@ -949,27 +949,41 @@ fn ratio(value: f64, reference: f64) -> String {
 
 fn print_table(description: &str, results: &[&Value]) {
     println!("\nPayload {description}");
+    let reference = results
+        .iter()
+        .find(|r| r["transport"] == Transport::Iox2Event.arg())
+        .copied();
+    print_rows("transport", "label", results, reference, "ev");
+}
+
+/// One line per result, named by its `label_key`, with its percentiles and the ratios of its
+/// p50 and p99.9 to `reference`'s (the columns `p50/<reference_name>`, `p99.9/<...>`): the
+/// table of the transports and the table of the load cases alike.
+fn print_rows(
+    first_column: &str,
+    label_key: &str,
+    results: &[&Value],
+    reference: Option<&Value>,
+    reference_name: &str,
+) {
     println!(
-        "{:<27} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>7}",
-        "transport",
+        "{:<30} {:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>7}",
+        first_column,
         "samples",
         "p50 µs",
         "p99 µs",
         "p99.9 µs",
         "max µs",
-        "p50/ev",
-        "p99.9/ev",
+        format!("p50/{reference_name}"),
+        format!("p99.9/{reference_name}"),
         "preempt",
         "others"
     );
-    let reference = results
-        .iter()
-        .find(|r| r["transport"] == Transport::Iox2Event.arg());
-    let (p50_ref, p999_ref) = reference.map_or((0.0, 0.0), |e| (us(e, "p50_ns"), us(e, "p999_ns")));
+    let (p50_ref, p999_ref) = reference.map_or((0.0, 0.0), |r| (us(r, "p50_ns"), us(r, "p999_ns")));
     for r in results {
         println!(
-            "{:<27} {:>8} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>9} {:>9} {:>9} {:>6.0}%",
-            r["label"].as_str().unwrap_or_default(),
+            "{:<30} {:>8} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>10} {:>10} {:>9} {:>6.0}%",
+            r[label_key].as_str().unwrap_or_default(),
             r["samples"].as_u64().unwrap_or(0),
             us(r, "p50_ns"),
             us(r, "p99_ns"),
@@ -1269,39 +1283,10 @@ fn load_main(frames: u64, warmup: u64) {
 }
 
 fn print_load_table(results: &[Value]) {
-    println!(
-        "\n{:<30} {:>8} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>7}",
-        "case",
-        "samples",
-        "p50 µs",
-        "p99 µs",
-        "p99.9 µs",
-        "max µs",
-        "p50/load",
-        "p99.9/load",
-        "preempt",
-        "others"
-    );
+    println!();
+    let rows: Vec<&Value> = results.iter().collect();
     let reference = results.iter().find(|r| r["case"] == "load-default");
-    let (p50_ref, p999_ref) = reference.map_or((0.0, 0.0), |r| (us(r, "p50_ns"), us(r, "p999_ns")));
-    for r in results {
-        println!(
-            "{:<30} {:>8} {:>9.2} {:>9.2} {:>9.2} {:>9.2} {:>10} {:>10} {:>9} {:>6.0}%",
-            r["case_label"].as_str().unwrap_or_default(),
-            r["samples"].as_u64().unwrap_or(0),
-            us(r, "p50_ns"),
-            us(r, "p99_ns"),
-            us(r, "p999_ns"),
-            us(r, "max_ns"),
-            ratio(us(r, "p50_ns"), p50_ref),
-            ratio(us(r, "p999_ns"), p999_ref),
-            format!(
-                "{}/{}",
-                r["sender_involuntary_switches"], r["receiver_involuntary_switches"]
-            ),
-            r["others_cpu_percent"].as_f64().unwrap_or(f64::NAN),
-        );
-    }
+    print_rows("case", "case_label", &rows, reference, "load");
     println!(
         "(µs; p50/load and p99.9/load: ratio to CPU hogs with default scheduling; preempt: \
          involuntary context switches of sender/receiver while measuring; others: CPU time used \
