@@ -1115,6 +1115,15 @@ fn output_dir() -> PathBuf {
         .join("latency")
 }
 
+/// Writes `contents` to `name` in the [`output_dir`] (created if missing); the path.
+fn write_output(name: &str, contents: &str) -> PathBuf {
+    let dir = output_dir();
+    std::fs::create_dir_all(&dir).expect("create the output directory");
+    let path = dir.join(name);
+    std::fs::write(&path, contents).unwrap_or_else(|e| panic!("write {name}: {e}"));
+    path
+}
+
 // ---------------------------------------------------------------------------------------------
 // Under CPU load (--load)
 // ---------------------------------------------------------------------------------------------
@@ -1258,8 +1267,6 @@ fn load_main(frames: u64, warmup: u64) {
     let load_after = load_average();
     println!("Load average after: {load_after}");
 
-    let dir = output_dir();
-    std::fs::create_dir_all(&dir).expect("create the output directory");
     let document = json!({
         "what": "one-way latency of the largest STANAG frame between two processes over iceoryx2 event-driven, without and with a CPU hog per CPU, default scheduling and real-time settings",
         "frames": frames,
@@ -1273,12 +1280,10 @@ fn load_main(frames: u64, warmup: u64) {
         "goal_p999_us": LOAD_GOAL_P999.as_secs_f64() * 1e6,
         "results": results,
     });
-    let path = dir.join("load.json");
-    std::fs::write(
-        &path,
-        serde_json::to_string_pretty(&document).expect("JSON"),
-    )
-    .expect("write load.json");
+    let path = write_output(
+        "load.json",
+        &serde_json::to_string_pretty(&document).expect("JSON"),
+    );
     println!("Results: {}", path.display());
 }
 
@@ -1451,8 +1456,6 @@ fn main() {
          by other processes meanwhile, in % of all CPUs. Load average after: {load_after})"
     );
 
-    let dir = output_dir();
-    std::fs::create_dir_all(&dir).expect("create the output directory");
     let document = json!({
         "what": "one-way latency of a frame between two processes, CLOCK_MONOTONIC stamp to receipt, ping-pong paced",
         "frames": frames,
@@ -1463,17 +1466,14 @@ fn main() {
         "load_average_after": load_after,
         "results": results,
     });
-    let json_path = dir.join("results.json");
-    let svg_path = dir.join("latency.svg");
-    std::fs::write(
-        &json_path,
-        serde_json::to_string_pretty(&document).expect("JSON"),
-    )
-    .expect("write results.json");
+    let json_path = write_output(
+        "results.json",
+        &serde_json::to_string_pretty(&document).expect("JSON"),
+    );
     let subtitle = format!(
         "CLOCK_MONOTONIC stamp to receipt, ping-pong paced, {frames} frames per bar, {cpus}; log scale"
     );
-    std::fs::write(&svg_path, svg(&results, &subtitle)).expect("write latency.svg");
+    let svg_path = write_output("latency.svg", &svg(&results, &subtitle));
     println!(
         "Results: {}\nPlot:    {}",
         json_path.display(),
