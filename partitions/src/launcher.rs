@@ -265,7 +265,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
             && partitions
                 .iter()
                 .filter(|p| p.started_here)
-                .all(|p| state::is_ready(&state_dir, p.name))
+                .all(|p| state::is_ready(&state_dir, p.name) && p.liveness.is_alive(now))
         {
             all_up = true;
             tracing::info!("all partitions up");

@@ -150,12 +150,34 @@ fn upload(
     }
 }
 
+/// Executes the active mission. Right after the FCC started, system automation may not have
+/// heard guidance's heartbeat yet, or mission data handling guidance's first position (DESIGN.md
+/// "Health", ICD §7): the FCC refuses with `WrongState` and changes nothing, and execute is asked
+/// again every 200 ms for up to 10 s.
 fn execute(link: &mut Link) -> Result<(), String> {
-    let now = link.now();
-    link.station()
-        .execute(now, ExecuteCommand::Execute)
-        .map_err(|e| e.to_string())?;
-    finish(link).map(|_| ()).map_err(|e| e.to_string())
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut told = false;
+    loop {
+        let now = link.now();
+        link.station()
+            .execute(now, ExecuteCommand::Execute)
+            .map_err(|e| e.to_string())?;
+        match finish(link) {
+            Ok(_) => return Ok(()),
+            Err(GcsError::Transfer { error, .. })
+                if error.reason() == Some(Reason::WrongState) && Instant::now() < deadline =>
+            {
+                if !told {
+                    println!(
+                        "  execute refused (WrongState): guidance not heard yet; asking again"
+                    );
+                    told = true;
+                }
+                link.run_until(Duration::from_millis(200), |_| false);
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    }
 }
 
 /// Activates the staged mission `id` (ICD §8, #50000 command 4). Until the aircraft has landed
