@@ -15,8 +15,9 @@
 //!   time makes this exact and independent of the machine's load, which flying both
 //!   time-scaled through the FCC would not be.
 //!
-//! Both need `python3` with the packages of partitions/python/requirements.txt; without them
-//! they fail and say how to install them, never skip.
+//! Both need a Python 3 with the packages of partitions/python/requirements.txt: the one
+//! `tools/test` sets up in `target/venv` (`common::python`); without them they fail and say how
+//! to get them, never skip.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -57,9 +58,9 @@ fn guidance_script() -> PathBuf {
 /// Fails, saying what to install, unless `python3` runs and imports the Python guidance's
 /// requirements (iceoryx2 0.10.0, geographiclib).
 fn require_python() {
-    const HOW: &str = "install Python 3 and the Python guidance's packages: python3 -m pip install \
-                       -r partitions/python/requirements.txt";
-    let out = Command::new("python3")
+    const HOW: &str = "run the tests with tools/test, which installs the Python guidance's \
+                       packages (partitions/python/requirements.txt) into target/venv";
+    let out = Command::new(python())
         .arg("-c")
         .arg(
             "import importlib.metadata as m, iceoryx2, geographiclib.geodesic\n\
@@ -69,13 +70,17 @@ fn require_python() {
     let out = match out {
         Ok(out) => out,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            panic!("python3 is not installed; the Python guidance tests need it: {HOW}")
+            panic!(
+                "{:?} is not installed; the Python guidance tests need it: {HOW}",
+                python()
+            )
         }
         Err(e) => panic!("cannot run python3: {e}"),
     };
     assert!(
         out.status.success(),
-        "python3 cannot import the Python guidance's packages:\n{}\n{HOW}",
+        "{:?} cannot import the Python guidance's packages:\n{}\n{HOW}",
+        python(),
         String::from_utf8_lossy(&out.stderr)
     );
     let version = String::from_utf8_lossy(&out.stdout).trim().to_owned();
@@ -102,7 +107,7 @@ impl PythonGuidance {
     fn start(rig: &Rig) -> Self {
         let g = &rig.config.guidance;
         let log = rig.dir.join("guidance-py.log");
-        let child = Command::new("python3")
+        let child = Command::new(python())
             .arg(guidance_script())
             .args(["--service-prefix", &rig.config.ipc.service_prefix])
             .args(["--time-scale", &g.time_scale.to_string()])
@@ -597,7 +602,7 @@ fn scenario_json(s: &Scenario) -> Value {
 /// The flight with the Python model, one record per step.
 fn fly_python(s: &Scenario) -> Vec<Record> {
     use std::io::Write;
-    let mut child = Command::new("python3")
+    let mut child = Command::new(python())
         .arg("-c")
         .arg(PYTHON_FLIGHT)
         .arg(repo().join("interfaces/python"))
@@ -879,7 +884,7 @@ print("ok")
 #[test]
 fn the_python_list_pairing_releases_only_whole_pairs_of_one_activation() {
     require_python();
-    let out = Command::new("python3")
+    let out = Command::new(python())
         .arg("-c")
         .arg(PYTHON_PAIRING)
         .arg(repo().join("interfaces/python"))

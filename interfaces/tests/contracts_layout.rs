@@ -829,14 +829,17 @@ if sorted(c.__name__ for c in structures) != sorted(c.__name__ for c in m.STRUCT
     print("STRUCTURES lists other structures than the module defines")
 "#;
 
+/// The Python interpreter: `MISSIONLINK_PYTHON` where `tools/test` set it, else `python3` (the
+/// module needs nothing but the standard library).
+fn python() -> std::ffi::OsString {
+    std::env::var_os("MISSIONLINK_PYTHON").unwrap_or_else(|| "python3".into())
+}
+
 /// The facts of the Python module, printed by `python3`.
 fn python_facts() -> BTreeSet<String> {
     let dir = interfaces_dir().join("python");
     let run = output(
-        Command::new("python3")
-            .arg("-c")
-            .arg(PYTHON_FACTS)
-            .arg(&dir),
+        Command::new(python()).arg("-c").arg(PYTHON_FACTS).arg(&dir),
         "the contracts test runs `python3`, which is not installed: install Python 3 (Debian: \
          apt-get install python3)",
     );

@@ -28,6 +28,25 @@ pub fn bin_dir() -> PathBuf {
         .expect("partition binaries")
 }
 
+/// The Python interpreter the tests run: `MISSIONLINK_PYTHON` (set by `tools/test` to the
+/// virtual environment it made), else that environment if an earlier `tools/test` made it
+/// (`<target>/venv`), else `python3` from the path.
+pub fn python() -> PathBuf {
+    if let Some(python) = std::env::var_os("MISSIONLINK_PYTHON") {
+        return PathBuf::from(python);
+    }
+    // The test runs as <target>/<profile>/deps/<test>.
+    let exe = std::env::current_exe().expect("the test's own path");
+    let venv = exe
+        .ancestors()
+        .nth(3)
+        .map(|target| target.join("venv/bin/python3"));
+    match venv {
+        Some(venv) if venv.is_file() => venv,
+        _ => PathBuf::from("python3"),
+    }
+}
+
 /// One test's FCC setup: a configuration no other test shares (prefix, GCS ports, state and
 /// summary directories) in a directory of its own.
 pub struct Rig {

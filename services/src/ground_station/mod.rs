@@ -33,7 +33,7 @@ use core::fmt;
 use core::time::Duration;
 use std::collections::VecDeque;
 
-use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
+use missionlink_interfaces::capacity::{MAX_REPORT_ENTRIES, MAX_WAYPOINTS};
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
     GeoPoint, Message, MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport, Reason,
@@ -234,12 +234,7 @@ impl fmt::Display for ValidatedPlan {
             m.take_off_height().metres(),
             m.waypoints.len()
         )?;
-        for (i, record) in m.waypoints.iter().enumerate() {
-            if i > 0 {
-                f.write_str(" -> ")?;
-            }
-            write!(f, "{}", record.waypoint.waypoint_number)?;
-        }
+        write_chain(f, m.waypoints.iter().map(|r| r.waypoint.waypoint_number))?;
         write!(
             f,
             "), route {}; {} areas, safety offset {:.1} m",
@@ -252,6 +247,60 @@ impl fmt::Display for ValidatedPlan {
             self.areas.safety_offset.metres()
         )
     }
+}
+
+/// A run of consecutive waypoint numbers this long or longer prints as its first two numbers,
+/// `...` and its last.
+const CHAIN_RUN: usize = 4;
+/// A chain with more parts than this (after runs are shortened) prints its first and last
+/// parts and how many it left out.
+const CHAIN_PARTS: usize = 12;
+
+/// Writes waypoint numbers in flight-plan order, compactly: `1 -> 2 -> ... -> 256` for a run of
+/// consecutive numbers, and `... (40 more) ...` in the middle of a long chain without runs, so a
+/// 256-waypoint mission stays one readable line.
+fn write_chain(f: &mut fmt::Formatter<'_>, numbers: impl Iterator<Item = u16>) -> fmt::Result {
+    // Runs (first, last) of numbers each one above the one before.
+    let mut runs: heapless::Vec<(u16, u16), MAX_WAYPOINTS> = heapless::Vec::new();
+    for n in numbers {
+        match runs.last_mut() {
+            Some((_, last)) if last.checked_add(1) == Some(n) => *last = n,
+            _ => {
+                if runs.push((n, n)).is_err() {
+                    break;
+                }
+            }
+        }
+    }
+    // Parts: a run of CHAIN_RUN numbers or more, or a single number.
+    let parts = runs.iter().flat_map(|&(first, last)| {
+        let short = usize::from(last - first) + 1 < CHAIN_RUN;
+        let singles = (first..=last).filter(move |_| short).map(|n| (n, None));
+        let run = (!short).then_some((first, Some(last)));
+        singles.chain(run)
+    });
+    let total = parts.clone().count();
+    let (head, tail) = if total > CHAIN_PARTS {
+        (CHAIN_PARTS - 3, 3)
+    } else {
+        (total, 0)
+    };
+    for (i, (first, last)) in parts.enumerate() {
+        if i >= head && i + tail < total {
+            if i == head {
+                write!(f, " -> ... ({} more) ...", total - head - tail)?;
+            }
+            continue;
+        }
+        if i > 0 {
+            f.write_str(" -> ")?;
+        }
+        match last {
+            Some(last) => write!(f, "{first} -> {} -> ... -> {last}", first.saturating_add(1))?,
+            None => write!(f, "{first}")?,
+        }
+    }
+    Ok(())
 }
 
 /// Settings of the GCS logic.
@@ -1336,5 +1385,53 @@ fn answer_type(answer: &Message) -> MessageType {
         Message::MessageAcknowledgement(a) => MessageType::try_from(a.original_message_type)
             .unwrap_or(MessageType::MessageAcknowledgement),
         other => other.message_type(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain printed by `write_chain`.
+    fn chain(numbers: &[u16]) -> String {
+        struct Chain<'a>(&'a [u16]);
+        impl fmt::Display for Chain<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write_chain(f, self.0.iter().copied())
+            }
+        }
+        Chain(numbers).to_string()
+    }
+
+    #[test]
+    fn short_chains_print_every_number() {
+        assert_eq!(chain(&[1]), "1");
+        assert_eq!(chain(&[1, 2, 3]), "1 -> 2 -> 3");
+        assert_eq!(chain(&[5, 3, 9, 10]), "5 -> 3 -> 9 -> 10");
+    }
+
+    #[test]
+    fn runs_of_consecutive_numbers_print_their_ends() {
+        let all: Vec<u16> = (1..=256).collect();
+        assert_eq!(chain(&all), "1 -> 2 -> ... -> 256");
+        assert_eq!(
+            chain(&[9, 1, 2, 3, 4, 5, 7]),
+            "9 -> 1 -> 2 -> ... -> 5 -> 7"
+        );
+        assert_eq!(
+            chain(&[u16::MAX - 3, u16::MAX - 2, u16::MAX - 1, u16::MAX]),
+            "65532 -> 65533 -> ... -> 65535"
+        );
+    }
+
+    #[test]
+    fn long_chains_without_runs_print_their_ends_and_the_count_between() {
+        let odd: Vec<u16> = (0..100).map(|i| 2 * i + 1).collect();
+        assert_eq!(
+            chain(&odd),
+            "1 -> 3 -> 5 -> 7 -> 9 -> 11 -> 13 -> 15 -> 17 -> ... (88 more) ... -> 195 -> 197 -> 199"
+        );
+        let twelve: Vec<u16> = (0..12).map(|i| 2 * i).collect();
+        assert_eq!(chain(&twelve).matches("->").count(), 11);
     }
 }
