@@ -559,7 +559,10 @@ fn the_signed_example_verifies() {
     );
     let mut signed = 0;
     for ex in examples(&doc) {
-        let frame = wire::frames(&ex.bytes).next().unwrap().unwrap();
+        let frame = wire::frames(&ex.bytes)
+            .next()
+            .unwrap()
+            .unwrap_or_else(|e| panic!("{}: the frame is rejected: {e}", ex.title));
         let Some(trailer) = frame.trailer() else {
             continue;
         };
