@@ -16,7 +16,7 @@ use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMod
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::ground_station::outcome::UploadOutcome;
-use missionlink_services::ground_station::{GcsError, Phase};
+use missionlink_services::ground_station::{GcsError, Phase, Sequence};
 use missionlink_services::transfer::sender::mission_command;
 
 fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
@@ -59,6 +59,25 @@ fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_list
         upload(&mut link, &plan).unwrap_or_else(|e| panic!("{file}: {e}"));
         let downloaded = download(&mut link).unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(downloaded, valid, "{file}");
+    }
+    // The atomic upload of `gcs upload` (staged, activated, the staged copy deleted) too: the
+    // download gives back every field, the operator's Mission ID included.
+    for file in ["mission-1.toml", "mission-2.toml"] {
+        let plan = plan(file);
+        let valid = link.station().validate(&plan).unwrap();
+        let now = link.now();
+        link.station()
+            .upload_with(now, &plan, Sequence::Atomic)
+            .unwrap();
+        finish(&mut link).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let downloaded = download(&mut link).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_eq!(downloaded, valid, "{file}, atomic upload");
+        assert!(
+            downloaded
+                .mission
+                .mission_id
+                .is_some_and(|id| id.as_str().starts_with("MEDEVAC-"))
+        );
     }
 }
 

@@ -160,8 +160,9 @@ fn the_atomic_upload_stages_activates_and_deletes_its_copy() {
     );
     assert_eq!(r.messages.sent, 11);
     assert_eq!(r.messages.full, 11);
-    // The opener and the closers name the fresh ID: gcs- and the mission's checksum.
-    let fresh = format!("gcs-{:08X}", mission_checksum(&expected.mission).value());
+    // The opener and the closers name the operator's Mission ID: the activation makes it the
+    // active lists' ID.
+    let fresh = "MEDEVAC-1";
     for sent in s.sent.iter().filter(|x| x.direction == Direction::Up) {
         if let Message::MissionTransferCommand(c) = &sent.message
             && matches!(
@@ -183,6 +184,37 @@ fn the_atomic_upload_stages_activates_and_deletes_its_copy() {
         staged_ids(&report(&mut s)).is_empty(),
         "the copy is deleted"
     );
+    // The FCC holds and hands back the operator's Mission ID.
+    let down = download(&mut s, None);
+    assert_eq!(down.mission.mission_id.unwrap().as_str(), "MEDEVAC-1");
+    assert_eq!(down.mission, expected.mission);
+}
+
+#[test]
+fn an_operators_staged_mission_of_the_same_name_is_neither_replaced_nor_deleted() {
+    let mut s = StationRig::new(FccRig::new().with_mission_2());
+    // The operator staged another mission under the name the upload carries.
+    let other = with_altitude(&mission_1(), 0, 150.0);
+    let now = s.rig.now;
+    s.gcs.stage(now, id("MEDEVAC-1"), &other).unwrap();
+    let r = upload_report(&s.run(LIMIT));
+    assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
+    let expected = validated(&mission_1());
+    let now = s.rig.now;
+    s.gcs
+        .upload_with(now, &mission_1(), Sequence::Atomic)
+        .unwrap();
+    let r = upload_report(&s.run(LIMIT));
+    assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
+    // Staged and activated under a fresh ID, which the active lists now carry.
+    let fresh = format!("gcs-{:08X}", mission_checksum(&expected.mission).value());
+    let down = download(&mut s, None);
+    assert_eq!(down.mission.mission_id.unwrap().as_str(), fresh);
+    assert_eq!(flown(&down.mission), flown(&expected.mission));
+    // The operator's staged mission is still there, unchanged.
+    assert_eq!(staged_ids(&report(&mut s)), ["MEDEVAC-1"]);
+    let staged = download(&mut s, Some(id("MEDEVAC-1")));
+    assert_eq!(flown(&staged.mission), flown(&validated(&other).mission));
 }
 
 #[test]

@@ -82,8 +82,10 @@ enum Command {
     /// mission is refused with the report; nothing is sent.
     ///
     /// Toward an edition-2 FCC the upload is atomic (ICD §8): the mission and areas are staged
-    /// under a fresh Mission ID (`gcs-` and the mission's checksum), activated in one step
-    /// (#50000 command 4) and the staged copy deleted; any failure before the activation leaves
+    /// under the file's Mission ID (a fresh one, `gcs-` and the mission's checksum, when the
+    /// file has none or the FCC holds a staged mission of that name), activated in one step
+    /// (#50000 command 4) and the staged copy deleted, so the FCC holds the mission under the
+    /// file's Mission ID; any failure before the activation leaves
     /// the active mission and areas as they were. Toward an edition-1 FCC, or with
     /// `--paper-sequence`, the paper's sequence (Figure 11): the waypoints, then the areas, each
     /// list active at its own closer, one after the other (the message says so).

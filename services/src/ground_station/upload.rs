@@ -6,20 +6,27 @@
 //!
 //! | request | toward edition 2 | toward edition 1 |
 //! |---|---|---|
-//! | [`Sequence::Atomic`] upload | mission staged under a fresh Mission ID (#13000 mode 10, data, mode 8), areas staged (#2011 mode 1, #2012, mode 7), #50000 command 4, #13000 mode 6 of the staged copy | the paper's sequence with the clear |
+//! | [`Sequence::Atomic`] upload | mission staged under the staging ID (#13000 mode 10, data, mode 8), areas staged (#2011 mode 1, #2012, mode 7), #50000 command 4, #13000 mode 6 of the staged copy | the paper's sequence with the clear |
 //! | [`Sequence::Paper`] upload | the paper's sequence (Figure 11): waypoints (mode 2), then areas (#2011 mode 2) | the same |
 //! | stage | mission and areas under the given ID (modes 10, 8; #2011 mode 7) | refused: edition 1 holds no staged missions |
 //! | edit | mode 10 (load the buffer from the target), what changed, the closer; areas only if changed | what changed, mode 2; areas only if changed |
 //!
-//! **The fresh Mission ID** of an atomic upload is `gcs-` and the new mission's checksum (ICD §11)
-//! in eight hex digits; when the report lists that ID, `-1` to `-9` is appended, the first free
-//! one. The same rule names the unused ID whose #13000 mode 10 empties the buffer before a full
-//! upload into a staged mission that already holds a waypoint list (ICD §8: mode 10 empties the
-//! buffer when the ID has no waypoint list).
+//! **The staging ID** of an atomic upload is the operator's Mission ID, the plan's: the activation
+//! makes the staged mission's lists the active ones under its ID (ICD §8), so the FCC holds,
+//! reports and hands back on a download the name the operator gave. When the plan has no Mission
+//! ID, or the report lists a staged mission of that name (the operator's own, which the upload
+//! must neither replace nor delete), the upload stages under a fresh ID instead and logs that the
+//! active lists will carry it.
+//!
+//! **A fresh Mission ID** is `gcs-` and the new mission's checksum (ICD §11) in eight hex digits;
+//! when the report lists that ID, `-1` to `-9` is appended, the first free one. The same rule
+//! names the unused ID whose #13000 mode 10 empties the buffer before a full upload into a staged
+//! mission that already holds a waypoint list (ICD §8: mode 10 empties the buffer when the ID has
+//! no waypoint list).
 //!
 //! **An edit of the active mission toward edition 2** whose areas are unchanged closes with mode 2:
 //! only the waypoint list changes, so it is atomic without staging. When the areas changed too, the
-//! edited mission is staged under a fresh ID from the active list (mode 10 with the empty ID), the
+//! edited mission is staged under the staging ID from the active list (mode 10 with the empty ID), the
 //! areas staged, and the whole activated in one step.
 //!
 //! **After a failure** the GCS asks what the FCC holds (the report; a download from edition 1)
@@ -31,7 +38,7 @@
 //! ([`UploadReport::warning`]), not a failed upload.
 
 use missionlink_interfaces::capacity::MAX_STAGED_MISSIONS;
-use missionlink_interfaces::wire::{Checksum, MissionReport};
+use missionlink_interfaces::wire::{Checksum, MissionReport, Text};
 
 use super::edit::{FullUpload, difference};
 use super::outcome::{
@@ -49,7 +56,7 @@ use crate::transfer::staged::MissionId;
 /// How an upload of the active lists changes them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Sequence {
-    /// Toward an edition-2 FCC: stage under a fresh Mission ID, activate (#50000 command 4),
+    /// Toward an edition-2 FCC: stage under the staging ID, activate (#50000 command 4),
     /// delete the staged copy: the waypoint list and the area list change in one step, and a
     /// failure before the activation leaves both as they were. Toward an edition-1 FCC: the
     /// paper's sequence with the clear (the lists change one after the other).
@@ -163,6 +170,32 @@ pub fn fresh_mission_id(entries: &[MissionReport], checksum: Checksum) -> Option
         .chain((1..=9).map(|n| format!("{stem}-{n}")))
         .filter_map(|s| MissionId::new(&s).ok())
         .find(|id| entry_of(entries, Target::Staged(*id)).is_none())
+}
+
+/// The Mission ID an atomic upload stages under (see the module's documentation): the plan's
+/// own `mission_id` when it is a valid Mission ID that the report does not list, else a fresh
+/// one.
+pub fn staging_id(
+    entries: &[MissionReport],
+    mission_id: Option<Text<20>>,
+    checksum: Checksum,
+) -> Option<MissionId> {
+    let own = mission_id.and_then(|text| MissionId::new(text.as_str()).ok());
+    match own {
+        Some(id) if entry_of(entries, Target::Staged(id)).is_none() => Some(id),
+        _ => {
+            let fresh = fresh_mission_id(entries, checksum);
+            if let (Some(own), Some(fresh)) = (own, fresh) {
+                tracing::warn!(
+                    %own,
+                    %fresh,
+                    "the FCC holds a staged mission named like this plan: the upload stages under \
+                     a fresh Mission ID, which the active lists will carry"
+                );
+            }
+            fresh
+        }
+    }
 }
 
 impl<G: SafetyGateway> GroundStation<G> {
@@ -458,7 +491,8 @@ impl<G: SafetyGateway> GroundStation<G> {
                 if staged >= MAX_STAGED_MISSIONS {
                     return self.fail(GcsError::Capacity { staged });
                 }
-                let Some(temp) = fresh else {
+                let Some(temp) = staging_id(&job.entries, job.mission.mission_id, job.checksums.0)
+                else {
                     return self.fail(GcsError::Capacity { staged });
                 };
                 job.temp = Some(temp);
