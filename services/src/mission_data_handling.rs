@@ -19,9 +19,9 @@
 //! leaves them as they were. Steady-state handling allocates nothing.
 //!
 //! The deadlines of the transfers (the download messages' ack timeouts, the uploads' transfer
-//! timeouts) are the slots of one [`TimerTable`] ([`FccTimer`]), kept in step with the transfers
-//! as in the GCS logic (`link::composite::Composite`): `poll_timeout` is its earliest deadline,
-//! and `handle_timeout` fires the transfers whose timers are due.
+//! timeouts) are owned by the transfers; [`FccTimer`] names them, one per transfer, as in the
+//! GCS logic (`link::composite::Composite`): `poll_timeout` is their earliest, and
+//! `handle_timeout` fires the transfers whose deadlines are due.
 //!
 //! The clear of ICD §5.1 step 1 (#13000 mode 1) empties the waypoint buffer at once, but the
 //! active list only with the #13000 mode 2 that closes the transfer. This project's choice where
@@ -73,7 +73,7 @@ use crate::link::composite::Composite;
 use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
-use crate::link::timer::{Timer, TimerTable};
+use crate::link::timer::Timer;
 use crate::transfer::areas::AreaList;
 use crate::transfer::closer::{Closer, CloserMemory, ClosingAnswer};
 use crate::transfer::integrity::{areas_checksum, mission_checksum};
@@ -185,7 +185,7 @@ pub enum DataKind {
 /// Events the queue holds; the driver drains it after every call.
 pub const EVENT_CAPACITY: usize = 8;
 
-/// The timers of mission data handling, one per transfer: each mirrors the deadline of the
+/// The timers of mission data handling, one per transfer: each names the deadline of the
 /// sender or receiver that runs the transfer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FccTimer {
@@ -260,7 +260,6 @@ pub struct MissionDataHandling {
     interrupted_until: Option<Instant>,
     /// Whether the driver was last told that a mission upload is open.
     upload_recorded_open: bool,
-    timers: TimerTable<FccTimer, 6>,
 }
 
 /// What mission data handling resumes with after a restart: what the driver recorded.
@@ -309,7 +308,6 @@ impl MissionDataHandling {
             closers: CloserMemory::new(),
             interrupted_until: None,
             upload_recorded_open: false,
-            timers: TimerTable::new(),
         }
     }
 
@@ -357,7 +355,6 @@ impl MissionDataHandling {
             self.interrupted_until = Some(now + self.config.transfer_timeout);
             self.upload_recorded_open = true;
         }
-        self.update_timers();
     }
 
     /// The generation of the active waypoint list and of the active area list.
@@ -1128,7 +1125,7 @@ impl MissionDataHandling {
 
     /// When [`MissionDataHandling::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.mirrored_timeout(&self.timers)
+        self.earliest_deadline()
     }
 
     /// The timers due at `now` fire: download retries, upload transfer timeouts.
@@ -1167,10 +1164,6 @@ fn staged_id(id: Option<Text<20>>) -> Result<MissionId, Reason> {
 }
 
 impl Composite<FccTimer, 6> for MissionDataHandling {
-    fn timers(&mut self) -> &mut TimerTable<FccTimer, 6> {
-        &mut self.timers
-    }
-
     fn endpoint(&mut self) -> &mut Endpoint {
         &mut self.endpoint
     }

@@ -24,8 +24,8 @@
 //! ([`Sequence::Atomic`]) and [`GroundStation::edit`] sends only what changed ([`edit`]); the
 //! steps each upload takes are in [`upload`].
 //!
-//! Their deadlines are the slots of one [`TimerTable`] ([`GcsTimer`]), kept in step with them as
-//! on the FCC (`link::composite::Composite`). Commands are typed:
+//! Their deadlines are their own; [`GcsTimer`] names them, one per transfer, as on the FCC
+//! (`link::composite::Composite`). Commands are typed:
 //! [`GroundStation::clear_areas`] and [`GroundStation::execute`] build #2011 mode 6 and #50000,
 //! so no tool writes a message by hand.
 
@@ -44,7 +44,7 @@ use crate::link::composite::Composite;
 use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::{AttemptFailure, ExchangeError};
 use crate::link::time::Instant;
-use crate::link::timer::{Timer, TimerTable};
+use crate::link::timer::Timer;
 use crate::transfer::areas::{AreaBuffer, AreaList};
 use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::{Mission, MissionBuffer};
@@ -644,7 +644,6 @@ pub struct GroundStation<G: SafetyGateway> {
     area_download: AreaReceiver,
     downloaded_mission: Option<Mission>,
     events: VecDeque<GcsEvent<G::Report>>,
-    timers: TimerTable<GcsTimer, 4>,
     /// Which lists the download in progress reads.
     download_target: Target,
     /// The staged mission the command in progress is about.
@@ -668,7 +667,6 @@ impl<G: SafetyGateway> GroundStation<G> {
             area_download: AreaReceiver::new(config.transfer_timeout),
             downloaded_mission: None,
             events: VecDeque::new(),
-            timers: TimerTable::new(),
             download_target: Target::Active,
             staged_command: None,
         }
@@ -909,7 +907,6 @@ impl<G: SafetyGateway> GroundStation<G> {
             &mut self.endpoint,
             now,
         ));
-        self.update_timers();
     }
 
     fn finish(&mut self, event: GcsEvent<G::Report>) {
@@ -1223,7 +1220,7 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// When [`GroundStation::handle_timeout`] must be called next.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.mirrored_timeout(&self.timers)
+        self.earliest_deadline()
     }
 
     /// The timers due at `now` fire: retries, and the download's transfer timeout.
@@ -1243,10 +1240,6 @@ impl<G: SafetyGateway> GroundStation<G> {
 }
 
 impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
-    fn timers(&mut self) -> &mut TimerTable<GcsTimer, 4> {
-        &mut self.timers
-    }
-
     fn endpoint(&mut self) -> &mut Endpoint {
         &mut self.endpoint
     }

@@ -1,29 +1,27 @@
 //! The frame of the two state machines made of transfers, mission data handling on the FCC and
 //! the GCS logic: one [`Endpoint`] whose received messages the machine routes to its transfers,
-//! and one [`TimerTable`] whose timers mirror the transfers' deadlines (the ack timeout of a
-//! sender's message in flight, the transfer timeout of a receiver).
+//! and one `enum` of timers, one per transfer, that names the transfers' deadlines (the ack
+//! timeout of a sender's message in flight, the transfer timeout of a receiver).
 //!
-//! A machine says which deadline each of its timers mirrors (`Composite::deadline`), what
-//! firing one means (`Composite::fire`) and where a message goes (`Composite::route`); the
-//! rest is written once, here: keeping the table in step with the transfers after every call
-//! that may have started, advanced or ended one, the firing loop, and the path of a received
-//! frame.
+//! Each transfer owns its deadline (in the one-slot timer table of its `Exchange` or
+//! `Silence`); the machine holds no copy of it. A machine says where each timer's deadline is
+//! (`Composite::deadline`), what firing one means (`Composite::fire`) and where a message goes
+//! (`Composite::route`); the rest is written once, here: `poll_timeout` as the earliest of the
+//! transfers' own deadlines, the firing loop, and the path of a received frame.
 
 use missionlink_interfaces::wire::{FrameError, Message};
 
 use crate::link::endpoint::{Endpoint, Inbound};
 use crate::link::time::Instant;
-use crate::link::timer::{Timer, TimerTable};
+use crate::link::timer::Timer;
 
 /// A state machine of transfers on one endpoint, with the timers `T`.
 pub(crate) trait Composite<T: Timer<N>, const N: usize> {
-    /// The machine's timer table.
-    fn timers(&mut self) -> &mut TimerTable<T, N>;
-
     /// The machine's endpoint.
     fn endpoint(&mut self) -> &mut Endpoint;
 
-    /// The current deadline of the transfer behind `timer`, if it runs one.
+    /// The current deadline of the transfer behind `timer`, if it runs one: read from the
+    /// transfer itself, which owns it.
     fn deadline(&self, timer: T) -> Option<Instant>;
 
     /// `timer` is due at `now`: its transfer handles the timeout.
@@ -33,38 +31,24 @@ pub(crate) trait Composite<T: Timer<N>, const N: usize> {
     /// of paper §3.1.2); `ack_requested` as its sender asked.
     fn route(&mut self, now: Instant, message: &Message, ack_requested: bool);
 
-    /// The machine's `poll_timeout`: the earliest deadline of its `table`. The table mirrors the
-    /// transfers, so every call that can start, advance or end a transfer must end in
-    /// [`Composite::update_timers`]; debug builds check here that none forgot.
-    fn mirrored_timeout(&self, table: &TimerTable<T, N>) -> Option<Instant> {
-        debug_assert!(
-            T::ALL
-                .into_iter()
-                .all(|timer| table.get(timer) == self.deadline(timer)),
-            "the timer table lags its transfers"
-        );
-        table.next_timeout()
+    /// The machine's `poll_timeout`: the earliest deadline of its transfers.
+    fn earliest_deadline(&self) -> Option<Instant> {
+        T::ALL
+            .into_iter()
+            .filter_map(|timer| self.deadline(timer))
+            .min()
     }
 
-    /// Copies every transfer's deadline into the table.
-    fn update_timers(&mut self) {
-        for timer in T::ALL {
-            let at = self.deadline(timer);
-            self.timers().set_or_stop(timer, at);
-        }
-    }
-
-    /// Fires the timers due at `now`, in [`Timer::ALL`] order, then updates the table.
+    /// Fires the timers due at `now` (a deadline is due at its instant, not after), in
+    /// [`Timer::ALL`] order.
     fn fire_expired(&mut self, now: Instant) {
         for timer in T::ALL {
             // Checked one by one against the transfers as they are now: a timer that fires may
-            // end other transfers, and with them their timers.
-            self.update_timers();
-            if self.timers().is_expired(timer, now) {
+            // end other transfers, and with them their deadlines.
+            if self.deadline(timer).is_some_and(|at| at <= now) {
                 self.fire(timer, now);
             }
         }
-        self.update_timers();
     }
 
     /// One frame (wrapper to checksum) received at `now`: preprocessing by the endpoint, then
@@ -77,7 +61,6 @@ pub(crate) trait Composite<T: Timer<N>, const N: usize> {
         } = self.endpoint().receive(now, bytes)?
         {
             self.route(now, &message, ack_requested);
-            self.update_timers();
         }
         Ok(())
     }
@@ -108,7 +91,6 @@ mod tests {
     /// the retry.
     struct Machine {
         endpoint: Endpoint,
-        timers: TimerTable<Part, 2>,
         retry: Option<Instant>,
         idle: Option<Instant>,
         fired: Vec<Part>,
@@ -116,9 +98,6 @@ mod tests {
     }
 
     impl Composite<Part, 2> for Machine {
-        fn timers(&mut self) -> &mut TimerTable<Part, 2> {
-            &mut self.timers
-        }
         fn endpoint(&mut self) -> &mut Endpoint {
             &mut self.endpoint
         }
@@ -144,7 +123,6 @@ mod tests {
     fn machine() -> Machine {
         Machine {
             endpoint: Endpoint::new(testkit::endpoint(FCC_ID, GCS_ID)),
-            timers: TimerTable::new(),
             retry: None,
             idle: None,
             fired: Vec::new(),
@@ -157,37 +135,32 @@ mod tests {
     }
 
     #[test]
-    fn the_table_mirrors_the_transfers_and_fires_only_what_is_still_due() {
+    fn the_timeout_is_the_earliest_transfer_deadline_and_only_what_is_still_due_fires() {
         let mut m = Machine {
             retry: Some(at(500)),
             idle: Some(at(400)),
             ..machine()
         };
-        m.update_timers();
-        assert_eq!(m.timers.next_timeout(), Some(at(400)));
+        assert_eq!(m.earliest_deadline(), Some(at(400)));
         m.fire_expired(at(399));
         assert!(m.fired.is_empty(), "nothing at t - 1");
         // Both are due at 500, but the retry, checked first, ends the idle transfer.
         m.fire_expired(at(500));
         assert_eq!(m.fired, [Part::Retry]);
-        assert_eq!(
-            m.timers.next_timeout(),
-            None,
-            "the table follows the transfers"
-        );
+        assert_eq!(m.earliest_deadline(), None, "the retry ended both");
     }
 
     #[test]
-    fn a_received_message_is_routed_and_its_timers_are_set() {
+    fn a_received_message_is_routed_and_its_deadlines_count() {
         let mut m = machine();
         let waypoint = testkit::uplink(&testkit::full_waypoint().into());
         m.receive_frame(at(10), &waypoint).unwrap();
         assert_eq!(m.routed, [(MessageType::UaPositionWaypoint, true)]);
-        assert_eq!(m.timers.next_timeout(), Some(at(510)));
+        assert_eq!(m.earliest_deadline(), Some(at(510)));
         // A frame that fails preprocessing reaches neither the machine nor its timers.
         let broken = &waypoint[..5];
         assert!(m.receive_frame(at(20), broken).is_err());
         assert_eq!(m.routed.len(), 1);
-        assert_eq!(m.timers.next_timeout(), Some(at(510)));
+        assert_eq!(m.earliest_deadline(), Some(at(510)));
     }
 }
