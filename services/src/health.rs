@@ -1,4 +1,4 @@
-//! Liveness of a partition from its heartbeats (DESIGN.md "Health"): the one rule by which the
+//! Liveness of a partition from its heartbeats (docs/design.md "Health"): the one rule by which the
 //! launcher decides that a partition it started hangs, and system automation that guidance is
 //! alive.
 //!

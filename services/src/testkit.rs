@@ -1,5 +1,5 @@
 //! Fixtures shared by every test and benchmark of the workspace (after rust-mavlink's
-//! `mavlink/tests/test_shared/mod.rs`; DESIGN.md, "Examples to follow"), so that no waypoint
+//! `mavlink/tests/test_shared/mod.rs`; docs/design.md, "Examples followed"), so that no waypoint
 //! literal, area helper, demo mission or endpoint configuration is written twice.
 //!
 //! Compiled in this crate's own tests and, for other crates' tests and benches, behind the cargo
@@ -423,7 +423,7 @@ pub fn uplink(message: &Message) -> Vec<u8> {
 }
 
 /// Whatever has frames to send through `poll_transmit`: the two machines and a bare endpoint.
-/// Tests and benches take frames as a driver does (DESIGN.md, after quinn-proto's
+/// Tests and benches take frames as a driver does (docs/design.md "Examples followed", after quinn-proto's
 /// `tests/util.rs`): encoded by the machine into a buffer, the bytes moved, never re-encoded.
 pub trait Transmit {
     /// The machine's own `poll_transmit`: the next frame into `buf`, its length.
