@@ -1,4 +1,4 @@
-//! Issue 13, "Activation replaces the waypoint list and the area list in one step": two staged
+//! Activation replaces the waypoint list and the area list in one step (ICD §8): two staged
 //! missions (ICD §8) activated alternately many times on the real FCC, while a watcher on the
 //! list services, using the pairing the partitions use (`ipc::ListPairing`), records every pair
 //! it is handed. Every pair is a whole mission, the waypoint list and the area list of the same

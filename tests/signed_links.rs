@@ -36,9 +36,9 @@ fn require(key_files: Vec<PathBuf>) -> Signing {
     }
 }
 
-/// The attack of issue 14: a well-formed #13000 clear, then a #13000 transmit with Waypoint
-/// Number 0, with the GCS's ID and the current time, sent from a foreign socket to both of the
-/// FCC's ports; each frame as `disguise` makes it for the link it goes to.
+/// The attack that link signing (ICD §9) stops: a well-formed #13000 clear, then a #13000 transmit
+/// with Waypoint Number 0, with the GCS's ID and the current time, sent from a foreign socket to
+/// both of the FCC's ports; each frame as `disguise` makes it for the link it goes to.
 fn attack(
     rig: &Rig,
     socket: &UdpSocket,

@@ -92,7 +92,8 @@ struct Rig {
     now: Instant,
     /// The FCC's last message that asked for an answer.
     request: Option<Message>,
-    /// Whether the driver holds the record "a mission upload is open" (issue 12).
+    /// Whether the driver holds the record "a mission upload is open" (restart safety, see
+    /// `services/src/mission_data_handling.rs`).
     upload_open: bool,
     progress: u64,
 }

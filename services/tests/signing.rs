@@ -39,8 +39,8 @@ fn upload(pair: &mut Pair, plan: &missionlink_services::ground_station::MissionP
     );
 }
 
-/// The attack of issue 14: a well-formed #13000 clear, then a #13000 transmit with Waypoint
-/// Number 0, with the GCS's ID, stamped now, right checksum; from a foreign sender.
+/// The attack that link signing (ICD §9) stops: a well-formed #13000 clear, then a #13000 transmit
+/// with Waypoint Number 0, with the GCS's ID, stamped now, right checksum; from a foreign sender.
 fn attack(pair: &Pair) -> Vec<Vec<u8>> {
     let utc = pair.now.micros() / 1000 + UTC_AT_ZERO_MS;
     [
