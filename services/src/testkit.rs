@@ -516,7 +516,7 @@ impl Rng {
     }
 }
 
-// ---- The onboard geofence check's worst case (ICD §7; BENCHMARKS.md section 5) ----
+// ---- The onboard geofence check's worst case (ICD §7; BENCHMARKS.md section 4) ----
 
 /// Where the worst case lies: its local east/north metres are measured from here.
 const WORST_CASE_ORIGIN: (f64, f64) = (48.27, 11.66);
@@ -712,7 +712,7 @@ pub fn published_lists(
     (waypoints, areas)
 }
 
-/// The worst case of the onboard geofence check (ICD §7; BENCHMARKS.md section 5): 256 waypoints
+/// The worst case of the onboard geofence check (ICD §7; BENCHMARKS.md section 4): 256 waypoints
 /// (255 track-to-fix legs: 128 lanes of 12.4 km, 116 of 1.1 km between corridors, 11 of 24 m
 /// between passes; plus the climb and the way from the take-off
 /// point) against 11 areas of 60 vertices, every zone within 40 m (the closest) to 300 m of
