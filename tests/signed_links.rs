@@ -84,7 +84,7 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     upload(&mut link, &mission_1).unwrap();
 
     let stranger = UdpSocket::bind("127.0.0.1:0").unwrap();
-    // Unsigned, as the attacker sent them.
+    // Unsigned, as an attacker without the key sends them.
     attack(&rig, &stranger, 0, |_, f| f.to_vec());
     // Signed with the right Key ID and a key of the stranger's own.
     let guessed = Signer::new(LinkKey::new(1, &[0x11; 32]));

@@ -138,7 +138,7 @@ fn a_captured_upload_replayed_later_is_refused() {
     let areas_2_active = pair.fcc.active_areas().cloned();
 
     // Within the 60 s window (the identities are remembered), then 73 s later (the stamps are
-    // out of the window), as the attacker did.
+    // out of the window), as an attacker replaying a capture would.
     for delay in [Duration::from_secs(5), Duration::from_secs(73)] {
         pair.run_until(pair.now + delay);
         let before = pair

@@ -467,7 +467,7 @@ def rows():
         zone_text("nfz", "polygon", polygon_local(q, az, [
             (-1800, -120), (0, -45), (2100, -160), (900, -2900), (-1500, -2400)])))
 
-    # --- the case of the issue: 35 km east-west at 71 N -------------------------------------------
+    # --- the case that first showed it: 35 km east-west at 71 N -----------------------------------
     # The geodesic runs about 70 m north of the straight lat/lon line at the midpoint. Zone 1's
     # southern vertex is 40 m south of the geodesic (30 m north of the straight line): entered.
     # Zone 2's southern vertex is 40 m north of the geodesic: missed.
