@@ -1,5 +1,5 @@
-//! The cost of the onboard geofence check of ICD §7 (ext) in its worst case (issue 11, "Cost,
-//! measured"; the goal is under 10 ms): 256 waypoints against 11 areas of 60 vertices, every
+//! The cost of the onboard geofence check of ICD §7 (ext) in its worst case (the goal
+//! is under 10 ms; BENCHMARKS.md section 4): 256 waypoints against 11 areas of 60 vertices, every
 //! zone within 40 m to 300 m of the legs beside it, and the check passing, so it looks at every
 //! leg and zone (`testkit::geofence_worst_case`; a failing check stops at its first violation).
 //!

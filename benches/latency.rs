@@ -114,7 +114,8 @@ const DEFAULT_FRAMES: u64 = 100_000;
 const DEFAULT_WARMUP: u64 = 2_000;
 /// The SCHED_FIFO priority of both sides in the real-time case of `--load`.
 const LOAD_FIFO_PRIORITY: u8 = 50;
-/// The goal of issue 16 for the hop under load with real-time settings: p99.9 at most this.
+/// The goal for the hop under load with real-time settings (BENCHMARKS.md section 7): p99.9 at
+/// most this.
 const LOAD_GOAL_P999: Duration = Duration::from_micros(200);
 /// A side that hears nothing for this long gives up: the other process is gone.
 const TIMEOUT: Duration = Duration::from_secs(10);
@@ -1321,8 +1322,8 @@ fn print_load_table(results: &[Value]) {
         let p999 = us(r, "p999_ns");
         let goal = LOAD_GOAL_P999.as_secs_f64() * 1e6;
         println!(
-            "Goal (issue 16): under load with real-time settings p99.9 at most {goal:.0} µs: \
-             {p999:.2} µs, {}",
+            "Goal (BENCHMARKS.md section 7): under load with real-time settings p99.9 at most \
+             {goal:.0} µs: {p999:.2} µs, {}",
             if p999 <= goal { "met" } else { "NOT met" }
         );
     }

@@ -1,5 +1,5 @@
-//! Transfers over emulated links (issue 15): the real FCC (the `fcc` launcher and its
-//! partitions) and the real GCS link, through the user-space link emulator
+//! Transfers over emulated links (BENCHMARKS.md section 6): the real FCC (the `fcc` launcher and
+//! its partitions) and the real GCS link, through the user-space link emulator
 //! (`missionlink::link_emulator`) with a named profile on both links, both ways. Each case is
 //! uploaded (the paper's sequence, clear first) over another demo mission, so that both lists
 //! change, and downloaded, stop-and-wait (window 1, ICD §5)

@@ -78,7 +78,8 @@ impl Impairments {
     }
 }
 
-/// The named links of the tests and benchmarks (issue 15).
+/// The named links of the tests and benchmarks (`tests/emulated_links.rs`, `tests/link_faults.rs`,
+/// BENCHMARKS.md section 6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Profile {
     /// A LAN: 0.1 ms one way, nothing lost.

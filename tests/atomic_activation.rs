@@ -1,8 +1,8 @@
-//! Issue 13, "Activation replaces the waypoint list and the area list in one step": two staged
+//! Activation replaces the waypoint list and the area list in one step (ICD §8): two staged
 //! missions (ICD §8) activated alternately many times on the real FCC, while a watcher on the
 //! list services, using the pairing the partitions use (`ipc::ListPairing`), records every pair
 //! it is handed. Every pair is a whole mission, the waypoint list and the area list of the same
-//! staged mission: never the new waypoints with the old areas or the reverse (DESIGN.md
+//! staged mission: never the new waypoints with the old areas or the reverse (docs/design.md
 //! "Activation is atomic"). How often the newest samples of the two services were of different
 //! activations is printed, not asserted: it depends on timing, and shows what the pairing
 //! prevented.

@@ -1,9 +1,9 @@
-//! Issue 13, "Done when": the GCS dies in the middle of an atomic upload (ICD §8: stage under a
-//! fresh Mission ID, activate, delete the staged copy), after its k-th message, k drawn with a
-//! seed over the whole upload, many times. Afterwards the FCC's active lists are the old ones,
-//! whole, whenever the activation (#50000 command 4) had not been sent; the new ones, whole, when
-//! it had (loopback loses nothing, so a sent activation arrives). Never a mix: the FCC's report
-//! (its checksums, ICD §11) and the lists it publishes to guidance agree.
+//! The atomic upload survives its GCS: the GCS dies in the middle of an atomic upload (ICD §8:
+//! stage under a fresh Mission ID, activate, delete the staged copy), after its k-th message, k
+//! drawn with a seed over the whole upload, many times. Afterwards the FCC's active lists are the
+//! old ones, whole, whenever the activation (#50000 command 4) had not been sent; the new ones,
+//! whole, when it had (loopback loses nothing, so a sent activation arrives). Never a mix: the
+//! FCC's report (its checksums, ICD §11) and the lists it publishes to guidance agree.
 //!
 //! "Dies" is the crash of the GCS process: it sends, answers and retries nothing more, and a new
 //! GCS starts on the same ports ([`GcsLink::into_links`]), asks the report, deletes the staged

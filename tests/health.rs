@@ -1,4 +1,4 @@
-//! Health across processes (DESIGN.md "Health", issue 16): the launcher finds a partition that
+//! Health across processes (docs/design.md "Health"): the launcher finds a partition that
 //! hangs (SIGSTOP) by its heartbeat, logs it by name, kills and restarts it; one killed with
 //! `kill -9` is restarted; system automation refuses execute while guidance is not alive, and
 //! the GCS hears the reason (`WrongState`). The limit itself (2.5 periods, found within 3) is

@@ -1,4 +1,4 @@
-//! Issue 15, the cross-process fault test: the real FCC (launcher and partitions) and the real
+//! The cross-process fault test: the real FCC (launcher and partitions) and the real
 //! GCS through the link emulator, with seeded loss, duplication, reordering and corruption on
 //! one link or both, and `kill -9` of a random partition in the middle of an atomic upload
 //! (ICD §8). After every trial the FCC's active lists are the mission uploaded, whole, or the

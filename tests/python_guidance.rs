@@ -1,5 +1,5 @@
 //! The guidance partition in Python (partitions/python/missionlink_guidance.py) in place of the
-//! Rust guidance stub (issue 16):
+//! Rust guidance stub (docs/deployment.md, "The Python guidance"):
 //!
 //! - **End to end**: the FCC started without its stub (`fcc --without guidance-stub`), the
 //!   Python guidance started with the test's service prefix, mission 1 uploaded and executed by

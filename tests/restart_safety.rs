@@ -1,8 +1,8 @@
-//! Issue 12, "Done when": an upload of demo mission 2 over mission 1, with mission data handling
-//! killed (`kill -9`) right after the FCC's k-th message of the upload, for every k of the
-//! sequence (the report before the upload, the clear, every waypoint, the transmit, the area
-//! upload, the last answer). Afterwards the active lists are the old ones or the new ones, whole,
-//! and the GCS's report says which, every time.
+//! Restart safety (`services/src/mission_data_handling.rs`): an upload of demo mission 2 over
+//! mission 1, with mission data handling killed (`kill -9`) right after the FCC's k-th message of
+//! the upload, for every k of the sequence (the report before the upload, the clear, every
+//! waypoint, the transmit, the area upload, the last answer). Afterwards the active lists are the
+//! old ones or the new ones, whole, and the GCS's report says which, every time.
 //!
 //! The launcher restarts the partition; it resumes with the lists it recorded before answering
 //! and refuses the rest of an upload it did not see from the start (the restart record of
@@ -114,7 +114,7 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
     eprintln!("kill after FCC message k of {total}: {seen:?}");
 }
 
-/// Issue 13: staged missions are kept across a restart of mission data handling like the active
+/// Staged missions are kept across a restart of mission data handling like the active
 /// lists (ICD §8). Mission 2 is staged, the partition is killed (`kill -9`); the restarted one
 /// reports the same staged mission (its checksums) and activates it.
 #[test]

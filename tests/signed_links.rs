@@ -36,9 +36,9 @@ fn require(key_files: Vec<PathBuf>) -> Signing {
     }
 }
 
-/// The attack of issue 14: a well-formed #13000 clear, then a #13000 transmit with Waypoint
-/// Number 0, with the GCS's ID and the current time, sent from a foreign socket to both of the
-/// FCC's ports; each frame as `disguise` makes it for the link it goes to.
+/// The attack that link signing (ICD §9) stops: a well-formed #13000 clear, then a #13000 transmit
+/// with Waypoint Number 0, with the GCS's ID and the current time, sent from a foreign socket to
+/// both of the FCC's ports; each frame as `disguise` makes it for the link it goes to.
 fn attack(
     rig: &Rig,
     socket: &UdpSocket,
@@ -84,7 +84,7 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     upload(&mut link, &mission_1).unwrap();
 
     let stranger = UdpSocket::bind("127.0.0.1:0").unwrap();
-    // Unsigned, as the issue's attacker sent them.
+    // Unsigned, as an attacker without the key sends them.
     attack(&rig, &stranger, 0, |_, f| f.to_vec());
     // Signed with the right Key ID and a key of the stranger's own.
     let guessed = Signer::new(LinkKey::new(1, &[0x11; 32]));

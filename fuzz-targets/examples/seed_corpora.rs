@@ -1,5 +1,5 @@
-//! Writes the seed inputs of every fuzz target into `fuzz/corpus/<target>/seed-*` (README,
-//! "Fuzzing"): what the targets start from before the fuzzer finds its own inputs, built from
+//! Writes the seed inputs of every fuzz target into `fuzz/corpus/<target>/seed-*`
+//! (docs/fuzzing.md): what the targets start from before the fuzzer finds its own inputs, built from
 //! the project's one set of fixtures.
 //!
 //! - Frames: the golden frames of the `interfaces` tests (written beforehand into

@@ -18,8 +18,8 @@
 //!   changed waypoint list assembles again from its own messages into itself, with the same
 //!   checksum (ICD §11); a changed area list assembles again with the same checksum; the staged
 //!   missions likewise (ICD §8); a changed list has a newer generation, generations never go
-//!   back, and both published lists carry the activation of the pair (DESIGN.md: activation is
-//!   atomic) and show the active lists;
+//!   back, and both published lists carry the activation of the pair (docs/design.md "Activation
+//!   is atomic") and show the active lists;
 //! - every frame the FCC sends decodes and is addressed to the GCS;
 //! - a deadline that fires does not stay due.
 //!
@@ -92,7 +92,8 @@ struct Rig {
     now: Instant,
     /// The FCC's last message that asked for an answer.
     request: Option<Message>,
-    /// Whether the driver holds the record "a mission upload is open" (issue 12).
+    /// Whether the driver holds the record "a mission upload is open" (restart safety, see
+    /// `services/src/mission_data_handling.rs`).
     upload_open: bool,
     progress: u64,
 }

@@ -10,8 +10,8 @@
 //!   a value its field path, a refusal every element it refuses with its path; an import never
 //!   reports an I/O error (it reads no file);
 //! - a TOML plan whose lists assemble writes a file (`MissionFile::from_plan`, as `gcs convert`
-//!   and `gcs download -o` do) that reads back to the same lists (README: "download then upload
-//!   is a round trip").
+//!   and `gcs download -o` do) that reads back to the same lists (docs/mission-files.md: a
+//!   download followed by an upload is a round trip).
 
 use core::fmt::Write;
 

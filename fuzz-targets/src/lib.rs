@@ -1,4 +1,4 @@
-//! The fuzz targets of missionlink (DESIGN.md, "Testing"), one entry point per target: a
+//! The fuzz targets of missionlink (docs/design.md, "Testing"), one entry point per target: a
 //! function that takes the fuzzer's bytes and panics only when an invariant is broken.
 //!
 //! The entry points live here, in a crate of the workspace that builds on stable, so that one

@@ -389,8 +389,8 @@ pub fn render_text(m: &MessageJson) -> String {
 mod tests {
     use super::*;
 
-    /// A #13002 of the demo mission 1 (CCP), as in README.md.
-    pub(crate) const README_13002: &str = "ffff001d0a0000010b00000132caa880\
+    /// A #13002 of the demo mission 1 (CCP), as in docs/gcs.md ("The frame inspector").
+    pub(crate) const DOCUMENTED_13002: &str = "ffff001d0a0000010b00000132caa880\
         002f6fc5932a9a000001225432100847e856001770030032000000000000000a12";
 
     #[test]
@@ -425,7 +425,7 @@ mod tests {
     fn a_signed_frame_shows_its_trailer_and_whether_it_verifies() {
         use missionlink_interfaces::contracts::Link;
         use missionlink_services::link::signing::{LinkKey, Signer};
-        let frame = parse_hex(README_13002).unwrap();
+        let frame = parse_hex(DOCUMENTED_13002).unwrap();
         let key = LinkKey::new(3, &[9; 32]);
         let mut signed = [0u8; wire::MAX_SIGNED_FRAME_LEN];
         let len = Signer::new(key.clone())
@@ -462,8 +462,8 @@ mod tests {
     }
 
     #[test]
-    fn readme_frame_decodes() {
-        let bytes = parse_hex(README_13002).unwrap();
+    fn documented_frame_decodes() {
+        let bytes = parse_hex(DOCUMENTED_13002).unwrap();
         let all = inspect_datagram(&bytes, None, None);
         assert_eq!(all.len(), 1);
         assert!(all[0].is_ok(), "{:?}", all[0]);

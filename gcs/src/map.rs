@@ -1,5 +1,6 @@
 //! The mission map: a validated plan drawn as an SVG document, written by hand as text (no
-//! plotting crate), for `gcs map` and the README.
+//! plotting crate), for `gcs map` and the documents
+//! (`docs/mission-2.svg`).
 //!
 //! What is drawn, bottom to top: the fly-zone (light green) and, dashed, the fly-zone shrunk by
 //! the safety offset; every no-fly-zone (polygon or circle, light red) and, dashed, the

@@ -1,159 +1,5 @@
-//! The mission file of the `gcs` tool: one mission plan (waypoints and areas) as a human-readable
-//! TOML document. `gcs upload` reads it ([`MissionFile::read`], [`MissionFile::to_plan`]);
-//! `gcs download -o` writes one ([`MissionFile::from_plan`], [`MissionFile::to_toml`]). The demo
-//! missions are `missions/mission-1.toml` and `missions/mission-2.toml`.
-//!
-//! The file holds everything ICD §4 can carry in a mission and an area upload: the Mission ID of
-//! #13000, the take-off height (#13006 type 1), the route (#13001), every waypoint (#13002) with
-//! its radius-to-fix centre (#13006 type 2), the Safety Offset of #2011 and every area (#2012).
-//! Besides, it holds the planned take-off position, which is not sent (the FCC takes off where
-//! navigation says it stands, ICD §7) but which the safety gateway checks: the take-off point,
-//! the climb and the leg to the initial waypoint. Time stamps are not part of it: they are given
-//! at sending.
-//!
-//! # Conventions
-//!
-//! - Units are in the key names: `_deg` degrees (WGS-84), `_m` metres, `_mps` metres per second.
-//! - A position is a pair `[latitude_deg, longitude_deg]` (in `take_off_position`, `polygon`,
-//!   `centre`, `border`).
-//! - Enumerations are kebab-case words, e.g. `"wgs84"`, `"fly-by"`, `"radius-to-fix"`.
-//! - Keys marked *optional* may be left out: the field is then absent from the message, as the
-//!   ICD allows. Every other key is required. Unknown keys are an error (a misspelt optional key
-//!   would otherwise go unnoticed).
-//! - Integers are plain TOML integers; floats may be written as integers (`altitude_m = 120`).
-//! - Values are stored as the wire encodes them: angles to the BAM4 step (about 9 mm),
-//!   altitudes to 0.02 m, speeds to 0.5 m/s, the safety offset to 0.1 m. A file written by
-//!   `gcs download -o` holds the exact wire values (the shortest decimal that gives each back),
-//!   so reading it again gives the very same plan.
-//!
-//! # Example
-//!
-//! Demo mission 2 (`missions/mission-2.toml`; the demo is described in `missions/README.md` of
-//! the project's shared documents), with the optional keys that it does not use shown as well:
-//!
-//! ```toml
-//! mission_id = "MEDEVAC-2"    # optional, #13000 Mission ID, at most 19 bytes
-//! take_off_height_m = 30.0    # #13006 type 1, above ground, not below 0
-//! take_off_position = [48.275, 11.645]  # where the aircraft stands before take-off (CCP)
-//! take_off_activity_id = 0    # optional, Activity ID of that #13006
-//! safety_offset_m = 25.0      # #2011: the geofence keeps this distance from every area border
-//!
-//! [route]                     # #13001
-//! initial_waypoint = 1        # where the flight plan starts (CCP)
-//! bidirectional = true        # return-to-home may fly the route backwards
-//! route_id = "CCP-ROLE2"      # optional, at most 32 bytes
-//! route_type = "flight"       # optional: launch, approach, flight, contingency-a, contingency-b
-//!
-//! [[waypoints]]               # CCP, casualty collection point (#13002)
-//! number = 1                  # 1..=65534, unique
-//! next = 2                    # the waypoint that follows in the flight plan; 0 = last
-//! latitude_deg = 48.275
-//! longitude_deg = 11.645
-//! altitude_m = 120.0
-//! altitude_type = "wgs84"     # optional: pressure, baro, agl, wgs84
-//! speed_mps = 25.0            # above 0
-//! speed_type = "indicated-airspeed"  # optional: indicated-airspeed, true-airspeed, ground-speed
-//! turn_type = "fly-by"        # fly-by, fly-over
-//! leg_type = "track-to-fix"   # of the leg that ends here: track-to-fix, radius-to-fix
-//!
-//! [[waypoints]]               # W1
-//! number = 2
-//! next = 3
-//! latitude_deg = 48.278
-//! longitude_deg = 11.658
-//! altitude_m = 120.0
-//! altitude_type = "wgs84"
-//! speed_mps = 25.0
-//! speed_type = "indicated-airspeed"
-//! turn_type = "fly-by"
-//! leg_type = "track-to-fix"
-//! # The optional fields of #13002, all of them:
-//! location_type = "absolute"          # the only one supported (relative is refused by the FCC)
-//! altitude_change_behaviour = 0       # U1
-//! limit_type = 0                      # U1
-//! loop_limit = 0                      # U2
-//! arrival_time = 2026-11-21T12:06:00Z # RFC 3339 with offset (a quoted string works too)
-//! activity_id = 0                     # U3
-//!
-//! [[waypoints]]               # ROLE2, hospital landing pad
-//! number = 3
-//! next = 0
-//! latitude_deg = 48.28
-//! longitude_deg = 11.68
-//! altitude_m = 120.0
-//! altitude_type = "wgs84"
-//! speed_mps = 25.0
-//! speed_type = "indicated-airspeed"
-//! turn_type = "fly-by"
-//! leg_type = "radius-to-fix"
-//! optional_messages = 1       # optional U1 bitmap; bit 0 = a #13006 RF centre follows
-//!
-//! [waypoints.rf_centre]       # #13006 type 2 of the waypoint above (required for radius-to-fix)
-//! latitude_deg = 48.27455
-//! longitude_deg = 11.66991
-//! turn_direction = "clockwise"  # clockwise, counter-clockwise
-//! activity_id = 0               # optional, Activity ID of that #13006
-//!
-//! [[areas]]                   # the fly-zone (#2012)
-//! area_id = 1                 # 1..=65534, unique
-//! area_type = "fly-zone"      # fly-zone (stay-in), no-fly-zone (keep-out)
-//! polygon = [[48.255, 11.635], [48.255, 11.69], [48.285, 11.69], [48.285, 11.635]]
-//! lower_altitude_m = 0.0      # optional
-//! upper_altitude_m = 300.0    # optional, not below lower_altitude_m
-//! altitude_type = "wgs84"     # optional
-//!
-//! [[areas]]                   # circular no-fly-zone
-//! area_id = 2
-//! area_type = "no-fly-zone"
-//! circle = { centre = [48.268, 11.675], border = [48.268, 11.679] }
-//!
-//! [[areas]]                   # polygonal no-fly-zone
-//! area_id = 3
-//! area_type = "no-fly-zone"
-//! polygon = [[48.262, 11.64], [48.262, 11.646], [48.266, 11.646], [48.266, 11.64]]
-//! ```
-//!
-//! # Keys
-//!
-//! Top level: `mission_id` (optional), `take_off_height_m`, `take_off_activity_id` (optional),
-//! `take_off_position` (optional), `safety_offset_m`, the table `[route]`, the arrays of tables
-//! `[[waypoints]]` and `[[areas]]`.
-//!
-//! `take_off_position` is the planned take-off position `[latitude_deg, longitude_deg]` (WGS-84;
-//! the aircraft climbs there vertically to `take_off_height_m`, then flies to the initial
-//! waypoint). It is optional as a key because a download has none (the FCC does not hold it):
-//! a file without it is still read, and validation refuses its plan (a `PLAN-*` violation).
-//!
-//! A waypoint: `number`, `next`, `latitude_deg`, `longitude_deg`, `altitude_m`, `speed_mps`,
-//! `turn_type`, `leg_type`; optional `altitude_type`, `speed_type`, `location_type`,
-//! `altitude_change_behaviour`, `optional_messages`, `limit_type`, `loop_limit`, `arrival_time`,
-//! `activity_id` and the table `rf_centre` (`latitude_deg`, `longitude_deg`, `turn_direction`,
-//! optional `activity_id`). Waypoints may be listed in any order: `number` and `next` define the
-//! flight plan, which starts at the route's `initial_waypoint`. `optional_messages` is written
-//! as given; it is not derived from `rf_centre`.
-//!
-//! An area: `area_id`, `area_type`, either `polygon` (the vertices in order, not closed: the last
-//! connects to the first) or `circle`; optional `lower_altitude_m`, `upper_altitude_m`,
-//! `altitude_type`. A circle is `centre` plus either `border` (a point on the border: exact,
-//! what a download writes) or `radius_m` (on input only: the border point is then placed due
-//! north of the centre at that geodesic distance on WGS-84, the one Earth model of
-//! `services::geofence::earth`). The
-//! areas are uploaded in the order listed, and a download gives them back in that order.
-//!
-//! # Checks
-//!
-//! - [`MissionFile::parse`] checks the TOML: syntax, value types, required and unknown keys
-//!   ([`MissionFileError::Syntax`], with line and column).
-//! - [`MissionFile::to_plan`] checks each value against what the wire types and the FCC's
-//!   message decoding accept: ranges, text lengths, enumeration words, duplicate waypoint numbers
-//!   or area IDs, at most 256 waypoints, 11 areas, 60 vertices per polygon
-//!   ([`MissionFileError::Field`], with the path of the key, e.g. `waypoints[2].latitude_deg`
-//!   or `take_off_position`).
-//! - The plan as a whole is left to the GCS validation (`GroundStation::validate`, the FCC's
-//!   assembly, ICD §7): the chain of `next` from the initial waypoint, the waypoint count, RF
-//!   centres of radius-to-fix waypoints, exactly one fly-zone that is a polygon, circle radius
-//!   above 0, polygons of at least 3 vertices (`BadGeometry`). A file may hold a plan that
-//!   fails these: it is still a file, and validation names the reason.
+//! The mission file of the `gcs` tool, one mission plan as TOML: the format is documented, with
+//! a complete example, in `docs/mission-files.md`.
 
 use core::fmt;
 use std::path::{Path, PathBuf};
@@ -175,7 +21,7 @@ use crate::values::{
     point, shortest,
 };
 
-/// A mission file: one mission plan in the format of the [module documentation](self).
+/// A mission file: one mission plan in the format of `docs/mission-files.md`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MissionFile {
@@ -565,7 +411,7 @@ impl MissionFile {
             ""
         };
         format!(
-            "# missionlink mission file (format: gcs/src/mission_file.rs in missionlink).\n\
+            "# missionlink mission file (format: docs/mission-files.md in missionlink).\n\
              # Positions are [latitude_deg, longitude_deg] on WGS-84.\n{take_off}\n{body}"
         )
     }
@@ -1770,18 +1616,14 @@ pub(crate) mod tests {
 
     #[test]
     fn the_documented_example_validates() {
-        let source = include_str!("mission_file.rs");
+        // The first `toml` block of the format's document is its complete example.
+        let source = include_str!("../../docs/mission-files.md");
         let example: String = source
             .lines()
-            .skip_while(|l| *l != "//! ```toml")
+            .skip_while(|l| *l != "```toml")
             .skip(1)
-            .take_while(|l| *l != "//! ```")
-            .map(|l| {
-                format!(
-                    "{}\n",
-                    l.strip_prefix("//!").unwrap_or(l).trim_start_matches(' ')
-                )
-            })
+            .take_while(|l| *l != "```")
+            .map(|l| format!("{l}\n"))
             .collect();
         assert!(example.contains("[[areas]]"));
         let v = validated(&example);

@@ -10,8 +10,9 @@ use std::process::Output;
 
 use support::gcs;
 
-/// The #13002 of README.md: waypoint 1 of demo mission 1 (CCP), written by hand from the ICD.
-const README_13002: &str = "ffff001d0a0000010b00000132caa880002f6fc5932a9a000001225432100847e856001770030032000000000000000a12";
+/// The #13002 of docs/gcs.md ("The frame inspector"): waypoint 1 of demo mission 1 (CCP), written
+/// by hand from the ICD.
+const DOCUMENTED_13002: &str = "ffff001d0a0000010b00000132caa880002f6fc5932a9a000001225432100847e856001770030032000000000000000a12";
 
 fn stdout(o: &Output) -> String {
     String::from_utf8(o.stdout.clone()).expect("UTF-8")
@@ -22,8 +23,8 @@ fn stderr(o: &Output) -> String {
 }
 
 #[test]
-fn readme_frame_prints_every_field_in_units() {
-    let o = gcs(&["inspect", README_13002], "");
+fn documented_frame_prints_every_field_in_units() {
+    let o = gcs(&["inspect", DOCUMENTED_13002], "");
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     for line in [
@@ -51,7 +52,7 @@ fn readme_frame_prints_every_field_in_units() {
 
 #[test]
 fn json_then_encode_gives_the_frame_back() {
-    let o = gcs(&["inspect", "--json", README_13002], "");
+    let o = gcs(&["inspect", "--json", DOCUMENTED_13002], "");
     assert!(o.status.success());
     let json = stdout(&o);
     let v: serde_json::Value = serde_json::from_str(json.trim()).expect("one JSON object");
@@ -59,13 +60,13 @@ fn json_then_encode_gives_the_frame_back() {
     assert_eq!(v["fields"]["speed"], 25.0);
     let o = gcs(&["encode"], &json);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(stdout(&o).trim(), README_13002);
+    assert_eq!(stdout(&o).trim(), DOCUMENTED_13002);
 }
 
 #[test]
 fn stdin_datagrams_with_several_messages_and_comments() {
-    let two = format!("{README_13002}{README_13002}");
-    let input = format!("# capture of the direct link\n\n{two}\n{README_13002}\n");
+    let two = format!("{DOCUMENTED_13002}{DOCUMENTED_13002}");
+    let input = format!("# capture of the direct link\n\n{two}\n{DOCUMENTED_13002}\n");
     let o = gcs(&["inspect", "--json"], &input);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(stdout(&o).lines().count(), 3);
@@ -73,7 +74,7 @@ fn stdin_datagrams_with_several_messages_and_comments() {
 
 #[test]
 fn bad_checksum_names_the_rule_and_fails() {
-    let broken = format!("{}13", &README_13002[..README_13002.len() - 2]);
+    let broken = format!("{}13", &DOCUMENTED_13002[..DOCUMENTED_13002.len() - 2]);
     let o = gcs(&["inspect", &broken], "");
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
@@ -85,9 +86,9 @@ fn bad_checksum_names_the_rule_and_fails() {
 
 #[test]
 fn rejected_message_names_message_field_and_reason() {
-    // The README frame with waypoint number 0 (data byte 9 of the frame is 0x01 -> 0x00) and the
-    // checksum lowered by one to match.
-    let mut bytes = hex::decode(README_13002).expect("hex");
+    // The documented frame with waypoint number 0 (data byte 9 of the frame is 0x01 -> 0x00) and
+    // the checksum lowered by one to match.
+    let mut bytes = hex::decode(DOCUMENTED_13002).expect("hex");
     bytes[25] = 0;
     let n = bytes.len();
     bytes[n - 1] -= 1;
@@ -110,7 +111,7 @@ fn addressing_rules_apply_when_asked() {
             "0x0A000001",
             "--peer-id",
             "0x0B000001",
-            README_13002,
+            DOCUMENTED_13002,
         ],
         "",
     );
@@ -123,7 +124,7 @@ fn addressing_rules_apply_when_asked() {
             "0x0B000001",
             "--peer-id",
             "0x0A000001",
-            README_13002,
+            DOCUMENTED_13002,
         ],
         "",
     );

@@ -486,9 +486,9 @@ fn exit_status_two_is_for_input_that_cannot_be_read() {
     assert!(help.contains("--drop <WHAT>"), "{help}");
 }
 
-/// Issue 11: area defects are violations. Demo mission 2 with its fly-zone taken out and its
-/// polygonal no-fly-zone cut to two vertices: `--json` names both defects with their area,
-/// and the verdict is infeasible (exit 1), the ICD reason beside them.
+/// Area defects (ICD §7) are violations of the safety gateway. Demo mission 2 with its fly-zone
+/// taken out and its polygonal no-fly-zone cut to two vertices: `--json` names both defects with
+/// their area, and the verdict is infeasible (exit 1), the ICD reason beside them.
 #[test]
 fn a_plan_without_a_fly_zone_lists_area_violations_with_the_area() {
     let dir = scratch("no-fly-zone");

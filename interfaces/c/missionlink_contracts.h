@@ -1,7 +1,7 @@
 /*
  * missionlink_contracts.h: the iceoryx2 contracts between the FCC partitions for C (and C++),
  * the same payloads as interfaces/src/contracts.rs and the wire newtypes of
- * interfaces/src/wire (DESIGN.md, "Contracts between partitions"), so that a partition written
+ * interfaces/src/wire (docs/design.md, "Contracts between partitions"), so that a partition written
  * in C opens the same services as the Rust ones.
  *
  * Hand-written, kept in step with the Rust types by interfaces/tests/contracts_layout.rs: it

@@ -1,7 +1,7 @@
 """The iceoryx2 contracts between the FCC partitions for Python.
 
 The same payloads as interfaces/src/contracts.rs and the wire newtypes of interfaces/src/wire
-(DESIGN.md, "Contracts between partitions") as ctypes structures with the Rust type names, so
+(docs/design.md, "Contracts between partitions") as ctypes structures with the Rust type names, so
 that a partition written in Python opens the same services as the Rust ones: iceoryx2 matches a
 service's payload by type name, size and alignment, and each payload class here gives its type
 name by `type_name()`, which iceoryx2's Python binding asks for.

@@ -1,4 +1,4 @@
-//! The iceoryx2 contracts between the FCC partitions (DESIGN.md, "Contracts between
+//! The iceoryx2 contracts between the FCC partitions (docs/design.md, "Contracts between
 //! partitions"): the payload types, their services and QoS, and the service names.
 //!
 //! Every payload is `#[repr(C)]`, fixed size and [`ZeroCopySend`], defined here once: iceoryx2
@@ -67,7 +67,7 @@ pub enum FccService {
     /// automation to carry out (queue, no history: a restarted automation must not replay an
     /// old command).
     AutomationCommand,
-    /// `fcc/health/<partition>`: the partition's heartbeat on its fixed period (DESIGN.md
+    /// `fcc/health/<partition>`: the partition's heartbeat on its fixed period (docs/design.md
     /// "Health"), history 1; the launcher and system automation watch it.
     Heartbeat(Partition),
 }
@@ -427,7 +427,7 @@ impl WaypointListPayload {
     }
 }
 
-/// Whether a waypoint list and an area list belong together (DESIGN.md "Activation is
+/// Whether a waypoint list and an area list belong together (docs/design.md "Activation is
 /// atomic"): they were published under the same activation.
 ///
 /// Mission data handling publishes both lists together whenever either changes (an upload's
@@ -735,10 +735,10 @@ impl AutomationCommandPayload {
     }
 }
 
-/// The period partitions beat at when the configuration does not say (DESIGN.md "Health").
+/// The period partitions beat at when the configuration does not say (docs/design.md "Health").
 pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration::from_millis(100);
 
-/// `fcc/health/<partition>`: a partition shows it is alive (DESIGN.md "Health"). It sends one
+/// `fcc/health/<partition>`: a partition shows it is alive (docs/design.md "Health"). It sends one
 /// from its event loop on a fixed period, so a partition that is stopped (SIGSTOP), stuck in a
 /// step or dead sends none; whoever watches it takes the time the sample arrived, not
 /// `time_ns`, and the period the partition says it beats at.

@@ -1,4 +1,4 @@
-//! The contracts for C and Python stay in step with the Rust types (DESIGN.md, "Contracts
+//! The contracts for C and Python stay in step with the Rust types (docs/design.md, "Contracts
 //! between partitions": a replacement partition in another language opens the same services).
 //!
 //! Three descriptions of the same contracts are reduced to one list of facts each, one line per

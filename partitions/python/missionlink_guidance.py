@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Guidance partition in Python: stands in for the Rust guidance stub (partitions/src/
 guidance_stub.rs) in the rig, opening the same iceoryx2 services with the same payload types
-(DESIGN.md: "Replacing one in HIL means starting another process, in any language iceoryx2
-serves, that opens the same services with the same payload types").
+(docs/design.md "Partitions": a partition is replaced by starting another process, in any
+language iceoryx2 serves, that opens the same services with the same payload types).
 
 It subscribes to the active waypoint and area lists (taken only as a pair of one activation,
 as `ipc::ListPairing` takes them) and to the automation state, flies the list with the
@@ -691,7 +691,7 @@ class Guidance:
 
 
 # ---------------------------------------------------------------------------------------------
-# Pairing the lists (partitions/src/ipc.rs, ListPairing; DESIGN.md "Activation is atomic").
+# Pairing the lists (partitions/src/ipc.rs, ListPairing; docs/design.md "Activation is atomic").
 # ---------------------------------------------------------------------------------------------
 
 

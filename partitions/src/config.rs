@@ -42,7 +42,7 @@
 //! without = []                    # partitions not to start, e.g. ["guidance-stub"] when a
 //!                                 # replacement (a HIL rig's, another language's) fills the role
 //!
-//! [health]                        # DESIGN.md "Health" (see `health`)
+//! [health]                        # docs/design.md "Health" (see `health`)
 //! period_ms = 100                 # every partition beats on fcc/health/<role> this often
 //! start_timeout_ms = 10000        # a partition started must beat within this
 //!
@@ -262,7 +262,7 @@ impl Default for Launcher {
     }
 }
 
-/// Health (DESIGN.md "Health"): the heartbeat every partition sends, and how long a partition
+/// Health (docs/design.md "Health"): the heartbeat every partition sends, and how long a partition
 /// may take to send its first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

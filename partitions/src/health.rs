@@ -1,4 +1,4 @@
-//! The partitions' side of health (DESIGN.md "Health"): the [`Heartbeat`] every partition's
+//! The partitions' side of health (docs/design.md "Health"): the [`Heartbeat`] every partition's
 //! event loop sends on its fixed period (`runtime::run_loop`), and the [`Watch`] of heartbeats
 //! the launcher and system automation read. The rule that decides "silent" is
 //! `missionlink_services::health::Liveness`; this module only moves the beats.

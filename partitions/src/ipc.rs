@@ -1,7 +1,7 @@
 //! The iceoryx2 side of a partition: a node that cleans up dead nodes on start (so a partition
 //! restarts after `kill -9`), and typed ports for the services of `interfaces::contracts`, each
 //! a publish-subscribe port paired with an event port of the same name so that a subscriber can
-//! sleep in a WaitSet until data arrives (DESIGN.md, iceoryx2 notes).
+//! sleep in a WaitSet until data arrives (docs/design.md, iceoryx2 notes).
 //!
 //! Generic over the service type: partitions run on `ipc::Service`, tests may use
 //! `local::Service`.
@@ -168,7 +168,7 @@ impl<S: Service> Ipc<S> {
     }
 
     /// Subscribers of the active lists that mission data handling publishes, the waypoint list
-    /// and the area list (DESIGN.md, "Contracts between partitions"): what system automation
+    /// and the area list (docs/design.md, "Contracts between partitions"): what system automation
     /// and guidance both follow.
     pub fn active_lists(&self) -> Result<ActiveLists<S>, IpcError> {
         Ok(ActiveLists {
@@ -203,7 +203,7 @@ impl<S: Service> ActiveLists<S> {
 
 /// Pairs the active waypoint list with the active area list on the subscriber's side, so that a
 /// partition never acts on the new waypoint list with the old area list or the reverse
-/// (DESIGN.md "Activation is atomic", ICD §8 "Activate").
+/// (docs/design.md "Activation is atomic", ICD §8 "Activate").
 ///
 /// Mission data handling publishes both lists whenever either changes, under one activation
 /// number that grows with every change (`contracts::same_activation`). The two services deliver

@@ -5,11 +5,11 @@
 //! and on SIGINT, SIGTERM or [`Control::stop`] stops them all: SIGTERM first, SIGKILL for one
 //! that has not ended within the grace period, guidance first and the links last.
 //!
-//! Supervision (DESIGN.md "Health"): a partition that dies is restarted (a log line names it and
-//! its exit status). A partition that hangs (stopped, stuck in a step) is found by its heartbeat
-//! (`fcc/health/<role>`, [`Liveness`]): silent for 2.5 heartbeat periods, or without a first
-//! beat within the start timeout, it is logged by name, killed (SIGKILL ends a stopped process
-//! too) and restarted like a dead one. A partition left out (`[launcher] without`, `fcc
+//! Supervision (docs/design.md "Health"): a partition that dies is restarted (a log line names it
+//! and its exit status). A partition that hangs (stopped, stuck in a step) is found by its
+//! heartbeat (`fcc/health/<role>`, [`Liveness`]): silent for 2.5 heartbeat periods, or without a
+//! first beat within the start timeout, it is logged by name, killed (SIGKILL ends a stopped
+//! process too) and restarted like a dead one. A partition left out (`[launcher] without`, `fcc
 //! --without guidance-stub`) is not started: another process fills its role, in any language;
 //! the launcher still watches that role's heartbeat and logs when it is alive and when it falls
 //! silent, but cannot restart what it did not start.

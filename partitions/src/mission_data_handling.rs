@@ -3,7 +3,7 @@
 //! automation state and guidance progress; it publishes the frames the core transmits on the
 //! downlink, the active waypoint and area lists (history 1: late joiners get them) and accepted
 //! #50000 commands. Whenever either list changes it saves and publishes both, under the one
-//! activation the core gave them, the waypoint list first (DESIGN.md "Activation is atomic").
+//! activation the core gave them, the waypoint list first (docs/design.md "Activation is atomic").
 //! After a restart it resumes with the lists it published last, so guidance never sees them
 //! change, and with the record of a mission upload it cut.
 //!
@@ -197,7 +197,7 @@ impl<S: Service> Outputs<'_, S> {
         while let Some(event) = core.poll_event() {
             match event {
                 // Either list changed: both are saved in one file and both published, under the
-                // one activation the core gave them (DESIGN.md "Activation is atomic").
+                // one activation the core gave them (docs/design.md "Activation is atomic").
                 FccEvent::MissionActivated { .. }
                 | FccEvent::MissionCleared
                 | FccEvent::AreasActivated { .. }

@@ -225,8 +225,8 @@ pub struct Wake<'a> {
 /// tells `control` it is ready, then calls `step` after every wake-up until `control` or a
 /// termination request stops it. `step` does the partition's work, may log through the
 /// [`Report`], and returns how long the loop may sleep next. Between the steps the loop beats
-/// `role`'s heartbeat on the configured period ([`Heartbeat`], DESIGN.md "Health"): from the loop
-/// itself, so a partition stuck in a step or stopped falls silent. Returns the report, for the
+/// `role`'s heartbeat on the configured period ([`Heartbeat`], docs/design.md "Health"): from the
+/// loop itself, so a partition stuck in a step or stopped falls silent. Returns the report, for the
 /// caller's [`Report::finish`] with its final counters.
 #[allow(
     clippy::too_many_arguments,

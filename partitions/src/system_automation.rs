@@ -1,7 +1,7 @@
 //! System automation: the FCC partition of paper §2.5, a thin driver around
 //! `services::automation::SystemAutomation`. It follows the active lists (taken only as a pair
 //! of one activation, `ipc::ListPairing`), guidance's progress and guidance's heartbeat
-//! (guidance alive or not, DESIGN.md "Health"), carries out the #50000 commands mission data
+//! (guidance alive or not, docs/design.md "Health"), carries out the #50000 commands mission data
 //! handling accepted, and publishes the flight phase and which functions
 //! are active (`fcc/automation/state`, history 1). A restarted automation adopts the phase
 //! guidance's progress shows, so it never drops an aircraft in the air back to "on ground".

@@ -315,7 +315,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
         .publisher(FccService::Heartbeat(Partition::Guidance))
         .unwrap();
     let partition = Running::start(system_automation::run::<S>, &config);
-    // Guidance beats before every command: nothing flies without it (DESIGN.md "Health").
+    // Guidance beats before every command: nothing flies without it (docs/design.md "Health").
     let command = |sequence, command: ExecuteCommand| {
         heartbeat
             .send(&HeartbeatPayload {

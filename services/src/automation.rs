@@ -14,7 +14,7 @@
 //! [`check_command`] is the one rule for #50000: mission data handling applies it to answer the
 //! command (type 2 or type 3 with the reason), system automation applies it again when it
 //! carries the command out. Part of it is the onboard geofence check of ICD §7 (ext), and part
-//! guidance's heartbeat (DESIGN.md "Health"): system automation watches it and says in its
+//! guidance's heartbeat (docs/design.md "Health"): system automation watches it and says in its
 //! state whether guidance is alive; without it nothing flies.
 
 use core::time::Duration;
@@ -33,7 +33,7 @@ use crate::health::Liveness;
 use crate::link::time::Instant;
 
 /// Whether system automation accepts `command` now (ICD §4, #50000). Execute, return to home
-/// and land need guidance alive (its heartbeat within the limit, DESIGN.md "Health"): nothing
+/// and land need guidance alive (its heartbeat within the limit, docs/design.md "Health"): nothing
 /// would fly them, so they are refused with `WrongState`, the ICD's reason for "not now" (our
 /// choice: the ICD has no reason of its own for it, and a new one would be unknown to an
 /// edition-1 GCS). Then: execute needs a valid
@@ -631,7 +631,7 @@ mod tests {
         assert_eq!(sa.handle_command(t, ExecuteCommand::ReturnToHome), Ok(()));
     }
 
-    /// DESIGN.md "Health": no heartbeat from guidance, nothing flies; a silence of the limit
+    /// docs/design.md "Health": no heartbeat from guidance, nothing flies; a silence of the limit
     /// makes it not alive again, and the state says so.
     #[test]
     fn flight_commands_are_refused_while_guidance_is_not_alive() {

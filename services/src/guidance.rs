@@ -1,6 +1,6 @@
-//! Guidance kinematics (the guidance stub partition, DESIGN.md): a point-mass model that flies
-//! the active waypoint list through the flight phases of system automation and reports its
-//! progress (FROM-TO-NEXT, position, fly-zone and no-fly-zone status) on
+//! Guidance kinematics (the guidance stub partition, docs/design.md "Partitions"): a point-mass
+//! model that flies the active waypoint list through the flight phases of system automation and
+//! reports its progress (FROM-TO-NEXT, position, fly-zone and no-fly-zone status) on
 //! `fcc/guidance/progress`.
 //!
 //! Sans-IO like the rest of `services`: the driver passes the automation state, the waypoint

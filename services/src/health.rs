@@ -1,4 +1,4 @@
-//! Liveness of a partition from its heartbeats (DESIGN.md "Health"): the one rule by which the
+//! Liveness of a partition from its heartbeats (docs/design.md "Health"): the one rule by which the
 //! launcher decides that a partition it started hangs, and system automation that guidance is
 //! alive.
 //!
@@ -13,8 +13,8 @@
 //! The limit: a partition is silent when no beat came for [`silence_limit`] = 2.5 periods. A
 //! partition stopped at any moment has sent its last beat at most one period before, so it is
 //! found silent at most 2.5 periods after the stop plus the watcher's own polling interval:
-//! within the three periods the issue asks for, with one and a half periods of slack for a
-//! healthy partition that is scheduled late on a loaded machine.
+//! within the three periods the launcher must find it in (docs/deployment.md "Health"), with one
+//! and a half periods of slack for a healthy partition that is scheduled late on a loaded machine.
 
 use core::time::Duration;
 

@@ -1,6 +1,6 @@
 //! The sans-IO logic of missionlink: state machines that never read a clock or a socket
-//! (DESIGN.md, "The sans-IO core"). Drivers (the FCC partitions in `missionlink-partitions`, the
-//! GCS link in `missionlink-gcs`) feed them frames and the time, take frames from
+//! (docs/design.md, "The sans-IO core"). Drivers (the FCC partitions in `missionlink-partitions`,
+//! the GCS link in `missionlink-gcs`) feed them frames and the time, take frames from
 //! `poll_transmit` and wake them at `poll_timeout`.
 //!
 //! Grouped by the functions of the paper:

@@ -40,7 +40,7 @@
 //! ([`CloserMemory`]): its retry, until an opener or a data message is accepted, gets the same
 //! answer and changes nothing, so a lost "valid and active" never turns into a reported failure.
 //!
-//! **A restart never assembles a transfer it did not see from the start (issue 12).** A mission
+//! **A restart never assembles a transfer it did not see from the start.** A mission
 //! upload has no opener when it is an edit (ICD §5.1 step 1 is optional), so a restarted
 //! partition cannot tell the rest of an upload cut by its restart from a new edit: taken as an
 //! edit of the active list, it assembled a list that was neither the old mission nor the new one.
@@ -798,7 +798,7 @@ impl MissionDataHandling {
     /// with the one before, so such a transfer has no peer left. Kept, it would refuse the
     /// GCS's new transfer `Busy`:
     /// - a download, for up to twice the ack timeout, while it waits for the answer to its last
-    ///   message that the GCS sent and the link lost (issue 15, the `bad` link);
+    ///   message that the GCS sent and the link lost (the `bad` link of `src/link_emulator.rs`);
     /// - an upload, for the transfer timeout, when a data message resent before the GCS gave
     ///   up arrives late, after the cancel, and opens an edit of its own (ICD §5.1: an upload
     ///   without clear edits the active mission).

@@ -1,5 +1,5 @@
 //! Fixtures shared by every test and benchmark of the workspace (after rust-mavlink's
-//! `mavlink/tests/test_shared/mod.rs`; DESIGN.md, "Examples to follow"), so that no waypoint
+//! `mavlink/tests/test_shared/mod.rs`; docs/design.md, "Examples followed"), so that no waypoint
 //! literal, area helper, demo mission or endpoint configuration is written twice.
 //!
 //! Compiled in this crate's own tests and, for other crates' tests and benches, behind the cargo
@@ -423,7 +423,7 @@ pub fn uplink(message: &Message) -> Vec<u8> {
 }
 
 /// Whatever has frames to send through `poll_transmit`: the two machines and a bare endpoint.
-/// Tests and benches take frames as a driver does (DESIGN.md, after quinn-proto's
+/// Tests and benches take frames as a driver does (docs/design.md "Examples followed", after quinn-proto's
 /// `tests/util.rs`): encoded by the machine into a buffer, the bytes moved, never re-encoded.
 pub trait Transmit {
     /// The machine's own `poll_transmit`: the next frame into `buf`, its length.
@@ -516,7 +516,7 @@ impl Rng {
     }
 }
 
-// ---- The onboard geofence check's worst case (issue 11, "Cost, measured") ----
+// ---- The onboard geofence check's worst case (ICD §7; BENCHMARKS.md section 4) ----
 
 /// Where the worst case lies: its local east/north metres are measured from here.
 const WORST_CASE_ORIGIN: (f64, f64) = (48.27, 11.66);
@@ -712,7 +712,7 @@ pub fn published_lists(
     (waypoints, areas)
 }
 
-/// The worst case of the onboard geofence check (issue 11, "Cost, measured"): 256 waypoints
+/// The worst case of the onboard geofence check (ICD §7; BENCHMARKS.md section 4): 256 waypoints
 /// (255 track-to-fix legs: 128 lanes of 12.4 km, 116 of 1.1 km between corridors, 11 of 24 m
 /// between passes; plus the climb and the way from the take-off
 /// point) against 11 areas of 60 vertices, every zone within 40 m (the closest) to 300 m of

@@ -23,8 +23,8 @@
 //!   direct before LTE), so when both copies arrive in the same step the direct copy is the one
 //!   forwarded; across steps the first copy to arrive wins, because waiting would cost latency.
 //!
-//! Sans-IO (DESIGN.md, "The sans-IO core"): the driver passes the time and the bytes in and gets
-//! the forwarded frames back through a callback, as sub-slices of the datagrams it passed in.
+//! Sans-IO (docs/design.md, "The sans-IO core"): the driver passes the time and the bytes in and
+//! gets the forwarded frames back through a callback, as sub-slices of the datagrams it passed in.
 //! Nothing is allocated: a step holds at most [`VOTING_STEP_MESSAGES`] candidates on the stack.
 
 use core::time::Duration;

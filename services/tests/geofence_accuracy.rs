@@ -1,5 +1,5 @@
-//! The geofence's margins against an independent reference (issue 11, "Accuracy, shown with
-//! numbers"): every row of `tests/data/geofence_accuracy.csv`, computed with GeographicLib by
+//! The geofence's margins against an independent reference: every row of
+//! `tests/data/geofence_accuracy.csv`, computed with GeographicLib by
 //! `tests/data/geofence_reference.py` (how, in `tests/data/README.md`), must agree within
 //! [`TOLERANCE_M`]. Run with `--nocapture` to see the table.
 // A test stops at its first failure: it may unwrap, expect, panic and index.

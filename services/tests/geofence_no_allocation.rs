@@ -1,5 +1,5 @@
-//! The onboard geofence check allocates nothing (issue 11, "Cost, measured"; DESIGN.md, "The
-//! sans-IO core"): under a counting global allocator, in the worst case of
+//! The onboard geofence check allocates nothing (docs/design.md, "The sans-IO
+//! core"): under a counting global allocator, in the worst case of
 //! `testkit::geofence_worst_case` (and its radius-to-fix variant), building the fence from the
 //! published area list (`Fence::of_payload`) and checking the execute route and the return
 //! route against it make no allocation, and neither does a check that fails. The fixtures are

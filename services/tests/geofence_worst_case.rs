@@ -1,9 +1,10 @@
-//! The worst case of the onboard geofence check (issue 11, "Cost, measured"; the fixture is
-//! `testkit::geofence_worst_case`) is what it says: the check passes, so it looks at every leg
-//! against every zone; every one of the 11 zones comes within 40 m of the route, 15 m beyond
-//! the safety offset; and the fixture is tight, so a no-fly-zone moved 16 m onto the route fails
-//! the check naming that zone while one moved 14 m still passes. The benchmark
-//! (`benches/geofence.rs`) and the allocation test (`tests/geofence_no_allocation.rs`) run it.
+//! The worst case of the onboard geofence check (ICD §7; the fixture is
+//! `testkit::geofence_worst_case`, measured in BENCHMARKS.md section 4) is what it says: the check
+//! passes, so it looks at every leg against every zone; every one of the 11 zones comes within 40 m
+//! of the route, 15 m beyond the safety offset; and the fixture is tight, so a no-fly-zone moved
+//! 16 m onto the route fails the check naming that zone while one moved 14 m still passes. The
+//! benchmark (`benches/geofence.rs`) and the allocation test (`tests/geofence_no_allocation.rs`)
+//! run it.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]

@@ -1,7 +1,9 @@
-//! The FCC side of ICD §11 (end-to-end mission integrity) and of restart safety (issue 12),
-//! through mission data handling driven by hand ([`FccRig`]): every test reads the FCC's answers
-//! off the wire (#17000 type and reason, #3012 status, #14000, #2011 mode 4, #50001) and checks
-//! the active lists, their generations and the events the driver gets.
+//! The FCC side of ICD §11 (end-to-end mission integrity) and of restart safety (a restart
+//! never assembles a transfer it did not see from the start,
+//! `services/src/mission_data_handling.rs`), through mission data handling driven by hand
+//! ([`FccRig`]): every test reads the FCC's answers off the wire (#17000 type and reason, #3012
+//! status, #14000, #2011 mode 4, #50001) and checks the active lists, their generations and the
+//! events the driver gets.
 //!
 //! | rule | tests |
 //! |---|---|
@@ -543,7 +545,7 @@ fn a_clear_of_the_areas_ends_the_memory() {
 
 // ---- Restart safety without checksum ----
 
-/// Issue 12: a partition restarted with the record of an open mission upload refuses the rest
+/// Restart safety: a partition restarted with the record of an open mission upload refuses the rest
 /// of that upload (every data message and the transmit, `WrongState`), each refusal holding it
 /// for another transfer timeout, until the GCS opens a new upload with a clear. The record
 /// stays: a clear opens an upload, so nothing is told to the driver until it closes.
@@ -593,7 +595,7 @@ fn a_restart_holds_the_cut_upload_until_a_clear() {
     );
 }
 
-/// Issue 12: #13000 mode 5 ends the interruption (an area cancel does not); then an upload
+/// Restart safety: #13000 mode 5 ends the interruption (an area cancel does not); then an upload
 /// without clear is an edit of the active mission again.
 #[test]
 fn a_cancel_ends_the_interruption() {
@@ -647,7 +649,7 @@ fn a_cancel_ends_the_interruption() {
     );
 }
 
-/// Issue 12: the interruption ends after the transfer timeout of silence from the cut upload
+/// Restart safety: the interruption ends after the transfer timeout of silence from the cut upload
 /// (counted from its last refused message), as the upload itself would have been abandoned.
 #[test]
 fn silence_for_the_transfer_timeout_ends_the_interruption() {

@@ -332,7 +332,7 @@ fn plans_describe_themselves_in_one_line() {
         r#"plan "MEDEVAC-2": 3 waypoints, 3 areas, safety offset 25.0 m"#
     );
     let valid = Pair::new(1).gcs.validate(&plan).unwrap();
-    // The wording of `gcs validate` (README).
+    // The wording of `gcs validate` (docs/gcs.md).
     assert_eq!(
         valid.to_string(),
         r#"mission "MEDEVAC-2": take-off 30.0 m, 3 waypoints (1 -> 2 -> 3), route bidirectional; 3 areas, safety offset 25.0 m"#

@@ -1,6 +1,6 @@
-//! The FCC's per-frame path allocates nothing (DESIGN.md, "The sans-IO core"): a counting global
-//! allocator around every call into voting and mission data handling, while the GCS uploads and
-//! then downloads demo mission 2 with its areas, and guidance reports progress. The links are
+//! The FCC's per-frame path allocates nothing (docs/design.md, "The sans-IO core"): a counting
+//! global allocator around every call into voting and mission data handling, while the GCS uploads
+//! and then downloads demo mission 2 with its areas, and guidance reports progress. The links are
 //! signed (ICD §9): the voter requires signatures and the FCC's answers are signed, inside the
 //! count.
 #![allow(unsafe_code, reason = "a global allocator is unsafe to implement")]

@@ -393,7 +393,7 @@ fn geofence_violation() {
     assert_eq!(rig.reason(execute), None);
 }
 
-/// DESIGN.md "Health": while system automation says guidance is not alive, execute is refused
+/// docs/design.md "Health": while system automation says guidance is not alive, execute is refused
 /// with `WrongState` (the ICD's "not now") and nothing goes to system automation; alive again,
 /// the same execute is accepted.
 #[test]

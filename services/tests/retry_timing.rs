@@ -303,7 +303,7 @@ fn a_stray_area_outside_a_transfer_starts_no_timer() {
     assert_eq!(fcc.poll_event(), None, "no upload to abandon");
 }
 
-/// Issue 15: the ack timer of an upload's first message starts when the message goes out, after
+/// ICD §5: the ack timer of an upload's first message starts when the message goes out, after
 /// the validation (which takes up to a second for a large plan in a debug build), not when the
 /// operator asked: validated first, the request at the time it is sent.
 #[test]

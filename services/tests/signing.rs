@@ -39,8 +39,8 @@ fn upload(pair: &mut Pair, plan: &missionlink_services::ground_station::MissionP
     );
 }
 
-/// The attack of issue 14: a well-formed #13000 clear, then a #13000 transmit with Waypoint
-/// Number 0, with the GCS's ID, stamped now, right checksum; from a foreign sender.
+/// The attack that link signing (ICD §9) stops: a well-formed #13000 clear, then a #13000 transmit
+/// with Waypoint Number 0, with the GCS's ID, stamped now, right checksum; from a foreign sender.
 fn attack(pair: &Pair) -> Vec<Vec<u8>> {
     let utc = pair.now.micros() / 1000 + UTC_AT_ZERO_MS;
     [
@@ -138,7 +138,7 @@ fn a_captured_upload_replayed_later_is_refused() {
     let areas_2_active = pair.fcc.active_areas().cloned();
 
     // Within the 60 s window (the identities are remembered), then 73 s later (the stamps are
-    // out of the window), as the issue's attacker did.
+    // out of the window), as an attacker replaying a capture would.
     for delay in [Duration::from_secs(5), Duration::from_secs(73)] {
         pair.run_until(pair.now + delay);
         let before = pair

@@ -457,9 +457,10 @@ fn a_ninth_staged_mission_is_refused_before_anything_is_staged() {
 
 // ---- Edits ----
 
-/// The measure: one waypoint of a 256-waypoint mission changed, the mission known from
-/// this GCS's last upload and confirmed by the report: the report request, mode 10, the
-/// waypoint and the transmit; the download then equals the edited file.
+/// The measure of an edit (docs/gcs.md, "Staged missions and edits"): one waypoint of a
+/// 256-waypoint mission changed, the mission known from this GCS's last upload and confirmed by the
+/// report: the report request, mode 10, the waypoint and the transmit; the download then equals the
+/// edited file.
 #[test]
 fn one_changed_waypoint_of_256_is_four_messages() {
     let plan = generated_plan(256);

@@ -151,9 +151,9 @@ fn upload(
 }
 
 /// Executes the active mission. Right after the FCC started, system automation may not have
-/// heard guidance's heartbeat yet, or mission data handling guidance's first position (DESIGN.md
-/// "Health", ICD §7): the FCC refuses with `WrongState` and changes nothing, and execute is asked
-/// again every 200 ms for up to 10 s.
+/// heard guidance's heartbeat yet, or mission data handling guidance's first position
+/// (docs/design.md "Health", ICD §7): the FCC refuses with `WrongState` and changes nothing, and
+/// execute is asked again every 200 ms for up to 10 s.
 fn execute(link: &mut Link) -> Result<(), String> {
     let deadline = Instant::now() + Duration::from_secs(10);
     let mut told = false;

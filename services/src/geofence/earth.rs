@@ -1,4 +1,4 @@
-//! The one Earth model (DESIGN.md, "Layout": `geofence/`): the WGS-84 ellipsoid and its
+//! The one Earth model (docs/design.md, "Module map": `geofence/`): the WGS-84 ellipsoid and its
 //! geodesics. Every distance, bearing and destination on the Earth in missionlink comes from
 //! here: guidance flies track-to-fix legs as geodesics, a circle's radius is the geodesic
 //! distance centre -> border point wherever a circle is read, written, flown or checked, the

@@ -217,7 +217,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// [`GroundStation::upload_with`] of a plan validated already: `now` read after the
     /// validation, which takes up to a second for a large plan in a debug build. With `now` read
     /// before it, the first message's ack timer would have run during the validation and its one
-    /// retry would be spent before the FCC could answer (issue 15).
+    /// retry would be spent before the FCC could answer (`services/tests/retry_timing.rs`).
     pub fn upload_validated(
         &mut self,
         now: Instant,

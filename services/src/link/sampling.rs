@@ -186,8 +186,8 @@ mod tests {
         assert_eq!(s.sample(t, GCS, 13002, ts(1010)), Sample::Duplicate);
     }
 
-    /// The defect of issue 15: a GCS started right after another one stamps below the first
-    /// one's last (bumped) stamps; its first #13000 is new, not stale.
+    /// Time stamps are identities (ICD §3): a GCS started right after another one stamps below the
+    /// first one's last (bumped) stamps; its first #13000 is new, not stale.
     #[test]
     fn a_new_sender_behind_the_last_ones_stamps_is_heard_at_once() {
         let mut s = MessageSampler::new(Duration::from_secs(3));

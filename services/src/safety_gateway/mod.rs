@@ -1,4 +1,4 @@
-//! The safety gateway (paper §2.2; issue 6): every check a mission must pass on the GCS before
+//! The safety gateway (paper §2.2): every check a mission must pass on the GCS before
 //! it is uploaded. [`SafetyGateway::violations`] reports **every** violation, each with a stable code
 //! ([`ViolationCode::code`]), the element concerned ([`Element`]), the margin in metres or the
 //! value against its limit, and a position for the map.

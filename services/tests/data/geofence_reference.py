@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent reference for the geofence accuracy table (issue 11, "Accuracy, shown with numbers").
+"""Independent reference for the geofence accuracy table (services/tests/geofence_accuracy.rs).
 
 Computes, with GeographicLib (Karney's official Python package) and the standard library only,
 the signed margin of a path (a point, a track-to-fix leg or a radius-to-fix arc) against one
@@ -467,7 +467,7 @@ def rows():
         zone_text("nfz", "polygon", polygon_local(q, az, [
             (-1800, -120), (0, -45), (2100, -160), (900, -2900), (-1500, -2400)])))
 
-    # --- the case of the issue: 35 km east-west at 71 N -------------------------------------------
+    # --- the case that first showed it: 35 km east-west at 71 N -----------------------------------
     # The geodesic runs about 70 m north of the straight lat/lon line at the midpoint. Zone 1's
     # southern vertex is 40 m south of the geodesic (30 m north of the straight line): entered.
     # Zone 2's southern vertex is 40 m north of the geodesic: missed.
@@ -688,7 +688,7 @@ def main():
         return
     results = compute(NORMAL, sys.stderr)
     out = sys.stdout
-    out.write("# Geofence accuracy reference (issue 11): signed margin of a path against one zone,\n")
+    out.write("# Geofence accuracy reference (geofence_accuracy.rs): signed margin of a path against one zone,\n")
     out.write("# geodesic metres on WGS-84, before any safety offset; negative = the path reaches the\n")
     out.write("# forbidden side (inside a nfz, outside a fz) and |margin| is the greatest depth there.\n")
     out.write("# at_lat,at_lon: where on the path the margin is reached. Semantics: README.md here.\n")

@@ -1,4 +1,4 @@
-//! A counting global allocator for the allocation tests (DESIGN.md, "The sans-IO core"): it
+//! A counting global allocator for the allocation tests (docs/design.md, "The sans-IO core"): it
 //! forwards to the system allocator and, while [`counted`] runs a closure, counts the
 //! allocations and reallocations made on that thread. A test binary includes it with
 //! `#[path = "support/counting_alloc.rs"] mod counting_alloc;` (not through `support`, so that

@@ -363,7 +363,7 @@ pub(crate) fn assert_golden(frame: &[u8], envelope: super::frame::Envelope, mess
         buf[len..].iter().all(|&b| b == 0xa5),
         "emit wrote past the frame"
     );
-    // The golden frames seed the fuzzers (README, "Fuzzing"): with MISSIONLINK_GOLDEN_DIR set,
+    // The golden frames seed the fuzzers (docs/fuzzing.md): with MISSIONLINK_GOLDEN_DIR set,
     // each is also written there, named by its type and its byte sum.
     if let Some(dir) = std::env::var_os("MISSIONLINK_GOLDEN_DIR") {
         let sum = super::frame::checksum(frame, super::frame::ChecksumWidth::Four);
