@@ -18,6 +18,14 @@
 //! Active lists change only when a complete new list is valid; a failed or abandoned transfer
 //! leaves them as they were. Steady-state handling allocates nothing.
 //!
+//! **Activation.** Every way lists become active (the closer of a mission or an area upload, a
+//! clear of either, a staged mission's activation of ICD §8, the resume after a restart) is one
+//! call of `activate` with an `Activation` that says which: it sets the lists and their
+//! generations (each list's counts its every change, clears included), rebuilds the payloads
+//! guidance reads with the *activation* of the pair (the sum of both generations, so a pair of
+//! lists is never mixed with another's), the onboard check's fence and FROM-TO-NEXT, and queues
+//! the one event ([`FccEvent`]) from which the driver publishes and records them.
+//!
 //! The deadlines of the transfers (the download messages' ack timeouts, the uploads' transfer
 //! timeouts) are owned by the transfers; [`FccTimer`] names them, one per transfer, as in the
 //! GCS logic (`link::composite::Composite`): `poll_timeout` is their earliest, and
@@ -262,6 +270,37 @@ pub struct MissionDataHandling {
     upload_recorded_open: bool,
 }
 
+/// A way lists become active; [`MissionDataHandling::activate`] carries out each.
+#[derive(Debug)]
+enum Activation {
+    /// The closer of a mission upload (ICD §5.1): the assembled waypoint list, or none (the
+    /// empty list that clears it).
+    Mission(Option<Mission>),
+    /// The closer of an area upload (ICD §5.3), or the clear of the areas (none).
+    Areas(Option<AreaList>),
+    /// A staged mission's waypoint and area list in one step (ICD §8).
+    Staged {
+        /// The staged mission.
+        id: MissionId,
+        /// Its waypoint list.
+        mission: Mission,
+        /// Its area list.
+        areas: AreaList,
+    },
+    /// After a restart: the recorded lists (or none, after a clear) under their recorded
+    /// generations, so guidance sees no change; no event.
+    Resumed {
+        /// The waypoint list.
+        mission: Option<Mission>,
+        /// Its generation.
+        mission_generation: u64,
+        /// The area list.
+        areas: Option<AreaList>,
+        /// Its generation.
+        area_generation: u64,
+    },
+}
+
 /// What mission data handling resumes with after a restart: what the driver recorded.
 #[derive(Debug, Clone, Default)]
 pub struct Resumed {
@@ -325,27 +364,13 @@ impl MissionDataHandling {
             mission_upload_open,
             staged,
         } = resumed;
-        self.mission_generation = mission_generation;
-        self.waypoint_list = match &mission {
-            Some(m) => m.to_payload(mission_generation),
-            None => WaypointListPayload {
-                generation: mission_generation,
-                ..WaypointListPayload::EMPTY
-            },
-        };
-        self.active_mission = mission;
+        self.activate(Activation::Resumed {
+            mission,
+            mission_generation,
+            areas,
+            area_generation,
+        });
         self.mission_upload.abandon(self.active_mission.as_ref());
-        self.area_generation = area_generation;
-        self.area_list = match &areas {
-            Some(a) => a.to_payload(area_generation),
-            None => AreaListPayload {
-                generation: area_generation,
-                ..AreaListPayload::EMPTY
-            },
-        };
-        self.active_areas = areas;
-        self.fence.set_payload(&self.area_list);
-        self.publish_activation();
         self.staged = staged;
         if mission_upload_open {
             tracing::warn!(
@@ -394,40 +419,79 @@ impl MissionDataHandling {
         &self.staged
     }
 
-    /// Both published lists carry the activation of the pair they form now: the sum of the
-    /// generations, which grows with every change of either (see the module documentation).
-    fn publish_activation(&mut self) {
+    /// Makes lists active, the one way every change of the active lists takes (module
+    /// documentation, "Activation"): the new lists under their generations, the payloads
+    /// published to guidance rebuilt, both carrying the activation of the pair they form now
+    /// (the sum of the generations, which grows with every change of either), the onboard
+    /// check's fence and FROM-TO-NEXT following, and the event that tells the driver to publish
+    /// and record them.
+    fn activate(&mut self, activation: Activation) {
+        let next = (self.mission_generation + 1, self.area_generation + 1);
+        let (mission, areas, (mission_generation, area_generation), event) = match activation {
+            Activation::Mission(mission) => {
+                let event = match mission {
+                    Some(_) => FccEvent::MissionActivated { generation: next.0 },
+                    None => FccEvent::MissionCleared,
+                };
+                (Some(mission), None, next, Some(event))
+            }
+            Activation::Areas(areas) => {
+                let event = match areas {
+                    Some(_) => FccEvent::AreasActivated { generation: next.1 },
+                    None => FccEvent::AreasCleared,
+                };
+                (None, Some(areas), next, Some(event))
+            }
+            Activation::Staged { id, mission, areas } => {
+                let event = FccEvent::StagedActivated {
+                    id,
+                    mission_generation: next.0,
+                    area_generation: next.1,
+                };
+                (Some(Some(mission)), Some(Some(areas)), next, Some(event))
+            }
+            Activation::Resumed {
+                mission,
+                mission_generation,
+                areas,
+                area_generation,
+            } => (
+                Some(mission),
+                Some(areas),
+                (mission_generation, area_generation),
+                None,
+            ),
+        };
+        if let Some(mission) = mission {
+            self.mission_generation = mission_generation;
+            self.waypoint_list = match &mission {
+                Some(m) => m.to_payload(mission_generation),
+                None => WaypointListPayload {
+                    generation: mission_generation,
+                    ..WaypointListPayload::EMPTY
+                },
+            };
+            self.active_mission = mission;
+            self.from_to_next.reset();
+        }
+        if let Some(areas) = areas {
+            self.area_generation = area_generation;
+            self.area_list = match &areas {
+                Some(a) => a.to_payload(area_generation),
+                None => AreaListPayload {
+                    generation: area_generation,
+                    ..AreaListPayload::EMPTY
+                },
+            };
+            self.active_areas = areas;
+            self.fence.set_payload(&self.area_list);
+        }
         let activation = self.mission_generation + self.area_generation;
         self.waypoint_list.activation = activation;
         self.area_list.activation = activation;
-    }
-
-    fn mission_changed(&mut self, event: FccEvent) {
-        self.mission_generation += 1;
-        self.waypoint_list = match &self.active_mission {
-            Some(m) => m.to_payload(self.mission_generation),
-            None => WaypointListPayload {
-                generation: self.mission_generation,
-                ..WaypointListPayload::EMPTY
-            },
-        };
-        self.publish_activation();
-        self.from_to_next.reset();
-        self.event(event);
-    }
-
-    fn areas_changed(&mut self, event: FccEvent) {
-        self.area_generation += 1;
-        self.area_list = match &self.active_areas {
-            Some(a) => a.to_payload(self.area_generation),
-            None => AreaListPayload {
-                generation: self.area_generation,
-                ..AreaListPayload::EMPTY
-            },
-        };
-        self.fence.set_payload(&self.area_list);
-        self.publish_activation();
-        self.event(event);
+        if let Some(event) = event {
+            self.event(event);
+        }
     }
 
     /// Guidance reported its progress: #4001 goes out when FROM, TO or NEXT changed (paper
@@ -577,8 +641,8 @@ impl MissionDataHandling {
         if self.area_download.is_some() || self.area_upload.in_transfer() {
             return Err(Reason::Busy);
         }
-        if self.active_areas.take().is_some() {
-            self.areas_changed(FccEvent::AreasCleared);
+        if self.active_areas.is_some() {
+            self.activate(Activation::Areas(None));
             self.closers.forget();
         }
         Ok(())
@@ -608,16 +672,13 @@ impl MissionDataHandling {
                     return Err(Reason::WrongState);
                 };
                 if self.active_mission.as_ref() != Some(&mission) {
-                    self.active_mission = Some(mission);
-                    self.mission_changed(FccEvent::MissionActivated {
-                        generation: self.mission_generation + 1,
-                    });
+                    self.activate(Activation::Mission(Some(mission)));
                 }
                 Ok(())
             }
             Received::Emptied => {
-                if self.active_mission.take().is_some() {
-                    self.mission_changed(FccEvent::MissionCleared);
+                if self.active_mission.is_some() {
+                    self.activate(Activation::Mission(None));
                 }
                 Ok(())
             }
@@ -701,35 +762,20 @@ impl MissionDataHandling {
         let (Some(mission), Some(areas)) = (&entry.mission, &entry.areas) else {
             return Err(Reason::WrongState);
         };
-        let (mission_generation, area_generation) =
-            (self.mission_generation + 1, self.area_generation + 1);
-        let waypoint_list = mission.to_payload(mission_generation);
-        let area_list = areas.to_payload(area_generation);
+        // The check sees the lists as they would be published (the generation does not enter it).
+        let area_list = areas.to_payload(self.area_generation + 1);
         self.staged_fence.set_payload(&area_list);
         automation::check_activation(
             &self.automation,
-            &waypoint_list,
+            &mission.to_payload(self.mission_generation + 1),
             &area_list,
             &self.staged_fence,
             &self.navigation,
         )?;
-        self.active_mission = Some(mission.clone());
-        self.active_areas = Some(areas.clone());
-        self.mission_generation = mission_generation;
-        self.area_generation = area_generation;
-        self.waypoint_list = waypoint_list;
-        self.area_list = area_list;
-        // The staged fence is the new active list's: swap instead of building it again.
-        core::mem::swap(&mut self.fence, &mut self.staged_fence);
-        self.publish_activation();
-        self.from_to_next.reset();
+        let (mission, areas) = (mission.clone(), areas.clone());
+        self.activate(Activation::Staged { id, mission, areas });
         // The last closer's "valid and active" is no longer true (see `CloserMemory`).
         self.closers.forget();
-        self.event(FccEvent::StagedActivated {
-            id,
-            mission_generation,
-            area_generation,
-        });
         Ok(())
     }
 
@@ -778,10 +824,7 @@ impl MissionDataHandling {
             }
             None => {
                 if self.active_areas.as_ref() != Some(&list) {
-                    self.active_areas = Some(list);
-                    self.areas_changed(FccEvent::AreasActivated {
-                        generation: self.area_generation + 1,
-                    });
+                    self.activate(Activation::Areas(Some(list)));
                 }
             }
         }
