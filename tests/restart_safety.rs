@@ -1,4 +1,4 @@
-//! Restart safety (`services/src/mission_data_handling.rs`): an upload of demo mission 2 over
+//! Restart safety (`services/src/mission_data_handling/mod.rs`): an upload of demo mission 2 over
 //! mission 1, with mission data handling killed (`kill -9`) right after the FCC's k-th message of
 //! the upload, for every k of the sequence (the report before the upload, the clear, every
 //! waypoint, the transmit, the area upload, the last answer). Afterwards the active lists are the

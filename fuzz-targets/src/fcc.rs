@@ -93,7 +93,7 @@ struct Rig {
     /// The FCC's last message that asked for an answer.
     request: Option<Message>,
     /// Whether the driver holds the record "a mission upload is open" (restart safety, see
-    /// `services/src/mission_data_handling.rs`).
+    /// `services/src/mission_data_handling/`).
     upload_open: bool,
     progress: u64,
 }

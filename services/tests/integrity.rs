@@ -1,6 +1,6 @@
 //! The FCC side of ICD §11 (end-to-end mission integrity) and of restart safety (a restart
 //! never assembles a transfer it did not see from the start,
-//! `services/src/mission_data_handling.rs`), through mission data handling driven by hand
+//! `services/src/mission_data_handling/`), through mission data handling driven by hand
 //! ([`FccRig`]): every test reads the FCC's answers off the wire (#17000 type and reason, #3012
 //! status, #14000, #2011 mode 4, #50001) and checks the active lists, their generations and the
 //! events the driver gets.
