@@ -14,9 +14,8 @@
 //! [`Endpoint`] send it with a fresh time stamp ([`MessageBody`]: a valid message that sampling
 //! takes as new, so the frame handlers see it).
 
-use missionlink_interfaces::wire::{
-    self, ChecksumWidth, MAX_SIGNED_FRAME_LEN, Message, MessageProperties, Reason,
-};
+use missionlink_interfaces::wire::{self, ChecksumWidth, Message, MessageProperties, Reason};
+use missionlink_services::testkit::RawFrame;
 
 /// Bytes of a record's header: the tag and the length.
 pub const RECORD_HEADER_LEN: usize = 3;
@@ -109,7 +108,7 @@ impl<'a> MessageBody<'a> {
 /// wire with this data, valid or not. `None` when the data is empty or longer than a frame
 /// holds (a length the wrapper cannot express).
 pub fn wrap(body: &MessageBody<'_>, source: u32, destination: u32) -> Option<Vec<u8>> {
-    let len = u16::try_from(body.data.len())
+    let length = u16::try_from(body.data.len())
         .ok()
         .filter(|l| (1..=wire::MAX_DATA_LEN as u16).contains(l))?;
     let width = match (body.flags >> 1) & 3 {
@@ -130,18 +129,16 @@ pub fn wrap(body: &MessageBody<'_>, source: u32, destination: u32) -> Option<Vec
     if body.flags & 16 != 0 {
         properties = MessageProperties(properties).with_signed().0;
     }
-    let mut frame = Vec::with_capacity(MAX_SIGNED_FRAME_LEN);
-    frame.extend_from_slice(&wire::frame::RESERVED.to_be_bytes());
-    frame.extend_from_slice(&len.to_be_bytes());
-    frame.extend_from_slice(&source.to_be_bytes());
-    frame.extend_from_slice(&destination.to_be_bytes());
-    frame.extend_from_slice(&body.message_type.to_be_bytes());
-    frame.extend_from_slice(&properties.to_be_bytes());
-    frame.extend_from_slice(body.data);
-    let sum = wire::frame::checksum(&frame, width);
-    let sum = sum.to_be_bytes();
-    frame.extend_from_slice(sum.get(4 - width.len()..).unwrap_or_default());
-    Some(frame)
+    let raw = RawFrame {
+        length: Some(length),
+        source,
+        destination,
+        message_type: body.message_type,
+        properties,
+        checksum_len: width.len(),
+        ..RawFrame::uplink(body.message_type)
+    };
+    Some(raw.build(body.data))
 }
 
 /// The outcome an answer record's body asks for: its first byte 0 accepts, any other is a

@@ -21,6 +21,8 @@ use missionlink_interfaces::wire::{
     WaypointState, WindowOrChecksum,
 };
 
+use missionlink_services::testkit::{self, RawFrame};
+
 // ---------------------------------------------------------------------------------------------
 // Frames by hand (ICD §2)
 // ---------------------------------------------------------------------------------------------
@@ -30,40 +32,40 @@ const GCS: u32 = 0x0A00_0001;
 /// FCC (vehicle) ID, the local node in these tests.
 const FCC: u32 = 0x0B00_0001;
 
-/// Message Properties: bit 15 ack requested, bits 14..8 IDD version, bits 7..6 checksum code.
-fn properties(ack: bool, idd_version: u16, checksum_code: u16) -> u16 {
-    (u16::from(ack) << 15) | (idd_version << 8) | (checksum_code << 6)
-}
+// Message Properties: bit 15 ack requested, bits 14..8 IDD version, bits 7..6 checksum code.
+use testkit::properties;
 
 /// Properties as this project sends: IDD 40, 4-byte checksum (code 10), no ack request.
-const PROPERTIES: u16 = (40 << 8) | (0b10 << 6);
+const PROPERTIES: u16 = properties(false, 40, 0b10);
+
+/// The wrapper fields of a frame from `source` to `destination`, the testkit's one hand-made
+/// frame ([`RawFrame`]).
+fn raw(source: u32, destination: u32, message_type: u16, props: u16) -> RawFrame {
+    RawFrame {
+        source,
+        destination,
+        properties: props,
+        ..RawFrame::uplink(message_type)
+    }
+}
 
 /// The 16-byte wrapper header of ICD §2.
 fn header(length: u16, source: u32, destination: u32, message_type: u16, props: u16) -> Vec<u8> {
-    let mut h = Vec::with_capacity(16);
-    h.extend_from_slice(&0xFFFFu16.to_be_bytes());
-    h.extend_from_slice(&length.to_be_bytes());
-    h.extend_from_slice(&source.to_be_bytes());
-    h.extend_from_slice(&destination.to_be_bytes());
-    h.extend_from_slice(&message_type.to_be_bytes());
-    h.extend_from_slice(&props.to_be_bytes());
-    h
+    RawFrame {
+        length: Some(length),
+        ..raw(source, destination, message_type, props)
+    }
+    .header(0)
 }
 
-/// Byte-wise unsigned addition of every byte (ICD §2), not truncated.
+/// Byte-wise unsigned addition of every byte (ICD §2), not truncated: what a checksum test expects.
 fn byte_sum(bytes: &[u8]) -> u32 {
     bytes.iter().map(|b| u32::from(*b)).sum()
 }
 
 /// Appends the byte-sum checksum of everything so far, `width` bytes (0, 2 or 4).
 fn with_checksum(mut frame: Vec<u8>, width: usize) -> Vec<u8> {
-    let sum = byte_sum(&frame);
-    match width {
-        0 => {}
-        2 => frame.extend_from_slice(&(sum as u16).to_be_bytes()),
-        4 => frame.extend_from_slice(&sum.to_be_bytes()),
-        _ => unreachable!(),
-    }
+    testkit::append_checksum(&mut frame, width);
     frame
 }
 
@@ -76,14 +78,16 @@ fn frame(
     checksum_width: usize,
     data: &[u8],
 ) -> Vec<u8> {
-    let mut f = header(data.len() as u16, source, destination, message_type, props);
-    f.extend_from_slice(data);
-    with_checksum(f, checksum_width)
+    RawFrame {
+        checksum_len: checksum_width,
+        ..raw(source, destination, message_type, props)
+    }
+    .build(data)
 }
 
 /// Wraps message data as the GCS sends it to the FCC: IDD 40, 4-byte checksum.
 fn wrap(message_type: u16, data: &[u8]) -> Vec<u8> {
-    frame(GCS, FCC, message_type, PROPERTIES, 4, data)
+    RawFrame::uplink(message_type).build(data)
 }
 
 /// A valid #50000 execute: PV 0b11, time stamp, command 1.

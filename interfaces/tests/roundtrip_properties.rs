@@ -708,17 +708,7 @@ fn pv_bytes(t: MessageType) -> usize {
 
 /// Wraps message data in a sound wrapper (ICD §2, 4-byte byte-sum checksum), built by hand.
 fn wrap(message_type: u16, data: &[u8]) -> Vec<u8> {
-    let mut f = Vec::with_capacity(HEADER_LEN + data.len() + 4);
-    f.extend_from_slice(&0xFFFFu16.to_be_bytes());
-    f.extend_from_slice(&(data.len() as u16).to_be_bytes());
-    f.extend_from_slice(&0x0A00_0001u32.to_be_bytes());
-    f.extend_from_slice(&0x0B00_0001u32.to_be_bytes());
-    f.extend_from_slice(&message_type.to_be_bytes());
-    f.extend_from_slice(&((40u16 << 8) | (0b10 << 6)).to_be_bytes());
-    f.extend_from_slice(data);
-    let sum: u32 = f.iter().map(|b| u32::from(*b)).sum();
-    f.extend_from_slice(&sum.to_be_bytes());
-    f
+    missionlink_services::testkit::RawFrame::uplink(message_type).build(data)
 }
 
 /// Runs every decoding entry point over `bytes`; only a panic fails.

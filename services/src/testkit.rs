@@ -21,7 +21,8 @@
 //!   [`geofence_worst_case_rf`] (256 waypoints against 11 areas of 60 vertices, every zone
 //!   close to the route, the check passing), built from [`worst_case_messages`] and
 //!   [`worst_case_areas`];
-//! - frames and randomness: [`frame`], [`uplink`], [`Transmit`] (what a machine sends, taken
+//! - frames and randomness: [`frame`], [`uplink`], [`RawFrame`] (a frame by hand, any rule
+//!   broken), [`Transmit`] (what a machine sends, taken
 //!   through its `poll_transmit`), [`decoded`], [`Rng`] (seeded, so a run repeats).
 //!
 //! Every constructor takes values the tests choose and builds them with `expect`: a fixture that
@@ -412,6 +413,90 @@ pub fn frame(envelope: &Envelope, message: &Message) -> Vec<u8> {
     buf.get(..len)
         .expect("encode returns a length within the buffer")
         .to_vec()
+}
+
+/// Message Properties (ICD §2): bit 15 acknowledgement requested, bits 14..8 the IDD version,
+/// bits 7..6 the checksum code (00 none, 01 two bytes, 10 four bytes).
+pub const fn properties(ack: bool, idd_version: u16, checksum_code: u16) -> u16 {
+    ((ack as u16) << 15) | (idd_version << 8) | (checksum_code << 6)
+}
+
+/// A frame built byte by byte from the tables of ICD §2, never by the encoder: every wrapper
+/// field is what the test sets, so a test can break any rule, and the bytes pin the layout. The
+/// one hand-made frame of the tests, the benches and the fuzz inputs ([`frame`] is the
+/// encoder's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RawFrame {
+    /// The Reserved field (ICD §2: 0xFFFF).
+    pub reserved: u16,
+    /// Message Length; `None`: the length of the data.
+    pub length: Option<u16>,
+    /// Source ID.
+    pub source: u32,
+    /// Destination ID.
+    pub destination: u32,
+    /// Message Type.
+    pub message_type: u16,
+    /// Message Properties ([`properties`]).
+    pub properties: u16,
+    /// Checksum bytes appended (0, 2 or 4), whatever the properties say: the byte sum of
+    /// everything before, cut to its low bytes.
+    pub checksum_len: usize,
+}
+
+impl RawFrame {
+    /// A frame from the GCS to the FCC (ICD §1 defaults) as this project sends it: IDD 40, a
+    /// 4-byte checksum, no acknowledgement requested.
+    pub const fn uplink(message_type: u16) -> Self {
+        Self {
+            reserved: 0xFFFF,
+            length: None,
+            source: defaults::GCS_ID,
+            destination: defaults::FCC_ID,
+            message_type,
+            properties: properties(false, 40, 0b10),
+            checksum_len: 4,
+        }
+    }
+
+    /// The same with the acknowledgement requested (bit 15).
+    pub const fn with_ack(self) -> Self {
+        Self {
+            properties: self.properties | 0x8000,
+            ..self
+        }
+    }
+
+    /// The 16-byte header for `data_len` bytes of data.
+    pub fn header(&self, data_len: usize) -> Vec<u8> {
+        let length = self
+            .length
+            .unwrap_or_else(|| u16::try_from(data_len).expect("data of a frame's length"));
+        let mut h = Vec::with_capacity(16);
+        h.extend_from_slice(&self.reserved.to_be_bytes());
+        h.extend_from_slice(&length.to_be_bytes());
+        h.extend_from_slice(&self.source.to_be_bytes());
+        h.extend_from_slice(&self.destination.to_be_bytes());
+        h.extend_from_slice(&self.message_type.to_be_bytes());
+        h.extend_from_slice(&self.properties.to_be_bytes());
+        h
+    }
+
+    /// Header, `data` and checksum.
+    pub fn build(&self, data: &[u8]) -> Vec<u8> {
+        let mut f = self.header(data.len());
+        f.extend_from_slice(data);
+        append_checksum(&mut f, self.checksum_len);
+        f
+    }
+}
+
+/// Appends the byte-sum checksum of ICD §2 (every byte added, unsigned, not truncated) of
+/// everything in `frame`, its low `len` bytes big-endian (0, 2 or 4).
+pub fn append_checksum(frame: &mut Vec<u8>, len: usize) {
+    let sum: u32 = frame.iter().map(|b| u32::from(*b)).sum();
+    let bytes = sum.to_be_bytes();
+    frame.extend_from_slice(bytes.get(4 - len.min(4)..).unwrap_or_default());
 }
 
 /// `message` as the GCS sends it to the FCC, acknowledgement requested.

@@ -13,7 +13,7 @@ use missionlink_interfaces::wire::{
     MissionPlanMode, Reason, Text, Timestamp,
 };
 use missionlink_services::mission_data_handling::{DataKind, FccEvent};
-use missionlink_services::testkit;
+use missionlink_services::testkit::{self, RawFrame};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::sender::mission_command;
 use support::*;
@@ -47,7 +47,7 @@ fn unknown_field() {
     data.extend_from_slice(&TS);
     data.extend_from_slice(&[1, 0]);
     assert_eq!(
-        reason_of(&rig.send_raw(&raw_frame(50000, &data))),
+        reason_of(&rig.send_raw(&RawFrame::uplink(50000).with_ack().build(&data))),
         Some(Reason::UnknownField)
     );
 }
@@ -60,7 +60,7 @@ fn unsupported() {
     data.extend_from_slice(&TS);
     data.push(4);
     assert_eq!(
-        reason_of(&rig.send_raw(&raw_frame(13000, &data))),
+        reason_of(&rig.send_raw(&RawFrame::uplink(13000).with_ack().build(&data))),
         Some(Reason::Unsupported)
     );
     // Return to home on a route that is not bidirectional.
@@ -226,7 +226,7 @@ fn bad_geometry() {
     data.extend_from_slice(&[0, 7, 1, 0, 0, 0, 2]);
     data.extend_from_slice(&[0u8; 16]);
     assert_eq!(
-        reason_of(&rig.send_raw(&raw_frame(2012, &data))),
+        reason_of(&rig.send_raw(&RawFrame::uplink(2012).with_ack().build(&data))),
         Some(Reason::BadGeometry)
     );
 }

@@ -630,22 +630,6 @@ pub fn area_command(mode: AreaTransferMode, loop_count: Option<u8>) -> AreaTrans
     }
 }
 
-/// A frame from the GCS around hand-made message data (for rules the typed API cannot break).
-pub fn raw_frame(message_type: u16, data: &[u8]) -> Vec<u8> {
-    let mut f = Vec::new();
-    f.extend_from_slice(&0xFFFFu16.to_be_bytes());
-    f.extend_from_slice(&(data.len() as u16).to_be_bytes());
-    f.extend_from_slice(&defaults::GCS_ID.to_be_bytes());
-    f.extend_from_slice(&defaults::FCC_ID.to_be_bytes());
-    f.extend_from_slice(&message_type.to_be_bytes());
-    // Ack requested, IDD 40, 4-byte checksum.
-    f.extend_from_slice(&0xA880u16.to_be_bytes());
-    f.extend_from_slice(data);
-    let sum: u32 = f.iter().map(|b| u32::from(*b)).sum();
-    f.extend_from_slice(&sum.to_be_bytes());
-    f
-}
-
 /// Time stamp bytes of 2026-11-21T12:00:10Z (ms since 2000).
 pub const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
 
