@@ -70,7 +70,7 @@ fn tshark(args: &[&str]) -> String {
 
 /// `gcs inspect --json` of one datagram: the messages it prints and whether it accepted all.
 fn inspect(datagram: &[u8]) -> (Vec<Value>, Output) {
-    let out = support::gcs(
+    let out = support::gcs_with_input(
         &["inspect", "--json"],
         &format!("{}\n", hex::encode(datagram)),
     );

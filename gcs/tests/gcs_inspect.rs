@@ -8,7 +8,7 @@ mod support;
 
 use std::process::Output;
 
-use support::gcs;
+use support::gcs_with_input;
 
 /// The #13002 of docs/gcs.md ("The frame inspector"): waypoint 1 of demo mission 1 (CCP), written
 /// by hand from the ICD.
@@ -24,7 +24,7 @@ fn stderr(o: &Output) -> String {
 
 #[test]
 fn documented_frame_prints_every_field_in_units() {
-    let o = gcs(&["inspect", DOCUMENTED_13002], "");
+    let o = gcs_with_input(&["inspect", DOCUMENTED_13002], "");
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     for line in [
@@ -52,13 +52,13 @@ fn documented_frame_prints_every_field_in_units() {
 
 #[test]
 fn json_then_encode_gives_the_frame_back() {
-    let o = gcs(&["inspect", "--json", DOCUMENTED_13002], "");
+    let o = gcs_with_input(&["inspect", "--json", DOCUMENTED_13002], "");
     assert!(o.status.success());
     let json = stdout(&o);
     let v: serde_json::Value = serde_json::from_str(json.trim()).expect("one JSON object");
     assert_eq!(v["message_type"], 13002);
     assert_eq!(v["fields"]["speed"], 25.0);
-    let o = gcs(&["encode"], &json);
+    let o = gcs_with_input(&["encode"], &json);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(stdout(&o).trim(), DOCUMENTED_13002);
 }
@@ -67,7 +67,7 @@ fn json_then_encode_gives_the_frame_back() {
 fn stdin_datagrams_with_several_messages_and_comments() {
     let two = format!("{DOCUMENTED_13002}{DOCUMENTED_13002}");
     let input = format!("# capture of the direct link\n\n{two}\n{DOCUMENTED_13002}\n");
-    let o = gcs(&["inspect", "--json"], &input);
+    let o = gcs_with_input(&["inspect", "--json"], &input);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(stdout(&o).lines().count(), 3);
 }
@@ -75,7 +75,7 @@ fn stdin_datagrams_with_several_messages_and_comments() {
 #[test]
 fn bad_checksum_names_the_rule_and_fails() {
     let broken = format!("{}13", &DOCUMENTED_13002[..DOCUMENTED_13002.len() - 2]);
-    let o = gcs(&["inspect", &broken], "");
+    let o = gcs_with_input(&["inspect", &broken], "");
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
         stderr(&o).trim(),
@@ -92,7 +92,7 @@ fn rejected_message_names_message_field_and_reason() {
     bytes[25] = 0;
     let n = bytes.len();
     bytes[n - 1] -= 1;
-    let o = gcs(&["inspect", &hex::encode(&bytes)], "");
+    let o = gcs_with_input(&["inspect", &hex::encode(&bytes)], "");
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
         stderr(&o).trim(),
@@ -104,7 +104,7 @@ fn rejected_message_names_message_field_and_reason() {
 #[test]
 fn addressing_rules_apply_when_asked() {
     // The frame is for the FCC 0x0B000001: the GCS rejects it as not addressed to it.
-    let o = gcs(
+    let o = gcs_with_input(
         &[
             "inspect",
             "--local-id",
@@ -117,7 +117,7 @@ fn addressing_rules_apply_when_asked() {
     );
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("destination 0x0b000001 is neither this node nor broadcast"));
-    let o = gcs(
+    let o = gcs_with_input(
         &[
             "inspect",
             "--local-id",
@@ -133,17 +133,17 @@ fn addressing_rules_apply_when_asked() {
 
 #[test]
 fn not_hex_and_not_json_fail_clearly() {
-    let o = gcs(&["inspect", "zz"], "");
+    let o = gcs_with_input(&["inspect", "zz"], "");
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("not a hex datagram"), "{}", stderr(&o));
-    let o = gcs(&["encode", r#"{"message_type":13002,"fields":{}}"#], "");
+    let o = gcs_with_input(&["encode", r#"{"message_type":13002,"fields":{}}"#], "");
     assert_eq!(o.status.code(), Some(1));
     assert!(
         stderr(&o).contains("message 1: not a message in JSON"),
         "{}",
         stderr(&o)
     );
-    let o = gcs(&["encode", r#"{"message_type":1,"fields":{}}"#], "");
+    let o = gcs_with_input(&["encode", r#"{"message_type":1,"fields":{}}"#], "");
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("message type 1 is not in the ICD"));
 }

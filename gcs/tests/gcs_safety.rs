@@ -7,28 +7,11 @@
 
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::time::Duration;
 
-fn gcs(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gcs"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("gcs runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+mod support;
+use support::{gcs, repo, text};
 
 /// A directory of the test's own, named after the test (and unique to this process and run), removed
 /// when dropped: tests run in parallel, so no two may share a file name.

@@ -6,29 +6,10 @@
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::net::UdpSocket;
-use std::path::Path;
-use std::process::{Command, Output};
 use std::time::Duration;
 
-fn gcs(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gcs"))
-        .args(args)
-        .env("RUST_LOG", "warn")
-        .output()
-        .expect("gcs runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(path)
-        .display()
-        .to_string()
-}
+mod support;
+use support::{gcs, repo, text};
 
 #[test]
 fn a_bad_mission_id_is_refused_before_anything_is_sent() {
