@@ -3,8 +3,10 @@
 //! delay, jitter, loss (independent, or bursty after Gilbert and Elliott), duplication,
 //! reordering and byte corruption; a link can be cut.
 //!
-//! Two parts, as everywhere in this project: [`Channel`] decides, sans-IO, what becomes of each
-//! datagram of one direction of one link (when each copy arrives, and its bytes); [`Emulator`]
+//! Two parts, as everywhere in this project: [`Channel`], the testkit's one fault model of the
+//! links (the simulated pair of the `services` tests uses it too), decides, sans-IO, what
+//! becomes of each datagram of one direction of one link (after how long each copy arrives, and
+//! its bytes); [`Emulator`]
 //! only moves bytes: it relays UDP between the GCS's ends and the FCC's ends through four
 //! sockets of its own and a thread.
 //!
@@ -22,61 +24,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use missionlink_services::testkit::Rng;
-
-/// What a link does to the datagrams of one direction.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Impairments {
-    /// One-way delay.
-    pub delay: Duration,
-    /// Added to the delay, uniform in 0..=jitter (a jitter wider than the gap between two
-    /// datagrams reorders them).
-    pub jitter: Duration,
-    /// Probability that a datagram is lost (in the good state of a bursty link).
-    pub loss: f64,
-    /// Bursty loss: the Gilbert-Elliott chain; `None`: independent loss.
-    pub burst: Option<Burst>,
-    /// Probability that a datagram arrives twice (the copy with its own delay).
-    pub duplicate: f64,
-    /// Probability that a datagram is held back by one more delay (reordered past the ones
-    /// after it).
-    pub reorder: f64,
-    /// Probability that one byte of a datagram is changed.
-    pub corrupt: f64,
-    /// The link is cut: nothing gets through.
-    pub cut: bool,
-}
-
-/// Bursty loss after Gilbert and Elliott: a good and a bad state.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Burst {
-    /// Probability per datagram of going from good to bad.
-    pub enter: f64,
-    /// Probability per datagram of going from bad to good.
-    pub leave: f64,
-    /// Loss in the bad state.
-    pub loss: f64,
-}
-
-impl Impairments {
-    /// Nothing happens: loopback.
-    pub const NONE: Self = Self {
-        delay: Duration::ZERO,
-        jitter: Duration::ZERO,
-        loss: 0.0,
-        burst: None,
-        duplicate: 0.0,
-        reorder: 0.0,
-        corrupt: 0.0,
-        cut: false,
-    };
-
-    /// The same, cut.
-    pub const fn cut(mut self) -> Self {
-        self.cut = true;
-        self
-    }
-}
+pub use missionlink_services::testkit::channel::{Burst, Channel, ChannelStats, Impairments};
 
 /// The named links of the tests and benchmarks (`tests/emulated_links.rs`, `tests/link_faults.rs`,
 /// BENCHMARKS.md section 6).
@@ -144,99 +92,6 @@ impl Profile {
                 ..Impairments::NONE
             },
         }
-    }
-}
-
-/// What became of the datagrams of one channel.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct ChannelStats {
-    /// Datagrams offered.
-    pub offered: u64,
-    /// Lost (or cut).
-    pub lost: u64,
-    /// Copies added.
-    pub duplicated: u64,
-    /// Held back to arrive after later ones.
-    pub reordered: u64,
-    /// With one byte changed.
-    pub corrupted: u64,
-}
-
-/// One direction of one link, sans-IO: for each datagram, when each copy arrives and with
-/// which bytes. Deterministic for a seed.
-#[derive(Debug, Clone)]
-pub struct Channel {
-    impairments: Impairments,
-    rng: Rng,
-    bad: bool,
-    stats: ChannelStats,
-}
-
-impl Channel {
-    /// A channel with `impairments`, its random draws from `seed`.
-    pub fn new(impairments: Impairments, seed: u64) -> Self {
-        Self {
-            impairments,
-            rng: Rng::new(seed),
-            bad: false,
-            stats: ChannelStats::default(),
-        }
-    }
-
-    /// Changes the impairments from now on (to cut a link mid-run, say).
-    pub fn set(&mut self, impairments: Impairments) {
-        self.impairments = impairments;
-    }
-
-    /// What happened so far.
-    pub fn stats(&self) -> ChannelStats {
-        self.stats
-    }
-
-    /// `datagram` sent at `now`: each copy that arrives, with its arrival time.
-    pub fn transmit(&mut self, now: Instant, datagram: &[u8]) -> Vec<(Instant, Vec<u8>)> {
-        let i = self.impairments;
-        self.stats.offered += 1;
-        let loss = match i.burst {
-            None => i.loss,
-            Some(b) => {
-                let flip = if self.bad { b.leave } else { b.enter };
-                if self.rng.chance(flip) {
-                    self.bad = !self.bad;
-                }
-                if self.bad { b.loss } else { i.loss }
-            }
-        };
-        if i.cut || self.rng.chance(loss) {
-            self.stats.lost += 1;
-            return Vec::new();
-        }
-        let copies = if self.rng.chance(i.duplicate) {
-            self.stats.duplicated += 1;
-            2
-        } else {
-            1
-        };
-        (0..copies)
-            .map(|_| {
-                let jitter = self.rng.range(0, i.jitter.as_micros() as u64);
-                let mut at = now + i.delay + Duration::from_micros(jitter);
-                if self.rng.chance(i.reorder) {
-                    self.stats.reordered += 1;
-                    at += i.delay.max(Duration::from_millis(1));
-                }
-                let mut bytes = datagram.to_vec();
-                if !bytes.is_empty() && self.rng.chance(i.corrupt) {
-                    self.stats.corrupted += 1;
-                    let k = self.rng.range(0, bytes.len() as u64 - 1) as usize;
-                    let flip = self.rng.range(1, 255) as u8;
-                    if let Some(b) = bytes.get_mut(k) {
-                        *b ^= flip;
-                    }
-                }
-                (at, bytes)
-            })
-            .collect()
     }
 }
 
@@ -390,7 +245,7 @@ impl Emulator {
         if let Ok(mut s) = self.shared.lock()
             && let Some(c) = s.channels.get_mut(flow as usize)
         {
-            c.set(impairments);
+            c.impairments = impairments;
         }
     }
 
@@ -446,7 +301,8 @@ fn relay(sockets: [UdpSocket; 4], gcs: [SocketAddr; 2], shared: &Mutex<Shared>, 
                 let Some(channel) = s.channels.get_mut(flow) else {
                     continue;
                 };
-                for (at, bytes) in channel.transmit(now, buf.get(..len).unwrap_or_default()) {
+                for (after, bytes) in channel.transmit(buf.get(..len).unwrap_or_default()) {
+                    let at = now + after;
                     order += 1;
                     queue.push(Pending {
                         at,
@@ -472,60 +328,6 @@ fn relay(sockets: [UdpSocket; 4], gcs: [SocketAddr; 2], shared: &Mutex<Shared>, 
             if let (Some(socket), Some(to)) = (from, to) {
                 let _ = socket.send_to(&p.bytes, to);
             }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_channel_is_deterministic_for_a_seed_and_keeps_its_rates() {
-        let run = |seed| {
-            let mut c = Channel::new(Profile::Bad.impairments(), seed);
-            let t0 = Instant::now();
-            let arrivals: Vec<_> = (0..10_000)
-                .map(|i| c.transmit(t0 + Duration::from_millis(i), &[1, 2, 3]).len())
-                .collect();
-            (arrivals, c.stats())
-        };
-        assert_eq!(run(7), run(7));
-        let (_, stats) = run(7);
-        let loss = stats.lost as f64 / stats.offered as f64;
-        assert!(
-            (0.07..0.13).contains(&loss),
-            "bursty loss about 10 %: {loss}"
-        );
-        let reordered = stats.reordered as f64 / stats.offered as f64;
-        assert!((0.03..0.07).contains(&reordered), "{reordered}");
-    }
-
-    #[test]
-    fn delay_and_jitter_bound_the_arrival_and_a_cut_link_loses_everything() {
-        let mut c = Channel::new(Profile::Lte.impairments(), 1);
-        let t0 = Instant::now();
-        for (at, bytes) in (0..1000).flat_map(|_| c.transmit(t0, &[9])) {
-            assert!(at >= t0 + Duration::from_millis(30));
-            assert!(at <= t0 + Duration::from_millis(40));
-            assert_eq!(bytes, [9]);
-        }
-        c.set(Profile::Lte.impairments().cut());
-        assert!((0..100).all(|_| c.transmit(t0, &[9]).is_empty()));
-    }
-
-    #[test]
-    fn corruption_changes_one_byte() {
-        let mut c = Channel::new(
-            Impairments {
-                corrupt: 1.0,
-                ..Impairments::NONE
-            },
-            3,
-        );
-        let sent = [0u8; 32];
-        for (_, got) in (0..100).flat_map(|_| c.transmit(Instant::now(), &sent)) {
-            assert_eq!(got.iter().filter(|b| **b != 0).count(), 1);
         }
     }
 }

@@ -16,13 +16,13 @@ use missionlink_services::ground_station::outcome::{Held, UploadOutcome, UploadR
 use missionlink_services::ground_station::{GcsError, GcsEvent};
 use support::*;
 
-fn random_faults(rng: &mut Rng, max_loss: f64) -> Faults {
+fn random_faults(rng: &mut Rng, max_loss: f64) -> Impairments {
     let lo = rng.range(1, 30);
-    Faults {
-        loss: rng.unit() * max_loss,
-        duplicate: rng.unit() * 0.2,
-        latency_ms: (lo, lo + rng.range(0, 60)),
-    }
+    faulty(
+        rng.unit() * max_loss,
+        rng.unit() * 0.2,
+        (lo, lo + rng.range(0, 60)),
+    )
 }
 
 #[derive(Default, Debug)]
@@ -234,11 +234,11 @@ fn lose_closer_answers(closer: &str, times: usize) -> (Pair, UploadReport) {
         for s in &pair.sent[checked..] {
             match s.direction {
                 Direction::Up if describe(&s.message) == closer => {
-                    pair.downlink = [Faults::DOWN; 2];
+                    pair.downlink = [DOWN; 2];
                 }
-                Direction::Down if pair.downlink == [Faults::DOWN; 2] => {
+                Direction::Down if pair.downlink == [DOWN; 2] => {
                     lost += 1;
-                    pair.downlink = [Faults::NONE; 2];
+                    pair.downlink = [CLEAN; 2];
                 }
                 _ => {}
             }

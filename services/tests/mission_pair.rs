@@ -179,8 +179,8 @@ fn mission_2_with_rf_leg_circle_and_polygon_round_trips() {
 fn upload_over_one_dead_link_completes_on_the_other() {
     for dead in 0..2 {
         let mut pair = Pair::new(3);
-        pair.uplink[dead] = Faults::DOWN;
-        pair.downlink[dead] = Faults::DOWN;
+        pair.uplink[dead] = DOWN;
+        pair.downlink[dead] = DOWN;
         let plan = mission_2();
         upload(&mut pair, &plan, true);
         assert!(uploaded_complete(&pair.take_gcs_events()));

@@ -157,7 +157,7 @@ fn a_timeout_then_an_acceptance_of_either_attempt_succeeds() {
 #[test]
 fn an_upload_that_loses_its_link_names_the_message_after_the_retry() {
     let mut pair = Pair::new(7);
-    pair.uplink = [Faults::NONE; 2];
+    pair.uplink = [CLEAN; 2];
     let plan = mission_2();
     let now = pair.now;
     pair.gcs.upload(now, &plan, true).unwrap();
@@ -172,7 +172,7 @@ fn an_upload_that_loses_its_link_names_the_message_after_the_retry() {
     {
         pair.step();
     }
-    pair.uplink = [Faults::DOWN; 2];
+    pair.uplink = [DOWN; 2];
     let cut = pair.now;
     let before = pair.sent.len();
     pair.run_until_standby(Duration::from_secs(30));
@@ -220,7 +220,7 @@ fn a_download_abandoned_when_the_fcc_falls_silent() {
     {
         pair.step();
     }
-    pair.downlink = [Faults::DOWN; 2];
+    pair.downlink = [DOWN; 2];
     pair.run_until_standby(Duration::from_secs(30));
     let events = pair.take_gcs_events();
     assert!(

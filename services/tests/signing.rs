@@ -169,11 +169,7 @@ fn a_signed_upload_completes_through_reordering_and_duplication() {
     for seed in 0..8 {
         let mut pair = Pair::signed(seed, Policy::Require, Policy::Require);
         for faults in pair.uplink.iter_mut().chain(pair.downlink.iter_mut()) {
-            *faults = Faults {
-                loss: 0.0,
-                duplicate: 0.3,
-                latency_ms: (1, 60),
-            };
+            *faults = faulty(0.0, 0.3, (1, 60));
         }
         let plan = mission_2();
         upload(&mut pair, &plan);

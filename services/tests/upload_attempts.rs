@@ -82,10 +82,10 @@ fn upload_with_a_cut(pair: &mut Pair, waypoints: usize, cut: Duration) {
     while waypoints_sent(pair) < before + waypoints {
         assert!(pair.step(), "the upload stopped");
     }
-    pair.uplink = [Faults::DOWN; 2];
+    pair.uplink = [DOWN; 2];
     let until = pair.now + cut;
     pair.run_until(until);
-    pair.uplink = [Faults::NONE; 2];
+    pair.uplink = [CLEAN; 2];
     pair.run_until_standby(Duration::from_secs(30));
 }
 

@@ -153,7 +153,7 @@ fn a_window_takes_fewer_round_trips() {
     for window in WINDOWS {
         let mut p = pair(4, window);
         for f in p.uplink.iter_mut().chain(p.downlink.iter_mut()) {
-            f.latency_ms = (20, 20);
+            *f = faulty(0.0, 0.0, (20, 20));
         }
         let start = p.now;
         assert!(upload(&mut p, &plan), "window {window}");
@@ -188,11 +188,7 @@ fn windows_under_faults_end_with_the_exact_lists_or_the_previous_ones() {
             let mut rng = Rng::new(seed ^ 0x3a11);
             for f in p.uplink.iter_mut().chain(p.downlink.iter_mut()) {
                 let lo = rng.range(1, 20);
-                *f = Faults {
-                    loss: 0.1,
-                    duplicate: 0.1,
-                    latency_ms: (lo, lo + rng.range(10, 60)),
-                };
+                *f = faulty(0.1, 0.1, (lo, lo + rng.range(10, 60)));
             }
             let ok = upload(&mut p, &new_plan);
             // Let every late copy arrive and every receiver time out.

@@ -32,6 +32,7 @@ use missionlink_services::voting::Voter;
 
 // The fixtures (configurations, messages, areas, the demo missions, the seeded RNG) come from
 // the testkit that every test and bench shares.
+pub use missionlink_services::testkit::channel::{Channel, Impairments};
 pub use missionlink_services::testkit::*;
 
 /// Datagrams a driver reads per link per step (`partitions::udp::MAX_READS_PER_WAKE`).
@@ -42,28 +43,26 @@ pub const ACK_TIMEOUT: Duration = defaults::ACK_TIMEOUT;
 /// How long a transfer waits for its peer (ICD §1).
 pub const TRANSFER_TIMEOUT: Duration = defaults::TRANSFER_TIMEOUT;
 
-/// The faults of one link in one direction.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Faults {
-    /// Probability that a frame is lost.
-    pub loss: f64,
-    /// Probability that a frame arrives twice.
-    pub duplicate: f64,
-    /// Latency, uniform in this range (ms); a wide range reorders frames.
-    pub latency_ms: (u64, u64),
-}
+/// A link of the pair that works: 2 ms one way, nothing else (the testkit's one fault model,
+/// [`Impairments`]).
+pub const CLEAN: Impairments = Impairments {
+    delay: Duration::from_millis(2),
+    ..Impairments::NONE
+};
 
-impl Faults {
-    pub const NONE: Self = Self {
-        loss: 0.0,
-        duplicate: 0.0,
-        latency_ms: (2, 2),
-    };
-    pub const DOWN: Self = Self {
-        loss: 1.0,
-        duplicate: 0.0,
-        latency_ms: (2, 2),
-    };
+/// A link of the pair that is cut.
+pub const DOWN: Impairments = CLEAN.cut();
+
+/// A link of the pair with `loss`, `duplicate`, and a one-way delay uniform in
+/// `latency_ms.0..=latency_ms.1` (a wide range reorders frames).
+pub fn faulty(loss: f64, duplicate: f64, latency_ms: (u64, u64)) -> Impairments {
+    Impairments {
+        delay: Duration::from_millis(latency_ms.0),
+        jitter: Duration::from_millis(latency_ms.1 - latency_ms.0),
+        loss,
+        duplicate,
+        ..Impairments::NONE
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -98,13 +97,15 @@ pub struct Pair {
     pub fcc: MissionDataHandling,
     gcs_voter: Voter,
     fcc_voter: Voter,
-    /// Faults of [direct, LTE], per direction.
-    pub uplink: [Faults; 2],
-    pub downlink: [Faults; 2],
+    /// The impairments of [direct, LTE], per direction (the testkit's one fault model).
+    pub uplink: [Impairments; 2],
+    pub downlink: [Impairments; 2],
     to_fcc: Vec<InFlight>,
     to_gcs: Vec<InFlight>,
     order: u64,
-    rng: Rng,
+    /// The channels [up direct, up LTE, down direct, down LTE], each drawing from its own
+    /// seed; their impairments are `uplink` and `downlink` as they are at each send.
+    channels: [Channel; 4],
     /// The signer of each direction's frames, `[up, down]` (ICD §9); none: unsigned.
     signers: [Option<Signer>; 2],
     pub sent: Vec<Sent>,
@@ -123,12 +124,14 @@ impl Pair {
             fcc: MissionDataHandling::new(fcc_config()),
             gcs_voter: Voter::new(defaults::GCS_ID, defaults::FCC_ID, TRANSFER_TIMEOUT),
             fcc_voter: Voter::new(defaults::FCC_ID, defaults::GCS_ID, TRANSFER_TIMEOUT),
-            uplink: [Faults::NONE; 2],
-            downlink: [Faults::NONE; 2],
+            uplink: [CLEAN; 2],
+            downlink: [CLEAN; 2],
             to_fcc: Vec::new(),
             to_gcs: Vec::new(),
             order: 0,
-            rng: Rng::new(seed),
+            channels: core::array::from_fn(|i| {
+                Channel::new(CLEAN, seed.wrapping_mul(4).wrapping_add(i as u64))
+            }),
             signers: [None, None],
             sent: Vec::new(),
             wire: Vec::new(),
@@ -206,7 +209,7 @@ impl Pair {
         }
     }
 
-    fn transmit(&mut self, direction: Direction, link: Link, faults: Faults, bytes: &[u8]) {
+    fn transmit(&mut self, direction: Direction, link: Link, faults: Impairments, bytes: &[u8]) {
         let signer = match direction {
             Direction::Up => &self.signers[0],
             Direction::Down => &self.signers[1],
@@ -222,21 +225,21 @@ impl Pair {
             None => bytes,
         };
         self.wire.push((direction, link, bytes.to_vec()));
-        let copies = if self.rng.chance(faults.loss) {
-            0
-        } else if self.rng.chance(faults.duplicate) {
-            2
-        } else {
-            1
+        let index = match (direction, link) {
+            (Direction::Up, Link::Direct) => 0,
+            (Direction::Up, _) => 1,
+            (Direction::Down, Link::Direct) => 2,
+            (Direction::Down, _) => 3,
         };
-        for _ in 0..copies {
-            let latency = self.rng.range(faults.latency_ms.0, faults.latency_ms.1);
+        let channel = &mut self.channels[index];
+        channel.impairments = faults;
+        for (after, bytes) in channel.transmit(bytes) {
             self.order += 1;
             let f = InFlight {
-                deliver_at: self.now + Duration::from_millis(latency),
+                deliver_at: self.now + after,
                 order: self.order,
                 link,
-                bytes: bytes.to_vec(),
+                bytes,
             };
             match direction {
                 Direction::Up => self.to_fcc.push(f),

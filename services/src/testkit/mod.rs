@@ -21,6 +21,8 @@
 //!   [`geofence_worst_case_rf`] (256 waypoints against 11 areas of 60 vertices, every zone
 //!   close to the route, the check passing), built from [`worst_case_messages`] and
 //!   [`worst_case_areas`];
+//! - links: [`channel`], the one fault model (delay, jitter, loss, bursts, duplication,
+//!   reordering, corruption) of the simulated pair and the link emulator;
 //! - frames and randomness: [`frame`], [`uplink`], [`RawFrame`] (a frame by hand, any rule
 //!   broken), [`Transmit`] (what a machine sends, taken
 //!   through its `poll_transmit`), [`decoded`], [`Rng`] (seeded, so a run repeats).
@@ -32,6 +34,8 @@
     clippy::expect_used,
     reason = "test-only fixtures: the values are literals the tests choose, a failure is a broken test"
 )]
+
+pub mod channel;
 
 use missionlink_interfaces::capacity::MAX_POLYGON_VERTICES;
 use missionlink_interfaces::defaults;
