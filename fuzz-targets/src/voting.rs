@@ -206,7 +206,7 @@ fn vote(
     let before = accounted(voter.stats());
     let arrivals: Vec<(Link, &[u8])> = step.iter().map(|(l, d)| (*l, d.as_slice())).collect();
     let mut out: Vec<(Link, &[u8])> = Vec::new();
-    voter.vote_step(now, &arrivals, |link, frame| out.push((link, frame)));
+    voter.vote_step(now, &arrivals, |link, _, frame| out.push((link, frame)));
     assert_eq!(
         accounted(voter.stats()) - before,
         messages,

@@ -317,7 +317,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             }
             let station = &mut self.station;
             let mut received = Vec::new();
-            self.voter.vote_step(now, &arrivals, |_, frame| {
+            self.voter.vote_step(now, &arrivals, |_, _, frame| {
                 // Counted by cause and logged at most once a second by the endpoint.
                 let _ = station.handle_frame(now, frame);
                 if let Ok((_, m)) = wire::decode(frame) {

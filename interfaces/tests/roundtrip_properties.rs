@@ -992,6 +992,30 @@ proptest! {
         exercise(&wrap(message.message_type() as u16, &data));
     }
 
+    /// The time stamp the voter samples by is the one decoding finds: of a valid message its
+    /// own, and of data with a byte changed the decoded message's or the one its rejection
+    /// carries (`None` exactly where no acknowledgement could name the message).
+    #[test]
+    fn the_peeked_time_stamp_is_the_decoded_one(
+        message in message(),
+        at in any::<Index>(),
+        mask in 0..=255u8,
+    ) {
+        let frame = encode(&Envelope::new(1, 2), &message);
+        let mut data = frame[HEADER_LEN..frame.len() - 4].to_vec();
+        let message_type = message.message_type() as u16;
+        prop_assert_eq!(Message::peek_time_stamp(message_type, &data), Some(message.time_stamp()));
+        let i = at.index(data.len());
+        data[i] ^= mask;
+        let decoded = match Message::decode(message_type, &data) {
+            Ok(m) => Some(m.time_stamp()),
+            Err(e) => e.time_stamp,
+        };
+        prop_assert_eq!(Message::peek_time_stamp(message_type, &data), decoded);
+        let wrapped = wrap(message_type, &data);
+        prop_assert_eq!(wire::Frame::new_checked(&wrapped).unwrap().time_stamp(), decoded);
+    }
+
     /// A valid frame cut short is rejected (never panics).
     #[test]
     fn truncated_frame_is_rejected(

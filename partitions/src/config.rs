@@ -456,14 +456,12 @@ impl Config {
         })
     }
 
-    /// An endpoint from `local_id` to `peer_id` whose instant zero is `utc_at_zero`, sampling
-    /// over the transfer timeout.
+    /// An endpoint from `local_id` to `peer_id` whose instant zero is `utc_at_zero`.
     fn endpoint(&self, local_id: u32, peer_id: u32, utc_at_zero: Timestamp) -> EndpointConfig {
         EndpointConfig {
             local_id,
             peer_id,
             utc_at_zero,
-            sampling_window: self.timing.transfer_timeout(),
         }
     }
 

@@ -154,13 +154,9 @@ where
             for (slot, (link, len, _)) in slots.iter().zip(&step) {
                 let _ = arrivals.push((*link, slot.get(..*len).unwrap_or_default()));
             }
-            voter.vote_step(clock.now(), &arrivals, |link, frame| {
+            voter.vote_step(clock.now(), &arrivals, |link, datagram, frame| {
                 // The datagram the frame lies in gives its receive time.
-                let origin = arrivals
-                    .iter()
-                    .zip(&step)
-                    .find(|((_, d), _)| d.as_ptr_range().contains(&frame.as_ptr()))
-                    .map_or(0, |(_, (_, _, at))| *at);
+                let origin = step.get(datagram).map_or(0, |(_, _, at)| *at);
                 let Some(mut payload) = FramePayload::new(link, frame, origin) else {
                     return;
                 };

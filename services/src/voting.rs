@@ -4,14 +4,16 @@
 //! arrives twice. The voter sits between the sockets and mission data handling and passes each
 //! message on exactly once:
 //!
-//! - **Integrity (ICD §2).** Every message of every datagram (a datagram may hold several, back
-//!   to back) goes through the wrapper rules ([`wire::frames`]), the addressing rules
-//!   ([`Frame::check_addressing`]) and the message rules ([`Frame::message`]). A frame that
-//!   breaks a wrapper or addressing rule is dropped and counted by cause: it is never processed
-//!   and never acknowledged. The log hears of it at most once a second per cause
-//!   ([`crate::link::rejects`]), so a flood of bad datagrams cannot flood the log. A message that breaks a message rule but whose time stamp could be
-//!   read is still forwarded, because mission data handling must answer it with #17000 type 3
-//!   and the reason; without a readable time stamp nobody can answer it, so it is dropped.
+//! - **Integrity (ICD §2, §9).** Every message of every datagram (a datagram may hold several,
+//!   back to back) goes through the wrapper rules ([`wire::frames`]), the addressing rules
+//!   ([`Frame::check_addressing`]) and, where links are signed, the signature check. A frame
+//!   that breaks one is dropped and counted by cause: it is never processed and never
+//!   acknowledged. The log hears of it at most once a second per cause
+//!   ([`crate::link::rejects`]), so a flood of bad datagrams cannot flood the log. Of the
+//!   message data the voter reads only the time stamp ([`Frame::time_stamp`]): a message
+//!   without a readable one is dropped (nobody could answer it); a message that breaks a rule
+//!   of ICD §3 or §4 otherwise is forwarded, and the endpoint behind the voter rejects it with
+//!   #17000 type 3 and the reason.
 //! - **Each message once (paper §2.4; ICD §3 "Time stamps are identities", §10.2).** Message
 //!   sampling ([`MessageSampler`], keyed by source, message type and time stamp) drops the
 //!   redundant copy from the other link (or a repeated frame); it keeps the identities it
@@ -23,17 +25,23 @@
 //!   direct before LTE), so when both copies arrive in the same step the direct copy is the one
 //!   forwarded; across steps the first copy to arrive wins, because waiting would cost latency.
 //!
+//! **Who owns what.** The voter owns the link-level checks (wrapper, addressing, signature) and
+//! message sampling across both links, with their counters ([`VotingStats`]). The endpoint
+//! ([`crate::link::endpoint`]) owns decoding, the message rules and the acknowledgement, with
+//! theirs. Nothing is checked or counted twice.
+//!
 //! Sans-IO (docs/design.md, "The sans-IO core"): the driver passes the time and the bytes in and
-//! gets the forwarded frames back through a callback, as sub-slices of the datagrams it passed in.
+//! gets the forwarded frames back through a callback, as sub-slices of the datagrams it passed
+//! in, each with the index of its datagram in the step.
 //! Nothing is allocated: a step holds at most [`VOTING_STEP_MESSAGES`] candidates on the stack.
 
 use core::time::Duration;
 
 use heapless::Vec;
 use missionlink_interfaces::contracts::Link;
-use missionlink_interfaces::wire::{self, Frame, FrameError, MessageError, Reason, Timestamp};
+use missionlink_interfaces::wire::{self, Frame, FrameError, Timestamp};
 
-use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter, REASONS};
+use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter};
 use crate::link::sampling::{MessageSampler, Sample};
 use crate::link::signing::{Authenticity, SignatureCause, SignatureCheck};
 use crate::link::time::Instant;
@@ -49,7 +57,8 @@ pub const VOTING_STEP_MESSAGES: usize = 64;
 /// `rejected_signatures` (by cause), `unreadable_messages`, `overflow`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct VotingStats {
-    /// Messages forwarded, per link: `[direct, LTE]` (includes `rejected_messages_forwarded`).
+    /// Messages forwarded, per link: `[direct, LTE]` (a message that breaks a rule of ICD §3 or
+    /// §4 too: the endpoint rejects it with #17000 and the reason).
     pub forwarded: [u64; 2],
     /// Redundant copies dropped: the same (source, type, time stamp) was already forwarded.
     pub duplicates: u64,
@@ -62,11 +71,8 @@ pub struct VotingStats {
     /// Frames that fail the signature check of ICD §9, by cause: dropped like a frame with a
     /// bad checksum.
     pub rejected_signatures: ByCause<SignatureCause, 4>,
-    /// Messages that break a rule of ICD §3 or §4 but carry a readable time stamp: forwarded
-    /// (and counted in `forwarded` too) so that mission data handling rejects them with #17000.
-    pub rejected_messages_forwarded: u64,
-    /// Messages that break a rule of ICD §3 or §4 and whose time stamp cannot be read (or whose
-    /// type the ICD does not define): dropped, since no acknowledgement can refer to them.
+    /// Messages whose time stamp cannot be read (or whose type the ICD does not define):
+    /// dropped, since sampling cannot identify them and no acknowledgement can refer to them.
     pub unreadable_messages: u64,
     /// Messages beyond [`VOTING_STEP_MESSAGES`] in one step: dropped unexamined.
     pub overflow: u64,
@@ -89,10 +95,6 @@ impl VotingStats {
         .chain([("rejected_signatures", self.rejected_signatures.total())])
         .chain(self.rejected_signatures.counters())
         .chain([
-            (
-                "rejected_messages_forwarded",
-                self.rejected_messages_forwarded,
-            ),
             ("unreadable_messages", self.unreadable_messages),
             ("overflow", self.overflow),
         ])
@@ -128,8 +130,8 @@ struct Candidate<'a> {
     source: u32,
     message_type: u16,
     time_stamp: Timestamp,
-    /// The message breaks a rule of ICD §3 or §4 (forwarded for the rejection).
-    rejected: Option<MessageError>,
+    /// The index of its datagram in the step.
+    datagram: usize,
     /// Position in the step, so that the order is total and deterministic.
     arrival: usize,
 }
@@ -153,8 +155,24 @@ pub struct Voter {
     stats: VotingStats,
     frame_log: LogLimiter<FrameCause, 8>,
     signature_log: LogLimiter<SignatureCause, 4>,
-    unreadable_log: LogLimiter<Reason, REASONS>,
+    unreadable_log: LogLimiter<Unreadable, 1>,
     overflow_log: LogLimiter<StepFull, 1>,
+}
+
+/// The cause of [`VotingStats::unreadable_messages`], logged like a rejection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Unreadable {
+    NoTimeStamp = 0,
+}
+
+impl Cause<1> for Unreadable {
+    const ALL: [Self; 1] = [Self::NoTimeStamp];
+    fn index(self) -> usize {
+        self as usize
+    }
+    fn counter_name(self) -> &'static str {
+        "unreadable_messages"
+    }
 }
 
 /// The cause of [`VotingStats::overflow`], logged like a rejection.
@@ -203,19 +221,20 @@ impl Voter {
     }
 
     /// Votes one step: `arrivals` are the datagrams received since the last step, each with its
-    /// link. Calls `forward(link, frame_bytes)` for every message to pass on, in forwarding
-    /// order (`frame_bytes` = the bytes of that one message, wrapper to checksum). Bounded: at
+    /// link. Calls `forward(link, datagram, frame_bytes)` for every message to pass on, in
+    /// forwarding order (`datagram` = its datagram's index in `arrivals`, `frame_bytes` = the
+    /// bytes of that one message, wrapper to checksum). Bounded: at
     /// most [`VOTING_STEP_MESSAGES`] messages per step are considered, in arrival order; the
     /// rest are dropped and counted as [`VotingStats::overflow`].
     pub fn vote_step<'a>(
         &mut self,
         now: Instant,
         arrivals: &[(Link, &'a [u8])],
-        mut forward: impl FnMut(Link, &'a [u8]),
+        mut forward: impl FnMut(Link, usize, &'a [u8]),
     ) {
         let mut candidates: Vec<Candidate<'a>, VOTING_STEP_MESSAGES> = Vec::new();
         let mut considered = 0usize;
-        for &(link, datagram) in arrivals {
+        for (index, &(link, datagram)) in arrivals.iter().enumerate() {
             if datagram.is_empty() {
                 // The walker yields nothing for no bytes, but ICD §2 still calls an empty
                 // datagram shorter than the header: count it, so a peer sending them is seen.
@@ -237,7 +256,8 @@ impl Voter {
                 match checked {
                     Err(error) => self.reject(now, link, error),
                     Ok(frame) => {
-                        if let Some(candidate) = self.candidate(now, link, frame, arrival) {
+                        let candidate = self.candidate(now, link, frame, index, arrival);
+                        if let Some(candidate) = candidate {
                             // `admit` keeps the count within the capacity, so this never fails;
                             // should it, the message is accounted for rather than lost silently.
                             if candidates.push(candidate).is_err() {
@@ -261,9 +281,11 @@ impl Voter {
         now: Instant,
         link: Link,
         datagram: &'a [u8],
-        forward: impl FnMut(Link, &'a [u8]),
+        mut forward: impl FnMut(Link, &'a [u8]),
     ) {
-        self.vote_step(now, &[(link, datagram)], forward);
+        self.vote_step(now, &[(link, datagram)], |link, _, frame| {
+            forward(link, frame)
+        });
     }
 
     /// What the voter did so far.
@@ -345,6 +367,7 @@ impl Voter {
         now: Instant,
         link: Link,
         frame: Frame<'a>,
+        datagram: usize,
         arrival: usize,
     ) -> Option<Candidate<'a>> {
         let authenticity = match self.signatures.verify(link, &frame) {
@@ -354,12 +377,9 @@ impl Voter {
                 return None;
             }
         };
-        let decoded = frame.message();
+        // The time stamp alone: the endpoint decodes the message (module documentation).
+        let stamp = frame.time_stamp();
         if authenticity == Authenticity::Verified {
-            let stamp = match &decoded {
-                Ok(message) => Some(message.time_stamp()),
-                Err(error) => error.time_stamp,
-            };
             let admitted =
                 self.signatures
                     .admit(now, link, frame.source_id(), frame.message_type(), stamp);
@@ -368,26 +388,18 @@ impl Voter {
                 return None;
             }
         }
-        let (time_stamp, rejected) = match decoded {
-            Ok(message) => (message.time_stamp(), None),
-            Err(error) => match error.time_stamp {
-                Some(time_stamp) => (time_stamp, Some(error)),
-                None => {
-                    self.stats.unreadable_messages += 1;
-                    let reason = error.reason();
-                    if let Some(dropped) = self.unreadable_log.admit(reason, now) {
-                        tracing::warn!(
-                            ?link,
-                            reason = reason.counter_name(),
-                            dropped,
-                            last = %error,
-                            "messages without readable time stamp dropped since the last line \
-                             of this reason"
-                        );
-                    }
-                    return None;
-                }
-            },
+        let Some(time_stamp) = stamp else {
+            self.stats.unreadable_messages += 1;
+            if let Some(dropped) = self.unreadable_log.admit(Unreadable::NoTimeStamp, now) {
+                tracing::warn!(
+                    ?link,
+                    dropped,
+                    last_message_type = frame.message_type(),
+                    "messages without a readable time stamp (or of a type the ICD does not \
+                     define) dropped since the last line"
+                );
+            }
+            return None;
         };
         Some(Candidate {
             link,
@@ -395,7 +407,7 @@ impl Voter {
             source: frame.source_id(),
             message_type: frame.message_type(),
             time_stamp,
-            rejected,
+            datagram,
             arrival,
         })
     }
@@ -405,7 +417,7 @@ impl Voter {
         &mut self,
         now: Instant,
         candidate: &Candidate<'a>,
-        forward: &mut impl FnMut(Link, &'a [u8]),
+        forward: &mut impl FnMut(Link, usize, &'a [u8]),
     ) {
         let Candidate {
             link,
@@ -413,17 +425,13 @@ impl Voter {
             source,
             message_type,
             time_stamp,
-            rejected,
+            datagram,
             ..
         } = *candidate;
         match self.sampler.sample(now, source, message_type, time_stamp) {
             Sample::Fresh => {
                 self.stats.count_forwarded(link);
-                if let Some(error) = rejected {
-                    self.stats.rejected_messages_forwarded += 1;
-                    tracing::debug!(?link, %error, "message breaks a rule: forwarded for rejection");
-                }
-                forward(link, bytes);
+                forward(link, datagram, bytes);
             }
             Sample::Duplicate => {
                 self.stats.duplicates += 1;
@@ -485,16 +493,12 @@ mod tests {
 
     /// A frame built by hand around `data`, with a correct 4-byte checksum.
     fn raw(source: u32, destination: u32, message_type: u16, data: &[u8]) -> std::vec::Vec<u8> {
-        let mut f = vec![0xff, 0xff];
-        f.extend_from_slice(&(data.len() as u16).to_be_bytes());
-        f.extend_from_slice(&source.to_be_bytes());
-        f.extend_from_slice(&destination.to_be_bytes());
-        f.extend_from_slice(&message_type.to_be_bytes());
-        f.extend_from_slice(&0x2880u16.to_be_bytes());
-        f.extend_from_slice(data);
-        let sum = checksum(&f, wire::ChecksumWidth::Four);
-        f.extend_from_slice(&sum.to_be_bytes());
-        f
+        testkit::RawFrame {
+            source,
+            destination,
+            ..testkit::RawFrame::uplink(message_type)
+        }
+        .build(data)
     }
 
     /// Rewrites the checksum after a test changed header bytes.
@@ -515,7 +519,7 @@ mod tests {
         arrivals: &[(Link, &[u8])],
     ) -> std::vec::Vec<(Link, std::vec::Vec<u8>)> {
         let mut out = std::vec::Vec::new();
-        voter.vote_step(now, arrivals, |link, bytes| {
+        voter.vote_step(now, arrivals, |link, _, bytes| {
             out.push((link, bytes.to_vec()))
         });
         out
@@ -776,7 +780,6 @@ mod tests {
                 ("signature_unknown_key", 0),
                 ("signature_bad", 0),
                 ("signature_replay", 0),
-                ("rejected_messages_forwarded", 0),
                 ("unreadable_messages", 0),
                 ("overflow", 0),
             ]
@@ -826,7 +829,6 @@ mod tests {
         assert_eq!(
             v.stats(),
             &VotingStats {
-                rejected_messages_forwarded: 1,
                 duplicates: 1,
                 ..stats([1, 0])
             }

@@ -194,7 +194,7 @@ fn a_flood_of_bad_frames_on_both_links_is_counted_in_full_and_logged_once_a_seco
         voter.vote_step(
             now,
             &[(Link::Direct, &[0xff; 7]), (Link::Lte, &[0x00; 40])],
-            |_, _| forwarded += 1,
+            |_, _, _| forwarded += 1,
         );
     }
     assert_eq!(forwarded, 0);
@@ -212,7 +212,7 @@ fn a_flood_of_bad_frames_on_both_links_is_counted_in_full_and_logged_once_a_seco
     voter.vote_step(
         Instant::from_millis(2000),
         &[(Link::Direct, &[0xff; 7]), (Link::Lte, &[0x00; 40])],
-        |_, _| forwarded += 1,
+        |_, _, _| forwarded += 1,
     );
     assert_eq!(voter.reject_log_lines(), 4);
 }

@@ -62,7 +62,7 @@ fn the_fcc_frame_path_allocates_nothing() {
                     (Link::Direct, &signed_direct[..direct]),
                     (Link::Lte, &signed_lte[..lte]),
                 ];
-                voter.vote_step(now, &arrivals, |_, frame| {
+                voter.vote_step(now, &arrivals, |_, _, frame| {
                     let _ = fcc.handle_frame(now, frame);
                 });
                 while fcc.poll_event().is_some() {}

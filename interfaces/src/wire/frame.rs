@@ -14,7 +14,7 @@ use zerocopy::byteorder::big_endian::{U16, U32};
 use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};
 
 use super::error::{DecodeError, EncodeError, FrameError, MessageError};
-use super::field::write_be;
+use super::field::{Timestamp, write_be};
 use super::msg::Message;
 
 /// Bytes of the wrapper header.
@@ -330,6 +330,11 @@ impl<'a> Frame<'a> {
     /// Decodes the message data.
     pub fn message(&self) -> Result<Message, MessageError> {
         Message::decode(self.message_type(), self.data)
+    }
+
+    /// The message's time stamp without decoding the rest ([`Message::peek_time_stamp`]).
+    pub fn time_stamp(&self) -> Option<Timestamp> {
+        Message::peek_time_stamp(self.message_type(), self.data)
     }
 }
 

@@ -58,6 +58,11 @@ impl<'a> Reader<'a> {
         Ok(reader)
     }
 
+    /// The time stamp as [`Reader::new`] peeked it (`None`: absent, or it does not decode).
+    pub(crate) fn peeked_time_stamp(&self) -> Option<Timestamp> {
+        self.time_stamp
+    }
+
     fn present(&self, bit: u8) -> bool {
         self.pv & (1 << bit) != 0
     }

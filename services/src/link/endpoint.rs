@@ -1,13 +1,15 @@
-//! One end of the STANAG link, as the FCC and the GCS both have it: preprocessing of incoming
-//! frames (paper §3.1.2: integrity and addressing of ICD §2, decoding, message sampling of
-//! §3.1.1), acknowledgement (§3.1.3, ICD §4 #17000), and the outgoing queue with the sender's
-//! time stamps (ICD §3).
+//! One end of the STANAG link, as the FCC and the GCS both have it: decoding of the messages the
+//! voter passed on (paper §3.1.2: the message rules of ICD §3 and §4), acknowledgement (§3.1.3,
+//! ICD §4 #17000), and the outgoing queue with the sender's time stamps (ICD §3).
+//!
+//! **Who owns what.** The voter in front of the endpoint ([`crate::voting`]) owns the link-level
+//! checks (wrapper, addressing, signature) and message sampling across both links (§3.1.1), with
+//! their counters; the endpoint owns decoding, the rejection of a message that breaks a message
+//! rule, and every answer, with theirs. Nothing is checked or counted twice.
 //!
 //! Which function handles a fresh message (the moding of §3.1.2) is decided by the owner of the
 //! endpoint: [`crate::mission_data_handling::MissionDataHandling`] on the FCC, [`crate::ground_station::GroundStation`] on
 //! the GCS.
-
-use core::time::Duration;
 
 use heapless::Deque;
 use missionlink_interfaces::wire::{
@@ -15,8 +17,7 @@ use missionlink_interfaces::wire::{
     MessageError, Reason, Timestamp,
 };
 
-use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter, REASONS};
-use crate::link::sampling::{MessageSampler, Sample};
+use crate::link::rejects::{ByCause, Cause, LogLimiter, REASONS};
 use crate::link::time::{Instant, UtcClock};
 use crate::link::time_stamp::TimeStamper;
 
@@ -34,8 +35,6 @@ pub struct EndpointConfig {
     pub peer_id: u32,
     /// UTC time of [`Instant::ZERO`], from which time stamps are derived.
     pub utc_at_zero: Timestamp,
-    /// How long sampling remembers a (source, type); the transfer timeout.
-    pub sampling_window: Duration,
 }
 
 /// A message waiting to be sent.
@@ -47,7 +46,7 @@ pub struct Outgoing {
     pub ack_requested: bool,
 }
 
-/// What preprocessing makes of one incoming message.
+/// What the endpoint makes of one message the voter passed on.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Inbound {
     /// A fresh, valid message for the moding to route.
@@ -60,22 +59,16 @@ pub enum Inbound {
     /// A fresh message that breaks a rule of ICD §3 or §4. It has been answered with #17000
     /// type 3 and the reason where the sender asked and the time stamp was readable.
     Rejected(MessageError),
-    /// A copy already processed, or older than one processed: dropped (paper §3.1.1).
-    Dropped(Sample),
 }
 
 /// Counters of an endpoint, for monitoring.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct EndpointStats {
-    /// Frames rejected at the wrapper or by addressing (ICD §2), by cause.
-    pub rejected_frames: ByCause<FrameCause, 8>,
     /// Messages rejected by ICD §3 or §4, by the reason of ICD §6.
     pub rejected_messages: ByCause<Reason, REASONS>,
     /// Valid messages the owner refused in its state (wrong state, busy, guidance active: the
     /// answer is #17000 type 3 with the reason), counted by [`Endpoint::refused`].
     pub refused_messages: u64,
-    /// Copies dropped by sampling.
-    pub dropped_copies: u64,
     /// Messages queued for sending.
     pub queued: u64,
     /// Messages lost because the driver did not drain the queue.
@@ -83,17 +76,13 @@ pub struct EndpointStats {
 }
 
 impl EndpointStats {
-    /// Every counter by name, for a summary: the totals of rejected frames and messages, then
-    /// each cause.
+    /// Every counter by name, for a summary: the total of rejected messages, then each reason.
     pub fn counters(&self) -> impl Iterator<Item = (&'static str, u64)> + '_ {
-        [("rejected_frames", self.rejected_frames.total())]
+        [("rejected_messages", self.rejected_messages.total())]
             .into_iter()
-            .chain(self.rejected_frames.counters())
-            .chain([("rejected_messages", self.rejected_messages.total())])
             .chain(self.rejected_messages.counters())
             .chain([
                 ("refused_messages", self.refused_messages),
-                ("dropped_copies", self.dropped_copies),
                 ("queued", self.queued),
                 ("outbox_overflow", self.outbox_overflow),
             ])
@@ -106,10 +95,8 @@ pub struct Endpoint {
     config: EndpointConfig,
     clock: UtcClock,
     stamper: TimeStamper,
-    sampler: MessageSampler,
     outbox: Deque<Outgoing, OUTBOX_CAPACITY>,
     stats: EndpointStats,
-    frame_log: LogLimiter<FrameCause, 8>,
     message_log: LogLimiter<Reason, REASONS>,
     refusal_log: LogLimiter<Reason, REASONS>,
 }
@@ -121,10 +108,8 @@ impl Endpoint {
             config,
             clock: UtcClock::new(config.utc_at_zero),
             stamper: TimeStamper::new(),
-            sampler: MessageSampler::new(config.sampling_window),
             outbox: Deque::new(),
             stats: EndpointStats::default(),
-            frame_log: LogLimiter::new(),
             message_log: LogLimiter::new(),
             refusal_log: LogLimiter::new(),
         }
@@ -140,53 +125,31 @@ impl Endpoint {
         &self.stats
     }
 
-    /// Log lines about rejected frames and messages and refused messages so far (at most one
-    /// per cause per [`crate::link::rejects::LOG_INTERVAL`]).
+    /// Log lines about rejected and refused messages so far (at most one per reason per
+    /// [`crate::link::rejects::LOG_INTERVAL`]).
     pub fn reject_log_lines(&self) -> u64 {
-        self.frame_log.lines() + self.message_log.lines() + self.refusal_log.lines()
+        self.message_log.lines() + self.refusal_log.lines()
     }
 
-    /// Preprocesses one message (wrapper to checksum) received at `now`. A frame error is
-    /// counted by cause, logged at most once a second per cause, and returned; it is never
-    /// answered (ICD §2).
+    /// Decodes one message (wrapper to checksum) that the voter passed on at `now`: it checked
+    /// the wrapper, the addressing and the signature and sampled the message (module
+    /// documentation). A message that breaks a rule of ICD §3 or §4 is counted by reason, logged
+    /// at most once a second per reason, answered with #17000 type 3 where its sender asked and
+    /// its time stamp is readable, and returned as [`Inbound::Rejected`]. Bytes whose wrapper
+    /// does not parse, which a voter never passes on, are returned as the error: neither counted
+    /// nor answered (ICD §2).
     pub fn receive(&mut self, now: Instant, bytes: &[u8]) -> Result<Inbound, FrameError> {
-        let frame = Frame::new_checked(bytes)
-            .and_then(|f| {
-                f.check_addressing(self.config.local_id, self.config.peer_id)
-                    .map(|()| f)
-            })
-            .inspect_err(|error| self.reject_frame(now, error))?;
+        let frame = Frame::new_checked(bytes)?;
         let ack_requested = frame.properties().ack_requested();
-        let source = frame.source_id();
         let message_type = frame.message_type();
         match frame.message() {
-            Ok(message) => {
-                match self
-                    .sampler
-                    .sample(now, source, message_type, message.time_stamp())
-                {
-                    Sample::Fresh => Ok(Inbound::Message {
-                        message,
-                        ack_requested,
-                    }),
-                    dropped => {
-                        self.stats.dropped_copies += 1;
-                        Ok(Inbound::Dropped(dropped))
-                    }
-                }
-            }
+            Ok(message) => Ok(Inbound::Message {
+                message,
+                ack_requested,
+            }),
             Err(error) => {
-                if let Some(ts) = error.time_stamp {
-                    match self.sampler.sample(now, source, message_type, ts) {
-                        Sample::Fresh => {}
-                        dropped => {
-                            self.stats.dropped_copies += 1;
-                            return Ok(Inbound::Dropped(dropped));
-                        }
-                    }
-                    if ack_requested {
-                        self.acknowledge(now, message_type, ts, Err(error.reason()));
-                    }
+                if let (Some(ts), true) = (error.time_stamp, ack_requested) {
+                    self.acknowledge(now, message_type, ts, Err(error.reason()));
                 }
                 let reason = error.reason();
                 self.stats.rejected_messages.add(reason);
@@ -214,19 +177,6 @@ impl Endpoint {
                 rejected = refused,
                 last_message = message_type,
                 "messages refused since the last line of this reason"
-            );
-        }
-    }
-
-    fn reject_frame(&mut self, now: Instant, error: &FrameError) {
-        let cause = FrameCause::of(error);
-        self.stats.rejected_frames.add(cause);
-        if let Some(rejected) = self.frame_log.admit(cause, now) {
-            tracing::warn!(
-                cause = cause.counter_name(),
-                rejected,
-                last = %error,
-                "frames rejected since the last line of this cause"
             );
         }
     }
@@ -342,7 +292,6 @@ mod tests {
             local_id,
             peer_id,
             utc_at_zero: Timestamp::from_millis(848_577_600_000).unwrap(),
-            sampling_window: Duration::from_secs(3),
         }
     }
 
@@ -420,7 +369,7 @@ mod tests {
     #[test]
     fn a_flood_of_bad_input_is_counted_in_full_and_logged_once_a_second_per_cause() {
         const N: u64 = 3000;
-        let step = Duration::from_millis(1);
+        let step = core::time::Duration::from_millis(1);
         let mut fcc = Endpoint::new(config(FCC_ID, GCS_ID));
         let mut gcs = Endpoint::new(config(GCS_ID, FCC_ID));
         let capture = Capture::default();
@@ -429,7 +378,9 @@ mod tests {
             for _ in 0..N {
                 *capture.now.lock().unwrap() = now;
                 let good = execute(&mut gcs, now);
-                // Wrapper: a corrupted checksum, and a frame cut short of its header.
+                // Wrapper: a corrupted checksum, and a frame cut short of its header. The voter
+                // counts these; should such bytes reach the endpoint, they are refused and
+                // neither counted nor logged a second time.
                 let mut corrupted = good.clone();
                 *corrupted.last_mut().unwrap() ^= 0x5a;
                 assert!(fcc.receive(now, &corrupted).is_err());
@@ -448,20 +399,20 @@ mod tests {
             }
         });
         let stats = fcc.stats();
-        assert_eq!(stats.rejected_frames.get(FrameCause::ChecksumMismatch), N);
-        assert_eq!(stats.rejected_frames.get(FrameCause::TooShort), N);
-        assert_eq!(stats.rejected_frames.total(), 2 * N);
         assert_eq!(stats.rejected_messages.get(Reason::Unsupported), N);
         assert_eq!(stats.rejected_messages.total(), N);
         let counters: std::collections::HashMap<_, _> = stats.counters().collect();
-        assert_eq!(counters["rejected_frames"], 2 * N);
-        assert_eq!(counters["checksum_mismatch"], N);
+        assert_eq!(counters["rejected_messages"], N);
         assert_eq!(counters["reason_unsupported"], N);
+        assert!(
+            !counters.contains_key("rejected_frames"),
+            "the voter's counter"
+        );
 
         let lines = capture.lines.lock().unwrap().clone();
         assert_eq!(lines.len() as u64, fcc.reject_log_lines());
-        // N ms of flood: lines at 0 s, 1 s and 2 s of it, per cause.
-        for cause in ["checksum_mismatch", "too_short", "reason_unsupported"] {
+        // N ms of flood: lines at 0 s, 1 s and 2 s of it.
+        for cause in ["reason_unsupported"] {
             let of_cause: std::vec::Vec<_> = lines.iter().filter(|l| l.cause == cause).collect();
             assert_eq!(of_cause.len(), 3, "{cause}: {of_cause:?}");
             for pair in of_cause.windows(2) {
@@ -474,7 +425,7 @@ mod tests {
             assert_eq!(of_cause[1].rejected, 1000);
             assert_eq!(logged, 2001);
         }
-        assert_eq!(lines.len(), 9, "{lines:?}");
+        assert_eq!(lines.len(), 3, "{lines:?}");
     }
 
     #[test]

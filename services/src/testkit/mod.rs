@@ -75,7 +75,6 @@ pub fn endpoint(local_id: u32, peer_id: u32) -> EndpointConfig {
         local_id,
         peer_id,
         utc_at_zero: utc_at_zero(),
-        sampling_window: defaults::TRANSFER_TIMEOUT,
     }
 }
 

@@ -295,7 +295,7 @@ impl Pair {
             });
             let arrivals: Vec<(Link, &[u8])> =
                 step.iter().map(|f| (f.link, f.bytes.as_slice())).collect();
-            voter.vote_step(now, &arrivals, |_, frame| handle(frame));
+            voter.vote_step(now, &arrivals, |_, _, frame| handle(frame));
             rest = later;
         }
     }

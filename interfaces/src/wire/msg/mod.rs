@@ -272,6 +272,22 @@ macro_rules! messages {
                 }
             }
 
+            /// The time stamp of message data of type `message_type`, read as
+            /// [`Message::decode`] reads it but without the other fields: what message sampling
+            /// needs, which identifies a message by it (ICD §3). `None` for a type the ICD does
+            /// not define, a presence vector cut short, an absent time stamp or one that does not
+            /// decode: the cases where a rejection could not be acknowledged either.
+            pub fn peek_time_stamp(message_type: u16, data: &[u8]) -> Option<Timestamp> {
+                let read = match MessageType::try_from(message_type) {
+                    $( Ok(MessageType::$variant) => reader::<$variant>(data), )+
+                    Err(_) => return None,
+                };
+                match read {
+                    Ok(reader) => reader.peeked_time_stamp(),
+                    Err(error) => error.time_stamp,
+                }
+            }
+
             /// Encodes the message data into `out`; returns its length.
             pub fn encode(&self, out: &mut [u8]) -> Result<usize, EncodeError> {
                 match self {
