@@ -69,9 +69,11 @@ use missionlink_interfaces::wire::{
 use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use serde_json::{Map, Value, json};
 
+pub use crate::import::Unsupported;
+use crate::import::{exact_or_dropped, note};
+use crate::json_path::{At, parse_json};
 pub use crate::mission_file::{Dropped, MissionFileError as Error};
-pub use crate::qgc::Unsupported;
-use crate::qgc::{At, exact_or_dropped, note, parse_json, pretty};
+use crate::qgc::pretty;
 use crate::values::{
     altitude, altitude_bounds, border_due_north, degrees, field_error, latitude, longitude, metres,
     radius_mm,

@@ -3,14 +3,17 @@
 //! - [`gcs_link`]: the GCS link driver, the sans-IO GCS logic
 //!   ([`missionlink_services::ground_station`]) over the two UDP links.
 //! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
-//!   export; [`geojson`]: areas as GeoJSON.
+//!   export; [`geojson`]: areas as GeoJSON; [`import`]: the error and the rules all three
+//!   importers share (and `json_path`, the JSON walker of the two JSON formats).
 //! - [`map`]: the mission map as SVG; [`inspect`]: the frame inspector; [`profile`]: the
 //!   aircraft profile and environment the safety gateway checks against; [`report_table`]: the
 //!   FCC's mission report (ICD §8) as a table.
 
 pub mod gcs_link;
 pub mod geojson;
+pub mod import;
 pub mod inspect;
+mod json_path;
 pub mod map;
 pub mod mission_file;
 pub mod pcap;
