@@ -1,0 +1,253 @@
+//! The command line of `gcs`: every command, its arguments and its exit statuses, as `--help`
+//! shows them.
+
+use super::*;
+
+/// Ground control station of missionlink: STANAG 4586 mission and area transfer.
+#[derive(Debug, Parser)]
+#[command(name = "gcs", version)]
+pub(crate) struct Cli {
+    #[command(flatten)]
+    pub(crate) config: ConfigArgs,
+    /// Write every datagram sent and received on both links to FILE (pcap, UDP over IPv4 with
+    /// the real addresses and ports): open it in Wireshark with tools/wireshark/missionlink.lua.
+    #[arg(long, global = true, value_name = "FILE")]
+    pub(crate) pcap: Option<PathBuf>,
+    #[command(subcommand)]
+    pub(crate) command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub(crate) enum Command {
+    /// Check a mission file: assemble the waypoint and area lists (ICD §7), then run the safety
+    /// gateway, flying from the plan's take-off position, and print every violation.
+    ///
+    /// A .plan or GeoJSON file is imported exactly or not at all: an element the ICD cannot carry
+    /// or the FCC cannot hold (a return-to-launch or other unsupported item, a second inclusion
+    /// polygon, an inclusion circle, an eleventh no-fly-zone, a polygon of more than 60
+    /// vertices, ...) refuses the file, naming the element's path and the reason, unless
+    /// `--drop unsupported` is given.
+    #[command(after_help = "Exit status:\n  \
+        0  feasible: the lists assemble (ICD §7) and every check of the safety gateway passes\n  \
+        1  infeasible: a violation of the safety gateway, or the lists refused by the ICD §7 \
+           assembly\n  \
+        2  unreadable input: a file missing or unreadable, a syntax error or a bad value, an \
+           import refused for what it cannot carry, bad flags")]
+    Validate {
+        /// Mission file: our TOML (.toml) or a QGroundControl plan (.plan).
+        file: PathBuf,
+        /// One JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Validate (the safety gateway included), then upload mission and areas. An infeasible
+    /// mission is refused with the report; nothing is sent.
+    ///
+    /// Toward an edition-2 FCC the upload is atomic (ICD §8): the mission and areas are staged
+    /// under the file's Mission ID (a fresh one, `gcs-` and the mission's checksum, when the
+    /// file has none or the FCC holds a staged mission of that name), activated in one step
+    /// (#50000 command 4) and the staged copy deleted, so the FCC holds the mission under the
+    /// file's Mission ID; any failure before the activation leaves
+    /// the active mission and areas as they were. Toward an edition-1 FCC, or with
+    /// `--paper-sequence`, the paper's sequence (Figure 11): the waypoints, then the areas, each
+    /// list active at its own closer, one after the other (the message says so).
+    ///
+    /// The checksums of both lists (ICD §11) go with the closers toward edition 2. When the
+    /// transfer fails, the GCS asks the FCC what is active (its report, or a download from an
+    /// edition-1 FCC) and says so, list by list, with the checksums.
+    ///
+    /// With `--edit` the file is compared with the active mission on the FCC (from the state
+    /// directory when the FCC's checksum confirms it, else downloaded) and only what changed is
+    /// sent: toward edition 2 #13000 mode 10 (load the buffer from the active list), the
+    /// waypoints that changed or are new, the take-off height and route if changed, and the
+    /// transmit (mode 2); if the areas changed too, the edit is staged and activated in one step.
+    /// An edit that removes waypoints is sent as a full upload (the message says why). It prints
+    /// "sent N messages (a full upload: M)".
+    #[command(after_help = "Exit status:\n  \
+        0  complete: the new mission and areas are active (also when an answer was lost and the \
+           GCS confirmed it by asking)\n  \
+        1  nothing sent: the plan is infeasible or invalid; or the FCC did not answer at all\n  \
+        2  unreadable input\n  \
+        3  failed: the previous mission and areas are still active, whole (also: the FCC holds \
+           8 staged missions and an atomic upload needs one more; nothing was staged)\n  \
+        4  failed half way: one list is the new one, the other the previous one (the message \
+           says which; only the paper's sequence can end so)\n  \
+        5  failed, and what the FCC holds is unknown: it did not answer the question\n  \
+        6  failed: the FCC holds a list that is neither the new one nor the previous one")]
+    Upload {
+        /// Mission file (.toml or .plan).
+        file: PathBuf,
+        /// Send only what changed from the active mission on the FCC.
+        #[arg(long)]
+        edit: bool,
+        /// The paper's sequence even toward an edition-2 FCC: the waypoint list, then the area
+        /// list, each active at its own closer (not atomic).
+        #[arg(long)]
+        paper_sequence: bool,
+        #[command(flatten)]
+        state: StateArgs,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Validate, then stage mission and areas under a Mission ID on an edition-2 FCC (ICD §8):
+    /// the active lists are untouched; `gcs activate ID` makes it active later.
+    ///
+    /// The FCC holds up to 8 staged missions; an ID already staged is replaced. With `--edit`
+    /// the file is compared with the staged mission of that ID (from the state directory when
+    /// the FCC's checksum confirms it, else downloaded) and only what changed is sent (#13000
+    /// mode 10 with the ID, the changes, mode 8), the areas only if they changed.
+    #[command(after_help = "Exit status:\n  \
+        0  staged: the FCC holds the mission and areas under the ID\n  \
+        1  nothing staged: the plan is infeasible or invalid, the FCC speaks edition 1, or it \
+           did not answer at all\n  \
+        2  unreadable input, or a bad Mission ID (nothing is sent)\n  \
+        3  failed: the staged mission of the ID is as it was (or still absent); also: the FCC \
+           holds 8 other staged missions\n  \
+        4  failed half way: one list of the staged mission is the new one\n  \
+        5  failed, and what the FCC holds under the ID is unknown\n  \
+        6  failed: the FCC holds lists under the ID that it was not sent")]
+    Stage {
+        /// Mission file (.toml or .plan).
+        file: PathBuf,
+        /// The Mission ID: printable ASCII, 1 to 19 characters.
+        #[arg(long, value_parser = parse_mission_id)]
+        id: MissionId,
+        /// Send only what changed from the staged mission of that ID.
+        #[arg(long)]
+        edit: bool,
+        #[command(flatten)]
+        state: StateArgs,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Make a staged mission the active mission and areas, both in one step (#50000 command 4,
+    /// ICD §8). The FCC refuses while airborne, when the mission lacks a list, or when its
+    /// onboard geofence check fails; then nothing changes. The staged copy stays staged.
+    #[command(after_help = "Exit status:\n  \
+        0  active: the staged mission's lists are the active ones\n  \
+        1  refused or unanswered (the message gives the reason); nothing changed if refused\n  \
+        2  a bad Mission ID (nothing is sent)")]
+    Activate {
+        /// The Mission ID of the staged mission.
+        #[arg(value_parser = parse_mission_id)]
+        id: MissionId,
+    },
+    /// Delete a staged mission (#13000 mode 6, ICD §8). The active lists are untouched.
+    #[command(after_help = "Exit status:\n  \
+        0  deleted\n  \
+        1  refused (no such staged mission) or unanswered\n  \
+        2  a bad Mission ID (nothing is sent)")]
+    Delete {
+        /// The Mission ID of the staged mission.
+        #[arg(value_parser = parse_mission_id)]
+        id: MissionId,
+    },
+    /// Draw the mission as SVG: areas with their safety offsets, waypoints, legs and arcs, the
+    /// take-off, and every violation of the safety gateway in red.
+    Map {
+        /// Mission file (.toml or .plan).
+        file: PathBuf,
+        /// Where to write the SVG.
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Convert a mission between formats, by extension: .toml (ours), .plan (QGroundControl),
+    /// .geojson (the areas only, as output).
+    Convert {
+        /// Mission file to read (.toml or .plan).
+        input: PathBuf,
+        /// File to write (.toml, .plan or .geojson).
+        output: PathBuf,
+        #[command(flatten)]
+        safety: SafetyArgs,
+    },
+    /// Download the active mission and areas (or with `--id` a staged mission's, ICD §8);
+    /// print them, or write a mission file.
+    #[command(after_help = "Exit status:\n  \
+        0  downloaded\n  \
+        1  refused (no such list), aborted or unanswered\n  \
+        2  a bad Mission ID (nothing is sent), or the output cannot be written")]
+    Download {
+        /// Write the mission file here (upload it again for a round trip).
+        #[arg(short, long, value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Download the staged mission of this Mission ID instead of the active lists.
+        #[arg(long, value_parser = parse_mission_id)]
+        id: Option<MissionId>,
+    },
+    /// Print what the FCC holds (ICD §8 report, #50001): for the active lists (and each staged
+    /// mission) the waypoint and area counts, the onboard geofence check and the checksums of
+    /// ICD §11, to compare with what `gcs validate` and `gcs upload` print. An edition-1 FCC
+    /// gives no report (exit status 1).
+    Missions,
+    /// Clear the active mission (#13000 clear, then transmit of an empty list).
+    Clear,
+    /// Clear the active areas (#2011 mode 6).
+    ClearAreas,
+    /// Take off and fly the active mission (#50000 execute).
+    Execute,
+    /// Fly the route backwards to its start (#50000 return to home, bidirectional routes).
+    Rth,
+    /// Land at the next waypoint (#50000 land).
+    Land,
+    /// Print FROM-TO-NEXT (#4001) as it changes.
+    Monitor {
+        /// Stop after this many seconds (default: until interrupted).
+        #[arg(long, value_name = "S")]
+        seconds: Option<u64>,
+    },
+    /// Decode captured frames: every message with every field in readable units.
+    ///
+    /// Each argument is one datagram in hex (spaces, colons and a 0x prefix are ignored); with no
+    /// argument, one datagram per line of stdin (blank lines and lines starting with # are
+    /// skipped). A datagram may hold several messages back to back. Exits 1 if any frame or
+    /// message is rejected, printing the ICD rule it breaks.
+    Inspect {
+        /// One JSON object per message instead of text (the input format of `gcs encode`).
+        #[arg(long)]
+        json: bool,
+        /// Apply the addressing rules of ICD §2 as the node with this ID (needs --peer-id).
+        #[arg(long, value_parser = parse_id, requires = "peer_id")]
+        local_id: Option<u32>,
+        /// The configured peer whose frames are accepted (needs --local-id).
+        #[arg(long, value_parser = parse_id, requires = "local_id")]
+        peer_id: Option<u32>,
+        /// A link key file (ICD §9): say whether each signed frame verifies with it. Repeat for
+        /// several keys.
+        #[arg(long = "key", value_name = "FILE")]
+        keys: Vec<PathBuf>,
+        /// Datagrams in hex.
+        hex: Vec<String>,
+    },
+    /// Write a new link key file (ICD §9): 32 random bytes with a Key ID, readable by its owner
+    /// only (mode 0600). An existing file is never overwritten.
+    ///
+    /// Give the same file to the FCC and the GCS (`[signing] key_files`, or `--key-file`), and
+    /// choose the policy with `--signing off|accept|require`.
+    Keygen {
+        /// Where to write the key.
+        file: PathBuf,
+        /// Its Key ID (0-255): keys in rotation differ by it.
+        #[arg(long, default_value_t = 1)]
+        key_id: u8,
+    },
+    /// Encode messages given as JSON (the objects `gcs inspect --json` prints) into hex frames.
+    ///
+    /// Each argument is one JSON object; with no argument, one object per line of stdin. Absent
+    /// wrapper fields take the ICD defaults (source GCS 0x0A000001, destination FCC 0x0B000001,
+    /// no ack, IDD 40, 4-byte checksum).
+    Encode {
+        /// Messages in JSON.
+        json: Vec<String>,
+    },
+}
+
+/// A Mission ID as ICD §8 defines it (one rule, `MissionId::new`): a bad one is refused by
+/// the argument parser, before anything is sent (exit status 2).
+pub(crate) fn parse_mission_id(s: &str) -> Result<MissionId, String> {
+    MissionId::new(s).map_err(|e| e.to_string())
+}
