@@ -37,8 +37,11 @@
 //! report_interval_s = 0           # 0: report at shutdown and on SIGUSR1 only
 //! summary_dir = "/tmp/stats"      # optional: each partition writes <name>.toml at shutdown
 //!
-//! [launcher]
-//! restart_delay_ms = 200
+//! [launcher]                      # restarts after systemd's RestartSec and StartLimitBurst
+//! restart_delay_ms = 200          # the first pause; doubled after each short run
+//! restart_delay_max_ms = 5000     # the longest pause
+//! start_limit_burst = 5           # started this often within the window: not started again,
+//! start_limit_interval_ms = 30000 # said once by name, the FCC reported degraded
 //! without = []                    # partitions not to start, e.g. ["guidance-stub"] when a
 //!                                 # replacement (a HIL rig's, another language's) fills the role
 //!
@@ -246,8 +249,18 @@ pub struct Latency {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Launcher {
-    /// Pause before a dead partition is started again.
+    /// Pause before a dead partition is started again the first time; doubled after each
+    /// restart that did not last `start_limit_interval_ms`, up to `restart_delay_max_ms`
+    /// (systemd's `RestartSec`, with its `RestartSteps` and `RestartMaxDelaySec`).
     pub restart_delay_ms: u64,
+    /// The longest pause before a restart.
+    pub restart_delay_max_ms: u64,
+    /// A partition started this many times within `start_limit_interval_ms` is not started
+    /// again: the launcher says so once, by name, and reports the FCC degraded (systemd's
+    /// `StartLimitBurst`).
+    pub start_limit_burst: u32,
+    /// The window of `start_limit_burst` (systemd's `StartLimitIntervalSec`).
+    pub start_limit_interval_ms: u64,
     /// Partitions (binary names, `launcher::PARTITIONS`) the launcher does not start: their
     /// role is filled by another process, whose heartbeat it still watches.
     pub without: Vec<String>,
@@ -257,6 +270,9 @@ impl Default for Launcher {
     fn default() -> Self {
         Self {
             restart_delay_ms: 200,
+            restart_delay_max_ms: 5_000,
+            start_limit_burst: 5,
+            start_limit_interval_ms: 30_000,
             without: Vec::new(),
         }
     }

@@ -5,8 +5,16 @@
 //! and on SIGINT, SIGTERM or [`Control::stop`] stops them all: SIGTERM first, SIGKILL for one
 //! that has not ended within the grace period, guidance first and the links last.
 //!
+//! Before it starts any partition the launcher checks what each needs of the configuration (a
+//! wrong one is one error line and exit status 2, nothing started).
+//!
 //! Supervision (docs/design.md "Health"): a partition that dies is restarted (a log line names it
-//! and its exit status). A partition that hangs (stopped, stuck in a step) is found by its
+//! and its exit status), after a pause that doubles with each restart that did not last the
+//! start-limit window, up to a longest pause; one started `start_limit_burst` times within the
+//! window, or one that exits with status 2 (its configuration cannot work), is not started again:
+//! the launcher says so once, by name, withdraws its announcement that the FCC is up and reports
+//! the FCC degraded, and keeps supervising the others (systemd's `RestartSec`,
+//! `StartLimitBurst` and `StartLimitIntervalSec` are the model). A partition that hangs (stopped, stuck in a step) is found by its
 //! heartbeat (`fcc/health/<role>`, [`Liveness`]): silent for 2.5 heartbeat periods, or without a
 //! first beat within the start timeout, it is logged by name, killed (SIGKILL ends a stopped
 //! process too) and restarted like a dead one. A partition left out (`[launcher] without`, `fcc
@@ -33,7 +41,7 @@ use crate::clock::DriverClock;
 use crate::config::{self, Config, ConfigArgs};
 use crate::health::Watch;
 use crate::ipc::Ipc;
-use crate::runtime::{Control, PartitionError, config_error};
+use crate::runtime::{CONFIG_EXIT_CODE, Control, PartitionError, config_error};
 use crate::state::{self, BoundLinks};
 use crate::udp::{LinkError, LocalEnds};
 use crate::{guidance_stub, mission_data_handling, system_automation, voting_monitoring};
@@ -97,6 +105,12 @@ struct Supervised {
     started_here: bool,
     child: Option<Child>,
     restart_at: Option<Instant>,
+    /// When it was started, within the start-limit window.
+    starts: std::collections::VecDeque<Instant>,
+    /// The pause before its next restart.
+    delay: Duration,
+    /// Not started again: the start limit was reached, or its configuration cannot work.
+    given_up: bool,
     liveness: Liveness,
     /// A left-out role's heartbeat was heard since it was last silent.
     heard: bool,
@@ -144,11 +158,75 @@ pub fn describe(status: ExitStatus) -> String {
     }
 }
 
+/// The restart rules of `[launcher]`: the back-off and the start limit.
+#[derive(Debug, Clone, Copy)]
+struct StartLimit {
+    first_delay: Duration,
+    max_delay: Duration,
+    burst: usize,
+    interval: Duration,
+}
+
+impl StartLimit {
+    fn of(config: &Config) -> Self {
+        let l = &config.launcher;
+        Self {
+            first_delay: Duration::from_millis(l.restart_delay_ms),
+            max_delay: Duration::from_millis(l.restart_delay_max_ms.max(l.restart_delay_ms)),
+            burst: usize::try_from(l.start_limit_burst)
+                .unwrap_or(usize::MAX)
+                .max(1),
+            interval: Duration::from_millis(l.start_limit_interval_ms),
+        }
+    }
+
+    /// `p` ended with `status` at `now`: the pause before it is started again, or `None` when
+    /// it is not (its configuration cannot work, or it was started `burst` times within the
+    /// window). The pause doubles after a run shorter than the window and starts over after a
+    /// longer one.
+    fn after_death(
+        &self,
+        p: &mut Supervised,
+        status: ExitStatus,
+        now: Instant,
+    ) -> Option<Duration> {
+        while p
+            .starts
+            .front()
+            .is_some_and(|t| now.saturating_duration_since(*t) > self.interval)
+        {
+            p.starts.pop_front();
+        }
+        if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) || p.starts.len() >= self.burst {
+            p.given_up = true;
+            return None;
+        }
+        let delay = if p.starts.len() <= 1 {
+            self.first_delay
+        } else {
+            p.delay.saturating_mul(2).min(self.max_delay)
+        };
+        p.delay = delay;
+        Some(delay)
+    }
+}
+
+/// Checks what each partition the launcher starts needs of `config`, before any is started.
+fn check_partitions(config: &Config, without: &[&str]) -> Result<(), PartitionError> {
+    if !without.contains(&voting_monitoring::NAME) {
+        voting_monitoring::check_config(config)
+            .map_err(|e| PartitionError::Config(format!("{}: {e}", voting_monitoring::NAME)))?;
+    }
+    Ok(())
+}
+
 /// Supervises the partitions of `bin_dir` under `config` until `control` (or SIGINT/SIGTERM,
 /// with [`Control::handle_signals`]) stops it.
 pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), PartitionError> {
     let restart_delay = Duration::from_millis(config.launcher.restart_delay_ms);
+    let limits = StartLimit::of(config);
     let without = left_out(config).map_err(PartitionError::Config)?;
+    check_partitions(config, &without)?;
     let mut partitions = PARTITIONS
         .iter()
         .map(|&name| {
@@ -160,6 +238,9 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 started_here,
                 child: None,
                 restart_at: started_here.then(Instant::now),
+                starts: std::collections::VecDeque::new(),
+                delay: restart_delay,
+                given_up: false,
                 liveness: Liveness::new(config.health.period()),
                 heard: false,
             })
@@ -185,6 +266,8 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
     }
     let own = std::process::id();
     let mut all_up = false;
+    // A partition was given up: the FCC stays announced down.
+    let mut degraded = false;
     control.set_ready();
     while !control.stop_requested() {
         let now = clock.now();
@@ -223,15 +306,34 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
             if let Some(child) = p.child.as_mut() {
                 if let Ok(Some(status)) = child.try_wait() {
                     let pid = child.id();
-                    tracing::error!(
-                        partition = p.name,
-                        status = %describe(status),
-                        "partition died; restarting in {} ms",
-                        restart_delay.as_millis()
-                    );
                     p.child = None;
                     p.liveness.forget();
-                    p.restart_at = Some(Instant::now() + restart_delay);
+                    match limits.after_death(p, status, Instant::now()) {
+                        Some(delay) => {
+                            tracing::error!(
+                                partition = p.name,
+                                status = %describe(status),
+                                "partition died; restarting in {} ms",
+                                delay.as_millis()
+                            );
+                            p.restart_at = Some(Instant::now() + delay);
+                        }
+                        None => {
+                            degraded = true;
+                            tracing::error!(
+                                partition = p.name,
+                                status = %describe(status),
+                                starts = p.starts.len(),
+                                window_s = limits.interval.as_secs_f64(),
+                                "partition not started again ({}): the FCC is degraded",
+                                if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) {
+                                    "its configuration cannot work"
+                                } else {
+                                    "start limit reached"
+                                }
+                            );
+                        }
+                    }
                     // Killed, it could not withdraw its announcement itself.
                     withdraw_ready(&state_dir, p.name, pid);
                     if all_up {
@@ -250,6 +352,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 match spawned {
                     Ok(child) => {
                         tracing::info!(partition = p.name, pid = child.id(), "started");
+                        p.starts.push_back(Instant::now());
                         p.liveness
                             .expect(clock.now(), child.id(), config.health.start_timeout());
                         p.child = Some(child);
@@ -262,6 +365,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
             }
         }
         if !all_up
+            && !degraded
             && partitions
                 .iter()
                 .filter(|p| p.started_here)
@@ -332,6 +436,10 @@ pub fn main(
         .and_then(|()| run(&config, &bin_dir, &control));
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e @ PartitionError::Config(_)) => {
+            tracing::error!(%e, "the FCC cannot come up");
+            ExitCode::from(CONFIG_EXIT_CODE)
+        }
         Err(e) => {
             tracing::error!(%e, "fcc launcher failed");
             ExitCode::FAILURE

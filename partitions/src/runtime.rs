@@ -340,11 +340,12 @@ impl Report {
 /// The `main` of every partition binary: logging, the configuration (exit status 2 when it is
 /// wrong), the partition's real-time settings (`realtime`: a refused one is a warning), then
 /// `run` with a [`Control`] driven by the signals that announces the partition's
-/// readiness in the state directory while it runs (exit status 1 with the error when it fails).
-pub fn partition_main<E: std::fmt::Display>(
+/// readiness in the state directory while it runs (exit status 1 with the error when it fails,
+/// 2 when its configuration cannot work: the launcher does not start it again).
+pub fn partition_main(
     name: &str,
     args: &ConfigArgs,
-    run: impl FnOnce(&Config, &Control) -> Result<(), E>,
+    run: impl FnOnce(&Config, &Control) -> Result<(), PartitionError>,
 ) -> std::process::ExitCode {
     crate::init_logging();
     crate::ipc::quiet_iceoryx2_log();
@@ -368,6 +369,10 @@ pub fn partition_main<E: std::fmt::Display>(
     control.forget_ready();
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e @ PartitionError::Config(_)) => {
+            tracing::error!(%e, "{name} failed");
+            std::process::ExitCode::from(CONFIG_EXIT_CODE)
+        }
         Err(e) => {
             tracing::error!(%e, "{name} failed");
             std::process::ExitCode::FAILURE
@@ -375,10 +380,14 @@ pub fn partition_main<E: std::fmt::Display>(
     }
 }
 
+/// The exit status of a process whose configuration is wrong or cannot work: starting it again
+/// cannot help (the launcher gives up on it at once).
+pub const CONFIG_EXIT_CODE: u8 = 2;
+
 /// Logs a configuration error; exit status 2.
 pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
     tracing::error!(%e, "configuration");
-    std::process::ExitCode::from(2)
+    std::process::ExitCode::from(CONFIG_EXIT_CODE)
 }
 
 /// Sends this process SIGTERM once its parent is gone (the process is re-parented and its parent

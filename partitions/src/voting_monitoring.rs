@@ -19,7 +19,7 @@ use missionlink_interfaces::contracts::{FccService, FramePayload, Link, Partitio
 use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 
 use crate::clock::{DriverClock, monotonic_ns};
-use crate::config::Config;
+use crate::config::{Config, SigningPolicy};
 use crate::ipc::Ipc;
 use crate::keys::LinkSigning;
 use crate::latency::Recorder;
@@ -60,8 +60,10 @@ fn bind(
         .map_err(|e| LinkError(format!("cannot bind the {link} link to {configured}: {e}")))
 }
 
-/// Binds the FCC's ends as `config` says and announces them in `state_dir`.
-fn open_links(config: &Config, state_dir: &Path) -> Result<LinkPair, PartitionError> {
+/// What voting-monitoring needs of `config` that resolving it does not check: the GCS's ports
+/// (the FCC sends to them, so they cannot be the system's choice). The launcher checks it before
+/// it starts any partition; the partition again before it binds.
+pub fn check_config(config: &Config) -> Result<(), PartitionError> {
     let l = &config.links;
     for (peer, name) in [(l.gcs_direct, "gcs_direct"), (l.gcs_lte, "gcs_lte")] {
         if peer.port() == 0 {
@@ -70,6 +72,13 @@ fn open_links(config: &Config, state_dir: &Path) -> Result<LinkPair, PartitionEr
             )));
         }
     }
+    Ok(())
+}
+
+/// Binds the FCC's ends as `config` says and announces them in `state_dir`.
+fn open_links(config: &Config, state_dir: &Path) -> Result<LinkPair, PartitionError> {
+    check_config(config)?;
+    let l = &config.links;
     let announced = state::load_links(state_dir);
     let links = LinkPair::from_sockets(
         bind(l.fcc_direct, announced.map(|a| a.fcc_direct), "direct")?,
@@ -113,6 +122,18 @@ where
     )
     .with_signatures(signing.check(clock.utc_at_zero(), clock.now()));
     tracing::info!(signing = %signing.summary(), "link signing (ICD §9)");
+    // Said at every start: a link anyone on the path can write to must not pass unnoticed.
+    match config.signing.policy {
+        SigningPolicy::Off => tracing::warn!(
+            "the links are not authenticated: signing is off ([signing] policy = \"off\"), so \
+             any host that reaches the FCC's ports can upload, clear and execute (ICD §9)"
+        ),
+        SigningPolicy::Accept => tracing::warn!(
+            "unsigned frames are accepted ([signing] policy = \"accept\"): only \"require\" \
+             authenticates the links (ICD §9)"
+        ),
+        SigningPolicy::Require => {}
+    }
     let mut received = Recorder::new("uplink: UDP receive to published");
     let mut downlink_hop = Recorder::new("downlink: shared-memory hop");
     let mut turnaround = Recorder::new("FCC turnaround: UDP receive to answer sent");

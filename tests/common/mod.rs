@@ -66,6 +66,8 @@ impl Rig {
         let mut config = launcher::local_config(&dir, prefix, &gcs_ends).unwrap();
         config.guidance.time_scale = 50.0;
         config.launcher.restart_delay_ms = 100;
+        // Tests kill partitions many times in a row (restart_safety): no start limit there.
+        config.launcher.start_limit_burst = 1000;
         Self {
             config,
             dir,
