@@ -66,7 +66,9 @@ impl Rig {
         let mut config = launcher::local_config(&dir, prefix, &gcs_ends).unwrap();
         config.guidance.time_scale = 50.0;
         config.launcher.restart_delay_ms = 100;
-        // Tests kill partitions many times in a row (restart_safety): no start limit there.
+        // Tests kill partitions many times in a row (restart_safety, link_faults): no growing
+        // pause and no start limit there (tests/supervision.rs sets its own).
+        config.launcher.restart_delay_max_ms = 100;
         config.launcher.start_limit_burst = 1000;
         Self {
             config,
