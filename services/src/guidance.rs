@@ -61,10 +61,13 @@ use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload, WaypointEntry,
     WaypointListPayload,
 };
-use missionlink_interfaces::wire::{LegType, TurnDirection, TurnType};
 
-use crate::geofence::earth::{Site, bearing_deg, destination, distance_m, point};
-use crate::geofence::onboard::FlyBy;
+use crate::geofence::earth::{Site, distance_m, point};
+use crate::geofence::onboard::{self, FlyBy};
+use crate::geofence::path::Path;
+use crate::geofence::turn::{
+    ArcGeometry, MAX_TURN_PATHS, Turn, TurnKind, angle_to_go, length_m, rest_from, turn,
+};
 use crate::geofence::zone::{Fence, Zone, ZoneKind};
 use crate::link::time::Instant;
 
@@ -81,11 +84,11 @@ const REACHED_M: f64 = 0.01;
 /// Climb and descent end this close to their target altitude, metres.
 const ALTITUDE_EPSILON_M: f64 = 1e-6;
 
-/// Arcs with a smaller radius (or a position closer to the centre) are flown direct, metres.
-const MIN_ARC_RADIUS_M: f64 = 1.0;
+/// The shortest look-ahead of the cross-track law on a track-to-fix leg, metres.
+const MIN_LOOK_AHEAD_M: f64 = 10.0;
 
-/// Leg switches (or arrivals) handled within one sub-step at most.
-const MAX_LEGS_PER_SUB_STEP: usize = 4;
+/// Path ends (turn paths, leg switches, arrivals) handled within one sub-step at most.
+const MAX_LEGS_PER_SUB_STEP: usize = 8;
 
 /// Settings of the guidance model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,17 +164,15 @@ impl GuidanceConfig {
     }
 }
 
-/// The geometry of the leg to the TO waypoint.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Leg {
-    /// A geodesic from the current position to the TO waypoint.
-    Direct,
-    /// An arc around `centre` (lon/lat) ending at the TO waypoint; clockwise = right turn.
-    Arc { centre: Point<f64>, clockwise: bool },
-}
+/// A site that is no place, for a route not started.
+const NOWHERE: Site = Site {
+    lat: 0.0,
+    lon: 0.0,
+    ecef: [0.0; 3],
+};
 
 /// Where the aircraft is on the route. Indices are into [`WaypointListPayload::waypoints`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct Route {
     /// The route has been started (take-off or cruise with this list).
     started: bool,
@@ -183,8 +184,16 @@ struct Route {
     to: Option<usize>,
     /// The last waypoint of the route is reached.
     complete: bool,
-    /// Geometry of the leg to TO.
-    leg: Leg,
+    /// The leg to TO in full (the geodesic from where the route started, for the first leg):
+    /// what the turn at TO starts from.
+    leg: Path,
+    /// The part of the leg still ahead once the turn onto it is flown: from where the turn
+    /// joined it.
+    body: Path,
+    /// The paths of the turn onto this leg not flown yet, in order.
+    turn: heapless::Vec<Path, MAX_TURN_PATHS>,
+    /// Counts the legs started, for the planned turn.
+    serial: u64,
 }
 
 impl Route {
@@ -194,8 +203,21 @@ impl Route {
         from: 0,
         to: None,
         complete: false,
-        leg: Leg::Direct,
+        leg: Path::Point(NOWHERE),
+        body: Path::Point(NOWHERE),
+        turn: heapless::Vec::new(),
+        serial: 0,
     };
+}
+
+/// The turn at the TO waypoint, computed once per leg and NEXT waypoint.
+#[derive(Debug, Clone, PartialEq)]
+struct Planned {
+    serial: u64,
+    next: usize,
+    /// Flown over whatever the turn type (the aircraft is past the fly-by arc's start).
+    over: bool,
+    turn: Turn,
 }
 
 /// The area list as the geofence holds it ([`Fence`]), built once when the list arrives so that
@@ -231,52 +253,41 @@ impl Areas {
     }
 }
 
-/// Angle to go from bearing `from` to bearing `to` in the turn direction, 0..360 deg.
-fn angle_to_go(from_deg: f64, to_deg: f64, clockwise: bool) -> f64 {
-    if clockwise {
-        (to_deg - from_deg).rem_euclid(360.0)
+/// The remaining length of `path` from `here`, a point of it, metres.
+fn remaining_on(path: &Path, here: &Site) -> f64 {
+    match path {
+        Path::Point(_) => 0.0,
+        Path::Geodesic { to, .. } => here.inverse(to).0,
+        Path::Arc {
+            from,
+            to,
+            centre,
+            direction,
+        } => {
+            let arc = ArcGeometry::of(from, to, centre, *direction);
+            let az = centre.inverse(here).1;
+            let alpha = to_go(&arc, az);
+            alpha.to_radians() * (arc.radius_at(az) + arc.r1) / 2.0
+        }
+    }
+}
+
+/// Degrees still to turn on `arc` from azimuth `az`: 0 past the end (a wrap beyond the sweep).
+fn to_go(arc: &ArcGeometry, az: f64) -> f64 {
+    let alpha = angle_to_go(az, arc.az1, arc.clockwise);
+    if alpha > arc.sweep && alpha > 180.0 {
+        0.0
     } else {
-        (from_deg - to_deg).rem_euclid(360.0)
+        alpha
     }
 }
 
-/// Bearing of the direction of flight on a circle at bearing `radial_deg` from its centre.
-fn tangent(radial_deg: f64, clockwise: bool) -> f64 {
-    if clockwise {
-        radial_deg + 90.0
-    } else {
-        radial_deg - 90.0
+/// The end of a path.
+fn end_of(path: &Path) -> Site {
+    match path {
+        Path::Point(p) => *p,
+        Path::Geodesic { to, .. } | Path::Arc { to, .. } => *to,
     }
-}
-
-/// An arc leg seen from the centre: the aircraft at `rho` metres and bearing `theta` deg, the TO
-/// waypoint at radius `r` and bearing `theta_to`, `alpha` deg to go in the turn direction.
-struct ArcState {
-    rho: f64,
-    theta: f64,
-    r: f64,
-    alpha: f64,
-}
-
-fn arc_state(
-    centre: Point<f64>,
-    clockwise: bool,
-    p: Point<f64>,
-    to: Point<f64>,
-) -> Option<ArcState> {
-    let rho = distance_m(centre, p);
-    let r = distance_m(centre, to);
-    if rho < MIN_ARC_RADIUS_M || r < MIN_ARC_RADIUS_M {
-        return None;
-    }
-    let theta = bearing_deg(centre, p);
-    let alpha = angle_to_go(theta, bearing_deg(centre, to), clockwise);
-    Some(ArcState {
-        rho,
-        theta,
-        r,
-        alpha,
-    })
 }
 
 /// The speed flown towards `e`.
@@ -301,6 +312,8 @@ pub struct Guidance {
     ground_speed_mps: f64,
     climb_complete: bool,
     route: Route,
+    /// The turn at the TO waypoint, once planned.
+    planned: Option<Planned>,
     last_step: Option<Instant>,
     sequence: u64,
     /// Zone status of the last step (or of the last area list change).
@@ -325,6 +338,7 @@ impl Guidance {
             ground_speed_mps: 0.0,
             climb_complete: false,
             route: Route::NOT_STARTED,
+            planned: None,
             last_step: None,
             sequence: 0,
             inside_fly_zone: false,
@@ -384,7 +398,7 @@ impl Guidance {
             Some(FlightPhase::Landing) => {}
             Some(FlightPhase::OnGround | FlightPhase::Landed) | None => {
                 self.altitude_m = 0.0;
-                self.route = Route::NOT_STARTED;
+                self.route = Route::NOT_STARTED.clone();
                 self.climb_complete = false;
             }
         }
@@ -447,7 +461,7 @@ impl Guidance {
     fn adopt(&mut self, list: WaypointListPayload) {
         self.list = list;
         self.pending = None;
-        self.route = Route::NOT_STARTED;
+        self.route = Route::NOT_STARTED.clone();
     }
 
     fn adopt_pending_if_due(&mut self) {
@@ -497,13 +511,23 @@ impl Guidance {
         } else {
             Some(0)
         };
+        let here = Site::of(self.position);
+        let first = Path::Geodesic {
+            from: here,
+            to: to
+                .and_then(|i| self.entry(i))
+                .map_or(here, |w| Site::of(w.position)),
+        };
         self.route = Route {
             started: true,
             reversed,
             from: 0,
             to,
             complete: false,
-            leg: Leg::Direct,
+            leg: first,
+            body: first,
+            turn: heapless::Vec::new(),
+            serial: self.route.serial.wrapping_add(1),
         };
     }
 
@@ -521,8 +545,9 @@ impl Guidance {
                 .and_then(|i| self.next_index(i))
         {
             self.route.complete = false;
-            self.route.to = Some(next);
-            self.route.leg = self.leg_into(next);
+            if let Some(from) = self.index_of(self.route.from) {
+                self.enter(from, next, None);
+            }
         }
     }
 
@@ -553,24 +578,30 @@ impl Guidance {
         }
     }
 
-    /// Geometry of the route's leg that ends at `index`: forwards the leg type of that
-    /// waypoint; backwards the leg that ended at the waypoint after it, arcs turned round.
-    fn leg_into(&self, index: usize) -> Leg {
-        let (defining, flip) = if self.route.reversed {
-            (index.checked_add(1).and_then(|i| self.entry(i)), true)
+    /// The leg flown from the waypoint at `from` to the adjacent one at `to`: forwards by the
+    /// leg type of `to`, backwards the leg from `to` to `from` turned round.
+    fn leg_between(&self, from: usize, to: usize) -> Option<Path> {
+        if to > from {
+            Some(onboard::leg(self.entry(from)?, self.entry(to)?))
         } else {
-            (self.entry(index), false)
-        };
-        match defining {
-            Some(e) if e.leg_type() == Some(LegType::RadiusToFix) => match e.rf_centre() {
-                Some((centre, direction)) => Leg::Arc {
-                    centre: point(centre),
-                    clockwise: (direction == TurnDirection::Clockwise) != flip,
-                },
-                None => Leg::Direct,
-            },
-            _ => Leg::Direct,
+            Some(onboard::leg(self.entry(to)?, self.entry(from)?).reversed())
         }
+    }
+
+    /// Starts the leg from the waypoint at `from` to the one at `to`, joined after `turn`.
+    fn enter(&mut self, from: usize, to: usize, turn: Option<&Turn>) {
+        self.route.from = self.number(Some(from));
+        self.route.to = Some(to);
+        self.route.serial = self.route.serial.wrapping_add(1);
+        let Some(leg) = self.leg_between(from, to) else {
+            return;
+        };
+        self.route.leg = leg;
+        self.route.body = match turn {
+            Some(t) => rest_from(&leg, t.join),
+            None => leg,
+        };
+        self.route.turn = turn.map(|t| t.paths.clone()).unwrap_or_default();
     }
 
     fn triple(&self, phase: Option<FlightPhase>) -> (u16, u16, u16) {
@@ -625,7 +656,7 @@ impl Guidance {
             if left <= 0.0 {
                 break;
             }
-            match self.fly_leg(left, h) {
+            match self.fly_leg(left) {
                 Some(used) => left -= used,
                 None => {
                     self.ground_speed_mps = 0.0;
@@ -636,133 +667,173 @@ impl Guidance {
         true
     }
 
-    /// Flies towards TO for up to `dt` seconds (`h` is the sub-step, for the fly-by minimum).
-    /// Returns the time used (0 on a fly-by switch), `None` when there is nothing to fly.
-    fn fly_leg(&mut self, dt: f64, h: f64) -> Option<f64> {
+    /// The turn at the TO waypoint (index `to`) onto the leg to `next`, planned once per leg.
+    fn planned_turn(&mut self, to: usize, next: usize, over: bool) -> Option<Turn> {
+        if let Some(p) = &self.planned
+            && p.serial == self.route.serial
+            && p.next == next
+            && p.over == over
+        {
+            return Some(p.turn.clone());
+        }
+        let w = *self.entry(to)?;
+        let outbound = self.leg_between(to, next)?;
+        let t = if over {
+            turn(
+                &self.route.leg,
+                &outbound,
+                true,
+                self.turn_radius(leg_speed(&w)),
+            )
+        } else {
+            self.config.fly_by().turn(&w, &self.route.leg, &outbound)
+        };
+        self.planned = Some(Planned {
+            serial: self.route.serial,
+            next,
+            over,
+            turn: t.clone(),
+        });
+        Some(t)
+    }
+
+    /// Flies the route for up to `dt` seconds: the turn onto the leg, then the leg up to where
+    /// the turn at TO starts. Returns the time used (0 on a switch at a path's end), `None`
+    /// when there is nothing to fly.
+    fn fly_leg(&mut self, dt: f64) -> Option<f64> {
         let to_index = self.route.to?;
         let to = *self.entry(to_index)?;
-        let target = point(to.position);
+        let target = Site::of(to.position);
         let v = leg_speed(&to);
-        let remaining = self.remaining(target);
-
-        if let Some(next) = self.next_index(to_index)
-            && to.turn_type() != Some(TurnType::FlyOver)
-        {
-            let threshold = self.turn_anticipation(v, target, next).max(v * h);
-            if remaining <= threshold {
-                self.switch_to(to_index, next);
-                return Some(0.0);
-            }
-        }
-
         self.ground_speed_mps = v;
         let budget = v * dt;
         let target_alt = to.altitude.metres();
-        if remaining <= budget + REACHED_M {
-            self.position = target;
-            self.altitude_m = target_alt;
-            match self.next_index(to_index) {
-                Some(next) => self.switch_to(to_index, next),
-                None => {
+        let here = Site::of(self.position);
+
+        // The turn onto this leg.
+        if let Some(path) = self.route.turn.first().copied() {
+            let remaining = remaining_on(&path, &here);
+            let ahead: f64 = remaining
+                + self.route.turn.iter().skip(1).map(length_m).sum::<f64>()
+                + length_m(&self.route.body);
+            if remaining <= budget + REACHED_M {
+                self.climb_towards(target_alt, remaining.max(0.0), ahead);
+                self.set_position(end_of(&path));
+                self.route.turn.remove(0);
+                return Some(remaining.max(0.0) / v);
+            }
+            self.climb_towards(target_alt, budget, ahead);
+            self.advance(&path, &here, budget, v);
+            return Some(dt);
+        }
+
+        // The leg, to the start of the turn at TO.
+        let next = self.next_index(to_index);
+        let mut planned = next.and_then(|n| self.planned_turn(to_index, n, false));
+        let body_left = remaining_on(&self.route.body, &here);
+        if let Some(t) = &planned
+            && t.kind == TurnKind::FlyBy
+            && body_left < remaining_on(&self.route.body, &t.leave) - REACHED_M
+        {
+            // Past the arc's start (NEXT changed late): over the waypoint instead.
+            planned = next.and_then(|n| self.planned_turn(to_index, n, true));
+        }
+        let (end, to_end) = match &planned {
+            Some(t) if t.kind == TurnKind::FlyBy => (
+                t.leave,
+                body_left - remaining_on(&self.route.body, &t.leave),
+            ),
+            _ => (target, body_left),
+        };
+        if to_end <= budget + REACHED_M {
+            let used = to_end.max(0.0);
+            self.climb_towards(target_alt, used, used);
+            self.set_position(end);
+            if end == target {
+                self.altitude_m = target_alt;
+            }
+            match (next, planned) {
+                (Some(n), Some(t)) => self.enter(to_index, n, Some(&t)),
+                (Some(n), None) => self.enter(to_index, n, None),
+                (None, _) => {
                     self.route.from = to.number;
                     self.route.to = None;
                     self.route.complete = true;
                 }
             }
-            return Some(remaining / v);
+            return Some(used / v);
         }
-        self.altitude_m += (target_alt - self.altitude_m) * budget / remaining;
-        self.advance(target, budget, remaining, v);
+        self.climb_towards(target_alt, budget, to_end);
+        let body = self.route.body;
+        self.advance(&body, &here, budget, v);
         Some(dt)
     }
 
-    fn switch_to(&mut self, to_index: usize, next: usize) {
-        self.route.from = self.number(Some(to_index));
-        self.route.to = Some(next);
-        self.route.leg = self.leg_into(next);
-    }
-
-    /// Distance to go to `target` along the current leg, metres.
-    fn remaining(&self, target: Point<f64>) -> f64 {
-        let straight = distance_m(self.position, target);
-        if straight <= REACHED_M {
-            return 0.0;
-        }
-        match self.route.leg {
-            Leg::Arc { centre, clockwise } => {
-                match arc_state(centre, clockwise, self.position, target) {
-                    Some(a) => (a.alpha.to_radians() * (a.rho + a.r) / 2.0).hypot(a.rho - a.r),
-                    None => straight,
-                }
-            }
-            Leg::Direct => straight,
+    /// The altitude after `distance` metres of `ahead` still to fly to `target`'s altitude.
+    fn climb_towards(&mut self, target: f64, distance: f64, ahead: f64) {
+        if ahead <= distance || ahead <= 0.0 {
+            self.altitude_m = target;
+        } else {
+            self.altitude_m += (target - self.altitude_m) * distance / ahead;
         }
     }
 
-    /// Moves `distance` metres (less than `remaining`) along the current leg to `target`.
-    fn advance(&mut self, target: Point<f64>, distance: f64, remaining: f64, v: f64) {
-        let arc = match self.route.leg {
-            Leg::Arc { centre, clockwise } => {
-                arc_state(centre, clockwise, self.position, target).map(|a| (centre, clockwise, a))
-            }
-            Leg::Direct => None,
-        };
-        match arc {
-            Some((centre, clockwise, a)) => {
-                // Close the radial offset: exponentially over one turn radius, and linearly
-                // by the TO waypoint at the latest.
-                let length = self.turn_radius(v).max(MIN_ARC_RADIUS_M);
-                let keep = (-distance / length)
-                    .exp()
-                    .min((1.0 - distance / remaining).max(0.0));
-                let dr = ((a.r - a.rho) * (1.0 - keep)).clamp(-0.9 * distance, 0.9 * distance);
-                let along = (distance * distance - dr * dr).max(0.0).sqrt();
-                let dtheta = (along / (a.rho + dr / 2.0)).to_degrees().min(a.alpha);
-                let theta = if clockwise {
-                    a.theta + dtheta
+    fn set_position(&mut self, at: Site) {
+        self.position = Point::new(at.lon, at.lat);
+    }
+
+    /// Moves `distance` metres (less than what is left) along `path` from `here`.
+    ///
+    /// A geodesic (a track-to-fix leg) is tracked by a look-ahead law: the course is the one to
+    /// the point of the geodesic one look-ahead `L` (the turn radius, at least
+    /// [`MIN_LOOK_AHEAD_M`]) beyond the aircraft's along-track position, capped at the path's
+    /// end. On the geodesic that point is on the same geodesic, so the aircraft stays on it;
+    /// off it, the cross-track error `e` shrinks by the factor `1 − s/√(L² + e²)` per step of
+    /// `s` metres (less than `L`): it goes to zero without changing sign, no overshoot. An arc
+    /// (a turn, a radius-to-fix leg) is followed exactly in polar coordinates around its
+    /// centre: the azimuth advances by the step over the radius, the radius is the arc's there.
+    fn advance(&mut self, path: &Path, here: &Site, distance: f64, v: f64) {
+        let next = match *path {
+            Path::Point(p) => p,
+            Path::Geodesic { from, to } => {
+                let (length, course) = from.inverse(&to);
+                let (d, az) = from.inverse(here);
+                let along = d * (az - course).to_radians().cos();
+                let look_ahead = self.turn_radius(v).max(MIN_LOOK_AHEAD_M);
+                let aim = if along + look_ahead >= length {
+                    to
                 } else {
-                    a.theta - dtheta
+                    from.direct(course, along + look_ahead)
                 };
-                self.position = destination(centre, theta.rem_euclid(360.0), a.rho + dr);
+                here.direct(here.inverse(&aim).1, distance)
             }
-            None => {
-                let bearing = bearing_deg(self.position, target);
-                self.position = destination(self.position, bearing, distance);
+            Path::Arc {
+                from,
+                to,
+                centre,
+                direction,
+            } => {
+                let arc = ArcGeometry::of(&from, &to, &centre, direction);
+                let az = centre.inverse(here).1;
+                let rho = arc.radius_at(az);
+                let slope = if arc.sweep > 0.0 {
+                    (arc.r1 - arc.r0) / arc.sweep.to_radians()
+                } else {
+                    0.0
+                };
+                let step = (distance / rho.hypot(slope))
+                    .to_degrees()
+                    .min(to_go(&arc, az));
+                let az = if arc.clockwise { az + step } else { az - step };
+                arc.at(az)
             }
-        }
+        };
+        self.set_position(next);
     }
 
     /// Turn radius at speed `v` and the bank limit, metres.
     fn turn_radius(&self, v: f64) -> f64 {
         self.config.fly_by().turn_radius_m(v)
-    }
-
-    /// Fly-by turn anticipation at the TO waypoint `to` before the leg to `next`: `r·tan(Δψ/2)`,
-    /// capped at half the next leg's length.
-    fn turn_anticipation(&self, v: f64, to: Point<f64>, next: usize) -> f64 {
-        let Some(next_point) = self.entry(next).map(|e| point(e.position)) else {
-            return 0.0;
-        };
-        let inbound = match self.route.leg {
-            Leg::Arc { centre, clockwise } if distance_m(centre, to) >= MIN_ARC_RADIUS_M => {
-                tangent(bearing_deg(centre, to), clockwise)
-            }
-            // Final course of the geodesic from here: the reverse of the initial bearing from
-            // the waypoint back to here.
-            _ => bearing_deg(to, self.position) + 180.0,
-        };
-        let arc_out = match self.leg_into(next) {
-            Leg::Arc { centre, clockwise } => {
-                arc_state(centre, clockwise, to, next_point).map(|a| (a, clockwise))
-            }
-            Leg::Direct => None,
-        };
-        let (outbound, next_length) = match arc_out {
-            Some((a, clockwise)) => (tangent(a.theta, clockwise), a.alpha.to_radians() * a.r),
-            None => (bearing_deg(to, next_point), distance_m(to, next_point)),
-        };
-        let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
-        self.config.fly_by().anticipation_m(v, turn, next_length)
     }
 
     /// Inside the fly-zone, and the no-fly-zone the aircraft is in (0: none), where it is now.
@@ -804,7 +875,11 @@ mod tests {
     use core::time::Duration;
 
     use missionlink_interfaces::contracts::{CircleArea, PolygonArea};
-    use missionlink_interfaces::wire::{Altitude, AltitudeType, GeoPoint, Speed};
+    use missionlink_interfaces::wire::{
+        Altitude, AltitudeType, GeoPoint, LegType, Speed, TurnDirection, TurnType,
+    };
+
+    use crate::geofence::earth::{bearing_deg, destination};
 
     use super::*;
 

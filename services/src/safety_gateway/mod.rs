@@ -610,15 +610,16 @@ impl SafetyGateway {
         legs
     }
 
-    /// The straight cuts of the fly-by turns guidance flies (at the profile's bank, as
-    /// [`onboard::FlyBy`] says), forward and, on a bidirectional route, on the way back: paths
-    /// the legs between the waypoints do not cover.
-    fn turn_cuts(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
+    /// The turns at the waypoints as guidance flies them (at the profile's bank,
+    /// [`crate::geofence::turn`]): forward from the take-off point, and on a bidirectional
+    /// route the way back from the last waypoint and the turn round at every waypoint where a
+    /// return to home may start. Paths the legs between the waypoints do not cover.
+    fn turns(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
         let list = mission.to_payload(1);
         let entries = list.waypoints();
-        let fly_by = Some(onboard::FlyBy {
+        let fly_by = onboard::FlyBy {
             bank_deg: self.profile.max_bank_deg,
-        });
+        };
         let index = |n: u16| entries.iter().position(|w| w.number == n);
         let start = take_off
             .map(Site::of)
@@ -626,15 +627,20 @@ impl SafetyGateway {
         let last = entries.last();
         let forward = start
             .into_iter()
-            .flat_map(|s| onboard::execute_route(&list, s, fly_by));
-        let back = last
-            .filter(|_| list.bidirectional)
+            .flat_map(|s| onboard::execute_route(&list, s, Some(fly_by)));
+        let bidirectional = list.bidirectional;
+        let back = last.filter(|_| bidirectional).into_iter().flat_map(|w| {
+            onboard::return_route(&list, Site::of(w.position), w.number, Some(fly_by))
+        });
+        let round = bidirectional
+            .then(|| onboard::turns_round(&list, fly_by))
             .into_iter()
-            .flat_map(|w| onboard::return_route(&list, Site::of(w.position), w.number, fly_by));
+            .flatten();
         forward
             .chain(back)
+            .chain(round)
             .filter_map(|leg| match leg.element {
-                RouteElement::FlyByTurn { at, to } => {
+                RouteElement::Turn { at, to, .. } => {
                     let (from_index, to_index) = (index(at)?, index(to)?);
                     let speed_mps = entries.get(to_index).map_or(0.0, |w| w.speed.mps());
                     Some(Leg {
@@ -685,7 +691,7 @@ impl SafetyGateway {
         let legs = Self::legs(mission, take_off);
         self.check_route(mission, areas, &legs, &mut c);
         let mut flown = legs.clone();
-        flown.extend(self.turn_cuts(mission, take_off));
+        flown.extend(self.turns(mission, take_off));
         self.check_geography(mission, take_off, &fence, &valid, &flown, &mut c);
         self.check_energy(mission, take_off.is_some(), &legs, &mut c);
         c.out
@@ -836,12 +842,16 @@ mod tests {
         Case {
             take_off: corner.take_off_position,
             ..case(
-                "a fly-by turn cuts a no-fly-zone inside its corner (testkit::fly_by_corner)",
+                "a fly-by arc enters a no-fly-zone inside its corner (testkit::fly_by_corner)",
                 lists.mission,
                 &lists.areas.areas,
                 &[(
                     ViolationCode::NoFlyZoneLeg,
-                    Element::Route(RouteElement::FlyByTurn { at: 2, to: 3 }),
+                    Element::Route(RouteElement::Turn {
+                        at: 2,
+                        to: 3,
+                        kind: crate::geofence::turn::TurnKind::FlyBy,
+                    }),
                 )],
             )
         }
