@@ -532,6 +532,9 @@ const WORST_CASE_LANE_HALF_M: f64 = 6200.0;
 /// radius-to-fix legs of [`geofence_worst_case_rf`] bulge 570 m past the lanes' ends).
 const WORST_CASE_FLY_ZONE_BEYOND_M: (f64, f64) = (120.0, 690.0);
 
+/// The speed of the worst case's waypoints, m/s (the slowest of the default profile).
+pub const WORST_CASE_SPEED_MPS: f64 = 5.0;
+
 /// The closest approach of the worst case's route to each of its 11 zones, metres: 15 m beyond
 /// the safety offset of 25 m.
 pub const WORST_CASE_CLOSEST_M: f64 = 40.0;
@@ -618,8 +621,9 @@ pub fn worst_case_areas(shift_m: [f64; 10]) -> Vec<AreaPolygonLoopSegment> {
 /// east side sees 300 m to 40 m); 128 lanes in all. With `rf`, the legs between lanes at the
 /// north end are radius-to-fix half circles of 570 m bulging north around the no-fly-zone's
 /// tip (every fourth leg but at the turn between passes), the rest track-to-fix. Every waypoint
-/// is fly-over: guidance flies exactly the legs (a fly-by turn at a lane's end would cut the
-/// corner into the no-fly-zone 40 m away, and the check would stop there).
+/// is fly-by at [`WORST_CASE_SPEED_MPS`]: the turns (`geofence::turn`) are arcs of 5.5 m radius
+/// at 25° bank inside the corners, short enough for the 24 m legs between passes, so they come
+/// no closer to any zone than the legs and the check looks at every one of them too.
 pub fn worst_case_messages(rf: bool) -> Vec<Message> {
     use missionlink_interfaces::capacity::MAX_WAYPOINTS;
     const PASSES: usize = 12;
@@ -668,7 +672,7 @@ pub fn worst_case_messages(rf: bool) -> Vec<Message> {
                 LegType::TrackToFix
             };
             let waypoint = UaPositionWaypoint {
-                turn_type: TurnType::FlyOver,
+                speed: Speed::from_mps(WORST_CASE_SPEED_MPS).expect("a speed in range"),
                 ..waypoint(number, next, at, leg)
             };
             messages.push(waypoint.into());
