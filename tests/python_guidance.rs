@@ -733,8 +733,8 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             s.name
         );
         // The same flight, step by step: same length, the same triple, flags and zones at
-        // every step, and the positions (geodesics of the same algorithms) together to well
-        // under a centimetre.
+        // every step, and the positions and altitudes (geodesics of the same algorithms, the
+        // same turn construction) within a micrometre.
         assert_eq!(python.len(), rust.len(), "{}: steps", s.name);
         let mut worst_m: f64 = 0.0;
         let mut worst_alt: f64 = 0.0;
@@ -750,9 +750,9 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             worst_m = worst_m.max(d);
             worst_alt = worst_alt.max((p.altitude - r.altitude).abs());
         }
-        assert!(worst_m < 0.01, "{}: positions {worst_m} m apart", s.name);
+        assert!(worst_m < 1e-6, "{}: positions {worst_m} m apart", s.name);
         assert!(
-            worst_alt < 0.01,
+            worst_alt < 1e-6,
             "{}: altitudes {worst_alt} m apart",
             s.name
         );

@@ -398,7 +398,7 @@ impl Guidance {
             Some(FlightPhase::Landing) => {}
             Some(FlightPhase::OnGround | FlightPhase::Landed) | None => {
                 self.altitude_m = 0.0;
-                self.route = Route::NOT_STARTED.clone();
+                self.reset_route();
                 self.climb_complete = false;
             }
         }
@@ -458,10 +458,16 @@ impl Guidance {
         }
     }
 
+    /// Back to a route not started; the planned turn goes with it.
+    fn reset_route(&mut self) {
+        self.route = Route::NOT_STARTED.clone();
+        self.planned = None;
+    }
+
     fn adopt(&mut self, list: WaypointListPayload) {
         self.list = list;
         self.pending = None;
-        self.route = Route::NOT_STARTED.clone();
+        self.reset_route();
     }
 
     fn adopt_pending_if_due(&mut self) {
