@@ -670,6 +670,11 @@ fn scenarios() -> Vec<Scenario> {
         mission_2("mission 2, return to home at W1", 0, Some((1, 2, 3))),
         mission_2("mission 2, land at W1", 2, None),
         Scenario {
+            name: "mission 2, W1 flown over (the turns onto the arc)",
+            waypoints: fly_over_at_w1(&m2),
+            ..mission_2("", 0, None)
+        },
+        Scenario {
             name: "mission 2's areas, a route through both no-fly-zones and out of the fly-zone",
             waypoints: through_the_zones(&m2),
             areas: a2,
@@ -678,6 +683,14 @@ fn scenarios() -> Vec<Scenario> {
             return_home_at: None,
         },
     ]
+}
+
+/// Mission 2 with W1 (waypoint 2) fly-over: over W1, then the turn straight into the reverse
+/// turn onto the radius-to-fix arc (`geofence::turn`).
+fn fly_over_at_w1(m2: &WaypointListPayload) -> WaypointListPayload {
+    let mut list = *m2;
+    list.waypoints[1].turn_type = wire::TurnType::FlyOver as u8;
+    list
 }
 
 /// A route in mission 2's airspace that the safety gateway would refuse, to compare the zone

@@ -415,15 +415,17 @@ class _LegNear:
         return None
 
 
-def _fillet(a, b, side: float, r: float):
-    candidates = _intersect(_offset(a, side, r), _offset(b, side, r))
-    if not candidates:
-        return None
-    f = min(candidates, key=_norm)
-    t1, t2 = _foot(a, f), _foot(b, f)
-    if t1 is None or t2 is None:
-        return None
-    return (f, t1, t2)
+def _fillets(a, b, side: float, r: float) -> list:
+    """The fillets (centre, tangent point on `a`, on `b`), nearest the origin first."""
+    centres = _intersect(_offset(a, side, r), _offset(b, side, r))
+    if len(centres) == 2 and _norm(centres[1]) < _norm(centres[0]):
+        centres = [centres[1], centres[0]]
+    out = []
+    for f in centres:
+        t1, t2 = _foot(a, f), _foot(b, f)
+        if t1 is not None and t2 is not None:
+            out.append((f, t1, t2))
+    return out
 
 
 def turn(inbound: Path, outbound: Path, fly_over: bool, radius_m: float) -> Turn:
@@ -448,17 +450,15 @@ def turn(inbound: Path, outbound: Path, fly_over: bool, radius_m: float) -> Turn
 
 
 def _fly_by(a: _LegNear, b: _LegNear, proj: _Aeqd, side: float, r: float) -> Optional[Turn]:
-    fillet = _fillet(a.local, b.local, side, r)
-    if fillet is None:
-        return None
-    f, t1, t2 = fillet
-    leave = a.site_of(t1, proj, True)
-    if leave is None:
-        return None
-    join = b.site_of(t2, proj, False)
-    if join is None:
-        return None
-    return Turn(FLY_BY, leave, join, (ArcPath(leave, join, proj.site(f), side > 0.0),))
+    for f, t1, t2 in _fillets(a.local, b.local, side, r):
+        leave = a.site_of(t1, proj, True)
+        if leave is None:
+            continue
+        join = b.site_of(t2, proj, False)
+        if join is None:
+            continue
+        return Turn(FLY_BY, leave, join, (ArcPath(leave, join, proj.site(f), side > 0.0),))
+    return None
 
 
 def _over(
@@ -467,31 +467,49 @@ def _over(
     at = proj.origin
     half = math.cos(math.radians(abs(delta) / 2.0))
     chi = min(INTERCEPT_DEG, math.degrees(math.acos(min(max(half * half, -1.0), 1.0))))
+    # The first turn: tangent to the inbound course at the waypoint, through delta + chi.
     centre = destination(at, a.course + side * 90.0, r)
     az_w = inverse(centre, at)[1]
     az_p = az_w + side * (abs(delta) + chi)
     p1 = destination(centre, az_p, r)
     course = a.course + side * (abs(delta) + chi)
     p, u = proj.xy(p1), _unit(course)
-    fillet = _fillet(("line", p, u), b.local, -side, r)
-    if fillet is None:
-        return None
-    f, t1, t2 = fillet
-    straight = _dot(u, (t1[0] - p[0], t1[1] - p[1]))
-    if straight < -MIN_STRAIGHT_M:
-        return None
-    join = b.site_of(t2, proj, False)
-    if join is None:
-        return None
-    paths = [ArcPath(at, p1, centre, side > 0.0)]
-    if straight > MIN_STRAIGHT_M:
-        e = proj.site(t1)
-        paths.append(GeodesicPath(p1, e))
-        intercept_end = e
-    else:
-        intercept_end = p1
-    paths.append(ArcPath(intercept_end, join, proj.site(f), side < 0.0))
-    return Turn(FLY_OVER, at, join, tuple(paths))
+    for f, t1, t2 in _fillets(("line", p, u), b.local, -side, r):
+        straight = _dot(u, (t1[0] - p[0], t1[1] - p[1]))
+        if straight < -MIN_STRAIGHT_M:
+            continue
+        join = b.site_of(t2, proj, False)
+        if join is None:
+            continue
+        paths = [ArcPath(at, p1, centre, side > 0.0)]
+        if straight > MIN_STRAIGHT_M:
+            e = proj.site(t1)
+            paths.append(GeodesicPath(p1, e))
+            intercept_end = e
+        else:
+            intercept_end = p1
+        paths.append(ArcPath(intercept_end, join, proj.site(f), side < 0.0))
+        return Turn(FLY_OVER, at, join, tuple(paths))
+    return _s_turn(b, proj, centre, side, r)
+
+
+def _s_turn(b: _LegNear, proj: _Aeqd, centre: Point, side: float, r: float) -> Optional[Turn]:
+    """The fly-over's first turn straight into the reverse turn onto the outbound leg."""
+    at = proj.origin
+    first = ("circle", proj.xy(centre), r, side > 0.0)
+    az_w = inverse(centre, at)[1]
+    best = None
+    for f, t1, t2 in _fillets(first, b.local, -side, r):
+        join = b.site_of(t2, proj, False)
+        if join is None:
+            continue
+        t1 = proj.site(t1)
+        turned = angle_to_go(az_w, inverse(centre, t1)[1], side > 0.0)
+        if best is not None and best[0] <= turned:
+            continue
+        paths = (ArcPath(at, t1, centre, side > 0.0), ArcPath(t1, join, proj.site(f), side < 0.0))
+        best = (turned, Turn(FLY_OVER, at, join, paths))
+    return None if best is None else best[1]
 
 
 def remaining_on(path: Path, here: Point) -> float:

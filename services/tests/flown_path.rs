@@ -20,7 +20,9 @@
 use core::time::Duration;
 
 use missionlink_interfaces::contracts::{AutomationStatePayload, FlightPhase, WaypointListPayload};
-use missionlink_interfaces::wire::{AreaType, GeoPoint, LegType, Message, TurnDirection, TurnType};
+use missionlink_interfaces::wire::{
+    AreaType, GeoPoint, LegType, Message, TurnDirection, TurnType, UaPositionWaypoint,
+};
 use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
@@ -33,7 +35,7 @@ use missionlink_services::guidance::{Guidance, GuidanceConfig};
 use missionlink_services::link::time::Instant;
 use missionlink_services::safety_gateway::SafetyGateway;
 use missionlink_services::testkit::{
-    self, circle, plan, polygon, rf_centre, route, take_off, waypoint,
+    self, CCP, FLY_ZONE, NFZ_POLYGON, circle, plan, polygon, rf_centre, route, take_off, waypoint,
 };
 
 /// Flown and checked paths agree within this, metres.
@@ -423,6 +425,34 @@ fn with_circles_in_turns(name: &str, messages: &[Message], take_off: (f64, f64))
     }
 }
 
+/// Demo mission 2 (`testkit::mission_2`) with W1 (waypoint 2) fly-over: over W1, then the
+/// turn straight into the reverse turn onto the radius-to-fix arc.
+fn fly_over_at_w1() -> MissionPlan {
+    let w1 = UaPositionWaypoint {
+        turn_type: TurnType::FlyOver,
+        ..waypoint(2, 3, (48.278, 11.658), LegType::TrackToFix)
+    };
+    MissionPlan {
+        take_off_position: Some(point(CCP)),
+        ..plan(
+            &[
+                take_off(30.0).into(),
+                waypoint(1, 2, CCP, LegType::TrackToFix).into(),
+                w1.into(),
+                waypoint(3, 0, (48.280, 11.680), LegType::RadiusToFix).into(),
+                rf_centre(3, (48.27455, 11.66991), TurnDirection::Clockwise).into(),
+                route(1, true).into(),
+            ],
+            &[
+                polygon(1, AreaType::FlyZone, &FLY_ZONE),
+                circle(2, (48.268, 11.675), (48.268, 11.679)),
+                polygon(3, AreaType::NoFlyZone, &NFZ_POLYGON),
+            ],
+            "MEDEVAC-2-OVER",
+        )
+    }
+}
+
 #[test]
 fn guidance_flies_what_the_geofence_checks() {
     let mut flights = vec![
@@ -485,6 +515,13 @@ fn guidance_flies_what_the_geofence_checks() {
     ));
     flights.push(rf_case("fly-by onto a radius-to-fix leg", true));
     flights.push(rf_case("fly-by off a radius-to-fix leg", false));
+    let over_w1 = Flight {
+        name: "demo mission 2, W1 flown over (onto the radius-to-fix arc)".into(),
+        plan: fly_over_at_w1(),
+        return_home_after: None,
+    };
+    assert_eq!(turn_kinds(&over_w1), [TurnKind::FlyOver]);
+    flights.push(over_w1);
     let mut worst = (0.0f64, f64::NEG_INFINITY, f64::NEG_INFINITY);
     for f in &flights {
         let o = check(f);

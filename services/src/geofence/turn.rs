@@ -18,7 +18,9 @@
 //!   `χ = min(45°, acos(cos²(Δψ/2)))` towards the outbound leg (45° unless the turn is too
 //!   small to come back at that angle), straight on that course, and the turn of radius `r`
 //!   the other way onto the outbound leg (tangent to it): an intercept of the outbound leg
-//!   itself, not a direct-to its waypoint.
+//!   itself, not a direct-to its waypoint. Where that intercept does not meet the outbound leg
+//!   (a radius-to-fix leg curving away from it), the first turn goes straight into the reverse
+//!   turn onto the leg: two arcs of radius `r`, the second tangent to the first and to the leg.
 //! - **No room for the intercept** (its join farther along the outbound leg than half of it):
 //!   the aircraft turns on the spot at the waypoint (the demo aircraft is a multicopter) and
 //!   flies the outbound leg from there; the legs in full are checked anyway (see
@@ -445,13 +447,19 @@ fn direction(clockwise: bool) -> TurnDirection {
     }
 }
 
-/// The fillet of radius `r` on side `side` between `a` (flown first) and `b`: its centre and
-/// its tangent points on `a` and on `b` (projected), the solution nearest the origin.
-fn fillet(a: &Local, b: &Local, side: f64, r: f64) -> Option<(Coord, Coord, Coord)> {
-    let f = intersect(a.offset(side, r), b.offset(side, r))
+/// The fillets of radius `r` on side `side` between `a` (flown first) and `b`: their centre
+/// and their tangent points on `a` and on `b` (projected), nearest the origin first.
+fn fillets(a: &Local, b: &Local, side: f64, r: f64) -> Vec<(Coord, Coord, Coord), 2> {
+    let mut centres = intersect(a.offset(side, r), b.offset(side, r));
+    if let [p, q] = centres.as_mut_slice()
+        && norm(*q) < norm(*p)
+    {
+        core::mem::swap(p, q);
+    }
+    centres
         .into_iter()
-        .min_by(|p, q| norm(*p).total_cmp(&norm(*q)))?;
-    Some((f, a.foot(f)?, b.foot(f)?))
+        .filter_map(|f| Some((f, a.foot(f)?, b.foot(f)?)))
+        .collect()
 }
 
 /// The turn at `at` from `inbound` (a leg ending there) to `outbound` (a leg starting there),
@@ -486,22 +494,25 @@ pub fn turn(inbound: &Path, outbound: &Path, fly_over: bool, radius_m: f64) -> T
 }
 
 fn fly_by(a: &LegNear, b: &LegNear, proj: &Aeqd, side: f64, r: f64) -> Option<Turn> {
-    let (f, t1, t2) = fillet(&a.local, &b.local, side, r)?;
-    let leave = a.site_of(t1, proj, true)?;
-    let join = b.site_of(t2, proj, false)?;
-    let mut paths = Vec::new();
-    let _ = paths.push(Path::Arc {
-        from: leave,
-        to: join,
-        centre: proj.site(f),
-        direction: direction(side > 0.0),
-    });
-    Some(Turn {
-        kind: TurnKind::FlyBy,
-        leave,
-        join,
-        paths,
-    })
+    fillets(&a.local, &b.local, side, r)
+        .into_iter()
+        .find_map(|(f, t1, t2)| {
+            let leave = a.site_of(t1, proj, true)?;
+            let join = b.site_of(t2, proj, false)?;
+            let mut paths = Vec::new();
+            let _ = paths.push(Path::Arc {
+                from: leave,
+                to: join,
+                centre: proj.site(f),
+                direction: direction(side > 0.0),
+            });
+            Some(Turn {
+                kind: TurnKind::FlyBy,
+                leave,
+                join,
+                paths,
+            })
+        })
 }
 
 fn over(a: &LegNear, b: &LegNear, proj: &Aeqd, delta: f64, side: f64, r: f64) -> Option<Turn> {
@@ -514,45 +525,91 @@ fn over(a: &LegNear, b: &LegNear, proj: &Aeqd, delta: f64, side: f64, r: f64) ->
     let az_p = az_w + side * (delta.abs() + chi);
     let p1 = centre.direct(az_p, r);
     let course = a.course + side * (delta.abs() + chi);
-    let line = Local::Line {
-        p: proj.xy(&p1),
-        u: unit(course),
+    let (p, u) = (proj.xy(&p1), unit(course));
+    let line = Local::Line { p, u };
+    let intercept = fillets(&line, &b.local, -side, r)
+        .into_iter()
+        .find_map(|(f, t1, t2)| {
+            let straight = dot(u, t1 - p);
+            if straight < -MIN_STRAIGHT_M {
+                return None;
+            }
+            let join = b.site_of(t2, proj, false)?;
+            let mut paths = Vec::new();
+            let _ = paths.push(Path::Arc {
+                from: at,
+                to: p1,
+                centre,
+                direction: direction(side > 0.0),
+            });
+            let intercept_end = if straight > MIN_STRAIGHT_M {
+                let e = proj.site(t1);
+                let _ = paths.push(Path::Geodesic { from: p1, to: e });
+                e
+            } else {
+                p1
+            };
+            let _ = paths.push(Path::Arc {
+                from: intercept_end,
+                to: join,
+                centre: proj.site(f),
+                direction: direction(side < 0.0),
+            });
+            Some(Turn {
+                kind: TurnKind::FlyOver,
+                leave: at,
+                join,
+                paths,
+            })
+        });
+    intercept.or_else(|| s_turn(b, proj, &centre, side, r))
+}
+
+/// The fly-over's turn at the waypoint (around `centre`) straight into the reverse turn onto
+/// the outbound leg: the arc of radius `r` tangent to both, the first of the candidates
+/// reached soonest on the first turn.
+fn s_turn(b: &LegNear, proj: &Aeqd, centre: &Site, side: f64, r: f64) -> Option<Turn> {
+    let at = proj.origin;
+    let first = Local::Circle {
+        c: proj.xy(centre),
+        r,
+        clockwise: side > 0.0,
     };
-    let (f, t1, t2) = fillet(&line, &b.local, -side, r)?;
-    let Local::Line { p, u } = line else {
-        return None;
-    };
-    let straight = dot(u, t1 - p);
-    if straight < -MIN_STRAIGHT_M {
-        return None;
+    let az_w = centre.inverse(&at).1;
+    let mut best: Option<(f64, Turn)> = None;
+    for (f, t1, t2) in fillets(&first, &b.local, -side, r) {
+        let Some(join) = b.site_of(t2, proj, false) else {
+            continue;
+        };
+        let t1 = proj.site(t1);
+        let turned = angle_to_go(az_w, centre.inverse(&t1).1, side > 0.0);
+        if best.as_ref().is_some_and(|(b, _)| *b <= turned) {
+            continue;
+        }
+        let mut paths = Vec::new();
+        let _ = paths.push(Path::Arc {
+            from: at,
+            to: t1,
+            centre: *centre,
+            direction: direction(side > 0.0),
+        });
+        let _ = paths.push(Path::Arc {
+            from: t1,
+            to: join,
+            centre: proj.site(f),
+            direction: direction(side < 0.0),
+        });
+        best = Some((
+            turned,
+            Turn {
+                kind: TurnKind::FlyOver,
+                leave: at,
+                join,
+                paths,
+            },
+        ));
     }
-    let join = b.site_of(t2, proj, false)?;
-    let mut paths = Vec::new();
-    let _ = paths.push(Path::Arc {
-        from: at,
-        to: p1,
-        centre,
-        direction: direction(side > 0.0),
-    });
-    let intercept_end = if straight > MIN_STRAIGHT_M {
-        let e = proj.site(t1);
-        let _ = paths.push(Path::Geodesic { from: p1, to: e });
-        e
-    } else {
-        p1
-    };
-    let _ = paths.push(Path::Arc {
-        from: intercept_end,
-        to: join,
-        centre: proj.site(f),
-        direction: direction(side < 0.0),
-    });
-    Some(Turn {
-        kind: TurnKind::FlyOver,
-        leave: at,
-        join,
-        paths,
-    })
+    best.map(|(_, t)| t)
 }
 
 #[cfg(test)]
