@@ -712,7 +712,7 @@ fn through_the_zones(like: &WaypointListPayload) -> WaypointListPayload {
         };
         w.position = GeoPoint::from_degrees(lat, lon).unwrap();
     }
-    // Fly-over, or the sharp turn's anticipation would cut the polygon off.
+    // Fly-over: over the waypoint in the polygon (a fly-by arc would turn short of it).
     list.waypoints[0].turn_type = wire::TurnType::FlyOver as u8;
     list
 }

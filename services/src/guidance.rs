@@ -23,32 +23,55 @@
 //!   height; Cruise flies the route; Landing is a vertical descent at the descent rate to 0.
 //!   Vertical and horizontal motion never mix except in Cruise.
 //! - **Altitudes**: waypoint altitudes are taken as heights above the start ground, whatever
-//!   their altitude type (no terrain, no geoid). In Cruise the altitude moves linearly with the
-//!   distance flown towards the TO waypoint's altitude, without a vertical rate limit.
+//!   their altitude type (no terrain, no geoid), without a vertical rate limit.
 //! - **Speed**: the TO waypoint's commanded speed is flown as ground speed at once (no wind, no
 //!   acceleration); a waypoint with speed 0 is flown at [`FALLBACK_SPEED_MPS`].
-//! - **Track-to-fix legs** are flown as a geodesic (WGS-84 bearing and destination) from
-//!   the current position to the TO waypoint; after a fly-by turn that is a direct-to, so the
-//!   aircraft does not re-join the line between the two waypoints.
+//! - **What is flown is what the geofence checks**: the legs between the waypoints and, at
+//!   every waypoint, the turn of [`crate::geofence::turn`], the one construction the onboard
+//!   check and the safety gateway check too. Guidance flies each of its paths exactly (to
+//!   nanometres; `services/tests/flown_path.rs` measures it).
+//! - **Track-to-fix legs** are tracked along the geodesic between the FROM and the TO waypoint
+//!   (WGS-84). The law: the course is the one towards the point of that geodesic one look-ahead
+//!   `L` beyond the aircraft's along-track position (`L` = the turn radius, at least
+//!   10 m), capped at the end of the path being flown. On the geodesic that point lies on the
+//!   same geodesic, so the aircraft stays on it; off it (a start beside the leg) the cross-track
+//!   error `e` shrinks by the factor `1 − s/√(L² + e²)` with every step of `s` metres (at most
+//!   1.25 m, far less than `L`): it goes to zero without ever changing sign, so there is no
+//!   overshoot (bound: 0 m), and once smaller than `L` it decays as `exp(−x/L)` over the
+//!   distance `x` flown.
 //! - **Radius-to-fix legs** are flown in polar coordinates around the centre, in the turn
-//!   direction, at the radius centre -> TO waypoint. Where the leg starts off the circle (after
-//!   a fly-by turn onto the arc), the radial offset is closed with a length constant of one
-//!   turn radius (and linearly by the TO waypoint at the latest); the arc is then followed
-//!   exactly.
-//! - **Fly-by** turns switch to the next leg when the distance to go is within the turn
-//!   anticipation distance `r·tan(Δψ/2)`, `r = v²/(g·tan(bank))`, capped at half the next leg
-//!   and at least one sub-step's travel. The turn itself is not flown as an arc: the next leg
-//!   starts where the switch happened; a U-turn (180 deg, after a reversal mid-leg) therefore
-//!   switches half the next leg before the waypoint. **Fly-over** switches at the waypoint.
-//! - **The first leg** of a route, from wherever the aircraft is to the first TO waypoint, is
-//!   flown direct (the geodesic), whatever its leg type.
+//!   direction, at the radius going linearly with the angle from the FROM waypoint's to the TO
+//!   waypoint's (the geofence's arc); turns onto and off them are the turns below, with the arc
+//!   as the leg turned off or onto.
+//! - **Fly-by** (ARINC 424 fly-by): at the TO waypoint the aircraft turns on the arc of radius
+//!   `r = v²/(g·tan(bank))` (`v` the waypoint's speed, the configured bank) tangent to the leg
+//!   in and the leg out; FROM-TO-NEXT switches where the arc starts (`r·tan(Δψ/2)` before the
+//!   waypoint between track-to-fix legs turning `Δψ`), and the next leg is joined where the
+//!   arc ends. **Legs too short for the arc** (its tangent point farther from the waypoint than
+//!   half a leg next to it, and always a U-turn, whose arc does not exist): the waypoint is flown
+//!   over.
+//! - **Fly-over**: the aircraft flies to the waypoint (FROM-TO-NEXT switches there), then turns
+//!   at radius `r` (tangent to the leg in) through the course change and on to an intercept of
+//!   the next leg itself at `χ = min(45°, acos(cos²(Δψ/2)))`, flies straight at that course, and
+//!   turns at `r` the other way onto the leg. Where that intercept does not meet the next leg (a
+//!   radius-to-fix arc curving away), the first turn goes straight into the turn onto the leg;
+//!   where there is no room on half of the next leg, it turns round on the spot (a multicopter).
+//! - **The first leg** of a route, from where the aircraft is (the take-off point after the
+//!   climb) to the first TO waypoint, is the geodesic between them, whatever the leg type: what
+//!   the onboard check checks from navigation's position, and the safety gateway from the
+//!   plan's take-off position. The turn at the first waypoint is from that geodesic.
+//! - **Altitude** moves linearly with the distance flown towards the TO waypoint's altitude,
+//!   reached where the leg is left (the fly-by arc's start, or the waypoint).
 //! - **Return to home** (`route_reversed`, honoured on bidirectional routes only): the aircraft
-//!   keeps flying to its current TO waypoint, then flies the route backwards to the initial
-//!   waypoint, each waypoint at its own speed; a reversed radius-to-fix leg is the same arc in
-//!   the opposite direction. Reversed after the route was complete, it starts from the final
-//!   waypoint; a route started reversed starts at the waypoint nearest to the aircraft.
+//!   keeps flying to its current TO waypoint, turns round there (a U-turn: flown over), then
+//!   flies the route backwards to the initial waypoint, each waypoint at its own speed and with
+//!   its turn; a reversed radius-to-fix leg is the same arc in the opposite direction. Reversed
+//!   after the route was complete, it starts from the final waypoint (no turn: it was hovering
+//!   there); a route started reversed starts at the waypoint nearest to the aircraft.
 //! - **Land at** (`land_at` != 0) ends the route at that waypoint if it is still ahead (or is
-//!   the TO waypoint); a waypoint already passed is ignored.
+//!   the TO waypoint); a waypoint already passed is ignored. The leg into it is flown to its end
+//!   (the checks check every leg in full for this). A NEXT that changes after the fly-by arc's
+//!   start has been passed makes that turn a fly-over.
 //! - **New waypoint lists**: on the ground a new generation is taken at once. In the air the
 //!   old list is kept until the automation state's `flown_waypoint_list` names the new
 //!   generation; then the new list's route starts from its first waypoint (FROM 0).
@@ -101,7 +124,8 @@ pub struct GuidanceConfig {
     pub climb_rate_mps: f64,
     /// Descent rate of the landing (m/s), default 2.0.
     pub descent_rate_mps: f64,
-    /// Bank angle limit for fly-by turn anticipation (deg), default 25.
+    /// Bank angle of the turns at waypoints (deg; their radius is `v²/(g·tan(bank))`),
+    /// default 25.
     pub max_bank_deg: f64,
     /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
     pub time_scale: f64,
@@ -121,8 +145,8 @@ impl Default for GuidanceConfig {
 }
 
 impl GuidanceConfig {
-    /// How this guidance turns at fly-by waypoints, for the geofence (the rule of
-    /// [`Guidance`]'s turn anticipation, at its bank).
+    /// How this guidance turns at waypoints, for the geofence ([`crate::geofence::turn`] at
+    /// its bank: the construction [`Guidance`] flies).
     pub fn fly_by(&self) -> FlyBy {
         FlyBy {
             bank_deg: self.sanitized().max_bank_deg,

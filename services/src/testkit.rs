@@ -733,12 +733,12 @@ pub fn geofence_worst_case() -> (
     (waypoints, areas, worst_case_take_off())
 }
 
-/// A 90° fly-by turn that cuts a no-fly-zone (found in review): waypoints 1 (1500 m south of
+/// A 90° fly-by turn whose arc comes too close to a no-fly-zone (found in review): waypoints 1 (1500 m south of
 /// C = 48.27 N, 11.65 E), 2 (C) and 3 (1500 m east of C), fly-by, 25 m/s; in the corner a
 /// square no-fly-zone (area 4, 300 m a side) whose corner nearest C is 60 m from it, 42 m from
 /// both legs; the demo fly-zone; safety offset 25 m; the take-off 1600 m south of C (no turn at
-/// waypoint 1). The legs are clear; the straight cut guidance flies from its switch point
-/// `r·tan(45°)` before C to waypoint 3 is not. The plan, the take-off position.
+/// waypoint 1). The legs are clear; the fly-by arc of radius 136.7 m tangent to them passes
+/// 3.4 m from the square's corner, well inside the safety offset. The plan, the take-off position.
 pub fn fly_by_corner() -> MissionPlan {
     let c = point((48.27, 11.65));
     let at = |from: GeoPoint, bearing: f64, d: f64| {

@@ -12,10 +12,11 @@
 //!   take-off point (the vertical climb to the take-off height: areas are 2-D), the leg from the
 //!   take-off point to the initial waypoint (flown direct, as guidance flies it), every waypoint,
 //!   every leg in the direction flown (track-to-fix legs as WGS-84 geodesics, radius-to-fix legs
-//!   as arcs around their centre in their turn direction), the straight cut of every fly-by turn
-//!   between track-to-fix legs ([`onboard::FlyBy`]: guidance switches `r·tan(Δψ/2)` before the
-//!   waypoint and flies straight to the next one), the reverse route of a bidirectional
-//!   route back to its start, and the landing (a vertical descent at the last waypoint, checked
+//!   as arcs around their centre in their turn direction), the turn at every waypoint as
+//!   guidance flies it ([`crate::geofence::turn`], at the profile's bank: the fly-by arc of
+//!   radius `r = v²/(g·tan(bank))` tangent to both legs, the fly-over's turn, intercept and turn
+//!   onto the next leg), the reverse route of a bidirectional route back to its start with its
+//!   turns and the turn round of a return to home at every waypoint, and the landing (a vertical descent at the last waypoint, checked
 //!   as that waypoint's point) must stay inside the fly-zone shrunk by the safety offset and
 //!   outside every no-fly-zone (polygon or circle) grown by it. The margin is the signed
 //!   geodesic distance in metres beyond the offset: positive = clear by that much, negative =
@@ -42,8 +43,8 @@
 //!   [`AircraftProfile::rf_radius_tolerance_m`]; radius-to-fix radius not below the minimum turn
 //!   radius `r = v²/(g·tan(bank))` for the worst-case ground speed `v` = the leg's speed plus the
 //!   wind speed; waypoint speeds inside the envelope; waypoint altitudes not above the maximum;
-//!   take-off height inside its limits. Fly-by turns at waypoints are not checked against the
-//!   leg geometry (see "not checked" below).
+//!   take-off height inside its limits. A fly-by turn the legs are too short for is no route
+//!   violation: guidance flies it over, and that path is checked geographically.
 //! - **Energy** (`ENERGY-*`, [`SafetyGateway::estimate_energy`]): vertical climb to the take-off
 //!   height at the climb rate and climb power; every leg (the one from the take-off point
 //!   included) at its TO waypoint's speed as airspeed with the power model
@@ -71,10 +72,8 @@
 //!
 //! # Not checked
 //!
-//! - Fly-by turns onto or off a radius-to-fix leg: guidance joins the arc; only the arc is
-//!   checked. (Fly-by turns between track-to-fix legs are checked: the straight cut guidance
-//!   flies from its switch point to the next waypoint, [`onboard::FlyBy`], at the profile's
-//!   bank, forward and on the reverse route; element "fly-by turn at waypoint k".)
+//! - The energy of the turns (the legs are counted in full, which is longer than the turns'
+//!   short cuts of the corners save, except behind fly-over intercepts).
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
 use core::fmt;
@@ -479,7 +478,7 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
 /// One leg as the checks take it.
 #[derive(Debug, Clone, Copy)]
 struct Leg {
-    /// What it is (a leg, or the cut of a fly-by turn).
+    /// What it is (a leg, or a path of a turn at a waypoint).
     element: RouteElement,
     from: u16,
     to: u16,
