@@ -480,7 +480,8 @@ pub fn turn(inbound: &Path, outbound: &Path, fly_over: bool, radius_m: f64) -> T
         return straight;
     };
     let delta = course_change(a.course, b.course);
-    if delta.abs() < STRAIGHT_DEG || !(radius_m > 0.0) || start(outbound) != at {
+    let usable_radius = radius_m > 0.0;
+    if delta.abs() < STRAIGHT_DEG || !usable_radius || start(outbound) != at {
         return straight;
     }
     let side = if delta > 0.0 { 1.0 } else { -1.0 };
