@@ -254,8 +254,13 @@ pub fn return_route(
             let (Some(w), Some(next)) = (back.get(i), back.get(i - 1)) else {
                 return None.into_iter().flatten();
             };
+            // The turn round at the TO waypoint: from the leg the aircraft is on (guidance turns
+            // from the leg it flies, whatever the way from here to its end).
             let inbound = if i == index {
-                direct
+                match (to != 0, back.get(i - 1)) {
+                    (true, Some(before)) => Some(leg(before, w)),
+                    _ => direct,
+                }
             } else {
                 back.get(i + 1).map(|after| leg(w, after).reversed())
             };
