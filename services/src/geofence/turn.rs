@@ -352,24 +352,18 @@ struct LegNear {
 
 impl LegNear {
     fn of(path: &Path, at: &Site, proj: &Aeqd, inbound: bool) -> Option<Self> {
-        let length = length_m(path);
-        if length < MIN_LEG_M || length.is_nan() {
-            return None;
-        }
-        let (local, course) = match *path {
+        let (local, course, length) = match *path {
             Path::Point(_) => return None,
             Path::Geodesic { from, to } => {
-                let course = if inbound {
-                    from.inverse_azimuths(&to).2
-                } else {
-                    from.inverse(&to).1
-                };
+                let (length, start, end) = from.inverse_azimuths(&to);
+                let course = if inbound { end } else { start };
                 (
                     Local::Line {
                         p: Coord { x: 0.0, y: 0.0 },
                         u: unit(course),
                     },
                     course,
+                    length,
                 )
             }
             Path::Arc {
@@ -387,9 +381,13 @@ impl LegNear {
                         clockwise: arc.clockwise,
                     },
                     arc.course_at(at),
+                    arc.length_m(),
                 )
             }
         };
+        if length < MIN_LEG_M || length.is_nan() {
+            return None;
+        }
         Some(Self {
             path: *path,
             local,
