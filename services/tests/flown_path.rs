@@ -197,10 +197,18 @@ fn check(f: &Flight) -> Outcome {
     let route = checked(&list, take_off, home);
     let tracks: Vec<Track> = route.iter().map(|l| Track::new(l.path)).collect();
 
-    // Every flown position near a checked path.
+    // Every flown position near a checked path; after a return to home is commanded, near a
+    // path of what the FCC checks then (`onboard::return_route` from there).
+    let home_route: Vec<RouteLeg> = home
+        .map(|(at, to)| onboard::return_route(&list, at, to, Some(fcc_turns())).collect())
+        .unwrap_or_default();
     let mut worst_distance: f64 = 0.0;
     for (i, at) in flown.iter().enumerate() {
-        let d = route
+        let paths = match f.return_home_after {
+            Some(n) if i >= n => &home_route,
+            _ => &route,
+        };
+        let d = paths
             .iter()
             .map(|l| distance_to(&l.path, *at))
             .fold(f64::INFINITY, f64::min);
@@ -286,6 +294,17 @@ const LEG_M: f64 = 1600.0;
 /// A turn at waypoint 2 of `turn_deg` (positive: right), waypoint 2 flown `turn_type`; the
 /// no-fly circles placed 10 m inside each arc of the turn.
 fn turn_case(name: &str, turn_deg: f64, turn_type: TurnType, expected: TurnKind) -> Flight {
+    turn_case_with(name, turn_deg, turn_type, expected, false)
+}
+
+/// [`turn_case`], the route bidirectional or not.
+fn turn_case_with(
+    name: &str,
+    turn_deg: f64,
+    turn_type: TurnType,
+    expected: TurnKind,
+    bidirectional: bool,
+) -> Flight {
     let c = Site::new(CORNER.0, CORNER.1);
     let w1 = at(c, 180.0, LEG_M);
     let (_, _, course_in) = Site::new(w1.0, w1.1).inverse_azimuths(&c);
@@ -297,7 +316,7 @@ fn turn_case(name: &str, turn_deg: f64, turn_type: TurnType, expected: TurnKind)
         waypoint(1, 2, w1, LegType::TrackToFix).into(),
         w2.into(),
         waypoint(3, 0, w3, LegType::TrackToFix).into(),
-        route(1, false).into(),
+        route(1, bidirectional).into(),
     ];
     let f = with_circles_in_turns(name, &messages, at(c, 180.0, LEG_M + 300.0));
     assert_eq!(turn_kinds(&f), [expected], "{name}");
@@ -515,6 +534,34 @@ fn guidance_flies_what_the_geofence_checks() {
     ));
     flights.push(rf_case("fly-by onto a radius-to-fix leg", true));
     flights.push(rf_case("fly-by off a radius-to-fix leg", false));
+    // Return to home while on the fly-by arc at waypoint 2 (it starts 137 m before it, about
+    // 1763 m and 70.5 s from the take-off): the rest of the arc, the leg on to waypoint 3, the
+    // turn round there and the way back are what the FCC checks then.
+    let mut on_the_arc = turn_case_with(
+        "fly-by 90°, return to home on the arc",
+        90.0,
+        TurnType::FlyBy,
+        TurnKind::FlyBy,
+        true,
+    );
+    on_the_arc.return_home_after = Some(740);
+    {
+        let list = on_the_arc.plan.assemble().unwrap().mission.to_payload(1);
+        let take_off = Site::of(on_the_arc.plan.take_off_position.unwrap());
+        let (_, home) = fly(&on_the_arc, &list);
+        let (here, to) = home.unwrap();
+        let arc = onboard::execute_route(&list, take_off, Some(fcc_turns()))
+            .find(|l| matches!(l.element, RouteElement::Turn { at: 2, .. }))
+            .unwrap()
+            .path;
+        let Path::Arc { from, to: end, .. } = arc else {
+            panic!("{arc:?}");
+        };
+        assert_eq!(to, 3, "TO when return to home is commanded");
+        assert!(distance_to(&arc, here) < 1e-6, "on the arc");
+        assert!(here.inverse(&from).0 > 10.0 && here.inverse(&end).0 > 10.0);
+    }
+    flights.push(on_the_arc);
     let over_w1 = Flight {
         name: "demo mission 2, W1 flown over (onto the radius-to-fix arc)".into(),
         plan: fly_over_at_w1(),

@@ -228,7 +228,8 @@ fn direct(waypoints: &[WaypointEntry], index: usize, position: Site, on_leg: boo
 /// What return to home flies from `position` with `to` the TO waypoint (0: the route is
 /// complete, the way back starts at the last waypoint): on to that waypoint, then the reverse
 /// route from there to the initial waypoint (guidance's return to home), with `fly_by` every
-/// turn as flown (the turn round at the TO waypoint included).
+/// turn as flown: the turn onto the leg to the TO waypoint (the aircraft may still be on it,
+/// and flies the rest), the turn round at the TO waypoint and the turns on the way back.
 pub fn return_route(
     list: &WaypointListPayload,
     position: Site,
@@ -274,7 +275,25 @@ pub fn return_route(
             t.into_iter().flatten()
         })
     });
-    first.into_iter().chain(back_over(back)).chain(turns)
+    // The turn onto the leg the aircraft is on (from a leg between waypoints: the turn at the
+    // initial waypoint depends on where the aircraft took off, and was checked from there).
+    let current = fly_by
+        .filter(|_| to != 0 && index >= 2)
+        .and_then(|f| {
+            let (before, at, w) = (back.get(index - 2)?, back.get(index - 1)?, back.get(index)?);
+            Some(turn_legs(
+                at.number,
+                w.number,
+                f.turn(at, &leg(before, at), &leg(at, w)),
+            ))
+        })
+        .into_iter()
+        .flatten();
+    first
+        .into_iter()
+        .chain(current)
+        .chain(back_over(back))
+        .chain(turns)
 }
 
 /// The turns round of a return to home commanded on any leg of a bidirectional route: at
