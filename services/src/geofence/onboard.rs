@@ -7,8 +7,9 @@
 //! (a leg is flown to its end when the aircraft is told to land at its waypoint), and every
 //! turn at a waypoint as guidance flies it ([`super::turn`]: the fly-by arc tangent to both
 //! legs, or the fly-over's turn, intercept and turn onto the next leg); before return to home,
-//! the way from the aircraft to its TO waypoint, the turn there, and the reverse route from
-//! there back to the initial waypoint with its turns. Each inside the fly-zone shrunk by the
+//! the way from the aircraft to its TO waypoint with the turn onto that leg (the aircraft may be
+//! on it), the turn round there, and the reverse route from there back to the initial waypoint
+//! with its turns. Each inside the fly-zone shrunk by the
 //! safety offset and outside every no-fly-zone grown by it. No allocation; at most
 //! 2 + 256 legs and 3 paths per turn against 11 zones.
 
