@@ -628,9 +628,12 @@ impl SafetyGateway {
             .into_iter()
             .flat_map(|s| onboard::execute_route(&list, s, Some(fly_by)));
         let bidirectional = list.bidirectional;
-        let back = last.filter(|_| bidirectional).into_iter().flat_map(|w| {
-            onboard::return_route(&list, Site::of(w.position), w.number, Some(fly_by))
-        });
+        // The way back from the last waypoint (`to` 0: the route complete); the turns round
+        // at the waypoints are `turns_round`'s.
+        let back = last
+            .filter(|_| bidirectional)
+            .into_iter()
+            .flat_map(|w| onboard::return_route(&list, Site::of(w.position), 0, Some(fly_by)));
         let round = bidirectional
             .then(|| onboard::turns_round(&list, fly_by))
             .into_iter()
