@@ -71,10 +71,11 @@ fn checked(
     let mut legs: Vec<RouteLeg> = onboard::execute_route(list, take_off, turns).collect();
     if list.bidirectional {
         if let Some(last) = list.waypoints().last() {
+            // As the gateway: the route complete at the last waypoint (`to` 0).
             legs.extend(onboard::return_route(
                 list,
                 Site::of(last.position),
-                last.number,
+                0,
                 turns,
             ));
         }
