@@ -214,7 +214,7 @@ struct Route {
     /// The part of the leg still ahead once the turn onto it is flown: from where the turn
     /// joined it.
     body: Path,
-    /// The paths of the turn onto this leg not flown yet, in order.
+    /// The paths of the turn onto this leg not flown yet, the next one last.
     turn: heapless::Vec<Path, MAX_TURN_PATHS>,
     /// Counts the legs started, for the planned turn.
     serial: u64,
@@ -631,7 +631,9 @@ impl Guidance {
             Some(t) => rest_from(&leg, t.join),
             None => leg,
         };
-        self.route.turn = turn.map(|t| t.paths.clone()).unwrap_or_default();
+        self.route.turn = turn
+            .map(|t| t.paths.iter().rev().copied().collect())
+            .unwrap_or_default();
     }
 
     fn triple(&self, phase: Option<FlightPhase>) -> (u16, u16, u16) {
@@ -741,15 +743,22 @@ impl Guidance {
         let here = Site::of(self.position);
 
         // The turn onto this leg.
-        if let Some(path) = self.route.turn.first().copied() {
+        if let Some(path) = self.route.turn.last().copied() {
             let remaining = remaining_on(&path, &here);
             let ahead: f64 = remaining
-                + self.route.turn.iter().skip(1).map(length_m).sum::<f64>()
+                + self
+                    .route
+                    .turn
+                    .iter()
+                    .rev()
+                    .skip(1)
+                    .map(length_m)
+                    .sum::<f64>()
                 + length_m(&self.route.body);
             if remaining <= budget + REACHED_M {
                 self.climb_towards(target_alt, remaining.max(0.0), ahead);
                 self.set_position(end_of(&path));
-                self.route.turn.remove(0);
+                self.route.turn.pop();
                 return Some(remaining.max(0.0) / v);
             }
             self.climb_towards(target_alt, budget, ahead);
