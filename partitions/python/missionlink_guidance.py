@@ -379,18 +379,18 @@ class _LegNear:
 
     @staticmethod
     def of(path: Path, at: Point, proj: _Aeqd, inbound: bool) -> Optional["_LegNear"]:
-        length = length_m(path)
-        if length < MIN_LEG_M or math.isnan(length):
-            return None
         if isinstance(path, GeodesicPath):
-            g = inverse(path.from_, path.to)
-            course = g[2] if inbound else g[1]
+            length, start, end = inverse(path.from_, path.to)
+            course = end if inbound else start
             local = ("line", (0.0, 0.0), _unit(course))
         else:
             arc = ArcGeometry(path)
             r = inverse(path.centre, at)[0]
             local = ("circle", proj.xy(path.centre), r, arc.clockwise)
             course = arc.course_at(at)
+            length = arc.length_m()
+        if length < MIN_LEG_M or math.isnan(length):
+            return None
         return _LegNear(path, local, course, length / 2.0)
 
     def site_of(self, t, proj: _Aeqd, inbound: bool) -> Optional[Point]:
