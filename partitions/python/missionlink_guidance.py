@@ -917,12 +917,13 @@ class Guidance:
         p = self.planned
         if p is not None and p[0] == self.route.serial and p[1] == nxt and p[2] == over:
             return p[3]
-        w = self.entry(to)
+        w, after = self.entry(to), self.entry(nxt)
         outbound = self.leg_between(to, nxt)
-        if w is None or outbound is None:
+        if w is None or after is None or outbound is None:
             return None
         fly_over = over or enum_or_none(TurnType, w.turn_type) == TurnType.FLY_OVER
-        t = turn(self.route.leg, outbound, fly_over, self.config.turn_radius_m(leg_speed(w)))
+        # The radius at the speed flown in the turn: the next waypoint's.
+        t = turn(self.route.leg, outbound, fly_over, self.config.turn_radius_m(leg_speed(after)))
         self.planned = (self.route.serial, nxt, over, t)
         return t
 

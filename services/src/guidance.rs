@@ -44,7 +44,8 @@
 //!   waypoint's (the geofence's arc); turns onto and off them are the turns below, with the arc
 //!   as the leg turned off or onto.
 //! - **Fly-by** (ARINC 424 fly-by): at the TO waypoint the aircraft turns on the arc of radius
-//!   `r = v²/(g·tan(bank))` (`v` the waypoint's speed, the configured bank) tangent to the leg
+//!   `r = v²/(g·tan(bank))` (`v` the speed flown in the turn: the next waypoint's, towards which
+//!   the aircraft flies from the turn's start; the configured bank) tangent to the leg
 //!   in and the leg out; FROM-TO-NEXT switches where the arc starts (`r·tan(Δψ/2)` before the
 //!   waypoint between track-to-fix legs turning `Δψ`), and the next leg is joined where the
 //!   arc ends. **Legs too short for the arc** (its tangent point farther from the waypoint than
@@ -708,17 +709,19 @@ impl Guidance {
         {
             return Some(p.turn.clone());
         }
-        let w = *self.entry(to)?;
+        let (w, after) = (*self.entry(to)?, *self.entry(next)?);
         let outbound = self.leg_between(to, next)?;
         let t = if over {
             turn(
                 &self.route.leg,
                 &outbound,
                 true,
-                self.turn_radius(leg_speed(&w)),
+                self.turn_radius(leg_speed(&after)),
             )
         } else {
-            self.config.fly_by().turn(&w, &self.route.leg, &outbound)
+            self.config
+                .fly_by()
+                .turn(&w, &after, &self.route.leg, &outbound)
         };
         self.planned = Some(Planned {
             serial: self.route.serial,
@@ -1280,7 +1283,7 @@ mod tests {
         let (inbound, outbound) = (onboard::leg(&w[0], &w[1]), onboard::leg(&w[1], &w[2]));
         let t = GuidanceConfig::default()
             .fly_by()
-            .turn(&w[1], &inbound, &outbound);
+            .turn(&w[1], &w[2], &inbound, &outbound);
         let paths: Vec<Path> = t.paths.iter().copied().chain([outbound]).collect();
         let worst = s
             .log

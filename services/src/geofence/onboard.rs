@@ -178,7 +178,7 @@ pub fn execute_route(
             };
             let t = match (inbound, next) {
                 (Some(inbound), Some(next)) => {
-                    Some((next.number, f.turn(w, &inbound, &leg(w, next))))
+                    Some((next.number, f.turn(w, next, &inbound, &leg(w, next))))
                 }
                 _ => None,
             };
@@ -270,7 +270,7 @@ pub fn return_route(
                 turn_legs(
                     w.number,
                     next.number,
-                    f.turn(w, &inbound, &leg(next, w).reversed()),
+                    f.turn(w, next, &inbound, &leg(next, w).reversed()),
                 )
             });
             t.into_iter().flatten()
@@ -285,7 +285,7 @@ pub fn return_route(
             Some(turn_legs(
                 at.number,
                 w.number,
-                f.turn(at, &leg(before, at), &leg(at, w)),
+                f.turn(at, w, &leg(before, at), &leg(at, w)),
             ))
         })
         .into_iter()
@@ -311,7 +311,7 @@ pub fn turns_round(
                 Some((
                     b.number,
                     a.number,
-                    fly_by.turn(b, &inbound, &inbound.reversed()),
+                    fly_by.turn(b, a, &inbound, &inbound.reversed()),
                 ))
             }
             _ => None,
@@ -321,8 +321,8 @@ pub fn turns_round(
 }
 
 /// How guidance turns at a waypoint ([`super::turn`]): at the radius `r = v²/(g·tan(bank))`,
-/// `v` the waypoint's speed (the speed flown towards it), fly-by or fly-over by the waypoint's
-/// turn type.
+/// `v` the speed flown in the turn (the next waypoint's: guidance flies towards it from the
+/// turn's start), fly-by or fly-over by the waypoint's turn type.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlyBy {
     /// Guidance's bank angle in the turn, degrees (0 < bank < 90).
@@ -348,13 +348,20 @@ impl FlyBy {
         v * v / (GRAVITY_MPS2 * self.bank_deg.to_radians().tan())
     }
 
-    /// The turn at `w` from `inbound` (ending at `w`) onto `outbound` (starting there).
-    pub fn turn(&self, w: &WaypointEntry, inbound: &Path, outbound: &Path) -> Turn {
+    /// The turn at `w` from `inbound` (ending at `w`) onto `outbound` (starting there, to
+    /// `next`).
+    pub fn turn(
+        &self,
+        w: &WaypointEntry,
+        next: &WaypointEntry,
+        inbound: &Path,
+        outbound: &Path,
+    ) -> Turn {
         turn(
             inbound,
             outbound,
             w.turn_type() == Some(TurnType::FlyOver),
-            self.turn_radius_m(Self::speed_mps(w)),
+            self.turn_radius_m(Self::speed_mps(next)),
         )
     }
 }

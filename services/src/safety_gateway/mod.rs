@@ -836,6 +836,15 @@ mod tests {
         Element::Route(RouteElement::Leg { from, to })
     }
 
+    /// The turn round of a return to home at `at` back to `to` (a U-turn: flown over).
+    fn turn_round(at: u16, to: u16) -> Element {
+        Element::Route(RouteElement::Turn {
+            at,
+            to,
+            kind: crate::geofence::turn::TurnKind::FlyOver,
+        })
+    }
+
     /// In a function of its own: a debug build keeps every case's temporaries in the frame of
     /// the function that builds it, and test threads have 2 MB of stack.
     fn fly_by_corner_case() -> Case {
@@ -1064,11 +1073,16 @@ mod tests {
                 &m2,
                 &[(V::RfRadiusMismatch, leg(2, 3))],
             ),
+            // At 45 m/s the turn round at ROLE2 back to W1 (flown at W1's speed) has a radius
+            // of 443 m and leaves the fly-zone.
             case(
                 "speed above the envelope",
                 mission_2_with(fast_w1, role2_rf),
                 &m2,
-                &[(V::SpeedHigh, Element::Waypoint(2))],
+                &[
+                    (V::SpeedHigh, Element::Waypoint(2)),
+                    (V::FlyZoneLeg, turn_round(3, 2)),
+                ],
             ),
             case(
                 "take-off height too high",
@@ -1115,6 +1129,7 @@ mod tests {
                     &[
                         (V::Wind, Element::Environment),
                         (V::SpeedHigh, Element::Waypoint(2)),
+                        (V::FlyZoneLeg, turn_round(3, 2)),
                     ],
                 )
             },
