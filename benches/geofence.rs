@@ -7,6 +7,8 @@
 //!   `onboard::check` of `onboard::execute_route` from the take-off position: what the FCC does
 //!   before it accepts #50000 execute;
 //! - `geofence/<case>/check`: the check alone, the fence built beforehand;
+//! - `<case>/check, legs only` (percentiles only): the same without the turns at the waypoints
+//!   (`execute_route(.., None)`), to see what the turns cost;
 //! - `geofence/<case>/return_check`: the check of `onboard::return_route` from the take-off
 //!   position back over the whole route (return to home), the fence built beforehand;
 //! - `geofence/<case>/fence`: `Fence::of_payload` alone;
@@ -16,7 +18,8 @@
 //!   one violation is expected; every geographic check passes).
 //!
 //! `<case>` is `track_to_fix` (every leg a geodesic) or `radius_to_fix` (the legs between lanes
-//! at the north end as half circles of 570 m: 60 of 255 legs). Criterion gives means; before
+//! at the north end as half circles of 570 m: 60 of 255 legs); every waypoint is fly-by, so the
+//! check constructs and checks a turn at each (`geofence::turn`). Criterion gives means; before
 //! them, the bench prints p50, p99, p99.9 and max of single runs of `end_to_end` and `check`
 //! ([`RUNS`] runs each, after [`WARMUP`]), timed one by one (a run takes milliseconds, far above
 //! the clock's cost). Zero allocations: `services/tests/geofence_no_allocation.rs`. Run with
@@ -138,6 +141,13 @@ fn main() {
         });
         percentiles(&format!("{name}/check"), runs, || {
             check(black_box(&fence), black_box(&waypoints), site).is_ok()
+        });
+        percentiles(&format!("{name}/check, legs only"), runs, || {
+            onboard::check(
+                black_box(&fence),
+                onboard::execute_route(black_box(&waypoints), site, None),
+            )
+            .is_ok()
         });
     }
     let plan = geofence_worst_case_plan();

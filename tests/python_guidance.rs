@@ -670,6 +670,11 @@ fn scenarios() -> Vec<Scenario> {
         mission_2("mission 2, return to home at W1", 0, Some((1, 2, 3))),
         mission_2("mission 2, land at W1", 2, None),
         Scenario {
+            name: "mission 2, W1 flown over (the turns onto the arc)",
+            waypoints: fly_over_at_w1(&m2),
+            ..mission_2("", 0, None)
+        },
+        Scenario {
             name: "mission 2's areas, a route through both no-fly-zones and out of the fly-zone",
             waypoints: through_the_zones(&m2),
             areas: a2,
@@ -678,6 +683,14 @@ fn scenarios() -> Vec<Scenario> {
             return_home_at: None,
         },
     ]
+}
+
+/// Mission 2 with W1 (waypoint 2) fly-over: over W1, then the turn straight into the reverse
+/// turn onto the radius-to-fix arc (`geofence::turn`).
+fn fly_over_at_w1(m2: &WaypointListPayload) -> WaypointListPayload {
+    let mut list = *m2;
+    list.waypoints[1].turn_type = wire::TurnType::FlyOver as u8;
+    list
 }
 
 /// A route in mission 2's airspace that the safety gateway would refuse, to compare the zone
@@ -699,7 +712,7 @@ fn through_the_zones(like: &WaypointListPayload) -> WaypointListPayload {
         };
         w.position = GeoPoint::from_degrees(lat, lon).unwrap();
     }
-    // Fly-over, or the sharp turn's anticipation would cut the polygon off.
+    // Fly-over: over the waypoint in the polygon (a fly-by arc would turn short of it).
     list.waypoints[0].turn_type = wire::TurnType::FlyOver as u8;
     list
 }
@@ -733,8 +746,8 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             s.name
         );
         // The same flight, step by step: same length, the same triple, flags and zones at
-        // every step, and the positions (geodesics of the same algorithms) together to well
-        // under a centimetre.
+        // every step, and the positions and altitudes (geodesics of the same algorithms, the
+        // same turn construction) within a micrometre.
         assert_eq!(python.len(), rust.len(), "{}: steps", s.name);
         let mut worst_m: f64 = 0.0;
         let mut worst_alt: f64 = 0.0;
@@ -750,9 +763,9 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             worst_m = worst_m.max(d);
             worst_alt = worst_alt.max((p.altitude - r.altitude).abs());
         }
-        assert!(worst_m < 0.01, "{}: positions {worst_m} m apart", s.name);
+        assert!(worst_m < 1e-6, "{}: positions {worst_m} m apart", s.name);
         assert!(
-            worst_alt < 0.01,
+            worst_alt < 1e-6,
             "{}: altitudes {worst_alt} m apart",
             s.name
         );

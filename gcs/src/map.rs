@@ -6,8 +6,11 @@
 //! the safety offset; every no-fly-zone (polygon or circle, light red) and, dashed, the
 //! no-fly-zone grown by the safety offset; the area IDs; the legs in flight-plan order
 //! (track-to-fix as geodesics, radius-to-fix as arcs around their RF centre in their turn
-//! direction, each with a direction arrow); the RF centres as small crosses with dotted radii to
-//! the arc's ends; the take-off point; the waypoints as numbered circles; every [`Marker`] as a
+//! direction, each with a direction arrow); the turns at the waypoints as guidance flies them
+//! and the gateway checks them (orange: the fly-by arc tangent to both legs, the fly-over's
+//! turn, intercept and turn onto the next leg; `services::geofence::turn`, at the default
+//! profile's bank, forward from the take-off position); the RF centres as small crosses with
+//! dotted radii to the arc's ends; the take-off point; the waypoints as numbered circles; every [`Marker`] as a
 //! red ring with its code. Beside the map: a legend, the projection, and a red box listing the
 //! markers (those without a position are drawn nowhere else). Above: the title, the mission ID
 //! and the waypoint and area counts. A scale bar (metres) and a north arrow sit on the map.
@@ -44,8 +47,10 @@ use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::local_frame::LocalFrame;
 use missionlink_services::geofence::onboard::{self, RouteElement};
 use missionlink_services::geofence::path::{Path, Track};
+use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::{Fence, Zone, ZoneKind};
 use missionlink_services::ground_station::ValidatedPlan;
+use missionlink_services::safety_gateway::AircraftProfile;
 
 /// A mark the map draws in red: a violation the safety gateway reported (its code, a label, and
 /// where).
@@ -85,6 +90,8 @@ const NFZ_FILL: &str = "#f8d2d2";
 const NFZ_STROKE: &str = "#c62828";
 const LEG: &str = "#1f4e9c";
 const RF_CENTRE: &str = "#6a1b9a";
+/// The turns at the waypoints as flown.
+const TURN: &str = "#e07b00";
 const TAKE_OFF: &str = "#e65100";
 const VIOLATION: &str = "#d50000";
 const FONT: &str = "DejaVu Sans, Arial, Helvetica, sans-serif";
@@ -490,6 +497,14 @@ struct Leg {
     points: Vec<P>,
 }
 
+/// A path of the turn at waypoint `at` onto the leg to `to`, as drawn.
+struct Turn {
+    at: u16,
+    to: u16,
+    kind: TurnKind,
+    points: Vec<P>,
+}
+
 /// Renders `plan` as an SVG document (1000 x 800 px) with `markers` in red and `title` on top.
 /// See the module documentation for what is drawn and the approximations.
 pub fn render(
@@ -566,6 +581,25 @@ pub fn render(
         Some(t) => onboard::execute_route(&list, Site::of(t), None).collect(),
         None => onboard::legs(&list).collect(),
     };
+    // The turns at the waypoints as flown and checked (the gateway's bank), from the take-off
+    // position or, without one, from the initial waypoint.
+    let fly_by = onboard::FlyBy {
+        bank_deg: AircraftProfile::default().max_bank_deg,
+    };
+    let start = take_off.or(list.waypoints().first().map(|w| w.position));
+    let turns: Vec<Turn> = start
+        .into_iter()
+        .flat_map(|s| onboard::execute_route(&list, Site::of(s), Some(fly_by)))
+        .filter_map(|leg| match leg.element {
+            RouteElement::Turn { at, to, kind } => Some(Turn {
+                at,
+                to,
+                kind,
+                points: drawn(leg.path, &proj),
+            }),
+            _ => None,
+        })
+        .collect();
     let take_off_at = take_off.map(|t| proj.site(&Site::of(t)));
     let legs: Vec<Leg> = route
         .into_iter()
@@ -576,9 +610,9 @@ pub fn render(
                 path: leg.path,
                 points: drawn(leg.path, &proj),
             }),
-            RouteElement::Climb
-            | RouteElement::ReverseLeg { .. }
-            | RouteElement::FlyByTurn { .. } => None,
+            RouteElement::Climb | RouteElement::ReverseLeg { .. } | RouteElement::Turn { .. } => {
+                None
+            }
         })
         .collect();
 
@@ -602,6 +636,9 @@ pub fn render(
     all.extend(take_off_at);
     for leg in &legs {
         all.extend_from_slice(&leg.points);
+    }
+    for turn in &turns {
+        all.extend_from_slice(&turn.points);
     }
     all.extend(marker_points.iter().flatten().copied());
     let (lo, hi) = bounds(all).unwrap_or(((0.0, 0.0), (0.0, 0.0)));
@@ -716,6 +753,25 @@ pub fn render(
         if let Some((at, direction)) = midway(&screen) {
             arrowhead(&mut svg, at, direction, LEG);
         }
+    }
+    w!(svg, "</g>");
+
+    // The turns as flown, over the corners of the legs.
+    w!(svg, r#"<g class="turns">"#);
+    for turn in &turns {
+        let screen: Vec<P> = turn.points.iter().map(|p| view.screen(*p)).collect();
+        let kind = match turn.kind {
+            TurnKind::FlyBy => "fly-by",
+            TurnKind::FlyOver => "fly-over",
+            TurnKind::Straight | TurnKind::OnTheSpot => "on-the-spot",
+        };
+        w!(
+            svg,
+            r#"<path class="turn {kind}" data-turn-at="{}" data-turn-to="{}" d="{}" fill="none" stroke="{TURN}" stroke-width="2" stroke-linejoin="round"/>"#,
+            turn.at,
+            turn.to,
+            path_d(&screen)
+        );
     }
     w!(svg, "</g>");
 
@@ -945,7 +1001,7 @@ fn legend(svg: &mut String, proj: &Projection) {
     w!(svg, r#"<g class="legend">"#);
     w!(
         svg,
-        r##"<rect x="{x}" y="{y}" width="{}" height="348" fill="white" stroke="#b0b8c0"/>"##,
+        r##"<rect x="{x}" y="{y}" width="{}" height="372" fill="white" stroke="#b0b8c0"/>"##,
         WIDTH - x - 10.0
     );
     y += 20.0;
@@ -1054,6 +1110,21 @@ fn legend(svg: &mut String, proj: &Projection) {
         &|s, y| {
             w!(
                 s,
+                r#"<path d="M {sx:.1} {:.1} Q {:.1} {:.1} {:.1} {:.1}" fill="none" stroke="{TURN}" stroke-width="2"/>"#,
+                y + 6.0,
+                sx + 24.0,
+                y + 6.0,
+                sx + 24.0,
+                y - 8.0
+            );
+        },
+        "turn as flown (fly-by arc, fly-over)",
+    );
+    entry(
+        svg,
+        &|s, y| {
+            w!(
+                s,
                 r#"<path d="M {:.1} {:.1} l 12 12 M {:.1} {:.1} l 12 -12" stroke="{RF_CENTRE}" stroke-width="2"/>"#,
                 sx + 9.0,
                 y - 6.0,
@@ -1117,7 +1188,7 @@ fn violations(svg: &mut String, markers: &[Marker]) {
         return;
     }
     let x = PANEL_X;
-    let top = 430.0;
+    let top = 454.0;
     let bottom = MAP.3;
     let line_height = 15.0;
     let mut lines: Vec<(String, bool)> = Vec::new();

@@ -57,8 +57,17 @@ fn a_broken_copy_names_every_defect_and_fails() {
     let out = text(&o.stdout);
     assert!(out.contains("GEO-NFZ-WP waypoint 2:"), "{out}");
     assert!(out.contains("ENV-WIND environment:"), "{out}");
+    // W1 in the zone takes its turns into it too, deeper than the waypoint, each reported on
+    // its own: onto the arc (flown over: no fly-by arc fits between those legs) and round
+    // for a return to home.
+    for turn in ["intercepting the leg to 3", "intercepting the leg to 1"] {
+        assert!(
+            out.contains(&format!("GEO-NFZ-LEG fly-over turn at waypoint 2 {turn}")),
+            "{out}"
+        );
+    }
     assert!(
-        text(&o.stderr).contains("infeasible: 4 violations"),
+        text(&o.stderr).contains("infeasible: 6 violations"),
         "{}",
         text(&o.stderr)
     );
@@ -139,7 +148,7 @@ fn the_map_marks_the_violations() {
     let o = gcs(&["map", broken.to_str().unwrap(), "-o", bad.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(
-        text(&o.stdout).contains("3 violations marked"),
+        text(&o.stdout).contains("5 violations marked"),
         "{}",
         text(&o.stdout)
     );

@@ -6,8 +6,9 @@ language iceoryx2 serves, that opens the same services with the same payload typ
 
 It subscribes to the active waypoint and area lists (taken only as a pair of one activation,
 as `ipc::ListPairing` takes them) and to the automation state, flies the list with the
-point-mass model of services/src/guidance.rs (ported below: same phases, sub-steps, fly-by
-anticipation, radius-to-fix arcs, return to home and land-at, on the same WGS-84 geodesics),
+point-mass model of services/src/guidance.rs (ported below: same phases, sub-steps, legs
+tracked along their geodesics, radius-to-fix arcs, the turns of services/src/geofence/turn.rs
+(fly-by arcs, fly-over intercepts), return to home and land-at, on the same WGS-84 geodesics),
 time-scaled for demos, and publishes FROM / TO / NEXT and the position on
 `fcc/guidance/progress`, notifying the event service of the same name as the Rust publishers
 do. It beats on `fcc/health/guidance` with a HeartbeatPayload every period, from its event
@@ -39,9 +40,9 @@ import os
 import signal
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Optional, TypeVar
+from typing import Callable, Optional, TypeVar, Union
 
 try:
     import missionlink_contracts as contracts
@@ -117,10 +118,10 @@ FALLBACK_SPEED_MPS = 10.0
 REACHED_M = 0.01
 #: Climb and descent end this close to their target altitude, metres.
 ALTITUDE_EPSILON_M = 1e-6
-#: Arcs with a smaller radius (or a position closer to the centre) are flown direct, metres.
-MIN_ARC_RADIUS_M = 1.0
-#: Leg switches (or arrivals) handled within one sub-step at most.
-MAX_LEGS_PER_SUB_STEP = 4
+#: The shortest look-ahead of the cross-track law on a track-to-fix leg, metres.
+MIN_LOOK_AHEAD_M = 10.0
+#: Path ends (turn paths, leg switches, arrivals) handled within one sub-step at most.
+MAX_LEGS_PER_SUB_STEP = 8
 GRAVITY_MPS2 = 9.806_65
 
 
@@ -162,47 +163,59 @@ class GuidanceConfig:
         """Radius of a turn at `v` and the bank limit: v^2 / (g tan(bank)), metres."""
         return v * v / (GRAVITY_MPS2 * math.tan(math.radians(self.max_bank_deg)))
 
-    def anticipation_m(self, v: float, turn_deg: float, next_length: float) -> float:
-        """How far before a fly-by waypoint the next leg starts: r tan(turn / 2), at most half
-        the next leg."""
-        cap = next_length / 2.0
-        if turn_deg >= 179.999:
-            return cap
-        return min(self.turn_radius_m(v) * math.tan(math.radians(turn_deg / 2.0)), cap)
+
+def inverse(a: Point, b: Point) -> tuple[float, float, float]:
+    """Length (metres), initial and final azimuth (degrees) of the geodesic from `a` to `b`."""
+    g = WGS84.Inverse(a[0], a[1], b[0], b[1], Geodesic.DISTANCE | Geodesic.AZIMUTH)
+    return (g["s12"], g["azi1"], g["azi2"])
+
+
+# ---------------------------------------------------------------------------------------------
+# Paths and turns: services/src/geofence/turn.rs, the one construction of the turn at a
+# waypoint that guidance flies and the geofence checks (its module documentation describes it).
+# ---------------------------------------------------------------------------------------------
+
+#: A course change smaller than this is no turn, degrees.
+STRAIGHT_DEG = 0.01
+#: The intercept angle of a fly-over, degrees.
+INTERCEPT_DEG = 45.0
+#: Straight intercepts shorter than this are left out, metres.
+MIN_STRAIGHT_M = 0.001
+#: Legs shorter than this have no direction: no turn at their end, metres.
+MIN_LEG_M = 0.01
 
 
 @dataclass(frozen=True)
-class Arc:
-    """A radius-to-fix leg: an arc around `centre` ending at the TO waypoint."""
+class GeodesicPath:
+    """A track-to-fix leg (or part of one): the geodesic from `from_` to `to`."""
 
+    from_: Point
+    to: Point
+
+
+@dataclass(frozen=True)
+class ArcPath:
+    """An arc from `from_` to `to` around `centre`, clockwise (azimuth from the centre growing)
+    or not, its radius going linearly with the angle turned."""
+
+    from_: Point
+    to: Point
     centre: Point
     clockwise: bool
 
 
-#: The geometry of a leg: None for a geodesic from the current position to the TO waypoint.
-Leg = Optional[Arc]
+Path = Union[GeodesicPath, ArcPath]
+
+#: How a turn is flown (geofence::turn::TurnKind).
+STRAIGHT, FLY_BY, FLY_OVER, ON_THE_SPOT = "straight", "fly-by", "fly-over", "on-the-spot"
 
 
-@dataclass
-class Route:
-    """Where the aircraft is on the route; indices are into the list's waypoints."""
-
-    started: bool = False
-    reversed: bool = False
-    from_: int = 0
-    to: Optional[int] = None
-    complete: bool = False
-    leg: Leg = None
-
-
-@dataclass
-class ArcState:
-    """An arc leg seen from its centre (see services/src/guidance.rs)."""
-
-    rho: float
-    theta: float
-    r: float
-    alpha: float
+@dataclass(frozen=True)
+class Turn:
+    kind: str
+    leave: Point
+    join: Point
+    paths: tuple
 
 
 def angle_to_go(from_deg: float, to_deg: float, clockwise: bool) -> float:
@@ -210,19 +223,327 @@ def angle_to_go(from_deg: float, to_deg: float, clockwise: bool) -> float:
     return (to_deg - from_deg) % 360.0 if clockwise else (from_deg - to_deg) % 360.0
 
 
-def tangent(radial_deg: float, clockwise: bool) -> float:
-    """Direction of flight on a circle at bearing `radial_deg` from its centre."""
-    return radial_deg + 90.0 if clockwise else radial_deg - 90.0
+def course_change(a: float, b: float) -> float:
+    return (b - a + 180.0) % 360.0 - 180.0
 
 
-def arc_state(centre: Point, clockwise: bool, p: Point, to: Point) -> Optional[ArcState]:
-    rho = distance_m(centre, p)
-    r = distance_m(centre, to)
-    if rho < MIN_ARC_RADIUS_M or r < MIN_ARC_RADIUS_M:
+class ArcGeometry:
+    def __init__(self, path: ArcPath):
+        self.centre = path.centre
+        self.clockwise = path.clockwise
+        self.r0, self.az0, _ = inverse(path.centre, path.from_)
+        self.r1, self.az1, _ = inverse(path.centre, path.to)
+        self.sweep = angle_to_go(self.az0, self.az1, self.clockwise)
+
+    def radius_at(self, az: float) -> float:
+        if self.sweep <= 0.0:
+            return self.r1
+        f = min(angle_to_go(self.az0, az, self.clockwise) / self.sweep, 1.0)
+        return self.r0 + (self.r1 - self.r0) * f
+
+    def at(self, az: float) -> Point:
+        return destination(self.centre, az, self.radius_at(az))
+
+    def length_m(self) -> float:
+        return math.radians(self.sweep) * (self.r0 + self.r1) / 2.0
+
+    def course_at(self, at: Point) -> float:
+        radial = inverse(self.centre, at)[2]
+        return radial + 90.0 if self.clockwise else radial - 90.0
+
+
+def length_m(path: Path) -> float:
+    if isinstance(path, GeodesicPath):
+        return inverse(path.from_, path.to)[0]
+    return ArcGeometry(path).length_m()
+
+
+def rest_from(path: Path, at: Point) -> Path:
+    if isinstance(path, GeodesicPath):
+        return GeodesicPath(at, path.to)
+    return ArcPath(at, path.to, path.centre, path.clockwise)
+
+
+def reversed_path(path: Path) -> Path:
+    if isinstance(path, GeodesicPath):
+        return GeodesicPath(path.to, path.from_)
+    return ArcPath(path.to, path.from_, path.centre, not path.clockwise)
+
+
+def leg_path(a: WaypointEntry, b: WaypointEntry) -> Path:
+    """The leg flown from `a` to `b` by `b`'s leg type (geofence::onboard::leg)."""
+    if enum_or_none(LegType, b.leg_type) == LegType.RADIUS_TO_FIX:
+        direction = enum_or_none(TurnDirection, b.rf_turn_direction)
+        if direction is not None:
+            return ArcPath(
+                point(a.position),
+                point(b.position),
+                point(b.rf_centre),
+                direction == TurnDirection.CLOCKWISE,
+            )
+    return GeodesicPath(point(a.position), point(b.position))
+
+
+def _unit(course: float) -> tuple[float, float]:
+    a = math.radians(course)
+    return (math.sin(a), math.cos(a))
+
+
+def _dot(a, b) -> float:
+    return a[0] * b[0] + a[1] * b[1]
+
+
+def _norm(a) -> float:
+    return math.hypot(a[0], a[1])
+
+
+class _Aeqd:
+    """The azimuthal equidistant projection at `origin`: x east, y north, metres."""
+
+    def __init__(self, origin: Point):
+        self.origin = origin
+
+    def xy(self, s: Point) -> tuple[float, float]:
+        d, az, _ = inverse(self.origin, s)
+        a = math.radians(az)
+        return (d * math.sin(a), d * math.cos(a))
+
+    def site(self, c) -> Point:
+        d = math.hypot(c[0], c[1])
+        if d == 0.0:
+            return self.origin
+        return destination(self.origin, math.degrees(math.atan2(c[0], c[1])), d)
+
+
+# A leg near the waypoint: ("line", p, u) or ("circle", c, r, clockwise); an offset curve:
+# ("line", n, k) or ("circle", c, r).
+
+
+def _offset(local, side: float, d: float):
+    if local[0] == "line":
+        _, p, u = local
+        n = (u[1], -u[0])
+        return ("line", n, _dot(n, p) + side * d)
+    _, c, r, clockwise = local
+    towards = 1.0 if clockwise else -1.0
+    return ("circle", c, r - side * towards * d)
+
+
+def _foot(local, f):
+    if local[0] == "line":
+        _, p, u = local
+        t = _dot(u, (f[0] - p[0], f[1] - p[1]))
+        return (p[0] + u[0] * t, p[1] + u[1] * t)
+    _, c, r, _ = local
+    d = _norm((f[0] - c[0], f[1] - c[1]))
+    if not d > 0.0:
         return None
-    theta = bearing_deg(centre, p)
-    alpha = angle_to_go(theta, bearing_deg(centre, to), clockwise)
-    return ArcState(rho, theta, r, alpha)
+    k = r / d
+    return (c[0] + (f[0] - c[0]) * k, c[1] + (f[1] - c[1]) * k)
+
+
+def _intersect(a, b) -> list:
+    out = []
+    if a[0] == "line" and b[0] == "line":
+        (_, n1, k1), (_, n2, k2) = a, b
+        det = n1[0] * n2[1] - n1[1] * n2[0]
+        if abs(det) > 1e-12:
+            out.append(((k1 * n2[1] - k2 * n1[1]) / det, (n1[0] * k2 - n2[0] * k1) / det))
+    elif a[0] != b[0]:
+        (_, n, k), (_, c, r) = (a, b) if a[0] == "line" else (b, a)
+        s = k - _dot(n, c)
+        foot = (c[0] + n[0] * s, c[1] + n[1] * s)
+        h = _norm((foot[0] - c[0], foot[1] - c[1]))
+        if r > 0.0 and h <= r:
+            t = math.sqrt(r * r - h * h)
+            along = (-n[1], n[0])
+            out.append((foot[0] + along[0] * t, foot[1] + along[1] * t))
+            out.append((foot[0] - along[0] * t, foot[1] - along[1] * t))
+    else:
+        (_, c1, r1), (_, c2, r2) = a, b
+        d = _norm((c2[0] - c1[0], c2[1] - c1[1]))
+        if r1 > 0.0 and r2 > 0.0 and d > 0.0 and d <= r1 + r2 and d >= abs(r1 - r2):
+            aa = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d)
+            h = math.sqrt(max(r1 * r1 - aa * aa, 0.0))
+            e = ((c2[0] - c1[0]) / d, (c2[1] - c1[1]) / d)
+            m = (c1[0] + e[0] * aa, c1[1] + e[1] * aa)
+            perp = (-e[1], e[0])
+            out.append((m[0] + perp[0] * h, m[1] + perp[1] * h))
+            out.append((m[0] - perp[0] * h, m[1] - perp[1] * h))
+    return out
+
+
+class _LegNear:
+    def __init__(self, path: Path, local, course: float, room: float):
+        self.path, self.local, self.course, self.room = path, local, course, room
+
+    @staticmethod
+    def of(path: Path, at: Point, proj: _Aeqd, inbound: bool) -> Optional["_LegNear"]:
+        if isinstance(path, GeodesicPath):
+            length, start, end = inverse(path.from_, path.to)
+            course = end if inbound else start
+            local = ("line", (0.0, 0.0), _unit(course))
+        else:
+            arc = ArcGeometry(path)
+            r = inverse(path.centre, at)[0]
+            local = ("circle", proj.xy(path.centre), r, arc.clockwise)
+            course = arc.course_at(at)
+            length = arc.length_m()
+        if length < MIN_LEG_M or math.isnan(length):
+            return None
+        return _LegNear(path, local, course, length / 2.0)
+
+    def site_of(self, t, proj: _Aeqd, inbound: bool) -> Optional[Point]:
+        if self.local[0] == "line":
+            along = _dot(self.local[2], t)
+            distance = -along if inbound else along
+            if not (distance >= 0.0 and distance <= self.room):
+                return None
+            course = self.course + 180.0 if inbound else self.course
+            return destination(proj.origin, course, distance)
+        path = self.path
+        arc = ArcGeometry(path)
+        az = inverse(path.centre, proj.site(t))[1]
+        az_w = inverse(path.centre, proj.origin)[1]
+        if inbound:
+            turned = angle_to_go(az, az_w, arc.clockwise)
+        else:
+            turned = angle_to_go(az_w, az, arc.clockwise)
+        r = arc.radius_at(az)
+        if turned <= 180.0 and math.radians(turned) * r <= self.room:
+            return arc.at(az)
+        return None
+
+
+def _fillets(a, b, side: float, r: float) -> list:
+    """The fillets (centre, tangent point on `a`, on `b`), nearest the origin first."""
+    centres = _intersect(_offset(a, side, r), _offset(b, side, r))
+    if len(centres) == 2 and _norm(centres[1]) < _norm(centres[0]):
+        centres = [centres[1], centres[0]]
+    out = []
+    for f in centres:
+        t1, t2 = _foot(a, f), _foot(b, f)
+        if t1 is not None and t2 is not None:
+            out.append((f, t1, t2))
+    return out
+
+
+def turn(inbound: Path, outbound: Path, fly_over: bool, radius_m: float) -> Turn:
+    """The turn at the end of `inbound` onto `outbound` (geofence::turn::turn)."""
+    at = inbound.to
+    straight = Turn(STRAIGHT, at, at, ())
+    proj = _Aeqd(at)
+    a = _LegNear.of(inbound, at, proj, True)
+    b = _LegNear.of(outbound, at, proj, False)
+    if a is None or b is None:
+        return straight
+    delta = course_change(a.course, b.course)
+    if abs(delta) < STRAIGHT_DEG or not radius_m > 0.0 or outbound.from_ != at:
+        return straight
+    side = 1.0 if delta > 0.0 else -1.0
+    if not fly_over:
+        t = _fly_by(a, b, proj, side, radius_m)
+        if t is not None:
+            return t
+    t = _over(a, b, proj, delta, side, radius_m)
+    return t if t is not None else Turn(ON_THE_SPOT, at, at, ())
+
+
+def _fly_by(a: _LegNear, b: _LegNear, proj: _Aeqd, side: float, r: float) -> Optional[Turn]:
+    for f, t1, t2 in _fillets(a.local, b.local, side, r):
+        leave = a.site_of(t1, proj, True)
+        if leave is None:
+            continue
+        join = b.site_of(t2, proj, False)
+        if join is None:
+            continue
+        return Turn(FLY_BY, leave, join, (ArcPath(leave, join, proj.site(f), side > 0.0),))
+    return None
+
+
+def _over(
+    a: _LegNear, b: _LegNear, proj: _Aeqd, delta: float, side: float, r: float
+) -> Optional[Turn]:
+    at = proj.origin
+    half = math.cos(math.radians(abs(delta) / 2.0))
+    chi = min(INTERCEPT_DEG, math.degrees(math.acos(min(max(half * half, -1.0), 1.0))))
+    # The first turn: tangent to the inbound course at the waypoint, through delta + chi.
+    centre = destination(at, a.course + side * 90.0, r)
+    az_w = inverse(centre, at)[1]
+    az_p = az_w + side * (abs(delta) + chi)
+    p1 = destination(centre, az_p, r)
+    course = a.course + side * (abs(delta) + chi)
+    p, u = proj.xy(p1), _unit(course)
+    for f, t1, t2 in _fillets(("line", p, u), b.local, -side, r):
+        straight = _dot(u, (t1[0] - p[0], t1[1] - p[1]))
+        if straight < -MIN_STRAIGHT_M:
+            continue
+        join = b.site_of(t2, proj, False)
+        if join is None:
+            continue
+        paths = [ArcPath(at, p1, centre, side > 0.0)]
+        if straight > MIN_STRAIGHT_M:
+            e = proj.site(t1)
+            paths.append(GeodesicPath(p1, e))
+            intercept_end = e
+        else:
+            intercept_end = p1
+        paths.append(ArcPath(intercept_end, join, proj.site(f), side < 0.0))
+        return Turn(FLY_OVER, at, join, tuple(paths))
+    return _s_turn(b, proj, centre, side, r)
+
+
+def _s_turn(b: _LegNear, proj: _Aeqd, centre: Point, side: float, r: float) -> Optional[Turn]:
+    """The fly-over's first turn straight into the reverse turn onto the outbound leg."""
+    at = proj.origin
+    first = ("circle", proj.xy(centre), r, side > 0.0)
+    az_w = inverse(centre, at)[1]
+    best = None
+    for f, t1, t2 in _fillets(first, b.local, -side, r):
+        join = b.site_of(t2, proj, False)
+        if join is None:
+            continue
+        t1 = proj.site(t1)
+        turned = angle_to_go(az_w, inverse(centre, t1)[1], side > 0.0)
+        if best is not None and best[0] <= turned:
+            continue
+        paths = (ArcPath(at, t1, centre, side > 0.0), ArcPath(t1, join, proj.site(f), side < 0.0))
+        best = (turned, Turn(FLY_OVER, at, join, paths))
+    return None if best is None else best[1]
+
+
+def remaining_on(path: Path, here: Point) -> float:
+    """The remaining length of `path` from `here`, a point of it, metres."""
+    if isinstance(path, GeodesicPath):
+        return inverse(here, path.to)[0]
+    arc = ArcGeometry(path)
+    az = inverse(path.centre, here)[1]
+    alpha = _to_go(arc, az)
+    return math.radians(alpha) * (arc.radius_at(az) + arc.r1) / 2.0
+
+
+def _to_go(arc: ArcGeometry, az: float) -> float:
+    alpha = angle_to_go(az, arc.az1, arc.clockwise)
+    return 0.0 if alpha > arc.sweep and alpha > 180.0 else alpha
+
+
+@dataclass
+class Route:
+    """Where the aircraft is on the route; indices are into the list's waypoints (see
+    services/src/guidance.rs `Route`)."""
+
+    started: bool = False
+    reversed: bool = False
+    from_: int = 0
+    to: Optional[int] = None
+    complete: bool = False
+    #: The leg to TO in full.
+    leg: Optional[Path] = None
+    #: The part of the leg still ahead once the turn onto it is flown.
+    body: Optional[Path] = None
+    #: The paths of the turn onto this leg not flown yet.
+    turn: list = field(default_factory=list)
+    serial: int = 0
 
 
 def leg_speed(e: WaypointEntry) -> float:
@@ -314,6 +635,7 @@ class Guidance:
         self.ground_speed_mps = 0.0
         self.climb_complete = False
         self.route = Route()
+        self.planned = None
         self.last_step_ns: Optional[int] = None
         self.sequence = 0
         self.inside_fly_zone = False
@@ -372,7 +694,7 @@ class Guidance:
             pass
         else:
             self.altitude_m = 0.0
-            self.route = Route()
+            self.reset_route()
             self.climb_complete = False
         self.sync_direction()
         if phase != FlightPhase.CRUISE:
@@ -425,11 +747,16 @@ class Guidance:
 
     # The route.
 
+    def reset_route(self) -> None:
+        """Back to a route not started; the planned turn goes with it."""
+        self.route = Route()
+        self.planned = None
+
     def adopt(self, waypoints: WaypointListPayload) -> None:
         self.list = waypoints
         self.waypoints = waypoints.used()
         self.pending = None
-        self.route = Route()
+        self.reset_route()
 
     def adopt_pending_if_due(self) -> None:
         p = self.pending
@@ -469,7 +796,19 @@ class Guidance:
             to = min(range(len(distances)), key=distances.__getitem__)
         else:
             to = 0
-        self.route = Route(started=True, reversed=reversed_, from_=0, to=to)
+        here = self.position
+        e = self.entry(to)
+        first = GeodesicPath(here, here if e is None else point(e.position))
+        self.route = Route(
+            started=True,
+            reversed=reversed_,
+            from_=0,
+            to=to,
+            leg=first,
+            body=first,
+            turn=[],
+            serial=self.route.serial + 1,
+        )
 
     def sync_direction(self) -> None:
         """Applies a change of `route_reversed`: the TO waypoint stays, what follows it turns
@@ -483,8 +822,7 @@ class Guidance:
             nxt = None if i is None else self.next_index(i)
             if nxt is not None:
                 self.route.complete = False
-                self.route.to = nxt
-                self.route.leg = self.leg_into(nxt)
+                self.enter(i, nxt, None)
 
     def end_index(self, to: int) -> int:
         """Index of the last waypoint of the route, seen from TO at `to`."""
@@ -503,19 +841,27 @@ class Guidance:
             return to - 1 if to > end else None
         return to + 1 if to < end else None
 
-    def leg_into(self, index: int) -> Leg:
-        """Geometry of the leg that ends at `index`: forwards the leg type of that waypoint;
-        backwards the leg that ended at the waypoint after it, arcs turned round."""
-        if self.route.reversed:
-            defining, flip = self.entry(index + 1), True
-        else:
-            defining, flip = self.entry(index), False
-        if defining is None or enum_or_none(LegType, defining.leg_type) != LegType.RADIUS_TO_FIX:
+    def leg_between(self, from_: int, to: int) -> Optional[Path]:
+        """The leg flown from the waypoint at `from_` to the adjacent one at `to`."""
+        a, b = self.entry(from_), self.entry(to)
+        if a is None or b is None:
             return None
-        direction = enum_or_none(TurnDirection, defining.rf_turn_direction)
-        if direction is None:
-            return None
-        return Arc(point(defining.rf_centre), (direction == TurnDirection.CLOCKWISE) != flip)
+        if to > from_:
+            return leg_path(a, b)
+        return reversed_path(leg_path(b, a))
+
+    def enter(self, from_: int, to: int, turn_: Optional[Turn]) -> None:
+        """Starts the leg from the waypoint at `from_` to the one at `to`, joined after
+        `turn_`."""
+        self.route.from_ = self.number(from_)
+        self.route.to = to
+        self.route.serial += 1
+        leg = self.leg_between(from_, to)
+        if leg is None:
+            return
+        self.route.leg = leg
+        self.route.body = leg if turn_ is None else rest_from(leg, turn_.join)
+        self.route.turn = [] if turn_ is None else list(turn_.paths)
 
     def triple(self, phase: Optional[FlightPhase]) -> tuple[int, int, int]:
         if (
@@ -558,110 +904,122 @@ class Guidance:
         for _ in range(MAX_LEGS_PER_SUB_STEP):
             if left <= 0.0:
                 break
-            used = self.fly_leg(left, h)
+            used = self.fly_leg(left)
             if used is None:
                 self.ground_speed_mps = 0.0
                 return False
             left -= used
         return True
 
-    def fly_leg(self, dt: float, h: float) -> Optional[float]:
-        """Flies towards TO for up to `dt` seconds (`h` is the sub-step, for the fly-by
-        minimum). Returns the time used (0 on a fly-by switch), None with nothing to fly."""
+    def planned_turn(self, to: int, nxt: int, over: bool) -> Optional[Turn]:
+        """The turn at the TO waypoint (index `to`) onto the leg to `nxt`, planned once per
+        leg."""
+        p = self.planned
+        if p is not None and p[0] == self.route.serial and p[1] == nxt and p[2] == over:
+            return p[3]
+        w, after = self.entry(to), self.entry(nxt)
+        outbound = self.leg_between(to, nxt)
+        if w is None or after is None or outbound is None:
+            return None
+        fly_over = over or enum_or_none(TurnType, w.turn_type) == TurnType.FLY_OVER
+        # The radius at the speed flown in the turn: the next waypoint's.
+        t = turn(self.route.leg, outbound, fly_over, self.config.turn_radius_m(leg_speed(after)))
+        self.planned = (self.route.serial, nxt, over, t)
+        return t
+
+    def fly_leg(self, dt: float) -> Optional[float]:
+        """Flies the route for up to `dt` seconds: the turn onto the leg, then the leg up to
+        where the turn at TO starts. Returns the time used, None with nothing to fly."""
         to_index = self.route.to
         to = self.entry(to_index)
         if to_index is None or to is None:
             return None
         target = point(to.position)
         v = leg_speed(to)
-        remaining = self.remaining(target)
-
-        nxt = self.next_index(to_index)
-        if nxt is not None and enum_or_none(TurnType, to.turn_type) != TurnType.FLY_OVER:
-            threshold = max(self.turn_anticipation(v, target, nxt), v * h)
-            if remaining <= threshold:
-                self.switch_to(to_index, nxt)
-                return 0.0
-
         self.ground_speed_mps = v
         budget = v * dt
         target_alt = to.altitude.metres()
-        if remaining <= budget + REACHED_M:
-            self.position = target
-            self.altitude_m = target_alt
-            nxt = self.next_index(to_index)
+        here = self.position
+
+        # The turn onto this leg.
+        if self.route.turn:
+            path = self.route.turn[0]
+            remaining = remaining_on(path, here)
+            ahead = remaining
+            for other in self.route.turn[1:]:
+                ahead += length_m(other)
+            ahead += length_m(self.route.body)
+            if remaining <= budget + REACHED_M:
+                self.climb_towards(target_alt, max(remaining, 0.0), ahead)
+                self.position = path.to
+                self.route.turn.pop(0)
+                return max(remaining, 0.0) / v
+            self.climb_towards(target_alt, budget, ahead)
+            self.advance(path, here, budget, v)
+            return dt
+
+        # The leg, to the start of the turn at TO.
+        nxt = self.next_index(to_index)
+        planned = None if nxt is None else self.planned_turn(to_index, nxt, False)
+        body_left = remaining_on(self.route.body, here)
+        if (
+            planned is not None
+            and planned.kind == FLY_BY
+            and body_left < remaining_on(self.route.body, planned.leave) - REACHED_M
+        ):
+            # Past the arc's start (NEXT changed late): over the waypoint instead.
+            planned = self.planned_turn(to_index, nxt, True)
+        if planned is not None and planned.kind == FLY_BY:
+            end = planned.leave
+            to_end = body_left - remaining_on(self.route.body, planned.leave)
+        else:
+            end, to_end = target, body_left
+        if to_end <= budget + REACHED_M:
+            used = max(to_end, 0.0)
+            self.climb_towards(target_alt, used, used)
+            self.position = end
+            if end == target:
+                self.altitude_m = target_alt
             if nxt is not None:
-                self.switch_to(to_index, nxt)
+                self.enter(to_index, nxt, planned)
             else:
                 self.route.from_ = to.number
                 self.route.to = None
                 self.route.complete = True
-            return remaining / v
-        self.altitude_m += (target_alt - self.altitude_m) * budget / remaining
-        self.advance(target, budget, remaining, v)
+            return used / v
+        self.climb_towards(target_alt, budget, to_end)
+        self.advance(self.route.body, here, budget, v)
         return dt
 
-    def switch_to(self, to_index: int, nxt: int) -> None:
-        self.route.from_ = self.number(to_index)
-        self.route.to = nxt
-        self.route.leg = self.leg_into(nxt)
-
-    def remaining(self, target: Point) -> float:
-        """Distance to go to `target` along the current leg, metres."""
-        straight = distance_m(self.position, target)
-        if straight <= REACHED_M:
-            return 0.0
-        leg = self.route.leg
-        if leg is not None:
-            a = arc_state(leg.centre, leg.clockwise, self.position, target)
-            if a is not None:
-                return math.hypot(math.radians(a.alpha) * (a.rho + a.r) / 2.0, a.rho - a.r)
-        return straight
-
-    def advance(self, target: Point, distance: float, remaining: float, v: float) -> None:
-        """Moves `distance` metres (less than `remaining`) along the current leg to `target`."""
-        leg = self.route.leg
-        a = None if leg is None else arc_state(leg.centre, leg.clockwise, self.position, target)
-        if leg is not None and a is not None:
-            # Close the radial offset: exponentially over one turn radius, and linearly by
-            # the TO waypoint at the latest.
-            length = max(self.config.turn_radius_m(v), MIN_ARC_RADIUS_M)
-            keep = min(math.exp(-distance / length), max(1.0 - distance / remaining, 0.0))
-            dr = min(max((a.r - a.rho) * (1.0 - keep), -0.9 * distance), 0.9 * distance)
-            along = math.sqrt(max(distance * distance - dr * dr, 0.0))
-            dtheta = min(math.degrees(along / (a.rho + dr / 2.0)), a.alpha)
-            theta = a.theta + dtheta if leg.clockwise else a.theta - dtheta
-            self.position = destination(leg.centre, theta % 360.0, a.rho + dr)
+    def climb_towards(self, target: float, distance: float, ahead: float) -> None:
+        """The altitude after `distance` metres of `ahead` still to fly to `target`."""
+        if ahead <= distance or ahead <= 0.0:
+            self.altitude_m = target
         else:
-            self.position = destination(self.position, bearing_deg(self.position, target), distance)
+            self.altitude_m += (target - self.altitude_m) * distance / ahead
 
-    def turn_anticipation(self, v: float, to: Point, nxt: int) -> float:
-        """Fly-by turn anticipation at the TO waypoint `to` before the leg to `nxt`."""
-        e = self.entry(nxt)
-        if e is None:
-            return 0.0
-        next_point = point(e.position)
-        leg = self.route.leg
-        if leg is not None and distance_m(leg.centre, to) >= MIN_ARC_RADIUS_M:
-            inbound = tangent(bearing_deg(leg.centre, to), leg.clockwise)
-        else:
-            # Final course of the geodesic from here: the reverse of the initial bearing from
-            # the waypoint back to here.
-            inbound = bearing_deg(to, self.position) + 180.0
-        out_leg = self.leg_into(nxt)
-        arc_out = (
-            None
-            if out_leg is None
-            else arc_state(out_leg.centre, out_leg.clockwise, to, next_point)
-        )
-        if out_leg is not None and arc_out is not None:
-            outbound = tangent(arc_out.theta, out_leg.clockwise)
-            next_length = math.radians(arc_out.alpha) * arc_out.r
-        else:
-            outbound = bearing_deg(to, next_point)
-            next_length = distance_m(to, next_point)
-        turn = abs((outbound - inbound + 180.0) % 360.0 - 180.0)
-        return self.config.anticipation_m(v, turn, next_length)
+    def advance(self, path: Path, here: Point, distance: float, v: float) -> None:
+        """Moves `distance` metres (less than what is left) along `path` from `here` (the
+        look-ahead law on a geodesic, polar coordinates on an arc: services/src/guidance.rs
+        `advance`)."""
+        if isinstance(path, GeodesicPath):
+            length, course, _ = inverse(path.from_, path.to)
+            d, az, _ = inverse(path.from_, here)
+            along = d * math.cos(math.radians(az - course))
+            look_ahead = max(self.config.turn_radius_m(v), MIN_LOOK_AHEAD_M)
+            if along + look_ahead >= length:
+                aim = path.to
+            else:
+                aim = destination(path.from_, course, along + look_ahead)
+            self.position = destination(here, inverse(here, aim)[1], distance)
+            return
+        arc = ArcGeometry(path)
+        az = inverse(path.centre, here)[1]
+        rho = arc.radius_at(az)
+        slope = (arc.r1 - arc.r0) / math.radians(arc.sweep) if arc.sweep > 0.0 else 0.0
+        step = min(math.degrees(distance / math.hypot(rho, slope)), _to_go(arc, az))
+        az = az + step if arc.clockwise else az - step
+        self.position = arc.at(az)
 
     # The zones.
 

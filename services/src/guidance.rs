@@ -23,32 +23,56 @@
 //!   height; Cruise flies the route; Landing is a vertical descent at the descent rate to 0.
 //!   Vertical and horizontal motion never mix except in Cruise.
 //! - **Altitudes**: waypoint altitudes are taken as heights above the start ground, whatever
-//!   their altitude type (no terrain, no geoid). In Cruise the altitude moves linearly with the
-//!   distance flown towards the TO waypoint's altitude, without a vertical rate limit.
+//!   their altitude type (no terrain, no geoid), without a vertical rate limit.
 //! - **Speed**: the TO waypoint's commanded speed is flown as ground speed at once (no wind, no
 //!   acceleration); a waypoint with speed 0 is flown at [`FALLBACK_SPEED_MPS`].
-//! - **Track-to-fix legs** are flown as a geodesic (WGS-84 bearing and destination) from
-//!   the current position to the TO waypoint; after a fly-by turn that is a direct-to, so the
-//!   aircraft does not re-join the line between the two waypoints.
+//! - **What is flown is what the geofence checks**: the legs between the waypoints and, at
+//!   every waypoint, the turn of [`crate::geofence::turn`], the one construction the onboard
+//!   check and the safety gateway check too. Guidance flies each of its paths exactly (to
+//!   nanometres; `services/tests/flown_path.rs` measures it).
+//! - **Track-to-fix legs** are tracked along the geodesic between the FROM and the TO waypoint
+//!   (WGS-84). The law: the course is the one towards the point of that geodesic one look-ahead
+//!   `L` beyond the aircraft's along-track position (`L` = the turn radius, at least
+//!   10 m), capped at the end of the path being flown. On the geodesic that point lies on the
+//!   same geodesic, so the aircraft stays on it; off it (a start beside the leg) the cross-track
+//!   error `e` shrinks by the factor `1 − s/√(L² + e²)` with every step of `s` metres (at most
+//!   1.25 m, far less than `L`): it goes to zero without ever changing sign, so there is no
+//!   overshoot (bound: 0 m), and once smaller than `L` it decays as `exp(−x/L)` over the
+//!   distance `x` flown.
 //! - **Radius-to-fix legs** are flown in polar coordinates around the centre, in the turn
-//!   direction, at the radius centre -> TO waypoint. Where the leg starts off the circle (after
-//!   a fly-by turn onto the arc), the radial offset is closed with a length constant of one
-//!   turn radius (and linearly by the TO waypoint at the latest); the arc is then followed
-//!   exactly.
-//! - **Fly-by** turns switch to the next leg when the distance to go is within the turn
-//!   anticipation distance `r·tan(Δψ/2)`, `r = v²/(g·tan(bank))`, capped at half the next leg
-//!   and at least one sub-step's travel. The turn itself is not flown as an arc: the next leg
-//!   starts where the switch happened; a U-turn (180 deg, after a reversal mid-leg) therefore
-//!   switches half the next leg before the waypoint. **Fly-over** switches at the waypoint.
-//! - **The first leg** of a route, from wherever the aircraft is to the first TO waypoint, is
-//!   flown direct (the geodesic), whatever its leg type.
+//!   direction, at the radius going linearly with the angle from the FROM waypoint's to the TO
+//!   waypoint's (the geofence's arc); turns onto and off them are the turns below, with the arc
+//!   as the leg turned off or onto.
+//! - **Fly-by** (ARINC 424 fly-by): at the TO waypoint the aircraft turns on the arc of radius
+//!   `r = v²/(g·tan(bank))` (`v` the speed flown in the turn: the next waypoint's, towards which
+//!   the aircraft flies from the turn's start; the configured bank) tangent to the leg
+//!   in and the leg out; FROM-TO-NEXT switches where the arc starts (`r·tan(Δψ/2)` before the
+//!   waypoint between track-to-fix legs turning `Δψ`), and the next leg is joined where the
+//!   arc ends. **Legs too short for the arc** (its tangent point farther from the waypoint than
+//!   half a leg next to it, and always a U-turn, whose arc does not exist): the waypoint is flown
+//!   over.
+//! - **Fly-over**: the aircraft flies to the waypoint (FROM-TO-NEXT switches there), then turns
+//!   at radius `r` (tangent to the leg in) through the course change and on to an intercept of
+//!   the next leg itself at `χ = min(45°, acos(cos²(Δψ/2)))`, flies straight at that course, and
+//!   turns at `r` the other way onto the leg. Where that intercept does not meet the next leg (a
+//!   radius-to-fix arc curving away), the first turn goes straight into the turn onto the leg;
+//!   where there is no room on half of the next leg, it turns round on the spot (a multicopter).
+//! - **The first leg** of a route, from where the aircraft is (the take-off point after the
+//!   climb) to the first TO waypoint, is the geodesic between them, whatever the leg type: what
+//!   the onboard check checks from navigation's position, and the safety gateway from the
+//!   plan's take-off position. The turn at the first waypoint is from that geodesic.
+//! - **Altitude** moves linearly with the distance flown towards the TO waypoint's altitude,
+//!   reached where the leg is left (the fly-by arc's start, or the waypoint).
 //! - **Return to home** (`route_reversed`, honoured on bidirectional routes only): the aircraft
-//!   keeps flying to its current TO waypoint, then flies the route backwards to the initial
-//!   waypoint, each waypoint at its own speed; a reversed radius-to-fix leg is the same arc in
-//!   the opposite direction. Reversed after the route was complete, it starts from the final
-//!   waypoint; a route started reversed starts at the waypoint nearest to the aircraft.
+//!   keeps flying to its current TO waypoint, turns round there (a U-turn: flown over), then
+//!   flies the route backwards to the initial waypoint, each waypoint at its own speed and with
+//!   its turn; a reversed radius-to-fix leg is the same arc in the opposite direction. Reversed
+//!   after the route was complete, it starts from the final waypoint (no turn: it was hovering
+//!   there); a route started reversed starts at the waypoint nearest to the aircraft.
 //! - **Land at** (`land_at` != 0) ends the route at that waypoint if it is still ahead (or is
-//!   the TO waypoint); a waypoint already passed is ignored.
+//!   the TO waypoint); a waypoint already passed is ignored. The leg into it is flown to its end
+//!   (the checks check every leg in full for this). A NEXT that changes after the fly-by arc's
+//!   start has been passed makes that turn a fly-over.
 //! - **New waypoint lists**: on the ground a new generation is taken at once. In the air the
 //!   old list is kept until the automation state's `flown_waypoint_list` names the new
 //!   generation; then the new list's route starts from its first waypoint (FROM 0).
@@ -61,10 +85,13 @@ use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationStatePayload, FlightPhase, GuidanceProgressPayload, WaypointEntry,
     WaypointListPayload,
 };
-use missionlink_interfaces::wire::{LegType, TurnDirection, TurnType};
 
-use crate::geofence::earth::{Site, bearing_deg, destination, distance_m, point};
-use crate::geofence::onboard::FlyBy;
+use crate::geofence::earth::{Site, distance_m, point};
+use crate::geofence::onboard::{self, FlyBy};
+use crate::geofence::path::Path;
+use crate::geofence::turn::{
+    ArcGeometry, MAX_TURN_PATHS, Turn, TurnKind, angle_to_go, length_m, rest_from, turn,
+};
 use crate::geofence::zone::{Fence, Zone, ZoneKind};
 use crate::link::time::Instant;
 
@@ -81,11 +108,11 @@ const REACHED_M: f64 = 0.01;
 /// Climb and descent end this close to their target altitude, metres.
 const ALTITUDE_EPSILON_M: f64 = 1e-6;
 
-/// Arcs with a smaller radius (or a position closer to the centre) are flown direct, metres.
-const MIN_ARC_RADIUS_M: f64 = 1.0;
+/// The shortest look-ahead of the cross-track law on a track-to-fix leg, metres.
+const MIN_LOOK_AHEAD_M: f64 = 10.0;
 
-/// Leg switches (or arrivals) handled within one sub-step at most.
-const MAX_LEGS_PER_SUB_STEP: usize = 4;
+/// Path ends (turn paths, leg switches, arrivals) handled within one sub-step at most.
+const MAX_LEGS_PER_SUB_STEP: usize = 8;
 
 /// Settings of the guidance model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,7 +125,8 @@ pub struct GuidanceConfig {
     pub climb_rate_mps: f64,
     /// Descent rate of the landing (m/s), default 2.0.
     pub descent_rate_mps: f64,
-    /// Bank angle limit for fly-by turn anticipation (deg), default 25.
+    /// Bank angle of the turns at waypoints (deg; their radius is `v²/(g·tan(bank))`),
+    /// default 25.
     pub max_bank_deg: f64,
     /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
     pub time_scale: f64,
@@ -118,8 +146,8 @@ impl Default for GuidanceConfig {
 }
 
 impl GuidanceConfig {
-    /// How this guidance turns at fly-by waypoints, for the geofence (the rule of
-    /// [`Guidance`]'s turn anticipation, at its bank).
+    /// How this guidance turns at waypoints, for the geofence ([`crate::geofence::turn`] at
+    /// its bank: the construction [`Guidance`] flies).
     pub fn fly_by(&self) -> FlyBy {
         FlyBy {
             bank_deg: self.sanitized().max_bank_deg,
@@ -161,17 +189,15 @@ impl GuidanceConfig {
     }
 }
 
-/// The geometry of the leg to the TO waypoint.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Leg {
-    /// A geodesic from the current position to the TO waypoint.
-    Direct,
-    /// An arc around `centre` (lon/lat) ending at the TO waypoint; clockwise = right turn.
-    Arc { centre: Point<f64>, clockwise: bool },
-}
+/// A site that is no place, for a route not started.
+const NOWHERE: Site = Site {
+    lat: 0.0,
+    lon: 0.0,
+    ecef: [0.0; 3],
+};
 
 /// Where the aircraft is on the route. Indices are into [`WaypointListPayload::waypoints`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct Route {
     /// The route has been started (take-off or cruise with this list).
     started: bool,
@@ -183,8 +209,16 @@ struct Route {
     to: Option<usize>,
     /// The last waypoint of the route is reached.
     complete: bool,
-    /// Geometry of the leg to TO.
-    leg: Leg,
+    /// The leg to TO in full (the geodesic from where the route started, for the first leg):
+    /// what the turn at TO starts from.
+    leg: Path,
+    /// The part of the leg still ahead once the turn onto it is flown: from where the turn
+    /// joined it.
+    body: Path,
+    /// The paths of the turn onto this leg not flown yet, the next one last.
+    turn: heapless::Vec<Path, MAX_TURN_PATHS>,
+    /// Counts the legs started, for the planned turn.
+    serial: u64,
 }
 
 impl Route {
@@ -194,8 +228,21 @@ impl Route {
         from: 0,
         to: None,
         complete: false,
-        leg: Leg::Direct,
+        leg: Path::Point(NOWHERE),
+        body: Path::Point(NOWHERE),
+        turn: heapless::Vec::new(),
+        serial: 0,
     };
+}
+
+/// The turn at the TO waypoint, computed once per leg and NEXT waypoint.
+#[derive(Debug, Clone, PartialEq)]
+struct Planned {
+    serial: u64,
+    next: usize,
+    /// Flown over whatever the turn type (the aircraft is past the fly-by arc's start).
+    over: bool,
+    turn: Turn,
 }
 
 /// The area list as the geofence holds it ([`Fence`]), built once when the list arrives so that
@@ -231,52 +278,41 @@ impl Areas {
     }
 }
 
-/// Angle to go from bearing `from` to bearing `to` in the turn direction, 0..360 deg.
-fn angle_to_go(from_deg: f64, to_deg: f64, clockwise: bool) -> f64 {
-    if clockwise {
-        (to_deg - from_deg).rem_euclid(360.0)
+/// The remaining length of `path` from `here`, a point of it, metres.
+fn remaining_on(path: &Path, here: &Site) -> f64 {
+    match path {
+        Path::Point(_) => 0.0,
+        Path::Geodesic { to, .. } => here.inverse(to).0,
+        Path::Arc {
+            from,
+            to,
+            centre,
+            direction,
+        } => {
+            let arc = ArcGeometry::of(from, to, centre, *direction);
+            let az = centre.inverse(here).1;
+            let alpha = to_go(&arc, az);
+            alpha.to_radians() * (arc.radius_at(az) + arc.r1) / 2.0
+        }
+    }
+}
+
+/// Degrees still to turn on `arc` from azimuth `az`: 0 past the end (a wrap beyond the sweep).
+fn to_go(arc: &ArcGeometry, az: f64) -> f64 {
+    let alpha = angle_to_go(az, arc.az1, arc.clockwise);
+    if alpha > arc.sweep && alpha > 180.0 {
+        0.0
     } else {
-        (from_deg - to_deg).rem_euclid(360.0)
+        alpha
     }
 }
 
-/// Bearing of the direction of flight on a circle at bearing `radial_deg` from its centre.
-fn tangent(radial_deg: f64, clockwise: bool) -> f64 {
-    if clockwise {
-        radial_deg + 90.0
-    } else {
-        radial_deg - 90.0
+/// The end of a path.
+fn end_of(path: &Path) -> Site {
+    match path {
+        Path::Point(p) => *p,
+        Path::Geodesic { to, .. } | Path::Arc { to, .. } => *to,
     }
-}
-
-/// An arc leg seen from the centre: the aircraft at `rho` metres and bearing `theta` deg, the TO
-/// waypoint at radius `r` and bearing `theta_to`, `alpha` deg to go in the turn direction.
-struct ArcState {
-    rho: f64,
-    theta: f64,
-    r: f64,
-    alpha: f64,
-}
-
-fn arc_state(
-    centre: Point<f64>,
-    clockwise: bool,
-    p: Point<f64>,
-    to: Point<f64>,
-) -> Option<ArcState> {
-    let rho = distance_m(centre, p);
-    let r = distance_m(centre, to);
-    if rho < MIN_ARC_RADIUS_M || r < MIN_ARC_RADIUS_M {
-        return None;
-    }
-    let theta = bearing_deg(centre, p);
-    let alpha = angle_to_go(theta, bearing_deg(centre, to), clockwise);
-    Some(ArcState {
-        rho,
-        theta,
-        r,
-        alpha,
-    })
 }
 
 /// The speed flown towards `e`.
@@ -301,6 +337,8 @@ pub struct Guidance {
     ground_speed_mps: f64,
     climb_complete: bool,
     route: Route,
+    /// The turn at the TO waypoint, once planned.
+    planned: Option<Planned>,
     last_step: Option<Instant>,
     sequence: u64,
     /// Zone status of the last step (or of the last area list change).
@@ -325,6 +363,7 @@ impl Guidance {
             ground_speed_mps: 0.0,
             climb_complete: false,
             route: Route::NOT_STARTED,
+            planned: None,
             last_step: None,
             sequence: 0,
             inside_fly_zone: false,
@@ -384,7 +423,7 @@ impl Guidance {
             Some(FlightPhase::Landing) => {}
             Some(FlightPhase::OnGround | FlightPhase::Landed) | None => {
                 self.altitude_m = 0.0;
-                self.route = Route::NOT_STARTED;
+                self.reset_route();
                 self.climb_complete = false;
             }
         }
@@ -444,10 +483,16 @@ impl Guidance {
         }
     }
 
+    /// Back to a route not started; the planned turn goes with it.
+    fn reset_route(&mut self) {
+        self.route = Route::NOT_STARTED.clone();
+        self.planned = None;
+    }
+
     fn adopt(&mut self, list: WaypointListPayload) {
         self.list = list;
         self.pending = None;
-        self.route = Route::NOT_STARTED;
+        self.reset_route();
     }
 
     fn adopt_pending_if_due(&mut self) {
@@ -497,13 +542,23 @@ impl Guidance {
         } else {
             Some(0)
         };
+        let here = Site::of(self.position);
+        let first = Path::Geodesic {
+            from: here,
+            to: to
+                .and_then(|i| self.entry(i))
+                .map_or(here, |w| Site::of(w.position)),
+        };
         self.route = Route {
             started: true,
             reversed,
             from: 0,
             to,
             complete: false,
-            leg: Leg::Direct,
+            leg: first,
+            body: first,
+            turn: heapless::Vec::new(),
+            serial: self.route.serial.wrapping_add(1),
         };
     }
 
@@ -521,8 +576,9 @@ impl Guidance {
                 .and_then(|i| self.next_index(i))
         {
             self.route.complete = false;
-            self.route.to = Some(next);
-            self.route.leg = self.leg_into(next);
+            if let Some(from) = self.index_of(self.route.from) {
+                self.enter(from, next, None);
+            }
         }
     }
 
@@ -553,24 +609,32 @@ impl Guidance {
         }
     }
 
-    /// Geometry of the route's leg that ends at `index`: forwards the leg type of that
-    /// waypoint; backwards the leg that ended at the waypoint after it, arcs turned round.
-    fn leg_into(&self, index: usize) -> Leg {
-        let (defining, flip) = if self.route.reversed {
-            (index.checked_add(1).and_then(|i| self.entry(i)), true)
+    /// The leg flown from the waypoint at `from` to the adjacent one at `to`: forwards by the
+    /// leg type of `to`, backwards the leg from `to` to `from` turned round.
+    fn leg_between(&self, from: usize, to: usize) -> Option<Path> {
+        if to > from {
+            Some(onboard::leg(self.entry(from)?, self.entry(to)?))
         } else {
-            (self.entry(index), false)
-        };
-        match defining {
-            Some(e) if e.leg_type() == Some(LegType::RadiusToFix) => match e.rf_centre() {
-                Some((centre, direction)) => Leg::Arc {
-                    centre: point(centre),
-                    clockwise: (direction == TurnDirection::Clockwise) != flip,
-                },
-                None => Leg::Direct,
-            },
-            _ => Leg::Direct,
+            Some(onboard::leg(self.entry(to)?, self.entry(from)?).reversed())
         }
+    }
+
+    /// Starts the leg from the waypoint at `from` to the one at `to`, joined after `turn`.
+    fn enter(&mut self, from: usize, to: usize, turn: Option<&Turn>) {
+        self.route.from = self.number(Some(from));
+        self.route.to = Some(to);
+        self.route.serial = self.route.serial.wrapping_add(1);
+        let Some(leg) = self.leg_between(from, to) else {
+            return;
+        };
+        self.route.leg = leg;
+        self.route.body = match turn {
+            Some(t) => rest_from(&leg, t.join),
+            None => leg,
+        };
+        self.route.turn = turn
+            .map(|t| t.paths.iter().rev().copied().collect())
+            .unwrap_or_default();
     }
 
     fn triple(&self, phase: Option<FlightPhase>) -> (u16, u16, u16) {
@@ -625,7 +689,7 @@ impl Guidance {
             if left <= 0.0 {
                 break;
             }
-            match self.fly_leg(left, h) {
+            match self.fly_leg(left) {
                 Some(used) => left -= used,
                 None => {
                     self.ground_speed_mps = 0.0;
@@ -636,133 +700,182 @@ impl Guidance {
         true
     }
 
-    /// Flies towards TO for up to `dt` seconds (`h` is the sub-step, for the fly-by minimum).
-    /// Returns the time used (0 on a fly-by switch), `None` when there is nothing to fly.
-    fn fly_leg(&mut self, dt: f64, h: f64) -> Option<f64> {
+    /// The turn at the TO waypoint (index `to`) onto the leg to `next`, planned once per leg.
+    fn planned_turn(&mut self, to: usize, next: usize, over: bool) -> Option<Turn> {
+        if let Some(p) = &self.planned
+            && p.serial == self.route.serial
+            && p.next == next
+            && p.over == over
+        {
+            return Some(p.turn.clone());
+        }
+        let (w, after) = (*self.entry(to)?, *self.entry(next)?);
+        let outbound = self.leg_between(to, next)?;
+        let t = if over {
+            turn(
+                &self.route.leg,
+                &outbound,
+                true,
+                self.turn_radius(leg_speed(&after)),
+            )
+        } else {
+            self.config
+                .fly_by()
+                .turn(&w, &after, &self.route.leg, &outbound)
+        };
+        self.planned = Some(Planned {
+            serial: self.route.serial,
+            next,
+            over,
+            turn: t.clone(),
+        });
+        Some(t)
+    }
+
+    /// Flies the route for up to `dt` seconds: the turn onto the leg, then the leg up to where
+    /// the turn at TO starts. Returns the time used (0 on a switch at a path's end), `None`
+    /// when there is nothing to fly.
+    fn fly_leg(&mut self, dt: f64) -> Option<f64> {
         let to_index = self.route.to?;
         let to = *self.entry(to_index)?;
-        let target = point(to.position);
+        let target = Site::of(to.position);
         let v = leg_speed(&to);
-        let remaining = self.remaining(target);
-
-        if let Some(next) = self.next_index(to_index)
-            && to.turn_type() != Some(TurnType::FlyOver)
-        {
-            let threshold = self.turn_anticipation(v, target, next).max(v * h);
-            if remaining <= threshold {
-                self.switch_to(to_index, next);
-                return Some(0.0);
-            }
-        }
-
         self.ground_speed_mps = v;
         let budget = v * dt;
         let target_alt = to.altitude.metres();
-        if remaining <= budget + REACHED_M {
-            self.position = target;
-            self.altitude_m = target_alt;
-            match self.next_index(to_index) {
-                Some(next) => self.switch_to(to_index, next),
-                None => {
+        let here = Site::of(self.position);
+
+        // The turn onto this leg.
+        if let Some(path) = self.route.turn.last().copied() {
+            let remaining = remaining_on(&path, &here);
+            let ahead: f64 = remaining
+                + self
+                    .route
+                    .turn
+                    .iter()
+                    .rev()
+                    .skip(1)
+                    .map(length_m)
+                    .sum::<f64>()
+                + length_m(&self.route.body);
+            if remaining <= budget + REACHED_M {
+                self.climb_towards(target_alt, remaining.max(0.0), ahead);
+                self.set_position(end_of(&path));
+                self.route.turn.pop();
+                return Some(remaining.max(0.0) / v);
+            }
+            self.climb_towards(target_alt, budget, ahead);
+            self.advance(&path, &here, budget, v);
+            return Some(dt);
+        }
+
+        // The leg, to the start of the turn at TO.
+        let next = self.next_index(to_index);
+        let mut planned = next.and_then(|n| self.planned_turn(to_index, n, false));
+        let body_left = remaining_on(&self.route.body, &here);
+        if let Some(t) = &planned
+            && t.kind == TurnKind::FlyBy
+            && body_left < remaining_on(&self.route.body, &t.leave) - REACHED_M
+        {
+            // Past the arc's start (NEXT changed late): over the waypoint instead.
+            planned = next.and_then(|n| self.planned_turn(to_index, n, true));
+        }
+        let (end, to_end) = match &planned {
+            Some(t) if t.kind == TurnKind::FlyBy => (
+                t.leave,
+                body_left - remaining_on(&self.route.body, &t.leave),
+            ),
+            _ => (target, body_left),
+        };
+        if to_end <= budget + REACHED_M {
+            let used = to_end.max(0.0);
+            self.climb_towards(target_alt, used, used);
+            self.set_position(end);
+            if end == target {
+                self.altitude_m = target_alt;
+            }
+            match (next, planned) {
+                (Some(n), Some(t)) => self.enter(to_index, n, Some(&t)),
+                (Some(n), None) => self.enter(to_index, n, None),
+                (None, _) => {
                     self.route.from = to.number;
                     self.route.to = None;
                     self.route.complete = true;
                 }
             }
-            return Some(remaining / v);
+            return Some(used / v);
         }
-        self.altitude_m += (target_alt - self.altitude_m) * budget / remaining;
-        self.advance(target, budget, remaining, v);
+        self.climb_towards(target_alt, budget, to_end);
+        let body = self.route.body;
+        self.advance(&body, &here, budget, v);
         Some(dt)
     }
 
-    fn switch_to(&mut self, to_index: usize, next: usize) {
-        self.route.from = self.number(Some(to_index));
-        self.route.to = Some(next);
-        self.route.leg = self.leg_into(next);
-    }
-
-    /// Distance to go to `target` along the current leg, metres.
-    fn remaining(&self, target: Point<f64>) -> f64 {
-        let straight = distance_m(self.position, target);
-        if straight <= REACHED_M {
-            return 0.0;
-        }
-        match self.route.leg {
-            Leg::Arc { centre, clockwise } => {
-                match arc_state(centre, clockwise, self.position, target) {
-                    Some(a) => (a.alpha.to_radians() * (a.rho + a.r) / 2.0).hypot(a.rho - a.r),
-                    None => straight,
-                }
-            }
-            Leg::Direct => straight,
+    /// The altitude after `distance` metres of `ahead` still to fly to `target`'s altitude.
+    fn climb_towards(&mut self, target: f64, distance: f64, ahead: f64) {
+        if ahead <= distance || ahead <= 0.0 {
+            self.altitude_m = target;
+        } else {
+            self.altitude_m += (target - self.altitude_m) * distance / ahead;
         }
     }
 
-    /// Moves `distance` metres (less than `remaining`) along the current leg to `target`.
-    fn advance(&mut self, target: Point<f64>, distance: f64, remaining: f64, v: f64) {
-        let arc = match self.route.leg {
-            Leg::Arc { centre, clockwise } => {
-                arc_state(centre, clockwise, self.position, target).map(|a| (centre, clockwise, a))
-            }
-            Leg::Direct => None,
-        };
-        match arc {
-            Some((centre, clockwise, a)) => {
-                // Close the radial offset: exponentially over one turn radius, and linearly
-                // by the TO waypoint at the latest.
-                let length = self.turn_radius(v).max(MIN_ARC_RADIUS_M);
-                let keep = (-distance / length)
-                    .exp()
-                    .min((1.0 - distance / remaining).max(0.0));
-                let dr = ((a.r - a.rho) * (1.0 - keep)).clamp(-0.9 * distance, 0.9 * distance);
-                let along = (distance * distance - dr * dr).max(0.0).sqrt();
-                let dtheta = (along / (a.rho + dr / 2.0)).to_degrees().min(a.alpha);
-                let theta = if clockwise {
-                    a.theta + dtheta
+    fn set_position(&mut self, at: Site) {
+        self.position = Point::new(at.lon, at.lat);
+    }
+
+    /// Moves `distance` metres (less than what is left) along `path` from `here`.
+    ///
+    /// A geodesic (a track-to-fix leg) is tracked by a look-ahead law: the course is the one to
+    /// the point of the geodesic one look-ahead `L` (the turn radius, at least
+    /// [`MIN_LOOK_AHEAD_M`]) beyond the aircraft's along-track position, capped at the path's
+    /// end. On the geodesic that point is on the same geodesic, so the aircraft stays on it;
+    /// off it, the cross-track error `e` shrinks by the factor `1 − s/√(L² + e²)` per step of
+    /// `s` metres (less than `L`): it goes to zero without changing sign, no overshoot. An arc
+    /// (a turn, a radius-to-fix leg) is followed exactly in polar coordinates around its
+    /// centre: the azimuth advances by the step over the radius, the radius is the arc's there.
+    fn advance(&mut self, path: &Path, here: &Site, distance: f64, v: f64) {
+        let next = match *path {
+            Path::Point(p) => p,
+            Path::Geodesic { from, to } => {
+                let (length, course) = from.inverse(&to);
+                let (d, az) = from.inverse(here);
+                let along = d * (az - course).to_radians().cos();
+                let look_ahead = self.turn_radius(v).max(MIN_LOOK_AHEAD_M);
+                let aim = if along + look_ahead >= length {
+                    to
                 } else {
-                    a.theta - dtheta
+                    from.direct(course, along + look_ahead)
                 };
-                self.position = destination(centre, theta.rem_euclid(360.0), a.rho + dr);
+                here.direct(here.inverse(&aim).1, distance)
             }
-            None => {
-                let bearing = bearing_deg(self.position, target);
-                self.position = destination(self.position, bearing, distance);
+            Path::Arc {
+                from,
+                to,
+                centre,
+                direction,
+            } => {
+                let arc = ArcGeometry::of(&from, &to, &centre, direction);
+                let az = centre.inverse(here).1;
+                let rho = arc.radius_at(az);
+                let slope = if arc.sweep > 0.0 {
+                    (arc.r1 - arc.r0) / arc.sweep.to_radians()
+                } else {
+                    0.0
+                };
+                let step = (distance / rho.hypot(slope))
+                    .to_degrees()
+                    .min(to_go(&arc, az));
+                let az = if arc.clockwise { az + step } else { az - step };
+                arc.at(az)
             }
-        }
+        };
+        self.set_position(next);
     }
 
     /// Turn radius at speed `v` and the bank limit, metres.
     fn turn_radius(&self, v: f64) -> f64 {
         self.config.fly_by().turn_radius_m(v)
-    }
-
-    /// Fly-by turn anticipation at the TO waypoint `to` before the leg to `next`: `r·tan(Δψ/2)`,
-    /// capped at half the next leg's length.
-    fn turn_anticipation(&self, v: f64, to: Point<f64>, next: usize) -> f64 {
-        let Some(next_point) = self.entry(next).map(|e| point(e.position)) else {
-            return 0.0;
-        };
-        let inbound = match self.route.leg {
-            Leg::Arc { centre, clockwise } if distance_m(centre, to) >= MIN_ARC_RADIUS_M => {
-                tangent(bearing_deg(centre, to), clockwise)
-            }
-            // Final course of the geodesic from here: the reverse of the initial bearing from
-            // the waypoint back to here.
-            _ => bearing_deg(to, self.position) + 180.0,
-        };
-        let arc_out = match self.leg_into(next) {
-            Leg::Arc { centre, clockwise } => {
-                arc_state(centre, clockwise, to, next_point).map(|a| (a, clockwise))
-            }
-            Leg::Direct => None,
-        };
-        let (outbound, next_length) = match arc_out {
-            Some((a, clockwise)) => (tangent(a.theta, clockwise), a.alpha.to_radians() * a.r),
-            None => (bearing_deg(to, next_point), distance_m(to, next_point)),
-        };
-        let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
-        self.config.fly_by().anticipation_m(v, turn, next_length)
     }
 
     /// Inside the fly-zone, and the no-fly-zone the aircraft is in (0: none), where it is now.
@@ -804,7 +917,11 @@ mod tests {
     use core::time::Duration;
 
     use missionlink_interfaces::contracts::{CircleArea, PolygonArea};
-    use missionlink_interfaces::wire::{Altitude, AltitudeType, GeoPoint, Speed};
+    use missionlink_interfaces::wire::{
+        Altitude, AltitudeType, GeoPoint, LegType, Speed, TurnDirection, TurnType,
+    };
+
+    use crate::geofence::earth::{bearing_deg, destination};
 
     use super::*;
 
@@ -1127,67 +1244,174 @@ mod tests {
         (rel, points)
     }
 
+    /// Distance from `at` to `path`, metres: to the point of the path at the foot of `at`
+    /// (along-track on a geodesic, the azimuth from an arc's centre), clamped to the path.
+    fn off_path(path: &Path, at: Point<f64>) -> f64 {
+        let at = Site::of(at);
+        match *path {
+            Path::Point(p) => p.inverse(&at).0,
+            Path::Geodesic { from, to } => {
+                let (length, course) = from.inverse(&to);
+                let (d, az) = from.inverse(&at);
+                let along = (d * (az - course).to_radians().cos()).clamp(0.0, length);
+                at.inverse(&from.direct(course, along)).0
+            }
+            Path::Arc {
+                from,
+                to,
+                centre,
+                direction,
+            } => {
+                let arc = ArcGeometry::of(&from, &to, &centre, direction);
+                let az = centre.inverse(&at).1;
+                let ends = at.inverse(&from).0.min(at.inverse(&to).0);
+                if angle_to_go(arc.az0, az, arc.clockwise) <= arc.sweep {
+                    at.inverse(&arc.at(az)).0.min(ends)
+                } else {
+                    ends
+                }
+            }
+        }
+    }
+
+    /// The turn at W1 of mission 2 (inbound the leg from CCP, outbound the RF arc to ROLE2)
+    /// as the geofence constructs it, and the farthest a sample of the leg to ROLE2 (TO = 3)
+    /// lies from that turn's paths and the arc.
+    fn turn_at_w1(s: &Sim, w1_turn: TurnType) -> (Turn, f64) {
+        let l = mission2(2, w1_turn);
+        let w = l.waypoints();
+        let (inbound, outbound) = (onboard::leg(&w[0], &w[1]), onboard::leg(&w[1], &w[2]));
+        let t = GuidanceConfig::default()
+            .fly_by()
+            .turn(&w[1], &w[2], &inbound, &outbound);
+        let paths: Vec<Path> = t.paths.iter().copied().chain([outbound]).collect();
+        let worst = s
+            .log
+            .iter()
+            .filter(|p| p.to == 3)
+            .map(|p| {
+                paths
+                    .iter()
+                    .map(|path| off_path(path, here(p)))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
+        (t, worst)
+    }
+
+    /// Fly-by at W1, track-to-fix onto radius-to-fix: FROM-TO-NEXT switches where the arc
+    /// tangent to the leg and to the RF circle starts (about `r·tan(Δψ/2)` before W1), the
+    /// arc and then the RF leg are flown on their paths, clockwise.
     #[test]
     fn mission2_fly_by_tf_then_rf_arc() {
         let radius = distance_m(pt(RF_CENTRE), pt(ROLE2));
         assert!((radius - 962.0).abs() < 2.0, "{radius}");
         let (s, start) = fly_mission2(TurnType::FlyBy);
+        let (t, worst) = turn_at_w1(&s, TurnType::FlyBy);
+        assert_eq!(t.kind, TurnKind::FlyBy);
+        assert!(worst < 0.001, "{worst} m off the turn and the arc");
 
-        // The TF leg CCP -> W1 is left by fly-by, the anticipation distance before W1.
-        let leg_start = start + s.log[start..].iter().position(|p| p.to == 2).unwrap();
+        // The leg CCP -> W1 is left at the arc's start, about the anticipation before W1.
         let switch = start + s.log[start..].iter().position(|p| p.to == 3).unwrap();
-        let before = &s.log[switch - 1];
         let anticipation = w1_anticipation();
         assert!((55.0..65.0).contains(&anticipation), "{anticipation}");
-        let left_at = distance_m(here(before), pt(W1));
+        let leave = distance_m(t.leave, pt(W1));
+        assert!((leave - anticipation).abs() < 5.0, "{leave} {anticipation}");
+        let step = SPEED * DT.as_secs_f64();
+        let before = distance_m(here(&s.log[switch - 1]), pt(W1));
         assert!(
-            (left_at - anticipation).abs() <= 2.0 * SPEED * DT.as_secs_f64(),
-            "switched {left_at} m before W1, anticipation {anticipation} m"
-        );
-        let tf = distance_m(pt(CCP), pt(W1));
-        let flown = secs(switch - leg_start);
-        assert!(
-            ((tf - anticipation) / SPEED - flown).abs() <= 0.2,
-            "TF leg {tf} m flown in {flown} s"
+            before >= leave - 0.01 && before <= leave + step + 0.01,
+            "{before}"
         );
 
-        // The RF leg: within 2 % of the radius once the fly-by transition closed the offset,
-        // clockwise all along.
-        let (rel, points) = rf_leg(&s, |p| p.to == 3);
-        let on_arc = rel.iter().position(|r| *r <= 0.02).unwrap();
-        let transition = secs(on_arc) * SPEED;
-        assert!(transition < 150.0, "transition {transition} m");
-        let worst = rel[on_arc..].iter().cloned().fold(0.0, f64::max);
-        assert!(worst <= 0.02, "{worst}");
-        assert!(rel[rel.len() / 4..].iter().all(|r| *r < 0.002));
+        // On the RF leg once the turn is flown (off the turn's arc), clockwise.
+        let points: Vec<Point<f64>> = s
+            .log
+            .iter()
+            .filter(|p| p.to == 3)
+            .map(here)
+            .filter(|p| off_path(&t.paths[0], *p) > 0.001)
+            .collect();
         let bearings = unwrapped_bearings(pt(RF_CENTRE), &points);
         assert!(bearings.windows(2).all(|w| w[1] > w[0]), "not clockwise");
         let swept = bearings.last().unwrap() - bearings.first().unwrap();
-        assert!((110.0..125.0).contains(&swept), "{swept}");
+        assert!((100.0..125.0).contains(&swept), "{swept}");
         eprintln!(
-            "mission 2: anticipation {anticipation:.1} m, left TF {left_at:.1} m before W1, \
-             TF {tf:.0} m in {flown:.1} s; arc radius {radius:.1} m, entry offset {:.2} %, \
-             within 2 % after {transition:.0} m, then worst {:.3} %, swept {swept:.1} deg",
-            rel[0] * 100.0,
-            worst * 100.0
+            "mission 2: anticipation r·tan(Δψ/2) {anticipation:.1} m, the arc onto the RF \
+             circle leaves the leg {leave:.1} m before W1; samples at most {worst:.1e} m off \
+             the turn and the arc; swept {swept:.1} deg on the RF circle"
         );
     }
 
+    /// Fly-over at W1: the leg is flown to W1, FROM-TO-NEXT switches there, then the turn, the
+    /// intercept and the turn onto the RF circle, each on its path.
     #[test]
     fn fly_over_switches_at_the_waypoint() {
         let (s, start) = fly_mission2(TurnType::FlyOver);
+        let (t, worst) = turn_at_w1(&s, TurnType::FlyOver);
+        assert_eq!(t.kind, TurnKind::FlyOver);
+        assert!(distance_m(t.leave, pt(W1)) < 0.01, "{:?}", t.leave);
+        assert!(worst < 0.001, "{worst} m off the turn and the arc");
         let switch = start + s.log[start..].iter().position(|p| p.to == 3).unwrap();
-        // The leg switched at W1: the sample after it is at most one step's travel past it,
-        // the one before still short of it.
         let step_travel = SPEED * DT.as_secs_f64();
         assert!(distance_m(here(&s.log[switch]), pt(W1)) <= step_travel + 0.01);
         assert!(distance_m(here(&s.log[switch - 1]), pt(W1)) > 0.01);
-        // Starting on the circle, the whole arc stays within 2 % of the radius.
-        let (rel, points) = rf_leg(&s, |p| p.to == 3);
-        let worst = rel.iter().cloned().fold(0.0, f64::max);
-        assert!(worst <= 0.02, "{worst}");
-        let bearings = unwrapped_bearings(pt(RF_CENTRE), &points);
-        assert!(bearings.windows(2).all(|w| w[1] > w[0]));
+    }
+
+    /// The look-ahead law: put 200 m beside the leg CCP -> W1 (to the left, then to the
+    /// right), the aircraft comes back to the geodesic with the cross-track error shrinking at
+    /// every step and never changing sign (no overshoot), to under a metre by the turn at W1
+    /// (about 800 m on: the error decays as `exp(-s/L)`, `L` the turn radius, once it is
+    /// smaller than `L`).
+    #[test]
+    fn the_cross_track_error_goes_to_zero_without_overshoot() {
+        for side in [-90.0, 90.0] {
+            let mut s = Sim::new(config_at(CCP), &mission2(2, TurnType::FlyBy));
+            s.take_off();
+            s.phase(FlightPhase::Cruise);
+            s.run_until(100, |p| p.from_to_next() == (1, 2, 3));
+            let (a, b) = (Site::of(pt(CCP)), Site::of(pt(W1)));
+            let (_, course) = a.inverse(&b);
+            let xte = |p: &GuidanceProgressPayload| {
+                let (d, az) = a.inverse(&Site::of(here(p)));
+                d * (az - course).to_radians().sin()
+            };
+            let now = *s.log.last().unwrap();
+            s.g.position = destination(here(&now), course + side, 200.0);
+            let start = s.log.len();
+            s.run_until(1000, |p| p.to == 3);
+            let errors: Vec<f64> = s.log[start..]
+                .iter()
+                .take_while(|p| p.to == 2)
+                .map(xte)
+                .collect();
+            let first = errors[0];
+            assert!(first.abs() > 150.0, "{first}");
+            assert!(
+                errors.windows(2).all(|w| w[1].abs() <= w[0].abs() + 1e-9),
+                "not shrinking"
+            );
+            assert!(
+                errors.iter().all(|e| e * first >= -1e-9),
+                "overshoot: {:?}",
+                errors
+                    .iter()
+                    .cloned()
+                    .fold(0.0, |m: f64, e| if e * first < 0.0 {
+                        m.max(e.abs())
+                    } else {
+                        m
+                    })
+            );
+            let last = errors.last().unwrap().abs();
+            assert!(last < 1.0, "{last}");
+            eprintln!(
+                "cross-track error {first:.1} m: {:.1} m after 10 s, {:.2e} m when the turn at \
+                 W1 starts",
+                errors[100.min(errors.len() - 1)],
+                last
+            );
+        }
     }
 
     #[test]

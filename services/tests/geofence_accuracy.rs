@@ -1,7 +1,9 @@
 //! The geofence's margins against an independent reference: every row of
 //! `tests/data/geofence_accuracy.csv`, computed with GeographicLib by
 //! `tests/data/geofence_reference.py` (how, in `tests/data/README.md`), must agree within
-//! [`TOLERANCE_M`]. Run with `--nocapture` to see the table.
+//! [`TOLERANCE_M`]. The fly-by rows check the turn construction too: the reference finds the
+//! arc tangent to both legs on the ellipsoid by itself, the geofence takes the arc of
+//! `geofence::turn`. Run with `--nocapture` to see the table.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -10,6 +12,7 @@ use missionlink_interfaces::wire::{Angle, GeoPoint, TurnDirection};
 use missionlink_services::geofence::clearance::{Clearance, clearance};
 use missionlink_services::geofence::earth::{self, Site};
 use missionlink_services::geofence::path::{Path, Track};
+use missionlink_services::geofence::turn::{TurnKind, turn};
 use missionlink_services::geofence::zone::{Zone, ZoneKind};
 
 /// The largest difference allowed between the geofence's margin and the reference's.
@@ -61,6 +64,21 @@ fn path(text: &str) -> Path {
                     other => panic!("turn direction {other}"),
                 },
             }
+        }
+        // A fly-by turn: the arc the geofence's turn construction gives (what guidance flies
+        // and the checks check) at the waypoint between the two legs, at the radius given.
+        "flyby" => {
+            let (points, radius) = rest.rsplit_once(';').unwrap();
+            let p = numbers(points);
+            let (a, w, b) = (site(p[0]), site(p[1]), site(p[2]));
+            let t = turn(
+                &Path::Geodesic { from: a, to: w },
+                &Path::Geodesic { from: w, to: b },
+                false,
+                radius.parse().unwrap(),
+            );
+            assert_eq!(t.kind, TurnKind::FlyBy, "{text}");
+            t.paths[0]
         }
         other => panic!("path kind {other}"),
     }

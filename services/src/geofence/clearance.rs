@@ -164,8 +164,10 @@ fn polygon(track: &Track, zone: &Zone, horizon_m: f64, depth: bool) -> Clearance
             .first()
             .copied()
             .unwrap_or(Coord { x: 0.0, y: 0.0 });
+        // The path's start as given (no geodesic to solve per zone): outside the zone's ball,
+        // it is outside the zone.
         let ball = Ball {
-            centre: Track::site_at(p, start).ecef,
+            centre: track.start().ecef,
             radius: 0.0,
         };
         let inside = zone.ball.gap(&ball) <= 0.0 && zone.polygon_contains(&p.plane, start);

@@ -9,6 +9,8 @@
 //!   defects; [`zone::Fence`], the area list.
 //! - [`path`]: what is flown (a point, a geodesic leg, a radius-to-fix arc) as a
 //!   [`path::Track`].
+//! - [`turn`]: the turn at a waypoint as flown (fly-by arc, fly-over and intercept), the one
+//!   construction guidance flies and the checks check.
 //! - [`clearance`]: the signed margin of a track against a zone, with the position of the
 //!   closest approach or of the deepest violation.
 //! - [`onboard`]: the check of ICD §7 (ext) before execute, return to home and activation.
@@ -25,6 +27,7 @@ pub mod local_frame;
 pub mod onboard;
 pub mod path;
 pub mod plane;
+pub mod turn;
 pub mod zone;
 
 /// Longest piece a geodesic is split into, metres. Each piece is handled in the tangent plane

@@ -2,13 +2,16 @@
 //! safety gateway walks the same legs).
 //!
 //! Before it accepts #50000 execute, the FCC checks the vertical climb at the take-off point
-//! (where navigation says the aircraft is), the way from there to the initial waypoint (flown
-//! direct, whatever its leg type: see guidance), every leg in the direction flown and the
-//! straight cut of every fly-by turn between track-to-fix legs ([`FlyBy`]: what guidance flies
-//! there instead of the corner); before return to home, the way from the aircraft to its TO
-//! waypoint and the reverse route from there back to the initial waypoint, its turns too. Each inside the fly-zone shrunk by the safety offset and
-//! outside every no-fly-zone grown by it. No allocation; at most 2 + 256 legs against 11
-//! zones.
+//! (where navigation says the aircraft is), the way from there to the initial waypoint (the
+//! geodesic, whatever its leg type: see guidance), every leg in the direction flown, in full
+//! (a leg is flown to its end when the aircraft is told to land at its waypoint), and every
+//! turn at a waypoint as guidance flies it ([`super::turn`]: the fly-by arc tangent to both
+//! legs, or the fly-over's turn, intercept and turn onto the next leg); before return to home,
+//! the way from the aircraft to its TO waypoint with the turn onto that leg (the aircraft may be
+//! on it), the turn round there, and the reverse route from there back to the initial waypoint
+//! with its turns. Each inside the fly-zone shrunk by the
+//! safety offset and outside every no-fly-zone grown by it. No allocation; at most
+//! 2 + 256 legs and 3 paths per turn against 11 zones.
 
 use missionlink_interfaces::contracts::{WaypointEntry, WaypointListPayload};
 use missionlink_interfaces::wire::{LegType, TurnType};
@@ -16,6 +19,7 @@ use missionlink_interfaces::wire::{LegType, TurnType};
 use super::clearance::{Clearance, clearance};
 use super::earth::Site;
 use super::path::{Path, Track};
+use super::turn::{Turn, TurnKind, turn};
 use super::zone::Fence;
 
 /// What a path of the route is.
@@ -37,13 +41,14 @@ pub enum RouteElement {
         /// TO Waypoint Number.
         to: u16,
     },
-    /// The straight cut of a fly-by turn at waypoint `at`: from where guidance switches to the
-    /// next leg to the next waypoint `to` ([`FlyBy`]).
-    FlyByTurn {
-        /// The fly-by waypoint.
+    /// A path of the turn at waypoint `at` onto the leg to `to` ([`super::turn`]).
+    Turn {
+        /// The waypoint turned at.
         at: u16,
-        /// The waypoint flown to from the switch.
+        /// The TO waypoint of the leg turned onto.
         to: u16,
+        /// How the turn is flown.
+        kind: TurnKind,
     },
 }
 
@@ -54,12 +59,20 @@ impl core::fmt::Display for RouteElement {
             Self::Leg { from: 0, to } => write!(f, "leg to waypoint {to} from the take-off point"),
             Self::Leg { from, to } => write!(f, "leg {from}->{to}"),
             Self::ReverseLeg { from, to } => write!(f, "reverse leg {from}->{to}"),
-            Self::FlyByTurn { at, to } => {
-                write!(
-                    f,
-                    "fly-by turn at waypoint {at}, cutting across to waypoint {to}"
-                )
-            }
+            Self::Turn {
+                at,
+                to,
+                kind: TurnKind::FlyBy,
+            } => write!(f, "fly-by turn at waypoint {at} onto the leg to {to}"),
+            Self::Turn {
+                at,
+                to,
+                kind: TurnKind::FlyOver,
+            } => write!(
+                f,
+                "fly-over turn at waypoint {at} intercepting the leg to {to}"
+            ),
+            Self::Turn { at, to, .. } => write!(f, "turn at waypoint {at} onto the leg to {to}"),
         }
     }
 }
@@ -78,7 +91,7 @@ fn site(w: &WaypointEntry) -> Site {
 }
 
 /// The leg flown from `from` to `to` by `to`'s leg type (a radius-to-fix leg as its arc).
-fn leg(from: &WaypointEntry, to: &WaypointEntry) -> Path {
+pub fn leg(from: &WaypointEntry, to: &WaypointEntry) -> Path {
     match (to.leg_type(), to.rf_centre()) {
         (Some(LegType::RadiusToFix), Some((centre, direction))) => Path::Arc {
             from: site(from),
@@ -121,39 +134,103 @@ fn back_over(waypoints: &[WaypointEntry]) -> impl Iterator<Item = RouteLeg> + '_
     })
 }
 
+/// The paths of `turn` at `at` onto the leg to `to`.
+fn turn_legs(at: u16, to: u16, turn: Turn) -> impl Iterator<Item = RouteLeg> {
+    let kind = turn.kind;
+    turn.paths.into_iter().map(move |path| RouteLeg {
+        element: RouteElement::Turn { at, to, kind },
+        path,
+    })
+}
+
+/// The way from `start` to the initial waypoint: the geodesic.
+fn first_leg(list: &WaypointListPayload, start: Site) -> Option<(&WaypointEntry, Path)> {
+    list.waypoints().first().map(|w| {
+        (
+            w,
+            Path::Geodesic {
+                from: start,
+                to: site(w),
+            },
+        )
+    })
+}
+
 /// What execute flies from `take_off`: the climb there, the way to the initial waypoint, every
-/// leg, and with `fly_by` the cut of every fly-by turn.
+/// leg, and with `fly_by` every turn at a waypoint as flown.
 pub fn execute_route(
     list: &WaypointListPayload,
     take_off: Site,
     fly_by: Option<FlyBy>,
 ) -> impl Iterator<Item = RouteLeg> + '_ {
-    let first = list.waypoints().first().map(|w| RouteLeg {
-        element: RouteElement::Leg {
-            from: 0,
-            to: w.number,
-        },
-        path: Path::Geodesic {
-            from: take_off,
-            to: site(w),
-        },
-    });
+    let first = first_leg(list, take_off);
     let climb = RouteLeg {
         element: RouteElement::Climb,
         path: Path::Point(take_off),
     };
-    let cuts = fly_by
-        .into_iter()
-        .flat_map(move |f| f.cuts(list.waypoints(), take_off, false));
+    let waypoints = list.waypoints();
+    let turns = fly_by.into_iter().flat_map(move |f| {
+        waypoints.iter().enumerate().flat_map(move |(k, w)| {
+            let next = waypoints.get(k + 1);
+            let inbound = match k.checked_sub(1).and_then(|i| waypoints.get(i)) {
+                Some(before) => Some(leg(before, w)),
+                None => first.map(|(_, p)| p),
+            };
+            let t = match (inbound, next) {
+                (Some(inbound), Some(next)) => {
+                    Some((next.number, f.turn(w, next, &inbound, &leg(w, next))))
+                }
+                _ => None,
+            };
+            t.into_iter()
+                .flat_map(move |(to, t)| turn_legs(w.number, to, t))
+        })
+    });
     core::iter::once(climb)
-        .chain(first)
+        .chain(first.map(|(w, path)| RouteLeg {
+            element: RouteElement::Leg {
+                from: 0,
+                to: w.number,
+            },
+            path,
+        }))
         .chain(legs(list))
-        .chain(cuts)
+        .chain(turns)
+}
+
+/// The way from `position` to the waypoint at `index` as guidance flies it on: on its leg
+/// (`on_leg`, the waypoint is the TO waypoint) the rest of a radius-to-fix arc, else the
+/// geodesic.
+fn direct(waypoints: &[WaypointEntry], index: usize, position: Site, on_leg: bool) -> Option<Path> {
+    let w = waypoints.get(index)?;
+    let before = index
+        .checked_sub(1)
+        .and_then(|i| waypoints.get(i))
+        .filter(|_| on_leg);
+    Some(match before.map(|b| leg(b, w)) {
+        Some(Path::Arc {
+            to,
+            centre,
+            direction,
+            ..
+        }) => Path::Arc {
+            from: position,
+            to,
+            centre,
+            direction,
+        },
+        _ => Path::Geodesic {
+            from: position,
+            to: site(w),
+        },
+    })
 }
 
 /// What return to home flies from `position` with `to` the TO waypoint (0: the route is
-/// complete, the way back starts at the last waypoint): direct to that waypoint, then the
-/// reverse route from there to the initial waypoint (guidance's return to home).
+/// complete, the way back starts at the last waypoint): on to that waypoint, then the reverse
+/// route from there to the initial waypoint (guidance's return to home), with `fly_by` every
+/// turn as flown: the turn onto the leg to the TO waypoint (the aircraft may still be on it,
+/// and flies the rest), the turn round at the TO waypoint and the turns on the way back.
 pub fn return_route(
     list: &WaypointListPayload,
     position: Site,
@@ -165,29 +242,87 @@ pub fn return_route(
         .iter()
         .position(|w| w.number == to)
         .unwrap_or(waypoints.len().saturating_sub(1));
-    let direct = waypoints.get(index).map(|w| RouteLeg {
+    let direct = direct(waypoints, index, position, to != 0);
+    let first = waypoints.get(index).zip(direct).map(|(w, path)| RouteLeg {
         element: RouteElement::Leg {
             from: 0,
             to: w.number,
         },
-        path: Path::Geodesic {
-            from: position,
-            to: site(w),
-        },
+        path,
     });
     let back = waypoints.get(..=index).unwrap_or_default();
-    let cuts = fly_by
+    let turns = fly_by.into_iter().flat_map(move |f| {
+        (1..=index).rev().flat_map(move |i| {
+            let (Some(w), Some(next)) = (back.get(i), back.get(i - 1)) else {
+                return None.into_iter().flatten();
+            };
+            // The turn round at the TO waypoint: from the leg the aircraft is on (guidance turns
+            // from the leg it flies, whatever the way from here to its end).
+            let inbound = if i == index {
+                match (to != 0, back.get(i - 1)) {
+                    (true, Some(before)) => Some(leg(before, w)),
+                    _ => direct,
+                }
+            } else {
+                back.get(i + 1).map(|after| leg(w, after).reversed())
+            };
+            let t = inbound.map(|inbound| {
+                turn_legs(
+                    w.number,
+                    next.number,
+                    f.turn(w, next, &inbound, &leg(next, w).reversed()),
+                )
+            });
+            t.into_iter().flatten()
+        })
+    });
+    // The turn onto the leg the aircraft is on (from a leg between waypoints: the turn at the
+    // initial waypoint depends on where the aircraft took off, and was checked from there).
+    let current = fly_by
+        .filter(|_| to != 0 && index >= 2)
+        .and_then(|f| {
+            let (before, at, w) = (back.get(index - 2)?, back.get(index - 1)?, back.get(index)?);
+            Some(turn_legs(
+                at.number,
+                w.number,
+                f.turn(at, w, &leg(before, at), &leg(at, w)),
+            ))
+        })
         .into_iter()
-        .flat_map(move |f| f.cuts(back, position, true));
-    direct.into_iter().chain(back_over(back)).chain(cuts)
+        .flatten();
+    first
+        .into_iter()
+        .chain(current)
+        .chain(back_over(back))
+        .chain(turns)
 }
 
-/// How guidance turns at a fly-by waypoint between two track-to-fix legs (the guidance stub's
-/// rule, `guidance.rs` "Fly-by"): it switches to the next leg `d = r·tan(Δψ/2)` before the
-/// waypoint (at most half the next leg; all of it for a U-turn), `r = v²/(g·tan(bank))` at the
-/// waypoint's speed, and flies straight from there to the next waypoint. That cut leaves the
-/// legs, inside the corner, by up to about `d·sin(Δψ)`; the checks add it to the legs.
-/// A turn onto or off a radius-to-fix leg is not modelled (guidance joins the arc).
+/// The turns round of a return to home commanded on any leg of a bidirectional route: at
+/// each waypoint but the initial one, from the leg into it onto the same leg backwards.
+pub fn turns_round(
+    list: &WaypointListPayload,
+    fly_by: FlyBy,
+) -> impl Iterator<Item = RouteLeg> + '_ {
+    let waypoints = list.waypoints();
+    waypoints.windows(2).flat_map(move |w| {
+        let t = match w {
+            [a, b] => {
+                let inbound = leg(a, b);
+                Some((
+                    b.number,
+                    a.number,
+                    fly_by.turn(b, a, &inbound, &inbound.reversed()),
+                ))
+            }
+            _ => None,
+        };
+        t.into_iter().flat_map(|(at, to, t)| turn_legs(at, to, t))
+    })
+}
+
+/// How guidance turns at a waypoint ([`super::turn`]): at the radius `r = v²/(g·tan(bank))`,
+/// `v` the speed flown in the turn (the next waypoint's: guidance flies towards it from the
+/// turn's start), fly-by or fly-over by the waypoint's turn type.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlyBy {
     /// Guidance's bank angle in the turn, degrees (0 < bank < 90).
@@ -213,82 +348,21 @@ impl FlyBy {
         v * v / (GRAVITY_MPS2 * self.bank_deg.to_radians().tan())
     }
 
-    /// How far before a fly-by waypoint guidance switches to the next leg, flying at `v` and
-    /// turning `turn_deg` onto a next leg of `next_length` metres.
-    pub fn anticipation_m(&self, v: f64, turn_deg: f64, next_length: f64) -> f64 {
-        let r = self.turn_radius_m(v);
-        let cap = next_length / 2.0;
-        if turn_deg >= 179.999 {
-            cap
-        } else {
-            (r * (turn_deg / 2.0).to_radians().tan()).min(cap)
-        }
-    }
-
-    /// The cuts of the fly-by turns along `waypoints` flown from `start` in their order, or
-    /// (`reverse`) backwards from the last, each leg then of the type of the waypoint it leaves.
-    fn cuts(
-        self,
-        waypoints: &[WaypointEntry],
-        start: Site,
-        reverse: bool,
-    ) -> impl Iterator<Item = RouteLeg> + '_ {
-        let n = waypoints.len();
-        // The k-th waypoint flown.
-        let flown = move |k: usize| {
-            let i = if reverse { n.checked_sub(k + 1)? } else { k };
-            waypoints.get(i)
-        };
-        let mut from = start;
-        (0..n).filter_map(move |k| {
-            let (w, next) = (flown(k)?, flown(k + 1));
-            let here = site(w);
-            let inbound_from = from;
-            from = here;
-            let next = next?;
-            // The leg out of `w`: its type is the one of the waypoint it ends at (forward), or
-            // of the waypoint it leaves (reverse).
-            let out_type = if reverse {
-                w.leg_type()
-            } else {
-                next.leg_type()
-            };
-            let in_type = if k == 0 {
-                Some(LegType::TrackToFix) // the way from `start`, flown direct
-            } else if reverse {
-                flown(k - 1).and_then(|p| p.leg_type())
-            } else {
-                w.leg_type()
-            };
-            if w.turn_type() == Some(TurnType::FlyOver)
-                || out_type != Some(LegType::TrackToFix)
-                || in_type != Some(LegType::TrackToFix)
-            {
-                return None;
-            }
-            let (inbound_length, _, inbound) = inbound_from.inverse_azimuths(&here);
-            if inbound_length <= 0.0 {
-                return None;
-            }
-            let there = site(next);
-            let (next_length, outbound) = here.inverse(&there);
-            let turn = ((outbound - inbound + 180.0).rem_euclid(360.0) - 180.0).abs();
-            let d = self
-                .anticipation_m(Self::speed_mps(w), turn, next_length)
-                .min(inbound_length);
-            let switch = here.direct(inbound + 180.0, d);
-            from = switch;
-            Some(RouteLeg {
-                element: RouteElement::FlyByTurn {
-                    at: w.number,
-                    to: next.number,
-                },
-                path: Path::Geodesic {
-                    from: switch,
-                    to: there,
-                },
-            })
-        })
+    /// The turn at `w` from `inbound` (ending at `w`) onto `outbound` (starting there, to
+    /// `next`).
+    pub fn turn(
+        &self,
+        w: &WaypointEntry,
+        next: &WaypointEntry,
+        inbound: &Path,
+        outbound: &Path,
+    ) -> Turn {
+        turn(
+            inbound,
+            outbound,
+            w.turn_type() == Some(TurnType::FlyOver),
+            self.turn_radius_m(Self::speed_mps(next)),
+        )
     }
 }
 
@@ -333,10 +407,10 @@ mod tests {
     use crate::geofence::zone::Fence;
     use crate::testkit;
 
-    /// The FCC flies the fly-by turn's cut too: execute from the plan's take-off is refused on
-    /// it, and with the turns left out (what the check did before) it would pass.
+    /// The FCC checks the fly-by arc too: execute from the plan's take-off is refused on it,
+    /// and with the turns left out it would pass.
     #[test]
-    fn the_cut_of_a_fly_by_turn_is_checked() {
+    fn the_arc_of_a_fly_by_turn_is_checked() {
         let corner = testkit::fly_by_corner();
         let lists = corner.assemble().unwrap();
         let (waypoints, areas) = (lists.mission.to_payload(1), lists.areas.to_payload(1));
@@ -348,7 +422,11 @@ mod tests {
             matches!(
                 refused,
                 Err(Violation {
-                    element: RouteElement::FlyByTurn { at: 2, to: 3 },
+                    element: RouteElement::Turn {
+                        at: 2,
+                        to: 3,
+                        kind: TurnKind::FlyBy
+                    },
                     area_id: 4,
                     ..
                 })

@@ -236,6 +236,14 @@ impl Track {
         &self.path
     }
 
+    /// Where the path starts.
+    pub fn start(&self) -> Site {
+        match self.path {
+            Path::Point(p) => p,
+            Path::Geodesic { from, .. } | Path::Arc { from, .. } => from,
+        }
+    }
+
     /// Length along the path, metres (0 for a point).
     pub fn length_m(&self) -> f64 {
         self.length_m

@@ -12,10 +12,11 @@
 //!   take-off point (the vertical climb to the take-off height: areas are 2-D), the leg from the
 //!   take-off point to the initial waypoint (flown direct, as guidance flies it), every waypoint,
 //!   every leg in the direction flown (track-to-fix legs as WGS-84 geodesics, radius-to-fix legs
-//!   as arcs around their centre in their turn direction), the straight cut of every fly-by turn
-//!   between track-to-fix legs ([`onboard::FlyBy`]: guidance switches `r·tan(Δψ/2)` before the
-//!   waypoint and flies straight to the next one), the reverse route of a bidirectional
-//!   route back to its start, and the landing (a vertical descent at the last waypoint, checked
+//!   as arcs around their centre in their turn direction), the turn at every waypoint as
+//!   guidance flies it ([`crate::geofence::turn`], at the profile's bank: the fly-by arc of
+//!   radius `r = v²/(g·tan(bank))` tangent to both legs, the fly-over's turn, intercept and turn
+//!   onto the next leg), the reverse route of a bidirectional route back to its start with its
+//!   turns and the turn round of a return to home at every waypoint, and the landing (a vertical descent at the last waypoint, checked
 //!   as that waypoint's point) must stay inside the fly-zone shrunk by the safety offset and
 //!   outside every no-fly-zone (polygon or circle) grown by it. The margin is the signed
 //!   geodesic distance in metres beyond the offset: positive = clear by that much, negative =
@@ -42,8 +43,8 @@
 //!   [`AircraftProfile::rf_radius_tolerance_m`]; radius-to-fix radius not below the minimum turn
 //!   radius `r = v²/(g·tan(bank))` for the worst-case ground speed `v` = the leg's speed plus the
 //!   wind speed; waypoint speeds inside the envelope; waypoint altitudes not above the maximum;
-//!   take-off height inside its limits. Fly-by turns at waypoints are not checked against the
-//!   leg geometry (see "not checked" below).
+//!   take-off height inside its limits. A fly-by turn the legs are too short for is no route
+//!   violation: guidance flies it over, and that path is checked geographically.
 //! - **Energy** (`ENERGY-*`, [`SafetyGateway::estimate_energy`]): vertical climb to the take-off
 //!   height at the climb rate and climb power; every leg (the one from the take-off point
 //!   included) at its TO waypoint's speed as airspeed with the power model
@@ -71,10 +72,8 @@
 //!
 //! # Not checked
 //!
-//! - Fly-by turns onto or off a radius-to-fix leg: guidance joins the arc; only the arc is
-//!   checked. (Fly-by turns between track-to-fix legs are checked: the straight cut guidance
-//!   flies from its switch point to the next waypoint, [`onboard::FlyBy`], at the profile's
-//!   bank, forward and on the reverse route; element "fly-by turn at waypoint k".)
+//! - The energy of the turns (the legs are counted in full, which is longer than the turns'
+//!   short cuts of the corners save, except behind fly-over intercepts).
 //! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
 
 use core::fmt;
@@ -479,7 +478,7 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
 /// One leg as the checks take it.
 #[derive(Debug, Clone, Copy)]
 struct Leg {
-    /// What it is (a leg, or the cut of a fly-by turn).
+    /// What it is (a leg, or a path of a turn at a waypoint).
     element: RouteElement,
     from: u16,
     to: u16,
@@ -610,15 +609,16 @@ impl SafetyGateway {
         legs
     }
 
-    /// The straight cuts of the fly-by turns guidance flies (at the profile's bank, as
-    /// [`onboard::FlyBy`] says), forward and, on a bidirectional route, on the way back: paths
-    /// the legs between the waypoints do not cover.
-    fn turn_cuts(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
+    /// The turns at the waypoints as guidance flies them (at the profile's bank,
+    /// [`crate::geofence::turn`]): forward from the take-off point, and on a bidirectional
+    /// route the way back from the last waypoint and the turn round at every waypoint where a
+    /// return to home may start. Paths the legs between the waypoints do not cover.
+    fn turns(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
         let list = mission.to_payload(1);
         let entries = list.waypoints();
-        let fly_by = Some(onboard::FlyBy {
+        let fly_by = onboard::FlyBy {
             bank_deg: self.profile.max_bank_deg,
-        });
+        };
         let index = |n: u16| entries.iter().position(|w| w.number == n);
         let start = take_off
             .map(Site::of)
@@ -626,15 +626,23 @@ impl SafetyGateway {
         let last = entries.last();
         let forward = start
             .into_iter()
-            .flat_map(|s| onboard::execute_route(&list, s, fly_by));
+            .flat_map(|s| onboard::execute_route(&list, s, Some(fly_by)));
+        let bidirectional = list.bidirectional;
+        // The way back from the last waypoint (`to` 0: the route complete); the turns round
+        // at the waypoints are `turns_round`'s.
         let back = last
-            .filter(|_| list.bidirectional)
+            .filter(|_| bidirectional)
             .into_iter()
-            .flat_map(|w| onboard::return_route(&list, Site::of(w.position), w.number, fly_by));
+            .flat_map(|w| onboard::return_route(&list, Site::of(w.position), 0, Some(fly_by)));
+        let round = bidirectional
+            .then(|| onboard::turns_round(&list, fly_by))
+            .into_iter()
+            .flatten();
         forward
             .chain(back)
+            .chain(round)
             .filter_map(|leg| match leg.element {
-                RouteElement::FlyByTurn { at, to } => {
+                RouteElement::Turn { at, to, .. } => {
                     let (from_index, to_index) = (index(at)?, index(to)?);
                     let speed_mps = entries.get(to_index).map_or(0.0, |w| w.speed.mps());
                     Some(Leg {
@@ -685,7 +693,7 @@ impl SafetyGateway {
         let legs = Self::legs(mission, take_off);
         self.check_route(mission, areas, &legs, &mut c);
         let mut flown = legs.clone();
-        flown.extend(self.turn_cuts(mission, take_off));
+        flown.extend(self.turns(mission, take_off));
         self.check_geography(mission, take_off, &fence, &valid, &flown, &mut c);
         self.check_energy(mission, take_off.is_some(), &legs, &mut c);
         c.out
@@ -828,6 +836,15 @@ mod tests {
         Element::Route(RouteElement::Leg { from, to })
     }
 
+    /// The turn round of a return to home at `at` back to `to` (a U-turn: flown over).
+    fn turn_round(at: u16, to: u16) -> Element {
+        Element::Route(RouteElement::Turn {
+            at,
+            to,
+            kind: crate::geofence::turn::TurnKind::FlyOver,
+        })
+    }
+
     /// In a function of its own: a debug build keeps every case's temporaries in the frame of
     /// the function that builds it, and test threads have 2 MB of stack.
     fn fly_by_corner_case() -> Case {
@@ -836,12 +853,16 @@ mod tests {
         Case {
             take_off: corner.take_off_position,
             ..case(
-                "a fly-by turn cuts a no-fly-zone inside its corner (testkit::fly_by_corner)",
+                "a fly-by arc enters a no-fly-zone inside its corner (testkit::fly_by_corner)",
                 lists.mission,
                 &lists.areas.areas,
                 &[(
                     ViolationCode::NoFlyZoneLeg,
-                    Element::Route(RouteElement::FlyByTurn { at: 2, to: 3 }),
+                    Element::Route(RouteElement::Turn {
+                        at: 2,
+                        to: 3,
+                        kind: crate::geofence::turn::TurnKind::FlyBy,
+                    }),
                 )],
             )
         }
@@ -1052,11 +1073,16 @@ mod tests {
                 &m2,
                 &[(V::RfRadiusMismatch, leg(2, 3))],
             ),
+            // At 45 m/s the turn round at ROLE2 back to W1 (flown at W1's speed) has a radius
+            // of 443 m and leaves the fly-zone.
             case(
                 "speed above the envelope",
                 mission_2_with(fast_w1, role2_rf),
                 &m2,
-                &[(V::SpeedHigh, Element::Waypoint(2))],
+                &[
+                    (V::SpeedHigh, Element::Waypoint(2)),
+                    (V::FlyZoneLeg, turn_round(3, 2)),
+                ],
             ),
             case(
                 "take-off height too high",
@@ -1103,6 +1129,7 @@ mod tests {
                     &[
                         (V::Wind, Element::Environment),
                         (V::SpeedHigh, Element::Waypoint(2)),
+                        (V::FlyZoneLeg, turn_round(3, 2)),
                     ],
                 )
             },

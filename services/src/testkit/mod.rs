@@ -620,6 +620,9 @@ const WORST_CASE_LANE_HALF_M: f64 = 6200.0;
 /// radius-to-fix legs of [`geofence_worst_case_rf`] bulge 570 m past the lanes' ends).
 const WORST_CASE_FLY_ZONE_BEYOND_M: (f64, f64) = (120.0, 690.0);
 
+/// The speed of the worst case's waypoints, m/s (the slowest of the default profile).
+pub const WORST_CASE_SPEED_MPS: f64 = 5.0;
+
 /// The closest approach of the worst case's route to each of its 11 zones, metres: 15 m beyond
 /// the safety offset of 25 m.
 pub const WORST_CASE_CLOSEST_M: f64 = 40.0;
@@ -706,8 +709,9 @@ pub fn worst_case_areas(shift_m: [f64; 10]) -> Vec<AreaPolygonLoopSegment> {
 /// east side sees 300 m to 40 m); 128 lanes in all. With `rf`, the legs between lanes at the
 /// north end are radius-to-fix half circles of 570 m bulging north around the no-fly-zone's
 /// tip (every fourth leg but at the turn between passes), the rest track-to-fix. Every waypoint
-/// is fly-over: guidance flies exactly the legs (a fly-by turn at a lane's end would cut the
-/// corner into the no-fly-zone 40 m away, and the check would stop there).
+/// is fly-by at [`WORST_CASE_SPEED_MPS`]: the turns (`geofence::turn`) are arcs of 5.5 m radius
+/// at 25° bank inside the corners, short enough for the 24 m legs between passes, so they come
+/// no closer to any zone than the legs and the check looks at every one of them too.
 pub fn worst_case_messages(rf: bool) -> Vec<Message> {
     use missionlink_interfaces::capacity::MAX_WAYPOINTS;
     const PASSES: usize = 12;
@@ -756,7 +760,7 @@ pub fn worst_case_messages(rf: bool) -> Vec<Message> {
                 LegType::TrackToFix
             };
             let waypoint = UaPositionWaypoint {
-                turn_type: TurnType::FlyOver,
+                speed: Speed::from_mps(WORST_CASE_SPEED_MPS).expect("a speed in range"),
                 ..waypoint(number, next, at, leg)
             };
             messages.push(waypoint.into());
@@ -817,12 +821,12 @@ pub fn geofence_worst_case() -> (
     (waypoints, areas, worst_case_take_off())
 }
 
-/// A 90° fly-by turn that cuts a no-fly-zone (found in review): waypoints 1 (1500 m south of
+/// A 90° fly-by turn whose arc comes too close to a no-fly-zone (found in review): waypoints 1 (1500 m south of
 /// C = 48.27 N, 11.65 E), 2 (C) and 3 (1500 m east of C), fly-by, 25 m/s; in the corner a
 /// square no-fly-zone (area 4, 300 m a side) whose corner nearest C is 60 m from it, 42 m from
 /// both legs; the demo fly-zone; safety offset 25 m; the take-off 1600 m south of C (no turn at
-/// waypoint 1). The legs are clear; the straight cut guidance flies from its switch point
-/// `r·tan(45°)` before C to waypoint 3 is not. The plan, the take-off position.
+/// waypoint 1). The legs are clear; the fly-by arc of radius 136.7 m tangent to them passes
+/// 3.4 m from the square's corner, well inside the safety offset. The plan, the take-off position.
 pub fn fly_by_corner() -> MissionPlan {
     let c = point((48.27, 11.65));
     let at = |from: GeoPoint, bearing: f64, d: f64| {

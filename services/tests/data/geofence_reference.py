@@ -16,6 +16,14 @@ Geometry (ICD §4, #2012 "Geometry"):
   direction (cw: azimuth increasing, ccw: decreasing; sweep in [0, 360)), r going linearly with
   the swept fraction from dist(centre, start) to dist(centre, end).
 
+- a fly-by turn (ARINC 424 fly-by, what guidance flies at a fly-by waypoint W between the
+  track-to-fix legs A->W and W->B at turn radius r) is the arc of the geodesic circle of radius r
+  tangent to both geodesics, inside the corner: its centre C is the point at geodesic distance r
+  from both geodesics (through A, W and through W, B, extended) on the side of the turn, found
+  here by Newton's method on those two exact distances (each the minimum over the position along
+  the geodesic); the arc runs from the foot of C on A->W to the foot of C on W->B in the turn
+  direction, at radius r (the arc of the form above with r_start = r_end = r).
+
 Margin of a path against a zone:
 - border distance of P: polygon: min over edges of the geodesic distance from P to the geodesic
   segment (minimised over the position along the edge); circle: |dist(centre, P) - r|;
@@ -249,6 +257,61 @@ class ArcPath:
         return direct(self.centre, theta, r)
 
 
+def geodesic_foot(p, a, b, guess_s):
+    """Position along the geodesic through a and b (distance from a, possibly beyond b or
+    before a) closest to p, and that distance: golden section on the exact distance about
+    guess_s."""
+    line = G.InverseLine(a[0], a[1], b[0], b[1], LINE_CAPS)
+
+    def dist(s):
+        pos = line.Position(s, LATLON)
+        return inverse_dist(p[0], p[1], pos["lat2"], pos["lon2"])
+
+    d0 = inverse_dist(p[0], p[1], a[0], a[1])
+    span = 2.0 * d0 + 10.0
+    s, d = golden_min(dist, guess_s - span, guess_s + span, 1e-7)
+    pos = line.Position(s, LATLON)
+    return s, d, (pos["lat2"], pos["lon2"])
+
+
+def flyby_arc(a, w, b, r):
+    """The fly-by arc at w between the geodesics a->w and w->b at radius r (see the module
+    documentation): centre, start, end, direction."""
+    g_in = G.Inverse(a[0], a[1], w[0], w[1], DIST | AZI)
+    g_out = G.Inverse(w[0], w[1], b[0], b[1], DIST | AZI)
+    course_in, course_out = g_in["azi2"], g_out["azi1"]
+    delta = wrap180(course_out - course_in)
+    side = 1.0 if delta > 0.0 else -1.0
+    length_in = g_in["s12"]
+
+    def residual(beta, rho):
+        c = direct(w, beta, rho)
+        _, d1, _ = geodesic_foot(c, a, w, length_in)
+        _, d2, _ = geodesic_foot(c, w, b, 0.0)
+        return (d1 - r, d2 - r)
+
+    # Start from the flat answer: on the bisector, r / cos(delta / 2) from w.
+    beta = course_in + side * (90.0 + abs(delta) / 2.0)
+    rho = r / math.cos(math.radians(abs(delta) / 2.0))
+    for _ in range(30):
+        f = residual(beta, rho)
+        if max(abs(f[0]), abs(f[1])) < 1e-6:
+            break
+        hb, hr = 1e-7, 1e-4
+        fb = residual(beta + hb, rho)
+        fr = residual(beta, rho + hr)
+        j = ((fb[0] - f[0]) / hb, (fr[0] - f[0]) / hr), ((fb[1] - f[1]) / hb, (fr[1] - f[1]) / hr)
+        det = j[0][0] * j[1][1] - j[0][1] * j[1][0]
+        beta -= (f[0] * j[1][1] - f[1] * j[0][1]) / det
+        rho -= (j[0][0] * f[1] - j[1][0] * f[0]) / det
+    else:
+        raise ValueError("fly-by centre did not converge")
+    c = direct(w, beta, rho)
+    _, _, t1 = geodesic_foot(c, a, w, length_in)
+    _, _, t2 = geodesic_foot(c, w, b, 0.0)
+    return c, t1, t2, "cw" if side > 0.0 else "ccw"
+
+
 def path_margin(path, zone, settings):
     """min over the path of zone.signed, and the parameter where it is reached."""
     if isinstance(path, PointPath):
@@ -325,6 +388,8 @@ def path_text(kind, points, direction=None):
     body = ";".join(fmt_pos(p) for p in points)
     if kind == "arc":
         body += ";" + direction
+    if kind == "flyby":
+        body += ";%.3f" % direction  # the turn radius
     return "%s:%s" % (kind, body)
 
 
@@ -344,6 +409,9 @@ def parse_path(text):
         return LegPath(parse_pos(parts[0]), parse_pos(parts[1]))
     if kind == "arc":
         return ArcPath(parse_pos(parts[0]), parse_pos(parts[1]), parse_pos(parts[2]), parts[3])
+    if kind == "flyby":
+        a, w, b = (parse_pos(x) for x in parts[:3])
+        return ArcPath(*flyby_arc(a, w, b, float(parts[3])))
     raise ValueError(text)
 
 
@@ -541,6 +609,41 @@ def rows():
         zone_text("nfz", "polygon", polygon_polar(c, [
             (250.0, 590.0), (290.0, 700.0), (285.0, 1400.0), (270.0, 1700.0),
             (245.0, 1300.0), (240.0, 800.0)])))
+
+    # --- fly-by turns (the arc tangent to both legs) -----------------------------------------------
+    # A fly-by waypoint W between legs of `length` m turning `turn` degrees (positive: right) at
+    # radius r; a no-fly circle of 40 m radius whose centre lies `depth` m from the arc's centre
+    # on the arc's middle radial (r - 30: the arc enters it by 10 m; r + 55: 15 m clear of it,
+    # between the arc and W), or a small quadrilateral inside the arc 20 m clear of it.
+    def flyby(name, w, course_in, turn, r, length, zone):
+        a = direct(w, course_in + 180.0, length)
+        g = G.Inverse(a[0], a[1], w[0], w[1], AZI)
+        b = direct(w, g["azi2"] + turn, length)
+        c, t1, t2, direction = flyby_arc(a, w, b, r)
+        az1 = inverse_azi(c[0], c[1], t1[0], t1[1])
+        az2 = inverse_azi(c[0], c[1], t2[0], t2[1])
+        mid = az1 + wrap180(az2 - az1) / 2.0
+        if zone == "entered":
+            z = zone_text("nfz", "circle", (direct(c, mid, r - 30.0), 40.0))
+        elif zone == "clear":
+            z = zone_text("nfz", "circle", (direct(c, mid, r + 55.0), 40.0))
+        else:  # a quadrilateral inside the arc, its nearest corner 20 m from it
+            z = zone_text("nfz", "polygon", polygon_polar(c, [
+                (mid, r - 20.0), (mid + 25.0, r - 90.0), (mid, r - 160.0), (mid - 25.0, r - 90.0)]))
+        add(name, path_text("flyby", [a, w, b], r), z)
+
+    flyby("flyby_90_r137_munich_nfz_circle_entered", (48.27, 11.66), 0.0, 90.0, 136.7, 1500.0,
+          "entered")
+    flyby("flyby_30_r137_equator_nfz_circle_clear", (0.30, 32.50), 75.0, 30.0, 136.7, 1500.0,
+          "clear")
+    flyby("flyby_150_left_r137_lat65_nfz_polygon", (64.90, 25.40), 20.0, -150.0, 136.7, 2000.0,
+          "polygon")
+    flyby("flyby_120_r1000_lat80_nfz_circle_entered", (79.90, 16.00), 100.0, 120.0, 1000.0,
+          6000.0, "entered")
+    flyby("flyby_60_left_r500_south_nfz_polygon", (-33.95, 151.10), 250.0, -60.0, 500.0, 3000.0,
+          "polygon")
+    flyby("flyby_90_r5000_lat70_nfz_circle_clear", (69.65, 18.95), 300.0, 90.0, 5000.0, 20000.0,
+          "clear")
 
     # --- circles as no-fly-zones against legs -----------------------------------------------------
     # 60 km leg passing 1.2 km outside a 20 km circle (Po valley).
