@@ -16,7 +16,14 @@
 //! ```sh
 //! cargo bench --bench transfer                 # 30 runs per mission
 //! cargo bench --bench transfer -- --runs 100
+//! cargo bench --bench transfer -- --cpu-shares  # each partition's CPU share, idle 60 s and
+//!                                               # during 256-waypoint uploads (20 s)
 //! ```
+//!
+//! `--cpu-shares` (`--idle-seconds N`, `--upload-seconds N`) measures instead each partition's
+//! share of one CPU from /proc (its process's user and system time over the wall time): with
+//! the FCC up and no traffic, then while the GCS uploads the generated 256-waypoint mission back
+//! to back; written to `target/transfer/cpu_shares.json`.
 //!
 //! Without `--bench` (`cargo test --benches`) it makes one run per mission and writes nothing.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
@@ -181,9 +188,150 @@ fn measure(
     (results, status)
 }
 
+/// The partitions of the FCC, as the launcher names them.
+const PARTITIONS: [&str; 4] = [
+    "voting-monitoring",
+    "mission-data-handling",
+    "system-automation",
+    "guidance-stub",
+];
+
+/// CPU time (user + system) of process `pid` so far, in clock ticks, from /proc.
+fn cpu_ticks(pid: i32) -> u64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // utime and stime: fields 14 and 15, the 12th and 13th after the command name.
+    let (_, rest) = stat.rsplit_once(')').unwrap();
+    rest.split_whitespace()
+        .skip(11)
+        .take(2)
+        .map(|v| v.parse::<u64>().unwrap())
+        .sum()
+}
+
+/// Clock ticks per second of /proc's CPU times (USER_HZ, 100 on Linux for x86 and ARM).
+const TICKS_PER_SECOND: f64 = 100.0;
+
+/// Each partition's share of one CPU while `during` runs, in %, from /proc: the CPU time its
+/// process used over the wall time `during` took.
+fn cpu_shares(pids: &[(&str, i32)], during: impl FnOnce()) -> (Vec<f64>, f64) {
+    let before: Vec<u64> = pids.iter().map(|(_, pid)| cpu_ticks(*pid)).collect();
+    let start = Instant::now();
+    during();
+    let seconds = start.elapsed().as_secs_f64();
+    let shares = pids
+        .iter()
+        .zip(before)
+        .map(|((_, pid), b)| 100.0 * (cpu_ticks(*pid) - b) as f64 / TICKS_PER_SECOND / seconds)
+        .collect();
+    (shares, seconds)
+}
+
+/// `--cpu-shares`: each partition's CPU share with no traffic for `idle` (the FCC up, nothing
+/// sent), then during back-to-back uploads of the generated 256-waypoint mission (the paper's
+/// sequence) for at least `busy`, from /proc. Prints a table and writes
+/// `target/transfer/cpu_shares.json` in bench mode.
+fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
+    let mut rig = common::Rig::new("bench-cpu-shares");
+    let mut fcc = rig.start("fcc");
+    for partition in PARTITIONS {
+        common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
+    }
+    let pids: Vec<(&str, i32)> = PARTITIONS
+        .iter()
+        .map(|p| (*p, common::partition_pid(&fcc, p)))
+        .collect();
+    let mut link = rig.gcs(&mut fcc);
+    // Settle: the start's work (the first beats, late joiners) is not idle.
+    std::thread::sleep(Duration::from_secs(2));
+    let load_before = load_average();
+    let (idle_shares, idle_s) = cpu_shares(&pids, || std::thread::sleep(idle));
+    let case = generated(256);
+    let mut uploads = 0;
+    let (busy_shares, busy_s) = cpu_shares(&pids, || {
+        let start = Instant::now();
+        while start.elapsed() < busy {
+            let now = link.now();
+            let outcome = link
+                .station()
+                .upload_with(now, &case.plan, Sequence::Paper { clear: true })
+                .and_then(|()| common::finish(&mut link));
+            match outcome {
+                Ok(missionlink_gcs::gcs_link::Finished::Uploaded(report))
+                    if report.failure.is_none() => {}
+                other => panic!("upload {uploads}: {other:?}"),
+            }
+            uploads += 1;
+        }
+    });
+    let load_after = load_average();
+    let _ = fcc.stop();
+    println!(
+        "CPU share of one CPU per partition, from /proc (load average before {load_before}, \
+         after {load_after})"
+    );
+    println!(
+        "{:<24} {:>16} {:>24}",
+        "partition",
+        format!("idle {idle_s:.0} s"),
+        format!("256-waypoint uploads ({uploads} in {busy_s:.1} s)")
+    );
+    let mut json = Vec::new();
+    for (((name, _), idle), busy) in pids.iter().zip(&idle_shares).zip(&busy_shares) {
+        println!("{name:<24} {:>15.2}% {:>23.2}%", idle, busy);
+        json.push(serde_json::json!({
+            "partition": name,
+            "idle_percent_of_one_cpu": idle,
+            "upload_percent_of_one_cpu": busy,
+        }));
+    }
+    if bench_mode {
+        let out = output_dir();
+        let path = out.join("cpu_shares.json");
+        let doc = serde_json::json!({
+            "what": "CPU time of each partition process over wall time, in % of one CPU, from /proc: idle (no traffic) and during back-to-back uploads of a generated 256-waypoint mission (the paper's sequence)",
+            "idle_seconds": idle_s,
+            "upload_seconds": busy_s,
+            "uploads": uploads,
+            "load_average_before": load_before,
+            "load_average_after": load_after,
+            "partitions": json,
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+        println!("written to {}", path.display());
+    }
+}
+
+/// `target/transfer`, created if missing.
+fn output_dir() -> std::path::PathBuf {
+    let target = binaries::build_dir()
+        .and_then(|d| d.parent().map(|p| p.to_path_buf()))
+        .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
+    let out = target.join("transfer");
+    std::fs::create_dir_all(&out).unwrap();
+    out
+}
+
+/// The number after `flag` on the command line, if given.
+fn number_after(args: &[String], flag: &str) -> Option<u64> {
+    args.iter()
+        .position(|a| a == flag)
+        .and_then(|i| args.get(i + 1))
+        .map(|v| v.parse().unwrap_or_else(|_| panic!("{flag} N")))
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let bench_mode = args.iter().any(|a| a == "--bench");
+    if args.iter().any(|a| a == "--cpu-shares") {
+        let idle = number_after(&args, "--idle-seconds").unwrap_or(60);
+        let busy = number_after(&args, "--upload-seconds").unwrap_or(20);
+        cpu_shares_main(
+            Duration::from_secs(idle),
+            Duration::from_secs(busy),
+            bench_mode,
+        );
+        return;
+    }
     let runs = args
         .iter()
         .position(|a| a == "--runs")
@@ -386,12 +534,7 @@ fn main() {
     println!("FCC launcher stopped with SIGTERM: {status:?}");
 
     if bench_mode {
-        let target = binaries::build_dir()
-            .and_then(|d| d.parent().map(|p| p.to_path_buf()))
-            .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
-        let out = target.join("transfer");
-        std::fs::create_dir_all(&out).unwrap();
-        let path = out.join("results.json");
+        let path = output_dir().join("results.json");
         let doc = serde_json::json!({
             "description": "upload request (validate, clear, waypoints, route, transmit, areas) \
                             through the real FCC partitions and GcsLink over UDP loopback; \

@@ -25,6 +25,13 @@
 //! poll = false                    # true: spin instead of sleeping in the WaitSet (lowest latency)
 //! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
 //!
+//! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
+//! mode = "backoff"                # backoff (the default): spin, yield, then sleep; block: sleep
+//! spin_us = 200                   # backoff: spin this long after the last work (default 200)
+//! yield_us = 0                    # backoff: then yield between looks this long (default 0)
+//! # and [ipc.idle.mission-data-handling], [ipc.idle.system-automation],
+//! # [ipc.idle.guidance-stub]
+//!
 //! [guidance]
 //! time_scale = 1.0                # simulated seconds per second
 //! update_interval_ms = 50
@@ -180,6 +187,8 @@ pub struct Ipc {
     /// Where mission data handling keeps its active lists across restarts (default:
     /// `<temp>/missionlink-state/<prefix>`).
     pub state_dir: Option<PathBuf>,
+    /// How each partition waits when its inputs are empty (`[ipc.idle.<partition>]`).
+    pub idle: IdlePerPartition,
 }
 
 impl Default for Ipc {
@@ -188,6 +197,110 @@ impl Default for Ipc {
             service_prefix: DEFAULT_SERVICE_PREFIX.to_owned(),
             poll: false,
             state_dir: None,
+            idle: IdlePerPartition::default(),
+        }
+    }
+}
+
+/// What a partition does when its inputs are empty, before the next frame, event or deadline
+/// (`runtime::Control::wait_idle`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IdleMode {
+    /// Sleep in the WaitSet at once: the wake-up of every frame costs the event's system calls
+    /// and the kernel waking the thread (a Unix datagram and an epoll round with iceoryx2's
+    /// default event).
+    Block,
+    /// Look at the inputs in a loop for `spin_us`, then yield the CPU between looks for
+    /// `yield_us`, then sleep in the WaitSet as `Block` does (Aeron's BackoffIdleStrategy). A
+    /// frame that comes within the budget after the last one is taken without a wake-up.
+    #[default]
+    Backoff,
+}
+
+/// The idle strategy of one partition (`[ipc.idle.<partition>]`). The defaults were chosen by
+/// `benches/latency.rs` on the 2-vCPU development machine (docs/wait-path.md): `backoff` with
+/// 200 µs of spinning (a partition's peer answers within it: the other partition of a hop, and
+/// the GCS's round trip over loopback for voting-monitoring) and no yield phase; idle, a
+/// partition woken only by its heartbeat and its timers spins for about 200 µs per wake-up,
+/// well below 2 % of a CPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Idle {
+    /// `block` or `backoff`.
+    pub mode: IdleMode,
+    /// With `backoff`: how long the loop looks at its inputs without pausing, microseconds.
+    pub spin_us: u64,
+    /// With `backoff`: how long it then looks, yielding the CPU between looks, microseconds.
+    pub yield_us: u64,
+}
+
+/// The default spin budget of [`Idle`], microseconds.
+pub const DEFAULT_SPIN_US: u64 = 200;
+
+impl Default for Idle {
+    fn default() -> Self {
+        Self {
+            mode: IdleMode::Backoff,
+            spin_us: DEFAULT_SPIN_US,
+            yield_us: 0,
+        }
+    }
+}
+
+impl Idle {
+    /// Sleeping at once.
+    pub const BLOCK: Self = Self {
+        mode: IdleMode::Block,
+        spin_us: 0,
+        yield_us: 0,
+    };
+
+    /// The spin budget.
+    pub fn spin(&self) -> Duration {
+        Duration::from_micros(self.spin_us)
+    }
+
+    /// The yield budget that follows the spin.
+    pub fn yield_for(&self) -> Duration {
+        Duration::from_micros(self.yield_us)
+    }
+}
+
+/// The idle strategy of each partition (`[ipc.idle.voting-monitoring]` and so on).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "kebab-case")]
+pub struct IdlePerPartition {
+    /// voting-monitoring.
+    pub voting_monitoring: Idle,
+    /// mission-data-handling.
+    pub mission_data_handling: Idle,
+    /// system-automation.
+    pub system_automation: Idle,
+    /// guidance-stub.
+    pub guidance_stub: Idle,
+}
+
+impl IdlePerPartition {
+    /// The strategy of the partition named `partition` (its binary's name); the default for a
+    /// name that is not one of the four (a loop of a test or a bench).
+    pub fn of(&self, partition: &str) -> Idle {
+        match partition {
+            crate::voting_monitoring::NAME => self.voting_monitoring,
+            crate::mission_data_handling::NAME => self.mission_data_handling,
+            crate::system_automation::NAME => self.system_automation,
+            crate::guidance_stub::NAME => self.guidance_stub,
+            _ => Idle::default(),
+        }
+    }
+
+    /// The same strategy for every partition.
+    pub fn all(idle: Idle) -> Self {
+        Self {
+            voting_monitoring: idle,
+            mission_data_handling: idle,
+            system_automation: idle,
+            guidance_stub: idle,
         }
     }
 }

@@ -71,6 +71,7 @@ where
             lists.areas.listener(),
             automation.listener(),
         ],
+        pending: &[&lists.waypoints, &lists.areas, &automation],
         every: Some(interval),
         first_timeout: interval,
     };

@@ -380,6 +380,12 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
         }
     }
 
+    /// Whether a sample waits to be taken, without taking it or a notification (what a
+    /// spinning loop looks at, `runtime::Pending`); `false` when iceoryx2 cannot tell.
+    pub fn has_samples(&self) -> bool {
+        self.subscriber.has_samples().unwrap_or(false)
+    }
+
     /// Hands every waiting sample to `f`, oldest first, without copying it out of shared
     /// memory; returns how many there were.
     pub fn for_each(&self, mut f: impl FnMut(&T)) -> usize {

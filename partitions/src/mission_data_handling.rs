@@ -120,6 +120,7 @@ where
             automation.listener(),
             progress.listener(),
         ],
+        pending: &[&uplink, &automation, &progress],
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };

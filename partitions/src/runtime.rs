@@ -1,8 +1,9 @@
 //! What every partition's event loop shares: the [`Control`] that starts and stops a loop (from
 //! another thread, or by SIGINT/SIGTERM), sleeping in the WaitSet (or spinning with `--poll`)
-//! until data, a deadline or a stop ([`run_loop`], the one loop skeleton every partition runs),
-//! latency reports on an interval, on SIGUSR1 and at shutdown, and the `main` of every partition
-//! binary.
+//! until data, a deadline or a stop, after a bounded spin on the inputs when the partition's
+//! idle strategy says so ([`Control::wait_idle`], `config::Idle`); [`run_loop`], the one loop
+//! skeleton every partition runs; latency reports on an interval, on SIGUSR1 and at shutdown;
+//! and the `main` of every partition binary.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,7 +15,7 @@ use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 
 use missionlink_interfaces::contracts::Partition;
 
-use crate::config::{Config, ConfigArgs, ConfigError};
+use crate::config::{Config, ConfigArgs, ConfigError, Idle, IdleMode};
 use crate::health::Heartbeat;
 use crate::ipc::{Ipc, IpcError};
 use crate::latency::{self, Recorder};
@@ -193,6 +194,72 @@ impl Control {
             .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)?;
         Ok(keeps_running(result) && !self.stop_requested())
     }
+
+    /// Waits for the next event as `idle` says: with [`IdleMode::Block`] (or `poll`) as
+    /// [`Control::wait`]; with [`IdleMode::Backoff`] it first looks at `pending` in a loop for
+    /// the spin budget, then yields the CPU between looks for the yield budget (both cut to
+    /// `timeout`), and returns as soon as one of them has data, without the WaitSet; only
+    /// then does it sleep in the WaitSet for the rest of `timeout`. The notifications of a
+    /// frame taken while spinning stay queued on its listener until the step drains them
+    /// (`Subscriber::take_all`), as after a wake-up. `false` when the loop must end.
+    pub fn wait_idle<S: Service>(
+        &self,
+        waitset: &WaitSet<S>,
+        poll: bool,
+        timeout: Duration,
+        idle: Idle,
+        pending: &[&dyn Pending],
+    ) -> Result<bool, WaitSetRunError> {
+        if poll || idle.mode == IdleMode::Block || pending.is_empty() {
+            return self.wait(waitset, poll, timeout);
+        }
+        let started = Instant::now();
+        let spin = idle.spin().min(timeout);
+        let budget = (idle.spin() + idle.yield_for()).min(timeout);
+        let mut looks: u32 = 0;
+        let mut elapsed = Duration::ZERO;
+        while elapsed < budget {
+            if pending.iter().any(|p| p.pending()) {
+                return Ok(!self.stop_requested());
+            }
+            looks = looks.wrapping_add(1);
+            // The clock every few looks: a look costs less than a clock read.
+            if looks % LOOKS_PER_CLOCK_READ == 0 {
+                elapsed = started.elapsed();
+                if self.stop_requested() {
+                    return Ok(false);
+                }
+            }
+            if elapsed >= spin {
+                std::thread::yield_now();
+            }
+        }
+        self.wait(waitset, poll, timeout.saturating_sub(elapsed))
+    }
+}
+
+/// How many looks at the inputs a spinning loop makes between two reads of the clock.
+const LOOKS_PER_CLOCK_READ: u32 = 8;
+
+/// An input a spinning loop looks at without taking anything from it: an iceoryx2 subscriber
+/// (`Subscriber::has_samples`) or the UDP links (`udp::LinkPair`).
+pub trait Pending: std::fmt::Debug {
+    /// Whether data waits to be taken.
+    fn pending(&self) -> bool;
+}
+
+impl<S: Service, T: std::fmt::Debug + Copy + ZeroCopySend + 'static> Pending
+    for crate::ipc::Subscriber<S, T>
+{
+    fn pending(&self) -> bool {
+        self.has_samples()
+    }
+}
+
+impl Pending for crate::udp::LinkPair {
+    fn pending(&self) -> bool {
+        self.has_datagrams()
+    }
 }
 
 /// A WaitSet for a partition loop, with iceoryx2's signal handling disabled (see
@@ -215,6 +282,9 @@ impl<T: SynchronousMultiplexing + std::fmt::Debug + ?Sized> Attachment for T {}
 pub struct Wake<'a> {
     /// The listeners and sockets whose data wakes it.
     pub on: &'a [&'a dyn Attachment],
+    /// The same inputs as the spin of [`IdleMode::Backoff`] looks at them (the subscribers
+    /// and sockets of `on`).
+    pub pending: &'a [&'a dyn Pending],
     /// Periodic work (connecting late subscribers, stepping a model), if any.
     pub every: Option<Duration>,
     /// The longest first sleep; after it each step says how long the next may be.
@@ -261,10 +331,24 @@ pub fn run_loop<S: Service>(
         "{name} up"
     );
     control.set_ready();
+    let idle = config.ipc.idle.of(name);
+    tracing::info!(
+        mode = ?idle.mode,
+        spin_us = idle.spin_us,
+        yield_us = idle.yield_us,
+        poll = config.ipc.poll,
+        "{name} waits for its inputs"
+    );
     let mut until_beat = heartbeat.beat_if_due()?;
     let mut timeout = wake.first_timeout;
     while control
-        .wait(&waitset, config.ipc.poll, timeout.min(until_beat))
+        .wait_idle(
+            &waitset,
+            config.ipc.poll,
+            timeout.min(until_beat),
+            idle,
+            wake.pending,
+        )
         .map_err(PartitionError::waitset)?
     {
         until_beat = heartbeat.beat_if_due()?;

@@ -128,6 +128,7 @@ where
     let [direct_fd, lte_fd] = links.attachments();
     let wake = Wake {
         on: &[direct_fd, lte_fd, downlink.listener()],
+        pending: &[&links, &downlink],
         every: None,
         first_timeout: IDLE_WAIT,
     };
