@@ -25,7 +25,7 @@
 //!    listener and takes the sample as they do (`Subscriber::take_all`: zero-copy, it reads the
 //!    stamp in place).
 //! 2. `iox2-poll`: the same ports, publishing without the notification (`Publisher::publish`);
-//!    the receiver spins on `Subscriber::for_each` (and the sender spins for the reply).
+//!    the receiver spins on `Subscriber::take_one` (and the sender spins for the reply).
 //! 3. `uds`: a Unix domain datagram socket (abstract address), blocking `recv_from`.
 //! 4. `udp`: UDP over loopback, blocking `recv_from`.
 //! 5. `shm-floor`: the floor of any shared-memory transport: the stamp alone, stored into an
@@ -37,14 +37,17 @@
 //!    data handling taking the frames as it does (`take_all`) and answering on the downlink
 //!    service; each waits as its partition's idle strategy says (`config::Idle`, default
 //!    `backoff`: spin on the inputs, then sleep in the WaitSet).
-//! 7. `partition-block`: the same with `idle = block` (sleep in the WaitSet at once: the wait
-//!    path before the idle strategies, the same as `iox2-event` through `run_loop`).
+//! 7. `partition-block`, `partition-backoff`, `partition-doorbell`: the same with each idle
+//!    strategy (`config::IdleMode`): `block` (sleep in the WaitSet at once: the wait path
+//!    before the idle strategies, the same as `iox2-event` through `run_loop`), `backoff`
+//!    (spin for the default budget, then the WaitSet) and `doorbell` without a spin (sleep at
+//!    once on the partition's semaphore doorbell, `doorbell`: its own wake-up).
 //! 8. `iox2-own-pubsub`: iceoryx2's publish-subscribe ping-pong as its own benchmark sets it
 //!    up (`benchmarks/publish-subscribe` of its repository): a service per direction, history
 //!    0, subscriber buffer 1, one publisher and one subscriber, both sides busy-waiting on
 //!    `receive`; the reference of `iox2-poll`.
-//! 9. `partition-sparse`, `partition-block-sparse`, `uds-sparse`: `partition`,
-//!    `partition-block` and `uds` at the sparse pace: the next frame leaves 1 ms after the
+//! 9. `partition-sparse`, `partition-block-sparse`, `partition-backoff-sparse`,
+//!    `partition-doorbell-sparse`, `uds-sparse`: those rows and `uds` at the sparse pace: the next frame leaves 1 ms after the
 //!    previous one was answered (as uplink frames arrive from a GCS), longer than any spin
 //!    budget, so every frame meets a receiver asleep: the cold wake-up. They record a tenth of
 //!    `--frames` (and warm up with a tenth of `--warmup`).
@@ -122,15 +125,17 @@ use std::time::{Duration, Instant};
 
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_partitions::clock::monotonic_ns;
-use missionlink_interfaces::contracts::Partition;
-use missionlink_partitions::config::{Config, FifoPriority, Idle, IdlePerPartition, RealtimeSettings};
-use missionlink_partitions::{mission_data_handling, voting_monitoring};
+use missionlink_partitions::config::{
+    Config, FifoPriority, Idle, IdleMode, IdlePerPartition, RealtimeSettings,
+};
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::realtime::{self, Scheduling};
 use missionlink_partitions::runtime::{self, Control, Wake};
+use missionlink_partitions::{mission_data_handling, voting_monitoring};
 use serde_json::{Value, json};
 
 /// Recorded frames per transport and size unless `--frames` says otherwise.
@@ -163,6 +168,8 @@ enum Transport {
     Iox2Event,
     Partition,
     PartitionBlock,
+    PartitionBackoff,
+    PartitionDoorbell,
     Iox2Poll,
     Iox2OwnPubsub,
     Uds,
@@ -170,15 +177,19 @@ enum Transport {
     ShmFloor,
     PartitionSparse,
     PartitionBlockSparse,
+    PartitionBackoffSparse,
+    PartitionDoorbellSparse,
     UdsSparse,
 }
 
 impl Transport {
     /// In the order of the tables; the first is the reference of the ratios.
-    const ALL: [Transport; 11] = [
+    const ALL: [Transport; 15] = [
         Self::Iox2Event,
         Self::Partition,
         Self::PartitionBlock,
+        Self::PartitionBackoff,
+        Self::PartitionDoorbell,
         Self::Iox2Poll,
         Self::Iox2OwnPubsub,
         Self::Uds,
@@ -186,6 +197,8 @@ impl Transport {
         Self::ShmFloor,
         Self::PartitionSparse,
         Self::PartitionBlockSparse,
+        Self::PartitionBackoffSparse,
+        Self::PartitionDoorbellSparse,
         Self::UdsSparse,
     ];
 
@@ -195,6 +208,8 @@ impl Transport {
             Self::Iox2Event => "iox2-event",
             Self::Partition => "partition",
             Self::PartitionBlock => "partition-block",
+            Self::PartitionBackoff => "partition-backoff",
+            Self::PartitionDoorbell => "partition-doorbell",
             Self::Iox2Poll => "iox2-poll",
             Self::Iox2OwnPubsub => "iox2-own-pubsub",
             Self::Uds => "uds",
@@ -202,6 +217,8 @@ impl Transport {
             Self::ShmFloor => "shm-floor",
             Self::PartitionSparse => "partition-sparse",
             Self::PartitionBlockSparse => "partition-block-sparse",
+            Self::PartitionBackoffSparse => "partition-backoff-sparse",
+            Self::PartitionDoorbellSparse => "partition-doorbell-sparse",
             Self::UdsSparse => "uds-sparse",
         }
     }
@@ -212,6 +229,8 @@ impl Transport {
             Self::Iox2Event => "iceoryx2 event-driven",
             Self::Partition => "partition loop (default idle)",
             Self::PartitionBlock => "partition loop, idle = block",
+            Self::PartitionBackoff => "partition loop, backoff",
+            Self::PartitionDoorbell => "partition, doorbell, no spin",
             Self::Iox2Poll => "iceoryx2 polling",
             Self::Iox2OwnPubsub => "iceoryx2's own pub-sub setup",
             Self::Uds => "Unix datagram socket",
@@ -219,6 +238,8 @@ impl Transport {
             Self::ShmFloor => "shared cache line (floor)",
             Self::PartitionSparse => "partition loop, sparse",
             Self::PartitionBlockSparse => "partition, block, sparse",
+            Self::PartitionBackoffSparse => "partition, backoff, sparse",
+            Self::PartitionDoorbellSparse => "partition, doorbell, sparse",
             Self::UdsSparse => "Unix datagram, sparse",
         }
     }
@@ -228,16 +249,30 @@ impl Transport {
     fn pace(self) -> Option<Duration> {
         matches!(
             self,
-            Self::PartitionSparse | Self::PartitionBlockSparse | Self::UdsSparse
+            Self::PartitionSparse
+                | Self::PartitionBlockSparse
+                | Self::PartitionBackoffSparse
+                | Self::PartitionDoorbellSparse
+                | Self::UdsSparse
         )
         .then_some(SPARSE_PACE)
     }
 
-    /// The idle strategy of a partition-loop row: the default of every partition, or
-    /// sleeping at once.
+    /// The idle strategy of a partition-loop row: the default of every partition, sleeping
+    /// in the WaitSet at once, spinning first then the WaitSet, or the doorbell without a
+    /// spin.
     fn idle(self) -> Idle {
         match self {
             Self::PartitionBlock | Self::PartitionBlockSparse => Idle::BLOCK,
+            Self::PartitionBackoff | Self::PartitionBackoffSparse => Idle {
+                mode: IdleMode::Backoff,
+                ..Idle::default()
+            },
+            Self::PartitionDoorbell | Self::PartitionDoorbellSparse => Idle {
+                mode: IdleMode::Doorbell,
+                spin_us: 0,
+                yield_us: 0,
+            },
             _ => Idle::default(),
         }
     }
@@ -480,7 +515,7 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
         let take = || {
             let mut stamp = None;
             self.subscriber
-                .for_each(|sample| stamp = Some(sample.stamp()));
+                .take_one(|sample| stamp = Some(sample.stamp()));
             stamp
         };
         if !self.event {
@@ -602,6 +637,7 @@ fn partition_sender<F: Stamped>(run: &Run) {
         on: &[replies.listener()],
         pending: &[&replies],
         every: None,
+        sockets: false,
         first_timeout: Duration::ZERO,
     };
     runtime::run_loop::<S>(
@@ -614,10 +650,17 @@ fn partition_sender<F: Stamped>(run: &Run) {
         |_| {
             replies.take_all(|reply| {
                 let (stamp, _) = outstanding.take().expect("a reply to a frame sent");
-                assert_eq!(reply.stamp(), stamp, "the reply answers the frame just sent");
+                assert_eq!(
+                    reply.stamp(),
+                    stamp,
+                    "the reply answers the frame just sent"
+                );
             });
             if let Some((_, at)) = outstanding {
-                assert!(at.elapsed() < TIMEOUT, "no reply for {TIMEOUT:?}: peer gone");
+                assert!(
+                    at.elapsed() < TIMEOUT,
+                    "no reply for {TIMEOUT:?}: peer gone"
+                );
                 return Ok(LOOP_TIMEOUT);
             }
             if sent == run.total() {
@@ -662,6 +705,7 @@ fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
         on: &[frames.listener()],
         pending: &[&frames],
         every: None,
+        sockets: false,
         first_timeout: LOOP_TIMEOUT,
     };
     announce_ready("");
@@ -686,7 +730,10 @@ fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
             if taken > 0 {
                 last = Instant::now();
             } else {
-                assert!(last.elapsed() < TIMEOUT, "nothing for {TIMEOUT:?}: peer gone");
+                assert!(
+                    last.elapsed() < TIMEOUT,
+                    "nothing for {TIMEOUT:?}: peer gone"
+                );
             }
             if received == run.total() {
                 control.stop();
@@ -1183,8 +1230,14 @@ fn receiver_main(run: &Run, cpu: Option<usize>) {
         Transport::Iox2Poll => iox2(run, Role::Receiver, false).expect("histogram"),
         Transport::Partition
         | Transport::PartitionBlock
+        | Transport::PartitionBackoff
+        | Transport::PartitionDoorbell
         | Transport::PartitionSparse
-        | Transport::PartitionBlockSparse => typed(run, Role::Receiver, false).expect("histogram"),
+        | Transport::PartitionBlockSparse
+        | Transport::PartitionBackoffSparse
+        | Transport::PartitionDoorbellSparse => {
+            typed(run, Role::Receiver, false).expect("histogram")
+        }
         Transport::Iox2OwnPubsub => typed(run, Role::Receiver, true).expect("histogram"),
         Transport::Uds | Transport::UdsSparse => uds_receiver(run),
         Transport::Udp => udp_receiver(run),
@@ -1250,8 +1303,12 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
         }
         Transport::Partition
         | Transport::PartitionBlock
+        | Transport::PartitionBackoff
+        | Transport::PartitionDoorbell
         | Transport::PartitionSparse
-        | Transport::PartitionBlockSparse => {
+        | Transport::PartitionBlockSparse
+        | Transport::PartitionBackoffSparse
+        | Transport::PartitionDoorbellSparse => {
             typed(run, Role::Sender, false);
         }
         Transport::Iox2OwnPubsub => {
@@ -1307,7 +1364,10 @@ fn print_table(description: &str, results: &[&Value]) {
         .copied();
     print_rows("transport", "label", results, reference, "ev");
     for (name, value, reference) in goal_ratios(results) {
-        println!("  {name}: {value:.2} / {reference:.2} µs = {}", ratio(value, reference));
+        println!(
+            "  {name}: {value:.2} / {reference:.2} µs = {}",
+            ratio(value, reference)
+        );
     }
 }
 
@@ -1322,18 +1382,16 @@ fn goal_ratios(results: &[&Value]) -> Vec<(String, f64, f64)> {
     [
         (Transport::Partition, Transport::Uds),
         (Transport::PartitionBlock, Transport::Uds),
+        (Transport::PartitionBackoff, Transport::Uds),
+        (Transport::PartitionDoorbell, Transport::Uds),
         (Transport::PartitionSparse, Transport::UdsSparse),
         (Transport::PartitionBlockSparse, Transport::UdsSparse),
+        (Transport::PartitionBackoffSparse, Transport::UdsSparse),
+        (Transport::PartitionDoorbellSparse, Transport::UdsSparse),
         (Transport::Iox2Poll, Transport::Iox2OwnPubsub),
     ]
     .into_iter()
-    .filter_map(|(a, b)| {
-        Some((
-            format!("p50 {} / {}", a.arg(), b.arg()),
-            p50(a)?,
-            p50(b)?,
-        ))
-    })
+    .filter_map(|(a, b)| Some((format!("p50 {} / {}", a.arg(), b.arg()), p50(a)?, p50(b)?)))
     .collect()
 }
 
@@ -1757,16 +1815,21 @@ fn parse_args() -> Args {
                 )
             }
             "--sizes" => {
-                args.sizes = Some(value().split(',').map(|v| number(v.to_owned()) as usize).collect())
+                args.sizes = Some(
+                    value()
+                        .split(',')
+                        .map(|v| number(v.to_owned()) as usize)
+                        .collect(),
+                )
             }
             "--realtime" => args.realtime = true,
             // `cargo bench` adds it.
             "--bench" => {}
             other => {
                 eprintln!(
-                "latency: ignoring `{other}` (options: --frames N, --warmup N, --load, \
+                    "latency: ignoring `{other}` (options: --frames N, --warmup N, --load, \
                  --only T,T, --sizes N,N)"
-            )
+                )
             }
         }
     }

@@ -26,7 +26,9 @@
 //! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
 //!
 //! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
-//! mode = "backoff"                # backoff (the default): spin, yield, then sleep; block: sleep
+//! mode = "backoff"                # backoff (the default): spin, yield, then sleep in the
+//!                                 # WaitSet; block: sleep at once; doorbell: spin, yield, then
+//!                                 # sleep on the partition's semaphore
 //! spin_us = 200                   # backoff: spin this long after the last work (default 200)
 //! yield_us = 0                    # backoff: then yield between looks this long (default 0)
 //! # and [ipc.idle.mission-data-handling], [ipc.idle.system-automation],
@@ -214,8 +216,13 @@ pub enum IdleMode {
     /// Look at the inputs in a loop for `spin_us`, then yield the CPU between looks for
     /// `yield_us`, then sleep in the WaitSet as `Block` does (Aeron's BackoffIdleStrategy). A
     /// frame that comes within the budget after the last one is taken without a wake-up.
-    #[default]
     Backoff,
+    /// As `backoff`, then sleep on the partition's doorbell instead of the WaitSet: a POSIX
+    /// semaphore in shared memory that every publisher feeding the partition rings, with a
+    /// timer thread that rings it at the loop's next deadline (`doorbell`). A partition that
+    /// also waits for sockets (voting-monitoring) cannot: it sleeps in the WaitSet.
+    #[default]
+    Doorbell,
 }
 
 /// The idle strategy of one partition (`[ipc.idle.<partition>]`). The defaults were chosen by
@@ -241,7 +248,7 @@ pub const DEFAULT_SPIN_US: u64 = 200;
 impl Default for Idle {
     fn default() -> Self {
         Self {
-            mode: IdleMode::Backoff,
+            mode: IdleMode::Doorbell,
             spin_us: DEFAULT_SPIN_US,
             yield_us: 0,
         }
@@ -901,6 +908,36 @@ mod tests {
                 .get_envs()
                 .all(|(k, _)| k != std::ffi::OsStr::new(CONFIG_TOML_ENV)),
             "nothing handed over"
+        );
+    }
+
+    #[test]
+    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_doorbell() {
+        let c = Config::parse(
+            "[ipc.idle.voting-monitoring]\nmode = \"block\"\n\
+             [ipc.idle.guidance-stub]\nmode = \"backoff\"\nspin_us = 50\nyield_us = 20\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(c.ipc.idle.of("voting-monitoring").mode, IdleMode::Block);
+        let guidance = c.ipc.idle.of("guidance-stub");
+        assert_eq!(guidance.mode, IdleMode::Backoff);
+        assert_eq!(guidance.spin(), Duration::from_micros(50));
+        assert_eq!(guidance.yield_for(), Duration::from_micros(20));
+        let mdh = c.ipc.idle.of("mission-data-handling");
+        assert_eq!(mdh, Idle::default());
+        assert_eq!(mdh.mode, IdleMode::Doorbell);
+        assert_eq!(mdh.spin_us, DEFAULT_SPIN_US);
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
+        assert!(
+            Config::parse(
+                "[ipc.idle.voting-monitoring]\nmode = \"spin\"\n",
+                Path::new("g")
+            )
+            .is_err()
         );
     }
 

@@ -72,6 +72,7 @@ where
             automation.listener(),
         ],
         pending: &[&lists.waypoints, &lists.areas, &automation],
+        sockets: false,
         every: Some(interval),
         first_timeout: interval,
     };

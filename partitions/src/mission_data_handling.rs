@@ -121,6 +121,7 @@ where
             progress.listener(),
         ],
         pending: &[&uplink, &automation, &progress],
+        sockets: false,
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };

@@ -66,6 +66,7 @@ where
         ],
         // Not guidance's heartbeat: it is not urgent and comes every period.
         pending: &[&lists.waypoints, &lists.areas, &progress, &commands],
+        sockets: false,
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };

@@ -129,6 +129,7 @@ where
     let wake = Wake {
         on: &[direct_fd, lte_fd, downlink.listener()],
         pending: &[&links, &downlink],
+        sockets: true,
         every: None,
         first_timeout: IDLE_WAIT,
     };
