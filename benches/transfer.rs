@@ -20,6 +20,9 @@
 //!                                               # during 256-waypoint uploads (20 s)
 //! ```
 //!
+//! `--idle block|backoff|doorbell` (with `--spin-us N`) runs every partition with that idle
+//! strategy instead of the default (`config::Idle`), to compare the wait paths.
+//!
 //! `--cpu-shares` (`--idle-seconds N`, `--upload-seconds N`) measures instead each partition's
 //! share of one CPU from /proc (its process's user and system time over the wall time): with
 //! the FCC up and no traffic, then while the GCS uploads the generated 256-waypoint mission back
@@ -37,6 +40,7 @@ use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
 use missionlink_partitions::binaries;
+use missionlink_partitions::config::{Idle, IdleMode, IdlePerPartition};
 use missionlink_services::ground_station::{MissionPlan, Sequence};
 use missionlink_services::testkit;
 
@@ -104,6 +108,7 @@ fn measure(
     runs: usize,
 ) -> (Vec<Measured>, Option<std::process::ExitStatus>) {
     let mut rig = common::Rig::new(name);
+    rig.config.ipc.idle = idle_override();
     if let Some((latitude, longitude)) = start {
         rig.config.guidance.start_latitude_deg = latitude;
         rig.config.guidance.start_longitude_deg = longitude;
@@ -188,6 +193,29 @@ fn measure(
     (results, status)
 }
 
+/// The partitions' idle strategy: the default unless `--idle block|backoff|doorbell` (and
+/// `--spin-us N`) name another, for every partition (to compare the wait paths).
+fn idle_override() -> IdlePerPartition {
+    let args: Vec<String> = std::env::args().collect();
+    let mut idle = Idle::default();
+    if let Some(mode) = args
+        .iter()
+        .position(|a| a == "--idle")
+        .and_then(|i| args.get(i + 1))
+    {
+        idle.mode = match mode.as_str() {
+            "block" => IdleMode::Block,
+            "backoff" => IdleMode::Backoff,
+            "doorbell" => IdleMode::Doorbell,
+            other => panic!("--idle {other}: block, backoff or doorbell"),
+        };
+    }
+    if let Some(spin) = number_after(&args, "--spin-us") {
+        idle.spin_us = spin;
+    }
+    IdlePerPartition::all(idle)
+}
+
 /// The partitions of the FCC, as the launcher names them.
 const PARTITIONS: [&str; 4] = [
     "voting-monitoring",
@@ -232,6 +260,8 @@ fn cpu_shares(pids: &[(&str, i32)], during: impl FnOnce()) -> (Vec<f64>, f64) {
 /// `target/transfer/cpu_shares.json` in bench mode.
 fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
     let mut rig = common::Rig::new("bench-cpu-shares");
+    rig.config.ipc.idle = idle_override();
+    let idle_strategy = rig.config.ipc.idle.of(PARTITIONS[1]);
     let mut fcc = rig.start("fcc");
     for partition in PARTITIONS {
         common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
@@ -266,8 +296,8 @@ fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
     let load_after = load_average();
     let _ = fcc.stop();
     println!(
-        "CPU share of one CPU per partition, from /proc (load average before {load_before}, \
-         after {load_after})"
+        "CPU share of one CPU per partition, from /proc ({idle_strategy:?}; load average \
+         before {load_before}, after {load_after})"
     );
     println!(
         "{:<24} {:>16} {:>24}",
@@ -294,6 +324,7 @@ fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
             "uploads": uploads,
             "load_average_before": load_before,
             "load_average_after": load_after,
+            "idle_strategy": format!("{idle_strategy:?}"),
             "partitions": json,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
@@ -424,7 +455,8 @@ fn main() {
     println!(
         "Upload transfer through the real FCC partitions and GcsLink over UDP loopback \
          ({runs} runs per mission after {warm_up} warm-up runs; {cpus} CPUs; load average \
-         before {load_before}, after {load_after})"
+         before {load_before}, after {load_after}; partitions waiting as {:?})",
+        idle_override().of(PARTITIONS[1])
     );
     println!(
         "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}",
@@ -545,6 +577,7 @@ fn main() {
             "load_average_before": load_before,
             "load_average_after": load_after,
             "ms_per_waypoint_message_10_to_256": growth,
+            "idle_strategy": format!("{:?}", idle_override().of(PARTITIONS[1])),
             "missions": json,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
