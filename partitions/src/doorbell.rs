@@ -87,9 +87,12 @@ pub fn consumers(service: FccService) -> &'static [Partition] {
     }
 }
 
-/// Notifiers and listeners a doorbell allows: every publisher of a consumed service, with room
-/// for restarted processes whose ports are not cleaned up yet.
+/// Notifiers a doorbell allows: every publisher of a consumed service, with room for restarted
+/// processes whose ports are not cleaned up yet.
 const MAX_RINGERS: usize = 64;
+/// Listeners a doorbell allows: its partition, and a restarted one while the dead one's port is
+/// not cleaned up yet (a ring visits every listener slot).
+const MAX_LISTENERS: usize = 2;
 
 fn err(what: impl std::fmt::Display, e: impl Debug) -> IpcError {
     IpcError(format!("{what}: {e:?}"))
@@ -136,7 +139,10 @@ impl Doorbells {
             .service_builder(&service)
             .event()
             .max_notifiers(MAX_RINGERS)
-            .max_listeners(MAX_RINGERS)
+            .max_listeners(MAX_LISTENERS)
+            // One event ID: a woken listener reads the activations of every ID there is, and
+            // the ring says nothing but "look".
+            .event_id_max_value(0)
             .open_or_create()
             .map_err(|e| err(format_args!("opening the doorbell of {role:?}"), e))
     }
