@@ -35,13 +35,14 @@
 //!    sides run `runtime::run_loop` (the loop every partition runs, with its heartbeat), the
 //!    sender as voting-monitoring publishing on the uplink service, the receiver as mission
 //!    data handling taking the frames as it does (`take_all`) and answering on the downlink
-//!    service; each waits as its partition's idle strategy says (`config::Idle`, default
-//!    `backoff`: spin on the inputs, then sleep in the WaitSet).
+//!    service; each waits as its partition's default idle strategy says (`config::Idle`:
+//!    voting-monitoring spins 200 µs, then sleeps in the WaitSet; mission data handling sleeps
+//!    on its doorbell at once).
 //! 7. `partition-block`, `partition-backoff`, `partition-doorbell`: the same with each idle
 //!    strategy (`config::IdleMode`): `block` (sleep in the WaitSet at once: the wait path
 //!    before the idle strategies, the same as `iox2-event` through `run_loop`), `backoff`
-//!    (spin for the default budget, then the WaitSet) and `doorbell` without a spin (sleep at
-//!    once on the partition's semaphore doorbell, `doorbell`: its own wake-up).
+//!    (spin for voting-monitoring's default budget, then the WaitSet) and `doorbell` without a
+//!    spin (sleep at once on the partition's semaphore doorbell, `doorbell`), on both sides.
 //! 8. `iox2-own-pubsub`: iceoryx2's publish-subscribe ping-pong as its own benchmark sets it
 //!    up (`benchmarks/publish-subscribe` of its repository): a service per direction, history
 //!    0, subscriber buffer 1, one publisher and one subscriber, both sides busy-waiting on
@@ -130,7 +131,7 @@ use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_partitions::clock::monotonic_ns;
 use missionlink_partitions::config::{
-    Config, FifoPriority, Idle, IdleMode, IdlePerPartition, RealtimeSettings,
+    Config, DEFAULT_SPIN_US, FifoPriority, Idle, IdleMode, IdlePerPartition, RealtimeSettings,
 };
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::realtime::{self, Scheduling};
@@ -258,22 +259,24 @@ impl Transport {
         .then_some(SPARSE_PACE)
     }
 
-    /// The idle strategy of a partition-loop row: the default of every partition, sleeping
-    /// in the WaitSet at once, spinning first then the WaitSet, or the doorbell without a
-    /// spin.
-    fn idle(self) -> Idle {
+    /// The idle strategy of every partition in a partition-loop row: `None` for each
+    /// partition's default (the sender runs as voting-monitoring, the receiver as mission data
+    /// handling); sleeping in the WaitSet at once; spinning for voting-monitoring's default
+    /// budget, then the WaitSet; the doorbell without a spin.
+    fn idle(self) -> Option<Idle> {
         match self {
-            Self::PartitionBlock | Self::PartitionBlockSparse => Idle::BLOCK,
-            Self::PartitionBackoff | Self::PartitionBackoffSparse => Idle {
+            Self::PartitionBlock | Self::PartitionBlockSparse => Some(Idle::BLOCK),
+            Self::PartitionBackoff | Self::PartitionBackoffSparse => Some(Idle {
                 mode: IdleMode::Backoff,
-                ..Idle::default()
-            },
-            Self::PartitionDoorbell | Self::PartitionDoorbellSparse => Idle {
+                spin_us: DEFAULT_SPIN_US,
+                yield_us: 0,
+            }),
+            Self::PartitionDoorbell | Self::PartitionDoorbellSparse => Some(Idle {
                 mode: IdleMode::Doorbell,
                 spin_us: 0,
                 yield_us: 0,
-            },
-            _ => Idle::default(),
+            }),
+            _ => None,
         }
     }
 
@@ -606,12 +609,15 @@ fn iox2(run: &Run, role: Role, event: bool) -> Option<Histogram<u64>> {
 // The partitions' loop: `runtime::run_loop` with the idle strategy of the row
 // ---------------------------------------------------------------------------------------------
 
-/// The configuration of both ends of a partition-loop row: the defaults (heartbeat, reports)
-/// with the run's prefix and the row's idle strategy for every partition.
+/// The configuration of both ends of a partition-loop row: the defaults (heartbeat, reports,
+/// each partition's idle strategy) with the run's prefix; a row of one idle strategy sets it
+/// for every partition.
 fn partition_config(run: &Run) -> Config {
     let mut config = Config::default();
     config.ipc.service_prefix = format!("missionlink-latency-{}", run.id);
-    config.ipc.idle = IdlePerPartition::all(run.transport.idle());
+    if let Some(idle) = run.transport.idle() {
+        config.ipc.idle = IdlePerPartition::all(idle);
+    }
     config
 }
 

@@ -20,8 +20,9 @@
 //!                                               # during 256-waypoint uploads (20 s)
 //! ```
 //!
-//! `--idle block|backoff|doorbell` (with `--spin-us N`) runs every partition with that idle
-//! strategy instead of the default (`config::Idle`), to compare the wait paths.
+//! `--idle block|backoff|doorbell` (with `--spin-us N`, else no spin) runs every partition with
+//! that idle strategy instead of each partition's default (`config::Idle`), to compare the wait
+//! paths.
 //!
 //! `--cpu-shares` (`--idle-seconds N`, `--upload-seconds N`) measures instead each partition's
 //! share of one CPU from /proc (its process's user and system time over the wall time): with
@@ -193,27 +194,41 @@ fn measure(
     (results, status)
 }
 
-/// The partitions' idle strategy: the default unless `--idle block|backoff|doorbell` (and
-/// `--spin-us N`) name another, for every partition (to compare the wait paths).
+/// The partitions' idle strategies: each partition's default unless `--idle
+/// block|backoff|doorbell` (with `--spin-us N`, else no spin) names one for every partition (to
+/// compare the wait paths).
 fn idle_override() -> IdlePerPartition {
     let args: Vec<String> = std::env::args().collect();
-    let mut idle = Idle::default();
-    if let Some(mode) = args
+    let Some(mode) = args
         .iter()
         .position(|a| a == "--idle")
         .and_then(|i| args.get(i + 1))
-    {
-        idle.mode = match mode.as_str() {
-            "block" => IdleMode::Block,
-            "backoff" => IdleMode::Backoff,
-            "doorbell" => IdleMode::Doorbell,
-            other => panic!("--idle {other}: block, backoff or doorbell"),
-        };
+    else {
+        return IdlePerPartition::default();
+    };
+    let mode = match mode.as_str() {
+        "block" => IdleMode::Block,
+        "backoff" => IdleMode::Backoff,
+        "doorbell" => IdleMode::Doorbell,
+        other => panic!("--idle {other}: block, backoff or doorbell"),
+    };
+    IdlePerPartition::all(Idle {
+        mode,
+        spin_us: number_after(&args, "--spin-us").unwrap_or(0),
+        yield_us: 0,
+    })
+}
+
+/// How the partitions wait, for the output: mission data handling's strategy, and
+/// voting-monitoring's where it differs.
+fn idle_label(idle: &IdlePerPartition) -> String {
+    let (vm, mdh) = (idle.voting_monitoring, idle.mission_data_handling);
+    let show = |i: Idle| format!("{:?} spin {} µs", i.mode, i.spin_us).to_lowercase();
+    if vm == mdh {
+        format!("every partition {}", show(mdh))
+    } else {
+        format!("voting-monitoring {}, the others {}", show(vm), show(mdh))
     }
-    if let Some(spin) = number_after(&args, "--spin-us") {
-        idle.spin_us = spin;
-    }
-    IdlePerPartition::all(idle)
 }
 
 /// The partitions of the FCC, as the launcher names them.
@@ -261,7 +276,7 @@ fn cpu_shares(pids: &[(&str, i32)], during: impl FnOnce()) -> (Vec<f64>, f64) {
 fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
     let mut rig = common::Rig::new("bench-cpu-shares");
     rig.config.ipc.idle = idle_override();
-    let idle_strategy = rig.config.ipc.idle.of(PARTITIONS[1]);
+    let idle_strategy = idle_label(&rig.config.ipc.idle);
     let mut fcc = rig.start("fcc");
     for partition in PARTITIONS {
         common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
@@ -296,7 +311,7 @@ fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
     let load_after = load_average();
     let _ = fcc.stop();
     println!(
-        "CPU share of one CPU per partition, from /proc ({idle_strategy:?}; load average \
+        "CPU share of one CPU per partition, from /proc ({idle_strategy}; load average \
          before {load_before}, after {load_after})"
     );
     println!(
@@ -324,7 +339,7 @@ fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
             "uploads": uploads,
             "load_average_before": load_before,
             "load_average_after": load_after,
-            "idle_strategy": format!("{idle_strategy:?}"),
+            "idle_strategy": idle_strategy,
             "partitions": json,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
@@ -455,8 +470,8 @@ fn main() {
     println!(
         "Upload transfer through the real FCC partitions and GcsLink over UDP loopback \
          ({runs} runs per mission after {warm_up} warm-up runs; {cpus} CPUs; load average \
-         before {load_before}, after {load_after}; partitions waiting as {:?})",
-        idle_override().of(PARTITIONS[1])
+         before {load_before}, after {load_after}; {})",
+        idle_label(&idle_override())
     );
     println!(
         "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}",
@@ -577,7 +592,7 @@ fn main() {
             "load_average_before": load_before,
             "load_average_after": load_after,
             "ms_per_waypoint_message_10_to_256": growth,
-            "idle_strategy": format!("{:?}", idle_override().of(PARTITIONS[1])),
+            "idle_strategy": idle_label(&idle_override()),
             "missions": json,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();

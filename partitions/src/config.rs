@@ -26,11 +26,11 @@
 //! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
 //!
 //! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
-//! mode = "backoff"                # backoff (the default): spin, yield, then sleep in the
-//!                                 # WaitSet; block: sleep at once; doorbell: spin, yield, then
-//!                                 # sleep on the partition's semaphore
-//! spin_us = 200                   # backoff: spin this long after the last work (default 200)
-//! yield_us = 0                    # backoff: then yield between looks this long (default 0)
+//! mode = "backoff"                # block: sleep in the WaitSet at once; backoff: spin, yield,
+//!                                 # then sleep in the WaitSet; doorbell: spin, yield, then sleep
+//!                                 # on the partition's semaphore (the default of the others)
+//! spin_us = 200                   # spin this long after the last work (others' default: 0)
+//! yield_us = 0                    # then yield between looks this long (default 0)
 //! # and [ipc.idle.mission-data-handling], [ipc.idle.system-automation],
 //! # [ipc.idle.guidance-stub]
 //!
@@ -225,37 +225,54 @@ pub enum IdleMode {
     Doorbell,
 }
 
-/// The idle strategy of one partition (`[ipc.idle.<partition>]`). The defaults were chosen by
-/// `benches/latency.rs` on the 2-vCPU development machine (docs/wait-path.md): `backoff` with
-/// 200 µs of spinning (a partition's peer answers within it: the other partition of a hop, and
-/// the GCS's round trip over loopback for voting-monitoring) and no yield phase; idle, a
-/// partition woken only by its heartbeat and its timers spins for about 200 µs per wake-up,
-/// well below 2 % of a CPU.
+/// The idle strategy of one partition (`[ipc.idle.<partition>]`); a field left out takes the
+/// value of [`Idle::default`] (`doorbell`, no spin). The defaults of the partitions
+/// ([`IdlePerPartition::default`]) were chosen by measurement on the 2-vCPU development machine
+/// (docs/wait-path.md):
+///
+/// - voting-monitoring: `backoff`, 200 µs of spinning. It waits for the UDP links as well, so it
+///   cannot use the doorbell; mission data handling's answer to an uplink frame comes within the
+///   spin, and so does the GCS's next frame of a transfer over loopback. Idle, it spins about
+///   200 µs per wake-up (heartbeat and timers): 0.5 % of a CPU.
+/// - mission-data-handling, system-automation, guidance-stub: `doorbell` without a spin. On two
+///   CPUs a second partition spinning takes the CPU the GCS and the other partitions need: the
+///   transfer of a 256-waypoint mission was slower with every partition spinning than with
+///   every partition sleeping at once, while the doorbell's cold wake-up is as fast as a Unix
+///   socket's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Idle {
-    /// `block` or `backoff`.
+    /// `block`, `backoff` or `doorbell`.
     pub mode: IdleMode,
-    /// With `backoff`: how long the loop looks at its inputs without pausing, microseconds.
+    /// With `backoff` and `doorbell`: how long the loop looks at its inputs without pausing
+    /// before it sleeps, microseconds.
     pub spin_us: u64,
-    /// With `backoff`: how long it then looks, yielding the CPU between looks, microseconds.
+    /// With `backoff` and `doorbell`: how long it then looks, yielding the CPU between looks,
+    /// microseconds.
     pub yield_us: u64,
 }
 
-/// The default spin budget of [`Idle`], microseconds.
+/// voting-monitoring's default spin budget, microseconds.
 pub const DEFAULT_SPIN_US: u64 = 200;
 
 impl Default for Idle {
     fn default() -> Self {
         Self {
             mode: IdleMode::Doorbell,
-            spin_us: DEFAULT_SPIN_US,
+            spin_us: 0,
             yield_us: 0,
         }
     }
 }
 
 impl Idle {
+    /// voting-monitoring's default: spin 200 µs, then sleep in the WaitSet.
+    pub const VOTING_MONITORING: Self = Self {
+        mode: IdleMode::Backoff,
+        spin_us: DEFAULT_SPIN_US,
+        yield_us: 0,
+    };
+
     /// Sleeping at once.
     pub const BLOCK: Self = Self {
         mode: IdleMode::Block,
@@ -274,8 +291,9 @@ impl Idle {
     }
 }
 
-/// The idle strategy of each partition (`[ipc.idle.voting-monitoring]` and so on).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// The idle strategy of each partition (`[ipc.idle.voting-monitoring]` and so on); the
+/// defaults are those of [`Idle`]'s documentation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields, rename_all = "kebab-case")]
 pub struct IdlePerPartition {
     /// voting-monitoring.
@@ -286,6 +304,17 @@ pub struct IdlePerPartition {
     pub system_automation: Idle,
     /// guidance-stub.
     pub guidance_stub: Idle,
+}
+
+impl Default for IdlePerPartition {
+    fn default() -> Self {
+        Self {
+            voting_monitoring: Idle::VOTING_MONITORING,
+            mission_data_handling: Idle::default(),
+            system_automation: Idle::default(),
+            guidance_stub: Idle::default(),
+        }
+    }
 }
 
 impl IdlePerPartition {
@@ -927,7 +956,13 @@ mod tests {
         let mdh = c.ipc.idle.of("mission-data-handling");
         assert_eq!(mdh, Idle::default());
         assert_eq!(mdh.mode, IdleMode::Doorbell);
-        assert_eq!(mdh.spin_us, DEFAULT_SPIN_US);
+        assert_eq!(mdh.spin_us, 0);
+        let defaults = Config::default();
+        assert_eq!(
+            defaults.ipc.idle.of("voting-monitoring"),
+            Idle::VOTING_MONITORING
+        );
+        assert_eq!(Idle::VOTING_MONITORING.spin_us, DEFAULT_SPIN_US);
         assert_eq!(
             Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
             c
