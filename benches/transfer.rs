@@ -22,7 +22,7 @@
 //!
 //! `--idle block|backoff|doorbell` (with `--spin-us N`, else no spin) runs every partition with
 //! that idle strategy instead of each partition's default (`config::Idle`), to compare the wait
-//! paths.
+//! paths; `--vm-idle MODE` (with `--vm-spin-us N`) sets voting-monitoring's alone.
 //!
 //! `--cpu-shares` (`--idle-seconds N`, `--upload-seconds N`) measures instead each partition's
 //! share of one CPU from /proc (its process's user and system time over the wall time): with
@@ -199,24 +199,33 @@ fn measure(
 /// compare the wait paths).
 fn idle_override() -> IdlePerPartition {
     let args: Vec<String> = std::env::args().collect();
-    let Some(mode) = args
-        .iter()
-        .position(|a| a == "--idle")
-        .and_then(|i| args.get(i + 1))
-    else {
-        return IdlePerPartition::default();
+    let mode_after = |flag: &str| {
+        args.iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+            .map(|mode| match mode.as_str() {
+                "block" => IdleMode::Block,
+                "backoff" => IdleMode::Backoff,
+                "doorbell" => IdleMode::Doorbell,
+                other => panic!("{flag} {other}: block, backoff or doorbell"),
+            })
     };
-    let mode = match mode.as_str() {
-        "block" => IdleMode::Block,
-        "backoff" => IdleMode::Backoff,
-        "doorbell" => IdleMode::Doorbell,
-        other => panic!("--idle {other}: block, backoff or doorbell"),
+    let mut idle = match mode_after("--idle") {
+        Some(mode) => IdlePerPartition::all(Idle {
+            mode,
+            spin_us: number_after(&args, "--spin-us").unwrap_or(0),
+            yield_us: 0,
+        }),
+        None => IdlePerPartition::default(),
     };
-    IdlePerPartition::all(Idle {
-        mode,
-        spin_us: number_after(&args, "--spin-us").unwrap_or(0),
-        yield_us: 0,
-    })
+    if let Some(mode) = mode_after("--vm-idle") {
+        idle.voting_monitoring = Idle {
+            mode,
+            spin_us: number_after(&args, "--vm-spin-us").unwrap_or(0),
+            yield_us: 0,
+        };
+    }
+    idle
 }
 
 /// How the partitions wait, for the output: mission data handling's strategy, and
