@@ -25,12 +25,38 @@
 //!    listener and takes the sample as they do (`Subscriber::take_all`: zero-copy, it reads the
 //!    stamp in place).
 //! 2. `iox2-poll`: the same ports, publishing without the notification (`Publisher::publish`);
-//!    the receiver spins on `Subscriber::for_each` (and the sender spins for the reply).
+//!    the receiver spins on `Subscriber::take_one` (and the sender spins for the reply).
 //! 3. `uds`: a Unix domain datagram socket (abstract address), blocking `recv_from`.
 //! 4. `udp`: UDP over loopback, blocking `recv_from`.
 //! 5. `shm-floor`: the floor of any shared-memory transport: the stamp alone, stored into an
 //!    `AtomicU64` on its own cache line of a file mapped by both processes (under `/dev/shm`),
 //!    both sides spinning. Nothing but the cache-line transfer between the two cores.
+//! 6. `partition`: the partitions' own wait and wake path with its default settings: both
+//!    sides run `runtime::run_loop` (the loop every partition runs, with its heartbeat), the
+//!    sender as voting-monitoring publishing on the uplink service, the receiver as mission
+//!    data handling taking the frames as it does (`take_all`) and answering on the downlink
+//!    service; each waits as its partition's default idle strategy says (`config::Idle`:
+//!    voting-monitoring spins 200 µs, then sleeps in the WaitSet; mission data handling sleeps
+//!    on its doorbell at once).
+//! 7. `partition-block`, `partition-backoff`, `partition-doorbell`: the same with each idle
+//!    strategy (`config::IdleMode`): `block` (sleep in the WaitSet at once: the wait path
+//!    before the idle strategies, the same as `iox2-event` through `run_loop`), `backoff`
+//!    (spin for voting-monitoring's default budget, then the WaitSet) and `doorbell` without a
+//!    spin (sleep at once on the partition's semaphore doorbell, `doorbell`), on both sides.
+//! 8. `iox2-own-pubsub`: iceoryx2's publish-subscribe ping-pong as its own benchmark sets it
+//!    up (`benchmarks/publish-subscribe` of its repository): a service per direction, history
+//!    0, subscriber buffer 1, one publisher and one subscriber, both sides busy-waiting on
+//!    `receive`; the reference of `iox2-poll`.
+//! 9. `partition-sparse`, `partition-block-sparse`, `partition-backoff-sparse`,
+//!    `partition-doorbell-sparse`, `uds-sparse`: those rows and `uds` at the sparse pace: the next frame leaves 1 ms after the
+//!    previous one was answered (as uplink frames arrive from a GCS), longer than any spin
+//!    budget, so every frame meets a receiver asleep: the cold wake-up. They record a tenth of
+//!    `--frames` (and warm up with a tenth of `--warmup`).
+//!
+//! `--only T,T,...` runs only the named transports, `--sizes N,N` only the named payload sizes
+//! (for example `--only partition,uds --sizes 548`). After each table the ratios of p50 that
+//! the goals name are printed: `partition` / `uds`, `partition-sparse` / `uds-sparse`,
+//! `iox2-poll` / `iox2-own-pubsub` (and the `partition-block` ones).
 //!
 //! # What limits the numbers
 //!
@@ -58,8 +84,9 @@
 //! # Under CPU load (`-- --load`)
 //!
 //! `cargo bench --bench latency -- --load` measures instead the partition-to-partition hop of
-//! the largest STANAG frame over `iox2-event` (the same code as above: the partitions'
-//! publisher, subscriber and WaitSet) in three cases, one after the other in one run:
+//! the largest STANAG frame over `partition` (the partitions' own loop with its default idle
+//! strategy; `--only T` names another transport, the first named) in three cases, one after
+//! the other in one run:
 //!
 //! 1. no load, default scheduling (the reference);
 //! 2. a CPU hog per CPU, default scheduling: what the partitions get without real-time
@@ -99,13 +126,17 @@ use std::time::{Duration, Instant};
 
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::*;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_partitions::clock::monotonic_ns;
-use missionlink_partitions::config::{FifoPriority, RealtimeSettings};
+use missionlink_partitions::config::{
+    Config, DEFAULT_SPIN_US, FifoPriority, Idle, IdleMode, IdlePerPartition, RealtimeSettings,
+};
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::realtime::{self, Scheduling};
-use missionlink_partitions::runtime::{self, Control};
+use missionlink_partitions::runtime::{self, Control, Wake};
+use missionlink_partitions::{mission_data_handling, voting_monitoring};
 use serde_json::{Value, json};
 
 /// Recorded frames per transport and size unless `--frames` says otherwise.
@@ -116,9 +147,15 @@ const DEFAULT_WARMUP: u64 = 2_000;
 const LOAD_FIFO_PRIORITY: u8 = 50;
 /// The goal for the hop under load with real-time settings (BENCHMARKS.md section 7): p99.9 at
 /// most this.
-const LOAD_GOAL_P999: Duration = Duration::from_micros(200);
+const LOAD_GOAL_P999: Duration = Duration::from_micros(100);
 /// A side that hears nothing for this long gives up: the other process is gone.
 const TIMEOUT: Duration = Duration::from_secs(10);
+/// The sparse rows send a frame this long after the previous one was answered: longer than any
+/// spin budget, as uplink frames arriving from a GCS.
+const SPARSE_PACE: Duration = Duration::from_millis(1);
+/// The sparse rows record this many times fewer frames (and warm up with this many times
+/// fewer) than the others.
+const SPARSE_DIVISOR: u64 = 10;
 /// Size of the reply to every frame.
 const REPLY_SIZE: usize = 64;
 /// Size of the full waypoint list.
@@ -131,30 +168,60 @@ const WAYPOINT_LIST_SIZE: usize = size_of::<WaypointListPayload>();
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Transport {
     Iox2Event,
+    Partition,
+    PartitionBlock,
+    PartitionBackoff,
+    PartitionDoorbell,
     Iox2Poll,
+    Iox2OwnPubsub,
     Uds,
     Udp,
     ShmFloor,
+    PartitionSparse,
+    PartitionBlockSparse,
+    PartitionBackoffSparse,
+    PartitionDoorbellSparse,
+    UdsSparse,
 }
 
 impl Transport {
     /// In the order of the tables; the first is the reference of the ratios.
-    const ALL: [Transport; 5] = [
+    const ALL: [Transport; 15] = [
         Self::Iox2Event,
+        Self::Partition,
+        Self::PartitionBlock,
+        Self::PartitionBackoff,
+        Self::PartitionDoorbell,
         Self::Iox2Poll,
+        Self::Iox2OwnPubsub,
         Self::Uds,
         Self::Udp,
         Self::ShmFloor,
+        Self::PartitionSparse,
+        Self::PartitionBlockSparse,
+        Self::PartitionBackoffSparse,
+        Self::PartitionDoorbellSparse,
+        Self::UdsSparse,
     ];
 
     /// The name on the command line and in the JSON.
     fn arg(self) -> &'static str {
         match self {
             Self::Iox2Event => "iox2-event",
+            Self::Partition => "partition",
+            Self::PartitionBlock => "partition-block",
+            Self::PartitionBackoff => "partition-backoff",
+            Self::PartitionDoorbell => "partition-doorbell",
             Self::Iox2Poll => "iox2-poll",
+            Self::Iox2OwnPubsub => "iox2-own-pubsub",
             Self::Uds => "uds",
             Self::Udp => "udp",
             Self::ShmFloor => "shm-floor",
+            Self::PartitionSparse => "partition-sparse",
+            Self::PartitionBlockSparse => "partition-block-sparse",
+            Self::PartitionBackoffSparse => "partition-backoff-sparse",
+            Self::PartitionDoorbellSparse => "partition-doorbell-sparse",
+            Self::UdsSparse => "uds-sparse",
         }
     }
 
@@ -162,10 +229,55 @@ impl Transport {
     fn label(self) -> &'static str {
         match self {
             Self::Iox2Event => "iceoryx2 event-driven",
+            Self::Partition => "partition loop (default idle)",
+            Self::PartitionBlock => "partition loop, idle = block",
+            Self::PartitionBackoff => "partition loop, backoff",
+            Self::PartitionDoorbell => "partition, doorbell, no spin",
             Self::Iox2Poll => "iceoryx2 polling",
+            Self::Iox2OwnPubsub => "iceoryx2's own pub-sub setup",
             Self::Uds => "Unix datagram socket",
             Self::Udp => "UDP loopback",
             Self::ShmFloor => "shared cache line (floor)",
+            Self::PartitionSparse => "partition loop, sparse",
+            Self::PartitionBlockSparse => "partition, block, sparse",
+            Self::PartitionBackoffSparse => "partition, backoff, sparse",
+            Self::PartitionDoorbellSparse => "partition, doorbell, sparse",
+            Self::UdsSparse => "Unix datagram, sparse",
+        }
+    }
+
+    /// The pause between a reply and the next frame: `None` back to back, [`SPARSE_PACE`]
+    /// for the sparse rows.
+    fn pace(self) -> Option<Duration> {
+        matches!(
+            self,
+            Self::PartitionSparse
+                | Self::PartitionBlockSparse
+                | Self::PartitionBackoffSparse
+                | Self::PartitionDoorbellSparse
+                | Self::UdsSparse
+        )
+        .then_some(SPARSE_PACE)
+    }
+
+    /// The idle strategy of every partition in a partition-loop row: `None` for each
+    /// partition's default (the sender runs as voting-monitoring, the receiver as mission data
+    /// handling); sleeping in the WaitSet at once; spinning for voting-monitoring's default
+    /// budget, then the WaitSet; the doorbell without a spin.
+    fn idle(self) -> Option<Idle> {
+        match self {
+            Self::PartitionBlock | Self::PartitionBlockSparse => Some(Idle::BLOCK),
+            Self::PartitionBackoff | Self::PartitionBackoffSparse => Some(Idle {
+                mode: IdleMode::Backoff,
+                spin_us: DEFAULT_SPIN_US,
+                yield_us: 0,
+            }),
+            Self::PartitionDoorbell | Self::PartitionDoorbellSparse => Some(Idle {
+                mode: IdleMode::Doorbell,
+                spin_us: 0,
+                yield_us: 0,
+            }),
+            _ => None,
         }
     }
 
@@ -234,9 +346,18 @@ impl Run {
 // The measurement, the same for every transport
 // ---------------------------------------------------------------------------------------------
 
-/// The sender: stamps and sends a frame, waits for its reply, repeats.
+/// The sender: stamps and sends a frame, waits for its reply, repeats (at the sparse pace,
+/// sleeping until the next frame is due).
 fn drive_sender(run: &Run, mut send: impl FnMut(u64), mut receive_reply: impl FnMut() -> u64) {
+    let mut next = Instant::now();
     for _ in 0..run.total() {
+        if let Some(pace) = run.transport.pace() {
+            let now = Instant::now();
+            if next > now {
+                std::thread::sleep(next - now);
+            }
+            next = Instant::now() + pace;
+        }
         let stamp = monotonic_ns();
         send(stamp);
         let echoed = receive_reply();
@@ -398,7 +519,7 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
         let take = || {
             let mut stamp = None;
             self.subscriber
-                .for_each(|sample| stamp = Some(sample.stamp()));
+                .take_one(|sample| stamp = Some(sample.stamp()));
             stamp
         };
         if !self.event {
@@ -481,6 +602,276 @@ fn iox2(run: &Run, role: Role, event: bool) -> Option<Histogram<u64>> {
         s if s == size_of::<Frame64>() => with::<Frame64>(run, role, event),
         s if s == size_of::<FrameStanag>() => with::<FrameStanag>(run, role, event),
         s if s == size_of::<FrameWaypointList>() => with::<FrameWaypointList>(run, role, event),
+        other => panic!("no iceoryx2 frame type of {other} B"),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The partitions' loop: `runtime::run_loop` with the idle strategy of the row
+// ---------------------------------------------------------------------------------------------
+
+/// The configuration of both ends of a partition-loop row: the defaults (heartbeat, reports,
+/// each partition's idle strategy) with the run's prefix; a row of one idle strategy sets it
+/// for every partition.
+fn partition_config(run: &Run) -> Config {
+    let mut config = Config::default();
+    config.ipc.service_prefix = format!("missionlink-latency-{}", run.id);
+    if let Some(idle) = run.transport.idle() {
+        config.ipc.idle = IdlePerPartition::all(idle);
+    }
+    config
+}
+
+/// The longest a partition-loop end sleeps between two looks at its peer.
+const LOOP_TIMEOUT: Duration = Duration::from_secs(1);
+
+/// The sending end as voting-monitoring runs it: `run_loop` as that partition (its heartbeat
+/// and idle strategy), publishing a frame on the uplink service whenever the previous one was
+/// answered on the downlink service (at the sparse pace, after the pause).
+fn partition_sender<F: Stamped>(run: &Run) {
+    let config = partition_config(run);
+    let ipc = Ipc::<S>::open("latency-sender", &config.ipc.service_prefix).expect("node");
+    let publisher = ipc.publisher::<F>(FccService::Uplink).expect("publisher");
+    let replies = ipc
+        .subscriber::<Frame64>(FccService::Downlink)
+        .expect("subscriber");
+    let control = Control::new();
+    let mut frame = F::zeroed();
+    let mut sent = 0;
+    let mut outstanding: Option<(u64, Instant)> = None;
+    let mut next = Instant::now();
+    let wake = Wake {
+        on: &[replies.listener()],
+        pending: &[&replies],
+        every: None,
+        sockets: false,
+        first_timeout: Duration::ZERO,
+    };
+    runtime::run_loop::<S>(
+        voting_monitoring::NAME,
+        Partition::VotingMonitoring,
+        &ipc,
+        &config,
+        &control,
+        wake,
+        |_| {
+            replies.take_all(|reply| {
+                let (stamp, _) = outstanding.take().expect("a reply to a frame sent");
+                assert_eq!(
+                    reply.stamp(),
+                    stamp,
+                    "the reply answers the frame just sent"
+                );
+            });
+            if let Some((_, at)) = outstanding {
+                assert!(
+                    at.elapsed() < TIMEOUT,
+                    "no reply for {TIMEOUT:?}: peer gone"
+                );
+                return Ok(LOOP_TIMEOUT);
+            }
+            if sent == run.total() {
+                control.stop();
+                return Ok(Duration::ZERO);
+            }
+            let now = Instant::now();
+            if let Some(pace) = run.transport.pace() {
+                if next > now {
+                    return Ok(next - now);
+                }
+                next = now + pace;
+            }
+            let stamp = monotonic_ns();
+            frame.set_stamp(stamp);
+            publisher.send(&frame).expect("send");
+            outstanding = Some((stamp, now));
+            sent += 1;
+            Ok(LOOP_TIMEOUT)
+        },
+    )
+    .expect("the sender's loop");
+}
+
+/// The receiving end as mission data handling runs it: `run_loop` as that partition, taking
+/// the frames of the uplink service as it does (`take_all`, the stamp read in place) and
+/// answering each on the downlink service.
+fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
+    let config = partition_config(run);
+    let ipc = Ipc::<S>::open("latency-receiver", &config.ipc.service_prefix).expect("node");
+    let frames = ipc.subscriber::<F>(FccService::Uplink).expect("subscriber");
+    let publisher = ipc
+        .publisher::<Frame64>(FccService::Downlink)
+        .expect("publisher");
+    let control = Control::new();
+    let mut histogram =
+        Histogram::<u64>::new_with_bounds(1, 60_000_000_000, 3).expect("valid histogram bounds");
+    let mut reply = Frame64::zeroed();
+    let mut received = 0;
+    let mut last = Instant::now();
+    let wake = Wake {
+        on: &[frames.listener()],
+        pending: &[&frames],
+        every: None,
+        sockets: false,
+        first_timeout: LOOP_TIMEOUT,
+    };
+    announce_ready("");
+    runtime::run_loop::<S>(
+        mission_data_handling::NAME,
+        Partition::MissionDataHandling,
+        &ipc,
+        &config,
+        &control,
+        wake,
+        |_| {
+            let taken = frames.take_all(|sample| {
+                let now = monotonic_ns();
+                let stamp = sample.stamp();
+                if received >= run.warmup {
+                    histogram.saturating_record(now.saturating_sub(stamp).max(1));
+                }
+                received += 1;
+                reply.set_stamp(stamp);
+                publisher.send(&reply).expect("reply");
+            });
+            if taken > 0 {
+                last = Instant::now();
+            } else {
+                assert!(
+                    last.elapsed() < TIMEOUT,
+                    "nothing for {TIMEOUT:?}: peer gone"
+                );
+            }
+            if received == run.total() {
+                control.stop();
+            }
+            Ok(LOOP_TIMEOUT)
+        },
+    )
+    .expect("the receiver's loop");
+    histogram
+}
+
+// ---------------------------------------------------------------------------------------------
+// iceoryx2's own publish-subscribe benchmark setup: busy-wait, history 0, buffer 1
+// ---------------------------------------------------------------------------------------------
+
+/// One end of a ping-pong as iceoryx2's publish-subscribe benchmark sets it up: a service per
+/// direction with history 0, a subscriber buffer of 1, one publisher and one subscriber, and
+/// both sides spinning on `receive`; no event service, no notification.
+struct OwnEnd<Out: Stamped, In: Stamped> {
+    publisher: iceoryx2::port::publisher::Publisher<S, Out, ()>,
+    subscriber: iceoryx2::port::subscriber::Subscriber<S, In, ()>,
+    _node: Node<S>,
+}
+
+impl<Out: Stamped, In: Stamped> OwnEnd<Out, In> {
+    fn open(run: &Run, out: &str, input: &str) -> Self {
+        let node = NodeBuilder::new().create::<S>().expect("node");
+        let service = |name: &str| -> ServiceName {
+            format!("missionlink-latency-{}/{name}", run.id)
+                .as_str()
+                .try_into()
+                .expect("service name")
+        };
+        let publisher = node
+            .service_builder(&service(out))
+            .publish_subscribe::<Out>()
+            .history_size(0)
+            .subscriber_max_buffer_size(1)
+            .max_publishers(1)
+            .max_subscribers(1)
+            .open_or_create()
+            .expect("service")
+            .publisher_builder()
+            .create()
+            .expect("publisher");
+        let subscriber = node
+            .service_builder(&service(input))
+            .publish_subscribe::<In>()
+            .history_size(0)
+            .subscriber_max_buffer_size(1)
+            .max_publishers(1)
+            .max_subscribers(1)
+            .open_or_create()
+            .expect("service")
+            .subscriber_builder()
+            .create()
+            .expect("subscriber");
+        Self {
+            publisher,
+            subscriber,
+            _node: node,
+        }
+    }
+
+    fn send(&self, value: &Out) {
+        self.publisher
+            .loan_uninit()
+            .expect("loan")
+            .write_payload(*value)
+            .send()
+            .expect("send");
+    }
+
+    fn receive(&self) -> u64 {
+        spin(|| {
+            self.subscriber
+                .receive()
+                .expect("receive")
+                .map(|sample| sample.stamp())
+        })
+    }
+}
+
+fn own_sender<F: Stamped>(run: &Run) {
+    let end = OwnEnd::<F, Frame64>::open(run, "a2b", "b2a");
+    let mut frame = F::zeroed();
+    drive_sender(
+        run,
+        |stamp| {
+            frame.set_stamp(stamp);
+            end.send(&frame);
+        },
+        || end.receive(),
+    );
+}
+
+fn own_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
+    let end = OwnEnd::<Frame64, F>::open(run, "b2a", "a2b");
+    let mut reply = Frame64::zeroed();
+    announce_ready("");
+    drive_receiver(
+        run,
+        || end.receive(),
+        |stamp| {
+            reply.set_stamp(stamp);
+            end.send(&reply);
+        },
+    )
+}
+
+/// Runs a partition-loop end or an end of iceoryx2's own setup (`own`), with the frame type
+/// of the run's size.
+fn typed(run: &Run, role: Role, own: bool) -> Option<Histogram<u64>> {
+    fn with<F: Stamped>(run: &Run, role: Role, own: bool) -> Option<Histogram<u64>> {
+        match (role, own) {
+            (Role::Sender, false) => {
+                partition_sender::<F>(run);
+                None
+            }
+            (Role::Sender, true) => {
+                own_sender::<F>(run);
+                None
+            }
+            (Role::Receiver, false) => Some(partition_receiver::<F>(run)),
+            (Role::Receiver, true) => Some(own_receiver::<F>(run)),
+        }
+    }
+    match run.size {
+        s if s == size_of::<Frame64>() => with::<Frame64>(run, role, own),
+        s if s == size_of::<FrameStanag>() => with::<FrameStanag>(run, role, own),
+        s if s == size_of::<FrameWaypointList>() => with::<FrameWaypointList>(run, role, own),
         other => panic!("no iceoryx2 frame type of {other} B"),
     }
 }
@@ -844,7 +1235,18 @@ fn receiver_main(run: &Run, cpu: Option<usize>) {
     let histogram = match run.transport {
         Transport::Iox2Event => iox2(run, Role::Receiver, true).expect("histogram"),
         Transport::Iox2Poll => iox2(run, Role::Receiver, false).expect("histogram"),
-        Transport::Uds => uds_receiver(run),
+        Transport::Partition
+        | Transport::PartitionBlock
+        | Transport::PartitionBackoff
+        | Transport::PartitionDoorbell
+        | Transport::PartitionSparse
+        | Transport::PartitionBlockSparse
+        | Transport::PartitionBackoffSparse
+        | Transport::PartitionDoorbellSparse => {
+            typed(run, Role::Receiver, false).expect("histogram")
+        }
+        Transport::Iox2OwnPubsub => typed(run, Role::Receiver, true).expect("histogram"),
+        Transport::Uds | Transport::UdsSparse => uds_receiver(run),
         Transport::Udp => udp_receiver(run),
         Transport::ShmFloor => shm_receiver(run),
     };
@@ -906,7 +1308,20 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
         Transport::Iox2Poll => {
             iox2(run, Role::Sender, false);
         }
-        Transport::Uds => uds_sender(run),
+        Transport::Partition
+        | Transport::PartitionBlock
+        | Transport::PartitionBackoff
+        | Transport::PartitionDoorbell
+        | Transport::PartitionSparse
+        | Transport::PartitionBlockSparse
+        | Transport::PartitionBackoffSparse
+        | Transport::PartitionDoorbellSparse => {
+            typed(run, Role::Sender, false);
+        }
+        Transport::Iox2OwnPubsub => {
+            typed(run, Role::Sender, true);
+        }
+        Transport::Uds | Transport::UdsSparse => uds_sender(run),
         Transport::Udp => udp_sender(run, &info),
         Transport::ShmFloor => shm_sender(run),
     }
@@ -955,6 +1370,36 @@ fn print_table(description: &str, results: &[&Value]) {
         .find(|r| r["transport"] == Transport::Iox2Event.arg())
         .copied();
     print_rows("transport", "label", results, reference, "ev");
+    for (name, value, reference) in goal_ratios(results) {
+        println!(
+            "  {name}: {value:.2} / {reference:.2} µs = {}",
+            ratio(value, reference)
+        );
+    }
+}
+
+/// The ratios of p50 the goals name, for the rows present: (what, value µs, reference µs).
+fn goal_ratios(results: &[&Value]) -> Vec<(String, f64, f64)> {
+    let p50 = |t: Transport| {
+        results
+            .iter()
+            .find(|r| r["transport"] == t.arg())
+            .map(|r| us(r, "p50_ns"))
+    };
+    [
+        (Transport::Partition, Transport::Uds),
+        (Transport::PartitionBlock, Transport::Uds),
+        (Transport::PartitionBackoff, Transport::Uds),
+        (Transport::PartitionDoorbell, Transport::Uds),
+        (Transport::PartitionSparse, Transport::UdsSparse),
+        (Transport::PartitionBlockSparse, Transport::UdsSparse),
+        (Transport::PartitionBackoffSparse, Transport::UdsSparse),
+        (Transport::PartitionDoorbellSparse, Transport::UdsSparse),
+        (Transport::Iox2Poll, Transport::Iox2OwnPubsub),
+    ]
+    .into_iter()
+    .filter_map(|(a, b)| Some((format!("p50 {} / {}", a.arg(), b.arg()), p50(a)?, p50(b)?)))
+    .collect()
 }
 
 /// One line per result, named by its `label_key`, with its percentiles and the ratios of its
@@ -1212,7 +1657,7 @@ const LOAD_CASES: [(&str, &str, bool, bool); 3] = [
 
 /// `--load`: the hop of the largest STANAG frame over iceoryx2 event-driven in the cases of
 /// [`LOAD_CASES`].
-fn load_main(frames: u64, warmup: u64) {
+fn load_main(transport: Transport, frames: u64, warmup: u64) {
     let allowed: Vec<usize> = rustix::thread::sched_getaffinity(None)
         .map(|set| {
             (0..rustix::thread::CpuSet::MAX_CPU)
@@ -1223,13 +1668,14 @@ fn load_main(frames: u64, warmup: u64) {
     let (sender_cpu, receiver_cpu) = cpu_pair().expect("two CPUs for the real-time case");
     let load_before = load_average();
     println!(
-        "Partition-to-partition hop under CPU load: iceoryx2 event-driven (the partitions' \
-         publisher, subscriber and WaitSet), {MAX_FRAME_LEN} B frames, {frames} frames per case \
+        "Partition-to-partition hop under CPU load: {} ({}), {MAX_FRAME_LEN} B frames, {frames} frames per case \
          after {warmup} warm-up frames, each sent after the previous one was answered. CPU hogs: \
          one busy process per CPU ({}), default scheduling. Real-time settings (the partitions' \
          realtime module): sender on CPU {sender_cpu}, receiver on CPU {receiver_cpu}, \
          SCHED_FIFO priority {LOAD_FIFO_PRIORITY}, memory locked; default scheduling: not \
          pinned. Load average before: {load_before}",
+        transport.label(),
+        transport.arg(),
         realtime::CpuList(&allowed)
     );
     let pid = std::process::id();
@@ -1243,7 +1689,7 @@ fn load_main(frames: u64, warmup: u64) {
             Value::Null
         };
         let run = Run {
-            transport: Transport::Iox2Event,
+            transport,
             size: MAX_FRAME_LEN,
             frames,
             warmup,
@@ -1269,7 +1715,8 @@ fn load_main(frames: u64, warmup: u64) {
     println!("Load average after: {load_after}");
 
     let document = json!({
-        "what": "one-way latency of the largest STANAG frame between two processes over iceoryx2 event-driven, without and with a CPU hog per CPU, default scheduling and real-time settings",
+        "what": "one-way latency of the largest STANAG frame between two processes, without and with a CPU hog per CPU, default scheduling and real-time settings",
+        "transport": transport.arg(),
         "frames": frames,
         "warmup": warmup,
         "payload_bytes": MAX_FRAME_LEN,
@@ -1344,6 +1791,8 @@ struct Args {
     cpu: Option<usize>,
     load: bool,
     realtime: bool,
+    only: Option<Vec<Transport>>,
+    sizes: Option<Vec<usize>>,
 }
 
 fn parse_args() -> Args {
@@ -1362,11 +1811,32 @@ fn parse_args() -> Args {
             "--id" => args.id = Some(value()),
             "--cpu" => args.cpu = Some(number(value()) as usize),
             "--load" => args.load = true,
+            "--only" => {
+                args.only = Some(
+                    value()
+                        .split(',')
+                        .map(|t| {
+                            Transport::from_arg(t).unwrap_or_else(|| panic!("no transport {t}"))
+                        })
+                        .collect(),
+                )
+            }
+            "--sizes" => {
+                args.sizes = Some(
+                    value()
+                        .split(',')
+                        .map(|v| number(v.to_owned()) as usize)
+                        .collect(),
+                )
+            }
             "--realtime" => args.realtime = true,
             // `cargo bench` adds it.
             "--bench" => {}
             other => {
-                eprintln!("latency: ignoring `{other}` (options: --frames N, --warmup N, --load)")
+                eprintln!(
+                    "latency: ignoring `{other}` (options: --frames N, --warmup N, --load, \
+                 --only T,T, --sizes N,N)"
+                )
             }
         }
     }
@@ -1397,7 +1867,12 @@ fn main() {
         return;
     }
     if args.load {
-        load_main(frames, warmup);
+        let transport = args
+            .only
+            .as_ref()
+            .and_then(|only| only.first().copied())
+            .unwrap_or(Transport::Partition);
+        load_main(transport, frames, warmup);
         return;
     }
 
@@ -1424,8 +1899,17 @@ fn main() {
     );
     let pid = std::process::id();
     let mut results = Vec::new();
+    let wanted = |t: &Transport| args.only.as_ref().is_none_or(|only| only.contains(t));
     for (size, description) in sizes() {
-        for transport in Transport::ALL {
+        if args.sizes.as_ref().is_some_and(|s| !s.contains(&size)) {
+            continue;
+        }
+        for transport in Transport::ALL.into_iter().filter(wanted) {
+            // At the sparse pace a frame takes a millisecond: a tenth of the frames.
+            let (frames, warmup) = match transport.pace() {
+                Some(_) => ((frames / SPARSE_DIVISOR).max(1), warmup / SPARSE_DIVISOR),
+                None => (frames, warmup),
+            };
             let run = Run {
                 transport,
                 size,

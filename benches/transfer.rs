@@ -16,7 +16,18 @@
 //! ```sh
 //! cargo bench --bench transfer                 # 30 runs per mission
 //! cargo bench --bench transfer -- --runs 100
+//! cargo bench --bench transfer -- --cpu-shares  # each partition's CPU share, idle 60 s and
+//!                                               # during 256-waypoint uploads (20 s)
 //! ```
+//!
+//! `--idle block|backoff|doorbell` (with `--spin-us N`, else no spin) runs every partition with
+//! that idle strategy instead of each partition's default (`config::Idle`), to compare the wait
+//! paths; `--vm-idle MODE` (with `--vm-spin-us N`) sets voting-monitoring's alone.
+//!
+//! `--cpu-shares` (`--idle-seconds N`, `--upload-seconds N`) measures instead each partition's
+//! share of one CPU from /proc (its process's user and system time over the wall time): with
+//! the FCC up and no traffic, then while the GCS uploads the generated 256-waypoint mission back
+//! to back; written to `target/transfer/cpu_shares.json`.
 //!
 //! Without `--bench` (`cargo test --benches`) it makes one run per mission and writes nothing.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
@@ -30,6 +41,7 @@ use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
 use missionlink_partitions::binaries;
+use missionlink_partitions::config::{Idle, IdleMode, IdlePerPartition};
 use missionlink_services::ground_station::{MissionPlan, Sequence};
 use missionlink_services::testkit;
 
@@ -97,6 +109,7 @@ fn measure(
     runs: usize,
 ) -> (Vec<Measured>, Option<std::process::ExitStatus>) {
     let mut rig = common::Rig::new(name);
+    rig.config.ipc.idle = idle_override();
     if let Some((latitude, longitude)) = start {
         rig.config.guidance.start_latitude_deg = latitude;
         rig.config.guidance.start_longitude_deg = longitude;
@@ -181,9 +194,199 @@ fn measure(
     (results, status)
 }
 
+/// The partitions' idle strategies: each partition's default unless `--idle
+/// block|backoff|doorbell` (with `--spin-us N`, else no spin) names one for every partition (to
+/// compare the wait paths).
+fn idle_override() -> IdlePerPartition {
+    let args: Vec<String> = std::env::args().collect();
+    let mode_after = |flag: &str| {
+        args.iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+            .map(|mode| match mode.as_str() {
+                "block" => IdleMode::Block,
+                "backoff" => IdleMode::Backoff,
+                "doorbell" => IdleMode::Doorbell,
+                other => panic!("{flag} {other}: block, backoff or doorbell"),
+            })
+    };
+    let mut idle = match mode_after("--idle") {
+        Some(mode) => IdlePerPartition::all(Idle {
+            mode,
+            spin_us: number_after(&args, "--spin-us").unwrap_or(0),
+            yield_us: 0,
+        }),
+        None => IdlePerPartition::default(),
+    };
+    if let Some(mode) = mode_after("--vm-idle") {
+        idle.voting_monitoring = Idle {
+            mode,
+            spin_us: number_after(&args, "--vm-spin-us").unwrap_or(0),
+            yield_us: 0,
+        };
+    }
+    idle
+}
+
+/// How the partitions wait, for the output: mission data handling's strategy, and
+/// voting-monitoring's where it differs.
+fn idle_label(idle: &IdlePerPartition) -> String {
+    let (vm, mdh) = (idle.voting_monitoring, idle.mission_data_handling);
+    let show = |i: Idle| format!("{:?} spin {} µs", i.mode, i.spin_us).to_lowercase();
+    if vm == mdh {
+        format!("every partition {}", show(mdh))
+    } else {
+        format!("voting-monitoring {}, the others {}", show(vm), show(mdh))
+    }
+}
+
+/// The partitions of the FCC, as the launcher names them.
+const PARTITIONS: [&str; 4] = [
+    "voting-monitoring",
+    "mission-data-handling",
+    "system-automation",
+    "guidance-stub",
+];
+
+/// CPU time (user + system) of process `pid` so far, in clock ticks, from /proc.
+fn cpu_ticks(pid: i32) -> u64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // utime and stime: fields 14 and 15, the 12th and 13th after the command name.
+    let (_, rest) = stat.rsplit_once(')').unwrap();
+    rest.split_whitespace()
+        .skip(11)
+        .take(2)
+        .map(|v| v.parse::<u64>().unwrap())
+        .sum()
+}
+
+/// Clock ticks per second of /proc's CPU times (USER_HZ, 100 on Linux for x86 and ARM).
+const TICKS_PER_SECOND: f64 = 100.0;
+
+/// Each partition's share of one CPU while `during` runs, in %, from /proc: the CPU time its
+/// process used over the wall time `during` took.
+fn cpu_shares(pids: &[(&str, i32)], during: impl FnOnce()) -> (Vec<f64>, f64) {
+    let before: Vec<u64> = pids.iter().map(|(_, pid)| cpu_ticks(*pid)).collect();
+    let start = Instant::now();
+    during();
+    let seconds = start.elapsed().as_secs_f64();
+    let shares = pids
+        .iter()
+        .zip(before)
+        .map(|((_, pid), b)| 100.0 * (cpu_ticks(*pid) - b) as f64 / TICKS_PER_SECOND / seconds)
+        .collect();
+    (shares, seconds)
+}
+
+/// `--cpu-shares`: each partition's CPU share with no traffic for `idle` (the FCC up, nothing
+/// sent), then during back-to-back uploads of the generated 256-waypoint mission (the paper's
+/// sequence) for at least `busy`, from /proc. Prints a table and writes
+/// `target/transfer/cpu_shares.json` in bench mode.
+fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
+    let mut rig = common::Rig::new("bench-cpu-shares");
+    rig.config.ipc.idle = idle_override();
+    let idle_strategy = idle_label(&rig.config.ipc.idle);
+    let mut fcc = rig.start("fcc");
+    for partition in PARTITIONS {
+        common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
+    }
+    let pids: Vec<(&str, i32)> = PARTITIONS
+        .iter()
+        .map(|p| (*p, common::partition_pid(&fcc, p)))
+        .collect();
+    let mut link = rig.gcs(&mut fcc);
+    // Settle: the start's work (the first beats, late joiners) is not idle.
+    std::thread::sleep(Duration::from_secs(2));
+    let load_before = load_average();
+    let (idle_shares, idle_s) = cpu_shares(&pids, || std::thread::sleep(idle));
+    let case = generated(256);
+    let mut uploads = 0;
+    let (busy_shares, busy_s) = cpu_shares(&pids, || {
+        let start = Instant::now();
+        while start.elapsed() < busy {
+            let now = link.now();
+            let outcome = link
+                .station()
+                .upload_with(now, &case.plan, Sequence::Paper { clear: true })
+                .and_then(|()| common::finish(&mut link));
+            match outcome {
+                Ok(missionlink_gcs::gcs_link::Finished::Uploaded(report))
+                    if report.failure.is_none() => {}
+                other => panic!("upload {uploads}: {other:?}"),
+            }
+            uploads += 1;
+        }
+    });
+    let load_after = load_average();
+    let _ = fcc.stop();
+    println!(
+        "CPU share of one CPU per partition, from /proc ({idle_strategy}; load average \
+         before {load_before}, after {load_after})"
+    );
+    println!(
+        "{:<24} {:>16} {:>24}",
+        "partition",
+        format!("idle {idle_s:.0} s"),
+        format!("256-waypoint uploads ({uploads} in {busy_s:.1} s)")
+    );
+    let mut json = Vec::new();
+    for (((name, _), idle), busy) in pids.iter().zip(&idle_shares).zip(&busy_shares) {
+        println!("{name:<24} {:>15.2}% {:>23.2}%", idle, busy);
+        json.push(serde_json::json!({
+            "partition": name,
+            "idle_percent_of_one_cpu": idle,
+            "upload_percent_of_one_cpu": busy,
+        }));
+    }
+    if bench_mode {
+        let out = output_dir();
+        let path = out.join("cpu_shares.json");
+        let doc = serde_json::json!({
+            "what": "CPU time of each partition process over wall time, in % of one CPU, from /proc: idle (no traffic) and during back-to-back uploads of a generated 256-waypoint mission (the paper's sequence)",
+            "idle_seconds": idle_s,
+            "upload_seconds": busy_s,
+            "uploads": uploads,
+            "load_average_before": load_before,
+            "load_average_after": load_after,
+            "idle_strategy": idle_strategy,
+            "partitions": json,
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+        println!("written to {}", path.display());
+    }
+}
+
+/// `target/transfer`, created if missing.
+fn output_dir() -> std::path::PathBuf {
+    let target = binaries::build_dir()
+        .and_then(|d| d.parent().map(|p| p.to_path_buf()))
+        .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
+    let out = target.join("transfer");
+    std::fs::create_dir_all(&out).unwrap();
+    out
+}
+
+/// The number after `flag` on the command line, if given.
+fn number_after(args: &[String], flag: &str) -> Option<u64> {
+    args.iter()
+        .position(|a| a == flag)
+        .and_then(|i| args.get(i + 1))
+        .map(|v| v.parse().unwrap_or_else(|_| panic!("{flag} N")))
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let bench_mode = args.iter().any(|a| a == "--bench");
+    if args.iter().any(|a| a == "--cpu-shares") {
+        let idle = number_after(&args, "--idle-seconds").unwrap_or(60);
+        let busy = number_after(&args, "--upload-seconds").unwrap_or(20);
+        cpu_shares_main(
+            Duration::from_secs(idle),
+            Duration::from_secs(busy),
+            bench_mode,
+        );
+        return;
+    }
     let runs = args
         .iter()
         .position(|a| a == "--runs")
@@ -276,7 +479,8 @@ fn main() {
     println!(
         "Upload transfer through the real FCC partitions and GcsLink over UDP loopback \
          ({runs} runs per mission after {warm_up} warm-up runs; {cpus} CPUs; load average \
-         before {load_before}, after {load_after})"
+         before {load_before}, after {load_after}; {})",
+        idle_label(&idle_override())
     );
     println!(
         "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}",
@@ -386,12 +590,7 @@ fn main() {
     println!("FCC launcher stopped with SIGTERM: {status:?}");
 
     if bench_mode {
-        let target = binaries::build_dir()
-            .and_then(|d| d.parent().map(|p| p.to_path_buf()))
-            .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
-        let out = target.join("transfer");
-        std::fs::create_dir_all(&out).unwrap();
-        let path = out.join("results.json");
+        let path = output_dir().join("results.json");
         let doc = serde_json::json!({
             "description": "upload request (validate, clear, waypoints, route, transmit, areas) \
                             through the real FCC partitions and GcsLink over UDP loopback; \
@@ -402,6 +601,7 @@ fn main() {
             "load_average_before": load_before,
             "load_average_after": load_after,
             "ms_per_waypoint_message_10_to_256": growth,
+            "idle_strategy": idle_label(&idle_override()),
             "missions": json,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();

@@ -25,6 +25,15 @@
 //! poll = false                    # true: spin instead of sleeping in the WaitSet (lowest latency)
 //! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
 //!
+//! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
+//! mode = "backoff"                # block: sleep in the WaitSet at once; backoff: spin, yield,
+//!                                 # then sleep in the WaitSet; doorbell: spin, yield, then sleep
+//!                                 # on the partition's semaphore (the default of the others)
+//! spin_us = 200                   # spin this long after the last work (others' default: 0)
+//! yield_us = 0                    # then yield between looks this long (default 0)
+//! # and [ipc.idle.mission-data-handling], [ipc.idle.system-automation],
+//! # [ipc.idle.guidance-stub]
+//!
 //! [guidance]
 //! time_scale = 1.0                # simulated seconds per second
 //! update_interval_ms = 50
@@ -183,6 +192,8 @@ pub struct Ipc {
     /// Where mission data handling keeps its active lists across restarts (default:
     /// `<temp>/missionlink-state/<prefix>`).
     pub state_dir: Option<PathBuf>,
+    /// How each partition waits when its inputs are empty (`[ipc.idle.<partition>]`).
+    pub idle: IdlePerPartition,
 }
 
 impl Default for Ipc {
@@ -191,6 +202,144 @@ impl Default for Ipc {
             service_prefix: DEFAULT_SERVICE_PREFIX.to_owned(),
             poll: false,
             state_dir: None,
+            idle: IdlePerPartition::default(),
+        }
+    }
+}
+
+/// What a partition does when its inputs are empty, before the next frame, event or deadline
+/// (`runtime::Control::wait_idle`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IdleMode {
+    /// Sleep in the WaitSet at once: the wake-up of every frame costs the event's system calls
+    /// and the kernel waking the thread (a Unix datagram and an epoll round with iceoryx2's
+    /// default event).
+    Block,
+    /// Look at the inputs in a loop for `spin_us`, then yield the CPU between looks for
+    /// `yield_us`, then sleep in the WaitSet as `Block` does (Aeron's BackoffIdleStrategy). A
+    /// frame that comes within the budget after the last one is taken without a wake-up.
+    Backoff,
+    /// As `backoff`, then sleep on the partition's doorbell instead of the WaitSet: a POSIX
+    /// semaphore in shared memory that every publisher feeding the partition rings, with a
+    /// timer thread that rings it at the loop's next deadline (`doorbell`). A partition that
+    /// also waits for sockets (voting-monitoring) cannot: it sleeps in the WaitSet.
+    #[default]
+    Doorbell,
+}
+
+/// The idle strategy of one partition (`[ipc.idle.<partition>]`); a field left out takes the
+/// value of [`Idle::default`] (`doorbell`, no spin). The defaults of the partitions
+/// ([`IdlePerPartition::default`]) were chosen by measurement on the 2-vCPU development machine
+/// (docs/wait-path.md):
+///
+/// - voting-monitoring: `backoff`, 200 µs of spinning. It waits for the UDP links as well, so it
+///   cannot use the doorbell; mission data handling's answer to an uplink frame comes within the
+///   spin, and so does the GCS's next frame of a transfer over loopback. Idle, it spins about
+///   200 µs per wake-up (heartbeat and timers): 0.6 % of a CPU measured.
+/// - mission-data-handling, system-automation, guidance-stub: `doorbell` without a spin. On two
+///   CPUs a second partition spinning takes the CPU the GCS and the other partitions need: the
+///   transfer of a 256-waypoint mission was slower with every partition spinning than with
+///   every partition sleeping at once, while the doorbell's cold wake-up is as fast as a Unix
+///   socket's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Idle {
+    /// `block`, `backoff` or `doorbell`.
+    pub mode: IdleMode,
+    /// With `backoff` and `doorbell`: how long the loop looks at its inputs without pausing
+    /// before it sleeps, microseconds.
+    pub spin_us: u64,
+    /// With `backoff` and `doorbell`: how long it then looks, yielding the CPU between looks,
+    /// microseconds.
+    pub yield_us: u64,
+}
+
+/// voting-monitoring's default spin budget, microseconds.
+pub const DEFAULT_SPIN_US: u64 = 200;
+
+impl Default for Idle {
+    fn default() -> Self {
+        Self {
+            mode: IdleMode::Doorbell,
+            spin_us: 0,
+            yield_us: 0,
+        }
+    }
+}
+
+impl Idle {
+    /// voting-monitoring's default: spin 200 µs, then sleep in the WaitSet.
+    pub const VOTING_MONITORING: Self = Self {
+        mode: IdleMode::Backoff,
+        spin_us: DEFAULT_SPIN_US,
+        yield_us: 0,
+    };
+
+    /// Sleeping at once.
+    pub const BLOCK: Self = Self {
+        mode: IdleMode::Block,
+        spin_us: 0,
+        yield_us: 0,
+    };
+
+    /// The spin budget.
+    pub fn spin(&self) -> Duration {
+        Duration::from_micros(self.spin_us)
+    }
+
+    /// The yield budget that follows the spin.
+    pub fn yield_for(&self) -> Duration {
+        Duration::from_micros(self.yield_us)
+    }
+}
+
+/// The idle strategy of each partition (`[ipc.idle.voting-monitoring]` and so on); the
+/// defaults are those of [`Idle`]'s documentation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "kebab-case")]
+pub struct IdlePerPartition {
+    /// voting-monitoring.
+    pub voting_monitoring: Idle,
+    /// mission-data-handling.
+    pub mission_data_handling: Idle,
+    /// system-automation.
+    pub system_automation: Idle,
+    /// guidance-stub.
+    pub guidance_stub: Idle,
+}
+
+impl Default for IdlePerPartition {
+    fn default() -> Self {
+        Self {
+            voting_monitoring: Idle::VOTING_MONITORING,
+            mission_data_handling: Idle::default(),
+            system_automation: Idle::default(),
+            guidance_stub: Idle::default(),
+        }
+    }
+}
+
+impl IdlePerPartition {
+    /// The strategy of the partition named `partition` (its binary's name); the default for a
+    /// name that is not one of the four (a loop of a test or a bench).
+    pub fn of(&self, partition: &str) -> Idle {
+        match partition {
+            crate::voting_monitoring::NAME => self.voting_monitoring,
+            crate::mission_data_handling::NAME => self.mission_data_handling,
+            crate::system_automation::NAME => self.system_automation,
+            crate::guidance_stub::NAME => self.guidance_stub,
+            _ => Idle::default(),
+        }
+    }
+
+    /// The same strategy for every partition.
+    pub fn all(idle: Idle) -> Self {
+        Self {
+            voting_monitoring: idle,
+            mission_data_handling: idle,
+            system_automation: idle,
+            guidance_stub: idle,
         }
     }
 }
@@ -802,6 +951,42 @@ mod tests {
                 .get_envs()
                 .all(|(k, _)| k != std::ffi::OsStr::new(CONFIG_TOML_ENV)),
             "nothing handed over"
+        );
+    }
+
+    #[test]
+    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_doorbell() {
+        let c = Config::parse(
+            "[ipc.idle.voting-monitoring]\nmode = \"block\"\n\
+             [ipc.idle.guidance-stub]\nmode = \"backoff\"\nspin_us = 50\nyield_us = 20\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(c.ipc.idle.of("voting-monitoring").mode, IdleMode::Block);
+        let guidance = c.ipc.idle.of("guidance-stub");
+        assert_eq!(guidance.mode, IdleMode::Backoff);
+        assert_eq!(guidance.spin(), Duration::from_micros(50));
+        assert_eq!(guidance.yield_for(), Duration::from_micros(20));
+        let mdh = c.ipc.idle.of("mission-data-handling");
+        assert_eq!(mdh, Idle::default());
+        assert_eq!(mdh.mode, IdleMode::Doorbell);
+        assert_eq!(mdh.spin_us, 0);
+        let defaults = Config::default();
+        assert_eq!(
+            defaults.ipc.idle.of("voting-monitoring"),
+            Idle::VOTING_MONITORING
+        );
+        assert_eq!(Idle::VOTING_MONITORING.spin_us, DEFAULT_SPIN_US);
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
+        assert!(
+            Config::parse(
+                "[ipc.idle.voting-monitoring]\nmode = \"spin\"\n",
+                Path::new("g")
+            )
+            .is_err()
         );
     }
 

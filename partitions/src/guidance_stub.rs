@@ -71,6 +71,8 @@ where
             lists.areas.listener(),
             automation.listener(),
         ],
+        pending: &[&lists.waypoints, &lists.areas, &automation],
+        sockets: false,
         every: Some(interval),
         first_timeout: interval,
     };

@@ -14,8 +14,10 @@ use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
-    AreaListPayload, FccService, WaypointListPayload, same_activation,
+    AreaListPayload, FccService, Partition, WaypointListPayload, same_activation,
 };
+
+use crate::doorbell::{Doorbell, Doorbells, Ringers};
 
 /// Something iceoryx2 refused, with what was being done.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -44,6 +46,9 @@ pub fn quiet_iceoryx2_log() {
 pub struct Ipc<S: Service> {
     node: Node<S>,
     prefix: String,
+    /// The node of the partitions' doorbells (`doorbell`): every publisher rings its
+    /// consumers' doorbells.
+    doorbells: Doorbells,
 }
 
 impl<S: Service> Ipc<S> {
@@ -65,7 +70,13 @@ impl<S: Service> Ipc<S> {
         Ok(Self {
             node,
             prefix: prefix.to_owned(),
+            doorbells: Doorbells::open(name, prefix)?,
         })
+    }
+
+    /// The doorbell of `role`, for that partition's loop to wait on (`doorbell`).
+    pub fn doorbell(&self, role: Partition) -> Result<Doorbell, IpcError> {
+        self.doorbells.doorbell(role)
     }
 
     /// The node.
@@ -141,6 +152,7 @@ impl<S: Service> Ipc<S> {
         Ok(Publisher {
             service,
             publisher,
+            ringers: self.doorbells.ringers(service)?,
             notifier,
         })
     }
@@ -317,14 +329,17 @@ impl ListPairing {
 pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
     service: FccService,
     publisher: iceoryx2::port::publisher::Publisher<S, T, ()>,
+    ringers: Ringers,
     notifier: Notifier<S>,
 }
 
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
-    /// Publishes `value` (copied into shared memory once) and wakes the subscribers: what every
-    /// partition does.
+    /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
+    /// doorbells of the partitions that consume the service (`doorbell::consumers`), then
+    /// notifies the service's own event: what every partition does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
+        self.ringers.ring()?;
         self.notify()
     }
 
@@ -380,6 +395,12 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
         }
     }
 
+    /// Whether a sample waits to be taken, without taking it or a notification (what a
+    /// spinning loop looks at, `runtime::Pending`); `false` when iceoryx2 cannot tell.
+    pub fn has_samples(&self) -> bool {
+        self.subscriber.has_samples().unwrap_or(false)
+    }
+
     /// Hands every waiting sample to `f`, oldest first, without copying it out of shared
     /// memory; returns how many there were.
     pub fn for_each(&self, mut f: impl FnMut(&T)) -> usize {
@@ -395,6 +416,23 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
                     tracing::warn!(service = %self.service, ?e, "receive failed");
                     return n;
                 }
+            }
+        }
+    }
+
+    /// Hands the oldest waiting sample to `f`, if there is one, without copying it; whether
+    /// there was (a spinning reader that wants the first sample in hand at once: the polling
+    /// transport of benches/latency.rs).
+    pub fn take_one(&self, f: impl FnOnce(&T)) -> bool {
+        match self.subscriber.receive() {
+            Ok(Some(sample)) => {
+                f(sample.payload());
+                true
+            }
+            Ok(None) => false,
+            Err(e) => {
+                tracing::warn!(service = %self.service, ?e, "receive failed");
+                false
             }
         }
     }

@@ -9,6 +9,7 @@
 pub mod binaries;
 pub mod clock;
 pub mod config;
+pub mod doorbell;
 pub mod guidance_stub;
 pub mod health;
 pub mod ipc;

@@ -120,6 +120,8 @@ where
             automation.listener(),
             progress.listener(),
         ],
+        pending: &[&uplink, &automation, &progress],
+        sockets: false,
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };

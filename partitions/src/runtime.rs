@@ -1,8 +1,9 @@
 //! What every partition's event loop shares: the [`Control`] that starts and stops a loop (from
 //! another thread, or by SIGINT/SIGTERM), sleeping in the WaitSet (or spinning with `--poll`)
-//! until data, a deadline or a stop ([`run_loop`], the one loop skeleton every partition runs),
-//! latency reports on an interval, on SIGUSR1 and at shutdown, and the `main` of every partition
-//! binary.
+//! until data, a deadline or a stop, after a bounded spin on the inputs when the partition's
+//! idle strategy says so ([`Control::wait_idle`], `config::Idle`); [`run_loop`], the one loop
+//! skeleton every partition runs; latency reports on an interval, on SIGUSR1 and at shutdown;
+//! and the `main` of every partition binary.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,7 +15,8 @@ use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 
 use missionlink_interfaces::contracts::Partition;
 
-use crate::config::{Config, ConfigArgs, ConfigError};
+use crate::config::{Config, ConfigArgs, ConfigError, Idle, IdleMode};
+use crate::doorbell::Doorbell;
 use crate::health::Heartbeat;
 use crate::ipc::{Ipc, IpcError};
 use crate::latency::{self, Recorder};
@@ -193,6 +195,119 @@ impl Control {
             .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout)?;
         Ok(keeps_running(result) && !self.stop_requested())
     }
+
+    /// Waits for the next event as `idle` says: with [`IdleMode::Block`] (or `poll`) as
+    /// [`Control::wait`]; with [`IdleMode::Backoff`] it first looks at `pending` in a loop
+    /// ([`Control::spin`]) and returns as soon as one of them has data, without the WaitSet;
+    /// only then does it sleep in the WaitSet for the rest of `timeout`. The notifications of a
+    /// frame taken while spinning stay queued on its listener until the step drains them
+    /// (`Subscriber::take_all`), as after a wake-up. `false` when the loop must end.
+    pub fn wait_idle<S: Service>(
+        &self,
+        waitset: &WaitSet<S>,
+        poll: bool,
+        timeout: Duration,
+        idle: Idle,
+        pending: &[&dyn Pending],
+    ) -> Result<bool, WaitSetRunError> {
+        if poll || idle.mode == IdleMode::Block || pending.is_empty() {
+            return self.wait(waitset, poll, timeout);
+        }
+        match self.spin(timeout, idle, pending) {
+            Spun::Data => Ok(!self.stop_requested()),
+            Spun::Stop => Ok(false),
+            Spun::Nothing(elapsed) => self.wait(waitset, poll, timeout.saturating_sub(elapsed)),
+        }
+    }
+
+    /// Waits for the next event on `doorbell` ([`IdleMode::Doorbell`]): drains the rings of
+    /// what the last step took, spins as [`Control::wait_idle`] does (at least one look at
+    /// `pending`, so that a frame published before the drain is not left for the timer), then
+    /// sleeps until a publisher or the doorbell's timer rings, the timer at `timeout` (at most
+    /// [`STOP_LATENCY`]). `false` when the loop must end.
+    pub fn wait_doorbell(
+        &self,
+        doorbell: &Doorbell,
+        timeout: Duration,
+        idle: Idle,
+        pending: &[&dyn Pending],
+    ) -> Result<bool, IpcError> {
+        doorbell.drain();
+        match self.spin(timeout, idle, pending) {
+            Spun::Data => Ok(!self.stop_requested()),
+            Spun::Stop => Ok(false),
+            Spun::Nothing(elapsed) => {
+                let rest = timeout.saturating_sub(elapsed).min(STOP_LATENCY);
+                if !rest.is_zero() {
+                    doorbell.wait(rest)?;
+                }
+                Ok(!self.stop_requested())
+            }
+        }
+    }
+
+    /// Looks at `pending` (at least once) until one has data, for the spin budget of `idle`
+    /// and then, yielding the CPU between looks, for its yield budget (both cut to `timeout`).
+    fn spin(&self, timeout: Duration, idle: Idle, pending: &[&dyn Pending]) -> Spun {
+        let started = Instant::now();
+        let spin = idle.spin().min(timeout);
+        let budget = (idle.spin() + idle.yield_for()).min(timeout);
+        let mut looks: u32 = 0;
+        let mut elapsed = Duration::ZERO;
+        loop {
+            if pending.iter().any(|p| p.pending()) {
+                return Spun::Data;
+            }
+            looks = looks.wrapping_add(1);
+            // The clock every few looks: a look costs less than a clock read.
+            if looks % LOOKS_PER_CLOCK_READ == 1 {
+                elapsed = started.elapsed();
+                if self.stop_requested() {
+                    return Spun::Stop;
+                }
+            }
+            if elapsed >= budget {
+                return Spun::Nothing(elapsed);
+            }
+            if elapsed >= spin {
+                std::thread::yield_now();
+            }
+        }
+    }
+}
+
+/// What a spin on the inputs found.
+enum Spun {
+    /// Data on an input.
+    Data,
+    /// A stop was asked for.
+    Stop,
+    /// Nothing within the budget, which took this long.
+    Nothing(Duration),
+}
+
+/// How many looks at the inputs a spinning loop makes between two reads of the clock.
+const LOOKS_PER_CLOCK_READ: u32 = 8;
+
+/// An input a spinning loop looks at without taking anything from it: an iceoryx2 subscriber
+/// (`Subscriber::has_samples`) or the UDP links (`udp::LinkPair`).
+pub trait Pending: std::fmt::Debug {
+    /// Whether data waits to be taken.
+    fn pending(&self) -> bool;
+}
+
+impl<S: Service, T: std::fmt::Debug + Copy + ZeroCopySend + 'static> Pending
+    for crate::ipc::Subscriber<S, T>
+{
+    fn pending(&self) -> bool {
+        self.has_samples()
+    }
+}
+
+impl Pending for crate::udp::LinkPair {
+    fn pending(&self) -> bool {
+        self.has_datagrams()
+    }
 }
 
 /// A WaitSet for a partition loop, with iceoryx2's signal handling disabled (see
@@ -215,8 +330,14 @@ impl<T: SynchronousMultiplexing + std::fmt::Debug + ?Sized> Attachment for T {}
 pub struct Wake<'a> {
     /// The listeners and sockets whose data wakes it.
     pub on: &'a [&'a dyn Attachment],
+    /// The same inputs as the spin of [`IdleMode::Backoff`] looks at them (the subscribers
+    /// and sockets of `on`).
+    pub pending: &'a [&'a dyn Pending],
     /// Periodic work (connecting late subscribers, stepping a model), if any.
     pub every: Option<Duration>,
+    /// Whether some input of `on` is a socket, which only the WaitSet can wait for: then
+    /// [`IdleMode::Doorbell`] sleeps in the WaitSet as [`IdleMode::Backoff`] does.
+    pub sockets: bool,
     /// The longest first sleep; after it each step says how long the next may be.
     pub first_timeout: Duration,
 }
@@ -261,12 +382,42 @@ pub fn run_loop<S: Service>(
         "{name} up"
     );
     control.set_ready();
+    let idle = config.ipc.idle.of(name);
+    let doorbell = (idle.mode == IdleMode::Doorbell && !wake.sockets && !config.ipc.poll)
+        .then(|| ipc.doorbell(role))
+        .transpose()?;
+    tracing::info!(
+        mode = ?idle.mode,
+        spin_us = idle.spin_us,
+        yield_us = idle.yield_us,
+        poll = config.ipc.poll,
+        doorbell = doorbell.is_some(),
+        "{name} waits for its inputs"
+    );
     let mut until_beat = heartbeat.beat_if_due()?;
     let mut timeout = wake.first_timeout;
-    while control
-        .wait(&waitset, config.ipc.poll, timeout.min(until_beat))
-        .map_err(PartitionError::waitset)?
-    {
+    // On the doorbell the WaitSet's interval does not fire: the loop keeps its own.
+    let mut next_tick = wake.every.map(|every| Instant::now() + every);
+    loop {
+        let mut limit = timeout.min(until_beat);
+        let running = match &doorbell {
+            Some(doorbell) => {
+                if let (Some(tick), Some(every)) = (next_tick.as_mut(), wake.every) {
+                    let now = Instant::now();
+                    if *tick <= now {
+                        *tick = now + every;
+                    }
+                    limit = limit.min(tick.saturating_duration_since(now));
+                }
+                control.wait_doorbell(doorbell, limit, idle, wake.pending)?
+            }
+            None => control
+                .wait_idle(&waitset, config.ipc.poll, limit, idle, wake.pending)
+                .map_err(PartitionError::waitset)?,
+        };
+        if !running {
+            break;
+        }
         until_beat = heartbeat.beat_if_due()?;
         timeout = step(&mut report)?;
     }

@@ -64,6 +64,9 @@ where
                 .ok_or_else(|| PartitionError::Config("no watch of guidance".to_owned()))?
                 .listener(),
         ],
+        // Not guidance's heartbeat: it is not urgent and comes every period.
+        pending: &[&lists.waypoints, &lists.areas, &progress, &commands],
+        sockets: false,
         every: Some(CONNECT_INTERVAL),
         first_timeout: CONNECT_INTERVAL,
     };

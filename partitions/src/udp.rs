@@ -186,6 +186,15 @@ impl LinkPair {
         self
     }
 
+    /// Whether a datagram waits on either socket, without reading it (a `MSG_PEEK` of one
+    /// byte on each: what a spinning partition loop looks at, `runtime::Pending`).
+    pub fn has_datagrams(&self) -> bool {
+        let mut byte = [0u8; 1];
+        [&self.direct, &self.lte]
+            .iter()
+            .any(|socket| socket.peek_from(&mut byte).is_ok())
+    }
+
     /// Where the direct and the LTE socket are bound.
     pub fn local_addrs(&self) -> Result<[SocketAddr; 2], LinkError> {
         addrs(&self.direct, &self.lte)

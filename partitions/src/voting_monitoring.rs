@@ -149,6 +149,8 @@ where
     let [direct_fd, lte_fd] = links.attachments();
     let wake = Wake {
         on: &[direct_fd, lte_fd, downlink.listener()],
+        pending: &[&links, &downlink],
+        sockets: true,
         every: None,
         first_timeout: IDLE_WAIT,
     };
