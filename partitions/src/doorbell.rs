@@ -1,4 +1,4 @@
-//! One doorbell per partition (DESIGN.md "Waking"): an iceoryx2 event service named
+//! One doorbell per partition (docs/wait-path.md; docs/design.md "Services, payloads and QoS"): an iceoryx2 event service named
 //! `{prefix}/doorbell/<role>` whose listener is the partition and whose notifiers are the
 //! publishers of every service the partition consumes ([`consumers`]). The event is
 //! iceoryx2-cal's POSIX semaphore in shared memory (`SemaphoreShmCountingBitSet`), through the
@@ -69,7 +69,7 @@ impl iceoryx2::service::Service for DoorbellService {
 impl iceoryx2::service::internal::ServiceInternal<DoorbellService> for DoorbellService {}
 
 /// The partitions whose doorbell a publisher of `service` rings: its subscribers among the
-/// partitions (DESIGN.md, "Contracts between partitions").
+/// partitions (docs/design.md, "Contracts between partitions").
 pub fn consumers(service: FccService) -> &'static [Partition] {
     match service {
         FccService::Uplink => &[Partition::MissionDataHandling],
