@@ -1,6 +1,7 @@
 //! One doorbell per partition (docs/wait-path.md; docs/design.md "Services, payloads and
-//! QoS"): an iceoryx2 event service named `{prefix}/doorbell/<role>` whose listener is the partition and whose notifiers are the
-//! publishers of every service the partition consumes ([`consumers`]). The event is
+//! QoS"): an iceoryx2 event service named `{prefix}/doorbell/<role>` whose listener is the
+//! partition and whose notifiers are the publishers of every service the partition consumes
+//! ([`consumers`]). The event is
 //! iceoryx2-cal's POSIX semaphore in shared memory (`SemaphoreShmCountingBitSet`), through the
 //! service type [`DoorbellService`]: a ring is a `sem_post`, the wait a `sem_wait`, a futex
 //! each, where the default event of `ipc::Service` is a Unix datagram plus an epoll round in the
