@@ -1244,36 +1244,6 @@ mod tests {
         (rel, points)
     }
 
-    /// Distance from `at` to `path`, metres: to the point of the path at the foot of `at`
-    /// (along-track on a geodesic, the azimuth from an arc's centre), clamped to the path.
-    fn off_path(path: &Path, at: Point<f64>) -> f64 {
-        let at = Site::of(at);
-        match *path {
-            Path::Point(p) => p.inverse(&at).0,
-            Path::Geodesic { from, to } => {
-                let (length, course) = from.inverse(&to);
-                let (d, az) = from.inverse(&at);
-                let along = (d * (az - course).to_radians().cos()).clamp(0.0, length);
-                at.inverse(&from.direct(course, along)).0
-            }
-            Path::Arc {
-                from,
-                to,
-                centre,
-                direction,
-            } => {
-                let arc = ArcGeometry::of(&from, &to, &centre, direction);
-                let az = centre.inverse(&at).1;
-                let ends = at.inverse(&from).0.min(at.inverse(&to).0);
-                if angle_to_go(arc.az0, az, arc.clockwise) <= arc.sweep {
-                    at.inverse(&arc.at(az)).0.min(ends)
-                } else {
-                    ends
-                }
-            }
-        }
-    }
-
     /// The turn at W1 of mission 2 (inbound the leg from CCP, outbound the RF arc to ROLE2)
     /// as the geofence constructs it, and the farthest a sample of the leg to ROLE2 (TO = 3)
     /// lies from that turn's paths and the arc.
@@ -1292,7 +1262,7 @@ mod tests {
             .map(|p| {
                 paths
                     .iter()
-                    .map(|path| off_path(path, here(p)))
+                    .map(|path| crate::testkit::distance_to_path(path, Site::of(here(p))))
                     .fold(f64::INFINITY, f64::min)
             })
             .fold(0.0, f64::max);
@@ -1330,7 +1300,7 @@ mod tests {
             .iter()
             .filter(|p| p.to == 3)
             .map(here)
-            .filter(|p| off_path(&t.paths[0], *p) > 0.001)
+            .filter(|p| crate::testkit::distance_to_path(&t.paths[0], Site::of(*p)) > 0.001)
             .collect();
         let bearings = unwrapped_bearings(pt(RF_CENTRE), &points);
         assert!(bearings.windows(2).all(|w| w[1] > w[0]), "not clockwise");

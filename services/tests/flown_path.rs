@@ -28,14 +28,15 @@ use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::onboard::{self, RouteElement, RouteLeg};
 use missionlink_services::geofence::path::{Path, Track};
-use missionlink_services::geofence::turn::{ArcGeometry, TurnKind, angle_to_go};
+use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::Fence;
 use missionlink_services::ground_station::MissionPlan;
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 use missionlink_services::link::time::Instant;
 use missionlink_services::safety_gateway::SafetyGateway;
 use missionlink_services::testkit::{
-    self, CCP, FLY_ZONE, NFZ_POLYGON, circle, plan, polygon, rf_centre, route, take_off, waypoint,
+    self, CCP, FLY_ZONE, NFZ_POLYGON, circle, distance_to_path, plan, polygon, rf_centre, route,
+    take_off, waypoint,
 };
 
 /// Flown and checked paths agree within this, metres.
@@ -140,37 +141,6 @@ fn fly(f: &Flight, list: &WaypointListPayload) -> (Vec<Site>, Option<(Site, u16)
     panic!("{}: the route is not complete", f.name);
 }
 
-/// Distance from `at` to `path`, metres: to the point of the path at the foot of `at` (the
-/// along-track position measured from the path's start, or the azimuth from an arc's centre),
-/// clamped to the path; an upper bound on the distance that is exact to second order in the
-/// (small) distance.
-fn distance_to(path: &Path, at: Site) -> f64 {
-    match *path {
-        Path::Point(p) => p.inverse(&at).0,
-        Path::Geodesic { from, to } => {
-            let (length, course) = from.inverse(&to);
-            let (d, az) = from.inverse(&at);
-            let along = (d * (az - course).to_radians().cos()).clamp(0.0, length);
-            at.inverse(&from.direct(course, along)).0
-        }
-        Path::Arc {
-            from,
-            to,
-            centre,
-            direction,
-        } => {
-            let arc = ArcGeometry::of(&from, &to, &centre, direction);
-            let az = centre.inverse(&at).1;
-            let ends = at.inverse(&from).0.min(at.inverse(&to).0);
-            if angle_to_go(arc.az0, az, arc.clockwise) <= arc.sweep {
-                at.inverse(&arc.at(az)).0.min(ends)
-            } else {
-                ends
-            }
-        }
-    }
-}
-
 /// The area ID a gateway violation names ("... (no-fly-zone 4)").
 fn area_of(detail: &str) -> Option<u16> {
     let i = detail.rfind("zone ")?;
@@ -211,7 +181,7 @@ fn check(f: &Flight) -> Outcome {
         };
         let d = paths
             .iter()
-            .map(|l| distance_to(&l.path, *at))
+            .map(|l| distance_to_path(&l.path, *at))
             .fold(f64::INFINITY, f64::min);
         assert!(
             d <= FLOWN_TOLERANCE_M,
@@ -559,7 +529,7 @@ fn guidance_flies_what_the_geofence_checks() {
             panic!("{arc:?}");
         };
         assert_eq!(to, 3, "TO when return to home is commanded");
-        assert!(distance_to(&arc, here) < 1e-6, "on the arc");
+        assert!(distance_to_path(&arc, here) < 1e-6, "on the arc");
         assert!(here.inverse(&from).0 > 10.0 && here.inverse(&end).0 > 10.0);
     }
     flights.push(on_the_arc);

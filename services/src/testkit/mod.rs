@@ -887,6 +887,42 @@ pub fn geofence_worst_case_rf() -> (
     (waypoints, areas, worst_case_take_off())
 }
 
+// ---- Geometry ----
+
+/// Distance from `at` to `path`, metres: to the point of the path at the foot of `at` (the
+/// along-track position measured from the path's start, or the azimuth from an arc's centre),
+/// clamped to the path; an upper bound on the distance that is exact to second order in the
+/// (small) distance. What the tests of guidance measure flown positions against.
+pub fn distance_to_path(
+    path: &crate::geofence::path::Path,
+    at: crate::geofence::earth::Site,
+) -> f64 {
+    match *path {
+        crate::geofence::path::Path::Point(p) => p.inverse(&at).0,
+        crate::geofence::path::Path::Geodesic { from, to } => {
+            let (length, course) = from.inverse(&to);
+            let (d, az) = from.inverse(&at);
+            let along = (d * (az - course).to_radians().cos()).clamp(0.0, length);
+            at.inverse(&from.direct(course, along)).0
+        }
+        crate::geofence::path::Path::Arc {
+            from,
+            to,
+            centre,
+            direction,
+        } => {
+            let arc = crate::geofence::turn::ArcGeometry::of(&from, &to, &centre, direction);
+            let az = centre.inverse(&at).1;
+            let ends = at.inverse(&from).0.min(at.inverse(&to).0);
+            if crate::geofence::turn::angle_to_go(arc.az0, az, arc.clockwise) <= arc.sweep {
+                at.inverse(&arc.at(az)).0.min(ends)
+            } else {
+                ends
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
