@@ -526,6 +526,8 @@ pub struct Config {
     pub signing: Signing,
     /// Real-time settings per partition.
     pub realtime: Realtime,
+    /// How each partition fences itself (`isolation`).
+    pub isolation: crate::isolation::Isolation,
 }
 
 /// A configuration file that cannot be used.

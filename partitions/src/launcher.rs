@@ -217,6 +217,7 @@ fn check_partitions(config: &Config, without: &[&str]) -> Result<(), PartitionEr
         voting_monitoring::check_config(config)
             .map_err(|e| PartitionError::Config(format!("{}: {e}", voting_monitoring::NAME)))?;
     }
+    crate::isolation::check_config(config).map_err(|e| PartitionError::Config(e.to_string()))?;
     Ok(())
 }
 

@@ -13,6 +13,7 @@ pub mod doorbell;
 pub mod guidance_stub;
 pub mod health;
 pub mod ipc;
+pub mod isolation;
 pub mod keys;
 pub mod latency;
 pub mod launcher;
