@@ -265,3 +265,20 @@ fn the_launcher_names_the_partition_the_kernel_killed_and_gives_up_after_its_sta
         "{text}"
     );
 }
+
+#[test]
+fn the_systemd_units_verify() {
+    let fcc = bin_dir().join("fcc");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let output = Command::new(root.join("tools/check-units"))
+        .arg(&fcc)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", describe(&output));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("missionlink-fcc.service: verified"),
+        "{}",
+        describe(&output)
+    );
+}
