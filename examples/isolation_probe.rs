@@ -6,7 +6,8 @@
 //!
 //! - `inet`: open a UDP socket (only voting-monitoring may);
 //! - `write`: create a file in `MISSIONLINK_PROBE_OUTSIDE`, a directory outside its own;
-//! - `exec`: run `/bin/true`.
+//! - `exec`: run `/bin/true`;
+//! - `whoami`: print the user and group it runs as (after `[isolation.<partition>] user`).
 //!
 //! It prints what the kernel answered (`refused: ...` or `allowed`) and exits 0 when refused,
 //! 3 when allowed; a call the seccomp filter forbids kills it with SIGSYS before it can print.
@@ -41,6 +42,11 @@ fn main() -> ExitCode {
             std::fs::write(std::path::Path::new(&outside).join("written"), b"x")
         }
         "exec" => std::process::Command::new("/bin/true").status().map(drop),
+        "whoami" => {
+            let (uid, gid) = (rustix::process::geteuid(), rustix::process::getegid());
+            println!("uid={} gid={}", uid.as_raw(), gid.as_raw());
+            return ExitCode::SUCCESS;
+        }
         other => panic!("nothing to try called {other:?}"),
     };
     match answer {

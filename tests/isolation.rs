@@ -126,11 +126,13 @@ fn each_partition_killed_comes_back_fenced_and_the_fcc_still_works() {
     );
 }
 
-/// The test-only partition, built if missing.
+/// The test-only partition: built (brought up to date) when the test runs under cargo, else
+/// when missing.
 fn probe() -> PathBuf {
     let dir = missionlink_partitions::binaries::build_dir().unwrap();
     let probe = dir.join("examples").join("isolation_probe");
-    if !probe.is_file() {
+    let under_cargo = std::env::var_os("CARGO").is_some();
+    if under_cargo || !probe.is_file() {
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
         let mut command = Command::new(cargo);
         command
@@ -212,6 +214,25 @@ fn a_partition_that_tries_what_it_must_never_do_is_refused_or_killed() {
         "{}",
         describe(&output)
     );
+}
+
+#[test]
+fn started_as_root_a_partition_drops_to_its_configured_user() {
+    let mut rig = Rig::new("isolation-user");
+    rig.config.isolation.guidance_stub.user = Some("nobody".to_owned());
+    let output = run_probe(&rig, "guidance-stub", "whoami");
+    if rustix::process::geteuid().is_root() {
+        let nobody = missionlink_partitions::isolation::lookup_user("nobody").unwrap();
+        assert!(
+            String::from_utf8_lossy(&output.stdout)
+                .contains(&format!("uid={} gid={}", nobody.uid, nobody.gid)),
+            "{}",
+            describe(&output)
+        );
+    } else {
+        // Not root and not that user: the partition refuses to start unfenced.
+        assert!(!output.status.success(), "{}", describe(&output));
+    }
 }
 
 fn libc_sigsys() -> i32 {
