@@ -329,11 +329,7 @@ impl Fence {
             // A path that cannot be opened, a ruleset the kernel refuses: not applied, said.
             Err(e) => format!("not applied ({e})"),
         };
-        let program = filter(self.inet, self.on_violation)?;
-        for p in &program {
-            seccompiler::apply_filter_all_threads(p)
-                .map_err(|e| IsolationError::Seccomp(e.to_string()))?;
-        }
+        install_filter(self.inet, self.on_violation, Threads::All)?;
         applied.seccomp = true;
         tracing::info!(
             partition = %self.name,
@@ -622,6 +618,33 @@ pub fn filter(inet: bool, on_violation: Violation) -> Result<Vec<BpfProgram>, Is
     // The clone3 filter first: installing a filter calls prctl and seccomp, which the allow-list
     // forbids.
     Ok(vec![clone3, allow_list])
+}
+
+/// Which threads a filter is installed on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Threads {
+    /// Every thread of the process (`SECCOMP_FILTER_FLAG_TSYNC`): a partition.
+    All,
+    /// The calling thread only: the benchmark that runs the same calls with and without the
+    /// filter in one process (benches/isolation.rs).
+    This,
+}
+
+/// Installs the seccomp filter of a partition (`inet`: voting-monitoring's) on `threads`; sets
+/// no_new_privs on the calling thread first (the kernel requires it of an unprivileged process).
+pub fn install_filter(
+    inet: bool,
+    on_violation: Violation,
+    threads: Threads,
+) -> Result<(), IsolationError> {
+    for program in &filter(inet, on_violation)? {
+        match threads {
+            Threads::All => seccompiler::apply_filter_all_threads(program),
+            Threads::This => seccompiler::apply_filter(program),
+        }
+        .map_err(|e| IsolationError::Seccomp(e.to_string()))?;
+    }
+    Ok(())
 }
 
 /// Whether `/proc/<pid>/status` (its text) shows no_new_privs and a seccomp filter.
