@@ -110,13 +110,18 @@ impl Default for Isolation {
 impl Isolation {
     /// The settings of the partition named `partition`; `None` for another name.
     pub fn of(&self, partition: &str) -> Option<&PartitionIsolation> {
-        match partition {
-            crate::voting_monitoring::NAME => Some(&self.voting_monitoring),
-            crate::mission_data_handling::NAME => Some(&self.mission_data_handling),
-            crate::system_automation::NAME => Some(&self.system_automation),
-            crate::guidance_stub::NAME => Some(&self.guidance_stub),
-            _ => None,
-        }
+        // In the launcher's order of the partitions.
+        let index = crate::launcher::PARTITIONS
+            .iter()
+            .position(|p| *p == partition)?;
+        [
+            &self.voting_monitoring,
+            &self.mission_data_handling,
+            &self.system_automation,
+            &self.guidance_stub,
+        ]
+        .get(index)
+        .copied()
     }
 }
 
