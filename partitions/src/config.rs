@@ -70,6 +70,12 @@
 //! lock_memory = true              # mlockall(MCL_CURRENT | MCL_FUTURE); default false
 //! # and [realtime.mission-data-handling], [realtime.system-automation],
 //! # [realtime.guidance-stub]
+//!
+//! [isolation]                     # each partition's fence (see `isolation`); on by default
+//! enabled = true
+//! on_violation = "kill"           # kill | errno: what a forbidden system call does
+//! [isolation.voting-monitoring]   # and the other three: started as root, drop to this user
+//! user = "missionlink"
 //! ```
 
 use std::net::SocketAddr;
