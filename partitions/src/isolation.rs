@@ -284,13 +284,6 @@ impl Fence {
         })
     }
 
-    /// As [`Fence::of`] for a test or a rig: the fence `name` would get, with these writable
-    /// directories instead of the configuration's.
-    pub fn with_writable(mut self, writable: Vec<PathBuf>) -> Self {
-        self.writable = writable;
-        self
-    }
-
     /// Applies the fence to this process (which must have one thread) and logs once what was
     /// applied and what was not, with why. An error leaves the process as fenced as it got: the
     /// caller ends it.
