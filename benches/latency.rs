@@ -129,7 +129,6 @@ use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::Partition;
 use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
-use missionlink_partitions::clock::monotonic_ns;
 use missionlink_partitions::config::{
     Config, DEFAULT_SPIN_US, FifoPriority, Idle, IdleMode, IdlePerPartition, RealtimeSettings,
 };
@@ -137,6 +136,7 @@ use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::realtime::{self, Scheduling};
 use missionlink_partitions::runtime::{self, Control, Wake};
 use missionlink_partitions::{mission_data_handling, voting_monitoring};
+use missionlink_platform::clock::monotonic_ns;
 use serde_json::{Value, json};
 
 /// Recorded frames per transport and size unless `--frames` says otherwise.

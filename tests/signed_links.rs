@@ -17,7 +17,7 @@ use missionlink_interfaces::wire::{
     self, Envelope, MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, MissionPlanMode, Timestamp,
 };
 use missionlink_partitions::config::{Signing, SigningPolicy};
-use missionlink_partitions::keys;
+use missionlink_platform::keys;
 use missionlink_services::link::signing::{LinkKey, Signer};
 use missionlink_services::transfer::sender::mission_command;
 

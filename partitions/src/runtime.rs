@@ -21,7 +21,7 @@ use crate::health::Heartbeat;
 use crate::ipc::{Ipc, IpcError};
 use crate::latency::{self, Recorder};
 use crate::state;
-use crate::udp::LinkError;
+use missionlink_platform::udp::LinkError;
 
 /// The longest a loop sleeps before it looks at its stop flag: a [`Control::stop`] from another
 /// thread, or a signal that lands on another thread of the process, ends the loop within this.
@@ -304,7 +304,7 @@ impl<S: Service, T: std::fmt::Debug + Copy + ZeroCopySend + 'static> Pending
     }
 }
 
-impl Pending for crate::udp::LinkPair {
+impl Pending for missionlink_platform::udp::LinkPair {
     fn pending(&self) -> bool {
         self.has_datagrams()
     }
@@ -320,7 +320,7 @@ pub fn waitset<S: Service>() -> Result<WaitSet<S>, PartitionError> {
 }
 
 /// Something a partition loop sleeps on: an iceoryx2 listener or a socket
-/// (`udp::SocketFd`). A trait of its own so that listeners and sockets share one slice.
+/// (`wait_fd::SocketFd`). A trait of its own so that listeners and sockets share one slice.
 pub trait Attachment: SynchronousMultiplexing + std::fmt::Debug {}
 
 impl<T: SynchronousMultiplexing + std::fmt::Debug + ?Sized> Attachment for T {}
@@ -498,12 +498,12 @@ pub fn partition_main(
     args: &ConfigArgs,
     run: impl FnOnce(&Config, &Control) -> Result<(), PartitionError>,
 ) -> std::process::ExitCode {
-    crate::init_logging();
+    missionlink_platform::init_logging();
     crate::ipc::quiet_iceoryx2_log();
     if args.exit_with_parent {
         watch_parent(name);
     }
-    let config = match args.resolve() {
+    let config = match Config::resolve(args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };

@@ -14,7 +14,7 @@ use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::launcher::{self, FccProcess};
-use missionlink_partitions::udp::{LinkPair, LocalEnds};
+use missionlink_platform::udp::{LinkPair, LocalEnds};
 use missionlink_services::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 
 pub type Link = GcsLink<WithoutGateway>;
@@ -112,7 +112,7 @@ impl Rig {
     /// A GCS on `links`, its time stamps reserved in the rig's directory as the gcs tool
     /// reserves them: a GCS started again on the same links continues after them.
     pub fn gcs_on(&self, links: LinkPair) -> Link {
-        GcsLink::with_links(&self.config, links, WithoutGateway)
+        GcsLink::with_links(&self.config.link(), links, WithoutGateway)
             .unwrap()
             .with_stamp_lease(&self.dir.join("gcs-time-stamps"))
             .unwrap()
