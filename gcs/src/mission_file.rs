@@ -181,7 +181,8 @@ impl MissionFile {
     /// the values are checked by [`MissionFile::to_plan`].
     pub fn parse(text: &str) -> Result<Self, MissionFileError> {
         toml::from_str(text).map_err(|e| {
-            let (line, column) = line_column(text, e.span().map_or(0, |s| s.start));
+            let (line, column) =
+                missionlink_platform::config::line_column(text, e.span().map_or(0, |s| s.start));
             MissionFileError::Syntax {
                 line,
                 column,
@@ -752,14 +753,6 @@ fn one_vertex_per_line(toml: &str) -> String {
         }
     }
     out
-}
-
-/// Line and column (1-based, in characters) of byte `offset` of `text`.
-fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let before = text.get(..offset).unwrap_or(text);
-    let line = before.matches('\n').count() + 1;
-    let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
-    (line, column)
 }
 
 /// The demo missions and their validated plans, for the tests of every module of the crate.
