@@ -45,7 +45,7 @@ use std::fmt::Write as _;
 use missionlink_interfaces::wire::{AreaShape, GeoPoint, SpecificData, TurnDirection};
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::local_frame::LocalFrame;
-use missionlink_services::geofence::onboard::{self, RouteElement};
+use missionlink_services::geofence::onboard::{self, RouteElement, RouteView, RouteWaypoint};
 use missionlink_services::geofence::path::{Path, Track};
 use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::{Fence, Zone, ZoneKind};
@@ -576,20 +576,20 @@ pub fn render(
 
     // The legs the safety gateway checks, in the order flown: from the take-off position when
     // the plan has one.
-    let list = mission.to_payload(1);
+    let list = RouteView::from(mission);
     let route: Vec<onboard::RouteLeg> = match take_off {
-        Some(t) => onboard::execute_route(&list, Site::of(t), None).collect(),
-        None => onboard::legs(&list).collect(),
+        Some(t) => onboard::execute_route(list, Site::of(t), None).collect(),
+        None => onboard::legs(list).collect(),
     };
     // The turns at the waypoints as flown and checked (the gateway's bank), from the take-off
     // position or, without one, from the initial waypoint.
     let fly_by = onboard::FlyBy {
         bank_deg: AircraftProfile::default().max_bank_deg,
     };
-    let start = take_off.or(list.waypoints().first().map(|w| w.position));
+    let start = take_off.or(list.waypoints.first().map(|w| w.position()));
     let turns: Vec<Turn> = start
         .into_iter()
-        .flat_map(|s| onboard::execute_route(&list, Site::of(s), Some(fly_by)))
+        .flat_map(|s| onboard::execute_route(list, Site::of(s), Some(fly_by)))
         .filter_map(|leg| match leg.element {
             RouteElement::Turn { at, to, kind } => Some(Turn {
                 at,

@@ -81,7 +81,7 @@ use core::fmt;
 use missionlink_interfaces::wire::{AreaShape, AreaType, GeoPoint, LegType, SpecificData};
 
 use crate::geofence::earth::{self, Site};
-use crate::geofence::onboard::{self, RouteElement};
+use crate::geofence::onboard::{self, RouteElement, RouteView, RouteWaypoint};
 use crate::geofence::path::{Path, Track};
 use crate::geofence::zone::Fence;
 use crate::transfer::areas::AreaList;
@@ -569,41 +569,41 @@ impl SafetyGateway {
     /// plan says where that is), then between the waypoints; the geofence's route
     /// ([`onboard`]), which the FCC checks too.
     fn legs(mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
-        let list = mission.to_payload(1);
-        let entries = list.waypoints();
-        let toh = mission.take_off_height().metres();
+        let route = RouteView::from(mission);
+        let entries = route.waypoints;
+        let toh = route.take_off_height.metres();
         let mut legs = Vec::with_capacity(entries.len() + 1);
         if let (Some(t), Some(first)) = (take_off, entries.first()) {
             legs.push(Leg {
                 element: RouteElement::Leg {
                     from: 0,
-                    to: first.number,
+                    to: first.number(),
                 },
                 from: 0,
-                to: first.number,
+                to: first.number(),
                 from_index: None,
                 to_index: 0,
                 path: Path::Geodesic {
                     from: Site::of(t),
-                    to: Site::of(first.position),
+                    to: Site::of(first.position()),
                 },
                 reversible: false,
-                speed_mps: first.speed.mps(),
-                climb_m: (first.altitude.metres() - toh).max(0.0),
+                speed_mps: first.speed().mps(),
+                climb_m: (first.altitude().metres() - toh).max(0.0),
             });
         }
-        for (i, (leg, w)) in onboard::legs(&list).zip(entries.windows(2)).enumerate() {
+        for (i, (leg, w)) in onboard::legs(route).zip(entries.windows(2)).enumerate() {
             let [a, b] = w else { continue };
             legs.push(Leg {
                 element: leg.element,
-                from: a.number,
-                to: b.number,
+                from: a.number(),
+                to: b.number(),
                 from_index: Some(i),
                 to_index: i + 1,
                 path: leg.path,
-                reversible: list.bidirectional,
-                speed_mps: b.speed.mps(),
-                climb_m: (b.altitude.metres() - a.altitude.metres()).max(0.0),
+                reversible: route.bidirectional,
+                speed_mps: b.speed().mps(),
+                climb_m: (b.altitude().metres() - a.altitude().metres()).max(0.0),
             });
         }
         legs
@@ -614,28 +614,28 @@ impl SafetyGateway {
     /// route the way back from the last waypoint and the turn round at every waypoint where a
     /// return to home may start. Paths the legs between the waypoints do not cover.
     fn turns(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
-        let list = mission.to_payload(1);
-        let entries = list.waypoints();
+        let route = RouteView::from(mission);
+        let entries = route.waypoints;
         let fly_by = onboard::FlyBy {
             bank_deg: self.profile.max_bank_deg,
         };
-        let index = |n: u16| entries.iter().position(|w| w.number == n);
+        let index = |n: u16| entries.iter().position(|w| w.number() == n);
         let start = take_off
             .map(Site::of)
-            .or(entries.first().map(|w| Site::of(w.position)));
+            .or(entries.first().map(|w| Site::of(w.position())));
         let last = entries.last();
         let forward = start
             .into_iter()
-            .flat_map(|s| onboard::execute_route(&list, s, Some(fly_by)));
-        let bidirectional = list.bidirectional;
+            .flat_map(|s| onboard::execute_route(route, s, Some(fly_by)));
+        let bidirectional = route.bidirectional;
         // The way back from the last waypoint (`to` 0: the route complete); the turns round
         // at the waypoints are `turns_round`'s.
         let back = last
             .filter(|_| bidirectional)
             .into_iter()
-            .flat_map(|w| onboard::return_route(&list, Site::of(w.position), 0, Some(fly_by)));
+            .flat_map(|w| onboard::return_route(route, Site::of(w.position()), 0, Some(fly_by)));
         let round = bidirectional
-            .then(|| onboard::turns_round(&list, fly_by))
+            .then(|| onboard::turns_round(route, fly_by))
             .into_iter()
             .flatten();
         forward
@@ -644,7 +644,7 @@ impl SafetyGateway {
             .filter_map(|leg| match leg.element {
                 RouteElement::Turn { at, to, .. } => {
                     let (from_index, to_index) = (index(at)?, index(to)?);
-                    let speed_mps = entries.get(to_index).map_or(0.0, |w| w.speed.mps());
+                    let speed_mps = entries.get(to_index).map_or(0.0, |w| w.speed().mps());
                     Some(Leg {
                         element: leg.element,
                         from: at,
