@@ -4,7 +4,7 @@
 use super::*;
 
 /// The `.plan` file of a validated plan and what it cannot hold (see the
-/// [module documentation](self)).
+/// [module documentation](crate::qgc)).
 pub fn export_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (String, Vec<Dropped>) {
     let mission = &plan.mission;
     let mut notes = Vec::new();
