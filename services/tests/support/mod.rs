@@ -35,7 +35,7 @@ use missionlink_services::voting::Voter;
 pub use missionlink_services::testkit::channel::{Channel, Impairments};
 pub use missionlink_services::testkit::*;
 
-/// Datagrams a driver reads per link per step (`partitions::udp::MAX_READS_PER_WAKE`).
+/// Datagrams a driver reads per link per step (`missionlink_platform::udp::MAX_READS_PER_WAKE`).
 const READS_PER_LINK: usize = 32;
 
 /// How long a sender waits for an answer (ICD §1).
