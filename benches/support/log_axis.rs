@@ -1,4 +1,4 @@
-//! The benches' SVG plots (`benches/latency.rs`, `benches/links.rs`): the document with its
+//! The benches' SVG plots (`benches/latency/report.rs`, `benches/links.rs`): the document with its
 //! title, and the logarithmic value axis (the decades that hold the values, where a value sits,
 //! the grid).
 
