@@ -49,10 +49,7 @@ fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T>
 
 #[test]
 fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_lists() {
-    let mut rig = Rig::new("roundtrip");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (_rig, _fcc, mut link) = Rig::with_gcs("roundtrip");
     for file in ["mission-1.toml", "mission-2.toml"] {
         let plan = plan(file);
         let valid = link.station().validate(&plan).unwrap();
@@ -129,8 +126,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     // One attempt: this test is about the abort; a second one would complete the upload on the
     // restarted partition (tests/link_faults.rs).
     rig.config.timing.upload_attempts = 1;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
@@ -225,10 +221,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
 
 #[test]
 fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_counted() {
-    let mut rig = Rig::new("bad-frames");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (rig, mut fcc, mut link) = Rig::with_gcs("bad-frames");
     let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
     let valid = link.station().validate(&mission_1).unwrap();
@@ -339,8 +332,7 @@ fn sigusr1_logs_the_latency_percentiles_and_the_partition_keeps_running() {
 #[test]
 fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
     let mut rig = Rig::new("flood");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     rig.learn_links(&mut fcc);
     let config = rig.config.clone();
 
@@ -417,8 +409,7 @@ fn execute_is_refused_when_the_way_from_the_take_off_point_crosses_a_no_fly_zone
     let mut rig = Rig::new("geofence");
     rig.config.guidance.start_latitude_deg = 48.258;
     rig.config.guidance.start_longitude_deg = 11.643;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     let plan = plan("mission-2.toml");
     let valid = link.station().validate(&plan).unwrap();

@@ -75,8 +75,7 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     let mut rig = Rig::new("signed");
     let key = key_file(&rig, "link.key", 1);
     rig.config.signing = require(vec![key]);
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     assert_eq!(link.signing_key_id(), Some(1));
     let mission_1 = plan("mission-1.toml");
@@ -130,8 +129,7 @@ fn a_gcs_whose_key_the_fcc_does_not_hold_hears_nothing_and_says_why() {
     let fcc_key = key_file(&rig, "fcc.key", 1);
     let gcs_key = key_file(&rig, "gcs.key", 2);
     rig.config.signing = require(vec![fcc_key]);
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     rig.config.signing = require(vec![gcs_key]);
     let mut link = rig.gcs(&mut fcc);
     let error = upload(&mut link, &plan("mission-1.toml")).unwrap_err();

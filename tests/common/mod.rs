@@ -83,6 +83,22 @@ impl Rig {
         FccProcess::start(&bin_dir(), binary, &self.config, Some(&log)).unwrap()
     }
 
+    /// Starts the launcher `fcc` under the rig's configuration and waits until every partition
+    /// is up.
+    pub fn start_fcc(&self) -> Process {
+        let mut fcc = self.start("fcc");
+        self.ready(&mut fcc);
+        fcc
+    }
+
+    /// A rig for `test` with its FCC up and a GCS talking to it: where most tests begin.
+    pub fn with_gcs(test: &str) -> (Self, Process, Link) {
+        let mut rig = Self::new(test);
+        let mut fcc = rig.start_fcc();
+        let link = rig.gcs(&mut fcc);
+        (rig, fcc, link)
+    }
+
     /// Waits until `process` (the launcher or a partition) is up: for the launcher, every
     /// partition's services are open.
     pub fn ready(&self, process: &mut Process) {
