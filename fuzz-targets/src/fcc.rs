@@ -29,28 +29,22 @@ use core::time::Duration;
 
 use missionlink_interfaces::contracts::{AutomationStatePayload, GuidanceProgressPayload};
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
+use missionlink_interfaces::wire::Message;
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
-use missionlink_services::testkit::{self, Transmit};
+use missionlink_services::testkit;
 use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::mission::{Mission, MissionBuffer};
 use missionlink_services::transfer::staged::StagedMissions;
 
-use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};
+use crate::input::u16_at;
+use crate::session::{self, Session};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
-    /// Raw bytes to `handle_frame`.
-    pub const RAW: u8 = 0;
-    /// Message data in a GCS frame with a correct checksum.
-    pub const WRAP: u8 = 1;
-    /// A message sent by the GCS endpoint with a fresh time stamp.
-    pub const SEND: u8 = 2;
-    /// The clock moves on.
-    pub const TIME: u8 = 3;
+    pub use crate::session::tag::{RAW, SEND, TIME, WRAP};
     /// The GCS answers the FCC's last request.
     pub const ANSWER: u8 = 4;
     /// Automation state or guidance progress.
@@ -62,19 +56,10 @@ pub mod tag {
 /// Kinds of records.
 pub const TAGS: u8 = 7;
 
-/// How many deadlines one clock step may fire before the target calls it a deadline that stays
-/// due (a hang in a driver's loop).
-const MAX_FIRINGS: usize = 10_000;
-
 /// The entry point: panics only when an invariant of the module documentation is broken.
 pub fn fcc(input: &[u8]) {
     let mut rig = Rig::new();
-    for (tag, body) in records(input) {
-        let before = Lists::of(&rig.fcc);
-        rig.step(tag, body);
-        rig.drain();
-        before.check_against(&rig.fcc);
-    }
+    session::run(&mut rig, input);
     let before = Lists::of(&rig.fcc);
     rig.advance(Duration::from_secs(60));
     before.check_against(&rig.fcc);
@@ -112,52 +97,6 @@ impl Rig {
         // execute or an activation starts there.
         rig.state(&[1, 0, 1]);
         rig
-    }
-
-    fn step(&mut self, tag: u8, body: &[u8]) {
-        if tag % TAGS != tag::TIME {
-            self.advance(Duration::from_millis(1));
-        }
-        match tag % TAGS {
-            tag::RAW => self.frame(body),
-            tag::WRAP => {
-                if let Some(frame) = MessageBody::parse(body).and_then(|b| wrap(&b, GCS_ID, FCC_ID))
-                {
-                    self.frame(&frame);
-                }
-            }
-            tag::SEND => {
-                if let Some(body) = MessageBody::parse(body)
-                    && let Some(message) = body.message()
-                {
-                    self.gcs.send(self.now, message, body.ack_requested());
-                    self.gcs_frames();
-                }
-            }
-            tag::TIME => self.advance(Duration::from_millis(u64::from(u16_at(body, 0)))),
-            tag::ANSWER => {
-                if let Some(request) = self.request.clone() {
-                    let outcome = answer_outcome(body);
-                    self.gcs.answer(self.now, &request, true, outcome);
-                    self.gcs_frames();
-                }
-            }
-            tag::STATE => self.state(body),
-            _ => self.restart(body.first().copied().unwrap_or(0)),
-        }
-    }
-
-    fn frame(&mut self, bytes: &[u8]) {
-        // A frame error is the driver's to count; nothing else to check here.
-        let _ = self.fcc.handle_frame(self.now, bytes);
-        self.drain();
-    }
-
-    /// What the GCS endpoint queued goes to the FCC.
-    fn gcs_frames(&mut self) {
-        for frame in Transmit::frames(&mut self.gcs) {
-            self.frame(&frame);
-        }
     }
 
     /// Body `[kind, a, b, c, d, e, f, g]`: an even `kind` publishes automation's state (flight
@@ -226,37 +165,45 @@ impl Rig {
         }
         self.drain();
     }
+}
 
-    /// The clock moves `by`; the FCC's deadlines fire in order, each at its time.
-    fn advance(&mut self, by: Duration) {
-        let until = self.now + by;
-        let mut fired = 0;
-        while let Some(at) = self.fcc.poll_timeout().filter(|at| *at <= until) {
-            self.now = self.now.max(at);
-            self.fcc.handle_timeout(self.now);
-            self.drain();
-            fired += 1;
-            assert!(fired < MAX_FIRINGS, "a deadline stays due at {at:?}");
-        }
-        self.now = until;
+impl Session for Rig {
+    const TAGS: u8 = TAGS;
+    const ANSWER: u8 = tag::ANSWER;
+    const PEER: (u32, u32) = (GCS_ID, FCC_ID);
+
+    fn fcc(&self) -> &MissionDataHandling {
+        &self.fcc
+    }
+
+    fn now(&self) -> Instant {
+        self.now
+    }
+
+    fn set_now(&mut self, now: Instant) {
+        self.now = now;
+    }
+
+    fn next_deadline(&self) -> Option<Instant> {
+        self.fcc.poll_timeout()
+    }
+
+    fn handle_timeout(&mut self) {
+        self.fcc.handle_timeout(self.now);
     }
 
     /// Takes what the FCC sends and its events, as a driver does.
     fn drain(&mut self) {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some(sent) = self.fcc.poll_transmit(&mut buf) {
-            let len = sent.unwrap_or_else(|e| panic!("the FCC cannot encode its message: {e}"));
-            let (envelope, message) = wire::decode(buf.get(..len).unwrap_or_default())
-                .unwrap_or_else(|e| panic!("the FCC sent a frame that does not decode: {e}"));
-            assert_eq!(
-                (envelope.source_id, envelope.destination_id),
-                (FCC_ID, GCS_ID),
-                "the FCC sent a frame not addressed to the GCS"
-            );
-            if envelope.ack_requested {
-                self.request = Some(message);
-            }
-        }
+        session::checked_frames(
+            &mut self.fcc,
+            ("FCC", "GCS"),
+            (FCC_ID, GCS_ID),
+            |_, envelope, message| {
+                if envelope.ack_requested {
+                    self.request = Some(message);
+                }
+            },
+        );
         while let Some(event) = self.fcc.poll_event() {
             match event {
                 FccEvent::MissionUploadOpened => self.upload_open = true,
@@ -271,6 +218,27 @@ impl Rig {
                 ),
                 _ => {}
             }
+        }
+    }
+
+    fn hand(&mut self, frame: &[u8]) {
+        // A frame error is the driver's to count; nothing else to check here.
+        let _ = self.fcc.handle_frame(self.now, frame);
+        self.drain();
+    }
+
+    fn peer(&mut self) -> &mut Endpoint {
+        &mut self.gcs
+    }
+
+    fn last_request(&self) -> Option<Message> {
+        self.request.clone()
+    }
+
+    fn other(&mut self, record: u8, body: &[u8]) {
+        match record {
+            tag::STATE => self.state(body),
+            _ => self.restart(body.first().copied().unwrap_or(0)),
         }
     }
 }
