@@ -29,8 +29,6 @@ use core::time::Duration;
 
 use missionlink_interfaces::contracts::{AutomationStatePayload, GuidanceProgressPayload};
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::Message;
-use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
 use missionlink_services::testkit;
@@ -40,7 +38,7 @@ use missionlink_services::transfer::mission::{Mission, MissionBuffer};
 use missionlink_services::transfer::staged::StagedMissions;
 
 use crate::input::u16_at;
-use crate::session::{self, Session};
+use crate::session::{self, Core, Session};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
@@ -60,11 +58,11 @@ pub const TAGS: u8 = 7;
 pub fn fcc(input: &[u8]) {
     let mut rig = Rig::new();
     session::run(&mut rig, input);
-    let before = Lists::of(&rig.fcc);
+    let before = Lists::of(&rig.core.fcc);
     rig.advance(Duration::from_secs(60));
-    before.check_against(&rig.fcc);
+    before.check_against(&rig.core.fcc);
     assert_eq!(
-        rig.fcc.poll_timeout(),
+        rig.core.fcc.poll_timeout(),
         None,
         "a deadline left after a minute of silence"
     );
@@ -72,11 +70,8 @@ pub fn fcc(input: &[u8]) {
 
 /// The FCC, the GCS endpoint that talks to it, and what a driver keeps.
 struct Rig {
-    fcc: MissionDataHandling,
-    gcs: Endpoint,
-    now: Instant,
-    /// The FCC's last message that asked for an answer.
-    request: Option<Message>,
+    /// The FCC, the GCS endpoint (the peer), the clock, the FCC's last request.
+    core: Core,
     /// Whether the driver holds the record "a mission upload is open" (restart safety, see
     /// `services/src/mission_data_handling/`).
     upload_open: bool,
@@ -86,10 +81,7 @@ struct Rig {
 impl Rig {
     fn new() -> Self {
         let mut rig = Self {
-            fcc: MissionDataHandling::new(testkit::fcc_config()),
-            gcs: Endpoint::new(testkit::endpoint(GCS_ID, FCC_ID)),
-            now: Instant::from_millis(1),
-            request: None,
+            core: Core::new(<Self as Session>::PEER),
             upload_open: false,
             progress: 0,
         };
@@ -107,9 +99,9 @@ impl Rig {
     fn state(&mut self, body: &[u8]) {
         let byte = |i: usize| body.get(i).copied().unwrap_or(0);
         let (kind, a, b) = (byte(0), byte(1), byte(2));
-        let (list, _) = self.fcc.generations();
+        let (list, _) = self.core.fcc.generations();
         if kind % 2 == 0 {
-            self.fcc.set_automation_state(&AutomationStatePayload {
+            self.core.fcc.set_automation_state(&AutomationStatePayload {
                 flight_phase: a,
                 trajectory_generation_active: b & 1 != 0,
                 route_reversed: b & 2 != 0,
@@ -126,8 +118,8 @@ impl Rig {
             };
             self.progress += 1;
             let offset = |i: usize| f64::from(byte(i) as i8) * 1e-3;
-            self.fcc.handle_progress(
-                self.now,
+            self.core.fcc.handle_progress(
+                self.core.now,
                 &GuidanceProgressPayload {
                     sequence: self.progress,
                     waypoint_list: list,
@@ -150,16 +142,16 @@ impl Rig {
     /// `state.rs`). `flags` bit 0: automation's and navigation's state are published again.
     fn restart(&mut self, flags: u8) {
         let resumed = Resumed {
-            mission: self.fcc.active_mission().cloned(),
-            mission_generation: self.fcc.generations().0,
-            areas: self.fcc.active_areas().cloned(),
-            area_generation: self.fcc.generations().1,
+            mission: self.core.fcc.active_mission().cloned(),
+            mission_generation: self.core.fcc.generations().0,
+            areas: self.core.fcc.active_areas().cloned(),
+            area_generation: self.core.fcc.generations().1,
             mission_upload_open: self.upload_open,
-            staged: self.fcc.staged().clone(),
+            staged: self.core.fcc.staged().clone(),
         };
-        self.fcc = MissionDataHandling::new(testkit::fcc_config());
-        self.fcc.resume(self.now, resumed);
-        self.request = None;
+        self.core.fcc = MissionDataHandling::new(testkit::fcc_config());
+        self.core.fcc.resume(self.core.now, resumed);
+        self.core.request = None;
         if flags & 1 != 0 {
             self.state(&[1, 0, 1]);
         }
@@ -172,48 +164,44 @@ impl Session for Rig {
     const ANSWER: u8 = tag::ANSWER;
     const PEER: (u32, u32) = (GCS_ID, FCC_ID);
 
-    fn fcc(&self) -> &MissionDataHandling {
-        &self.fcc
+    fn core(&self) -> &Core {
+        &self.core
     }
 
-    fn now(&self) -> Instant {
-        self.now
-    }
-
-    fn set_now(&mut self, now: Instant) {
-        self.now = now;
+    fn core_mut(&mut self) -> &mut Core {
+        &mut self.core
     }
 
     fn next_deadline(&self) -> Option<Instant> {
-        self.fcc.poll_timeout()
+        self.core.fcc.poll_timeout()
     }
 
     fn handle_timeout(&mut self) {
-        self.fcc.handle_timeout(self.now);
+        self.core.fcc.handle_timeout(self.core.now);
     }
 
     /// Takes what the FCC sends and its events, as a driver does.
     fn drain(&mut self) {
         session::checked_frames(
-            &mut self.fcc,
+            &mut self.core.fcc,
             ("FCC", "GCS"),
             (FCC_ID, GCS_ID),
             |_, envelope, message| {
                 if envelope.ack_requested {
-                    self.request = Some(message);
+                    self.core.request = Some(message);
                 }
             },
         );
-        while let Some(event) = self.fcc.poll_event() {
+        while let Some(event) = self.core.fcc.poll_event() {
             match event {
                 FccEvent::MissionUploadOpened => self.upload_open = true,
                 FccEvent::MissionUploadClosed => self.upload_open = false,
                 FccEvent::MissionActivated { generation } => assert!(
-                    generation <= self.fcc.generations().0,
+                    generation <= self.core.fcc.generations().0,
                     "an activation announced under a generation not reached"
                 ),
                 FccEvent::AreasActivated { generation } => assert!(
-                    generation <= self.fcc.generations().1,
+                    generation <= self.core.fcc.generations().1,
                     "an activation announced under a generation not reached"
                 ),
                 _ => {}
@@ -223,16 +211,8 @@ impl Session for Rig {
 
     fn hand(&mut self, frame: &[u8]) {
         // A frame error is the driver's to count; nothing else to check here.
-        let _ = self.fcc.handle_frame(self.now, frame);
+        let _ = self.core.fcc.handle_frame(self.core.now, frame);
         self.drain();
-    }
-
-    fn peer(&mut self) -> &mut Endpoint {
-        &mut self.gcs
-    }
-
-    fn last_request(&self) -> Option<Message> {
-        self.request.clone()
     }
 
     fn other(&mut self, record: u8, body: &[u8]) {

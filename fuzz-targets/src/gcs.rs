@@ -34,18 +34,16 @@ use missionlink_interfaces::contracts::{
     AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
 };
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{ExecuteCommand, MAX_FRAME_LEN, Message, TransferWindow};
+use missionlink_interfaces::wire::{ExecuteCommand, MAX_FRAME_LEN, TransferWindow};
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
 };
-use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
 use missionlink_services::testkit;
 use missionlink_services::transfer::staged::MissionId;
 
 use crate::fcc::{check_areas, check_mission};
-use crate::session::{self, Session};
+use crate::session::{self, Core, Session};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
@@ -79,7 +77,7 @@ pub fn gcs(input: &[u8]) {
         "the GCS is not back in standby after a minute of silence"
     );
     assert_eq!(rig.gcs.poll_timeout(), None, "a GCS deadline left");
-    assert_eq!(rig.fcc.poll_timeout(), None, "an FCC deadline left");
+    assert_eq!(rig.core.fcc.poll_timeout(), None, "an FCC deadline left");
 }
 
 /// The plans the requests upload: the demo missions and the largest (256 waypoints, 11 areas).
@@ -96,26 +94,20 @@ fn plans() -> &'static [MissionPlan; 3] {
 
 struct Rig {
     gcs: GroundStation<WithoutGateway>,
-    fcc: MissionDataHandling,
-    /// The FCC's address for forged frames.
-    forger: Endpoint,
+    /// The FCC, the endpoint that forges its frames (the peer), the clock, the GCS's last
+    /// request.
+    core: Core,
     up: VecDeque<Vec<u8>>,
     down: VecDeque<Vec<u8>>,
-    now: Instant,
-    /// The GCS's last message that asked for an answer.
-    request: Option<Message>,
 }
 
 impl Rig {
     fn new() -> Self {
         let mut rig = Self {
             gcs: GroundStation::new(testkit::gcs_config(), WithoutGateway),
-            fcc: MissionDataHandling::new(testkit::fcc_config()),
-            forger: Endpoint::new(testkit::endpoint(FCC_ID, GCS_ID)),
+            core: Core::new(<Self as Session>::PEER),
             up: VecDeque::new(),
             down: VecDeque::new(),
-            now: Instant::from_millis(1),
-            request: None,
         };
         rig.state(0);
         rig
@@ -132,7 +124,7 @@ impl Rig {
         );
         let [mission_1, mission_2, largest] = plans();
         let staged = MissionId::new("MEDEVAC-2").ok();
-        let now = self.now;
+        let now = self.core.now;
         // A refusal (busy, an edition-1 FCC for a staged request) is an answer, not a fault.
         let _ = match which % REQUESTS {
             0 => self
@@ -193,13 +185,13 @@ impl Rig {
             self.drain();
             while let Some(frame) = self.up.pop_front() {
                 if !lost(&mut bit) {
-                    let _ = self.fcc.handle_frame(self.now, &frame);
+                    let _ = self.core.fcc.handle_frame(self.core.now, &frame);
                 }
             }
             self.drain();
             while let Some(frame) = self.down.pop_front() {
                 if !lost(&mut bit) {
-                    let _ = self.gcs.handle_frame(self.now, &frame);
+                    let _ = self.gcs.handle_frame(self.core.now, &frame);
                 }
             }
             self.drain();
@@ -209,7 +201,7 @@ impl Rig {
     /// Even: on the ground at TROL; odd: flying (system automation in cruise).
     fn state(&mut self, flags: u8) {
         let flying = flags % 2 == 1;
-        self.fcc.set_automation_state(&AutomationStatePayload {
+        self.core.fcc.set_automation_state(&AutomationStatePayload {
             flight_phase: if flying {
                 FlightPhase::Cruise as u8
             } else {
@@ -220,8 +212,8 @@ impl Rig {
             ..AutomationStatePayload::ON_GROUND
         });
         let (lat, lon) = testkit::TROL;
-        self.fcc.handle_progress(
-            self.now,
+        self.core.fcc.handle_progress(
+            self.core.now,
             &GuidanceProgressPayload {
                 sequence: u64::from(flags) + 1,
                 latitude_deg: lat,
@@ -240,28 +232,24 @@ impl Session for Rig {
     const ANSWER: u8 = tag::ANSWER;
     const PEER: (u32, u32) = (FCC_ID, GCS_ID);
 
-    fn fcc(&self) -> &MissionDataHandling {
-        &self.fcc
+    fn core(&self) -> &Core {
+        &self.core
     }
 
-    fn now(&self) -> Instant {
-        self.now
-    }
-
-    fn set_now(&mut self, now: Instant) {
-        self.now = now;
+    fn core_mut(&mut self) -> &mut Core {
+        &mut self.core
     }
 
     fn next_deadline(&self) -> Option<Instant> {
-        [self.gcs.poll_timeout(), self.fcc.poll_timeout()]
+        [self.gcs.poll_timeout(), self.core.fcc.poll_timeout()]
             .into_iter()
             .flatten()
             .min()
     }
 
     fn handle_timeout(&mut self) {
-        self.gcs.handle_timeout(self.now);
-        self.fcc.handle_timeout(self.now);
+        self.gcs.handle_timeout(self.core.now);
+        self.core.fcc.handle_timeout(self.core.now);
     }
 
     /// Takes what both sides send into the queues, and the GCS's events.
@@ -272,17 +260,17 @@ impl Session for Rig {
             (GCS_ID, FCC_ID),
             |frame, envelope, message| {
                 if envelope.ack_requested {
-                    self.request = Some(message);
+                    self.core.request = Some(message);
                 }
                 queue(&mut self.up, frame);
             },
         );
         let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some(sent) = self.fcc.poll_transmit(&mut buf) {
+        while let Some(sent) = self.core.fcc.poll_transmit(&mut buf) {
             let len = sent.unwrap_or_else(|e| panic!("the FCC cannot encode its message: {e}"));
             queue(&mut self.down, buf.get(..len).unwrap_or_default());
         }
-        while self.fcc.poll_event().is_some() {}
+        while self.core.fcc.poll_event().is_some() {}
         while let Some(event) = self.gcs.poll_event() {
             if let GcsEvent::DownloadComplete(plan) = event {
                 check_mission(&plan.mission);
@@ -293,16 +281,8 @@ impl Session for Rig {
 
     fn hand(&mut self, frame: &[u8]) {
         // A frame error is the driver's to count.
-        let _ = self.gcs.handle_frame(self.now, frame);
+        let _ = self.gcs.handle_frame(self.core.now, frame);
         self.drain();
-    }
-
-    fn peer(&mut self) -> &mut Endpoint {
-        &mut self.forger
-    }
-
-    fn last_request(&self) -> Option<Message> {
-        self.request.clone()
     }
 
     fn other(&mut self, record: u8, body: &[u8]) {

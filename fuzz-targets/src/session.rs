@@ -10,7 +10,7 @@ use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, Message};
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit::Transmit;
+use missionlink_services::testkit::{self, Transmit};
 
 use crate::fcc::Lists;
 use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};
@@ -31,6 +31,31 @@ pub mod tag {
 /// due (a hang in a driver's loop).
 const MAX_FIRINGS: usize = 10_000;
 
+/// What every session rig holds: the FCC (the machine under test, or the GCS's peer), the
+/// endpoint that plays the peer of the machine under test, the clock and the last request.
+pub struct Core {
+    /// Mission data handling.
+    pub fcc: MissionDataHandling,
+    /// The endpoint that plays the peer: it sends from `Session::PEER.0` to `Session::PEER.1`.
+    pub peer: Endpoint,
+    /// The simulated time.
+    pub now: Instant,
+    /// The last message of the machine under test that asked for an answer.
+    pub request: Option<Message>,
+}
+
+impl Core {
+    /// A fresh FCC at 1 ms, the peer sending from `source` to `destination`.
+    pub fn new((source, destination): (u32, u32)) -> Self {
+        Self {
+            fcc: MissionDataHandling::new(testkit::fcc_config()),
+            peer: Endpoint::new(testkit::endpoint(source, destination)),
+            now: Instant::from_millis(1),
+            request: None,
+        }
+    }
+}
+
 /// A target's rig: the machine under test, its peer endpoint, the clock.
 pub trait Session {
     /// Kinds of records of the target (the tag byte modulo this).
@@ -40,12 +65,10 @@ pub trait Session {
     /// Source and destination IDs of the peer's frames.
     const PEER: (u32, u32);
 
-    /// The FCC whose lists are checked after every record.
-    fn fcc(&self) -> &MissionDataHandling;
-    /// The simulated time.
-    fn now(&self) -> Instant;
-    /// Sets the simulated time.
-    fn set_now(&mut self, now: Instant);
+    /// What the rig holds in common.
+    fn core(&self) -> &Core;
+    /// The same, to change.
+    fn core_mut(&mut self) -> &mut Core;
     /// The earliest deadline of the machines.
     fn next_deadline(&self) -> Option<Instant>;
     /// The machines handle their deadlines at [`Session::now`].
@@ -54,12 +77,33 @@ pub trait Session {
     fn drain(&mut self);
     /// Bytes to the machine under test, then [`Session::drain`].
     fn hand(&mut self, frame: &[u8]);
-    /// The endpoint that plays the peer.
-    fn peer(&mut self) -> &mut Endpoint;
-    /// The last message of the machine under test that asked for an answer.
-    fn last_request(&self) -> Option<Message>;
     /// A record of the target's own tags.
     fn other(&mut self, tag: u8, body: &[u8]);
+
+    /// The FCC whose lists are checked after every record.
+    fn fcc(&self) -> &MissionDataHandling {
+        &self.core().fcc
+    }
+
+    /// The simulated time.
+    fn now(&self) -> Instant {
+        self.core().now
+    }
+
+    /// Sets the simulated time.
+    fn set_now(&mut self, now: Instant) {
+        self.core_mut().now = now;
+    }
+
+    /// The endpoint that plays the peer.
+    fn peer(&mut self) -> &mut Endpoint {
+        &mut self.core_mut().peer
+    }
+
+    /// The last message of the machine under test that asked for an answer.
+    fn last_request(&self) -> Option<Message> {
+        self.core().request.clone()
+    }
 
     /// What the peer endpoint queued goes to the machine under test.
     fn peer_sent(&mut self) {
