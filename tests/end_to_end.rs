@@ -12,12 +12,11 @@ use std::time::{Duration, Instant};
 use common::*;
 use iceoryx2::prelude::ipc;
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
-use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMode};
+use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{GcsError, Phase, Sequence};
-use missionlink_services::transfer::sender::mission_command;
 
 fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
     a.generation == b.generation
@@ -33,18 +32,6 @@ fn same_areas(a: &AreaListPayload, b: &AreaListPayload) -> bool {
         && a.fly_zone == b.fly_zone
         && a.no_fly_polygons() == b.no_fly_polygons()
         && a.no_fly_circles() == b.no_fly_circles()
-}
-
-/// Polls `f` until it gives a value or `limit` passes.
-fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T> {
-    let end = Instant::now() + limit;
-    while Instant::now() < end {
-        if let Some(v) = f() {
-            return Some(v);
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    None
 }
 
 #[test]
@@ -236,13 +223,7 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
         .into_iter()
         .enumerate()
     {
-        for (j, m) in [
-            mission_command(MissionPlanMode::ClearMission, None, None),
-            mission_command(MissionPlanMode::TransmitMission, Some(0), None),
-        ]
-        .into_iter()
-        .enumerate()
-        {
+        for (j, m) in clearing_commands().into_iter().enumerate() {
             let mut m = m;
             m.set_time_stamp(stamp((i * 2 + j) as u64));
             let envelope = Envelope::new(source, config.ids.fcc).with_ack(true);
