@@ -144,12 +144,7 @@ pub(super) fn svg(results: &[Value], subtitle: &str) -> String {
     );
     // Legend.
     for (i, (_, name, colour)) in PERCENTILES.iter().enumerate() {
-        let x = width - 260.0 + i as f64 * 80.0;
-        let _ = writeln!(
-            w,
-            r#"<rect x="{x}" y="56" width="12" height="12" fill="{colour}"/><text x="{}" y="66">{name}</text>"#,
-            x + 16.0
-        );
+        log_axis::legend_entry(w, width - 260.0 + i as f64 * 80.0, 56.0, colour, name);
     }
     // Decades of the µs axis, with faint lines at 2 and 5.
     axis.grid(w, LEFT, width - 20.0, "µs");

@@ -17,6 +17,16 @@
 
 use std::fmt::Write as _;
 
+/// A legend entry at (`x`, `y`): a 12 px square in `colour`, `label` to its right.
+pub fn legend_entry(w: &mut String, x: f64, y: f64, colour: &str, label: &str) {
+    let _ = writeln!(
+        w,
+        r#"<rect x="{x}" y="{y}" width="12" height="12" fill="{colour}"/><text x="{}" y="{}">{label}</text>"#,
+        x + 16.0,
+        y + 10.0
+    );
+}
+
 /// An SVG document `width` x `height` on white, its title in bold at (`x`, `y`); the caller
 /// closes it with `</svg>`.
 pub fn begin(width: f64, height: f64, x: f64, y: f64, title: &str) -> String {
