@@ -866,17 +866,8 @@ fn an_edition_2_area_download_carries_the_checksum() {
     let active = rig.fcc.active_areas().cloned().unwrap();
     rig.events();
     for window in [window(), None] {
-        // Answered by #3013 ready, not by #17000 (ICD §5.4).
         let answers = rig.send_enveloped(area_download_request(window));
-        let sent = follow(&mut rig, answers);
-        rig.assert_download_complete(DataKind::Areas);
-        let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
-            panic!("the download starts with #3013: {sent:?}");
-        };
-        assert_eq!(
-            (ready.status, ready.loop_count),
-            (AreaDownloadStatus::Ready, 3)
-        );
+        let sent = follow_area_download(&mut rig, answers, 3);
         let Some(Message::AreaTransmissionCommand(done)) = sent.last() else {
             panic!("the download ends with #2011 mode 4: {sent:?}");
         };

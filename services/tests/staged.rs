@@ -23,10 +23,9 @@
 mod support;
 
 use missionlink_interfaces::wire::{
-    Altitude, AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, Checksum,
-    ExecuteCommand, GeofenceCheck, LegType, Message, MissionExecuteCommand, MissionPlanMode,
-    MissionReport, MissionTransferCommand, Reason, Text, Timestamp, TransferStatus,
-    WindowOrChecksum,
+    Altitude, AreaTransferMode, AreaTransmissionCommand, Checksum, ExecuteCommand, GeofenceCheck,
+    LegType, Message, MissionExecuteCommand, MissionPlanMode, MissionReport,
+    MissionTransferCommand, Reason, Text, Timestamp, TransferStatus, WindowOrChecksum,
 };
 use missionlink_services::ground_station::ValidatedPlan;
 use missionlink_services::mission_data_handling::{DataKind, FccEvent, Resumed};
@@ -547,15 +546,7 @@ fn area_mode_8_downloads_the_staged_areas() {
     stage_plan(&mut rig, &plan, id("DL"));
     for window in [window(), None] {
         let answers = rig.send_enveloped(area_download_request(Target::Staged(id("DL")), window));
-        let sent = follow(&mut rig, answers);
-        rig.assert_download_complete(DataKind::Areas);
-        let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
-            panic!("the download starts with #3013: {sent:?}");
-        };
-        assert_eq!(
-            (ready.status, ready.loop_count),
-            (AreaDownloadStatus::Ready, 11)
-        );
+        let sent = follow_area_download(&mut rig, answers, 11);
         let areas: Vec<Message> = sent[1..sent.len() - 1].iter().map(unstamped).collect();
         let expected: Vec<Message> = plan
             .areas

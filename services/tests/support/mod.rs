@@ -14,9 +14,9 @@ use std::time::Duration;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, Checksum, Envelope,
-    MAX_FRAME_LEN, Message, MissionPlanMode, MissionTransferCommand, Reason, SafetyOffset,
-    SpecificData, Timestamp, TransferWindow, WindowOrChecksum,
+    AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, AreaTransmissionCommand,
+    Checksum, Envelope, MAX_FRAME_LEN, Message, MissionPlanMode, MissionTransferCommand, Reason,
+    SafetyOffset, SpecificData, Timestamp, TransferWindow, WindowOrChecksum,
 };
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
@@ -824,5 +824,25 @@ pub fn follow(rig: &mut FccRig, mut pending: Vec<(Envelope, Message)>) -> Vec<Me
         }
         pending = next;
     }
+    sent
+}
+
+/// Follows an area download the FCC answered `request` with ([`follow`]): it completes, and
+/// opens with #3013 "ready" for `loop_count` areas, not with #17000 (ICD §5.4). Returns what
+/// the FCC sent, the #3013 first.
+pub fn follow_area_download(
+    rig: &mut FccRig,
+    request: Vec<(Envelope, Message)>,
+    loop_count: u8,
+) -> Vec<Message> {
+    let sent = follow(rig, request);
+    rig.assert_download_complete(DataKind::Areas);
+    let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
+        panic!("the download starts with #3013: {sent:?}");
+    };
+    assert_eq!(
+        (ready.status, ready.loop_count),
+        (AreaDownloadStatus::Ready, loop_count)
+    );
     sent
 }
