@@ -1555,199 +1555,106 @@ fn message_data_shorter_than_the_presence_vector_is_short_presence_vector() {
     );
 }
 
+/// A value outside its field's range (ICD §3, §4) is rejected as out of range, naming the
+/// field (PV bit and ICD name) and the value, with the reason Malformed; the values at the
+/// edges of each range decode.
 #[test]
-fn waypoint_number_0_is_out_of_range() {
-    let e = waypoint().with(1, u2(0)).reject();
-    assert_eq!(
-        e,
-        rejected(
-            13002,
-            Some((1, "Waypoint Number")),
-            Cause::OutOfRange { value: 0 },
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::Malformed);
-    assert!(waypoint().with(1, u2(1)).decode().is_ok());
-}
-
-#[test]
-fn waypoint_number_65535_is_out_of_range() {
-    assert_eq!(
-        waypoint().with(1, u2(65535)).reject(),
-        rejected(
-            13002,
-            Some((1, "Waypoint Number")),
-            Cause::OutOfRange { value: 65535 },
-            Some(TS)
-        )
-    );
-    assert!(waypoint().with(1, u2(65534)).decode().is_ok());
-}
-
-#[test]
-fn next_waypoint_65535_is_out_of_range() {
-    assert_eq!(
-        waypoint().with(10, u2(65535)).reject(),
-        rejected(
-            13002,
-            Some((10, "Next Waypoint")),
-            Cause::OutOfRange { value: 65535 },
-            Some(TS)
-        )
-    );
-    // 0 = last waypoint.
-    assert!(waypoint().with(10, u2(0)).decode().is_ok());
-}
-
-#[test]
-fn initial_waypoint_0_is_out_of_range() {
-    assert_eq!(
-        route().with(1, u2(0)).reject(),
-        rejected(
-            13001,
-            Some((1, "Initial Waypoint Number")),
-            Cause::OutOfRange { value: 0 },
-            Some(TS)
-        )
-    );
-}
-
-#[test]
-fn rf_centre_waypoint_number_0_is_out_of_range() {
-    assert_eq!(
-        rf_centre().with(1, u2(0)).reject(),
-        rejected(
-            13006,
-            Some((1, "Waypoint Number")),
-            Cause::OutOfRange { value: 0 },
-            Some(TS)
-        )
-    );
-}
-
-#[test]
-fn latitude_beyond_90_degrees_is_out_of_range() {
-    for raw in [BEYOND_90, -BEYOND_90, i32::MIN, i32::MAX] {
-        let e = waypoint().with(2, i4(raw)).reject();
+fn values_outside_a_fields_range_are_out_of_range() {
+    let b90 = i64::from(BEYOND_90);
+    let mut vertex_beyond_90 = n_vertices(5);
+    vertex_beyond_90[3].0 = BEYOND_90;
+    // The message with one field out of range, that field (PV bit, ICD name), the value.
+    let out_of_range: Vec<(Msg, u8, &str, i64)> = vec![
+        (waypoint().with(1, u2(0)), 1, "Waypoint Number", 0),
+        (waypoint().with(1, u2(65535)), 1, "Waypoint Number", 65535),
+        (waypoint().with(10, u2(65535)), 10, "Next Waypoint", 65535),
+        (route().with(1, u2(0)), 1, "Initial Waypoint Number", 0),
+        (rf_centre().with(1, u2(0)), 1, "Waypoint Number", 0),
+        (
+            waypoint().with(2, i4(BEYOND_90)),
+            2,
+            "Waypoint to Latitude",
+            b90,
+        ),
+        (
+            waypoint().with(2, i4(-BEYOND_90)),
+            2,
+            "Waypoint to Latitude",
+            -b90,
+        ),
+        (
+            waypoint().with(2, i4(i32::MIN)),
+            2,
+            "Waypoint to Latitude",
+            i32::MIN.into(),
+        ),
+        (
+            waypoint().with(2, i4(i32::MAX)),
+            2,
+            "Waypoint to Latitude",
+            i32::MAX.into(),
+        ),
+        // The same rule on every latitude field.
+        (
+            rf_centre().with(4, i4(BEYOND_90)),
+            4,
+            "RF Centre Latitude",
+            b90,
+        ),
+        (
+            from_to_next().with(14, i4(-BEYOND_90)),
+            14,
+            "Next Latitude",
+            -b90,
+        ),
+        (area(0, &vertex_beyond_90), 8, "Vertices", b90),
+        (waypoint().with(8, u2(0)), 8, "Waypoint to Speed", 0),
+        (
+            transfer_status().with(3, u1(101)),
+            3,
+            "Percent Complete",
+            101,
+        ),
+        (polygon().with(1, u2(0)), 1, "Area ID", 0),
+        (polygon().with(1, u2(65535)), 1, "Area ID", 65535),
+        (take_off_height().with(3, i3(-1)), 3, "Take-off Height", -1),
+    ];
+    for (msg, bit, name, value) in out_of_range {
+        let e = msg.reject();
         assert_eq!(
             e,
             rejected(
-                13002,
-                Some((2, "Waypoint to Latitude")),
-                Cause::OutOfRange {
-                    value: i64::from(raw)
-                },
+                msg.ty,
+                Some((bit, name)),
+                Cause::OutOfRange { value },
                 Some(TS)
-            )
+            ),
+            "#{} {name} = {value}",
+            msg.ty
         );
-        assert_eq!(e.reason(), Reason::Malformed);
-    }
-    // Exactly +-90 deg is a latitude.
-    assert!(waypoint().with(2, i4(1 << 30)).decode().is_ok());
-    assert!(waypoint().with(2, i4(-(1 << 30))).decode().is_ok());
-    // The same rule on every latitude field.
-    assert_eq!(
-        rf_centre().with(4, i4(BEYOND_90)).reject(),
-        rejected(
-            13006,
-            Some((4, "RF Centre Latitude")),
-            Cause::OutOfRange {
-                value: i64::from(BEYOND_90)
-            },
-            Some(TS)
-        )
-    );
-    assert_eq!(
-        from_to_next().with(14, i4(-BEYOND_90)).reject(),
-        rejected(
-            4001,
-            Some((14, "Next Latitude")),
-            Cause::OutOfRange {
-                value: -i64::from(BEYOND_90)
-            },
-            Some(TS)
-        )
-    );
-    let mut points = n_vertices(5);
-    points[3].0 = BEYOND_90;
-    assert_eq!(
-        area(0, &points).reject(),
-        rejected(
-            2012,
-            Some((8, "Vertices")),
-            Cause::OutOfRange {
-                value: i64::from(BEYOND_90)
-            },
-            Some(TS)
-        )
-    );
-}
-
-#[test]
-fn speed_0_is_out_of_range() {
-    let e = waypoint().with(8, u2(0)).reject();
-    assert_eq!(
-        e,
-        rejected(
-            13002,
-            Some((8, "Waypoint to Speed")),
-            Cause::OutOfRange { value: 0 },
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::Malformed);
-    assert!(waypoint().with(8, u2(1)).decode().is_ok());
-}
-
-#[test]
-fn percent_complete_101_is_out_of_range() {
-    let e = transfer_status().with(3, u1(101)).reject();
-    assert_eq!(
-        e,
-        rejected(
-            14000,
-            Some((3, "Percent Complete")),
-            Cause::OutOfRange { value: 101 },
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::Malformed);
-    assert!(transfer_status().with(3, u1(100)).decode().is_ok());
-    assert!(transfer_status().with(3, u1(0)).decode().is_ok());
-}
-
-#[test]
-fn area_id_0_is_out_of_range() {
-    for id in [0u16, 65535] {
-        let e = polygon().with(1, u2(id)).reject();
         assert_eq!(
-            e,
-            rejected(
-                2012,
-                Some((1, "Area ID")),
-                Cause::OutOfRange {
-                    value: i64::from(id)
-                },
-                Some(TS)
-            )
+            e.reason(),
+            Reason::Malformed,
+            "#{} {name} = {value}",
+            msg.ty
         );
-        assert_eq!(e.reason(), Reason::Malformed);
     }
-}
-
-#[test]
-fn negative_take_off_height_is_out_of_range() {
-    assert_eq!(
-        take_off_height().with(3, i3(-1)).reject(),
-        rejected(
-            13006,
-            Some((3, "Take-off Height")),
-            Cause::OutOfRange { value: -1 },
-            Some(TS)
-        )
-    );
-    assert!(take_off_height().with(3, i3(0)).decode().is_ok());
+    let edges = [
+        waypoint().with(1, u2(1)),
+        waypoint().with(1, u2(65534)),
+        // Next Waypoint 0 = the last waypoint.
+        waypoint().with(10, u2(0)),
+        // Exactly +-90 deg is a latitude.
+        waypoint().with(2, i4(1 << 30)),
+        waypoint().with(2, i4(-(1 << 30))),
+        waypoint().with(8, u2(1)),
+        transfer_status().with(3, u1(100)),
+        transfer_status().with(3, u1(0)),
+        take_off_height().with(3, i3(0)),
+    ];
+    for msg in edges {
+        assert!(msg.decode().is_ok(), "#{} {:?}", msg.ty, msg.fields);
+    }
 }
 
 #[test]
