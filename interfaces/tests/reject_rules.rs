@@ -1732,116 +1732,59 @@ fn text_that_is_not_utf8_is_bad_text() {
     );
 }
 
-#[test]
-fn relative_location_type_is_unsupported() {
-    let e = waypoint().with(4, u1(1)).reject();
-    assert_eq!(
-        e,
-        rejected(
-            13002,
-            Some((4, "Location Type")),
-            Cause::Unsupported { value: 1 },
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::Unsupported);
-}
-
-#[test]
-fn mission_plan_modes_0_4_and_beyond_10_are_unsupported() {
-    for mode in [0u8, 4, 11, 255] {
-        let e = transfer_command(mode).reject();
-        assert_eq!(
-            e,
-            rejected(
-                13000,
-                Some((2, "Mission Plan Mode")),
-                Cause::Unsupported {
-                    value: u32::from(mode)
-                },
-                Some(TS)
-            )
-        );
-        assert_eq!(e.reason(), Reason::Unsupported);
-    }
-}
-
-#[test]
-fn specific_data_type_3_is_unsupported() {
-    for kind in [0u8, 3] {
-        let e = take_off_height().with(2, u1(kind)).reject();
-        assert_eq!(
-            e,
-            rejected(
-                13006,
-                Some((2, "Specific Data Type")),
-                Cause::Unsupported {
-                    value: u32::from(kind)
-                },
-                Some(TS)
-            )
-        );
-        assert_eq!(e.reason(), Reason::Unsupported);
-    }
-}
-
-#[test]
-fn area_shape_2_is_unsupported() {
-    let e = area(2, &n_vertices(3)).reject();
-    assert_eq!(
-        e,
-        rejected(
-            2012,
-            Some((3, "Activity ID")),
-            Cause::Unsupported { value: 2 },
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::Unsupported);
-}
-
+/// An enumeration value the ICD does not define, or a mode or type the project does not
+/// support (relative locations, area shape 2), is rejected as unsupported, naming the field
+/// (PV bit and ICD name) and the value, with the reason Unsupported.
 #[test]
 fn undefined_enumeration_values_are_unsupported() {
-    let cases: Vec<(Msg, u8, u8)> = vec![
-        (ack().with(3, u1(5)), 3, 5),               // Acknowledgement Type
-        (ack().with(4, u1(16)), 4, 16),             // Reject Reason
-        (route().with(3, u1(5)), 3, 5),             // Route Type
-        (waypoint().with(6, u1(4)), 6, 4),          // Waypoint Altitude Type
-        (waypoint().with(9, u1(3)), 9, 3),          // Waypoint Speed Type
-        (waypoint().with(11, u1(2)), 11, 2),        // Turn Type
-        (waypoint().with(13, u1(2)), 13, 2),        // Waypoint Type
-        (rf_centre().with(6, u1(2)), 6, 2),         // Turn Direction
-        (transfer_status().with(2, u1(3)), 2, 3),   // Status
-        (transfer_status().with(6, u1(16)), 6, 16), // Reason
-        (from_to_next().with(1, u1(4)), 1, 4),      // Altitude Type
-        (from_to_next().with(2, u1(3)), 2, 3),      // Speed Type
-        (area_command(0), 1, 0),                    // Area Transfer Mode
-        (area_command(9), 1, 9),                    // Area Transfer Mode
-        (polygon().with(2, u1(2)), 2, 2),           // Area Type
-        (polygon().with(6, u1(4)), 6, 4),           // Altitude Type
-        (area_alert().with(2, u1(2)), 2, 2),        // Status
-        (area_alert().with(3, u1(16)), 3, 16),      // Reason
-        (area_transmission_status().with(4, u1(1)), 4, 1), // Status
-        (execute().with(1, u1(0)), 1, 0),           // Command
-        (execute().with(1, u1(5)), 1, 5),           // Command
-        (mission_report().with(6, u1(3)), 6, 3),    // Geofence Check
+    // The message with one such value, the field (PV bit, ICD name), the value.
+    let cases: Vec<(Msg, u8, &str, u32)> = vec![
+        (waypoint().with(4, u1(1)), 4, "Location Type", 1), // relative
+        (transfer_command(0), 2, "Mission Plan Mode", 0),
+        (transfer_command(4), 2, "Mission Plan Mode", 4),
+        (transfer_command(11), 2, "Mission Plan Mode", 11),
+        (transfer_command(255), 2, "Mission Plan Mode", 255),
+        (take_off_height().with(2, u1(0)), 2, "Specific Data Type", 0),
+        (take_off_height().with(2, u1(3)), 2, "Specific Data Type", 3),
+        // #2012 carries the area shape in its Activity ID field (ICD §4).
+        (area(2, &n_vertices(3)), 3, "Activity ID", 2),
+        (ack().with(3, u1(5)), 3, "Acknowledgement Type", 5),
+        (ack().with(4, u1(16)), 4, "Reject Reason", 16),
+        (route().with(3, u1(5)), 3, "Route Type", 5),
+        (waypoint().with(6, u1(4)), 6, "Waypoint Altitude Type", 4),
+        (waypoint().with(9, u1(3)), 9, "Waypoint Speed Type", 3),
+        (waypoint().with(11, u1(2)), 11, "Turn Type", 2),
+        (waypoint().with(13, u1(2)), 13, "Waypoint Type", 2),
+        (rf_centre().with(6, u1(2)), 6, "Turn Direction", 2),
+        (transfer_status().with(2, u1(3)), 2, "Status", 3),
+        (transfer_status().with(6, u1(16)), 6, "Reason", 16),
+        (from_to_next().with(1, u1(4)), 1, "Altitude Type", 4),
+        (from_to_next().with(2, u1(3)), 2, "Speed Type", 3),
+        (area_command(0), 1, "Area Transfer Mode", 0),
+        (area_command(9), 1, "Area Transfer Mode", 9),
+        (polygon().with(2, u1(2)), 2, "Area Type", 2),
+        (polygon().with(6, u1(4)), 6, "Altitude Type", 4),
+        (area_alert().with(2, u1(2)), 2, "Status", 2),
+        (area_alert().with(3, u1(16)), 3, "Reason", 16),
+        (area_transmission_status().with(4, u1(1)), 4, "Status", 1),
+        (execute().with(1, u1(0)), 1, "Command", 0),
+        (execute().with(1, u1(5)), 1, "Command", 5),
+        (mission_report().with(6, u1(3)), 6, "Geofence Check", 3),
     ];
-    for (msg, bit, value) in cases {
+    for (msg, bit, name, value) in cases {
         let e = msg.reject();
         assert_eq!(
             e,
             rejected(
                 msg.ty,
-                Some((bit, name(msg.ty, bit))),
-                Cause::Unsupported {
-                    value: u32::from(value)
-                },
+                Some((bit, name)),
+                Cause::Unsupported { value },
                 Some(TS)
             ),
-            "#{} bit {bit}",
+            "#{} {name} = {value}",
             msg.ty
         );
-        assert_eq!(e.reason(), Reason::Unsupported);
+        assert_eq!(e.reason(), Reason::Unsupported, "#{} {name}", msg.ty);
     }
 }
 
