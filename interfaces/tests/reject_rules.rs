@@ -1684,51 +1684,43 @@ fn lower_altitude_above_upper_is_inconsistent() {
     );
 }
 
+/// A text field (ICD §3) without its NUL terminator, padded with anything but NUL, or not
+/// UTF-8 is rejected as bad text, naming the field, with the reason Malformed; a text of the
+/// longest length with its terminator, and an empty text, decode.
 #[test]
-fn text_without_nul_terminator_is_bad_text() {
-    let e = transfer_command(2).with(1, vec![b'A'; 20]).reject();
-    assert_eq!(
-        e,
-        rejected(13000, Some((1, "Mission ID")), Cause::BadText, Some(TS))
-    );
-    assert_eq!(e.reason(), Reason::Malformed);
+fn text_fields_that_break_the_text_rules_are_bad_text() {
+    let unterminated = vec![b'A'; 20];
+    let mut padded_with_x = text("M-1", 20);
+    padded_with_x[10] = b'x';
+    let mut padded_with_ff = text("M-1", 20);
+    padded_with_ff[19] = 0xFF;
+    let mut lone_lead_byte = text("", 33);
+    lone_lead_byte[0] = 0xC3; // a lone UTF-8 lead byte
+    // The message with one bad text, that field (PV bit, ICD name).
+    let bad: Vec<(Msg, u8, &str)> = vec![
+        (transfer_command(2).with(1, unterminated), 1, "Mission ID"),
+        (route().with(2, vec![b'R'; 33]), 2, "Route ID"),
+        (transfer_command(2).with(1, padded_with_x), 1, "Mission ID"),
+        (transfer_status().with(1, padded_with_ff), 1, "Mission ID"),
+        (route().with(2, lone_lead_byte), 2, "Route ID"),
+    ];
+    for (msg, bit, name) in bad {
+        let e = msg.reject();
+        assert_eq!(
+            e,
+            rejected(msg.ty, Some((bit, name)), Cause::BadText, Some(TS)),
+            "#{} {name}",
+            msg.ty
+        );
+        assert_eq!(e.reason(), Reason::Malformed, "#{} {name}", msg.ty);
+    }
     // 19 characters and the terminator fit.
-    let mut ok = vec![b'A'; 19];
-    ok.push(0);
-    assert!(transfer_command(2).with(1, ok).decode().is_ok());
-    assert_eq!(
-        route().with(2, vec![b'R'; 33]).reject(),
-        rejected(13001, Some((2, "Route ID")), Cause::BadText, Some(TS))
-    );
-}
-
-#[test]
-fn text_with_non_nul_padding_is_bad_text() {
-    let mut t = text("M-1", 20);
-    t[10] = b'x';
-    assert_eq!(
-        transfer_command(2).with(1, t).reject(),
-        rejected(13000, Some((1, "Mission ID")), Cause::BadText, Some(TS))
-    );
-    let mut t = text("M-1", 20);
-    t[19] = 0xFF;
-    assert_eq!(
-        transfer_status().with(1, t).reject(),
-        rejected(14000, Some((1, "Mission ID")), Cause::BadText, Some(TS))
-    );
-}
-
-#[test]
-fn text_that_is_not_utf8_is_bad_text() {
+    let mut longest = vec![b'A'; 19];
+    longest.push(0);
+    assert!(transfer_command(2).with(1, longest).decode().is_ok());
     assert!(
         route().with(2, text("", 33)).decode().is_ok(),
         "empty text is fine"
-    );
-    let mut t = text("", 33);
-    t[0] = 0xC3; // a lone UTF-8 lead byte
-    assert_eq!(
-        route().with(2, t).reject(),
-        rejected(13001, Some((2, "Route ID")), Cause::BadText, Some(TS))
     );
 }
 
@@ -1801,10 +1793,13 @@ fn unknown_message_type_is_unsupported() {
     }
 }
 
+/// A vertex count that does not make the shape (a polygon of fewer than 3 vertices, a circle
+/// of other than 2: centre and border point) is bad geometry (ICD §4, #2012).
 #[test]
-fn polygon_with_2_vertices_is_bad_geometry() {
-    for n in [0usize, 1, 2] {
-        let e = area(0, &n_vertices(n)).reject();
+fn vertex_counts_that_do_not_make_the_shape_are_bad_geometry() {
+    // Shape (0 polygon, 1 circle) and vertex count.
+    for (shape, n) in [(0, 0usize), (0, 1), (0, 2), (1, 1), (1, 3)] {
+        let e = area(shape, &n_vertices(n)).reject();
         assert_eq!(
             e,
             rejected(
@@ -1812,28 +1807,12 @@ fn polygon_with_2_vertices_is_bad_geometry() {
                 Some((7, "Vertex Count")),
                 Cause::BadGeometry { count: n },
                 Some(TS)
-            )
+            ),
+            "shape {shape}, {n} vertices"
         );
         assert_eq!(e.reason(), Reason::BadGeometry);
     }
     assert!(area(0, &n_vertices(3)).decode().is_ok());
-}
-
-#[test]
-fn circle_with_3_vertices_is_bad_geometry() {
-    for n in [1usize, 3] {
-        let e = area(1, &n_vertices(n)).reject();
-        assert_eq!(
-            e,
-            rejected(
-                2012,
-                Some((7, "Vertex Count")),
-                Cause::BadGeometry { count: n },
-                Some(TS)
-            )
-        );
-        assert_eq!(e.reason(), Reason::BadGeometry);
-    }
 }
 
 #[test]
