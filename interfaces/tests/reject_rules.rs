@@ -1346,59 +1346,54 @@ fn every_mandatory_field_absent_is_missing_field() {
     }
 }
 
+/// Named cases of the rule above, with the field named explicitly, and the fields mandatory
+/// only in some modes (ICD §4): absent where the mode needs them, they are missing; the other
+/// modes do without them.
 #[test]
-fn waypoint_without_latitude_is_missing_field() {
-    assert_eq!(
-        waypoint().without(2).reject(),
-        rejected(
-            13002,
-            Some((2, "Waypoint to Latitude")),
-            Cause::MissingField,
-            Some(TS)
-        )
-    );
-}
-
-#[test]
-fn transmit_and_stage_mission_without_waypoint_number_are_missing_field() {
+fn fields_mandatory_in_a_mode_absent_are_missing_field() {
+    // The message without the field, the field (PV bit, ICD name), the time stamp it carries.
+    let mut missing: Vec<(Msg, u8, &str, Option<u64>)> = vec![
+        (waypoint().without(2), 2, "Waypoint to Latitude", Some(TS)),
+        (rf_centre().without(6), 6, "Turn Direction", Some(TS)),
+        (rf_centre().without(4), 4, "RF Centre Latitude", Some(TS)),
+        (take_off_height().without(3), 3, "Take-off Height", Some(TS)),
+        (execute().without(0), 0, "Time Stamp", None),
+    ];
+    // Transmit and stage mission need the Waypoint Number.
     for mode in [2, 8] {
-        let e = transfer_command(mode).without(3).reject();
+        missing.push((
+            transfer_command(mode).without(3),
+            3,
+            "Waypoint Number",
+            Some(TS),
+        ));
+    }
+    // Area command modes 1, 2, 4 and 7 need the loop count.
+    for mode in [1, 2, 4, 7] {
+        missing.push((
+            area_command_ed2(mode).without(2),
+            2,
+            "Area Loop Count",
+            Some(TS),
+        ));
+    }
+    for (msg, bit, name, time_stamp) in missing {
+        let e = msg.reject();
         assert_eq!(
             e,
-            rejected(
-                13000,
-                Some((3, "Waypoint Number")),
-                Cause::MissingField,
-                Some(TS)
-            ),
-            "mode {mode}"
+            rejected(msg.ty, Some((bit, name)), Cause::MissingField, time_stamp),
+            "#{} without {name}: {:?}",
+            msg.ty,
+            msg.fields
         );
         assert_eq!(e.reason(), Reason::MissingField);
     }
-    // The other modes do without it.
+    // The other modes do without them.
     for mode in [1, 3, 5, 6, 9, 10] {
         assert!(
             transfer_command(mode).without(3).decode().is_ok(),
             "mode {mode}"
         );
-    }
-}
-
-#[test]
-fn area_command_modes_1_2_4_7_without_loop_count_are_missing_field() {
-    for mode in [1, 2, 4, 7] {
-        let e = area_command_ed2(mode).without(2).reject();
-        assert_eq!(
-            e,
-            rejected(
-                2011,
-                Some((2, "Area Loop Count")),
-                Cause::MissingField,
-                Some(TS)
-            ),
-            "mode {mode}"
-        );
-        assert_eq!(e.reason(), Reason::MissingField);
     }
     for mode in [3, 5, 6, 8] {
         assert!(
@@ -1406,47 +1401,6 @@ fn area_command_modes_1_2_4_7_without_loop_count_are_missing_field() {
             "mode {mode}"
         );
     }
-}
-
-#[test]
-fn rf_centre_without_turn_direction_is_missing_field() {
-    assert_eq!(
-        rf_centre().without(6).reject(),
-        rejected(
-            13006,
-            Some((6, "Turn Direction")),
-            Cause::MissingField,
-            Some(TS)
-        )
-    );
-    assert_eq!(
-        rf_centre().without(4).reject(),
-        rejected(
-            13006,
-            Some((4, "RF Centre Latitude")),
-            Cause::MissingField,
-            Some(TS)
-        )
-    );
-    assert_eq!(
-        take_off_height().without(3).reject(),
-        rejected(
-            13006,
-            Some((3, "Take-off Height")),
-            Cause::MissingField,
-            Some(TS)
-        )
-    );
-}
-
-#[test]
-fn message_without_time_stamp_is_missing_field() {
-    let e = execute().without(0).reject();
-    assert_eq!(
-        e,
-        rejected(50000, Some((0, "Time Stamp")), Cause::MissingField, None)
-    );
-    assert_eq!(e.reason(), Reason::MissingField);
 }
 
 #[test]
