@@ -1820,21 +1820,33 @@ fn assert_inconsistent(msg: &Msg, bit: u8, what: &str) {
     assert_eq!(e.reason(), Reason::Malformed, "{what}");
 }
 
+/// The edition-2 fields absent where their mode or command needs them are missing (ICD §4,
+/// §8); the modes that do without them decode.
 #[test]
-fn staged_modes_without_mission_id_are_missing_field() {
+fn edition_2_fields_their_mode_needs_absent_are_missing_field() {
+    let mut missing: Vec<(Msg, u8, &str, String)> = Vec::new();
     for mode in [6, 8, 9, 10] {
-        let e = transfer_command_ed2(mode).without(1).reject();
+        let msg = transfer_command_ed2(mode).without(1);
+        missing.push((msg, 1, "Mission ID", format!("#13000 mode {mode}")));
+    }
+    for mode in [7, 8] {
+        let msg = area_command_ed2(mode).without(6);
+        missing.push((msg, 6, "Mission ID", format!("#2011 mode {mode}")));
+    }
+    missing.push((
+        activate().without(2),
+        2,
+        "Mission ID",
+        "activate".to_owned(),
+    ));
+    for (msg, bit, name, what) in missing {
+        let e = msg.reject();
         assert_eq!(
             e,
-            rejected(
-                13000,
-                Some((1, "Mission ID")),
-                Cause::MissingField,
-                Some(TS)
-            ),
-            "mode {mode}"
+            rejected(msg.ty, Some((bit, name)), Cause::MissingField, Some(TS)),
+            "{what}"
         );
-        assert_eq!(e.reason(), Reason::MissingField);
+        assert_eq!(e.reason(), Reason::MissingField, "{what}");
     }
     // Edition 1 and mode 7 do without it.
     for mode in [1, 2, 3, 5, 7] {
@@ -1845,30 +1857,51 @@ fn staged_modes_without_mission_id_are_missing_field() {
     }
 }
 
+/// An edition-2 field present with a mode or command it does not go with, or an empty Mission
+/// ID where one is named, is inconsistent (ICD §4, §8, §10, §11); where it goes, it decodes.
 #[test]
-fn staged_modes_6_8_9_with_an_empty_mission_id_are_inconsistent() {
+fn edition_2_fields_with_the_wrong_mode_are_inconsistent() {
+    // The message, the field (PV bit) that does not fit, what the case is.
+    let mut cases: Vec<(Msg, u8, String)> = Vec::new();
     for mode in [6, 8, 9] {
         let msg = transfer_command_ed2(mode).with(1, text("", 20));
-        assert_inconsistent(&msg, 1, &format!("mode {mode}"));
+        cases.push((msg, 1, format!("#13000 mode {mode}, empty Mission ID")));
+    }
+    let msg = transfer_command(7).with(1, text("M-1", 20));
+    cases.push((msg, 1, "mode 7 with Mission ID M-1".to_owned()));
+    for mode in [1, 2, 5, 6, 7, 8, 10] {
+        let msg = transfer_command_ed2(mode).with(6, u1(4));
+        cases.push((msg, 6, format!("#13000 mode {mode}, Transfer Window")));
+    }
+    for mode in [1, 3, 5, 6, 7, 9, 10] {
+        let msg = transfer_command_ed2(mode).with(7, u4(0x1A2B_3C4D));
+        cases.push((msg, 7, format!("#13000 mode {mode}, Mission Checksum")));
+    }
+    for mode in [7, 8] {
+        let msg = area_command_ed2(mode).with(6, text("", 20));
+        cases.push((msg, 6, format!("#2011 mode {mode}, empty Mission ID")));
+    }
+    for mode in 1..=6 {
+        let msg = area_command_ed2(mode).with(6, text("M-1", 20));
+        cases.push((msg, 6, format!("#2011 mode {mode}, Mission ID")));
+    }
+    for mode in [1, 5, 6] {
+        let msg = area_command_ed2(mode).with(7, u4(4));
+        cases.push((msg, 7, format!("#2011 mode {mode}, field 7")));
+    }
+    let msg = activate().with(2, text("", 20));
+    cases.push((msg, 2, "empty Mission ID".to_owned()));
+    for command in [1, 2, 3] {
+        let msg = activate().with(1, u1(command));
+        cases.push((msg, 2, format!("command {command}")));
+    }
+    for (msg, bit, what) in &cases {
+        assert_inconsistent(msg, *bit, what);
     }
     // Mode 10 with an empty Mission ID loads the active list into the buffer (ICD §8).
     assert!(transfer_command(10).with(1, text("", 20)).decode().is_ok());
-}
-
-#[test]
-fn report_missions_naming_a_mission_is_inconsistent() {
-    let msg = transfer_command(7).with(1, text("M-1", 20));
-    assert_inconsistent(&msg, 1, "mode 7 with Mission ID M-1");
     assert!(transfer_command(7).with(1, text("", 20)).decode().is_ok());
     assert!(transfer_command(7).without(1).decode().is_ok());
-}
-
-#[test]
-fn transfer_window_with_a_mode_other_than_3_or_9_is_inconsistent() {
-    for mode in [1, 2, 5, 6, 7, 8, 10] {
-        let msg = transfer_command_ed2(mode).with(6, u1(4));
-        assert_inconsistent(&msg, 6, &format!("mode {mode}"));
-    }
     for mode in [3, 9] {
         assert!(
             transfer_command(mode).with(6, u1(4)).decode().is_ok(),
@@ -1899,43 +1932,6 @@ fn transfer_window_0_and_33_are_out_of_range() {
         for window in [1u8, 32] {
             assert!(transfer_command(mode).with(6, u1(window)).decode().is_ok());
         }
-    }
-}
-
-#[test]
-fn mission_checksum_with_a_mode_other_than_2_or_8_is_inconsistent() {
-    for mode in [1, 3, 5, 6, 7, 9, 10] {
-        let msg = transfer_command_ed2(mode).with(7, u4(0x1A2B_3C4D));
-        assert_inconsistent(&msg, 7, &format!("mode {mode}"));
-    }
-}
-
-#[test]
-fn area_command_modes_7_8_without_mission_id_are_missing_field() {
-    for mode in [7, 8] {
-        let e = area_command_ed2(mode).without(6).reject();
-        assert_eq!(
-            e,
-            rejected(2011, Some((6, "Mission ID")), Cause::MissingField, Some(TS)),
-            "mode {mode}"
-        );
-        assert_eq!(e.reason(), Reason::MissingField);
-    }
-}
-
-#[test]
-fn area_command_modes_7_8_with_an_empty_mission_id_are_inconsistent() {
-    for mode in [7, 8] {
-        let msg = area_command_ed2(mode).with(6, text("", 20));
-        assert_inconsistent(&msg, 6, &format!("mode {mode}"));
-    }
-}
-
-#[test]
-fn area_command_mission_id_with_modes_1_to_6_is_inconsistent() {
-    for mode in 1..=6 {
-        let msg = area_command_ed2(mode).with(6, text("M-1", 20));
-        assert_inconsistent(&msg, 6, &format!("mode {mode}"));
     }
 }
 
@@ -1989,38 +1985,6 @@ fn area_command_transfer_window_0_and_33_are_out_of_range() {
             );
             assert_eq!(e.reason(), Reason::Malformed);
         }
-    }
-}
-
-#[test]
-fn area_command_field_7_with_modes_1_5_6_is_inconsistent() {
-    for mode in [1, 5, 6] {
-        let msg = area_command_ed2(mode).with(7, u4(4));
-        assert_inconsistent(&msg, 7, &format!("mode {mode}"));
-    }
-}
-
-#[test]
-fn activate_staged_without_mission_id_is_missing_field() {
-    let e = activate().without(2).reject();
-    assert_eq!(
-        e,
-        rejected(
-            50000,
-            Some((2, "Mission ID")),
-            Cause::MissingField,
-            Some(TS)
-        )
-    );
-    assert_eq!(e.reason(), Reason::MissingField);
-    assert_inconsistent(&activate().with(2, text("", 20)), 2, "empty Mission ID");
-}
-
-#[test]
-fn execute_commands_1_2_3_with_a_mission_id_are_inconsistent() {
-    for command in [1, 2, 3] {
-        let msg = activate().with(1, u1(command));
-        assert_inconsistent(&msg, 2, &format!("command {command}"));
     }
 }
 
