@@ -293,6 +293,42 @@ impl Transport {
     fn from_arg(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|t| t.arg() == s)
     }
+
+    /// The hop that carries this transport's frames: every partition row is the same loop
+    /// with another idle strategy or pace, every sparse row its dense row's hop.
+    fn hop(self) -> Hop {
+        match self {
+            Self::Iox2Event => Hop::Iox2 { event: true },
+            Self::Iox2Poll => Hop::Iox2 { event: false },
+            Self::Partition
+            | Self::PartitionBlock
+            | Self::PartitionBackoff
+            | Self::PartitionDoorbell
+            | Self::PartitionSparse
+            | Self::PartitionBlockSparse
+            | Self::PartitionBackoffSparse
+            | Self::PartitionDoorbellSparse => Hop::Typed { own: false },
+            Self::Iox2OwnPubsub => Hop::Typed { own: true },
+            Self::Uds | Self::UdsSparse => Hop::Uds,
+            Self::Udp => Hop::Udp,
+            Self::ShmFloor => Hop::Shm,
+        }
+    }
+}
+
+/// The code in `hop.rs` that carries a transport's frames, for the sender and the receiver.
+#[derive(Debug, Clone, Copy)]
+enum Hop {
+    /// iceoryx2 publish-subscribe through the partitions' IPC, woken by an event or polling.
+    Iox2 { event: bool },
+    /// The partitions' loop (`own: false`) or iceoryx2's own benchmark set-up.
+    Typed { own: bool },
+    /// A Unix datagram socket.
+    Uds,
+    /// UDP over loopback.
+    Udp,
+    /// The shared cache line.
+    Shm,
 }
 
 /// The payload sizes with their description.
@@ -448,23 +484,12 @@ fn receiver_main(run: &Run, cpu: Option<usize>) {
         None => {}
     }
     let start = Usage::now();
-    let histogram = match run.transport {
-        Transport::Iox2Event => iox2(run, Role::Receiver, true).expect("histogram"),
-        Transport::Iox2Poll => iox2(run, Role::Receiver, false).expect("histogram"),
-        Transport::Partition
-        | Transport::PartitionBlock
-        | Transport::PartitionBackoff
-        | Transport::PartitionDoorbell
-        | Transport::PartitionSparse
-        | Transport::PartitionBlockSparse
-        | Transport::PartitionBackoffSparse
-        | Transport::PartitionDoorbellSparse => {
-            typed(run, Role::Receiver, false).expect("histogram")
-        }
-        Transport::Iox2OwnPubsub => typed(run, Role::Receiver, true).expect("histogram"),
-        Transport::Uds | Transport::UdsSparse => uds_receiver(run),
-        Transport::Udp => udp_receiver(run),
-        Transport::ShmFloor => shm_receiver(run),
+    let histogram = match run.transport.hop() {
+        Hop::Iox2 { event } => iox2(run, Role::Receiver, event).expect("histogram"),
+        Hop::Typed { own } => typed(run, Role::Receiver, own).expect("histogram"),
+        Hop::Uds => uds_receiver(run),
+        Hop::Udp => udp_receiver(run),
+        Hop::Shm => shm_receiver(run),
     };
     let usage = Usage::now().since(start);
     let h = &histogram;
@@ -517,29 +542,16 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
     };
     let info = next("ready");
     let (start, machine_start) = (Usage::now(), machine_ticks());
-    match run.transport {
-        Transport::Iox2Event => {
-            iox2(run, Role::Sender, true);
+    match run.transport.hop() {
+        Hop::Iox2 { event } => {
+            iox2(run, Role::Sender, event);
         }
-        Transport::Iox2Poll => {
-            iox2(run, Role::Sender, false);
+        Hop::Typed { own } => {
+            typed(run, Role::Sender, own);
         }
-        Transport::Partition
-        | Transport::PartitionBlock
-        | Transport::PartitionBackoff
-        | Transport::PartitionDoorbell
-        | Transport::PartitionSparse
-        | Transport::PartitionBlockSparse
-        | Transport::PartitionBackoffSparse
-        | Transport::PartitionDoorbellSparse => {
-            typed(run, Role::Sender, false);
-        }
-        Transport::Iox2OwnPubsub => {
-            typed(run, Role::Sender, true);
-        }
-        Transport::Uds | Transport::UdsSparse => uds_sender(run),
-        Transport::Udp => udp_sender(run, &info),
-        Transport::ShmFloor => shm_sender(run),
+        Hop::Uds => uds_sender(run),
+        Hop::Udp => udp_sender(run, &info),
+        Hop::Shm => shm_sender(run),
     }
     let sender = Usage::now().since(start);
     let machine_end = machine_ticks();
