@@ -427,6 +427,22 @@ pub(super) struct OwnEnd<Out: Stamped, In: Stamped> {
     _node: Node<S>,
 }
 
+/// A publish-subscribe service of `T` as iceoryx2's own benchmark sets it up: history 0,
+/// subscriber buffer 1, one publisher, one subscriber.
+fn own_service<T: Stamped>(
+    node: &Node<S>,
+    name: &ServiceName,
+) -> iceoryx2::service::port_factory::publish_subscribe::PortFactory<S, T, ()> {
+    node.service_builder(name)
+        .publish_subscribe::<T>()
+        .history_size(0)
+        .subscriber_max_buffer_size(1)
+        .max_publishers(1)
+        .max_subscribers(1)
+        .open_or_create()
+        .expect("service")
+}
+
 impl<Out: Stamped, In: Stamped> OwnEnd<Out, In> {
     fn open(run: &Run, out: &str, input: &str) -> Self {
         let node = NodeBuilder::new().create::<S>().expect("node");
@@ -436,27 +452,11 @@ impl<Out: Stamped, In: Stamped> OwnEnd<Out, In> {
                 .try_into()
                 .expect("service name")
         };
-        let publisher = node
-            .service_builder(&service(out))
-            .publish_subscribe::<Out>()
-            .history_size(0)
-            .subscriber_max_buffer_size(1)
-            .max_publishers(1)
-            .max_subscribers(1)
-            .open_or_create()
-            .expect("service")
+        let publisher = own_service::<Out>(&node, &service(out))
             .publisher_builder()
             .create()
             .expect("publisher");
-        let subscriber = node
-            .service_builder(&service(input))
-            .publish_subscribe::<In>()
-            .history_size(0)
-            .subscriber_max_buffer_size(1)
-            .max_publishers(1)
-            .max_subscribers(1)
-            .open_or_create()
-            .expect("service")
+        let subscriber = own_service::<In>(&node, &service(input))
             .subscriber_builder()
             .create()
             .expect("subscriber");
