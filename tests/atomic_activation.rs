@@ -264,8 +264,7 @@ fn watch(
 #[test]
 fn alternate_activations_of_two_staged_missions_hand_out_only_whole_pairs() {
     let mut rig = Rig::new("atomic-activation");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let links = rig.gcs_links(&mut fcc);
     let mut ground = Ground::new(&rig.config, links);
     let missions: Vec<ValidatedPlan> = ["mission-1.toml", "mission-2.toml"]

@@ -82,7 +82,7 @@ pub fn check_command(
             }
             let here = here.ok_or(Reason::WrongState)?;
             // Guidance flies home over the list it flies, which in the air stays the one it
-            // started with until automation names another (guidance.rs "New waypoint lists");
+            // started with until automation names another (guidance/mod.rs "New waypoint lists");
             // the check is of that list, so an edited active list it does not fly yet is
             // refused rather than checked in its place (our choice).
             if navigation.waypoint_list != waypoints.generation {
