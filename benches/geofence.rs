@@ -67,7 +67,11 @@ fn end_to_end(waypoints: &WaypointListPayload, areas: &AreaListPayload, take_off
 fn check(fence: &Fence, waypoints: &WaypointListPayload, take_off: Site) -> Result<(), Violation> {
     onboard::check(
         fence,
-        onboard::execute_route(waypoints, take_off, Some(fcc_turns())),
+        onboard::execute_route(
+            onboard::RouteView::from(waypoints),
+            take_off,
+            Some(fcc_turns()),
+        ),
     )
 }
 
@@ -91,7 +95,12 @@ fn criterion_benches(c: &mut Criterion) {
             b.iter(|| {
                 onboard::check(
                     black_box(&fence),
-                    onboard::return_route(black_box(&waypoints), site, 0, Some(fcc_turns())),
+                    onboard::return_route(
+                        onboard::RouteView::from(black_box(&waypoints)),
+                        site,
+                        0,
+                        Some(fcc_turns()),
+                    ),
                 )
             })
         });
@@ -145,7 +154,7 @@ fn main() {
         percentiles(&format!("{name}/check, legs only"), runs, || {
             onboard::check(
                 black_box(&fence),
-                onboard::execute_route(black_box(&waypoints), site, None),
+                onboard::execute_route(onboard::RouteView::from(black_box(&waypoints)), site, None),
             )
             .is_ok()
         });

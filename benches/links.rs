@@ -424,13 +424,9 @@ fn svg(rows: &[Row]) -> String {
     );
     let w = &mut s;
     for (i, (window, attempts)) in series.iter().enumerate() {
-        let x = LEFT + i as f64 * 170.0;
         let colour = COLOURS[i % COLOURS.len()];
-        let _ = writeln!(
-            w,
-            r#"<rect x="{x}" y="36" width="12" height="12" fill="{colour}"/><text x="{}" y="46">window {window}, {attempts} attempt(s)</text>"#,
-            x + 16.0
-        );
+        let label = format!("window {window}, {attempts} attempt(s)");
+        log_axis::legend_entry(w, LEFT + i as f64 * 170.0, 36.0, colour, &label);
     }
     let _ = writeln!(
         w,

@@ -19,7 +19,7 @@ use missionlink_interfaces::wire::{
 };
 use missionlink_services::link::signing::{self, Keyring, LinkKey, Policy, SignatureCheck, Signer};
 use missionlink_services::link::time::Instant;
-use missionlink_services::testkit::{UTC_AT_ZERO_MS, full_polygon, utc_at_zero};
+use missionlink_services::testkit::{RawFrame, UTC_AT_ZERO_MS, full_polygon, utc_at_zero};
 use missionlink_services::voting::Voter;
 
 const BATCH: usize = 8;
@@ -76,15 +76,8 @@ fn keyring() -> Keyring {
 /// The largest frame ICD §2 allows: 528 bytes of data (no message of the ICD fills them all;
 /// signing looks at the bytes, not the message).
 fn largest_frame() -> Vec<u8> {
-    let mut f = vec![0xff, 0xff];
-    f.extend_from_slice(&(wire::MAX_DATA_LEN as u16).to_be_bytes());
-    f.extend_from_slice(&GCS_ID.to_be_bytes());
-    f.extend_from_slice(&FCC_ID.to_be_bytes());
-    f.extend_from_slice(&2012u16.to_be_bytes());
-    f.extend_from_slice(&[0xa8, 0x80]);
-    f.extend((0..wire::MAX_DATA_LEN).map(|i| i as u8));
-    let sum: u32 = f.iter().map(|b| u32::from(*b)).sum();
-    f.extend_from_slice(&sum.to_be_bytes());
+    let data: Vec<u8> = (0..wire::MAX_DATA_LEN).map(|i| i as u8).collect();
+    let f = RawFrame::uplink(2012).with_ack().build(&data);
     assert_eq!(f.len(), MAX_FRAME_LEN);
     f
 }

@@ -117,7 +117,7 @@ fn measure(
     if signed {
         // ICD §9 on both links, both ways, required by both sides.
         let key = rig.dir.join("link.key");
-        missionlink_partitions::keys::generate_key_file(&key, 1).unwrap();
+        missionlink_platform::keys::generate_key_file(&key, 1).unwrap();
         rig.config.signing = missionlink_partitions::config::Signing {
             policy: missionlink_partitions::config::SigningPolicy::Require,
             key_files: vec![key],

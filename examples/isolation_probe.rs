@@ -18,18 +18,17 @@
 
 use std::process::ExitCode;
 
-use missionlink_partitions::config::ConfigArgs;
+use missionlink_partitions::config::{Config, ConfigArgs};
 use missionlink_partitions::isolation::Fence;
 
 fn main() -> ExitCode {
-    missionlink_partitions::init_logging();
+    missionlink_platform::init_logging();
     missionlink_partitions::ipc::quiet_iceoryx2_log();
-    let config = ConfigArgs {
+    let args = ConfigArgs {
         config_toml: std::env::var("MISSIONLINK_CONFIG_TOML").ok(),
         ..ConfigArgs::default()
-    }
-    .resolve()
-    .expect("configuration");
+    };
+    let config = Config::resolve(&args).expect("configuration");
     let role = std::env::var("MISSIONLINK_PROBE_AS").unwrap_or_else(|_| "guidance-stub".into());
     let attempt = std::env::var("MISSIONLINK_PROBE_TRY").expect("MISSIONLINK_PROBE_TRY");
     let fence = Fence::of(&role, &config).expect("isolation is on");

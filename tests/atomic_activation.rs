@@ -26,10 +26,10 @@ use missionlink_interfaces::wire::{
     AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, ExecuteCommand,
     MAX_FRAME_LEN, Message, MissionExecuteCommand, MissionPlanMode, Text, Timestamp,
 };
-use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::ipc::{Ipc, ListPairing};
 use missionlink_partitions::runtime;
-use missionlink_partitions::udp::LinkPair;
+use missionlink_platform::clock::DriverClock;
+use missionlink_platform::udp::LinkPair;
 use missionlink_services::ground_station::ValidatedPlan;
 use missionlink_services::link::endpoint::{Endpoint, Inbound};
 use missionlink_services::transfer::sender::mission_command;
@@ -51,7 +51,7 @@ struct Ground {
 impl Ground {
     fn new(config: &missionlink_partitions::config::Config, links: LinkPair) -> Self {
         let clock = DriverClock::start();
-        let core = config.gcs_core(clock.utc_at_zero());
+        let core = config.link().gcs_core(clock.utc_at_zero());
         // Answers come on both links; the direct one is read, with a timeout.
         let direct = links.sockets()[0];
         direct.set_nonblocking(false).unwrap();
@@ -264,8 +264,7 @@ fn watch(
 #[test]
 fn alternate_activations_of_two_staged_missions_hand_out_only_whole_pairs() {
     let mut rig = Rig::new("atomic-activation");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let links = rig.gcs_links(&mut fcc);
     let mut ground = Ground::new(&rig.config, links);
     let missions: Vec<ValidatedPlan> = ["mission-1.toml", "mission-2.toml"]

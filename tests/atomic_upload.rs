@@ -62,10 +62,7 @@ fn delete_staged(link: &mut Link) {
 
 #[test]
 fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_activated() {
-    let mut rig = Rig::new("atomic-upload-kill");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (rig, _fcc, mut link) = Rig::with_gcs("atomic-upload-kill");
     link.enable_log();
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
     let old = plan_checksums(&link.station().validate(&mission_1).unwrap());

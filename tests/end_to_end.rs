@@ -12,12 +12,11 @@ use std::time::{Duration, Instant};
 use common::*;
 use iceoryx2::prelude::ipc;
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
-use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, MissionPlanMode};
+use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{GcsError, Phase, Sequence};
-use missionlink_services::transfer::sender::mission_command;
 
 fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
     a.generation == b.generation
@@ -35,24 +34,9 @@ fn same_areas(a: &AreaListPayload, b: &AreaListPayload) -> bool {
         && a.no_fly_circles() == b.no_fly_circles()
 }
 
-/// Polls `f` until it gives a value or `limit` passes.
-fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T> {
-    let end = Instant::now() + limit;
-    while Instant::now() < end {
-        if let Some(v) = f() {
-            return Some(v);
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    None
-}
-
 #[test]
 fn upload_then_download_over_udp_through_all_partitions_gives_back_the_same_lists() {
-    let mut rig = Rig::new("roundtrip");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (_rig, _fcc, mut link) = Rig::with_gcs("roundtrip");
     for file in ["mission-1.toml", "mission-2.toml"] {
         let plan = plan(file);
         let valid = link.station().validate(&plan).unwrap();
@@ -129,8 +113,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     // One attempt: this test is about the abort; a second one would complete the upload on the
     // restarted partition (tests/link_faults.rs).
     rig.config.timing.upload_attempts = 1;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
@@ -225,10 +208,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
 
 #[test]
 fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_counted() {
-    let mut rig = Rig::new("bad-frames");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (rig, mut fcc, mut link) = Rig::with_gcs("bad-frames");
     let config = rig.config.clone();
     let mission_1 = plan("mission-1.toml");
     let valid = link.station().validate(&mission_1).unwrap();
@@ -243,13 +223,7 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
         .into_iter()
         .enumerate()
     {
-        for (j, m) in [
-            mission_command(MissionPlanMode::ClearMission, None, None),
-            mission_command(MissionPlanMode::TransmitMission, Some(0), None),
-        ]
-        .into_iter()
-        .enumerate()
-        {
+        for (j, m) in clearing_commands().into_iter().enumerate() {
             let mut m = m;
             m.set_time_stamp(stamp((i * 2 + j) as u64));
             let envelope = Envelope::new(source, config.ids.fcc).with_ack(true);
@@ -339,8 +313,7 @@ fn sigusr1_logs_the_latency_percentiles_and_the_partition_keeps_running() {
 #[test]
 fn a_flood_of_bad_datagrams_costs_counters_not_log_lines() {
     let mut rig = Rig::new("flood");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     rig.learn_links(&mut fcc);
     let config = rig.config.clone();
 
@@ -417,8 +390,7 @@ fn execute_is_refused_when_the_way_from_the_take_off_point_crosses_a_no_fly_zone
     let mut rig = Rig::new("geofence");
     rig.config.guidance.start_latitude_deg = 48.258;
     rig.config.guidance.start_longitude_deg = 11.643;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     let plan = plan("mission-2.toml");
     let valid = link.station().validate(&plan).unwrap();

@@ -82,8 +82,7 @@ fn exists(pid: i32) -> bool {
 #[test]
 fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
     let rig = Rig::new("health-stop");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     for partition in PARTITIONS {
         let tag = format!("partition=\"{partition}\"");
         let pid = partition_pid(&fcc, partition);
@@ -111,10 +110,7 @@ fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
 
 #[test]
 fn a_killed_guidance_is_restarted_and_flies_again() {
-    let mut rig = Rig::new("health-kill");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (rig, mut fcc, mut link) = Rig::with_gcs("health-kill");
     upload(&mut link, &plan("mission-1.toml")).unwrap();
     wait_for_line(&fcc, &["guidance alive"], 0, LIMIT);
     signal_partition(&fcc, "guidance-stub", Signal::KILL);
@@ -164,8 +160,7 @@ fn execute(link: &mut Link) -> Option<wire::Reason> {
 fn execute_is_refused_while_guidance_is_not_alive_and_the_gcs_hears_why() {
     let mut rig = Rig::new("health-gate");
     rig.config.launcher.without = vec!["guidance-stub".to_owned()];
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     // Guidance runs as a process of its own, as a replacement in a rig would.
     let mut guidance = rig.start("guidance-stub");
     rig.ready(&mut guidance);

@@ -178,18 +178,6 @@ impl Drop for PythonGuidance {
     }
 }
 
-/// Polls `f` until it gives a value or the limit passes.
-fn eventually<T>(mut f: impl FnMut() -> Option<T>) -> Option<T> {
-    let end = Instant::now() + LIMIT;
-    while Instant::now() < end {
-        if let Some(v) = f() {
-            return Some(v);
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    None
-}
-
 /// Keeps the waypoint numbers (0 for none) of a #4001 the GCS received.
 fn record<R>(seen: &mut Vec<(u16, u16, u16)>, event: &GcsEvent<R>) {
     if let GcsEvent::FromToNext(f) = event {
@@ -237,7 +225,8 @@ fn the_python_guidance_replaces_the_stub_and_from_to_next_reaches_the_gcs() {
     let progress = watch
         .subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)
         .unwrap();
-    let beat = eventually(|| heartbeats.latest()).expect("a heartbeat from the Python guidance");
+    let beat =
+        eventually(LIMIT, || heartbeats.latest()).expect("a heartbeat from the Python guidance");
     assert_eq!(beat.pid, pid);
     assert_eq!(
         beat.period_ns,
@@ -245,7 +234,7 @@ fn the_python_guidance_replaces_the_stub_and_from_to_next_reaches_the_gcs() {
         "{beat:?}"
     );
     assert!(beat.sequence >= 1, "{beat:?}");
-    let idle = eventually(|| progress.latest()).expect("progress from the Python guidance");
+    let idle = eventually(LIMIT, || progress.latest()).expect("progress from the Python guidance");
     assert!(
         idle.on_ground && idle.from_to_next() == (0, 0, 0),
         "{idle:?}"
@@ -299,7 +288,7 @@ fn the_python_guidance_replaces_the_stub_and_from_to_next_reaches_the_gcs() {
             && (p.latitude_deg - 48.275).abs() < 1e-6
             && (p.longitude_deg - 11.645).abs() < 1e-6
     };
-    eventually(|| progress.latest().filter(at_ccp)).expect("progress: landed at CCP");
+    eventually(LIMIT, || progress.latest().filter(at_ccp)).expect("progress: landed at CCP");
 
     // SIGTERM ends it cleanly.
     let status = guidance.stop();

@@ -25,10 +25,7 @@ use missionlink_services::transfer::staged::MissionId;
 #[test]
 fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_the_gcs_says_which()
 {
-    let mut rig = Rig::new("restart-every-k");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (_rig, fcc, mut link) = Rig::with_gcs("restart-every-k");
     link.enable_log();
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
     let old = link.station().validate(&mission_1).unwrap();
@@ -119,10 +116,7 @@ fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_t
 /// reports the same staged mission (its checksums) and activates it.
 #[test]
 fn staged_missions_survive_a_restart_of_mission_data_handling() {
-    let mut rig = Rig::new("restart-staged");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let mut link = rig.gcs(&mut fcc);
+    let (_rig, fcc, mut link) = Rig::with_gcs("restart-staged");
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
     upload(&mut link, &mission_1).unwrap();
     let id = MissionId::new("MEDEVAC-2").unwrap();

@@ -14,12 +14,11 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use common::*;
 use missionlink_interfaces::contracts::Link as LinkId;
 use missionlink_interfaces::wire::{
-    self, Envelope, MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, MissionPlanMode, Timestamp,
+    self, Envelope, MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, Timestamp,
 };
 use missionlink_partitions::config::{Signing, SigningPolicy};
-use missionlink_partitions::keys;
+use missionlink_platform::keys;
 use missionlink_services::link::signing::{LinkKey, Signer};
-use missionlink_services::transfer::sender::mission_command;
 
 /// A new key file with `key_id` in the rig's directory.
 fn key_file(rig: &Rig, name: &str, key_id: u8) -> PathBuf {
@@ -48,13 +47,7 @@ fn attack(
     let config = &rig.config;
     let now = SystemTime::now().duration_since(UNIX_EPOCH).unwrap();
     let mut buf = [0u8; MAX_FRAME_LEN];
-    for (j, m) in [
-        mission_command(MissionPlanMode::ClearMission, None, None),
-        mission_command(MissionPlanMode::TransmitMission, Some(0), None),
-    ]
-    .into_iter()
-    .enumerate()
-    {
+    for (j, m) in clearing_commands().into_iter().enumerate() {
         let mut m = m;
         let ms = now.as_millis() as u64 + first_ms + j as u64;
         m.set_time_stamp(Timestamp::from_unix_millis(ms).unwrap());
@@ -75,8 +68,7 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     let mut rig = Rig::new("signed");
     let key = key_file(&rig, "link.key", 1);
     rig.config.signing = require(vec![key]);
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     assert_eq!(link.signing_key_id(), Some(1));
     let mission_1 = plan("mission-1.toml");
@@ -130,8 +122,7 @@ fn a_gcs_whose_key_the_fcc_does_not_hold_hears_nothing_and_says_why() {
     let fcc_key = key_file(&rig, "fcc.key", 1);
     let gcs_key = key_file(&rig, "gcs.key", 2);
     rig.config.signing = require(vec![fcc_key]);
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     rig.config.signing = require(vec![gcs_key]);
     let mut link = rig.gcs(&mut fcc);
     let error = upload(&mut link, &plan("mission-1.toml")).unwrap_err();

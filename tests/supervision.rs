@@ -161,8 +161,7 @@ fn a_partition_that_keeps_dying_is_given_up_after_its_start_limit() {
 #[test]
 fn voting_monitoring_warns_at_every_start_while_signing_is_off() {
     let rig = Rig::new("supervise-unsigned");
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
+    let mut fcc = rig.start_fcc();
     let warning = ["the links are not authenticated", "signing is off"];
     assert_eq!(
         lines_with(&fcc.log_text(), &warning),

@@ -1,8 +1,31 @@
-//! The benches' SVG plots (`benches/latency.rs`, `benches/links.rs`): the document with its
+//! The benches' SVG plots (`benches/latency/report.rs`, `benches/links.rs`): the document with its
 //! title, and the logarithmic value axis (the decades that hold the values, where a value sits,
 //! the grid).
+//!
+//! # Why by hand and not with the `plotters` crate
+//!
+//! Evaluated against `plotters` 0.3.7: with its default features it brings 46 crates (bitmap,
+//! GIF, fonts, images, chrono); with `svg_backend` alone, 4 (`plotters`, `plotters-backend`,
+//! `plotters-svg`, `num-traits`), which a dev-dependency of the benches could carry. It would
+//! not do the job better: both plots are grouped bars on a logarithmic axis (latency
+//! percentiles per transport and size; upload medians per link profile and window), and
+//! plotters has no grouped-bar series, so each bar would still be a rectangle placed by our code;
+//! what it would take over is the decade ticks and the grid, most of this module. Its
+//! SVG would also differ from the plots committed under `docs/` and described in
+//! BENCHMARKS.md, which only the lead's re-measurement replaces. So the plots stay plain SVG
+//! text written here, with no dependency.
 
 use std::fmt::Write as _;
+
+/// A legend entry at (`x`, `y`): a 12 px square in `colour`, `label` to its right.
+pub fn legend_entry(w: &mut String, x: f64, y: f64, colour: &str, label: &str) {
+    let _ = writeln!(
+        w,
+        r#"<rect x="{x}" y="{y}" width="12" height="12" fill="{colour}"/><text x="{}" y="{}">{label}</text>"#,
+        x + 16.0,
+        y + 10.0
+    );
+}
 
 /// An SVG document `width` x `height` on white, its title in bold at (`x`, `y`); the caller
 /// closes it with `</svg>`.

@@ -29,28 +29,20 @@ use core::time::Duration;
 
 use missionlink_interfaces::contracts::{AutomationStatePayload, GuidanceProgressPayload};
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
-use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
-use missionlink_services::testkit::{self, Transmit};
+use missionlink_services::testkit;
 use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_services::transfer::mission::{Mission, MissionBuffer};
 use missionlink_services::transfer::staged::StagedMissions;
 
-use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};
+use crate::input::u16_at;
+use crate::session::{self, Core, Session};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
-    /// Raw bytes to `handle_frame`.
-    pub const RAW: u8 = 0;
-    /// Message data in a GCS frame with a correct checksum.
-    pub const WRAP: u8 = 1;
-    /// A message sent by the GCS endpoint with a fresh time stamp.
-    pub const SEND: u8 = 2;
-    /// The clock moves on.
-    pub const TIME: u8 = 3;
+    pub use crate::session::tag::{RAW, SEND, TIME, WRAP};
     /// The GCS answers the FCC's last request.
     pub const ANSWER: u8 = 4;
     /// Automation state or guidance progress.
@@ -62,24 +54,15 @@ pub mod tag {
 /// Kinds of records.
 pub const TAGS: u8 = 7;
 
-/// How many deadlines one clock step may fire before the target calls it a deadline that stays
-/// due (a hang in a driver's loop).
-const MAX_FIRINGS: usize = 10_000;
-
 /// The entry point: panics only when an invariant of the module documentation is broken.
 pub fn fcc(input: &[u8]) {
     let mut rig = Rig::new();
-    for (tag, body) in records(input) {
-        let before = Lists::of(&rig.fcc);
-        rig.step(tag, body);
-        rig.drain();
-        before.check_against(&rig.fcc);
-    }
-    let before = Lists::of(&rig.fcc);
+    session::run(&mut rig, input);
+    let before = Lists::of(&rig.core.fcc);
     rig.advance(Duration::from_secs(60));
-    before.check_against(&rig.fcc);
+    before.check_against(&rig.core.fcc);
     assert_eq!(
-        rig.fcc.poll_timeout(),
+        rig.core.fcc.poll_timeout(),
         None,
         "a deadline left after a minute of silence"
     );
@@ -87,11 +70,8 @@ pub fn fcc(input: &[u8]) {
 
 /// The FCC, the GCS endpoint that talks to it, and what a driver keeps.
 struct Rig {
-    fcc: MissionDataHandling,
-    gcs: Endpoint,
-    now: Instant,
-    /// The FCC's last message that asked for an answer.
-    request: Option<Message>,
+    /// The FCC, the GCS endpoint (the peer), the clock, the FCC's last request.
+    core: Core,
     /// Whether the driver holds the record "a mission upload is open" (restart safety, see
     /// `services/src/mission_data_handling/`).
     upload_open: bool,
@@ -101,10 +81,7 @@ struct Rig {
 impl Rig {
     fn new() -> Self {
         let mut rig = Self {
-            fcc: MissionDataHandling::new(testkit::fcc_config()),
-            gcs: Endpoint::new(testkit::endpoint(GCS_ID, FCC_ID)),
-            now: Instant::from_millis(1),
-            request: None,
+            core: Core::new(<Self as Session>::PEER),
             upload_open: false,
             progress: 0,
         };
@@ -112,52 +89,6 @@ impl Rig {
         // execute or an activation starts there.
         rig.state(&[1, 0, 1]);
         rig
-    }
-
-    fn step(&mut self, tag: u8, body: &[u8]) {
-        if tag % TAGS != tag::TIME {
-            self.advance(Duration::from_millis(1));
-        }
-        match tag % TAGS {
-            tag::RAW => self.frame(body),
-            tag::WRAP => {
-                if let Some(frame) = MessageBody::parse(body).and_then(|b| wrap(&b, GCS_ID, FCC_ID))
-                {
-                    self.frame(&frame);
-                }
-            }
-            tag::SEND => {
-                if let Some(body) = MessageBody::parse(body)
-                    && let Some(message) = body.message()
-                {
-                    self.gcs.send(self.now, message, body.ack_requested());
-                    self.gcs_frames();
-                }
-            }
-            tag::TIME => self.advance(Duration::from_millis(u64::from(u16_at(body, 0)))),
-            tag::ANSWER => {
-                if let Some(request) = self.request.clone() {
-                    let outcome = answer_outcome(body);
-                    self.gcs.answer(self.now, &request, true, outcome);
-                    self.gcs_frames();
-                }
-            }
-            tag::STATE => self.state(body),
-            _ => self.restart(body.first().copied().unwrap_or(0)),
-        }
-    }
-
-    fn frame(&mut self, bytes: &[u8]) {
-        // A frame error is the driver's to count; nothing else to check here.
-        let _ = self.fcc.handle_frame(self.now, bytes);
-        self.drain();
-    }
-
-    /// What the GCS endpoint queued goes to the FCC.
-    fn gcs_frames(&mut self) {
-        for frame in Transmit::frames(&mut self.gcs) {
-            self.frame(&frame);
-        }
     }
 
     /// Body `[kind, a, b, c, d, e, f, g]`: an even `kind` publishes automation's state (flight
@@ -168,9 +99,9 @@ impl Rig {
     fn state(&mut self, body: &[u8]) {
         let byte = |i: usize| body.get(i).copied().unwrap_or(0);
         let (kind, a, b) = (byte(0), byte(1), byte(2));
-        let (list, _) = self.fcc.generations();
+        let (list, _) = self.core.fcc.generations();
         if kind % 2 == 0 {
-            self.fcc.set_automation_state(&AutomationStatePayload {
+            self.core.fcc.set_automation_state(&AutomationStatePayload {
                 flight_phase: a,
                 trajectory_generation_active: b & 1 != 0,
                 route_reversed: b & 2 != 0,
@@ -187,8 +118,8 @@ impl Rig {
             };
             self.progress += 1;
             let offset = |i: usize| f64::from(byte(i) as i8) * 1e-3;
-            self.fcc.handle_progress(
-                self.now,
+            self.core.fcc.handle_progress(
+                self.core.now,
                 &GuidanceProgressPayload {
                     sequence: self.progress,
                     waypoint_list: list,
@@ -211,66 +142,83 @@ impl Rig {
     /// `state.rs`). `flags` bit 0: automation's and navigation's state are published again.
     fn restart(&mut self, flags: u8) {
         let resumed = Resumed {
-            mission: self.fcc.active_mission().cloned(),
-            mission_generation: self.fcc.generations().0,
-            areas: self.fcc.active_areas().cloned(),
-            area_generation: self.fcc.generations().1,
+            mission: self.core.fcc.active_mission().cloned(),
+            mission_generation: self.core.fcc.generations().0,
+            areas: self.core.fcc.active_areas().cloned(),
+            area_generation: self.core.fcc.generations().1,
             mission_upload_open: self.upload_open,
-            staged: self.fcc.staged().clone(),
+            staged: self.core.fcc.staged().clone(),
         };
-        self.fcc = MissionDataHandling::new(testkit::fcc_config());
-        self.fcc.resume(self.now, resumed);
-        self.request = None;
+        self.core.fcc = MissionDataHandling::new(testkit::fcc_config());
+        self.core.fcc.resume(self.core.now, resumed);
+        self.core.request = None;
         if flags & 1 != 0 {
             self.state(&[1, 0, 1]);
         }
         self.drain();
     }
+}
 
-    /// The clock moves `by`; the FCC's deadlines fire in order, each at its time.
-    fn advance(&mut self, by: Duration) {
-        let until = self.now + by;
-        let mut fired = 0;
-        while let Some(at) = self.fcc.poll_timeout().filter(|at| *at <= until) {
-            self.now = self.now.max(at);
-            self.fcc.handle_timeout(self.now);
-            self.drain();
-            fired += 1;
-            assert!(fired < MAX_FIRINGS, "a deadline stays due at {at:?}");
-        }
-        self.now = until;
+impl Session for Rig {
+    const TAGS: u8 = TAGS;
+    const ANSWER: u8 = tag::ANSWER;
+    const PEER: (u32, u32) = (GCS_ID, FCC_ID);
+
+    fn core(&self) -> &Core {
+        &self.core
+    }
+
+    fn core_mut(&mut self) -> &mut Core {
+        &mut self.core
+    }
+
+    fn next_deadline(&self) -> Option<Instant> {
+        self.core.fcc.poll_timeout()
+    }
+
+    fn handle_timeout(&mut self) {
+        self.core.fcc.handle_timeout(self.core.now);
     }
 
     /// Takes what the FCC sends and its events, as a driver does.
     fn drain(&mut self) {
-        let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some(sent) = self.fcc.poll_transmit(&mut buf) {
-            let len = sent.unwrap_or_else(|e| panic!("the FCC cannot encode its message: {e}"));
-            let (envelope, message) = wire::decode(buf.get(..len).unwrap_or_default())
-                .unwrap_or_else(|e| panic!("the FCC sent a frame that does not decode: {e}"));
-            assert_eq!(
-                (envelope.source_id, envelope.destination_id),
-                (FCC_ID, GCS_ID),
-                "the FCC sent a frame not addressed to the GCS"
-            );
-            if envelope.ack_requested {
-                self.request = Some(message);
-            }
-        }
-        while let Some(event) = self.fcc.poll_event() {
+        session::checked_frames(
+            &mut self.core.fcc,
+            ("FCC", "GCS"),
+            (FCC_ID, GCS_ID),
+            |_, envelope, message| {
+                if envelope.ack_requested {
+                    self.core.request = Some(message);
+                }
+            },
+        );
+        while let Some(event) = self.core.fcc.poll_event() {
             match event {
                 FccEvent::MissionUploadOpened => self.upload_open = true,
                 FccEvent::MissionUploadClosed => self.upload_open = false,
                 FccEvent::MissionActivated { generation } => assert!(
-                    generation <= self.fcc.generations().0,
+                    generation <= self.core.fcc.generations().0,
                     "an activation announced under a generation not reached"
                 ),
                 FccEvent::AreasActivated { generation } => assert!(
-                    generation <= self.fcc.generations().1,
+                    generation <= self.core.fcc.generations().1,
                     "an activation announced under a generation not reached"
                 ),
                 _ => {}
             }
+        }
+    }
+
+    fn hand(&mut self, frame: &[u8]) {
+        // A frame error is the driver's to count; nothing else to check here.
+        let _ = self.core.fcc.handle_frame(self.core.now, frame);
+        self.drain();
+    }
+
+    fn other(&mut self, record: u8, body: &[u8]) {
+        match record {
+            tag::STATE => self.state(body),
+            _ => self.restart(body.first().copied().unwrap_or(0)),
         }
     }
 }

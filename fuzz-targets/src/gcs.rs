@@ -34,29 +34,20 @@ use missionlink_interfaces::contracts::{
     AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
 };
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{self, ExecuteCommand, MAX_FRAME_LEN, Message, TransferWindow};
+use missionlink_interfaces::wire::{ExecuteCommand, MAX_FRAME_LEN, TransferWindow};
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
 };
-use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit::{self, Transmit};
+use missionlink_services::testkit;
 use missionlink_services::transfer::staged::MissionId;
 
-use crate::fcc::{Lists, check_areas, check_mission};
-use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};
+use crate::fcc::{check_areas, check_mission};
+use crate::session::{self, Core, Session};
 
 /// Record tags of this target (the tag byte modulo [`TAGS`]).
 pub mod tag {
-    /// Raw bytes to the GCS.
-    pub const RAW: u8 = 0;
-    /// Message data in an FCC frame with a correct checksum.
-    pub const WRAP: u8 = 1;
-    /// A message sent by the FCC endpoint with a fresh time stamp.
-    pub const SEND: u8 = 2;
-    /// The clock moves on.
-    pub const TIME: u8 = 3;
+    pub use crate::session::tag::{RAW, SEND, TIME, WRAP};
     /// An operator request.
     pub const REQUEST: u8 = 4;
     /// Frames move between the GCS and the FCC.
@@ -76,25 +67,17 @@ pub const REQUESTS: u8 = 14;
 /// Frames a queue holds; the oldest is lost beyond (a socket buffer).
 const QUEUE: usize = 256;
 
-/// See [`crate::fcc`].
-const MAX_FIRINGS: usize = 10_000;
-
 /// The entry point: panics only when an invariant of the module documentation is broken.
 pub fn gcs(input: &[u8]) {
     let mut rig = Rig::new();
-    for (tag, body) in records(input) {
-        let before = Lists::of(&rig.fcc);
-        rig.step(tag, body);
-        rig.drain();
-        before.check_against(&rig.fcc);
-    }
+    session::run(&mut rig, input);
     rig.advance(Duration::from_secs(60));
     assert!(
         rig.gcs.is_standby(),
         "the GCS is not back in standby after a minute of silence"
     );
     assert_eq!(rig.gcs.poll_timeout(), None, "a GCS deadline left");
-    assert_eq!(rig.fcc.poll_timeout(), None, "an FCC deadline left");
+    assert_eq!(rig.core.fcc.poll_timeout(), None, "an FCC deadline left");
 }
 
 /// The plans the requests upload: the demo missions and the largest (256 waypoints, 11 areas).
@@ -111,75 +94,23 @@ fn plans() -> &'static [MissionPlan; 3] {
 
 struct Rig {
     gcs: GroundStation<WithoutGateway>,
-    fcc: MissionDataHandling,
-    /// The FCC's address for forged frames.
-    forger: Endpoint,
+    /// The FCC, the endpoint that forges its frames (the peer), the clock, the GCS's last
+    /// request.
+    core: Core,
     up: VecDeque<Vec<u8>>,
     down: VecDeque<Vec<u8>>,
-    now: Instant,
-    /// The GCS's last message that asked for an answer.
-    request: Option<Message>,
 }
 
 impl Rig {
     fn new() -> Self {
         let mut rig = Self {
             gcs: GroundStation::new(testkit::gcs_config(), WithoutGateway),
-            fcc: MissionDataHandling::new(testkit::fcc_config()),
-            forger: Endpoint::new(testkit::endpoint(FCC_ID, GCS_ID)),
+            core: Core::new(<Self as Session>::PEER),
             up: VecDeque::new(),
             down: VecDeque::new(),
-            now: Instant::from_millis(1),
-            request: None,
         };
         rig.state(0);
         rig
-    }
-
-    fn step(&mut self, tag: u8, body: &[u8]) {
-        if tag % TAGS != tag::TIME {
-            self.advance(Duration::from_millis(1));
-        }
-        match tag % TAGS {
-            tag::RAW => self.hand_to_gcs(body),
-            tag::WRAP => {
-                if let Some(frame) = MessageBody::parse(body).and_then(|b| wrap(&b, FCC_ID, GCS_ID))
-                {
-                    self.hand_to_gcs(&frame);
-                }
-            }
-            tag::SEND => {
-                if let Some(body) = MessageBody::parse(body)
-                    && let Some(message) = body.message()
-                {
-                    self.forger.send(self.now, message, body.ack_requested());
-                    self.forged();
-                }
-            }
-            tag::TIME => self.advance(Duration::from_millis(u64::from(u16_at(body, 0)))),
-            tag::REQUEST => self.request(body),
-            tag::PUMP => self.pump(body),
-            tag::ANSWER => {
-                if let Some(request) = self.request.clone() {
-                    let outcome = answer_outcome(body);
-                    self.forger.answer(self.now, &request, true, outcome);
-                    self.forged();
-                }
-            }
-            _ => self.state(body.first().copied().unwrap_or(0)),
-        }
-    }
-
-    fn hand_to_gcs(&mut self, frame: &[u8]) {
-        // A frame error is the driver's to count.
-        let _ = self.gcs.handle_frame(self.now, frame);
-        self.drain();
-    }
-
-    fn forged(&mut self) {
-        for frame in Transmit::frames(&mut self.forger) {
-            self.hand_to_gcs(&frame);
-        }
     }
 
     /// Body `[which, argument]`: `which` modulo [`REQUESTS`] picks the request (uploads of the
@@ -193,7 +124,7 @@ impl Rig {
         );
         let [mission_1, mission_2, largest] = plans();
         let staged = MissionId::new("MEDEVAC-2").ok();
-        let now = self.now;
+        let now = self.core.now;
         // A refusal (busy, an edition-1 FCC for a staged request) is an answer, not a fault.
         let _ = match which % REQUESTS {
             0 => self
@@ -254,13 +185,13 @@ impl Rig {
             self.drain();
             while let Some(frame) = self.up.pop_front() {
                 if !lost(&mut bit) {
-                    let _ = self.fcc.handle_frame(self.now, &frame);
+                    let _ = self.core.fcc.handle_frame(self.core.now, &frame);
                 }
             }
             self.drain();
             while let Some(frame) = self.down.pop_front() {
                 if !lost(&mut bit) {
-                    let _ = self.gcs.handle_frame(self.now, &frame);
+                    let _ = self.gcs.handle_frame(self.core.now, &frame);
                 }
             }
             self.drain();
@@ -270,7 +201,7 @@ impl Rig {
     /// Even: on the ground at TROL; odd: flying (system automation in cruise).
     fn state(&mut self, flags: u8) {
         let flying = flags % 2 == 1;
-        self.fcc.set_automation_state(&AutomationStatePayload {
+        self.core.fcc.set_automation_state(&AutomationStatePayload {
             flight_phase: if flying {
                 FlightPhase::Cruise as u8
             } else {
@@ -281,8 +212,8 @@ impl Rig {
             ..AutomationStatePayload::ON_GROUND
         });
         let (lat, lon) = testkit::TROL;
-        self.fcc.handle_progress(
-            self.now,
+        self.core.fcc.handle_progress(
+            self.core.now,
             &GuidanceProgressPayload {
                 sequence: u64::from(flags) + 1,
                 latitude_deg: lat,
@@ -294,56 +225,71 @@ impl Rig {
         );
         self.drain();
     }
+}
 
-    /// The clock moves `by`; both sides' deadlines fire in order, each at its time.
-    fn advance(&mut self, by: Duration) {
-        let until = self.now + by;
-        let mut fired = 0;
-        loop {
-            let next = [self.gcs.poll_timeout(), self.fcc.poll_timeout()]
-                .into_iter()
-                .flatten()
-                .min()
-                .filter(|at| *at <= until);
-            let Some(at) = next else { break };
-            self.now = self.now.max(at);
-            self.gcs.handle_timeout(self.now);
-            self.fcc.handle_timeout(self.now);
-            self.drain();
-            fired += 1;
-            assert!(fired < MAX_FIRINGS, "a deadline stays due at {at:?}");
-        }
-        self.now = until;
+impl Session for Rig {
+    const TAGS: u8 = TAGS;
+    const ANSWER: u8 = tag::ANSWER;
+    const PEER: (u32, u32) = (FCC_ID, GCS_ID);
+
+    fn core(&self) -> &Core {
+        &self.core
+    }
+
+    fn core_mut(&mut self) -> &mut Core {
+        &mut self.core
+    }
+
+    fn next_deadline(&self) -> Option<Instant> {
+        [self.gcs.poll_timeout(), self.core.fcc.poll_timeout()]
+            .into_iter()
+            .flatten()
+            .min()
+    }
+
+    fn handle_timeout(&mut self) {
+        self.gcs.handle_timeout(self.core.now);
+        self.core.fcc.handle_timeout(self.core.now);
     }
 
     /// Takes what both sides send into the queues, and the GCS's events.
     fn drain(&mut self) {
+        session::checked_frames(
+            &mut self.gcs,
+            ("GCS", "FCC"),
+            (GCS_ID, FCC_ID),
+            |frame, envelope, message| {
+                if envelope.ack_requested {
+                    self.core.request = Some(message);
+                }
+                queue(&mut self.up, frame);
+            },
+        );
         let mut buf = [0u8; MAX_FRAME_LEN];
-        while let Some(sent) = self.gcs.poll_transmit(&mut buf) {
-            let len = sent.unwrap_or_else(|e| panic!("the GCS cannot encode its message: {e}"));
-            let frame = buf.get(..len).unwrap_or_default();
-            let (envelope, message) = wire::decode(frame)
-                .unwrap_or_else(|e| panic!("the GCS sent a frame that does not decode: {e}"));
-            assert_eq!(
-                (envelope.source_id, envelope.destination_id),
-                (GCS_ID, FCC_ID),
-                "the GCS sent a frame not addressed to the FCC"
-            );
-            if envelope.ack_requested {
-                self.request = Some(message);
-            }
-            queue(&mut self.up, frame);
-        }
-        while let Some(sent) = self.fcc.poll_transmit(&mut buf) {
+        while let Some(sent) = self.core.fcc.poll_transmit(&mut buf) {
             let len = sent.unwrap_or_else(|e| panic!("the FCC cannot encode its message: {e}"));
             queue(&mut self.down, buf.get(..len).unwrap_or_default());
         }
-        while self.fcc.poll_event().is_some() {}
+        while self.core.fcc.poll_event().is_some() {}
         while let Some(event) = self.gcs.poll_event() {
             if let GcsEvent::DownloadComplete(plan) = event {
                 check_mission(&plan.mission);
                 check_areas(&plan.areas);
             }
+        }
+    }
+
+    fn hand(&mut self, frame: &[u8]) {
+        // A frame error is the driver's to count.
+        let _ = self.gcs.handle_frame(self.core.now, frame);
+        self.drain();
+    }
+
+    fn other(&mut self, record: u8, body: &[u8]) {
+        match record {
+            tag::REQUEST => self.request(body),
+            tag::PUMP => self.pump(body),
+            _ => self.state(body.first().copied().unwrap_or(0)),
         }
     }
 }

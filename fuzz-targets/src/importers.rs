@@ -1,6 +1,6 @@
 //! Targets `fuzz_qgc_plan`, `fuzz_geojson` and `fuzz_mission_toml`: the mission files that
-//! come from other tools and from operators (`gcs/src/qgc.rs`, `gcs/src/geojson.rs`,
-//! `gcs/src/mission_file.rs`), taken the way `gcs validate` takes them.
+//! come from other tools and from operators (`gcs/src/qgc/`, `gcs/src/geojson.rs`,
+//! `gcs/src/mission_file/`), taken the way `gcs validate` takes them.
 //!
 //! The input is the file's bytes (invalid UTF-8 replaced, as an editor would show it). Each
 //! import runs as it refuses what the ICD cannot carry and as it drops it. Checked:

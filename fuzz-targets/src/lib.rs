@@ -31,6 +31,7 @@ pub mod fcc;
 pub mod gcs;
 pub mod importers;
 pub mod input;
+pub mod session;
 pub mod signature;
 pub mod voting;
 

@@ -15,10 +15,10 @@ use missionlink_services::ground_station::{
 use missionlink_services::link::time::Instant;
 use missionlink_services::voting::Voter;
 
-use missionlink_partitions::clock::DriverClock;
-use missionlink_partitions::config::Config;
-use missionlink_partitions::keys::LinkSigning;
-use missionlink_partitions::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
+use missionlink_platform::clock::DriverClock;
+use missionlink_platform::config::LinkConfig;
+use missionlink_platform::keys::LinkSigning;
+use missionlink_platform::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
 use missionlink_services::link::signing::Signer;
 
 /// How far ahead of the last stamp used [`GcsLink::with_stamp_lease`] reserves.
@@ -92,7 +92,7 @@ pub struct GcsLink<G: SafetyGateway> {
 
 impl<G: SafetyGateway> GcsLink<G> {
     /// Binds the GCS's ends of both links as `config` says.
-    pub fn open(config: &Config, gateway: G) -> Result<Self, LinkError> {
+    pub fn open(config: &LinkConfig, gateway: G) -> Result<Self, LinkError> {
         let links = LinkPair::bind(
             config.links.gcs_direct,
             config.links.gcs_lte,
@@ -105,7 +105,7 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// Over links the caller bound already (the demo and the tests bind port 0 themselves and
     /// hand the FCC the ports they got); `config` gives the IDs, timeouts and link signing
     /// (ICD §9: an unusable key file is the error).
-    pub fn with_links(config: &Config, links: LinkPair, gateway: G) -> Result<Self, LinkError> {
+    pub fn with_links(config: &LinkConfig, links: LinkPair, gateway: G) -> Result<Self, LinkError> {
         let signing = LinkSigning::load(&config.signing).map_err(|e| LinkError(e.to_string()))?;
         let clock = DriverClock::start();
         let station = Box::new(GroundStation::new(
@@ -393,7 +393,7 @@ mod tests {
     use missionlink_services::ground_station::WithoutGateway;
 
     /// A #17000 from the FCC stamped `ms`: every one a message of its own to the voter.
-    fn ack(config: &Config, ms: u64) -> Vec<u8> {
+    fn ack(config: &LinkConfig, ms: u64) -> Vec<u8> {
         let message = Message::from(MessageAcknowledgement {
             time_stamp: Timestamp::from_millis(ms).unwrap(),
             original_time_stamp: Timestamp::from_millis(1).unwrap(),
@@ -417,7 +417,7 @@ mod tests {
     fn a_burst_of_datagrams_is_handled_whole() {
         let fcc_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
         let fcc_lte = UdpSocket::bind("127.0.0.1:0").unwrap();
-        let mut config = Config::default();
+        let mut config = LinkConfig::default();
         config.links.gcs_direct = "127.0.0.1:0".parse().unwrap();
         config.links.gcs_lte = "127.0.0.1:0".parse().unwrap();
         config.links.fcc_direct = fcc_direct.local_addr().unwrap();

@@ -61,6 +61,18 @@
 //! is left to validation, as for the mission file. A bad file is an error with the JSON path
 //! (e.g. `features[2].geometry.coordinates[0][3]`) and the reason, or with the line and column
 //! of a JSON syntax error.
+//!
+//! # Why not the `geojson` crate
+//!
+//! Evaluated (geojson 1.0) and not taken: its errors name no element. A string coordinate in
+//! the third feature gives `Error while deserializing GeoJSON: invalid type: string "n",
+//! expected f64 at line 4 column 126` (ours: `features[2].geometry.coordinates[0][1]` and the
+//! reason), and a position of one number (`[11.7]`) is accepted without a word, where ours
+//! refuses it with its path. What this reader does beyond parsing (the `zone`, `area_id` and
+//! altitude properties, circles as a `Point` with `radius_m`, holes, the FCC's limits, the
+//! list of what is not supported) would stay ours on top of the crate's types, walking them
+//! with paths of our own; the export is a few `json!` literals. Adding the crate would add a
+//! dependency and not remove this module.
 
 use missionlink_interfaces::capacity::{MAX_AREAS, MAX_NO_FLY_ZONES, MAX_POLYGON_VERTICES};
 use missionlink_interfaces::wire::{

@@ -97,8 +97,9 @@ pub enum Unsupported {
     /// operator is never told about a plan that is not the one they made.
     #[default]
     Refuse,
-    /// Leave every such element out and list it ([`QgcImport::dropped`]): the operator chose
-    /// to validate and upload what remains.
+    /// Leave every such element out and list it
+    /// ([`QgcImport::dropped`](crate::qgc::QgcImport::dropped)): the operator chose to validate
+    /// and upload what remains.
     Drop,
 }
 

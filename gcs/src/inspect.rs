@@ -97,7 +97,7 @@ impl<'de> Deserialize<'de> for NodeId {
         }
         match Raw::deserialize(d)? {
             Raw::Number(n) => Ok(Self(n)),
-            Raw::Text(s) => missionlink_partitions::config::parse_id(&s)
+            Raw::Text(s) => missionlink_platform::config::parse_id(&s)
                 .map(Self)
                 .map_err(serde::de::Error::custom),
         }

@@ -1,5 +1,19 @@
 //! JSON with paths: a value and its path from the top (`mission.items[3].params[4]`), so that
 //! every error of the `.plan` and GeoJSON importers names the element it is about.
+//!
+//! # Why not `serde_path_to_error`
+//!
+//! Evaluated against this walker, and not taken. `serde_path_to_error` records the path of the
+//! first error serde meets while deserializing into typed structs; on a `.plan` whose fourth
+//! item has a string for param 5 it says `mission.items[3].params[4]: invalid type: string "x",
+//! expected f64 at line 4 column 54`, the same path as ours. But most errors and every
+//! *not supported* element of the importers are found after the types are read: a latitude of
+//! 123 is a valid `f64` (the crate passes it), the meaning and range of `params[i]` depend on
+//! the item's `command` and `frame`, a second fly-zone or an eleventh no-fly-zone is a rule of
+//! the FCC, and [`crate::import`] lists every such element with its path instead of stopping at
+//! the first. Those need the path of a value the program is looking at, which is what [`At`]
+//! carries; with the crate the importers would keep this walker and add typed mirrors of the
+//! `.plan` and GeoJSON formats on top.
 
 use serde_json::{Map, Value};
 

@@ -16,7 +16,7 @@ use std::sync::Mutex;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use missionlink_interfaces::contracts::Link;
-use missionlink_partitions::udp::DatagramTap;
+use missionlink_platform::udp::DatagramTap;
 
 /// pcap's magic number (microsecond time stamps).
 const MAGIC: u32 = 0xa1b2_c3d4;

@@ -37,7 +37,7 @@ use std::path::Path;
 use missionlink_services::safety_gateway::{AircraftProfile, Environment};
 use serde::{Deserialize, Serialize};
 
-use missionlink_partitions::config::line_column;
+use missionlink_platform::config::line_column;
 
 macro_rules! toml_mirror {
     ($file:ident => $target:ident { $($field:ident),+ $(,)? }) => {

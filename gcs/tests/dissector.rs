@@ -28,17 +28,13 @@ use missionlink_services::link::signing::{LinkKey, Signer};
 use serde::Serialize;
 use serde_json::Value;
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
 fn dissector() -> PathBuf {
-    repo().join("tools/wireshark/missionlink.lua")
+    support::repo_dir().join("tools/wireshark/missionlink.lua")
 }
 
 /// The committed capture of the demo (`cargo run --release -- --pcap ...`).
 fn demo_capture() -> PathBuf {
-    repo().join("tools/wireshark/demo.pcap")
+    support::repo_dir().join("tools/wireshark/demo.pcap")
 }
 
 /// Fails the test with what to do: CI installs tshark, so its absence is a failure, not a skip.

@@ -5,22 +5,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::Output;
-use std::time::Duration;
 
 mod support;
-use support::{gcs, repo, text};
-
-/// A directory of the test's own, named after the test (and unique to this process and run), removed
-/// when dropped: tests run in parallel, so no two may share a file name.
-fn scratch(test: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("gcs-safety-{test}-{}-", std::process::id()))
-        .tempdir()
-        .unwrap()
-}
+use support::{SilentFcc, gcs, repo, scratch, text, text_of};
 
 /// Demo mission 2 with waypoint 2 (W1) moved into the circular no-fly-zone, written into `dir`.
 fn broken_mission(dir: &Path) -> PathBuf {
@@ -95,23 +83,13 @@ fn a_broken_copy_names_every_defect_and_fails() {
 
 #[test]
 fn upload_refuses_an_infeasible_mission_and_sends_nothing() {
-    // Two sockets stand in for the FCC's links: nothing may arrive on them.
-    let direct = UdpSocket::bind("127.0.0.1:0").unwrap();
-    let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
+    // Nothing may arrive on the FCC's links.
+    let fcc = SilentFcc::bind();
     let dir = scratch("upload-refuses");
     let broken = broken_mission(dir.path());
-    let o = gcs(&[
-        "--fcc-direct",
-        &direct.local_addr().unwrap().to_string(),
-        "--fcc-lte",
-        &lte.local_addr().unwrap().to_string(),
-        "--gcs-direct",
-        "127.0.0.1:0",
-        "--gcs-lte",
-        "127.0.0.1:0",
-        "upload",
-        broken.to_str().unwrap(),
-    ]);
+    let mut args = fcc.args();
+    args.extend(["upload".to_owned(), broken.to_str().unwrap().to_owned()]);
+    let o = gcs(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(o.status.code(), Some(1));
     let err = text(&o.stderr);
     assert!(
@@ -120,12 +98,7 @@ fn upload_refuses_an_infeasible_mission_and_sends_nothing() {
     );
     assert!(err.contains("GEO-NFZ-WP waypoint 2"), "{err}");
     assert!(err.contains("nothing was sent"), "{err}");
-    for s in [&direct, &lte] {
-        s.set_read_timeout(Some(Duration::from_millis(200)))
-            .unwrap();
-        let mut buf = [0u8; 600];
-        assert!(s.recv_from(&mut buf).is_err(), "a frame was sent");
-    }
+    fcc.assert_nothing_sent();
 }
 
 #[test]
@@ -530,8 +503,4 @@ fn a_plan_without_a_fly_zone_lists_area_violations_with_the_area() {
         "{found:?}"
     );
     assert!(v["error"].as_str().unwrap().contains("BadGeometry"), "{v}");
-}
-
-fn text_of(o: &Output) -> String {
-    format!("{}{}", text(&o.stdout), text(&o.stderr))
 }

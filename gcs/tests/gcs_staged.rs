@@ -5,27 +5,14 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-use std::net::UdpSocket;
-use std::time::Duration;
-
 mod support;
-use support::{gcs, repo, text};
+use support::{SilentFcc, gcs, repo, text};
 
 #[test]
 fn a_bad_mission_id_is_refused_before_anything_is_sent() {
-    // Two sockets stand in for the FCC's links: nothing may arrive on them.
-    let direct = UdpSocket::bind("127.0.0.1:0").unwrap();
-    let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
-    let links = [
-        "--fcc-direct".to_owned(),
-        direct.local_addr().unwrap().to_string(),
-        "--fcc-lte".to_owned(),
-        lte.local_addr().unwrap().to_string(),
-        "--gcs-direct".to_owned(),
-        "127.0.0.1:0".to_owned(),
-        "--gcs-lte".to_owned(),
-        "127.0.0.1:0".to_owned(),
-    ];
+    // Nothing may arrive on the FCC's links.
+    let fcc = SilentFcc::bind();
+    let links = fcc.args();
     let mission = repo("missions/mission-1.toml");
     let long = "a".repeat(20);
     let cases: [(Vec<&str>, &str); 5] = [
@@ -55,12 +42,7 @@ fn a_bad_mission_id_is_refused_before_anything_is_sent() {
         let err = text(&o.stderr);
         assert!(err.contains(rule), "{args:?}: {err}");
     }
-    for s in [&direct, &lte] {
-        s.set_read_timeout(Some(Duration::from_millis(200)))
-            .unwrap();
-        let mut buf = [0u8; 600];
-        assert!(s.recv_from(&mut buf).is_err(), "a frame was sent");
-    }
+    fcc.assert_nothing_sent();
 }
 
 #[test]

@@ -1,8 +1,10 @@
 //! The iceoryx2 contracts between the FCC partitions (docs/design.md, "Contracts between
 //! partitions"): the payload types, their services and QoS, and the service names.
 //!
-//! Every payload is `#[repr(C)]`, fixed size and [`ZeroCopySend`], defined here once: iceoryx2
-//! matches services by type name, so a type defined twice would not connect. Each type name
+//! Every payload is `#[repr(C)]`, fixed size and iceoryx2's `ZeroCopySend` (with the feature
+//! `ipc`, which the processes that publish or subscribe enable; the ground segment reads the
+//! same types without linking iceoryx2), defined here once: iceoryx2 matches services by type
+//! name, so a type defined twice would not connect. Each type name
 //! carries [`CONTRACT_VERSION`], so partitions built against different layouts refuse to connect
 //! instead of misreading each other.
 //!
@@ -12,6 +14,7 @@
 
 use core::fmt;
 
+#[cfg(feature = "ipc")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use crate::capacity::{MAX_NO_FLY_ZONES, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
@@ -232,9 +235,10 @@ impl TryFrom<u8> for Link {
 
 /// A STANAG frame crossing shared memory: opaque bytes plus metadata. The protocol code views
 /// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::FramePayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::FramePayload/v3"))]
 pub struct FramePayload {
     /// CLOCK_MONOTONIC nanoseconds when the frame entered the FCC (socket receive) or was
     /// produced (downlink): the start of the per-frame latency measurement.
@@ -282,9 +286,10 @@ impl FramePayload {
 }
 
 /// One waypoint of the assembled list, in flight-plan order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::WaypointEntry/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointEntry/v3"))]
 pub struct WaypointEntry {
     /// Waypoint Number.
     pub number: u16,
@@ -379,9 +384,10 @@ impl WaypointEntry {
 
 /// `fcc/mission/waypoint-list`: the active waypoint list with its take-off height and route
 /// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::WaypointListPayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointListPayload/v3"))]
 pub struct WaypointListPayload {
     /// Counts activations of a new list since mission data handling started, from 1; 0 means
     /// no mission is active (after start or a clear).
@@ -443,9 +449,10 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
 }
 
 /// Altitude bounds of an area (#2012 bits 4 to 6), each optional.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::AreaAltitudes/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AreaAltitudes/v3"))]
 pub struct AreaAltitudes {
     /// Lower Altitude, valid when `has_lower`.
     pub lower: Altitude,
@@ -505,9 +512,10 @@ impl AreaAltitudes {
 }
 
 /// A polygonal area: the fly-zone or a polygonal no-fly-zone.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::PolygonArea/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::PolygonArea/v3"))]
 pub struct PolygonArea {
     /// Area ID.
     pub area_id: u16,
@@ -542,9 +550,10 @@ impl PolygonArea {
 }
 
 /// A circular no-fly-zone, kept apart from the polygons as the paper's Figure 8 does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::CircleArea/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::CircleArea/v3"))]
 pub struct CircleArea {
     /// Area ID.
     pub area_id: u16,
@@ -577,9 +586,10 @@ impl CircleArea {
 
 /// `fcc/mission/area-list`: the active area list (ICD §5.3, §7): one fly-zone polygon, the
 /// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[derive(Debug, Clone, Copy)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::AreaListPayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AreaListPayload/v3"))]
 pub struct AreaListPayload {
     /// Counts activations of a new list, from 1; 0 means no area list is active.
     pub generation: u64,
@@ -668,9 +678,10 @@ impl TryFrom<u8> for FlightPhase {
 }
 
 /// `fcc/automation/state`: the flight phase and which functions are active (paper §2.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::AutomationStatePayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationStatePayload/v3"))]
 pub struct AutomationStatePayload {
     /// Counts state changes, from 1.
     pub sequence: u64,
@@ -714,9 +725,10 @@ impl AutomationStatePayload {
 }
 
 /// `fcc/automation/command`: a #50000 command that mission data handling accepted (ICD §4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::AutomationCommandPayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationCommandPayload/v3"))]
 pub struct AutomationCommandPayload {
     /// Counts commands, from 1.
     pub sequence: u64,
@@ -742,9 +754,10 @@ pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration:
 /// from its event loop on a fixed period, so a partition that is stopped (SIGSTOP), stuck in a
 /// step or dead sends none; whoever watches it takes the time the sample arrived, not
 /// `time_ns`, and the period the partition says it beats at.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::HeartbeatPayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::HeartbeatPayload/v3"))]
 pub struct HeartbeatPayload {
     /// Counts heartbeats of this process, from 1.
     pub sequence: u64,
@@ -759,9 +772,10 @@ pub struct HeartbeatPayload {
 }
 
 /// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[type_name("missionlink::GuidanceProgressPayload/v3")]
+#[cfg_attr(feature = "ipc", type_name("missionlink::GuidanceProgressPayload/v3"))]
 pub struct GuidanceProgressPayload {
     /// Counts updates, from 1.
     pub sequence: u64,
@@ -852,6 +866,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "ipc")]
     #[allow(
         unsafe_code,
         reason = "type_name is unsafe only to discourage overriding it"

@@ -6,7 +6,7 @@ language iceoryx2 serves, that opens the same services with the same payload typ
 
 It subscribes to the active waypoint and area lists (taken only as a pair of one activation,
 as `ipc::ListPairing` takes them) and to the automation state, flies the list with the
-point-mass model of services/src/guidance.rs (ported below: same phases, sub-steps, legs
+point-mass model of services/src/guidance/ (ported below: same phases, sub-steps, legs
 tracked along their geodesics, radius-to-fix arcs, the turns of services/src/geofence/turn.rs
 (fly-by arcs, fly-over intercepts), return to home and land-at, on the same WGS-84 geodesics),
 time-scaled for demos, and publishes FROM / TO / NEXT and the position on
@@ -107,7 +107,7 @@ def point(p: contracts.GeoPoint) -> Point:
 
 
 # ---------------------------------------------------------------------------------------------
-# The guidance model (services/src/guidance.rs; its module documentation describes the model).
+# The guidance model (services/src/guidance/; its module documentation describes the model).
 # ---------------------------------------------------------------------------------------------
 
 #: Longest sub-step of the integration, simulated seconds.
@@ -530,7 +530,7 @@ def _to_go(arc: ArcGeometry, az: float) -> float:
 @dataclass
 class Route:
     """Where the aircraft is on the route; indices are into the list's waypoints (see
-    services/src/guidance.rs `Route`)."""
+    services/src/guidance/route.rs `Route`)."""
 
     started: bool = False
     reversed: bool = False
@@ -1000,7 +1000,7 @@ class Guidance:
 
     def advance(self, path: Path, here: Point, distance: float, v: float) -> None:
         """Moves `distance` metres (less than what is left) along `path` from `here` (the
-        look-ahead law on a geodesic, polar coordinates on an arc: services/src/guidance.rs
+        look-ahead law on a geodesic, polar coordinates on an arc: services/src/guidance/tracking.rs
         `advance`)."""
         if isinstance(path, GeodesicPath):
             length, course, _ = inverse(path.from_, path.to)

@@ -1,24 +1,11 @@
-//! The one configuration of the FCC partitions and the gcs tool: every setting with a built-in
-//! default (ICD §1), so no file is needed to start; a TOML file may override any of them, and
-//! command-line flags override the file.
+//! The FCC's configuration: the link sections both sides read
+//! ([`missionlink_platform::config`]: `[ids]`, `[links]`, `[timing]`, `[signing]`) and the
+//! sections only the FCC has, in one TOML file. Every setting has a built-in default (ICD §1),
+//! so no file is needed to start; a file may override any of them, and command-line flags
+//! ([`ConfigArgs`], the same for the FCC and the gcs tool) override the file.
 //!
 //! ```toml
-//! [ids]
-//! gcs = 0x0A000001          # CUCS ID
-//! fcc = 0x0B000001          # vehicle ID
-//!
-//! [links]
-//! fcc_direct = "127.0.0.1:4586"   # the FCC receives the direct link here (port 0: the system
-//!                                 # chooses; voting-monitoring announces it, see `state`)
-//! gcs_direct = "127.0.0.1:4587"
-//! fcc_lte = "127.0.0.1:4588"
-//! gcs_lte = "127.0.0.1:4589"
-//!
-//! [timing]
-//! ack_timeout_ms = 500
-//! transfer_timeout_ms = 3000
-//! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10)
-//! upload_attempts = 2             # a GCS upload that failed with the lists as they were, again
+//! # [ids], [links], [timing], [signing]: see missionlink_platform::config
 //!
 //! [ipc]
 //! service_prefix = "missionlink"  # every iceoryx2 service name starts with it
@@ -59,11 +46,6 @@
 //! period_ms = 100                 # every partition beats on fcc/health/<role> this often
 //! start_timeout_ms = 10000        # a partition started must beat within this
 //!
-//! [signing]                       # link signing, ICD §9 (see `keys`)
-//! policy = "off"                  # off | accept | require: what this node's receiver checks
-//! key_files = ["/etc/missionlink/link-1.key"]   # 32-byte keys with their Key IDs, mode 0600
-//! send_key_id = 1                 # sign with this key (optional with one key file)
-//!
 //! [realtime.voting-monitoring]    # one table per partition (see `realtime`); default: none
 //! cpus = [1]                      # CPU affinity; [] (the default): every CPU
 //! fifo_priority = 50              # SCHED_FIFO 1..=99; left out (the default): SCHED_OTHER
@@ -78,115 +60,17 @@
 //! user = "missionlink"
 //! ```
 
-use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use clap::Args;
 use missionlink_interfaces::contracts::{DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX};
-use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{Timestamp, TransferWindow};
-use missionlink_services::ground_station::GcsConfig;
-use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_interfaces::wire::Timestamp;
+pub use missionlink_platform::config::{
+    CONFIG_FILE_ENV, CONFIG_TOML_ENV, ConfigArgs, ConfigError, Ids, LinkConfig, Links, PREFIX_ENV,
+    Signing, SigningPolicy, Timing,
+};
 use missionlink_services::mission_data_handling::FccConfig;
 use serde::{Deserialize, Serialize};
-
-/// Node IDs (ICD §1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Ids {
-    /// GCS (CUCS) ID.
-    pub gcs: u32,
-    /// FCC (vehicle) ID.
-    pub fcc: u32,
-}
-
-impl Default for Ids {
-    fn default() -> Self {
-        Self {
-            gcs: defaults::GCS_ID,
-            fcc: defaults::FCC_ID,
-        }
-    }
-}
-
-/// The UDP ports of the two links (ICD §1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Links {
-    /// The FCC receives the direct link here. Port 0: the system chooses one when
-    /// voting-monitoring binds it, which announces it in the state directory
-    /// (`state::BoundLinks`) and binds it again after a restart.
-    pub fcc_direct: SocketAddr,
-    /// The GCS receives the direct link here.
-    pub gcs_direct: SocketAddr,
-    /// The FCC receives the LTE link here (port 0 as for `fcc_direct`).
-    pub fcc_lte: SocketAddr,
-    /// The GCS receives the LTE link here.
-    pub gcs_lte: SocketAddr,
-}
-
-fn addr(s: &str) -> SocketAddr {
-    // The defaults are literals of the ICD.
-    s.parse().unwrap_or(SocketAddr::from(([127, 0, 0, 1], 0)))
-}
-
-impl Default for Links {
-    fn default() -> Self {
-        Self {
-            fcc_direct: addr(defaults::FCC_DIRECT),
-            gcs_direct: addr(defaults::GCS_DIRECT),
-            fcc_lte: addr(defaults::FCC_LTE),
-            gcs_lte: addr(defaults::GCS_LTE),
-        }
-    }
-}
-
-/// Timeouts (ICD §1, §5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Timing {
-    /// How long a sender waits for an answer before its one retry.
-    pub ack_timeout_ms: u64,
-    /// How long a receiver in a transfer waits for its peer.
-    pub transfer_timeout_ms: u64,
-    /// Data messages the GCS keeps in flight toward an edition-2 FCC, 1..=32 (ICD §10.2): its
-    /// uploads' window and the one its download requests ask for. Toward edition 1 it is 1.
-    pub transfer_window: u8,
-    /// How often the GCS attempts an upload in all, at least 1: an attempt that failed with
-    /// the lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is
-    /// begun again once more by default.
-    pub upload_attempts: u8,
-}
-
-impl Default for Timing {
-    fn default() -> Self {
-        Self {
-            ack_timeout_ms: defaults::ACK_TIMEOUT.as_millis() as u64,
-            transfer_timeout_ms: defaults::TRANSFER_TIMEOUT.as_millis() as u64,
-            transfer_window: TransferWindow::MAX,
-            upload_attempts: 2,
-        }
-    }
-}
-
-impl Timing {
-    /// The ack timeout.
-    pub fn ack_timeout(&self) -> Duration {
-        Duration::from_millis(self.ack_timeout_ms)
-    }
-    /// The transfer timeout.
-    pub fn transfer_timeout(&self) -> Duration {
-        Duration::from_millis(self.transfer_timeout_ms)
-    }
-    /// The transfer window, clamped to 1..=32.
-    pub fn transfer_window(&self) -> TransferWindow {
-        let w = self
-            .transfer_window
-            .clamp(TransferWindow::MIN, TransferWindow::MAX);
-        TransferWindow::new(w).unwrap_or_default()
-    }
-}
 
 /// Shared memory between the partitions.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -468,46 +352,6 @@ impl Health {
     }
 }
 
-/// What a receiver does with signature trailers (ICD §9); see
-/// [`missionlink_services::link::signing::Policy`].
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum SigningPolicy {
-    /// Trailers are ignored and not checked (edition 1).
-    #[default]
-    Off,
-    /// A signed frame must verify; unsigned frames are still accepted.
-    Accept,
-    /// Only frames that verify are accepted.
-    Require,
-}
-
-impl From<SigningPolicy> for missionlink_services::link::signing::Policy {
-    fn from(p: SigningPolicy) -> Self {
-        match p {
-            SigningPolicy::Off => Self::Off,
-            SigningPolicy::Accept => Self::Accept,
-            SigningPolicy::Require => Self::Require,
-        }
-    }
-}
-
-/// Link signing (ICD §9): the receiver's policy and the key files. The keys themselves never
-/// enter the configuration (so `--print-config` and the hand-over to the partitions carry
-/// paths only); [`crate::keys::LinkSigning::load`] reads them.
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Signing {
-    /// What this node's receiver does with signature trailers.
-    pub policy: SigningPolicy,
-    /// Key files (`keys`), one key with its Key ID each: the key in use and those a rotation
-    /// brings or retires.
-    pub key_files: Vec<PathBuf>,
-    /// The Key ID to sign with; may be left out with one key file. No key file: frames go out
-    /// unsigned.
-    pub send_key_id: Option<u8>,
-}
-
 /// Every setting.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -536,91 +380,40 @@ pub struct Config {
     pub isolation: crate::isolation::Isolation,
 }
 
-/// A configuration file that cannot be used.
-#[derive(Debug)]
-pub enum ConfigError {
-    /// The file cannot be read.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        error: std::io::Error,
-    },
-    /// The TOML is wrong: line, column and what.
-    Syntax {
-        /// The file.
-        path: PathBuf,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// The resolved configuration cannot be written as TOML (a path that is not UTF-8, say), so
-    /// it could not be handed to the partitions: refused, rather than let them start with the
-    /// defaults.
-    Unrepresentable {
-        /// What TOML could not represent.
-        message: String,
-    },
-}
-
-impl std::fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Io { path, error } => write!(f, "{}: {error}", path.display()),
-            Self::Syntax {
-                path,
-                line,
-                column,
-                message,
-            } => write!(f, "{}:{line}:{column}: {message}", path.display()),
-            Self::Unrepresentable { message } => {
-                write!(f, "the configuration cannot be written as TOML: {message}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for ConfigError {}
-
-/// 1-based line and column of byte `offset` in `text`.
-pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let before = text.get(..offset).unwrap_or(text);
-    let line = before.matches('\n').count() + 1;
-    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    (line, column)
-}
-
 impl Config {
     /// Parses a configuration; `path` names it in errors.
     pub fn parse(text: &str, path: &Path) -> Result<Self, ConfigError> {
-        toml::from_str(text).map_err(|e| {
-            let (line, column) = e
-                .span()
-                .map_or((0, 0), |span| line_column(text, span.start));
-            ConfigError::Syntax {
-                path: path.to_owned(),
-                line,
-                column,
-                message: e.message().to_owned(),
-            }
-        })
+        missionlink_platform::config::parse(text, path)
     }
 
     /// The configuration of `path`, or the defaults without one.
     pub fn load(path: Option<&Path>) -> Result<Self, ConfigError> {
-        match path {
-            None => Ok(Self::default()),
-            Some(p) => {
-                let text = std::fs::read_to_string(p).map_err(|error| ConfigError::Io {
-                    path: p.to_owned(),
-                    error,
-                })?;
-                Self::parse(&text, p)
-            }
+        missionlink_platform::config::load(path)
+    }
+
+    /// The configuration `args` name (handed over as TOML, a file or the defaults) with every
+    /// flag applied, the link's and the FCC's.
+    pub fn resolve(args: &ConfigArgs) -> Result<Self, ConfigError> {
+        let mut c: Self = args.load()?;
+        args.apply_link(&mut c.ids, &mut c.links, &mut c.timing, &mut c.signing);
+        if let Some(p) = &args.prefix {
+            c.ipc.service_prefix = p.clone();
         }
+        if let Some(v) = args.time_scale {
+            c.guidance.time_scale = v;
+        }
+        if args.poll {
+            c.ipc.poll = true;
+        }
+        if let Some(d) = &args.summary_dir {
+            c.latency.summary_dir = Some(d.clone());
+        }
+        if let Some(ms) = args.heartbeat_ms {
+            c.health.period_ms = ms;
+        }
+        // A resolved configuration can always be handed on (see `hand_to`).
+        c.to_toml()?;
+        Ok(c)
     }
 
     /// The configuration as TOML (what `--print-config` shows, and what the launcher hands to
@@ -631,12 +424,14 @@ impl Config {
         })
     }
 
-    /// An endpoint from `local_id` to `peer_id` whose instant zero is `utc_at_zero`.
-    fn endpoint(&self, local_id: u32, peer_id: u32, utc_at_zero: Timestamp) -> EndpointConfig {
-        EndpointConfig {
-            local_id,
-            peer_id,
-            utc_at_zero,
+    /// The link sections, what the ground reads of this configuration (a GCS link of the demo
+    /// or of a test talking to this FCC).
+    pub fn link(&self) -> LinkConfig {
+        LinkConfig {
+            ids: self.ids,
+            links: self.links,
+            timing: self.timing,
+            signing: self.signing.clone(),
         }
     }
 
@@ -644,43 +439,12 @@ impl Config {
     /// instant zero at `utc_at_zero` (the driver's clock).
     pub fn fcc_core(&self, utc_at_zero: Timestamp) -> FccConfig {
         FccConfig {
-            endpoint: self.endpoint(self.ids.fcc, self.ids.gcs, utc_at_zero),
+            endpoint: self.ids.fcc_endpoint(utc_at_zero),
             ack_timeout: self.timing.ack_timeout(),
             transfer_timeout: self.timing.transfer_timeout(),
         }
     }
-
-    /// The GCS logic that talks to this FCC (its IDs and timeouts), its instant zero at
-    /// `utc_at_zero`: for the GCS link and the tests that play the ground.
-    pub fn gcs_core(&self, utc_at_zero: Timestamp) -> GcsConfig {
-        GcsConfig {
-            endpoint: self.endpoint(self.ids.gcs, self.ids.fcc, utc_at_zero),
-            ack_timeout: self.timing.ack_timeout(),
-            transfer_timeout: self.timing.transfer_timeout(),
-            transfer_window: self.timing.transfer_window(),
-            upload_attempts: self.timing.upload_attempts.max(1),
-        }
-    }
 }
-
-/// A 32-bit node ID, decimal or `0x` hexadecimal.
-pub fn parse_id(s: &str) -> Result<u32, String> {
-    let t = s.trim();
-    match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        Some(h) => u32::from_str_radix(h, 16),
-        None => t.parse(),
-    }
-    .map_err(|e| format!("{s:?} is not a 32-bit ID: {e}"))
-}
-
-/// The environment variable naming the configuration file (`--config`).
-pub const CONFIG_FILE_ENV: &str = "MISSIONLINK_CONFIG";
-/// The environment variable of the service-name prefix (`--prefix`).
-pub const PREFIX_ENV: &str = "MISSIONLINK_PREFIX";
-/// The environment variable carrying a whole configuration as TOML text: how the launcher, the
-/// demo and the tests hand a resolved configuration to a child process, with no file that a
-/// `kill -9` could leave behind.
-pub const CONFIG_TOML_ENV: &str = "MISSIONLINK_CONFIG_TOML";
 
 /// Hands `config` to the child process `command` starts: as TOML in [`CONFIG_TOML_ENV`], and
 /// without the inherited variables of `--config` and `--prefix`, which would override it. A
@@ -692,145 +456,6 @@ pub fn hand_to(command: &mut std::process::Command, config: &Config) -> Result<(
         .env_remove(CONFIG_FILE_ENV)
         .env_remove(PREFIX_ENV);
     Ok(())
-}
-
-/// The flags every binary takes: a configuration file and overrides of its most used settings.
-#[derive(Debug, Clone, Default, Args)]
-pub struct ConfigArgs {
-    /// Configuration file (TOML); every setting has a built-in default.
-    #[arg(long, value_name = "FILE", env = CONFIG_FILE_ENV)]
-    pub config: Option<PathBuf>,
-    /// A whole configuration as TOML text, in place of `--config` (see [`hand_to`]).
-    #[arg(long, hide = true, value_name = "TOML", env = CONFIG_TOML_ENV)]
-    pub config_toml: Option<String>,
-    /// Prefix of the iceoryx2 service names.
-    #[arg(long, value_name = "PREFIX", env = PREFIX_ENV)]
-    pub prefix: Option<String>,
-    /// GCS (CUCS) ID.
-    #[arg(long, value_parser = parse_id)]
-    pub gcs_id: Option<u32>,
-    /// FCC (vehicle) ID.
-    #[arg(long, value_parser = parse_id)]
-    pub fcc_id: Option<u32>,
-    /// Where the FCC receives the direct link.
-    #[arg(long, value_name = "ADDR")]
-    pub fcc_direct: Option<SocketAddr>,
-    /// Where the FCC receives the LTE link.
-    #[arg(long, value_name = "ADDR")]
-    pub fcc_lte: Option<SocketAddr>,
-    /// Where the GCS receives the direct link.
-    #[arg(long, value_name = "ADDR")]
-    pub gcs_direct: Option<SocketAddr>,
-    /// Where the GCS receives the LTE link.
-    #[arg(long, value_name = "ADDR")]
-    pub gcs_lte: Option<SocketAddr>,
-    /// Ack timeout in ms.
-    #[arg(long, value_name = "MS")]
-    pub ack_timeout_ms: Option<u64>,
-    /// Transfer timeout in ms.
-    #[arg(long, value_name = "MS")]
-    pub transfer_timeout_ms: Option<u64>,
-    /// Data messages in flight toward an edition-2 FCC, 1..=32 (ICD §10).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=32))]
-    pub transfer_window: Option<u8>,
-    /// How often the GCS attempts an upload in all (a failed attempt that left the lists as
-    /// they were is begun again).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..))]
-    pub upload_attempts: Option<u8>,
-    /// Guidance time scale (simulated seconds per second).
-    #[arg(long, value_name = "FACTOR")]
-    pub time_scale: Option<f64>,
-    /// Spin instead of sleeping (lowest latency).
-    #[arg(long)]
-    pub poll: bool,
-    /// Directory for the latency summaries written at shutdown.
-    #[arg(long, value_name = "DIR")]
-    pub summary_dir: Option<PathBuf>,
-    /// What this node's receiver does with link signatures (ICD §9).
-    #[arg(long, value_name = "POLICY")]
-    pub signing: Option<SigningPolicy>,
-    /// A link key file (ICD §9; `gcs keygen` writes one); repeat for several keys. Replaces the
-    /// configuration's key files.
-    #[arg(long = "key-file", value_name = "FILE")]
-    pub key_files: Vec<PathBuf>,
-    /// The Key ID to sign with (needed with several key files).
-    #[arg(long, value_name = "ID")]
-    pub send_key_id: Option<u8>,
-    /// Heartbeat period of every partition, milliseconds (`[health] period_ms`).
-    #[arg(long, value_name = "MS")]
-    pub heartbeat_ms: Option<u64>,
-    /// End when the parent process ends (the launcher passes it, so that its partitions do not
-    /// outlive it even after a `kill -9` of the launcher).
-    #[arg(long, hide = true)]
-    pub exit_with_parent: bool,
-}
-
-impl ConfigArgs {
-    /// The configuration handed over as TOML, else the file's (or the defaults), with the
-    /// flags applied.
-    pub fn resolve(&self) -> Result<Config, ConfigError> {
-        let mut c = match &self.config_toml {
-            Some(text) => Config::parse(text, Path::new(CONFIG_TOML_ENV))?,
-            None => Config::load(self.config.as_deref())?,
-        };
-        if let Some(p) = &self.prefix {
-            c.ipc.service_prefix = p.clone();
-        }
-        if let Some(v) = self.gcs_id {
-            c.ids.gcs = v;
-        }
-        if let Some(v) = self.fcc_id {
-            c.ids.fcc = v;
-        }
-        if let Some(v) = self.fcc_direct {
-            c.links.fcc_direct = v;
-        }
-        if let Some(v) = self.fcc_lte {
-            c.links.fcc_lte = v;
-        }
-        if let Some(v) = self.gcs_direct {
-            c.links.gcs_direct = v;
-        }
-        if let Some(v) = self.gcs_lte {
-            c.links.gcs_lte = v;
-        }
-        if let Some(v) = self.ack_timeout_ms {
-            c.timing.ack_timeout_ms = v;
-        }
-        if let Some(v) = self.transfer_timeout_ms {
-            c.timing.transfer_timeout_ms = v;
-        }
-        if let Some(v) = self.transfer_window {
-            c.timing.transfer_window = v;
-        }
-        if let Some(v) = self.upload_attempts {
-            c.timing.upload_attempts = v;
-        }
-        if let Some(v) = self.time_scale {
-            c.guidance.time_scale = v;
-        }
-        if self.poll {
-            c.ipc.poll = true;
-        }
-        if let Some(d) = &self.summary_dir {
-            c.latency.summary_dir = Some(d.clone());
-        }
-        if let Some(p) = self.signing {
-            c.signing.policy = p;
-        }
-        if !self.key_files.is_empty() {
-            c.signing.key_files = self.key_files.clone();
-        }
-        if let Some(id) = self.send_key_id {
-            c.signing.send_key_id = Some(id);
-        }
-        if let Some(ms) = self.heartbeat_ms {
-            c.health.period_ms = ms;
-        }
-        // A resolved configuration can always be handed on (see `hand_to`).
-        c.to_toml()?;
-        Ok(c)
-    }
 }
 
 /// The real-time settings of the partitions, one table each (`[realtime.voting-monitoring]` and
@@ -947,7 +572,7 @@ mod tests {
             summary_dir: Some(PathBuf::from(std::ffi::OsStr::from_bytes(b"/tmp/\xff"))),
             ..ConfigArgs::default()
         };
-        let error = args.resolve().unwrap_err();
+        let error = Config::resolve(&args).unwrap_err();
         assert!(
             matches!(error, ConfigError::Unrepresentable { .. }),
             "{error}"
@@ -1052,7 +677,7 @@ mod tests {
             send_key_id: Some(7),
             ..ConfigArgs::default()
         };
-        let resolved = args.resolve().unwrap();
+        let resolved = Config::resolve(&args).unwrap();
         assert_eq!(resolved.signing.policy, SigningPolicy::Accept);
         assert_eq!(resolved.signing.key_files, [PathBuf::from("/other.key")]);
         assert_eq!(resolved.signing.send_key_id, Some(7));
@@ -1079,7 +704,7 @@ mod tests {
             fcc_id: Some(5),
             ..ConfigArgs::default()
         };
-        let resolved = args.resolve().unwrap();
+        let resolved = Config::resolve(&args).unwrap();
         handed.ids.fcc = 5;
         assert_eq!(resolved, handed);
     }
@@ -1103,7 +728,7 @@ mod tests {
             heartbeat_ms: Some(0),
             ..ConfigArgs::default()
         };
-        let resolved = args.resolve().unwrap();
+        let resolved = Config::resolve(&args).unwrap();
         assert_eq!(
             resolved.health.period(),
             Duration::from_millis(1),

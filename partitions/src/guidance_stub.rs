@@ -14,10 +14,10 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 
-use crate::clock::DriverClock;
 use crate::config::Config;
 use crate::ipc::{Ipc, ListPairing};
 use crate::runtime::{self, Control, PartitionError, Wake};
+use missionlink_platform::clock::DriverClock;
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "guidance-stub";

@@ -8,8 +8,8 @@ use std::time::Duration;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{FccService, HeartbeatPayload, Partition};
 
-use crate::clock::monotonic_ns;
 use crate::ipc::{Ipc, IpcError, Publisher, Subscriber};
+use missionlink_platform::clock::monotonic_ns;
 
 /// A partition's heartbeat on `fcc/health/<role>`: one sample per period, sent from the event
 /// loop (never a thread of its own, which would go on beating for a loop that is stuck).

@@ -344,7 +344,7 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     }
 
     /// Publishes `value` without waking anyone: for subscribers that poll (the polling
-    /// transport of benches/latency.rs); [`Publisher::notify`] wakes them later.
+    /// transport of benches/latency/hop.rs); [`Publisher::notify`] wakes them later.
     pub fn publish(&self, value: &T) -> Result<(), IpcError> {
         let sample = self
             .publisher
@@ -422,7 +422,7 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
 
     /// Hands the oldest waiting sample to `f`, if there is one, without copying it; whether
     /// there was (a spinning reader that wants the first sample in hand at once: the polling
-    /// transport of benches/latency.rs).
+    /// transport of benches/latency/hop.rs).
     pub fn take_one(&self, f: impl FnOnce(&T)) -> bool {
         match self.subscriber.receive() {
             Ok(Some(sample)) => {
@@ -440,7 +440,7 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
     /// Hands every waiting sample to `f`, drains the notifications, then looks once more: the
     /// drain's system calls stay off the path of a sample that is already there, and a sample
     /// published between the first look and the drain is not left for the next wake-up
-    /// (benches/latency.rs measures the difference). Returns how many samples there were.
+    /// (benches/latency/hop.rs measures the difference). Returns how many samples there were.
     pub fn take_all(&self, mut f: impl FnMut(&T)) -> usize {
         let first = self.for_each(&mut f);
         self.drain_notifications();

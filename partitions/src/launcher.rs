@@ -37,14 +37,14 @@ use iceoryx2::prelude::ipc;
 use missionlink_interfaces::contracts::Partition;
 use missionlink_services::health::Liveness;
 
-use crate::clock::DriverClock;
 use crate::config::{self, Config, ConfigArgs};
 use crate::health::Watch;
 use crate::ipc::Ipc;
 use crate::runtime::{CONFIG_EXIT_CODE, Control, PartitionError, config_error};
 use crate::state::{self, BoundLinks};
-use crate::udp::{LinkError, LocalEnds};
 use crate::{guidance_stub, mission_data_handling, system_automation, voting_monitoring};
+use missionlink_platform::clock::DriverClock;
+use missionlink_platform::udp::{LinkError, LocalEnds};
 
 /// The partitions, in start order.
 pub const PARTITIONS: [&str; 4] = [
@@ -412,9 +412,9 @@ pub fn main(
     bin_dir: Option<PathBuf>,
     print_config: bool,
 ) -> ExitCode {
-    crate::init_logging();
+    missionlink_platform::init_logging();
     crate::ipc::quiet_iceoryx2_log();
-    let mut config = match args.resolve() {
+    let mut config = match Config::resolve(args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };

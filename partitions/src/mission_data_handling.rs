@@ -24,13 +24,13 @@ use missionlink_services::health::Liveness;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
 use missionlink_services::transfer::staged::StagedMissions;
 
-use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
 use crate::health::Watch;
 use crate::ipc::{Ipc, Publisher};
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
 use crate::state;
+use missionlink_platform::clock::{DriverClock, monotonic_ns};
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "mission-data-handling";

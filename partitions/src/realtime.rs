@@ -13,8 +13,8 @@
 //! `getppid` every 100 ms and is better left off the real-time priorities. iceoryx2 0.10 starts
 //! no thread of its own in a node, a port or a WaitSet. Locked memory is per process.
 //!
-//! The benchmark of the partition-to-partition hop under CPU load (`benches/latency.rs
-//! --load`) applies its real-time case through this module too.
+//! The benchmark of the partition-to-partition hop under CPU load (`benches/latency/load.rs`,
+//! `--load`) applies its real-time case through this module too.
 
 use std::fmt;
 use std::io;

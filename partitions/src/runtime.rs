@@ -22,7 +22,7 @@ use crate::ipc::{Ipc, IpcError};
 use crate::isolation::{Fence, IsolationError};
 use crate::latency::{self, Recorder};
 use crate::state;
-use crate::udp::LinkError;
+use missionlink_platform::udp::LinkError;
 
 /// The longest a loop sleeps before it looks at its stop flag: a [`Control::stop`] from another
 /// thread, or a signal that lands on another thread of the process, ends the loop within this.
@@ -343,7 +343,7 @@ impl<S: Service, T: std::fmt::Debug + Copy + ZeroCopySend + 'static> Pending
     }
 }
 
-impl Pending for crate::udp::LinkPair {
+impl Pending for missionlink_platform::udp::LinkPair {
     fn pending(&self) -> bool {
         self.has_datagrams()
     }
@@ -359,7 +359,7 @@ pub fn waitset<S: Service>() -> Result<WaitSet<S>, PartitionError> {
 }
 
 /// Something a partition loop sleeps on: an iceoryx2 listener or a socket
-/// (`udp::SocketFd`). A trait of its own so that listeners and sockets share one slice.
+/// (`wait_fd::SocketFd`). A trait of its own so that listeners and sockets share one slice.
 pub trait Attachment: SynchronousMultiplexing + std::fmt::Debug {}
 
 impl<T: SynchronousMultiplexing + std::fmt::Debug + ?Sized> Attachment for T {}
@@ -539,14 +539,14 @@ pub fn partition_main(
     args: &ConfigArgs,
     run: impl FnOnce(&Config, &Control) -> Result<(), PartitionError>,
 ) -> std::process::ExitCode {
-    crate::init_logging();
+    missionlink_platform::init_logging();
     crate::ipc::quiet_iceoryx2_log();
     // The launcher at start: the watch compares against it once the fence is up.
     let parent = args
         .exit_with_parent
         .then(rustix::process::getppid)
         .flatten();
-    let config = match args.resolve() {
+    let config = match Config::resolve(args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };

@@ -17,12 +17,12 @@ use missionlink_interfaces::contracts::{
 use missionlink_services::automation::SystemAutomation;
 use missionlink_services::link::time::Instant;
 
-use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::Config;
 use crate::health::Watch;
 use crate::ipc::{Ipc, ListPairing};
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
+use missionlink_platform::clock::{DriverClock, monotonic_ns};
 
 /// The partition's name (binary, node, summary).
 pub const NAME: &str = "system-automation";

@@ -18,14 +18,14 @@ use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{FccService, FramePayload, Link, Partition};
 use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 
-use crate::clock::{DriverClock, monotonic_ns};
 use crate::config::{Config, SigningPolicy};
 use crate::ipc::Ipc;
-use crate::keys::LinkSigning;
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
 use crate::state::{self, BoundLinks};
-use crate::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
+use missionlink_platform::clock::{DriverClock, monotonic_ns};
+use missionlink_platform::keys::LinkSigning;
+use missionlink_platform::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
 
 // Every datagram one receive hands over is a candidate of the vote: none is read and dropped.
 const _: () = assert!(MAX_READS_PER_RECEIVE <= VOTING_STEP_MESSAGES);
@@ -146,9 +146,9 @@ where
     let mut slots = vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE];
     let mut step: heapless::Vec<(Link, usize, u64), MAX_READS_PER_RECEIVE> = heapless::Vec::new();
     let mut buf = [0u8; MAX_DATAGRAM];
-    let [direct_fd, lte_fd] = links.attachments();
+    let [direct_fd, lte_fd] = crate::wait_fd::attachments(&links)?;
     let wake = Wake {
-        on: &[direct_fd, lte_fd, downlink.listener()],
+        on: &[&direct_fd, &lte_fd, downlink.listener()],
         pending: &[&links, &downlink],
         sockets: true,
         every: None,

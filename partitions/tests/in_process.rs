@@ -18,13 +18,13 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{
     AreaType, ExecuteCommand, LegType, MAX_FRAME_LEN, MissionPlanMode,
 };
-use missionlink_partitions::clock::DriverClock;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::runtime::{self, Control, PartitionError};
 use missionlink_partitions::{
     guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
 };
+use missionlink_platform::clock::DriverClock;
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
 };
@@ -171,7 +171,7 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
 
     // The GCS logic plays the ground, its frames carried over the uplink service.
     let clock = DriverClock::start();
-    let mut gcs = GroundStation::new(config.gcs_core(clock.utc_at_zero()), WithoutGateway);
+    let mut gcs = GroundStation::new(config.link().gcs_core(clock.utc_at_zero()), WithoutGateway);
     gcs.upload(clock.now(), &plan(), true).unwrap();
     let mut buf = [0u8; MAX_FRAME_LEN];
     let mut answers = 0;

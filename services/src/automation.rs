@@ -26,7 +26,7 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{ExecuteCommand, GeofenceCheck, Reason};
 
 use crate::geofence::earth::Site;
-use crate::geofence::onboard;
+use crate::geofence::onboard::{self, RouteView, RouteWaypoint};
 use crate::geofence::zone::Fence;
 use crate::guidance::GuidanceConfig;
 use crate::health::Liveness;
@@ -82,7 +82,7 @@ pub fn check_command(
             }
             let here = here.ok_or(Reason::WrongState)?;
             // Guidance flies home over the list it flies, which in the air stays the one it
-            // started with until automation names another (guidance.rs "New waypoint lists");
+            // started with until automation names another (guidance/mod.rs "New waypoint lists");
             // the check is of that list, so an edited active list it does not fly yet is
             // refused rather than checked in its place (our choice).
             if navigation.waypoint_list != waypoints.generation {
@@ -90,7 +90,12 @@ pub fn check_command(
             }
             geofence(
                 fence,
-                onboard::return_route(waypoints, here, navigation.to, Some(fcc_turns())),
+                onboard::return_route(
+                    RouteView::from(waypoints),
+                    here,
+                    navigation.to,
+                    Some(fcc_turns()),
+                ),
             )
         }
         ExecuteCommand::Land => {
@@ -153,7 +158,7 @@ fn take_off_check(
     let here = here.ok_or(Reason::WrongState)?;
     geofence(
         fence,
-        onboard::execute_route(waypoints, here, Some(fcc_turns())),
+        onboard::execute_route(RouteView::from(waypoints), here, Some(fcc_turns())),
     )
 }
 
@@ -166,21 +171,22 @@ fn navigation_position(navigation: &GuidanceProgressPayload) -> Option<Site> {
 }
 
 /// The onboard geofence check of ICD §7 for a report entry (ICD §8, #50001 fields 6 and 7): the
-/// check #50000 execute would run, from where navigation says the aircraft is. Not run when a
-/// list is missing, and (our choice, the ICD names only a missing list) when navigation has
-/// reported no position yet: there is nothing to check from.
-pub fn report_check(
-    waypoints: &WaypointListPayload,
-    areas: &AreaListPayload,
-    fence: &Fence,
+/// check #50000 execute would run, from where navigation says the aircraft is, of `route`
+/// against the `fence` of its area list (the active lists, or a staged mission's, read where
+/// they are: no payload is built for it). Not run when a list is missing (`None`), and (our
+/// choice, the ICD names only a missing list) when navigation has reported no position yet:
+/// there is nothing to check from.
+pub fn report_check<W: RouteWaypoint>(
+    route: Option<RouteView<'_, W>>,
+    fence: Option<&Fence>,
     navigation: &GuidanceProgressPayload,
 ) -> (GeofenceCheck, Option<Reason>) {
     let here = navigation_position(navigation);
-    match here {
-        Some(here) if waypoints.is_active() && areas.area_count() > 0 => {
+    match (here, route, fence) {
+        (Some(here), Some(route), Some(fence)) => {
             match geofence(
                 fence,
-                onboard::execute_route(waypoints, here, Some(fcc_turns())),
+                onboard::execute_route(route, here, Some(fcc_turns())),
             ) {
                 Ok(()) => (GeofenceCheck::Passed, None),
                 Err(reason) => (GeofenceCheck::Failed, Some(reason)),

@@ -26,7 +26,7 @@ use missionlink_interfaces::wire::{
 use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::onboard::{self, RouteElement, RouteLeg};
+use missionlink_services::geofence::onboard::{self, RouteElement, RouteLeg, RouteView};
 use missionlink_services::geofence::path::{Path, Track};
 use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::Fence;
@@ -69,21 +69,22 @@ fn checked(
     home_from: Option<(Site, u16)>,
 ) -> Vec<RouteLeg> {
     let turns = Some(fcc_turns());
-    let mut legs: Vec<RouteLeg> = onboard::execute_route(list, take_off, turns).collect();
+    let mut legs: Vec<RouteLeg> =
+        onboard::execute_route(RouteView::from(list), take_off, turns).collect();
     if list.bidirectional {
         if let Some(last) = list.waypoints().last() {
             // As the gateway: the route complete at the last waypoint (`to` 0).
             legs.extend(onboard::return_route(
-                list,
+                RouteView::from(list),
                 Site::of(last.position),
                 0,
                 turns,
             ));
         }
-        legs.extend(onboard::turns_round(list, fcc_turns()));
+        legs.extend(onboard::turns_round(RouteView::from(list), fcc_turns()));
     }
     if let Some((at, to)) = home_from {
-        legs.extend(onboard::return_route(list, at, to, turns));
+        legs.extend(onboard::return_route(RouteView::from(list), at, to, turns));
     }
     legs
 }
@@ -171,7 +172,9 @@ fn check(f: &Flight) -> Outcome {
     // Every flown position near a checked path; after a return to home is commanded, near a
     // path of what the FCC checks then (`onboard::return_route` from there).
     let home_route: Vec<RouteLeg> = home
-        .map(|(at, to)| onboard::return_route(&list, at, to, Some(fcc_turns())).collect())
+        .map(|(at, to)| {
+            onboard::return_route(RouteView::from(&list), at, to, Some(fcc_turns())).collect()
+        })
         .unwrap_or_default();
     let mut worst_distance: f64 = 0.0;
     for (i, at) in flown.iter().enumerate() {
@@ -299,7 +302,7 @@ fn turn_kinds(f: &Flight) -> Vec<TurnKind> {
     let list = f.plan.assemble().unwrap().mission.to_payload(1);
     let take_off = Site::of(f.plan.take_off_position.unwrap());
     let mut kinds: Vec<(u16, TurnKind)> =
-        onboard::execute_route(&list, take_off, Some(fcc_turns()))
+        onboard::execute_route(RouteView::from(&list), take_off, Some(fcc_turns()))
             .filter_map(|l| match l.element {
                 RouteElement::Turn { at, kind, .. } => Some((at, kind)),
                 _ => None,
@@ -373,7 +376,11 @@ fn with_circles_in_turns(name: &str, messages: &[Message], take_off: (f64, f64))
     };
     let list = bare.assemble().unwrap().mission.to_payload(1);
     let mut areas = vec![polygon(1, AreaType::FlyZone, &fly_zone)];
-    for leg in onboard::execute_route(&list, Site::of(point(take_off)), Some(fcc_turns())) {
+    for leg in onboard::execute_route(
+        RouteView::from(&list),
+        Site::of(point(take_off)),
+        Some(fcc_turns()),
+    ) {
         let (
             RouteElement::Turn { kind, .. },
             Path::Arc {
@@ -521,7 +528,7 @@ fn guidance_flies_what_the_geofence_checks() {
         let take_off = Site::of(on_the_arc.plan.take_off_position.unwrap());
         let (_, home) = fly(&on_the_arc, &list);
         let (here, to) = home.unwrap();
-        let arc = onboard::execute_route(&list, take_off, Some(fcc_turns()))
+        let arc = onboard::execute_route(RouteView::from(&list), take_off, Some(fcc_turns()))
             .find(|l| matches!(l.element, RouteElement::Turn { at: 2, .. }))
             .unwrap()
             .path;

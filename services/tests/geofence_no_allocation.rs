@@ -37,15 +37,29 @@ fn the_onboard_check_allocates_nothing_in_its_worst_case() {
             let fence = Fence::of_payload(black_box(&areas));
             let execute = onboard::check(
                 &fence,
-                onboard::execute_route(&waypoints, site, Some(fcc_turns())),
+                onboard::execute_route(
+                    onboard::RouteView::from(&waypoints),
+                    site,
+                    Some(fcc_turns()),
+                ),
             );
             let back = onboard::check(
                 &fence,
-                onboard::return_route(&waypoints, site, 0, Some(fcc_turns())),
+                onboard::return_route(
+                    onboard::RouteView::from(&waypoints),
+                    site,
+                    0,
+                    Some(fcc_turns()),
+                ),
             );
             let halfway = onboard::check(
                 &fence,
-                onboard::return_route(&waypoints, site, 128, Some(fcc_turns())),
+                onboard::return_route(
+                    onboard::RouteView::from(&waypoints),
+                    site,
+                    128,
+                    Some(fcc_turns()),
+                ),
             );
             (execute, back, halfway)
         });
@@ -66,7 +80,11 @@ fn a_failing_onboard_check_allocates_nothing() {
         let fence = Fence::of_payload(black_box(&areas));
         onboard::check(
             &fence,
-            onboard::execute_route(&waypoints, site, Some(fcc_turns())),
+            onboard::execute_route(
+                onboard::RouteView::from(&waypoints),
+                site,
+                Some(fcc_turns()),
+            ),
         )
     });
     assert_eq!(verdict.map_err(|v| v.area_id), Err(6));

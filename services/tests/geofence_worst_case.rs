@@ -25,9 +25,13 @@ use missionlink_services::testkit::{
 
 /// The smallest margin of the execute route to each zone, in the fence's order.
 fn closest_per_zone(fence: &Fence, list: &WaypointListPayload, take_off: GeoPoint) -> Vec<f64> {
-    let tracks: Vec<Track> = onboard::execute_route(list, Site::of(take_off), Some(fcc_turns()))
-        .map(|leg| Track::new(leg.path))
-        .collect();
+    let tracks: Vec<Track> = onboard::execute_route(
+        onboard::RouteView::from(list),
+        Site::of(take_off),
+        Some(fcc_turns()),
+    )
+    .map(|leg| Track::new(leg.path))
+    .collect();
     fence
         .zones
         .iter()
@@ -63,7 +67,11 @@ fn the_worst_case_passes_with_every_zone_40_m_from_the_route() {
         assert_eq!(
             onboard::check(
                 &fence,
-                onboard::execute_route(&waypoints, site, Some(fcc_turns()))
+                onboard::execute_route(
+                    onboard::RouteView::from(&waypoints),
+                    site,
+                    Some(fcc_turns())
+                )
             ),
             Ok(()),
             "{name}"
@@ -71,7 +79,12 @@ fn the_worst_case_passes_with_every_zone_40_m_from_the_route() {
         assert_eq!(
             onboard::check(
                 &fence,
-                onboard::return_route(&waypoints, site, 0, Some(fcc_turns()))
+                onboard::return_route(
+                    onboard::RouteView::from(&waypoints),
+                    site,
+                    0,
+                    Some(fcc_turns())
+                )
             ),
             Ok(()),
             "{name}"
@@ -119,7 +132,11 @@ fn a_no_fly_zone_moved_onto_the_route_fails_the_check() {
         let fence = Fence::of_payload(&areas);
         onboard::check(
             &fence,
-            onboard::execute_route(&waypoints, take_off, Some(fcc_turns())),
+            onboard::execute_route(
+                onboard::RouteView::from(&waypoints),
+                take_off,
+                Some(fcc_turns()),
+            ),
         )
     };
     assert_eq!(check(14.0), Ok(()));

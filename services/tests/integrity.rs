@@ -111,10 +111,6 @@ fn edited_waypoint_2() -> Message {
     w.into()
 }
 
-fn window() -> Option<TransferWindow> {
-    TransferWindow::new(4)
-}
-
 // ---- Driving transfers the FCC sends ----
 
 /// Asks for the report (ICD §8), checks its acknowledgement, acknowledges the #50001 and
@@ -134,12 +130,7 @@ fn report(rig: &mut FccRig) -> MissionReport {
         Some(Text::default()),
         "present and empty: the active lists"
     );
-    assert_eq!(
-        rig.events(),
-        [FccEvent::DownloadComplete {
-            kind: DataKind::Report
-        }]
-    );
+    rig.assert_download_complete(DataKind::Report);
     *r
 }
 
@@ -796,12 +787,7 @@ fn upload_events_come_exactly_when_an_upload_opens_or_closes() {
     let (_, ack) = answers.remove(0);
     assert_eq!(transfer_ack(&[ack]), Ok(()));
     follow(&mut rig, answers);
-    assert_eq!(
-        rig.events(),
-        [FccEvent::DownloadComplete {
-            kind: DataKind::Mission
-        }]
-    );
+    rig.assert_download_complete(DataKind::Mission);
 
     // The clear of the active mission: clear, then transmit with Waypoint Number 0.
     assert_eq!(transfer_ack(&rig.send(clear())), Ok(()));
@@ -838,12 +824,7 @@ fn an_edition_2_mission_download_carries_the_checksum() {
         let (_, ack) = answers.remove(0);
         assert_eq!(transfer_ack(&[ack]), Ok(()));
         let sent = follow(&mut rig, answers);
-        assert_eq!(
-            rig.events(),
-            [FccEvent::DownloadComplete {
-                kind: DataKind::Mission
-            }]
-        );
+        rig.assert_download_complete(DataKind::Mission);
         let Some(Message::MissionUploadDownloadStatus(status)) = sent.last() else {
             panic!("the download ends with #14000: {sent:?}");
         };
@@ -885,22 +866,8 @@ fn an_edition_2_area_download_carries_the_checksum() {
     let active = rig.fcc.active_areas().cloned().unwrap();
     rig.events();
     for window in [window(), None] {
-        // Answered by #3013 ready, not by #17000 (ICD §5.4).
         let answers = rig.send_enveloped(area_download_request(window));
-        let sent = follow(&mut rig, answers);
-        assert_eq!(
-            rig.events(),
-            [FccEvent::DownloadComplete {
-                kind: DataKind::Areas
-            }]
-        );
-        let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
-            panic!("the download starts with #3013: {sent:?}");
-        };
-        assert_eq!(
-            (ready.status, ready.loop_count),
-            (AreaDownloadStatus::Ready, 3)
-        );
+        let sent = follow_area_download(&mut rig, answers, 3);
         let Some(Message::AreaTransmissionCommand(done)) = sent.last() else {
             panic!("the download ends with #2011 mode 4: {sent:?}");
         };
@@ -1134,12 +1101,7 @@ fn the_report_is_retried_as_downloads_are() {
     assert!(envelope.ack_requested);
     assert_ne!(retry.time_stamp(), first.time_stamp());
     assert!(rig.acknowledge(retry, Ok(())).is_empty());
-    assert_eq!(
-        rig.events(),
-        [FccEvent::DownloadComplete {
-            kind: DataKind::Report
-        }]
-    );
+    rig.assert_download_complete(DataKind::Report);
     assert_eq!(rig.fcc.poll_timeout(), None);
     assert_eq!(rig.fcc.generations(), (1, 1));
 }

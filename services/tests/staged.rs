@@ -23,10 +23,9 @@
 mod support;
 
 use missionlink_interfaces::wire::{
-    Altitude, AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, Checksum,
-    ExecuteCommand, GeofenceCheck, LegType, Message, MissionExecuteCommand, MissionPlanMode,
-    MissionReport, MissionTransferCommand, Reason, Text, Timestamp, TransferStatus, TransferWindow,
-    WindowOrChecksum,
+    Altitude, AreaTransferMode, AreaTransmissionCommand, Checksum, ExecuteCommand, GeofenceCheck,
+    LegType, Message, MissionExecuteCommand, MissionPlanMode, MissionReport,
+    MissionTransferCommand, Reason, Text, Timestamp, TransferStatus, WindowOrChecksum,
 };
 use missionlink_services::ground_station::ValidatedPlan;
 use missionlink_services::mission_data_handling::{DataKind, FccEvent, Resumed};
@@ -78,10 +77,6 @@ fn activate(mission_id: Option<Text<20>>) -> Message {
         mission_id,
     }
     .into()
-}
-
-fn window() -> Option<TransferWindow> {
-    TransferWindow::new(4)
 }
 
 // ---- Reading the answers ----
@@ -182,12 +177,7 @@ fn report(rig: &mut FccRig) -> Vec<MissionReport> {
     let (_, ack) = answers.remove(0);
     assert_eq!(one_ack(&[ack]), Ok(()));
     let sent = follow(rig, answers);
-    assert_eq!(
-        rig.events(),
-        [FccEvent::DownloadComplete {
-            kind: DataKind::Report
-        }]
-    );
+    rig.assert_download_complete(DataKind::Report);
     sent.iter()
         .map(|m| match m {
             Message::MissionReport(r) => *r,
@@ -526,12 +516,7 @@ fn mode_9_downloads_the_staged_waypoints() {
         let (_, ack) = answers.remove(0);
         assert_eq!(one_ack(&[ack]), Ok(()));
         let sent = follow(&mut rig, answers);
-        assert_eq!(
-            rig.events(),
-            [FccEvent::DownloadComplete {
-                kind: DataKind::Mission
-            }]
-        );
+        rig.assert_download_complete(DataKind::Mission);
         let (data, closer) = sent.split_at(sent.len() - 1);
         assert_eq!(data.iter().map(unstamped).collect::<Vec<_>>(), expected);
         let [Message::MissionUploadDownloadStatus(status)] = closer else {
@@ -561,20 +546,7 @@ fn area_mode_8_downloads_the_staged_areas() {
     stage_plan(&mut rig, &plan, id("DL"));
     for window in [window(), None] {
         let answers = rig.send_enveloped(area_download_request(Target::Staged(id("DL")), window));
-        let sent = follow(&mut rig, answers);
-        assert_eq!(
-            rig.events(),
-            [FccEvent::DownloadComplete {
-                kind: DataKind::Areas
-            }]
-        );
-        let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
-            panic!("the download starts with #3013: {sent:?}");
-        };
-        assert_eq!(
-            (ready.status, ready.loop_count),
-            (AreaDownloadStatus::Ready, 11)
-        );
+        let sent = follow_area_download(&mut rig, answers, 11);
         let areas: Vec<Message> = sent[1..sent.len() - 1].iter().map(unstamped).collect();
         let expected: Vec<Message> = plan
             .areas

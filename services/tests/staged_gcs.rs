@@ -33,6 +33,36 @@ use support::*;
 
 type Event = GcsEvent<core::convert::Infallible>;
 
+/// The requests of mission 1's upload in the paper's sequence (edition 1, or a GCS that asks
+/// for it), as [`StationRig::requests`] names them.
+const MISSION_1_PAPER: [&str; 9] = [
+    "13000 mode 7",
+    "13000 mode 1",
+    "13006 take-off",
+    "13002 wp 1",
+    "13001",
+    "13000 mode 2",
+    "2011 mode 1",
+    "2012 area 1",
+    "2011 mode 2",
+];
+
+/// The requests of mission 1's upload as a staged mission (ICD §8).
+const MISSION_1_STAGED: [&str; 9] = [
+    "13000 mode 7",
+    "13000 mode 10",
+    "13006 take-off",
+    "13002 wp 1",
+    "13001",
+    "13000 mode 8",
+    "2011 mode 1",
+    "2012 area 1",
+    "2011 mode 7",
+];
+
+/// What an atomic upload sends after the staged mission: the activation, the delete.
+const ACTIVATE_STAGED: [&str; 2] = ["50000", "13000 mode 6"];
+
 /// Long enough for any request of these tests in simulated time.
 const LIMIT: Duration = Duration::from_secs(120);
 
@@ -144,19 +174,7 @@ fn the_atomic_upload_stages_activates_and_deletes_its_copy() {
     assert!(r.warning.is_none(), "{r}");
     assert_eq!(
         s.requests(0),
-        [
-            "13000 mode 7",
-            "13000 mode 10",
-            "13006 take-off",
-            "13002 wp 1",
-            "13001",
-            "13000 mode 8",
-            "2011 mode 1",
-            "2012 area 1",
-            "2011 mode 7",
-            "50000",
-            "13000 mode 6",
-        ]
+        [MISSION_1_STAGED.as_slice(), &ACTIVATE_STAGED].concat()
     );
     assert_eq!(r.messages.sent, 11);
     assert_eq!(r.messages.full, 11);
@@ -295,20 +313,7 @@ fn the_paper_sequence_can_be_forced_toward_edition_2() {
     assert_eq!(r.outcome(), UploadOutcome::Complete);
     assert_eq!(r.kind, UploadKind::Paper { edition_1: false });
     assert!(r.to_string().contains("one after the other"), "{r}");
-    assert_eq!(
-        s.requests(0),
-        [
-            "13000 mode 7",
-            "13000 mode 1",
-            "13006 take-off",
-            "13002 wp 1",
-            "13001",
-            "13000 mode 2",
-            "2011 mode 1",
-            "2012 area 1",
-            "2011 mode 2",
-        ]
-    );
+    assert_eq!(s.requests(0), MISSION_1_PAPER);
 }
 
 // ---- Staged missions ----
@@ -324,20 +329,7 @@ fn stage_download_activate_delete() {
     let r = upload_report(&s.run(LIMIT));
     assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
     assert_eq!(r.kind, UploadKind::Staged(id("next")));
-    assert_eq!(
-        s.requests(0),
-        [
-            "13000 mode 7",
-            "13000 mode 10",
-            "13006 take-off",
-            "13002 wp 1",
-            "13001",
-            "13000 mode 8",
-            "2011 mode 1",
-            "2012 area 1",
-            "2011 mode 7",
-        ]
-    );
+    assert_eq!(s.requests(0), MISSION_1_STAGED);
     assert_eq!(
         s.rig.fcc.active_mission().cloned(),
         active_before,
@@ -643,20 +635,7 @@ fn toward_edition_1_the_upload_is_the_papers_sequence() {
     assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
     assert_eq!(r.kind, UploadKind::Paper { edition_1: true });
     assert!(r.to_string().contains("one after the other"), "{r}");
-    assert_eq!(
-        s.requests(0),
-        [
-            "13000 mode 7",
-            "13000 mode 1",
-            "13006 take-off",
-            "13002 wp 1",
-            "13001",
-            "13000 mode 2",
-            "2011 mode 1",
-            "2012 area 1",
-            "2011 mode 2",
-        ]
-    );
+    assert_eq!(s.requests(0), MISSION_1_PAPER);
     // No edition-2 field reached the FCC: no checksum in the closers.
     for sent in s.sent.iter().filter(|x| x.direction == Direction::Up) {
         if let Message::MissionTransferCommand(c) = &sent.message {

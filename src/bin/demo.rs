@@ -25,10 +25,10 @@ use missionlink_gcs::report_table;
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::{Signing, SigningPolicy};
-use missionlink_partitions::keys;
 use missionlink_partitions::latency;
 use missionlink_partitions::launcher::{self, FccProcess};
-use missionlink_partitions::udp::LocalEnds;
+use missionlink_platform::keys;
+use missionlink_platform::udp::LocalEnds;
 use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan};
 use missionlink_services::safety_gateway::{Report, SafetyGateway};
@@ -306,8 +306,8 @@ fn run(args: &Args) -> Result<(), String> {
             .with_tap(Arc::new(capture))
             .map_err(|e| e.to_string())?;
     }
-    let mut link =
-        GcsLink::with_links(&config, links, SafetyGateway::default()).map_err(|e| e.to_string())?;
+    let mut link = GcsLink::with_links(&config.link(), links, SafetyGateway::default())
+        .map_err(|e| e.to_string())?;
     link.enable_log();
 
     let mission_1 = plan(MISSION_1, "missions/mission-1.toml")?;
@@ -429,7 +429,7 @@ fn run(args: &Args) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    missionlink_partitions::init_logging_at("error");
+    missionlink_platform::init_logging_at("error");
     missionlink_partitions::ipc::quiet_iceoryx2_log();
     let args = Args::parse();
     match run(&args) {

@@ -9,13 +9,14 @@ use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink};
 use missionlink_gcs::mission_file::MissionFile;
-use missionlink_interfaces::wire::MissionReport;
+use missionlink_interfaces::wire::{Message, MissionPlanMode, MissionReport};
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::launcher::{self, FccProcess};
-use missionlink_partitions::udp::{LinkPair, LocalEnds};
+use missionlink_platform::udp::{LinkPair, LocalEnds};
 use missionlink_services::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
+use missionlink_services::transfer::sender::mission_command;
 
 pub type Link = GcsLink<WithoutGateway>;
 pub type Error = GcsError<core::convert::Infallible>;
@@ -83,6 +84,22 @@ impl Rig {
         FccProcess::start(&bin_dir(), binary, &self.config, Some(&log)).unwrap()
     }
 
+    /// Starts the launcher `fcc` under the rig's configuration and waits until every partition
+    /// is up.
+    pub fn start_fcc(&self) -> Process {
+        let mut fcc = self.start("fcc");
+        self.ready(&mut fcc);
+        fcc
+    }
+
+    /// A rig for `test` with its FCC up and a GCS talking to it: where most tests begin.
+    pub fn with_gcs(test: &str) -> (Self, Process, Link) {
+        let mut rig = Self::new(test);
+        let mut fcc = rig.start_fcc();
+        let link = rig.gcs(&mut fcc);
+        (rig, fcc, link)
+    }
+
     /// Waits until `process` (the launcher or a partition) is up: for the launcher, every
     /// partition's services are open.
     pub fn ready(&self, process: &mut Process) {
@@ -112,7 +129,7 @@ impl Rig {
     /// A GCS on `links`, its time stamps reserved in the rig's directory as the gcs tool
     /// reserves them: a GCS started again on the same links continues after them.
     pub fn gcs_on(&self, links: LinkPair) -> Link {
-        GcsLink::with_links(&self.config, links, WithoutGateway)
+        GcsLink::with_links(&self.config.link(), links, WithoutGateway)
             .unwrap()
             .with_stamp_lease(&self.dir.join("gcs-time-stamps"))
             .unwrap()
@@ -195,6 +212,28 @@ impl Drop for Rig {
         }
         let _ = std::fs::remove_dir_all(&self.dir);
     }
+}
+
+/// Polls `f` every 10 ms until it gives a value or `limit` passes.
+pub fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T> {
+    let end = Instant::now() + limit;
+    while Instant::now() < end {
+        if let Some(v) = f() {
+            return Some(v);
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    None
+}
+
+/// The two commands that would clear the active mission if the FCC processed them, not yet
+/// stamped: a clear, and a transmit of the empty list (Waypoint Number 0). The attacks of the
+/// tests send them from where the FCC must not take them.
+pub fn clearing_commands() -> [Message; 2] {
+    [
+        mission_command(MissionPlanMode::ClearMission, None, None),
+        mission_command(MissionPlanMode::TransmitMission, Some(0), None),
+    ]
 }
 
 /// Waits until `process`'s log says `text`, or panics after `limit`.

@@ -12,9 +12,20 @@
 //! with its turns. Each inside the fly-zone shrunk by the
 //! safety offset and outside every no-fly-zone grown by it. No allocation; at most
 //! 2 + 256 legs and 3 paths per turn against 11 zones.
+//!
+//! The route is read through a [`RouteView`]: the waypoints in flight-plan order (anything that
+//! is a [`RouteWaypoint`]), the route properties and the take-off height, borrowed. The FCC's
+//! published list (`WaypointListPayload`) and the ground's validated plan
+//! ([`crate::transfer::mission::Mission`]) both give one without copying, so the safety gateway
+//! and the map walk the same legs as the FCC without building an IPC payload; the areas are the
+//! [`Fence`], which both sides build from their area list.
 
 use missionlink_interfaces::contracts::{WaypointEntry, WaypointListPayload};
-use missionlink_interfaces::wire::{LegType, TurnType};
+use missionlink_interfaces::wire::{
+    Altitude, GeoPoint, LegType, SpecificData, Speed, TurnDirection, TurnType,
+};
+
+use crate::transfer::mission::{Mission, WaypointRecord};
 
 use super::clearance::{Clearance, clearance};
 use super::earth::Site;
@@ -77,6 +88,132 @@ impl core::fmt::Display for RouteElement {
     }
 }
 
+/// What the route's paths need of a waypoint: the FCC's [`WaypointEntry`] and the ground's
+/// [`WaypointRecord`] answer from the fields they hold.
+pub trait RouteWaypoint {
+    /// Waypoint Number.
+    fn number(&self) -> u16;
+    /// Where it is.
+    fn position(&self) -> GeoPoint;
+    /// The commanded altitude.
+    fn altitude(&self) -> Altitude;
+    /// The commanded speed towards it.
+    fn speed(&self) -> Speed;
+    /// Turn Type (`None` only for a corrupted byte of a payload).
+    fn turn_type(&self) -> Option<TurnType>;
+    /// Leg type of the leg that ends here (`None` only for a corrupted byte of a payload).
+    fn leg_type(&self) -> Option<LegType>;
+    /// Centre and turn direction of a radius-to-fix leg ending here.
+    fn rf_centre(&self) -> Option<(GeoPoint, TurnDirection)>;
+}
+
+impl RouteWaypoint for WaypointEntry {
+    fn number(&self) -> u16 {
+        self.number
+    }
+    fn position(&self) -> GeoPoint {
+        self.position
+    }
+    fn altitude(&self) -> Altitude {
+        self.altitude
+    }
+    fn speed(&self) -> Speed {
+        self.speed
+    }
+    fn turn_type(&self) -> Option<TurnType> {
+        WaypointEntry::turn_type(self)
+    }
+    fn leg_type(&self) -> Option<LegType> {
+        WaypointEntry::leg_type(self)
+    }
+    fn rf_centre(&self) -> Option<(GeoPoint, TurnDirection)> {
+        WaypointEntry::rf_centre(self)
+    }
+}
+
+impl RouteWaypoint for WaypointRecord {
+    fn number(&self) -> u16 {
+        self.waypoint.waypoint_number
+    }
+    fn position(&self) -> GeoPoint {
+        GeoPoint {
+            latitude: self.waypoint.latitude,
+            longitude: self.waypoint.longitude,
+        }
+    }
+    fn altitude(&self) -> Altitude {
+        self.waypoint.altitude
+    }
+    fn speed(&self) -> Speed {
+        self.waypoint.speed
+    }
+    fn turn_type(&self) -> Option<TurnType> {
+        Some(self.waypoint.turn_type)
+    }
+    fn leg_type(&self) -> Option<LegType> {
+        Some(self.waypoint.leg_type)
+    }
+    fn rf_centre(&self) -> Option<(GeoPoint, TurnDirection)> {
+        match self.rf_centre.map(|c| c.data) {
+            Some(SpecificData::RfCentre {
+                latitude,
+                longitude,
+                turn_direction,
+                ..
+            }) => Some((
+                GeoPoint {
+                    latitude,
+                    longitude,
+                },
+                turn_direction,
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// A route as the geofence reads it, borrowed: the waypoints in flight-plan order, the route
+/// properties and the take-off height. `From` the FCC's published list and the ground's
+/// validated plan; copying it copies three words.
+#[derive(Debug)]
+pub struct RouteView<'a, W> {
+    /// The waypoints in flight-plan order, from the initial waypoint.
+    pub waypoints: &'a [W],
+    /// The route may be flown back (return to home).
+    pub bidirectional: bool,
+    /// The take-off height above ground.
+    pub take_off_height: Altitude,
+}
+
+// Copy whatever the waypoint type: the view holds a reference (a derive would ask `W: Copy`).
+impl<W> Clone for RouteView<'_, W> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<W> Copy for RouteView<'_, W> {}
+
+impl<'a> From<&'a WaypointListPayload> for RouteView<'a, WaypointEntry> {
+    fn from(list: &'a WaypointListPayload) -> Self {
+        Self {
+            waypoints: list.waypoints(),
+            bidirectional: list.bidirectional,
+            take_off_height: list.take_off_height,
+        }
+    }
+}
+
+impl<'a> From<&'a Mission> for RouteView<'a, WaypointRecord> {
+    fn from(mission: &'a Mission) -> Self {
+        Self {
+            waypoints: &mission.waypoints,
+            bidirectional: mission.route.bidirectional,
+            take_off_height: mission.take_off_height(),
+        }
+    }
+}
+
 /// One path of the route.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RouteLeg {
@@ -86,12 +223,12 @@ pub struct RouteLeg {
     pub path: Path,
 }
 
-fn site(w: &WaypointEntry) -> Site {
-    Site::of(w.position)
+fn site(w: &impl RouteWaypoint) -> Site {
+    Site::of(w.position())
 }
 
 /// The leg flown from `from` to `to` by `to`'s leg type (a radius-to-fix leg as its arc).
-pub fn leg(from: &WaypointEntry, to: &WaypointEntry) -> Path {
+pub fn leg<W: RouteWaypoint>(from: &W, to: &W) -> Path {
     match (to.leg_type(), to.rf_centre()) {
         (Some(LegType::RadiusToFix), Some((centre, direction))) => Path::Arc {
             from: site(from),
@@ -107,12 +244,12 @@ pub fn leg(from: &WaypointEntry, to: &WaypointEntry) -> Path {
 }
 
 /// The legs between consecutive waypoints, in flight-plan order.
-pub fn legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg> + '_ {
-    list.waypoints().windows(2).filter_map(|w| match w {
+pub fn legs<W: RouteWaypoint>(route: RouteView<'_, W>) -> impl Iterator<Item = RouteLeg> + '_ {
+    route.waypoints.windows(2).filter_map(|w| match w {
         [a, b] => Some(RouteLeg {
             element: RouteElement::Leg {
-                from: a.number,
-                to: b.number,
+                from: a.number(),
+                to: b.number(),
             },
             path: leg(a, b),
         }),
@@ -121,12 +258,12 @@ pub fn legs(list: &WaypointListPayload) -> impl Iterator<Item = RouteLeg> + '_ {
 }
 
 /// The legs of the reverse route back from the last of `waypoints` to the first.
-fn back_over(waypoints: &[WaypointEntry]) -> impl Iterator<Item = RouteLeg> + '_ {
+fn back_over<W: RouteWaypoint>(waypoints: &[W]) -> impl Iterator<Item = RouteLeg> + '_ {
     waypoints.windows(2).rev().filter_map(|w| match w {
         [a, b] => Some(RouteLeg {
             element: RouteElement::ReverseLeg {
-                from: b.number,
-                to: a.number,
+                from: b.number(),
+                to: a.number(),
             },
             path: leg(a, b).reversed(),
         }),
@@ -144,8 +281,8 @@ fn turn_legs(at: u16, to: u16, turn: Turn) -> impl Iterator<Item = RouteLeg> {
 }
 
 /// The way from `start` to the initial waypoint: the geodesic.
-fn first_leg(list: &WaypointListPayload, start: Site) -> Option<(&WaypointEntry, Path)> {
-    list.waypoints().first().map(|w| {
+fn first_leg<W: RouteWaypoint>(route: RouteView<'_, W>, start: Site) -> Option<(&W, Path)> {
+    route.waypoints.first().map(|w| {
         (
             w,
             Path::Geodesic {
@@ -158,17 +295,17 @@ fn first_leg(list: &WaypointListPayload, start: Site) -> Option<(&WaypointEntry,
 
 /// What execute flies from `take_off`: the climb there, the way to the initial waypoint, every
 /// leg, and with `fly_by` every turn at a waypoint as flown.
-pub fn execute_route(
-    list: &WaypointListPayload,
+pub fn execute_route<W: RouteWaypoint>(
+    route: RouteView<'_, W>,
     take_off: Site,
     fly_by: Option<FlyBy>,
 ) -> impl Iterator<Item = RouteLeg> + '_ {
-    let first = first_leg(list, take_off);
+    let first = first_leg(route, take_off);
     let climb = RouteLeg {
         element: RouteElement::Climb,
         path: Path::Point(take_off),
     };
-    let waypoints = list.waypoints();
+    let waypoints = route.waypoints;
     let turns = fly_by.into_iter().flat_map(move |f| {
         waypoints.iter().enumerate().flat_map(move |(k, w)| {
             let next = waypoints.get(k + 1);
@@ -178,30 +315,35 @@ pub fn execute_route(
             };
             let t = match (inbound, next) {
                 (Some(inbound), Some(next)) => {
-                    Some((next.number, f.turn(w, next, &inbound, &leg(w, next))))
+                    Some((next.number(), f.turn(w, next, &inbound, &leg(w, next))))
                 }
                 _ => None,
             };
             t.into_iter()
-                .flat_map(move |(to, t)| turn_legs(w.number, to, t))
+                .flat_map(move |(to, t)| turn_legs(w.number(), to, t))
         })
     });
     core::iter::once(climb)
         .chain(first.map(|(w, path)| RouteLeg {
             element: RouteElement::Leg {
                 from: 0,
-                to: w.number,
+                to: w.number(),
             },
             path,
         }))
-        .chain(legs(list))
+        .chain(legs(route))
         .chain(turns)
 }
 
 /// The way from `position` to the waypoint at `index` as guidance flies it on: on its leg
 /// (`on_leg`, the waypoint is the TO waypoint) the rest of a radius-to-fix arc, else the
 /// geodesic.
-fn direct(waypoints: &[WaypointEntry], index: usize, position: Site, on_leg: bool) -> Option<Path> {
+fn direct<W: RouteWaypoint>(
+    waypoints: &[W],
+    index: usize,
+    position: Site,
+    on_leg: bool,
+) -> Option<Path> {
     let w = waypoints.get(index)?;
     let before = index
         .checked_sub(1)
@@ -231,22 +373,22 @@ fn direct(waypoints: &[WaypointEntry], index: usize, position: Site, on_leg: boo
 /// route from there to the initial waypoint (guidance's return to home), with `fly_by` every
 /// turn as flown: the turn onto the leg to the TO waypoint (the aircraft may still be on it,
 /// and flies the rest), the turn round at the TO waypoint and the turns on the way back.
-pub fn return_route(
-    list: &WaypointListPayload,
+pub fn return_route<W: RouteWaypoint>(
+    route: RouteView<'_, W>,
     position: Site,
     to: u16,
     fly_by: Option<FlyBy>,
 ) -> impl Iterator<Item = RouteLeg> + '_ {
-    let waypoints = list.waypoints();
+    let waypoints = route.waypoints;
     let index = waypoints
         .iter()
-        .position(|w| w.number == to)
+        .position(|w| w.number() == to)
         .unwrap_or(waypoints.len().saturating_sub(1));
     let direct = direct(waypoints, index, position, to != 0);
     let first = waypoints.get(index).zip(direct).map(|(w, path)| RouteLeg {
         element: RouteElement::Leg {
             from: 0,
-            to: w.number,
+            to: w.number(),
         },
         path,
     });
@@ -268,8 +410,8 @@ pub fn return_route(
             };
             let t = inbound.map(|inbound| {
                 turn_legs(
-                    w.number,
-                    next.number,
+                    w.number(),
+                    next.number(),
                     f.turn(w, next, &inbound, &leg(next, w).reversed()),
                 )
             });
@@ -283,8 +425,8 @@ pub fn return_route(
         .and_then(|f| {
             let (before, at, w) = (back.get(index - 2)?, back.get(index - 1)?, back.get(index)?);
             Some(turn_legs(
-                at.number,
-                w.number,
+                at.number(),
+                w.number(),
                 f.turn(at, w, &leg(before, at), &leg(at, w)),
             ))
         })
@@ -299,18 +441,17 @@ pub fn return_route(
 
 /// The turns round of a return to home commanded on any leg of a bidirectional route: at
 /// each waypoint but the initial one, from the leg into it onto the same leg backwards.
-pub fn turns_round(
-    list: &WaypointListPayload,
+pub fn turns_round<W: RouteWaypoint>(
+    route: RouteView<'_, W>,
     fly_by: FlyBy,
 ) -> impl Iterator<Item = RouteLeg> + '_ {
-    let waypoints = list.waypoints();
-    waypoints.windows(2).flat_map(move |w| {
+    route.waypoints.windows(2).flat_map(move |w| {
         let t = match w {
             [a, b] => {
                 let inbound = leg(a, b);
                 Some((
-                    b.number,
-                    a.number,
+                    b.number(),
+                    a.number(),
                     fly_by.turn(b, a, &inbound, &inbound.reversed()),
                 ))
             }
@@ -336,8 +477,8 @@ pub const FALLBACK_SPEED_MPS: f64 = 10.0;
 
 impl FlyBy {
     /// The speed guidance flies towards `w`: its commanded speed, or [`FALLBACK_SPEED_MPS`].
-    pub fn speed_mps(w: &WaypointEntry) -> f64 {
-        match w.speed.mps() {
+    pub fn speed_mps(w: &impl RouteWaypoint) -> f64 {
+        match w.speed().mps() {
             v if v > 0.0 => v,
             _ => FALLBACK_SPEED_MPS,
         }
@@ -350,13 +491,7 @@ impl FlyBy {
 
     /// The turn at `w` from `inbound` (ending at `w`) onto `outbound` (starting there, to
     /// `next`).
-    pub fn turn(
-        &self,
-        w: &WaypointEntry,
-        next: &WaypointEntry,
-        inbound: &Path,
-        outbound: &Path,
-    ) -> Turn {
+    pub fn turn<W: RouteWaypoint>(&self, w: &W, next: &W, inbound: &Path, outbound: &Path) -> Turn {
         turn(
             inbound,
             outbound,
@@ -417,7 +552,8 @@ mod tests {
         let fence = Fence::of_payload(&areas);
         let take_off = Site::of(corner.take_off_position.unwrap());
         let turns = crate::automation::fcc_turns();
-        let refused = check(&fence, execute_route(&waypoints, take_off, Some(turns)));
+        let route = RouteView::from(&waypoints);
+        let refused = check(&fence, execute_route(route, take_off, Some(turns)));
         assert!(
             matches!(
                 refused,
@@ -433,9 +569,42 @@ mod tests {
             ),
             "{refused:?}"
         );
-        assert_eq!(
-            check(&fence, execute_route(&waypoints, take_off, None)),
-            Ok(())
-        );
+        assert_eq!(check(&fence, execute_route(route, take_off, None)), Ok(()));
+    }
+
+    /// The ground's plan and the FCC's published list are one route: every path of execute,
+    /// return to home and the turns round is the same from either view.
+    #[test]
+    fn the_plan_and_the_published_list_give_the_same_route() {
+        let turns = crate::automation::fcc_turns();
+        for plan in [
+            testkit::mission_1(),
+            testkit::mission_2(),
+            testkit::fly_by_corner(),
+        ] {
+            let mission = plan.assemble().unwrap().mission;
+            let payload = mission.to_payload(1);
+            let (ground, fcc) = (RouteView::from(&mission), RouteView::from(&payload));
+            assert_eq!(ground.bidirectional, fcc.bidirectional);
+            assert_eq!(ground.take_off_height, fcc.take_off_height);
+            let start = Site::of(plan.take_off_position.unwrap());
+            let last = fcc.waypoints.last().unwrap();
+            let at = Site::of(last.position);
+            assert!(execute_route(ground, start, Some(turns)).eq(execute_route(
+                fcc,
+                start,
+                Some(turns)
+            )));
+            for to in [0, last.number] {
+                assert!(return_route(ground, at, to, Some(turns)).eq(return_route(
+                    fcc,
+                    at,
+                    to,
+                    Some(turns)
+                )));
+            }
+            assert!(turns_round(ground, turns).eq(turns_round(fcc, turns)));
+            assert!(execute_route(fcc, start, Some(turns)).count() > fcc.waypoints.len());
+        }
     }
 }

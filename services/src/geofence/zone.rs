@@ -460,7 +460,15 @@ impl Fence {
     /// about 200 kB; see [`Fence::set_payload`]).
     pub fn of_list(list: &AreaList) -> Box<Self> {
         let mut fence = Box::new(Self::empty());
-        fence.safety_offset_m = list.safety_offset.metres();
+        fence.set_list(list);
+        fence
+    }
+
+    /// Becomes the fence of the assembled area list `list`, in place (as
+    /// [`Fence::set_payload`] for a published one).
+    pub fn set_list(&mut self, list: &AreaList) {
+        self.zones.clear();
+        self.safety_offset_m = list.safety_offset.metres();
         for area in &list.areas {
             let kind = match area.area_type {
                 AreaType::FlyZone => ZoneKind::FlyZone,
@@ -472,9 +480,8 @@ impl Fence {
                     Zone::circle(area.area_id, kind, *centre, *border)
                 }
             };
-            let _ = fence.zones.push(zone);
+            let _ = self.zones.push(zone);
         }
-        fence
     }
 
     /// No zones, no offset: what the FCC holds before an area list is active.

@@ -201,9 +201,10 @@ impl MissionDataHandling {
             old.cancel();
         }
         let (geofence_check, reason) = automation::report_check(
-            &self.waypoint_list,
-            &self.area_list,
-            &self.fence,
+            self.waypoint_list
+                .is_active()
+                .then(|| crate::geofence::onboard::RouteView::from(&self.waypoint_list)),
+            (self.area_list.area_count() > 0).then_some(&*self.fence),
             &self.navigation,
         );
         let count = (1 + self.staged.len()) as u8;
@@ -232,19 +233,16 @@ impl MissionDataHandling {
         // Then each staged mission in ascending byte order of its ID (ICD §8), with the check
         // execute would run after its activation, against a fence built for its areas.
         for (index, entry) in self.staged.iter().enumerate() {
-            let waypoint_list = entry
-                .mission
-                .as_ref()
-                .map_or(WaypointListPayload::EMPTY, |m| m.to_payload(1));
-            let area_list = entry
-                .areas
-                .as_ref()
-                .map_or(AreaListPayload::EMPTY, |a| a.to_payload(1));
-            self.staged_fence.set_payload(&area_list);
+            let fence = entry.areas.as_ref().map(|a| {
+                self.staged_fence.set_list(a);
+                &*self.staged_fence
+            });
             let (geofence_check, reason) = automation::report_check(
-                &waypoint_list,
-                &area_list,
-                &self.staged_fence,
+                entry
+                    .mission
+                    .as_ref()
+                    .map(crate::geofence::onboard::RouteView::from),
+                fence,
                 &self.navigation,
             );
             let _ = entries.push(MissionReport {

@@ -7,6 +7,7 @@
 //! of an uploaded mission gives back every field equal (ICD §5.2).
 
 use crate::geofence::earth;
+use crate::geofence::onboard::RouteWaypoint;
 use heapless::Vec;
 use heapless::index_map::FnvIndexMap;
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
@@ -98,13 +99,11 @@ impl Mission {
         p.count = self.waypoints.len() as u16;
         for (entry, record) in p.waypoints.iter_mut().zip(&self.waypoints) {
             let w = &record.waypoint;
+            // Position and RF centre as the geofence reads the plan (one conversion of each).
             *entry = WaypointEntry {
                 number: w.waypoint_number,
                 next: w.next_waypoint,
-                position: missionlink_interfaces::wire::GeoPoint {
-                    latitude: w.latitude,
-                    longitude: w.longitude,
-                },
+                position: RouteWaypoint::position(record),
                 altitude: w.altitude,
                 speed: w.speed,
                 turn_type: w.turn_type as u8,
@@ -113,21 +112,7 @@ impl Mission {
             };
             entry.set_altitude_type(w.altitude_type);
             entry.set_speed_type(w.speed_type);
-            if let Some(SpecificData::RfCentre {
-                latitude,
-                longitude,
-                turn_direction,
-                ..
-            }) = record.rf_centre.map(|c| c.data)
-            {
-                entry.set_rf_centre(Some((
-                    missionlink_interfaces::wire::GeoPoint {
-                        latitude,
-                        longitude,
-                    },
-                    turn_direction,
-                )));
-            }
+            entry.set_rf_centre(RouteWaypoint::rf_centre(record));
         }
         p
     }

@@ -14,9 +14,9 @@ use std::time::Duration;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
-    AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, Checksum, Envelope,
-    MAX_FRAME_LEN, Message, MissionPlanMode, MissionTransferCommand, Reason, SafetyOffset,
-    SpecificData, Timestamp, WindowOrChecksum,
+    AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, AreaTransmissionCommand,
+    Checksum, Envelope, MAX_FRAME_LEN, Message, MissionPlanMode, MissionTransferCommand, Reason,
+    SafetyOffset, SpecificData, Timestamp, TransferWindow, WindowOrChecksum,
 };
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
@@ -24,7 +24,7 @@ use missionlink_services::ground_station::{
 use missionlink_services::link::endpoint::Endpoint;
 use missionlink_services::link::signing::{Keyring, LinkKey, Policy, SignatureCheck, Signer};
 use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling};
+use missionlink_services::mission_data_handling::{DataKind, FccEvent, MissionDataHandling};
 use missionlink_services::transfer::areas::AreaList;
 use missionlink_services::transfer::mission::Mission;
 use missionlink_services::transfer::sender::{mission_command, transfer_command};
@@ -35,7 +35,7 @@ use missionlink_services::voting::Voter;
 pub use missionlink_services::testkit::channel::{Channel, Impairments};
 pub use missionlink_services::testkit::*;
 
-/// Datagrams a driver reads per link per step (`partitions::udp::MAX_READS_PER_WAKE`).
+/// Datagrams a driver reads per link per step (`missionlink_platform::udp::MAX_READS_PER_WAKE`).
 const READS_PER_LINK: usize = 32;
 
 /// How long a sender waits for an answer (ICD §1).
@@ -525,6 +525,11 @@ impl FccRig {
         std::iter::from_fn(|| self.fcc.poll_event()).collect()
     }
 
+    /// Checks that the FCC's one event since the last look is the completed download of `kind`.
+    pub fn assert_download_complete(&mut self, kind: DataKind) {
+        assert_eq!(self.events(), [FccEvent::DownloadComplete { kind }]);
+    }
+
     /// The reason of the FCC's answer to `message` (None when accepted).
     pub fn reason(&mut self, message: impl Into<Message>) -> Option<Reason> {
         reason_of(&self.send(message))
@@ -635,6 +640,11 @@ pub fn area_command(mode: AreaTransferMode, loop_count: Option<u8>) -> AreaTrans
 
 /// Time stamp bytes of 2026-11-21T12:00:10Z (ms since 2000).
 pub const TS: [u8; 5] = [0xc5, 0x93, 0x2a, 0xc1, 0x10];
+
+/// The transfer window the windowed downloads of the tests ask for (ICD §10).
+pub fn window() -> Option<TransferWindow> {
+    TransferWindow::new(4)
+}
 
 // ---- The GCS logic against the FCC of a rig ----
 
@@ -814,5 +824,25 @@ pub fn follow(rig: &mut FccRig, mut pending: Vec<(Envelope, Message)>) -> Vec<Me
         }
         pending = next;
     }
+    sent
+}
+
+/// Follows an area download the FCC answered `request` with ([`follow`]): it completes, and
+/// opens with #3013 "ready" for `loop_count` areas, not with #17000 (ICD §5.4). Returns what
+/// the FCC sent, the #3013 first.
+pub fn follow_area_download(
+    rig: &mut FccRig,
+    request: Vec<(Envelope, Message)>,
+    loop_count: u8,
+) -> Vec<Message> {
+    let sent = follow(rig, request);
+    rig.assert_download_complete(DataKind::Areas);
+    let Some(Message::AreaTransmissionStatus(ready)) = sent.first() else {
+        panic!("the download starts with #3013: {sent:?}");
+    };
+    assert_eq!(
+        (ready.status, ready.loop_count),
+        (AreaDownloadStatus::Ready, loop_count)
+    );
     sent
 }

@@ -24,9 +24,9 @@ use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError
 use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
-use missionlink_partitions::config::{Config, ConfigArgs, parse_id};
-use missionlink_partitions::keys;
-use missionlink_partitions::udp::LinkPair;
+use missionlink_platform::config::{ConfigArgs, LinkConfig, parse_id};
+use missionlink_platform::keys;
+use missionlink_platform::udp::LinkPair;
 use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_services::ground_station::{
     GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan,
@@ -215,7 +215,7 @@ type Link = GcsLink<SafetyGateway>;
 /// process, read by every command that opens the links).
 static CAPTURE: OnceLock<Arc<PcapWriter>> = OnceLock::new();
 
-fn open(config: &Config, gateway: SafetyGateway) -> Result<Link, String> {
+fn open(config: &LinkConfig, gateway: SafetyGateway) -> Result<Link, String> {
     let link = match CAPTURE.get() {
         None => GcsLink::open(config, gateway).map_err(|e| e.to_string())?,
         Some(capture) => {
@@ -650,7 +650,7 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
 /// `gcs upload` and `gcs stage`: validates, then uploads (or edits) `file` into `target`, prints
 /// the outcome and keeps the mission in the state directory once it is there.
 fn send_plan(
-    config: &Config,
+    config: &LinkConfig,
     file: &Path,
     target: Target,
     sequence: Sequence,
@@ -693,7 +693,7 @@ fn print_messages(report: &UploadReport) {
     }
 }
 
-fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
+fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure> {
     match command {
         Command::Validate { file, json, safety } => validate(&file, json, &safety),
         Command::Upload {
@@ -923,7 +923,7 @@ fn mission_command(config: &Config, command: Command) -> Result<(), Failure> {
 const COMMAND_STACK: usize = 64 << 20;
 
 fn main() -> ExitCode {
-    missionlink_partitions::init_logging();
+    missionlink_platform::init_logging();
     let cli = Cli::parse();
     let command = std::thread::Builder::new()
         .name("gcs".to_owned())
@@ -955,7 +955,7 @@ fn run(cli: Cli) -> ExitCode {
         cli.command,
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. }
     ) {
-        let config = match cli.config.resolve() {
+        let config = match LinkConfig::resolve(&cli.config) {
             Ok(c) => c,
             Err(e) => {
                 eprintln!("gcs: {e}");

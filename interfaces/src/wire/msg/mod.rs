@@ -42,6 +42,7 @@ pub use vehicle_specific_waypoint::{SpecificData, VehicleSpecificWaypoint};
 
 use core::fmt;
 
+#[cfg(feature = "ipc")]
 use iceoryx2::prelude::ZeroCopySend;
 
 use super::error::{Cause, EncodeError, MessageError};
@@ -74,7 +75,8 @@ fn is_waypoint_number(n: u16) -> bool {
 }
 
 /// A latitude and longitude on WGS-84.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, ZeroCopySend)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GeoPoint {

@@ -1,16 +1,15 @@
 //! The two UDP links of ICD §1 as one pair of sockets: each node receives on its direct and its
 //! LTE port and sends every frame on both links (the FCC's downlink, the GCS's uplink), each
 //! copy signed for its link when the node has a sending key (ICD §9). The sockets are
-//! non-blocking and can sleep in an iceoryx2 WaitSet next to the listeners. A [`DatagramTap`]
+//! non-blocking, so a driver can sleep on them next to its other inputs (the FCC's partitions
+//! attach them to an iceoryx2 WaitSet: `missionlink_partitions::wait_fd`). A [`DatagramTap`]
 //! may watch every datagram the pair sends and receives (the GCS's `--pcap` capture).
 
 use std::fmt;
 use std::io::ErrorKind;
 use std::net::{SocketAddr, UdpSocket};
-use std::os::fd::AsRawFd;
 use std::sync::Arc;
 
-use iceoryx2::prelude::{FileDescriptor, FileDescriptorBased, SynchronousMultiplexing};
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::MAX_SIGNED_FRAME_LEN;
 use missionlink_services::link::signing::Signer;
@@ -25,23 +24,6 @@ pub trait DatagramTap: fmt::Debug + Send + Sync {
     /// A datagram of `link` from `from` to `to`.
     fn datagram(&self, link: Link, from: SocketAddr, to: SocketAddr, bytes: &[u8]);
 }
-
-/// A socket's descriptor as a WaitSet attachment (not owning: the socket closes it).
-pub struct SocketFd(FileDescriptor);
-
-impl fmt::Debug for SocketFd {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "SocketFd")
-    }
-}
-
-impl FileDescriptorBased for SocketFd {
-    fn file_descriptor(&self) -> &FileDescriptor {
-        &self.0
-    }
-}
-
-impl SynchronousMultiplexing for SocketFd {}
 
 /// Datagrams read per socket per wake-up at most, so one flooded link cannot starve the other.
 pub const MAX_READS_PER_WAKE: usize = 32;
@@ -92,8 +74,6 @@ impl LocalEnds {
 pub struct LinkPair {
     direct: UdpSocket,
     lte: UdpSocket,
-    direct_fd: SocketFd,
-    lte_fd: SocketFd,
     peer_direct: SocketAddr,
     peer_lte: SocketAddr,
     signer: Option<Signer>,
@@ -126,13 +106,10 @@ fn addrs(direct: &UdpSocket, lte: &UdpSocket) -> Result<[SocketAddr; 2], LinkErr
     Ok([addr(direct, "direct")?, addr(lte, "LTE")?])
 }
 
-fn attachable(socket: &UdpSocket, link: &str) -> Result<SocketFd, LinkError> {
+fn non_blocking(socket: &UdpSocket, link: &str) -> Result<(), LinkError> {
     socket
         .set_nonblocking(true)
-        .map_err(|e| LinkError(format!("{link} link: {e}")))?;
-    FileDescriptor::non_owning_new(socket.as_raw_fd())
-        .map(SocketFd)
-        .ok_or_else(|| LinkError(format!("{link} link: no file descriptor")))
+        .map_err(|e| LinkError(format!("{link} link: {e}")))
 }
 
 impl LinkPair {
@@ -160,13 +137,11 @@ impl LinkPair {
         peer_direct: SocketAddr,
         peer_lte: SocketAddr,
     ) -> Result<Self, LinkError> {
-        let direct_fd = attachable(&direct, "direct")?;
-        let lte_fd = attachable(&lte, "LTE")?;
+        non_blocking(&direct, "direct")?;
+        non_blocking(&lte, "LTE")?;
         Ok(Self {
             direct,
             lte,
-            direct_fd,
-            lte_fd,
             peer_direct,
             peer_lte,
             signer: None,
@@ -187,7 +162,8 @@ impl LinkPair {
     }
 
     /// Whether a datagram waits on either socket, without reading it (a `MSG_PEEK` of one
-    /// byte on each: what a spinning partition loop looks at, `runtime::Pending`).
+    /// byte on each: what a spinning FCC partition loop looks at,
+    /// `missionlink_partitions::runtime::Pending`).
     pub fn has_datagrams(&self) -> bool {
         let mut byte = [0u8; 1];
         [&self.direct, &self.lte]
@@ -200,14 +176,9 @@ impl LinkPair {
         addrs(&self.direct, &self.lte)
     }
 
-    /// The direct and the LTE socket (to poll them outside a WaitSet).
+    /// The direct and the LTE socket (to wait on them: a WaitSet's attachments, a poll).
     pub fn sockets(&self) -> [&UdpSocket; 2] {
         [&self.direct, &self.lte]
-    }
-
-    /// The WaitSet attachments of both sockets.
-    pub fn attachments(&self) -> [&SocketFd; 2] {
-        [&self.direct_fd, &self.lte_fd]
     }
 
     /// Reads what both sockets hold (up to [`MAX_READS_PER_WAKE`] each) and hands each datagram

@@ -1,0 +1,79 @@
+//! The guidance model's settings: start position, climb and descent rates, bank limit,
+//! time scale, each replaced by its default where unusable.
+
+use crate::geofence::onboard::FlyBy;
+
+/// Settings of the guidance model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GuidanceConfig {
+    /// Start latitude on the ground (degrees); default: TROL 48.26 from the demo missions.
+    pub start_latitude_deg: f64,
+    /// Start longitude on the ground (degrees); default: TROL 11.66 from the demo missions.
+    pub start_longitude_deg: f64,
+    /// Climb rate of the take-off (m/s), default 3.0.
+    pub climb_rate_mps: f64,
+    /// Descent rate of the landing (m/s), default 2.0.
+    pub descent_rate_mps: f64,
+    /// Bank angle of the turns at waypoints (deg; their radius is `v²/(g·tan(bank))`),
+    /// default 25.
+    pub max_bank_deg: f64,
+    /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
+    pub time_scale: f64,
+}
+
+impl Default for GuidanceConfig {
+    fn default() -> Self {
+        Self {
+            start_latitude_deg: 48.26,
+            start_longitude_deg: 11.66,
+            climb_rate_mps: 3.0,
+            descent_rate_mps: 2.0,
+            max_bank_deg: 25.0,
+            time_scale: 1.0,
+        }
+    }
+}
+
+impl GuidanceConfig {
+    /// How this guidance turns at waypoints, for the geofence ([`crate::geofence::turn`] at
+    /// its bank: the construction [`Guidance`] flies).
+    pub fn fly_by(&self) -> FlyBy {
+        FlyBy {
+            bank_deg: self.sanitized().max_bank_deg,
+        }
+    }
+
+    /// The configuration with every unusable value replaced by its default: non-finite or
+    /// non-positive rates, a bank outside 0..90 deg, a negative or non-finite time scale, a
+    /// start position off the globe.
+    pub(super) fn sanitized(self) -> Self {
+        let d = Self::default();
+        let positive = |v: f64, default: f64| {
+            if v.is_finite() && v > 0.0 { v } else { default }
+        };
+        Self {
+            start_latitude_deg: if (-90.0..=90.0).contains(&self.start_latitude_deg) {
+                self.start_latitude_deg
+            } else {
+                d.start_latitude_deg
+            },
+            start_longitude_deg: if (-180.0..=180.0).contains(&self.start_longitude_deg) {
+                self.start_longitude_deg
+            } else {
+                d.start_longitude_deg
+            },
+            climb_rate_mps: positive(self.climb_rate_mps, d.climb_rate_mps),
+            descent_rate_mps: positive(self.descent_rate_mps, d.descent_rate_mps),
+            max_bank_deg: if self.max_bank_deg > 0.0 && self.max_bank_deg < 90.0 {
+                self.max_bank_deg
+            } else {
+                d.max_bank_deg
+            },
+            time_scale: if self.time_scale.is_finite() && self.time_scale >= 0.0 {
+                self.time_scale
+            } else {
+                d.time_scale
+            },
+        }
+    }
+}
