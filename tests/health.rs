@@ -1,7 +1,9 @@
 //! Health across processes (docs/design.md "Health"): the launcher finds a partition that
 //! hangs (SIGSTOP) by its heartbeat, logs it by name, kills and restarts it; one killed with
 //! `kill -9` is restarted; system automation refuses execute while guidance is not alive, and
-//! the GCS hears the reason (`WrongState`). The limit itself (2.5 periods, found within 3) is
+//! the GCS hears the reason (`WrongState`); and when the launcher gives up system automation
+//! (its start limit), the FCC is degraded: mission data handling hears its heartbeat fall
+//! silent and refuses execute. The limit itself (2.5 periods, found within 3) is
 //! tested in simulated time in `missionlink_services::health`; here the real processes, whose
 //! timing on a loaded machine is printed, never asserted.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
@@ -193,4 +195,40 @@ fn execute_is_refused_while_guidance_is_not_alive_and_the_gcs_hears_why() {
         matches!(event, GcsEvent::FromToNext(f) if f.to.waypoint_number.is_some_and(|n| n != 0))
     });
     assert!(flying, "no FROM-TO-NEXT with a TO waypoint");
+}
+
+#[test]
+fn when_the_launcher_gives_up_system_automation_the_fcc_is_degraded_and_refuses_execute() {
+    let mut rig = Rig::new("health-degraded");
+    // One start only: the first death is the start limit.
+    rig.config.launcher.start_limit_burst = 1;
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    let mut link = rig.gcs(&mut fcc);
+    upload(&mut link, &plan("mission-1.toml")).unwrap();
+    wait_for_line(&fcc, &["system automation alive"], 0, LIMIT);
+
+    signal_partition(&fcc, "system-automation", Signal::KILL);
+    wait_for_line(
+        &fcc,
+        &[
+            "start limit reached",
+            "the FCC is degraded",
+            "system-automation",
+        ],
+        0,
+        LIMIT,
+    );
+    // Mission data handling hears system automation fall silent and refuses what it would
+    // carry out; its last published state ("on ground") no longer counts.
+    wait_for_line(&fcc, &["system automation not alive"], 0, LIMIT);
+    assert_eq!(execute(&mut link), Some(wire::Reason::WrongState));
+    let text = fcc.log_text();
+    assert_eq!(
+        text.lines()
+            .filter(|l| l.contains("started partition=\"system-automation\""))
+            .count(),
+        1,
+        "not started again:\n{text}"
+    );
 }

@@ -52,6 +52,12 @@
 //! lock_memory = true              # mlockall(MCL_CURRENT | MCL_FUTURE); default false
 //! # and [realtime.mission-data-handling], [realtime.system-automation],
 //! # [realtime.guidance-stub]
+//!
+//! [isolation]                     # each partition's fence (see `isolation`); on by default
+//! enabled = true
+//! on_violation = "kill"           # kill | errno: what a forbidden system call does
+//! [isolation.voting-monitoring]   # and the other three: started as root, drop to this user
+//! user = "missionlink"
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -370,6 +376,8 @@ pub struct Config {
     pub signing: Signing,
     /// Real-time settings per partition.
     pub realtime: Realtime,
+    /// How each partition fences itself (`isolation`).
+    pub isolation: crate::isolation::Isolation,
 }
 
 impl Config {

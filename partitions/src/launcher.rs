@@ -153,6 +153,11 @@ fn withdraw_ready(dir: &Path, name: &str, pid: u32) {
 pub fn describe(status: ExitStatus) -> String {
     match (status.code(), status.signal()) {
         (Some(code), _) => format!("exit code {code}"),
+        // The kernel's answer to a system call outside the partition's seccomp allow-list
+        // (`isolation`, `on_violation = "kill"`).
+        (None, Some(signal)) if signal == libc::SIGSYS => {
+            format!("killed by signal {signal} (SIGSYS: a system call its isolation forbids)")
+        }
         (None, Some(signal)) => format!("killed by signal {signal}"),
         _ => status.to_string(),
     }
@@ -217,6 +222,7 @@ fn check_partitions(config: &Config, without: &[&str]) -> Result<(), PartitionEr
         voting_monitoring::check_config(config)
             .map_err(|e| PartitionError::Config(format!("{}: {e}", voting_monitoring::NAME)))?;
     }
+    crate::isolation::check_config(config).map_err(|e| PartitionError::Config(e.to_string()))?;
     Ok(())
 }
 

@@ -14,6 +14,7 @@ pub mod doorbell;
 pub mod guidance_stub;
 pub mod health;
 pub mod ipc;
+pub mod isolation;
 pub mod latency;
 pub mod launcher;
 pub mod mission_data_handling;

@@ -20,10 +20,12 @@ use missionlink_interfaces::contracts::{
     GuidanceProgressPayload, Link, Partition, WaypointListPayload,
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
+use missionlink_services::health::Liveness;
 use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
 use missionlink_services::transfer::staged::StagedMissions;
 
 use crate::config::Config;
+use crate::health::Watch;
 use crate::ipc::{Ipc, Publisher};
 use crate::latency::Recorder;
 use crate::runtime::{self, Control, PartitionError, Wake};
@@ -53,6 +55,10 @@ where
     let commands = ipc.publisher::<AutomationCommandPayload>(FccService::AutomationCommand)?;
     let waypoint_list = ipc.publisher::<WaypointListPayload>(FccService::WaypointList)?;
     let area_list = ipc.publisher::<AreaListPayload>(FccService::AreaList)?;
+    // System automation carries out the #50000 commands: while its heartbeat is silent (hung,
+    // dead, or given up by the launcher: the FCC degraded) they are refused.
+    let health = Watch::open(&ipc, &[Partition::SystemAutomation])?;
+    let mut automation_liveness = Liveness::new(config.health.period());
 
     let clock = DriverClock::start();
     let mut core = MissionDataHandling::new(config.fcc_core(clock.utc_at_zero()));
@@ -114,6 +120,9 @@ where
     };
 
     let mut frame = [0u8; MAX_FRAME_LEN];
+    // Whether system automation was alive at the last step: logged when it changes, from its
+    // first beat on (before it, at start, it is refused in silence).
+    let mut automation_seen: Option<bool> = None;
     let wake = Wake {
         on: &[
             uplink.listener(),
@@ -129,6 +138,22 @@ where
         if let Some(state) = automation.latest() {
             core.set_automation_state(&state);
         }
+        let now = clock.now();
+        health.receive(|_, beat| {
+            automation_liveness.handle_beat(now, beat);
+        });
+        let alive = automation_liveness.is_alive(now);
+        match (automation_seen, alive) {
+            (Some(true), false) => tracing::warn!(
+                "system automation not alive: execute, return to home and land are refused"
+            ),
+            (seen, true) if seen != Some(true) => tracing::info!("system automation alive"),
+            _ => {}
+        }
+        if alive || automation_seen.is_some() {
+            automation_seen = Some(alive);
+        }
+        core.set_automation_alive(alive);
         let mut failure = None;
         uplink.take_all(|f| {
             let start = monotonic_ns();

@@ -19,6 +19,7 @@ use crate::config::{Config, ConfigArgs, ConfigError, Idle, IdleMode};
 use crate::doorbell::Doorbell;
 use crate::health::Heartbeat;
 use crate::ipc::{Ipc, IpcError};
+use crate::isolation::{Fence, IsolationError};
 use crate::latency::{self, Recorder};
 use crate::state;
 use missionlink_platform::udp::LinkError;
@@ -40,6 +41,8 @@ pub enum PartitionError {
     Config(String),
     /// A signal handler could not be installed.
     Signals(std::io::Error),
+    /// The partition could not fence itself as configured (`isolation`).
+    Isolation(crate::isolation::IsolationError),
 }
 
 impl std::fmt::Display for PartitionError {
@@ -50,6 +53,7 @@ impl std::fmt::Display for PartitionError {
             Self::Link(e) => write!(f, "link: {e}"),
             Self::Config(e) => write!(f, "configuration: {e}"),
             Self::Signals(e) => write!(f, "signal handler: {e}"),
+            Self::Isolation(e) => write!(f, "isolation: {e}"),
         }
     }
 }
@@ -87,7 +91,13 @@ pub struct Control {
     ready: Arc<(Mutex<bool>, Condvar)>,
     /// Where and under which name readiness is announced to other processes, if it is.
     announce: Option<(PathBuf, String)>,
+    /// The fence the loop applies once its ports are open, and the launcher to watch after it
+    /// (`isolation`); taken when applied.
+    fence: Arc<Mutex<PendingFence>>,
 }
+
+/// A fence not applied yet, and the launcher to watch once it is.
+type PendingFence = Option<(Fence, Option<rustix::process::Pid>)>;
 
 impl Control {
     /// A control of a loop not started yet.
@@ -139,6 +149,35 @@ impl Control {
     pub fn announcing_ready(mut self, dir: PathBuf, name: &str) -> Self {
         self.announce = Some((dir, name.to_owned()));
         self
+    }
+
+    /// A control whose loop fences itself with `fence` once its ports are open
+    /// ([`Control::fence`]) and then, with `parent`, starts the watch that ends the process
+    /// when that parent is gone (after the fence, so that the watch's thread is fenced too).
+    pub fn fencing(self, fence: Option<Fence>, parent: Option<rustix::process::Pid>) -> Self {
+        if let Ok(mut slot) = self.fence.lock() {
+            *slot = fence.map(|f| (f, parent)).or_else(|| {
+                // No fence: the watch starts at once.
+                if let Some(parent) = parent {
+                    watch_parent(parent);
+                }
+                None
+            });
+        }
+        self
+    }
+
+    /// Applies the fence of [`Control::fencing`], once (the loop calls it when its ports are
+    /// open, before it announces that it is ready); nothing without one.
+    pub fn fence(&self) -> Result<(), PartitionError> {
+        let taken = self.fence.lock().ok().and_then(|mut slot| slot.take());
+        if let Some((fence, parent)) = taken {
+            fence.apply().map_err(PartitionError::Isolation)?;
+            if let Some(parent) = parent {
+                watch_parent(parent);
+            }
+        }
+        Ok(())
     }
 
     /// Called by the loop once its ports are open and it is about to wait.
@@ -376,16 +415,18 @@ pub fn run_loop<S: Service>(
         .map_err(PartitionError::waitset)?;
     let mut heartbeat = Heartbeat::open(ipc, role, config.health.period())?;
     let mut report = Report::new(config, name, control);
+    let idle = config.ipc.idle.of(name);
+    let doorbell = (idle.mode == IdleMode::Doorbell && !wake.sockets && !config.ipc.poll)
+        .then(|| ipc.doorbell(role))
+        .transpose()?;
+    // Everything is open: from here on the partition can do only its job (`isolation`).
+    control.fence()?;
     tracing::info!(
         prefix = %config.ipc.service_prefix,
         heartbeat_ms = config.health.period().as_millis(),
         "{name} up"
     );
     control.set_ready();
-    let idle = config.ipc.idle.of(name);
-    let doorbell = (idle.mode == IdleMode::Doorbell && !wake.sockets && !config.ipc.poll)
-        .then(|| ipc.doorbell(role))
-        .transpose()?;
     tracing::info!(
         mode = ?idle.mode,
         spin_us = idle.spin_us,
@@ -500,9 +541,11 @@ pub fn partition_main(
 ) -> std::process::ExitCode {
     missionlink_platform::init_logging();
     crate::ipc::quiet_iceoryx2_log();
-    if args.exit_with_parent {
-        watch_parent(name);
-    }
+    // The launcher at start: the watch compares against it once the fence is up.
+    let parent = args
+        .exit_with_parent
+        .then(rustix::process::getppid)
+        .flatten();
     let config = match Config::resolve(args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
@@ -511,7 +554,9 @@ pub fn partition_main(
     if let Some(settings) = config.realtime.of(name) {
         crate::realtime::apply_and_log(name, settings);
     }
-    let control = Control::new().announcing_ready(config.ipc.state_dir(), name);
+    let control = Control::new()
+        .announcing_ready(config.ipc.state_dir(), name)
+        .fencing(Fence::of(name, &config), parent);
     if let Err(e) = control.handle_signals() {
         tracing::error!(%e, "{name} failed");
         return std::process::ExitCode::FAILURE;
@@ -520,7 +565,12 @@ pub fn partition_main(
     control.forget_ready();
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e @ PartitionError::Config(_)) => {
+        Err(
+            e @ (PartitionError::Config(_)
+            | PartitionError::Isolation(
+                IsolationError::NoSuchUser(_) | IsolationError::NotRoot { .. },
+            )),
+        ) => {
             tracing::error!(%e, "{name} failed");
             std::process::ExitCode::from(CONFIG_EXIT_CODE)
         }
@@ -541,19 +591,18 @@ pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
     std::process::ExitCode::from(CONFIG_EXIT_CODE)
 }
 
-/// Sends this process SIGTERM once its parent is gone (the process is re-parented and its parent
-/// ID changes), so it stops through its normal shutdown path: a safe stand-in for
+/// Sends this process SIGTERM once its parent `parent` is gone (the process is re-parented and
+/// its parent ID changes), so it stops through its normal shutdown path: a safe stand-in for
 /// PR_SET_PDEATHSIG, which would need unsafe code in the launcher.
-fn watch_parent(name: &str) {
-    let parent = rustix::process::getppid();
-    let name = name.to_owned();
+fn watch_parent(parent: rustix::process::Pid) {
+    let parent = Some(parent);
     let spawned = std::thread::Builder::new()
         .name("watch-parent".to_owned())
         .spawn(move || {
             loop {
                 std::thread::sleep(Duration::from_millis(100));
                 if rustix::process::getppid() != parent {
-                    tracing::warn!(partition = %name, "the launcher is gone: stopping");
+                    tracing::warn!("the launcher is gone: stopping");
                     let _ = rustix::process::kill_process(
                         rustix::process::getpid(),
                         rustix::process::Signal::TERM,

@@ -68,6 +68,11 @@ impl BoundLinks {
     }
 }
 
+/// The directory of the readiness announcements under the state directory `dir`.
+pub fn ready_dir(dir: &Path) -> PathBuf {
+    dir.join(READY)
+}
+
 /// Announces `links` in `dir` (atomically: a reader sees the old file or the new one).
 pub fn save_links(dir: &Path, links: &BoundLinks) -> io::Result<()> {
     let text = toml::to_string(links).map_err(io::Error::other)?;

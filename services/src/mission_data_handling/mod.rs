@@ -253,6 +253,9 @@ pub struct MissionDataHandling {
     active_areas: Option<AreaList>,
     area_generation: u64,
     automation: AutomationStatePayload,
+    /// Whether system automation, which carries out a #50000, is alive: its driver watches its
+    /// heartbeat ([`MissionDataHandling::set_automation_alive`]); taken as alive until told.
+    automation_alive: bool,
     /// Guidance's last progress: where the onboard geofence check starts from (ICD §7).
     navigation: GuidanceProgressPayload,
     events: Deque<FccEvent, EVENT_CAPACITY>,
@@ -342,6 +345,7 @@ impl MissionDataHandling {
             active_areas: None,
             area_generation: 0,
             automation: AutomationStatePayload::ON_GROUND,
+            automation_alive: true,
             navigation: GuidanceProgressPayload::IDLE,
             events: Deque::new(),
             waypoint_list: WaypointListPayload::EMPTY,
@@ -518,6 +522,14 @@ impl MissionDataHandling {
         self.automation = *state;
     }
 
+    /// Whether system automation is alive (its heartbeat, docs/design.md "Health"). While it is
+    /// not (hung, dead, or given up by the launcher: the FCC is degraded), its last published
+    /// state says nothing, and execute, return to home and land are refused (`WrongState`), as
+    /// while guidance is not alive: nothing would carry them out.
+    pub fn set_automation_alive(&mut self, alive: bool) {
+        self.automation_alive = alive;
+    }
+
     /// Handles one uplink message (wrapper to checksum) received at `now`. A frame error is
     /// returned for the driver to count and log; it is never answered (ICD §2).
     pub fn handle_frame(&mut self, now: Instant, bytes: &[u8]) -> Result<(), FrameError> {
@@ -534,6 +546,13 @@ impl MissionDataHandling {
 
     /// #50000 (ICD §4): the rule of system automation ([`automation::check_command`]).
     fn check_execute(&self, command: ExecuteCommand) -> Result<(), Reason> {
+        let flies = matches!(
+            command,
+            ExecuteCommand::Execute | ExecuteCommand::ReturnToHome | ExecuteCommand::Land
+        );
+        if flies && !self.automation_alive {
+            return Err(Reason::WrongState);
+        }
         automation::check_command(
             &self.automation,
             &self.waypoint_list,

@@ -1,0 +1,768 @@
+//! Isolation: each partition fences itself once it has opened its services, sockets and files
+//! (docs/design.md "Isolation", docs/deployment.md "Isolation"), so that a fault or a compromise
+//! in one partition reaches no more than that partition's inputs and outputs:
+//!
+//! 1. its user: started as root with `[isolation.<partition>] user = "..."`, it drops to that
+//!    user (supplementary groups, group, user) after the real-time settings and the key files,
+//!    which need root;
+//! 2. no new privileges (`prctl(PR_SET_NO_NEW_PRIVS)`): no set-user-ID program or file
+//!    capability can raise it again, and the kernel then lets an unprivileged process install
+//!    the filters below;
+//! 3. Landlock: the file system is read-only but for its own state (mission data handling's and
+//!    voting-monitoring's state directory; the readiness announcements for all), the latency
+//!    summaries and what iceoryx2 needs (its shared memory in `/dev/shm` and its root directory,
+//!    `/tmp/iceoryx2` by default); nothing may be executed; no TCP port may be bound or connected
+//!    (Landlock ABI 4); abstract Unix sockets and signals outside the partition are scoped out
+//!    (ABI 6). Best effort: what the kernel does not support is logged as not applied;
+//! 4. seccomp: an allow-list of the system calls its loop needs ([`allowed_syscalls`], grouped
+//!    with their reasons); only voting-monitoring may create inet sockets; no partition may exec,
+//!    fork or trace. A call outside the list kills the process (`SECCOMP_RET_KILL_PROCESS`, the
+//!    default: the launcher sees SIGSYS, names the partition and restarts it after its back-off)
+//!    or, with `on_violation = "errno"`, fails with EPERM.
+//!
+//! The fence is applied on the loop's thread while it is the only thread of the process (the
+//! threads started later, the doorbell's timer and the watch of the launcher, inherit all of
+//! it): Landlock below ABI 8 and the user drop act on the calling thread only.
+//!
+//! ```toml
+//! [isolation]
+//! enabled = true                  # false: no fence at all (say why in the deployment)
+//! on_violation = "kill"           # kill | errno
+//! [isolation.voting-monitoring]
+//! user = "missionlink"            # drop to this user when started as root; default: none
+//! # and [isolation.mission-data-handling], [isolation.system-automation],
+//! # [isolation.guidance-stub]
+//! ```
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use landlock::{
+    ABI, Access, AccessFs, AccessNet, CompatLevel, Compatible, PathBeneath, PathFd, Ruleset,
+    RulesetAttr, RulesetCreatedAttr, RulesetStatus, Scope,
+};
+use seccompiler::{
+    BpfProgram, SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter,
+    SeccompRule, TargetArch,
+};
+use serde::{Deserialize, Serialize};
+
+use crate::config::Config;
+
+/// What the kernel does with a system call outside a partition's allow-list.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Violation {
+    /// Kill the process (`SECCOMP_RET_KILL_PROCESS`): the launcher sees SIGSYS, reports the
+    /// partition by name and restarts it under its back-off and start limit. A partition that
+    /// tries what it must never do is not trusted to go on.
+    #[default]
+    Kill,
+    /// Fail the call with EPERM: the partition goes on and handles the error (for finding a
+    /// missing system call in a rig without losing the partition).
+    Errno,
+}
+
+/// The isolation of one partition (`[isolation.<partition>]`).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PartitionIsolation {
+    /// The user (a name of `/etc/passwd`, or a number) the partition drops to when it was
+    /// started as root; `None`: it keeps the user it was started as.
+    pub user: Option<String>,
+}
+
+/// `[isolation]`: on by default.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Isolation {
+    /// Fence every partition (no new privileges, Landlock, seccomp, the user).
+    pub enabled: bool,
+    /// What a forbidden system call does.
+    pub on_violation: Violation,
+    /// voting-monitoring.
+    #[serde(rename = "voting-monitoring")]
+    pub voting_monitoring: PartitionIsolation,
+    /// mission-data-handling.
+    #[serde(rename = "mission-data-handling")]
+    pub mission_data_handling: PartitionIsolation,
+    /// system-automation.
+    #[serde(rename = "system-automation")]
+    pub system_automation: PartitionIsolation,
+    /// guidance-stub.
+    #[serde(rename = "guidance-stub")]
+    pub guidance_stub: PartitionIsolation,
+}
+
+impl Default for Isolation {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            on_violation: Violation::Kill,
+            voting_monitoring: PartitionIsolation::default(),
+            mission_data_handling: PartitionIsolation::default(),
+            system_automation: PartitionIsolation::default(),
+            guidance_stub: PartitionIsolation::default(),
+        }
+    }
+}
+
+impl Isolation {
+    /// The settings of the partition named `partition`; `None` for another name.
+    pub fn of(&self, partition: &str) -> Option<&PartitionIsolation> {
+        // In the launcher's order of the partitions.
+        let index = crate::launcher::PARTITIONS
+            .iter()
+            .position(|p| *p == partition)?;
+        [
+            &self.voting_monitoring,
+            &self.mission_data_handling,
+            &self.system_automation,
+            &self.guidance_stub,
+        ]
+        .get(index)
+        .copied()
+    }
+}
+
+/// Why a partition could not fence itself as configured.
+#[derive(Debug)]
+pub enum IsolationError {
+    /// `user` names no user of `/etc/passwd`.
+    NoSuchUser(String),
+    /// A user is configured but the process is neither root nor that user.
+    NotRoot {
+        /// The configured user.
+        user: String,
+    },
+    /// The process has other threads, which a per-thread fence would leave out.
+    Threads(usize),
+    /// setgroups/setgid/setuid failed.
+    DropUser(std::io::Error),
+    /// prctl(PR_SET_NO_NEW_PRIVS) failed.
+    NoNewPrivs(std::io::Error),
+    /// The Landlock ruleset could not be built or applied.
+    Landlock(String),
+    /// The seccomp filter could not be built or installed.
+    Seccomp(String),
+}
+
+impl std::fmt::Display for IsolationError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NoSuchUser(u) => write!(f, "[isolation] user {u:?}: no such user"),
+            Self::NotRoot { user } => write!(
+                f,
+                "[isolation] user {user:?}: started neither as root nor as that user"
+            ),
+            Self::Threads(n) => write!(f, "{n} threads run: the fence needs the only one"),
+            Self::DropUser(e) => write!(f, "dropping to the configured user: {e}"),
+            Self::NoNewPrivs(e) => write!(f, "no_new_privs: {e}"),
+            Self::Landlock(e) => write!(f, "Landlock: {e}"),
+            Self::Seccomp(e) => write!(f, "seccomp: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for IsolationError {}
+
+/// A user to drop to: its user and group IDs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UserIds {
+    /// User ID.
+    pub uid: u32,
+    /// Primary group ID (the only group kept).
+    pub gid: u32,
+}
+
+/// Looks `user` up in `passwd` (the text of `/etc/passwd`): a name, or a number (then its
+/// group is the passwd entry's, else the same number).
+pub fn lookup_user_in(passwd: &str, user: &str) -> Option<UserIds> {
+    let entries = passwd.lines().filter_map(|line| {
+        let mut f = line.split(':');
+        let name = f.next()?;
+        let _password = f.next()?;
+        let uid = f.next()?.parse().ok()?;
+        let gid = f.next()?.parse().ok()?;
+        Some((name, UserIds { uid, gid }))
+    });
+    let number: Option<u32> = user.parse().ok();
+    let mut found = None;
+    for (name, ids) in entries {
+        if name == user || number == Some(ids.uid) {
+            found = Some(ids);
+            break;
+        }
+    }
+    found.or_else(|| number.map(|n| UserIds { uid: n, gid: n }))
+}
+
+/// Looks `user` up in `/etc/passwd`.
+pub fn lookup_user(user: &str) -> Result<UserIds, IsolationError> {
+    let passwd = std::fs::read_to_string("/etc/passwd").unwrap_or_default();
+    lookup_user_in(&passwd, user).ok_or_else(|| IsolationError::NoSuchUser(user.to_owned()))
+}
+
+/// Checks what the launcher can check before it starts any partition: every configured user
+/// exists.
+pub fn check_config(config: &Config) -> Result<(), IsolationError> {
+    if !config.isolation.enabled {
+        return Ok(());
+    }
+    for name in crate::launcher::PARTITIONS {
+        if let Some(user) = config.isolation.of(name).and_then(|p| p.user.as_deref()) {
+            lookup_user(user)?;
+        }
+    }
+    Ok(())
+}
+
+/// The fence of one partition, built from the configuration before the loop opens anything and
+/// applied once by [`Fence::apply`] (from `runtime::Control::fence`).
+#[derive(Debug, Clone)]
+pub struct Fence {
+    name: String,
+    inet: bool,
+    user: Option<String>,
+    on_violation: Violation,
+    /// Directories the partition may write beneath.
+    writable: Vec<PathBuf>,
+}
+
+/// What the fence applied, for the one log line at start.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Applied {
+    /// The user dropped to, if any.
+    pub user: Option<String>,
+    /// no_new_privs is set.
+    pub no_new_privs: bool,
+    /// How far Landlock was enforced ("full", "partial (...)", "not enforced (...)").
+    pub landlock: String,
+    /// The seccomp filter is installed.
+    pub seccomp: bool,
+}
+
+/// iceoryx2's root directory (its services, nodes and event sockets) as its configuration says:
+/// `/tmp/iceoryx2` by default.
+pub fn iceoryx2_root() -> PathBuf {
+    let root = iceoryx2::config::Config::global_config()
+        .global
+        .root_path()
+        .to_string();
+    PathBuf::from(root)
+}
+
+/// Where iceoryx2 0.10 keeps its shared memory on Linux (POSIX shared memory).
+pub const SHARED_MEMORY_DIR: &str = "/dev/shm";
+
+impl Fence {
+    /// The fence of the partition `name` under `config`; `None` when isolation is off.
+    pub fn of(name: &str, config: &Config) -> Option<Self> {
+        if !config.isolation.enabled {
+            return None;
+        }
+        let state = config.ipc.state_dir();
+        let mut writable = vec![
+            PathBuf::from(SHARED_MEMORY_DIR),
+            iceoryx2_root(),
+            crate::state::ready_dir(&state),
+        ];
+        // Mission data handling owns the lists; voting-monitoring announces its bound ports
+        // (state::save_links) beside them. The others write no state.
+        if name == crate::mission_data_handling::NAME || name == crate::voting_monitoring::NAME {
+            writable.push(state);
+        }
+        if let Some(dir) = &config.latency.summary_dir {
+            writable.push(dir.clone());
+        }
+        Some(Self {
+            name: name.to_owned(),
+            inet: name == crate::voting_monitoring::NAME,
+            user: config.isolation.of(name).and_then(|p| p.user.clone()),
+            on_violation: config.isolation.on_violation,
+            writable,
+        })
+    }
+
+    /// Applies the fence to this process (which must have one thread) and logs once what was
+    /// applied and what was not, with why. An error leaves the process as fenced as it got: the
+    /// caller ends it.
+    pub fn apply(&self) -> Result<Applied, IsolationError> {
+        let threads = thread_count();
+        if threads > 1 {
+            return Err(IsolationError::Threads(threads));
+        }
+        let mut applied = Applied::default();
+        // Root needed: look the user up and create the directories before dropping.
+        let drop_to = match &self.user {
+            Some(user) => Some((user.clone(), lookup_user(user)?)),
+            None => None,
+        };
+        for dir in &self.writable {
+            if let Err(e) = std::fs::create_dir_all(dir) {
+                tracing::warn!(dir = %dir.display(), %e, "cannot create a writable directory");
+            }
+        }
+        let ruleset = self.landlock_ruleset();
+        if let Some((user, ids)) = drop_to {
+            drop_user(&user, ids)?;
+            applied.user = Some(user);
+        }
+        rustix::thread::set_no_new_privs(true).map_err(|e| IsolationError::NoNewPrivs(e.into()))?;
+        applied.no_new_privs = true;
+        applied.landlock = match ruleset {
+            Ok(created) => match created.restrict_self() {
+                Ok(status) => match status.ruleset {
+                    RulesetStatus::FullyEnforced => "full".to_owned(),
+                    RulesetStatus::PartiallyEnforced => format!(
+                        "partial (the kernel's Landlock lacks some rights: {:?})",
+                        status.landlock
+                    ),
+                    RulesetStatus::NotEnforced => {
+                        format!("not enforced (the kernel: {:?})", status.landlock)
+                    }
+                },
+                Err(e) => return Err(IsolationError::Landlock(e.to_string())),
+            },
+            // A path that cannot be opened, a ruleset the kernel refuses: not applied, said.
+            Err(e) => format!("not applied ({e})"),
+        };
+        install_filter(self.inet, self.on_violation, Threads::All)?;
+        applied.seccomp = true;
+        tracing::info!(
+            partition = %self.name,
+            user = applied.user.as_deref().unwrap_or("(unchanged)"),
+            no_new_privs = applied.no_new_privs,
+            landlock = %applied.landlock,
+            seccomp = %format_args!(
+                "allow-list ({}), violation: {:?}",
+                if self.inet { "inet sockets allowed" } else { "Unix sockets only" },
+                self.on_violation
+            ),
+            "isolation applied"
+        );
+        Ok(applied)
+    }
+
+    fn landlock_ruleset(&self) -> Result<landlock::RulesetCreated, String> {
+        // The newest ABI this code was written and tested for; best effort below it.
+        let abi = ABI::V6;
+        let read = AccessFs::ReadFile | AccessFs::ReadDir;
+        let mut ruleset = Ruleset::default()
+            .set_compatibility(CompatLevel::BestEffort)
+            .handle_access(AccessFs::from_all(abi))
+            .map_err(|e| e.to_string())?
+            .handle_access(AccessNet::from_all(abi))
+            .map_err(|e| e.to_string())?
+            .scope(Scope::from_all(abi))
+            .map_err(|e| e.to_string())?
+            .create()
+            .map_err(|e| e.to_string())?
+            .add_rule(PathBeneath::new(
+                PathFd::new("/").map_err(|e| e.to_string())?,
+                read,
+            ))
+            .map_err(|e| e.to_string())?;
+        // Everything but executing beneath the writable directories.
+        let write = AccessFs::from_all(abi) & !AccessFs::Execute;
+        for dir in &self.writable {
+            match PathFd::new(dir) {
+                Ok(fd) => {
+                    ruleset = ruleset
+                        .add_rule(PathBeneath::new(fd, write))
+                        .map_err(|e| e.to_string())?;
+                }
+                Err(e) => tracing::warn!(dir = %dir.display(), %e, "not writable: cannot open it"),
+            }
+        }
+        Ok(ruleset)
+    }
+}
+
+/// The number of threads of this process (`/proc/self/task`); 1 when it cannot be read.
+fn thread_count() -> usize {
+    std::fs::read_dir("/proc/self/task").map_or(1, |d| d.count())
+}
+
+fn drop_user(user: &str, ids: UserIds) -> Result<(), IsolationError> {
+    use rustix::process::{Gid, Uid, geteuid};
+    let current = geteuid().as_raw();
+    if current == ids.uid {
+        return Ok(());
+    }
+    if !geteuid().is_root() {
+        return Err(IsolationError::NotRoot {
+            user: user.to_owned(),
+        });
+    }
+    // The process has one thread (checked by the caller), so the thread's credentials are the
+    // process's.
+    let gid = Gid::from_raw(ids.gid);
+    let uid = Uid::from_raw(ids.uid);
+    rustix::thread::set_thread_groups(&[gid]).map_err(|e| IsolationError::DropUser(e.into()))?;
+    rustix::thread::set_thread_res_gid(gid, gid, gid)
+        .map_err(|e| IsolationError::DropUser(e.into()))?;
+    rustix::thread::set_thread_res_uid(uid, uid, uid)
+        .map_err(|e| IsolationError::DropUser(e.into()))?;
+    Ok(())
+}
+
+/// A system call allowed under a condition on its arguments (all must hold).
+type Conditions = Vec<(u8, SeccompCmpOp, u64)>;
+
+/// The system calls a partition's loop needs, each with the conditions on its arguments (empty:
+/// any arguments), grouped by why. Found by running every partition under `strace -ff` through
+/// the demo, kill -9 and restarts of peers, and reading what iceoryx2 0.10 does then
+/// (docs/deployment.md "Isolation" lists the groups).
+pub fn allowed_syscalls(inet: bool) -> BTreeMap<i64, Vec<Conditions>> {
+    let mut allowed: BTreeMap<i64, Vec<Conditions>> = BTreeMap::new();
+    let mut any = |calls: &[libc::c_long]| {
+        for call in calls {
+            allowed.insert(*call, Vec::new());
+        }
+    };
+    // Memory: the allocator, thread stacks.
+    any(&[
+        libc::SYS_brk,
+        libc::SYS_mmap,
+        libc::SYS_munmap,
+        libc::SYS_mremap,
+        libc::SYS_mprotect,
+        libc::SYS_madvise,
+    ]);
+    // Files: iceoryx2's shared memory (/dev/shm), its root directory (services, nodes, locks,
+    // event sockets; created, locked, listed and removed again when a peer restarts or a dead
+    // node is cleaned up), the state directory, the latency summaries, /proc/self reads.
+    // Landlock decides where.
+    any(&[
+        libc::SYS_openat,
+        libc::SYS_close,
+        libc::SYS_read,
+        libc::SYS_pread64,
+        libc::SYS_write,
+        libc::SYS_pwrite64,
+        libc::SYS_readv,
+        libc::SYS_writev,
+        libc::SYS_lseek,
+        libc::SYS_newfstatat,
+        libc::SYS_fstat,
+        libc::SYS_statx,
+        libc::SYS_faccessat,
+        libc::SYS_faccessat2,
+        libc::SYS_getdents64,
+        libc::SYS_readlinkat,
+        libc::SYS_fcntl,
+        libc::SYS_flock,
+        libc::SYS_fsync,
+        libc::SYS_fdatasync,
+        libc::SYS_ftruncate,
+        libc::SYS_fallocate,
+        libc::SYS_fchmod,
+        libc::SYS_umask,
+        libc::SYS_unlinkat,
+        libc::SYS_mkdirat,
+        libc::SYS_renameat,
+        libc::SYS_renameat2,
+        libc::SYS_fstatfs,
+        libc::SYS_statfs,
+        libc::SYS_getcwd,
+        libc::SYS_dup,
+        libc::SYS_dup3,
+    ]);
+    #[cfg(target_arch = "x86_64")]
+    any(&[
+        libc::SYS_access,
+        libc::SYS_stat,
+        libc::SYS_lstat,
+        libc::SYS_readlink,
+        libc::SYS_unlink,
+        libc::SYS_mkdir,
+        libc::SYS_rmdir,
+        libc::SYS_rename,
+        libc::SYS_poll,
+        libc::SYS_epoll_wait,
+        libc::SYS_dup2,
+    ]);
+    // Waiting: the WaitSet (epoll), timers, the doorbell's semaphore (futex), the spin's yield.
+    any(&[
+        libc::SYS_epoll_create1,
+        libc::SYS_epoll_ctl,
+        libc::SYS_epoll_pwait,
+        libc::SYS_epoll_pwait2,
+        libc::SYS_ppoll,
+        libc::SYS_futex,
+        libc::SYS_sched_yield,
+        libc::SYS_nanosleep,
+        libc::SYS_clock_nanosleep,
+        libc::SYS_clock_gettime,
+        libc::SYS_clock_getres,
+        libc::SYS_gettimeofday,
+    ]);
+    // Sockets: iceoryx2's events are Unix datagram sockets in its root directory; only
+    // voting-monitoring's UDP links are inet. Creating one is what the domain condition checks;
+    // the calls on a socket need no condition (no other partition holds an inet socket).
+    let mut domains: Vec<Conditions> = vec![vec![(0, SeccompCmpOp::Eq, libc::AF_UNIX as u64)]];
+    if inet {
+        domains.push(vec![(0, SeccompCmpOp::Eq, libc::AF_INET as u64)]);
+        domains.push(vec![(0, SeccompCmpOp::Eq, libc::AF_INET6 as u64)]);
+    }
+    allowed.insert(libc::SYS_socket, domains);
+    let mut any = |calls: &[libc::c_long]| {
+        for call in calls {
+            allowed.insert(*call, Vec::new());
+        }
+    };
+    any(&[
+        libc::SYS_bind,
+        libc::SYS_connect,
+        libc::SYS_sendto,
+        libc::SYS_recvfrom,
+        libc::SYS_sendmsg,
+        libc::SYS_recvmsg,
+        libc::SYS_sendmmsg,
+        libc::SYS_recvmmsg,
+        libc::SYS_getsockname,
+        libc::SYS_getpeername,
+        libc::SYS_setsockopt,
+        libc::SYS_getsockopt,
+        libc::SYS_shutdown,
+        libc::SYS_ioctl,
+    ]);
+    // Signals and the process: SIGTERM/SIGINT/SIGUSR1 handlers, the watch of the launcher
+    // (getppid, and SIGTERM to itself), abort on a fatal error, identity queries.
+    any(&[
+        libc::SYS_rt_sigaction,
+        libc::SYS_rt_sigprocmask,
+        libc::SYS_rt_sigreturn,
+        libc::SYS_sigaltstack,
+        libc::SYS_restart_syscall,
+        libc::SYS_getpid,
+        libc::SYS_gettid,
+        libc::SYS_getppid,
+        libc::SYS_getuid,
+        libc::SYS_geteuid,
+        libc::SYS_getgid,
+        libc::SYS_getegid,
+        libc::SYS_getrandom,
+        libc::SYS_sched_getaffinity,
+        libc::SYS_sched_getscheduler,
+        libc::SYS_sched_getparam,
+        libc::SYS_prlimit64,
+        libc::SYS_uname,
+        libc::SYS_exit,
+        libc::SYS_exit_group,
+        libc::SYS_set_robust_list,
+        libc::SYS_rseq,
+    ]);
+    let own = rustix::process::getpid().as_raw_nonzero().get() as u64;
+    // Signals to itself only (the watch's SIGTERM, abort's SIGABRT).
+    allowed.insert(libc::SYS_kill, vec![vec![(0, SeccompCmpOp::Eq, own)]]);
+    allowed.insert(libc::SYS_tgkill, vec![vec![(0, SeccompCmpOp::Eq, own)]]);
+    // Threads (the doorbell's timer, the watch of the launcher) but never a new process: clone
+    // only with CLONE_THREAD; clone3 passes its flags in memory a filter cannot read, so it
+    // fails with ENOSYS (the second filter) and the C library falls back to clone.
+    let thread = libc::CLONE_THREAD as u64;
+    allowed.insert(
+        libc::SYS_clone,
+        vec![vec![(0, SeccompCmpOp::MaskedEq(thread), thread)]],
+    );
+    allowed.insert(libc::SYS_clone3, Vec::new());
+    // Naming a new thread (PR_SET_NAME) and nothing else of prctl.
+    allowed.insert(
+        libc::SYS_prctl,
+        vec![vec![(0, SeccompCmpOp::Eq, libc::PR_SET_NAME as u64)]],
+    );
+    allowed
+}
+
+/// The BPF programs of a partition's filter, in the order they are installed: the one that
+/// makes clone3 fail with ENOSYS and the allow-list ([`allowed_syscalls`]). The kernel runs both and takes the stricter answer.
+pub fn filter(inet: bool, on_violation: Violation) -> Result<Vec<BpfProgram>, IsolationError> {
+    let arch = TargetArch::try_from(std::env::consts::ARCH)
+        .map_err(|e| IsolationError::Seccomp(e.to_string()))?;
+    let err = |e: seccompiler::BackendError| IsolationError::Seccomp(e.to_string());
+    let mut rules: BTreeMap<i64, Vec<SeccompRule>> = BTreeMap::new();
+    for (call, alternatives) in allowed_syscalls(inet) {
+        let mut chain = Vec::new();
+        for conditions in alternatives {
+            let conditions = conditions
+                .into_iter()
+                .map(|(arg, op, value)| {
+                    SeccompCondition::new(arg, SeccompCmpArgLen::Qword, op, value)
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(err)?;
+            chain.push(SeccompRule::new(conditions).map_err(err)?);
+        }
+        rules.insert(call, chain);
+    }
+    let violation = match on_violation {
+        Violation::Kill => SeccompAction::KillProcess,
+        Violation::Errno => SeccompAction::Errno(libc::EPERM as u32),
+    };
+    let allow_list: BpfProgram = SeccompFilter::new(rules, violation, SeccompAction::Allow, arch)
+        .map_err(err)?
+        .try_into()
+        .map_err(|e: seccompiler::BackendError| err(e))?;
+    let clone3: BpfProgram = SeccompFilter::new(
+        BTreeMap::from([(libc::SYS_clone3, Vec::new())]),
+        SeccompAction::Allow,
+        SeccompAction::Errno(libc::ENOSYS as u32),
+        arch,
+    )
+    .map_err(err)?
+    .try_into()
+    .map_err(|e: seccompiler::BackendError| err(e))?;
+    // The clone3 filter first: installing a filter calls prctl and seccomp, which the allow-list
+    // forbids.
+    Ok(vec![clone3, allow_list])
+}
+
+/// Which threads a filter is installed on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Threads {
+    /// Every thread of the process (`SECCOMP_FILTER_FLAG_TSYNC`): a partition.
+    All,
+    /// The calling thread only: the benchmark that runs the same calls with and without the
+    /// filter in one process (benches/isolation.rs).
+    This,
+}
+
+/// Installs the seccomp filter of a partition (`inet`: voting-monitoring's) on `threads`; sets
+/// no_new_privs on the calling thread first (the kernel requires it of an unprivileged process).
+pub fn install_filter(
+    inet: bool,
+    on_violation: Violation,
+    threads: Threads,
+) -> Result<(), IsolationError> {
+    for program in &filter(inet, on_violation)? {
+        match threads {
+            Threads::All => seccompiler::apply_filter_all_threads(program),
+            Threads::This => seccompiler::apply_filter(program),
+        }
+        .map_err(|e| IsolationError::Seccomp(e.to_string()))?;
+    }
+    Ok(())
+}
+
+/// Whether `/proc/<pid>/status` (its text) shows no_new_privs and a seccomp filter.
+pub fn status_shows_fence(status: &str) -> bool {
+    let field = |name: &str| {
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix(name))
+            .map(str::trim)
+    };
+    field("NoNewPrivs:") == Some("1") && field("Seccomp:") == Some("2")
+}
+
+/// The directories `fence` may write beneath.
+pub fn writable_dirs(fence: &Fence) -> &[PathBuf] {
+    &fence.writable
+}
+
+/// Whether `path` lies beneath a writable directory of `fence`.
+pub fn may_write(fence: &Fence, path: &Path) -> bool {
+    fence.writable.iter().any(|d| path.starts_with(d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn users_are_found_by_name_or_number() {
+        let passwd =
+            "root:x:0:0:root:/root:/bin/bash\nmissionlink:x:990:985::/:/usr/sbin/nologin\n";
+        assert_eq!(
+            lookup_user_in(passwd, "missionlink"),
+            Some(UserIds { uid: 990, gid: 985 })
+        );
+        assert_eq!(
+            lookup_user_in(passwd, "990"),
+            Some(UserIds { uid: 990, gid: 985 })
+        );
+        assert_eq!(
+            lookup_user_in(passwd, "4242"),
+            Some(UserIds {
+                uid: 4242,
+                gid: 4242
+            })
+        );
+        assert_eq!(lookup_user_in(passwd, "nobody-here"), None);
+    }
+
+    #[test]
+    fn the_section_is_on_by_default_and_per_partition() {
+        let defaults = Config::default();
+        assert!(defaults.isolation.enabled);
+        assert_eq!(defaults.isolation.on_violation, Violation::Kill);
+        let c = Config::parse(
+            "[isolation]\non_violation = \"errno\"\n[isolation.guidance-stub]\nuser = \"nobody\"\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(c.isolation.on_violation, Violation::Errno);
+        assert_eq!(
+            c.isolation.of("guidance-stub").unwrap().user.as_deref(),
+            Some("nobody")
+        );
+        assert_eq!(c.isolation.of("voting-monitoring").unwrap().user, None);
+        assert_eq!(
+            Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
+            c
+        );
+        assert!(Config::parse("[isolation.gcs]\nuser = \"x\"\n", Path::new("f")).is_err());
+    }
+
+    #[test]
+    fn only_voting_monitoring_may_create_inet_sockets_and_no_partition_may_exec() {
+        let vm = allowed_syscalls(true);
+        let other = allowed_syscalls(false);
+        assert_eq!(vm.get(&libc::SYS_socket).unwrap().len(), 3);
+        assert_eq!(other.get(&libc::SYS_socket).unwrap().len(), 1);
+        for forbidden in [
+            libc::SYS_execve,
+            libc::SYS_execveat,
+            libc::SYS_ptrace,
+            libc::SYS_setuid,
+            libc::SYS_socketpair,
+            libc::SYS_mount,
+            libc::SYS_bpf,
+        ] {
+            assert!(!vm.contains_key(&forbidden) && !other.contains_key(&forbidden));
+        }
+        #[cfg(target_arch = "x86_64")]
+        for forbidden in [libc::SYS_fork, libc::SYS_vfork] {
+            assert!(!vm.contains_key(&forbidden));
+        }
+        assert_eq!(filter(true, Violation::Kill).unwrap().len(), 2);
+        assert_eq!(filter(false, Violation::Errno).unwrap().len(), 2);
+    }
+
+    #[test]
+    fn the_writable_directories_are_the_partitions_own() {
+        let mut config = Config::default();
+        config.ipc.state_dir = Some(PathBuf::from("/var/lib/missionlink"));
+        let mdh = Fence::of("mission-data-handling", &config).unwrap();
+        let sa = Fence::of("system-automation", &config).unwrap();
+        let lists = Path::new("/var/lib/missionlink/active-lists.frames");
+        assert!(may_write(&mdh, lists));
+        assert!(!may_write(&sa, lists), "{:?}", writable_dirs(&sa));
+        assert!(may_write(
+            &sa,
+            Path::new("/var/lib/missionlink/ready/system-automation")
+        ));
+        assert!(may_write(&sa, Path::new("/dev/shm/iox2_x")));
+        config.isolation.enabled = false;
+        assert!(Fence::of("system-automation", &config).is_none());
+    }
+
+    #[test]
+    fn a_status_shows_the_fence() {
+        assert!(status_shows_fence(
+            "Name:\tx\nNoNewPrivs:\t1\nSeccomp:\t2\n"
+        ));
+        assert!(!status_shows_fence("NoNewPrivs:\t0\nSeccomp:\t0\n"));
+    }
+}
