@@ -232,7 +232,15 @@ impl TryFrom<u8> for Link {
 
 /// A STANAG frame crossing shared memory: opaque bytes plus metadata. The protocol code views
 /// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::FramePayload/v3")]
 pub struct FramePayload {
@@ -282,7 +290,17 @@ impl FramePayload {
 }
 
 /// One waypoint of the assembled list, in flight-plan order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::WaypointEntry/v3")]
 pub struct WaypointEntry {
@@ -379,7 +397,15 @@ impl WaypointEntry {
 
 /// `fcc/mission/waypoint-list`: the active waypoint list with its take-off height and route
 /// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::WaypointListPayload/v3")]
 pub struct WaypointListPayload {
@@ -443,7 +469,17 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
 }
 
 /// Altitude bounds of an area (#2012 bits 4 to 6), each optional.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::AreaAltitudes/v3")]
 pub struct AreaAltitudes {
@@ -505,7 +541,17 @@ impl AreaAltitudes {
 }
 
 /// A polygonal area: the fly-zone or a polygonal no-fly-zone.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::PolygonArea/v3")]
 pub struct PolygonArea {
@@ -542,7 +588,17 @@ impl PolygonArea {
 }
 
 /// A circular no-fly-zone, kept apart from the polygons as the paper's Figure 8 does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::CircleArea/v3")]
 pub struct CircleArea {
@@ -577,7 +633,15 @@ impl CircleArea {
 
 /// `fcc/mission/area-list`: the active area list (ICD §5.3, §7): one fly-zone polygon, the
 /// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::AreaListPayload/v3")]
 pub struct AreaListPayload {
@@ -668,7 +732,17 @@ impl TryFrom<u8> for FlightPhase {
 }
 
 /// `fcc/automation/state`: the flight phase and which functions are active (paper §2.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::AutomationStatePayload/v3")]
 pub struct AutomationStatePayload {
@@ -714,7 +788,17 @@ impl AutomationStatePayload {
 }
 
 /// `fcc/automation/command`: a #50000 command that mission data handling accepted (ICD §4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::AutomationCommandPayload/v3")]
 pub struct AutomationCommandPayload {
@@ -742,7 +826,17 @@ pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration:
 /// from its event loop on a fixed period, so a partition that is stopped (SIGSTOP), stuck in a
 /// step or dead sends none; whoever watches it takes the time the sample arrived, not
 /// `time_ns`, and the period the partition says it beats at.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::HeartbeatPayload/v3")]
 pub struct HeartbeatPayload {
@@ -759,7 +853,16 @@ pub struct HeartbeatPayload {
 }
 
 /// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
-#[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[type_name("missionlink::GuidanceProgressPayload/v3")]
 pub struct GuidanceProgressPayload {

@@ -526,6 +526,8 @@ pub struct Config {
     pub signing: Signing,
     /// Real-time settings per partition.
     pub realtime: Realtime,
+    /// The bridge to another host (off by default; docs/two-hosts.md).
+    pub bridge: crate::bridge_config::Bridge,
 }
 
 /// A configuration file that cannot be used.

@@ -7,6 +7,7 @@
 //! in one process on `local::Service`, and a [`runtime::Control`] stops it from another thread.
 
 pub mod binaries;
+pub mod bridge_config;
 pub mod clock;
 pub mod config;
 pub mod doorbell;

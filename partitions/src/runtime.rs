@@ -544,7 +544,7 @@ pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
 /// Sends this process SIGTERM once its parent is gone (the process is re-parented and its parent
 /// ID changes), so it stops through its normal shutdown path: a safe stand-in for
 /// PR_SET_PDEATHSIG, which would need unsafe code in the launcher.
-fn watch_parent(name: &str) {
+pub fn watch_parent(name: &str) {
     let parent = rustix::process::getppid();
     let name = name.to_owned();
     let spawned = std::thread::Builder::new()

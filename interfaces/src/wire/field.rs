@@ -170,7 +170,20 @@ unsigned_codec!(U3, u32, 3);
 
 /// BAM4 angle (ICD §3): a signed 32-bit binary angle, LSB = pi / 2^31 rad. Latitude and
 /// longitude on WGS-84. One LSB is about 9.3 mm of latitude.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 pub struct Angle(i32);
 
@@ -235,7 +248,20 @@ impl Codec for Angle {
 }
 
 /// ALT3 altitude or height (ICD §3): a signed 24-bit integer, LSB 0.02 m.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 pub struct Altitude(i32);
 
@@ -297,7 +323,20 @@ impl Codec for Altitude {
 }
 
 /// SPD2 speed (ICD §3): an unsigned 16-bit integer, LSB 0.5 m/s.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 pub struct Speed(u16);
 
@@ -336,7 +375,20 @@ impl fmt::Debug for Speed {
 unsigned_codec!(Speed, u16, 2);
 
 /// Safety offset of #2011 and #3013 (ICD §4): an unsigned 16-bit distance, LSB 0.1 m.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 pub struct SafetyOffset(u16);
 
@@ -382,7 +434,20 @@ unsigned_codec!(SafetyOffset, u16, 2);
 /// U4 checksum of ICD §11 (ext): the CRC-32/ISO-HDLC of a list's canonical form, carried by
 /// #13000 field 7, #2011 field 7, #14000 field 7 and #50001 fields 8 and 9. Every bit pattern is
 /// a checksum; what it covers is §11's business, not the wire's.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(from = "u32", into = "u32"))]
@@ -431,7 +496,19 @@ unsigned_codec!(Checksum, u32, 4);
 /// accepts in flight, 1..=32 (absent = 1). A U1 in #13000 field 6; in #2011 field 7 the same
 /// value in a U4 (see `WindowOrChecksum`). A value outside 1..=32 does not decode (`OutOfRange`,
 /// reason `Malformed`), so a window held is always one a receiver of edition 2 accepts.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(try_from = "u32", into = "u32"))]
@@ -518,7 +595,20 @@ impl Codec for TransferWindow {
 ///
 /// A time stamp is an identity (ICD §3): together with Source ID and Message Type it names one
 /// message. The U5 runs out in 2034-11-01.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, ZeroCopySend)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    ZeroCopySend,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[repr(C)]
 pub struct Timestamp(u64);
 
