@@ -137,8 +137,10 @@ pub fn zenoh_config(bridge: &Bridge) -> Result<zenoh::Config, BridgeError> {
         // and again after a cut.
         ("connect/timeout_ms", "0".to_owned()),
         ("connect/exit_on_failure", "false".to_owned()),
-        ("connect/retry/period_init_ms", "250".to_owned()),
-        ("connect/retry/period_max_ms", "1000".to_owned()),
+        (
+            "connect/retry",
+            "{period_init_ms: 250, period_max_ms: 1000, period_increase_factor: 2}".to_owned(),
+        ),
         ("transport/link/tx/lease", "2000".to_owned()),
     ] {
         config

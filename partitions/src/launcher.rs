@@ -427,8 +427,14 @@ impl BridgeChild {
             .as_mut()
             .and_then(|c| c.try_wait().ok().flatten());
         if let Some(status) = died {
-            tracing::error!(status = %describe(status), "bridge died; restarting it");
             self.child = None;
+            if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) {
+                // Starting it again cannot help: its configuration cannot work.
+                tracing::error!(status = %describe(status), "bridge not started again: its configuration cannot work");
+                self.enabled = false;
+                return;
+            }
+            tracing::error!(status = %describe(status), "bridge died; restarting it");
             self.start_at = Some(Instant::now() + restart_delay);
         }
         if self.start_at.is_some_and(|t| Instant::now() >= t) {
