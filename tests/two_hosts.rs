@@ -303,20 +303,25 @@ fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidan
         let guidance = match guidance {
             RemoteGuidance::Stub => FccProcess::command(&bin, "guidance-stub", &config).unwrap(),
             RemoteGuidance::Python => {
+                let g = &config.guidance;
                 let mut command = Command::new(python());
                 command
                     .arg(
                         PathBuf::from(env!("CARGO_MANIFEST_DIR"))
                             .join("partitions/python/missionlink_guidance.py"),
                     )
-                    .args(["--prefix", &config.ipc.service_prefix])
-                    .args(["--time-scale", &config.guidance.time_scale.to_string()])
-                    .args(["--heartbeat-ms", &config.health.period_ms.to_string()])
+                    .args(["--service-prefix", &config.ipc.service_prefix])
+                    .args(["--time-scale", &g.time_scale.to_string()])
+                    .args(["--start-latitude", &g.start_latitude_deg.to_string()])
+                    .args(["--start-longitude", &g.start_longitude_deg.to_string()])
+                    .args(["--climb-rate", &g.climb_rate_mps.to_string()])
+                    .args(["--descent-rate", &g.descent_rate_mps.to_string()])
+                    .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
                     .args([
-                        "--start",
-                        &config.guidance.start_latitude_deg.to_string(),
-                        &config.guidance.start_longitude_deg.to_string(),
-                    ]);
+                        "--heartbeat-period-ms",
+                        &config.health.period_ms.to_string(),
+                    ])
+                    .stdin(Stdio::null());
                 command
             }
         };
@@ -460,4 +465,9 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
 #[test]
 fn the_fcc_on_one_host_flies_with_the_guidance_stub_on_another() {
     two_hosts("stub", RemoteGuidance::Stub);
+}
+
+#[test]
+fn the_fcc_on_one_host_flies_with_the_python_guidance_on_another() {
+    two_hosts("py", RemoteGuidance::Python);
 }
