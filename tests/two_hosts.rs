@@ -24,11 +24,11 @@
 
 mod common;
 
-use std::os::fd::AsFd;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::netns::{ADDR_A, Hosts};
 use common::*;
 use missionlink_interfaces::wire;
 use missionlink_partitions::binaries;
@@ -40,103 +40,9 @@ use missionlink_services::ground_station::{GcsError, GcsEvent};
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(60);
 
-/// Host A's and host B's addresses on the veth.
-const ADDR_A: &str = "169.254.77.1";
-const ADDR_B: &str = "169.254.77.2";
 /// The Zenoh port host A's bridge listens on, inside the test's own namespace (no other
 /// process can hold it there).
 const ZENOH_PORT: u16 = 7447;
-
-fn ip(args: &[&str]) {
-    let out = Command::new("ip").args(args).output().unwrap_or_else(|e| {
-        panic!("cannot run `ip` (iproute2; .ci/run and tools/test install it): {e}")
-    });
-    assert!(
-        out.status.success(),
-        "ip {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// The two namespaces and the veth pair of one test; removed when dropped.
-struct Hosts {
-    a: String,
-    b: String,
-    veth_a: String,
-}
-
-impl Hosts {
-    /// Makes namespaces and a veth pair named after `tag` and this process (unique to the run).
-    fn new(tag: &str) -> Self {
-        assert!(
-            rustix::process::geteuid().is_root(),
-            "tests/two_hosts.rs needs root (network namespaces and a veth pair): run it as root, as CI's .ci/run does"
-        );
-        let id = std::process::id();
-        let hosts = Self {
-            a: format!("ml-{tag}-{id}-a"),
-            b: format!("ml-{tag}-{id}-b"),
-            // Interface names are at most 15 bytes.
-            veth_a: format!("ml{tag}{}a", id % 100_000),
-        };
-        let veth_b = format!("ml{tag}{}b", id % 100_000);
-        ip(&["netns", "add", &hosts.a]);
-        ip(&["netns", "add", &hosts.b]);
-        ip(&[
-            "link",
-            "add",
-            &hosts.veth_a,
-            "type",
-            "veth",
-            "peer",
-            "name",
-            &veth_b,
-        ]);
-        ip(&["link", "set", &hosts.veth_a, "netns", &hosts.a]);
-        ip(&["link", "set", &veth_b, "netns", &hosts.b]);
-        for (ns, dev, addr) in [
-            (&hosts.a, &hosts.veth_a, ADDR_A),
-            (&hosts.b, &veth_b, ADDR_B),
-        ] {
-            ip(&["-n", ns, "addr", "add", &format!("{addr}/30"), "dev", dev]);
-            ip(&["-n", ns, "link", "set", dev, "up"]);
-            ip(&["-n", ns, "link", "set", "lo", "up"]);
-        }
-        hosts
-    }
-
-    /// Moves the calling thread into namespace `ns`; processes it starts afterwards run there.
-    fn enter(ns: &str) {
-        let file = std::fs::File::open(format!("/run/netns/{ns}")).unwrap();
-        rustix::thread::move_into_link_name_space(
-            file.as_fd(),
-            Some(rustix::thread::LinkNameSpaceType::Network),
-        )
-        .unwrap();
-    }
-
-    /// Sets the veth down (`false`) or up.
-    fn link(&self, up: bool) {
-        ip(&[
-            "-n",
-            &self.a,
-            "link",
-            "set",
-            &self.veth_a,
-            if up { "up" } else { "down" },
-        ]);
-    }
-}
-
-impl Drop for Hosts {
-    fn drop(&mut self) {
-        // Deleting a namespace deletes the veth end in it, and with it the pair.
-        for ns in [&self.a, &self.b] {
-            let _ = Command::new("ip").args(["netns", "del", ns]).status();
-        }
-    }
-}
 
 /// Host A's configuration (the rig's) with the bridge listening on the veth: the lists and
 /// automation state go out, guidance's progress and heartbeat come in.

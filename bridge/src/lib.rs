@@ -323,6 +323,10 @@ fn run_outgoing(
         .map(|s| waitset.attach_notification(s.listener()))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| BridgeError::WaitSet(format!("{e:?}")))?;
+    // The stop request is looked at every tick, also with no service going out.
+    let _tick = waitset
+        .attach_interval(TICK)
+        .map_err(|e| BridgeError::WaitSet(format!("{e:?}")))?;
     let mut header = Vec::with_capacity(header::FIXED_LEN + 64);
     control.set_ready();
     while !control.stop_requested() {
