@@ -1,5 +1,5 @@
-//! The header every sample carries across Zenoh, as the sample's attachment (docs/icd.md,
-//! "Across hosts"): which contract the raw bytes are (type name, size, contract version), which
+//! The header every sample carries across Zenoh, as the sample's attachment (ICD §14,
+//! docs/icd.md): which contract the raw bytes are (type name, size, contract version), which
 //! bridge sent them and its sequence number for the service. Sans-IO: bytes in, a value or a
 //! reason out; the receiver refuses a sample whose header does not match its own contract.
 //!

@@ -1,7 +1,7 @@
 //! The bridge: a process of its own that forwards chosen iceoryx2 services of this host to
 //! Zenoh key expressions and takes others from Zenoh into iceoryx2, so that partitions run on
 //! two hosts (docs/two-hosts.md; docs/design.md "Across hosts"; the key expressions and the
-//! header in docs/icd.md "Across hosts").
+//! header in ICD §14, docs/icd.md).
 //!
 //! - Samples cross as their raw fixed-layout bytes ([`raw`]) with a [`header`] as the Zenoh
 //!   attachment: the contract's type name, size and version, checked on arrival. A mismatch is
