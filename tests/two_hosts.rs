@@ -48,6 +48,10 @@ const ZENOH_PORT: u16 = 7447;
 /// automation state go out, guidance's progress and heartbeat come in.
 fn bridge_a(config: &mut Config) {
     config.launcher.without = vec!["guidance-stub".to_owned()];
+    // Two FCC hosts, four bridges and two guidances run on this machine at once (and the
+    // other test beside): a heartbeat period of 200 ms (hung after 500 ms) keeps a partition
+    // that is merely scheduled late from being taken for a hung one.
+    config.health.period_ms = 200;
     config.bridge = Bridge {
         enabled: true,
         mode: Mode::Peer,
@@ -297,22 +301,20 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
         logs(&fcc)
     );
 
-    // The link is cut: the remote guidance falls silent for host A.
-    let alive_before = count(
-        &fcc.log_text(),
-        &["alive (not started by the launcher)", "partition=guidance"],
-    );
+    // The link is cut: the remote guidance falls silent for host A. (Lines logged before the
+    // cut, by a heartbeat late on a loaded machine, do not count.)
+    let alive = ["alive (not started by the launcher)", "partition=guidance"];
+    let silent = [
+        "not alive (not started by the launcher",
+        "partition=guidance",
+    ];
+    let refusing = ["guidance not alive"];
+    let text = fcc.log_text();
+    let (silent_before, refusing_before) = (count(&text, &silent), count(&text, &refusing));
     let cut = Instant::now();
     hosts.link(false);
-    let silent_after = wait_for_line(
-        &fcc,
-        &[
-            "not alive (not started by the launcher",
-            "partition=guidance",
-        ],
-        0,
-    );
-    wait_for_line(&fcc, &["guidance not alive"], 0);
+    let silent_after = wait_for_line(&fcc, &silent, silent_before);
+    wait_for_line(&fcc, &refusing, refusing_before);
     assert_eq!(
         execute(&mut link, &mut seen),
         Some(wire::Reason::WrongState),
@@ -325,13 +327,11 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
         rig.config.health.period_ms
     );
 
+    // Alive lines from here on are the link's return (the link is down: nothing beats).
+    let alive_down = count(&fcc.log_text(), &alive);
     // The link is back: the same processes recover.
     hosts.link(true);
-    wait_for_line(
-        &fcc,
-        &["alive (not started by the launcher)", "partition=guidance"],
-        alive_before,
-    );
+    wait_for_line(&fcc, &alive, alive_down);
     let before = seen.len();
     assert_eq!(
         execute_when_ready(&mut link, &mut seen),

@@ -633,6 +633,116 @@ mod tests {
         assert!(!answers_late_joiners(FccService::Uplink));
     }
 
+    /// A publisher that keeps what it was given.
+    struct Fake {
+        published: std::cell::RefCell<Vec<Vec<u8>>>,
+    }
+
+    impl Incoming for Fake {
+        fn contract(&self) -> ports::Contract {
+            ports::contract_of(FccService::Heartbeat(
+                missionlink_interfaces::contracts::Partition::Guidance,
+            ))
+        }
+        fn id(&self) -> UniquePublisherId {
+            unreachable!("not asked in these tests")
+        }
+        fn publish(&self, bytes: &[u8]) -> Result<(), ports::PublishError> {
+            if bytes.get(31) == Some(&0xff) {
+                return Err(ports::PublishError::Refused(Refusal::Invalid));
+            }
+            self.published.borrow_mut().push(bytes.to_vec());
+            Ok(())
+        }
+        fn update_connections(&self) {}
+    }
+
+    fn in_port() -> InPort {
+        InPort {
+            service: FccService::Heartbeat(missionlink_interfaces::contracts::Partition::Guidance),
+            port: Box::new(Fake {
+                published: std::cell::RefCell::default(),
+            }),
+            key: "k".to_owned(),
+            last: None,
+            refusal_logged: false,
+            counters: Counters::default(),
+        }
+    }
+
+    fn header_of(port: &InPort, bridge_id: u64, sequence: u64) -> Vec<u8> {
+        let contract = port.port.contract();
+        let mut out = Vec::new();
+        Header {
+            contract_version: CONTRACT_VERSION,
+            payload_size: contract.size as u32,
+            bridge_id,
+            sequence,
+            type_name: contract.type_name,
+        }
+        .emit(&mut out);
+        out
+    }
+
+    #[test]
+    fn an_incoming_sample_is_published_once_refused_on_mismatch_and_never_from_itself() {
+        const OWN: u64 = 1;
+        const OTHER: u64 = 2;
+        let mut p = in_port();
+        let payload = [0u8; 32];
+        // Published, then the same again (an answer to a query): published once.
+        p.handle(&payload, Some(&header_of(&p, OTHER, 1)), OWN);
+        p.handle(&payload, Some(&header_of(&p, OTHER, 1)), OWN);
+        assert_eq!(p.counters.forwarded, 1);
+        // Sequence 2 and 3 lost: counted as dropped when 4 arrives.
+        p.handle(&payload, Some(&header_of(&p, OTHER, 4)), OWN);
+        assert_eq!((p.counters.forwarded, p.counters.dropped), (2, 2));
+        // The bridge's own sample is left out.
+        p.handle(&payload, Some(&header_of(&p, OWN, 9)), OWN);
+        assert_eq!((p.counters.forwarded, p.counters.own), (2, 1));
+        // Refused: no header, another size, another type, invalid bytes.
+        p.handle(&payload, None, OWN);
+        p.handle(&payload[..31], Some(&header_of(&p, OTHER, 5)), OWN);
+        let mut other_type = header_of(&p, OTHER, 5);
+        let last = other_type.len() - 1;
+        other_type[last] = b'x';
+        p.handle(&payload, Some(&other_type), OWN);
+        let mut invalid = payload;
+        invalid[31] = 0xff;
+        p.handle(&invalid, Some(&header_of(&p, OTHER, 5)), OWN);
+        assert_eq!(p.counters.refused, 4);
+        assert_eq!(p.counters.forwarded, 2, "nothing refused was published");
+    }
+
+    #[test]
+    fn the_outgoing_side_knows_its_own_publishers_samples() {
+        missionlink_partitions::ipc::quiet_iceoryx2_log();
+        let prefix = format!("bridge-own-test-{}", std::process::id());
+        let ipc = Ipc::<ipc::Service>::open("bridge-own-test", &prefix).unwrap();
+        let service = FccService::Heartbeat(missionlink_interfaces::contracts::Partition::Guidance);
+        let out = ports::outgoing(&ipc, service).unwrap();
+        let own = ports::incoming(&ipc, service).unwrap();
+        let other = ipc
+            .publisher::<missionlink_interfaces::contracts::HeartbeatPayload>(service)
+            .unwrap();
+        let mut beat = [0u8; 32];
+        beat[0] = 1;
+        own.publish(&beat).unwrap();
+        let mut seen = Vec::new();
+        out.take_all(&[own.id()], &mut |bytes, is_own| {
+            seen.push((bytes[0], is_own))
+        });
+        beat[0] = 2;
+        let value =
+            <missionlink_interfaces::contracts::HeartbeatPayload as zerocopy::TryFromBytes>::try_read_from_bytes(&beat)
+                .unwrap();
+        other.send(&value).unwrap();
+        out.take_all(&[own.id()], &mut |bytes, is_own| {
+            seen.push((bytes[0], is_own))
+        });
+        assert_eq!(seen, [(1, true), (2, false)]);
+    }
+
     #[test]
     fn counters_are_named_by_direction_service_and_kind() {
         let mut out = Vec::new();
