@@ -113,6 +113,19 @@ fn answers_late_joiners(service: FccService) -> bool {
     service.qos().history_size > 0 && !matches!(service, FccService::Heartbeat(_))
 }
 
+/// Block for every service whose samples must all arrive (frames, commands, lists, the
+/// automation state: a list dropped on a busy queue would leave the far side on the old one);
+/// drop for the periodic ones (heartbeats, progress), where the next sample replaces a lost one
+/// and a cut link must not stall the bridge.
+fn congestion_control(service: FccService) -> zenoh::qos::CongestionControl {
+    match service {
+        FccService::Heartbeat(_) | FccService::GuidanceProgress => {
+            zenoh::qos::CongestionControl::Drop
+        }
+        _ => zenoh::qos::CongestionControl::Block,
+    }
+}
+
 /// The Zenoh configuration of `[bridge]`: the mode, the explicit endpoints, multicast
 /// scouting off (no traffic to any address but the endpoints), a short lease so a cut link is
 /// noticed and the session re-opened within seconds.
@@ -263,6 +276,8 @@ fn bridge_id() -> u64 {
 struct OutPort {
     service: FccService,
     key: String,
+    /// How Zenoh treats the sample when its transmission queue is full.
+    congestion: zenoh::qos::CongestionControl,
     sequence: u64,
     history: bool,
     counters: Counters,
@@ -287,6 +302,7 @@ fn run_outgoing(
         .map(|&service| {
             Ok(OutPort {
                 service,
+                congestion: congestion_control(service),
                 key: key(bridge, service),
                 sequence: 0,
                 history: answers_late_joiners(service),
@@ -357,6 +373,7 @@ fn run_outgoing(
                 let put = session
                     .put(&p.key, bytes.to_vec())
                     .attachment(header.clone())
+                    .congestion_control(p.congestion)
                     .express(true)
                     .wait();
                 match put {
