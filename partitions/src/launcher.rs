@@ -449,6 +449,15 @@ impl BridgeChild {
                     tracing::info!(partition = "bridge", pid = child.id(), "started");
                     self.child = Some(child);
                 }
+                Err(e) if e.kind() == io::ErrorKind::NotFound => {
+                    // Retrying cannot help: the bridge is a package of its own, built apart.
+                    tracing::error!(
+                        %e,
+                        dir = %bin_dir.display(),
+                        "no bridge binary: build it with `cargo build --release -p missionlink-bridge`; the FCC runs without it"
+                    );
+                    self.enabled = false;
+                }
                 Err(e) => {
                     tracing::error!(%e, "cannot start the bridge; retrying");
                     self.start_at = Some(Instant::now() + restart_delay);
