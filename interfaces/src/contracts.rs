@@ -235,7 +235,9 @@ impl TryFrom<u8> for Link {
 
 /// A STANAG frame crossing shared memory: opaque bytes plus metadata. The protocol code views
 /// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
-#[derive(Debug, Clone, Copy)]
+#[derive(
+    Debug, Clone, Copy, zerocopy::TryFromBytes, zerocopy::KnownLayout, zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::FramePayload/v3"))]
@@ -286,7 +288,16 @@ impl FramePayload {
 }
 
 /// One waypoint of the assembled list, in flight-plan order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::WaypointEntry/v3"))]
@@ -384,7 +395,9 @@ impl WaypointEntry {
 
 /// `fcc/mission/waypoint-list`: the active waypoint list with its take-off height and route
 /// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
-#[derive(Debug, Clone, Copy)]
+#[derive(
+    Debug, Clone, Copy, zerocopy::TryFromBytes, zerocopy::KnownLayout, zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::WaypointListPayload/v3"))]
@@ -449,7 +462,16 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
 }
 
 /// Altitude bounds of an area (#2012 bits 4 to 6), each optional.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::AreaAltitudes/v3"))]
@@ -512,7 +534,16 @@ impl AreaAltitudes {
 }
 
 /// A polygonal area: the fly-zone or a polygonal no-fly-zone.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::PolygonArea/v3"))]
@@ -550,7 +581,16 @@ impl PolygonArea {
 }
 
 /// A circular no-fly-zone, kept apart from the polygons as the paper's Figure 8 does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::CircleArea/v3"))]
@@ -586,7 +626,9 @@ impl CircleArea {
 
 /// `fcc/mission/area-list`: the active area list (ICD §5.3, §7): one fly-zone polygon, the
 /// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
-#[derive(Debug, Clone, Copy)]
+#[derive(
+    Debug, Clone, Copy, zerocopy::TryFromBytes, zerocopy::KnownLayout, zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::AreaListPayload/v3"))]
@@ -678,7 +720,16 @@ impl TryFrom<u8> for FlightPhase {
 }
 
 /// `fcc/automation/state`: the flight phase and which functions are active (paper §2.5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::AutomationStatePayload/v3"))]
@@ -725,7 +776,16 @@ impl AutomationStatePayload {
 }
 
 /// `fcc/automation/command`: a #50000 command that mission data handling accepted (ICD §4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::AutomationCommandPayload/v3"))]
@@ -754,7 +814,16 @@ pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration:
 /// from its event loop on a fixed period, so a partition that is stopped (SIGSTOP), stuck in a
 /// step or dead sends none; whoever watches it takes the time the sample arrived, not
 /// `time_ns`, and the period the partition says it beats at.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::HeartbeatPayload/v3"))]
@@ -772,7 +841,15 @@ pub struct HeartbeatPayload {
 }
 
 /// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "ipc", type_name("missionlink::GuidanceProgressPayload/v3"))]

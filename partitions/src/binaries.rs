@@ -49,6 +49,23 @@ pub enum Build {
 /// `dir` holding every one of `names`, built with cargo first if some are missing (or, with
 /// [`Build::UnderCargo`], to bring them up to date).
 pub fn ensure(dir: &Path, names: &[&str], build: Build) -> Result<PathBuf, String> {
+    ensure_of(dir, names, "missionlink-partitions", build)
+}
+
+/// `dir` holding the bridge binary ([`crate::bridge_config::BINARY`]), built with cargo first
+/// as [`ensure`] does. It is a package of its own (`missionlink-bridge`, with Zenoh), which
+/// nothing else depends on: only a configuration with `[bridge]` or a test that uses it builds
+/// it, never the demo.
+pub fn ensure_bridge(dir: &Path, build: Build) -> Result<PathBuf, String> {
+    ensure_of(
+        dir,
+        &[crate::bridge_config::BINARY],
+        "missionlink-bridge",
+        build,
+    )
+}
+
+fn ensure_of(dir: &Path, names: &[&str], package: &str, build: Build) -> Result<PathBuf, String> {
     let absent = missing(dir, names);
     let under_cargo = build == Build::UnderCargo && std::env::var_os("CARGO").is_some();
     if absent.is_empty() && !under_cargo {
@@ -68,14 +85,7 @@ pub fn ensure(dir: &Path, names: &[&str], build: Build) -> Result<PathBuf, Strin
     }
     let mut command = Command::new(cargo);
     command
-        .args([
-            "build",
-            "-q",
-            "-p",
-            "missionlink-partitions",
-            "--bins",
-            "--manifest-path",
-        ])
+        .args(["build", "-q", "-p", package, "--bins", "--manifest-path"])
         .arg(&manifest);
     if !cfg!(debug_assertions) {
         command.arg("--release");

@@ -378,6 +378,8 @@ pub struct Config {
     pub realtime: Realtime,
     /// How each partition fences itself (`isolation`).
     pub isolation: crate::isolation::Isolation,
+    /// The bridge to another host (off by default; docs/two-hosts.md).
+    pub bridge: crate::bridge_config::Bridge,
 }
 
 impl Config {

@@ -365,6 +365,12 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
         Ok(())
     }
 
+    /// The port's unique ID, which every sample it sends carries: how the bridge recognises
+    /// its own samples and never sends them back (docs/two-hosts.md, "No loops").
+    pub fn id(&self) -> iceoryx2::identifiers::UniquePublisherId {
+        self.publisher.id()
+    }
+
     /// Connects subscribers that joined since the last send, so they receive the history
     /// (late joiners of the list services).
     pub fn update_connections(&self) {
@@ -445,6 +451,35 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Subscriber<S, T> {
         let first = self.for_each(&mut f);
         self.drain_notifications();
         first + self.for_each(f)
+    }
+
+    /// Hands every waiting sample to `f` with the ID of the publisher that sent it (the bridge
+    /// leaves out its own), oldest first, then drains the notifications and looks once more as
+    /// [`Subscriber::take_all`] does; returns how many samples there were.
+    pub fn take_all_with_origin(
+        &self,
+        mut f: impl FnMut(&T, iceoryx2::identifiers::UniquePublisherId),
+    ) -> usize {
+        let mut n = 0;
+        for pass in 0..2 {
+            loop {
+                match self.subscriber.receive() {
+                    Ok(Some(sample)) => {
+                        f(sample.payload(), sample.origin());
+                        n += 1;
+                    }
+                    Ok(None) => break,
+                    Err(e) => {
+                        tracing::warn!(service = %self.service, ?e, "receive failed");
+                        break;
+                    }
+                }
+            }
+            if pass == 0 {
+                self.drain_notifications();
+            }
+        }
+        n
     }
 
     /// The newest waiting sample, copied (state services: only the latest matters).

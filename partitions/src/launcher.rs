@@ -271,6 +271,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
         }
     }
     let own = std::process::id();
+    let mut bridge = BridgeChild::of(config);
     let mut all_up = false;
     // A partition was given up: the FCC stays announced down.
     let mut degraded = false;
@@ -383,9 +384,11 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 tracing::warn!(%e, dir = %state_dir.display(), "cannot announce readiness");
             }
         }
+        bridge.supervise(config, bin_dir, restart_delay);
         std::thread::sleep(SUPERVISION_PERIOD);
     }
     tracing::info!("stopping the FCC partitions");
+    bridge.stop();
     withdraw_ready(&state_dir, NAME, own);
     for p in partitions.iter_mut().rev() {
         if let Some(mut child) = p.child.take() {
@@ -401,6 +404,84 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
         }
     }
     Ok(())
+}
+
+/// The bridge to another host (`[bridge]`, docs/two-hosts.md), when enabled: started with the
+/// partitions, restarted after the restart delay when it dies, stopped last. It has no role and
+/// no heartbeat: the heartbeats of the remote partitions it carries are its health.
+struct BridgeChild {
+    enabled: bool,
+    child: Option<Child>,
+    start_at: Option<Instant>,
+}
+
+impl BridgeChild {
+    fn of(config: &Config) -> Self {
+        Self {
+            enabled: config.bridge.enabled,
+            child: None,
+            start_at: config.bridge.enabled.then(Instant::now),
+        }
+    }
+
+    fn supervise(&mut self, config: &Config, bin_dir: &Path, restart_delay: Duration) {
+        if !self.enabled {
+            return;
+        }
+        let died = self
+            .child
+            .as_mut()
+            .and_then(|c| c.try_wait().ok().flatten());
+        if let Some(status) = died {
+            self.child = None;
+            if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) {
+                // Starting it again cannot help: its configuration cannot work.
+                tracing::error!(status = %describe(status), "bridge not started again: its configuration cannot work");
+                self.enabled = false;
+                return;
+            }
+            tracing::error!(status = %describe(status), "bridge died; restarting it");
+            self.start_at = Some(Instant::now() + restart_delay);
+        }
+        if self.start_at.is_some_and(|t| Instant::now() >= t) {
+            self.start_at = None;
+            let mut command = Command::new(bin_dir.join(crate::bridge_config::BINARY));
+            command.arg(EXIT_WITH_PARENT);
+            let spawned = config::hand_to(&mut command, config)
+                .map_err(io::Error::other)
+                .and_then(|()| command.spawn());
+            match spawned {
+                Ok(child) => {
+                    tracing::info!(partition = "bridge", pid = child.id(), "started");
+                    self.child = Some(child);
+                }
+                Err(e) if e.kind() == io::ErrorKind::NotFound => {
+                    // Retrying cannot help: the bridge is a package of its own, built apart.
+                    tracing::error!(
+                        %e,
+                        dir = %bin_dir.display(),
+                        "no bridge binary: build it with `cargo build --release -p missionlink-bridge`; the FCC runs without it"
+                    );
+                    self.enabled = false;
+                }
+                Err(e) => {
+                    tracing::error!(%e, "cannot start the bridge; retrying");
+                    self.start_at = Some(Instant::now() + restart_delay);
+                }
+            }
+        }
+    }
+
+    fn stop(&mut self) {
+        if let Some(mut child) = self.child.take() {
+            match terminate(&mut child, GRACE) {
+                Ok(status) => {
+                    tracing::info!(partition = "bridge", status = %describe(status), "stopped")
+                }
+                Err(e) => tracing::warn!(partition = "bridge", %e, "cannot stop"),
+            }
+        }
+    }
 }
 
 /// The `main` of `fcc`: the configuration (exit status 2 when it is wrong) with the partitions

@@ -9,6 +9,7 @@
 //! in one process on `local::Service`, and a [`runtime::Control`] stops it from another thread.
 
 pub mod binaries;
+pub mod bridge_config;
 pub mod config;
 pub mod doorbell;
 pub mod guidance_stub;

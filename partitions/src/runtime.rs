@@ -594,7 +594,7 @@ pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
 /// Sends this process SIGTERM once its parent `parent` is gone (the process is re-parented and
 /// its parent ID changes), so it stops through its normal shutdown path: a safe stand-in for
 /// PR_SET_PDEATHSIG, which would need unsafe code in the launcher.
-fn watch_parent(parent: rustix::process::Pid) {
+pub fn watch_parent(parent: rustix::process::Pid) {
     let parent = Some(parent);
     let spawned = std::thread::Builder::new()
         .name("watch-parent".to_owned())

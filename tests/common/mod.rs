@@ -4,6 +4,8 @@
 //! its own: every port is chosen by the process that binds it.
 #![allow(dead_code)]
 
+pub mod netns;
+
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

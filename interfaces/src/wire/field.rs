@@ -171,7 +171,19 @@ unsigned_codec!(U3, u32, 3);
 
 /// BAM4 angle (ICD §3): a signed 32-bit binary angle, LSB = pi / 2^31 rad. Latitude and
 /// longitude on WGS-84. One LSB is about 9.3 mm of latitude.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 pub struct Angle(i32);
@@ -237,7 +249,19 @@ impl Codec for Angle {
 }
 
 /// ALT3 altitude or height (ICD §3): a signed 24-bit integer, LSB 0.02 m.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 pub struct Altitude(i32);
@@ -300,7 +324,19 @@ impl Codec for Altitude {
 }
 
 /// SPD2 speed (ICD §3): an unsigned 16-bit integer, LSB 0.5 m/s.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 pub struct Speed(u16);
@@ -340,7 +376,19 @@ impl fmt::Debug for Speed {
 unsigned_codec!(Speed, u16, 2);
 
 /// Safety offset of #2011 and #3013 (ICD §4): an unsigned 16-bit distance, LSB 0.1 m.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 pub struct SafetyOffset(u16);
@@ -387,7 +435,19 @@ unsigned_codec!(SafetyOffset, u16, 2);
 /// U4 checksum of ICD §11 (ext): the CRC-32/ISO-HDLC of a list's canonical form, carried by
 /// #13000 field 7, #2011 field 7, #14000 field 7 and #50001 fields 8 and 9. Every bit pattern is
 /// a checksum; what it covers is §11's business, not the wire's.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -437,7 +497,18 @@ unsigned_codec!(Checksum, u32, 4);
 /// accepts in flight, 1..=32 (absent = 1). A U1 in #13000 field 6; in #2011 field 7 the same
 /// value in a U4 (see `WindowOrChecksum`). A value outside 1..=32 does not decode (`OutOfRange`,
 /// reason `Malformed`), so a window held is always one a receiver of edition 2 accepts.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -525,7 +596,19 @@ impl Codec for TransferWindow {
 ///
 /// A time stamp is an identity (ICD §3): together with Source ID and Message Type it names one
 /// message. The U5 runs out in 2034-11-01.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[derive(
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    PartialOrd,
+    Ord,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 pub struct Timestamp(u64);

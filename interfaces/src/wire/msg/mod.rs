@@ -75,7 +75,18 @@ fn is_waypoint_number(n: u16) -> bool {
 }
 
 /// A latitude and longitude on WGS-84.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    Default,
+    zerocopy::TryFromBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
+)]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -1,0 +1,379 @@
+//! Two hosts through the bridge (docs/two-hosts.md): two network namespaces joined by a veth
+//! pair, made by this test and removed by it (also when it fails: [`Hosts`] is a drop guard),
+//! with the link-local pair 169.254.77.1 (host A) and 169.254.77.2 (host B) on the test's own
+//! veth and nothing else; Zenoh's multicast scouting is off and the bridges use explicit
+//! endpoints, so no other address is ever a target.
+//!
+//! - Host A: the FCC (`fcc --without guidance-stub`) with its bridge, started by the launcher
+//!   from `[bridge]`; the real GCS over UDP on host A's loopback.
+//! - Host B: a guidance (the Rust stub, or the Python guidance) and a bridge.
+//!
+//! Both hosts share this machine's /dev/shm: each uses a service prefix of its own, so their
+//! iceoryx2 services never meet and only the bridges carry data between them.
+//!
+//! Each test uploads and executes demo mission 2, checks the whole FROM-TO-NEXT sequence at the
+//! GCS, then sets the veth down: the launcher reports the remote guidance not alive and execute
+//! is refused (`WrongState`); then up again: the launcher hears it alive and execute is accepted,
+//! without a restart of any process.
+//!
+//! Network namespaces need root: run as root (CI's `.ci/run` does). Without root each test fails
+//! at once with one line saying so.
+// A test stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::netns::{ADDR_A, Hosts};
+use common::*;
+use missionlink_interfaces::wire;
+use missionlink_partitions::binaries;
+use missionlink_partitions::bridge_config::{Bridge, Mode};
+use missionlink_partitions::config::Config;
+use missionlink_partitions::launcher::FccProcess;
+use missionlink_services::ground_station::{GcsError, GcsEvent};
+
+/// Bound of every wait (a failure bound, never a timing assertion).
+const LIMIT: Duration = Duration::from_secs(60);
+
+/// The Zenoh port host A's bridge listens on, inside the test's own namespace (no other
+/// process can hold it there).
+const ZENOH_PORT: u16 = 7447;
+
+/// Host A's configuration (the rig's) with the bridge listening on the veth: the lists and
+/// automation state go out, guidance's progress and heartbeat come in.
+fn bridge_a(config: &mut Config) {
+    config.launcher.without = vec!["guidance-stub".to_owned()];
+    // Two FCC hosts, four bridges and two guidances run on this machine at once (and the
+    // other test beside): a heartbeat period of 200 ms (hung after 500 ms) keeps a partition
+    // that is merely scheduled late from being taken for a hung one.
+    config.health.period_ms = 200;
+    config.bridge = Bridge {
+        enabled: true,
+        mode: Mode::Peer,
+        listen: vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")],
+        connect: Vec::new(),
+        key_prefix: format!("{}-vehicle", config.ipc.service_prefix),
+        out: [
+            "fcc/mission/waypoint-list",
+            "fcc/mission/area-list",
+            "fcc/automation/state",
+        ]
+        .map(str::to_owned)
+        .to_vec(),
+        inbound: ["fcc/guidance/progress", "fcc/health/guidance"]
+            .map(str::to_owned)
+            .to_vec(),
+        ..Bridge::default()
+    };
+}
+
+/// Host B's configuration: host A's, under a service prefix and directories of its own, the
+/// bridge connecting to host A with the directions swapped.
+fn host_b(a: &Config, dir: &std::path::Path) -> Config {
+    let mut b = a.clone();
+    b.ipc.service_prefix = format!("{}-b", a.ipc.service_prefix);
+    b.ipc.state_dir = Some(dir.join("state-b"));
+    b.latency.summary_dir = Some(dir.join("latency-b"));
+    b.bridge.listen = Vec::new();
+    b.bridge.connect = vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")];
+    std::mem::swap(&mut b.bridge.out, &mut b.bridge.inbound);
+    // Mission 2 starts at CCP.
+    b.guidance.start_latitude_deg = 48.275;
+    b.guidance.start_longitude_deg = 11.645;
+    b
+}
+
+/// Lines of `text` holding every one of `parts`.
+fn count(text: &str, parts: &[&str]) -> usize {
+    text.lines()
+        .filter(|l| parts.iter().all(|p| l.contains(p)))
+        .count()
+}
+
+/// Waits until `process`'s log holds more than `before` lines with every one of `parts`.
+fn wait_for_line(process: &Process, parts: &[&str], before: usize) -> Duration {
+    let start = Instant::now();
+    while start.elapsed() < LIMIT {
+        if count(&process.log_text(), parts) > before {
+            return start.elapsed();
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    panic!(
+        "{:?} never logged a line with {parts:?}:\n{}",
+        process.log_path(),
+        process.log_text()
+    );
+}
+
+/// Execute once; the reason of a refusal, `None` when accepted. FROM-TO-NEXT heard meanwhile
+/// goes to `seen`.
+fn execute(link: &mut Link, seen: &mut Vec<(u16, u16, u16)>) -> Option<wire::Reason> {
+    let now = link.now();
+    link.station()
+        .execute(now, wire::ExecuteCommand::Execute)
+        .unwrap();
+    match link.finish(|event| record(seen, event)) {
+        Ok(_) => None,
+        Err(GcsError::Transfer { error, .. }) => {
+            Some(error.reason().expect("a refusal with a reason"))
+        }
+        Err(other) => panic!("execute: {other}"),
+    }
+}
+
+/// Execute, asked again (bounded) while refused with `WrongState` (guidance not heard yet).
+fn execute_when_ready(link: &mut Link, seen: &mut Vec<(u16, u16, u16)>) -> Option<wire::Reason> {
+    let start = Instant::now();
+    loop {
+        match execute(link, seen) {
+            Some(wire::Reason::WrongState) if start.elapsed() < LIMIT => {
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            outcome => return outcome,
+        }
+    }
+}
+
+/// Keeps the waypoint numbers (0 for none) of a #4001 the GCS received.
+fn record<R>(seen: &mut Vec<(u16, u16, u16)>, event: &GcsEvent<R>) {
+    if let GcsEvent::FromToNext(f) = event {
+        seen.push((
+            f.from.waypoint_number.unwrap_or(0),
+            f.to.waypoint_number.unwrap_or(0),
+            f.next.waypoint_number.unwrap_or(0),
+        ));
+    }
+}
+
+/// What host B runs as guidance.
+#[derive(Clone, Copy)]
+enum RemoteGuidance {
+    Stub,
+    Python,
+}
+
+/// A process of host B: a guidance or its bridge, its log in the rig's directory; stopped with
+/// SIGTERM when dropped.
+struct Remote {
+    child: Child,
+    log: PathBuf,
+}
+
+impl Remote {
+    fn spawn(mut command: Command, log: PathBuf) -> Self {
+        command
+            .env(
+                "RUST_LOG",
+                std::env::var("RUST_LOG").unwrap_or_else(|_| "info".to_owned()),
+            )
+            .stdout(Stdio::null())
+            .stderr(std::fs::File::create(&log).unwrap());
+        let child = command
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start {:?}: {e}", command.get_program()));
+        Self { child, log }
+    }
+
+    fn log_text(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+}
+
+impl Drop for Remote {
+    fn drop(&mut self) {
+        if let Ok(pid) = i32::try_from(self.child.id()) {
+            if let Some(pid) = rustix::process::Pid::from_raw(pid) {
+                let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
+            }
+        }
+        let end = Instant::now() + Duration::from_secs(10);
+        while Instant::now() < end {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Starts host B's guidance and bridge in namespace `ns` (from a thread that moves there).
+fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidance) -> Vec<Remote> {
+    let bin = bin_dir();
+    binaries::ensure_bridge(&bin, binaries::Build::IfMissing).unwrap();
+    std::thread::spawn(move || {
+        Hosts::enter(&ns);
+        let guidance = match guidance {
+            RemoteGuidance::Stub => FccProcess::command(&bin, "guidance-stub", &config).unwrap(),
+            RemoteGuidance::Python => {
+                let g = &config.guidance;
+                let mut command = Command::new(python());
+                command
+                    .arg(
+                        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                            .join("partitions/python/missionlink_guidance.py"),
+                    )
+                    .args(["--service-prefix", &config.ipc.service_prefix])
+                    .args(["--time-scale", &g.time_scale.to_string()])
+                    .args(["--start-latitude", &g.start_latitude_deg.to_string()])
+                    .args(["--start-longitude", &g.start_longitude_deg.to_string()])
+                    .args(["--climb-rate", &g.climb_rate_mps.to_string()])
+                    .args(["--descent-rate", &g.descent_rate_mps.to_string()])
+                    .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
+                    .args([
+                        "--heartbeat-period-ms",
+                        &config.health.period_ms.to_string(),
+                    ])
+                    .stdin(Stdio::null());
+                command
+            }
+        };
+        let bridge = FccProcess::command(&bin, "bridge", &config).unwrap();
+        vec![
+            Remote::spawn(bridge, dir.join("bridge-b.log")),
+            Remote::spawn(guidance, dir.join("guidance-b.log")),
+        ]
+    })
+    .join()
+    .unwrap()
+}
+
+fn two_hosts(tag: &str, guidance: RemoteGuidance) {
+    let hosts = Hosts::new(tag);
+    // This thread is host A from here on: the rig binds the GCS's ends on host A's loopback,
+    // and every process it starts runs on host A.
+    Hosts::enter(&hosts.a);
+    let mut rig = Rig::new(&format!("two-hosts-{tag}"));
+    bridge_a(&mut rig.config);
+    let config_b = host_b(&rig.config, &rig.dir);
+    binaries::ensure_bridge(&bin_dir(), binaries::Build::IfMissing).unwrap();
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    let remote = start_host_b(hosts.b.clone(), config_b, rig.dir.clone(), guidance);
+    let logs = |fcc: &Process| {
+        format!(
+            "\n--- fcc ---\n{}\n--- host B bridge ---\n{}\n--- host B guidance ---\n{}",
+            fcc.log_text(),
+            remote[0].log_text(),
+            remote[1].log_text()
+        )
+    };
+
+    // The launcher hears the remote guidance's heartbeat through the bridges.
+    wait_for_line(
+        &fcc,
+        &["alive (not started by the launcher)", "partition=guidance"],
+        0,
+    );
+    let mut link = rig.gcs(&mut fcc);
+    upload(&mut link, &plan("mission-2.toml"))
+        .unwrap_or_else(|e| panic!("upload: {e}{}", logs(&fcc)));
+    let mut seen = Vec::new();
+    assert_eq!(
+        execute_when_ready(&mut link, &mut seen),
+        None,
+        "{}",
+        logs(&fcc)
+    );
+    let landed = link.run_until(LIMIT, |event| {
+        record(&mut seen, event);
+        seen.contains(&(3, 0, 0)) && seen.last() == Some(&(0, 0, 0))
+    });
+    assert!(landed, "FROM-TO-NEXT at the GCS: {seen:?}{}", logs(&fcc));
+    // Mission 2: CCP (1), W1 (2), ROLE2 (3); climbing at CCP towards W1, then each leg, at
+    // ROLE2, then landed with nothing flown. Before it, the idle (0, 0, 0) may be reported.
+    let flown: Vec<_> = seen
+        .iter()
+        .copied()
+        .skip_while(|t| *t == (0, 0, 0))
+        .collect();
+    assert_eq!(
+        flown,
+        [(0, 1, 2), (1, 2, 3), (2, 3, 0), (3, 0, 0), (0, 0, 0)],
+        "{}",
+        logs(&fcc)
+    );
+
+    // The link is cut: the remote guidance falls silent for host A. (Lines logged before the
+    // cut, by a heartbeat late on a loaded machine, do not count.)
+    let alive = ["alive (not started by the launcher)", "partition=guidance"];
+    let silent = [
+        "not alive (not started by the launcher",
+        "partition=guidance",
+    ];
+    let refusing = ["guidance not alive"];
+    let text = fcc.log_text();
+    let (silent_before, refusing_before) = (count(&text, &silent), count(&text, &refusing));
+    let cut = Instant::now();
+    hosts.link(false);
+    let silent_after = wait_for_line(&fcc, &silent, silent_before);
+    wait_for_line(&fcc, &refusing, refusing_before);
+    assert_eq!(
+        execute(&mut link, &mut seen),
+        Some(wire::Reason::WrongState),
+        "{}",
+        logs(&fcc)
+    );
+    println!(
+        "{tag}: the launcher logged the remote guidance not alive {} ms after the veth went down (heartbeat period {} ms)",
+        silent_after.as_millis(),
+        rig.config.health.period_ms
+    );
+
+    // Alive lines from here on are the link's return (the link is down: nothing beats).
+    let alive_down = count(&fcc.log_text(), &alive);
+    // The link is back: the same processes recover.
+    hosts.link(true);
+    wait_for_line(&fcc, &alive, alive_down);
+    let before = seen.len();
+    assert_eq!(
+        execute_when_ready(&mut link, &mut seen),
+        None,
+        "{}",
+        logs(&fcc)
+    );
+    let flying = link.run_until(LIMIT, |event| {
+        record(&mut seen, event);
+        seen.len() > before
+    });
+    assert!(
+        flying,
+        "no FROM-TO-NEXT after the link came back: {seen:?}{}",
+        logs(&fcc)
+    );
+    println!(
+        "{tag}: recovered {:.1} s after the cut; FROM-TO-NEXT at the GCS {seen:?}",
+        cut.elapsed().as_secs_f64()
+    );
+    drop(link);
+    fcc.stop().unwrap();
+    drop(remote);
+    let bridge = rig.counters("bridge");
+    assert!(bridge["in fcc/health/guidance forwarded"] > 0, "{bridge:?}");
+    assert!(
+        bridge["in fcc/guidance/progress forwarded"] > 0,
+        "{bridge:?}"
+    );
+    assert_eq!(bridge["in fcc/guidance/progress refused"], 0, "{bridge:?}");
+    assert!(
+        bridge["out fcc/mission/waypoint-list forwarded"] > 0,
+        "{bridge:?}"
+    );
+}
+
+#[test]
+fn the_fcc_on_one_host_flies_with_the_guidance_stub_on_another() {
+    two_hosts("stub", RemoteGuidance::Stub);
+}
+
+#[test]
+fn the_fcc_on_one_host_flies_with_the_python_guidance_on_another() {
+    two_hosts("py", RemoteGuidance::Python);
+}
