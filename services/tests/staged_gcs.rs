@@ -21,7 +21,9 @@ use std::time::Duration;
 use missionlink_interfaces::wire::{
     Altitude, Message, MessageType, MissionPlanMode, MissionReport, Reason,
 };
-use missionlink_services::ground_station::outcome::{UploadKind, UploadOutcome, UploadReport};
+use missionlink_services::ground_station::outcome::{
+    UploadKind, UploadOutcome, UploadReport, Warning,
+};
 use missionlink_services::ground_station::{
     GcsError, GcsEvent, MissionPlan, Sequence, StagedRequest, ValidatedPlan,
 };
@@ -233,6 +235,66 @@ fn an_operators_staged_mission_of_the_same_name_is_neither_replaced_nor_deleted(
     assert_eq!(staged_ids(&report(&mut s)), ["MEDEVAC-1"]);
     let staged = download(&mut s, Some(id("MEDEVAC-1")));
     assert_eq!(flown(&staged.mission), flown(&validated(&other).mission));
+}
+
+/// A staged copy whose delete went unanswered (the FCC keeps it: ICD §8, the copy stays staged
+/// after the activation) is the operator's warning, and the next upload toward the same FCC
+/// deletes it after its own: copies left on a bad link do not pile up to the FCC's capacity.
+#[test]
+fn a_staged_copy_left_by_a_lost_delete_is_deleted_by_the_next_upload() {
+    let mut s = StationRig::new(FccRig::new().with_mission_2());
+    // Every delete (#13000 mode 6) is lost on the way up: the copy stays.
+    s.lose = Box::new(|d, m| {
+        d == Direction::Up
+            && matches!(m, Message::MissionTransferCommand(c)
+                if c.mode == MissionPlanMode::DeleteStagedMission)
+    });
+    let now = s.rig.now;
+    s.gcs
+        .upload_with(now, &mission_1(), Sequence::Atomic)
+        .unwrap();
+    let r = upload_report(&s.run(LIMIT));
+    assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
+    assert!(
+        matches!(r.warning, Some(Warning::StagedCopyLeft { id, .. }) if id.as_str() == "MEDEVAC-1"),
+        "{r}"
+    );
+    s.lose = Box::new(|_, _| false);
+    assert_eq!(staged_ids(&report(&mut s)), ["MEDEVAC-1"]);
+
+    let now = s.rig.now;
+    s.gcs
+        .upload_with(now, &mission_2(), Sequence::Atomic)
+        .unwrap();
+    let r = upload_report(&s.run(LIMIT));
+    assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
+    assert_eq!(r.warning, None, "{r}");
+    assert!(
+        staged_ids(&report(&mut s)).is_empty(),
+        "the upload's own copy and the one left before are deleted"
+    );
+    // A copy the FCC no longer lists is forgotten: the next upload deletes nothing more.
+    let now = s.rig.now;
+    s.gcs
+        .upload_with(now, &mission_1(), Sequence::Atomic)
+        .unwrap();
+    let r = upload_report(&s.run(LIMIT));
+    assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
+    let deletes = s
+        .sent
+        .iter()
+        .rev()
+        .take_while(|x| {
+            !matches!(&x.message, Message::MissionTransferCommand(c)
+                if x.direction == Direction::Up && c.mode == MissionPlanMode::ReportMissions)
+        })
+        .filter(|x| {
+            x.direction == Direction::Up
+                && matches!(&x.message, Message::MissionTransferCommand(c)
+                    if c.mode == MissionPlanMode::DeleteStagedMission)
+        })
+        .count();
+    assert_eq!(deletes, 1, "only the upload's own copy is deleted");
 }
 
 #[test]

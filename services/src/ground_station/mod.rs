@@ -262,6 +262,11 @@ pub struct GroundStation<G: SafetyGateway> {
     download_target: Target,
     /// The staged mission the command in progress is about.
     staged_command: Option<(StagedRequest, MissionId)>,
+    /// Staged copies of this GCS's atomic uploads whose delete failed or went unanswered: the
+    /// next upload toward edition 2 deletes those its report still lists, after its own, so
+    /// that copies left on a bad link neither pile up to the FCC's capacity nor take a name an
+    /// operator's upload needs.
+    copies_left: Vec<MissionId>,
 }
 
 impl<G: SafetyGateway> GroundStation<G> {
@@ -283,6 +288,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             events: VecDeque::new(),
             download_target: Target::Active,
             staged_command: None,
+            copies_left: Vec::new(),
         }
     }
 

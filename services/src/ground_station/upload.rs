@@ -114,6 +114,10 @@ pub(super) struct UploadJob {
     temp: Option<MissionId>,
     /// Whether the FCC holds the staged copy: `Some(false)` no, `Some(true)` yes, `None` it may.
     temp_staged: Option<bool>,
+    /// Copies earlier uploads left that the report lists: deleted after the upload's own.
+    leftovers: Vec<MissionId>,
+    /// The staged copy whose delete is in progress.
+    deleting: Option<MissionId>,
     /// The mission step: its opener and selection; `None`: the mission is not sent.
     mission_step: Option<(Opener, Option<Vec<u16>>)>,
     send_areas: bool,
@@ -327,6 +331,8 @@ impl<G: SafetyGateway> GroundStation<G> {
             entries: Vec::new(),
             temp: None,
             temp_staged: Some(false),
+            leftovers: Vec::new(),
+            deleting: None,
             mission_step: None,
             send_areas: true,
             activation_sent: false,
@@ -398,6 +404,10 @@ impl<G: SafetyGateway> GroundStation<G> {
             Before(held.and_then(|e| e.area_checksum)),
         ));
         job.entries = entries.to_vec();
+        // Copies the FCC no longer lists are gone (deleted, or the FCC lost them).
+        self.copies_left
+            .retain(|id| entry_of(entries, Target::Staged(*id)).is_some());
+        job.leftovers = self.copies_left.clone();
     }
 
     /// Plans the steps once the edition (and toward edition 2 the report) is known, and starts
@@ -565,10 +575,10 @@ impl<G: SafetyGateway> GroundStation<G> {
                     checksum: edition_2.then_some(job.checksums.1),
                 }),
                 Phase::Activation => job.temp.map(|id| Script::Request(activate_staged(id))),
-                Phase::Deletion => job
-                    .temp
-                    .filter(|_| job.temp_staged != Some(false))
-                    .map(|id| Script::Request(delete_staged(id))),
+                Phase::Deletion => {
+                    job.deleting = job.temp.filter(|_| job.temp_staged != Some(false));
+                    job.deleting.map(|id| Script::Request(delete_staged(id)))
+                }
                 _ => None,
             };
             if let Some(script) = script {
@@ -596,8 +606,15 @@ impl<G: SafetyGateway> GroundStation<G> {
                     job.temp_staged = Some(true);
                 }
                 Phase::Deletion => {
-                    job.temp_staged = Some(false);
-                    if let Some(report) = job.ending.take() {
+                    let deleted = job.deleting.take();
+                    if deleted.is_some() && deleted == job.temp {
+                        job.temp_staged = Some(false);
+                    }
+                    self.copies_left.retain(|id| Some(*id) != deleted);
+                    if self.delete_leftover(now) {
+                        return;
+                    }
+                    if let Some(report) = self.upload.as_mut().and_then(|j| j.ending.take()) {
                         return self.emit_upload(now, report);
                     }
                 }
@@ -614,11 +631,15 @@ impl<G: SafetyGateway> GroundStation<G> {
             return;
         };
         if phase == Phase::Deletion {
-            tracing::warn!(%error, "the staged copy was not deleted");
-            job.warning = job.temp.map(|id| Warning::StagedCopyLeft {
-                id,
-                error: Some(error),
-            });
+            let failed = job.deleting.take();
+            tracing::warn!(%error, copy = ?failed.map(|id| id.to_string()), "the staged copy was not deleted");
+            if failed.is_some() && failed == job.temp {
+                job.warning = job.temp.map(|id| Warning::StagedCopyLeft {
+                    id,
+                    error: Some(error),
+                });
+            }
+            // A copy an earlier upload left stays remembered; the next upload tries again.
             match job.ending.take() {
                 Some(report) => self.emit_upload(now, report),
                 None => {
@@ -755,6 +776,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         if let Some(id) = cleanup {
             if job.temp_staged == Some(true) && self.state != State::Uploading(Phase::Deletion) {
                 job.ending = Some(Box::new(report));
+                job.deleting = Some(id);
                 self.start(
                     now,
                     State::Uploading(Phase::Deletion),
@@ -764,7 +786,34 @@ impl<G: SafetyGateway> GroundStation<G> {
             }
             job.warning = Some(Warning::StagedCopyLeft { id, error: None });
         }
+        if self.state != State::Uploading(Phase::Deletion) {
+            job.ending = Some(Box::new(report));
+            if self.delete_leftover(now) {
+                return;
+            }
+            if let Some(report) = self.upload.as_mut().and_then(|j| j.ending.take()) {
+                self.emit_upload(now, report);
+            }
+            return;
+        }
         self.emit_upload(now, Box::new(report));
+    }
+
+    /// Starts the delete of the next copy an earlier upload left (`true`), if any is left.
+    fn delete_leftover(&mut self, now: Instant) -> bool {
+        let Some(job) = self.upload.as_mut() else {
+            return false;
+        };
+        let Some(id) = job.leftovers.pop() else {
+            return false;
+        };
+        job.deleting = Some(id);
+        self.start(
+            now,
+            State::Uploading(Phase::Deletion),
+            Script::Request(delete_staged(id)),
+        );
+        true
     }
 
     fn emit_upload(&mut self, now: Instant, mut report: Box<UploadReport>) {
@@ -782,6 +831,11 @@ impl<G: SafetyGateway> GroundStation<G> {
         let Some(job) = self.upload.take() else {
             return;
         };
+        if let Some(Warning::StagedCopyLeft { id, .. }) = &job.warning {
+            if !self.copies_left.contains(id) {
+                self.copies_left.push(*id);
+            }
+        }
         report.messages.sent = job.sent;
         report.warning = job.warning;
         report.attempts = job.attempt;
