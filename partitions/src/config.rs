@@ -370,6 +370,35 @@ pub struct Config {
     pub signing: Signing,
     /// Real-time settings per partition.
     pub realtime: Realtime,
+    /// Periodic downlink of mission data handling.
+    pub downlink: Downlink,
+}
+
+/// The periodic downlink of mission data handling (ICD §5.8).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Downlink {
+    /// #101 Inertial States per second, the position downlink; 0 sends none.
+    pub position_rate_hz: f64,
+}
+
+impl Default for Downlink {
+    fn default() -> Self {
+        Self {
+            position_rate_hz: 2.0,
+        }
+    }
+}
+
+impl Downlink {
+    /// The period of the position downlink; `None` when it is off (a rate of 0, or one that is
+    /// not a positive finite number).
+    pub fn position_period(&self) -> Option<Duration> {
+        let hz = self.position_rate_hz;
+        (hz.is_finite() && hz > 0.0)
+            .then(|| Duration::try_from_secs_f64(1.0 / hz).ok())
+            .flatten()
+    }
 }
 
 impl Config {
@@ -434,6 +463,7 @@ impl Config {
             endpoint: self.ids.fcc_endpoint(utc_at_zero),
             ack_timeout: self.timing.ack_timeout(),
             transfer_timeout: self.timing.transfer_timeout(),
+            position_period: self.downlink.position_period(),
         }
     }
 }

@@ -194,7 +194,8 @@ pub(crate) enum Command {
     Rth,
     /// Land at the next waypoint (#50000 land).
     Land,
-    /// Print FROM-TO-NEXT (#4001) as it changes.
+    /// Print FROM-TO-NEXT (#4001) as it changes and the position (#101, 2 Hz by default) with
+    /// the FROM-TO-NEXT it flies.
     Monitor {
         /// Stop after this many seconds (default: until interrupted).
         #[arg(long, value_name = "S")]

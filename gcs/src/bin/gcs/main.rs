@@ -902,10 +902,13 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                 let _ = signal_hook::flag::register(signal, std::sync::Arc::clone(&stop));
             }
             let start = std::time::Instant::now();
+            let mut monitor = missionlink_gcs::monitor::Monitor::new();
             while start.elapsed() < limit && !stop.load(std::sync::atomic::Ordering::Relaxed) {
                 link.run_until(Duration::from_millis(200), |event| {
-                    if let GcsEvent::FromToNext(f) = event {
-                        println!("{f}");
+                    match event {
+                        GcsEvent::FromToNext(f) => println!("{}", monitor.from_to_next(f)),
+                        GcsEvent::Position(p) => println!("{}", monitor.position(p)),
+                        _ => {}
                     }
                     false
                 });
