@@ -655,6 +655,29 @@ mod tests {
         assert_eq!(c.links.gcs_lte.to_string(), "127.0.0.1:4589");
         assert_eq!(c.timing.ack_timeout(), Duration::from_millis(500));
         assert_eq!(c.timing.transfer_timeout(), Duration::from_secs(3));
+        // ICD §5.8: the position downlink at 2 Hz.
+        assert_eq!(
+            c.downlink.position_period(),
+            Some(Duration::from_millis(500))
+        );
+    }
+
+    #[test]
+    fn a_position_rate_of_zero_or_no_number_turns_the_downlink_off() {
+        for text in [
+            "[downlink]\nposition_rate_hz = 0.0\n",
+            "[downlink]\nposition_rate_hz = -1.0\n",
+            "[downlink]\nposition_rate_hz = nan\n",
+        ] {
+            let c = Config::parse(text, Path::new("d.toml")).unwrap();
+            assert_eq!(c.downlink.position_period(), None, "{text}");
+        }
+        let c =
+            Config::parse("[downlink]\nposition_rate_hz = 10.0\n", Path::new("d.toml")).unwrap();
+        assert_eq!(
+            c.downlink.position_period(),
+            Some(Duration::from_millis(100))
+        );
     }
 
     #[test]

@@ -272,7 +272,7 @@ mod tests {
         r.handle_progress(at(600), &progress(3, 48.001, 11.001));
         let north = r.handle_timeout(at(1_000), &list).unwrap();
         let course = north.course_deg().unwrap();
-        assert!(course < 0.5 || course > 359.5, "{north}");
+        assert!(!(0.5..=359.5).contains(&course), "{north}");
         assert_eq!(
             north.position(),
             Some(GeoPoint::from_degrees(48.001, 11.001).unwrap())
