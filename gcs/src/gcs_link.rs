@@ -187,8 +187,9 @@ impl<G: SafetyGateway> GcsLink<G> {
         let rejected = stats.rejected_signatures;
         Some(if rejected.total() > 0 {
             format!(
-                "the FCC answers, but its frames fail this GCS's signature check ({rejected:?}): \
-                 the two sides hold different keys or policies (ICD §9)"
+                "the FCC sends, but its frames fail this GCS's signature check ({rejected:?}): \
+                 this GCS signs with key {key_id}, and the two sides hold different keys or \
+                 policies. The GCS does not fall back to unsigned frames (ICD §9)"
             )
         } else {
             format!(
