@@ -244,8 +244,8 @@ fn plan_document(mission: &[Item], fence: &[Item], context: &PlanContext) -> (St
         "hoverSpeed": context.cruise_speed_mps,
         "items": items,
     });
-    if !home.is_null() {
-        mission_json["plannedHomePosition"] = home;
+    if let (false, Some(fields)) = (home.is_null(), mission_json.as_object_mut()) {
+        fields.insert("plannedHomePosition".to_owned(), home);
     }
     let document = json!({
         "fileType": "Plan",
@@ -277,43 +277,47 @@ pub fn from_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (Vec<Item>, V
         return (Vec::new(), Vec::new());
     };
     let f32_of = |v: &Value| v.as_f64().map_or(f32::NAN, |v| v as f32);
-    let mission = root["mission"]["items"]
-        .as_array()
-        .map(|items| {
-            items
-                .iter()
-                .map(|item| {
-                    let p = |k: usize| item["params"].get(k).unwrap_or(&Value::Null);
-                    Item {
-                        command: item["command"].as_u64().unwrap_or(0) as u16,
-                        frame: item["frame"].as_u64().unwrap_or(0) as u8,
-                        params: [f32_of(p(0)), f32_of(p(1)), f32_of(p(2)), f32_of(p(3))],
-                        x: e7(p(4).as_f64().unwrap_or(0.0)),
-                        y: e7(p(5).as_f64().unwrap_or(0.0)),
-                        z: f32_of(p(6)),
-                    }
-                })
-                .collect()
+    let list = |v: &Value, pointer: &str| -> Vec<Value> {
+        v.pointer(pointer)
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default()
+    };
+    let number_at = |v: &Value, pointer: &str| v.pointer(pointer).and_then(Value::as_f64);
+    let mission = list(&root, "/mission/items")
+        .iter()
+        .map(|item| {
+            let p = |k: usize| {
+                item.pointer(&format!("/params/{k}"))
+                    .unwrap_or(&Value::Null)
+            };
+            Item {
+                command: number_at(item, "/command").unwrap_or(0.0) as u16,
+                frame: number_at(item, "/frame").unwrap_or(0.0) as u8,
+                params: [f32_of(p(0)), f32_of(p(1)), f32_of(p(2)), f32_of(p(3))],
+                x: e7(p(4).as_f64().unwrap_or(0.0)),
+                y: e7(p(5).as_f64().unwrap_or(0.0)),
+                z: f32_of(p(6)),
+            }
         })
-        .unwrap_or_default();
+        .collect();
     let mut fence = Vec::new();
-    let point = |v: &Value| (v[0].as_f64().unwrap_or(0.0), v[1].as_f64().unwrap_or(0.0));
-    for polygon in root["geoFence"]["polygons"]
-        .as_array()
-        .map(Vec::as_slice)
-        .unwrap_or_default()
-    {
-        let command = if polygon["inclusion"].as_bool() == Some(true) {
+    let point = |v: &Value, pointer: &str| {
+        (
+            number_at(v, &format!("{pointer}/0")).unwrap_or(0.0),
+            number_at(v, &format!("{pointer}/1")).unwrap_or(0.0),
+        )
+    };
+    let inclusion = |v: &Value| v.pointer("/inclusion").and_then(Value::as_bool) == Some(true);
+    for polygon in list(&root, "/geoFence/polygons") {
+        let command = if inclusion(&polygon) {
             FENCE_POLYGON_INCLUSION
         } else {
             FENCE_POLYGON_EXCLUSION
         };
-        let vertices = polygon["polygon"]
-            .as_array()
-            .map(Vec::as_slice)
-            .unwrap_or_default();
-        for v in vertices {
-            let (lat, lon) = point(v);
+        let vertices = list(&polygon, "/polygon");
+        for (i, _) in vertices.iter().enumerate() {
+            let (lat, lon) = point(&polygon, &format!("/polygon/{i}"));
             fence.push(Item {
                 command,
                 frame: FRAME_GLOBAL,
@@ -324,22 +328,18 @@ pub fn from_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (Vec<Item>, V
             });
         }
     }
-    for circle in root["geoFence"]["circles"]
-        .as_array()
-        .map(Vec::as_slice)
-        .unwrap_or_default()
-    {
-        let command = if circle["inclusion"].as_bool() == Some(true) {
+    for circle in list(&root, "/geoFence/circles") {
+        let command = if inclusion(&circle) {
             FENCE_CIRCLE_INCLUSION
         } else {
             FENCE_CIRCLE_EXCLUSION
         };
-        let (lat, lon) = point(&circle["circle"]["center"]);
+        let (lat, lon) = point(&circle, "/circle/center");
         fence.push(Item {
             command,
             frame: FRAME_GLOBAL,
             params: [
-                circle["circle"]["radius"].as_f64().unwrap_or(0.0) as f32,
+                number_at(&circle, "/circle/radius").unwrap_or(0.0) as f32,
                 0.0,
                 0.0,
                 0.0,
