@@ -623,6 +623,13 @@ impl Bridge {
         let Some(position) = states.position() else {
             return;
         };
+        // The vehicle's home for the next plan: where it is (the take-off position of a
+        // mission whose take-off item gives none, and the reference of AMSL altitudes).
+        self.config.plan.home = Some(crate::qgc::Home {
+            latitude_deg: position.latitude.degrees(),
+            longitude_deg: position.longitude.degrees(),
+            altitude_m: states.altitude.map_or(0.0, |a| a.metres()),
+        });
         let centi =
             |v: Option<f64>| (v.unwrap_or(0.0) * 100.0).round().clamp(-32768.0, 32767.0) as i16;
         let e7 = |deg: f64| (deg * 1e7).round() as i32;

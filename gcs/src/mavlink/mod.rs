@@ -9,4 +9,5 @@
 //! The MAVLink 2 framing and the `common` message set are the `mavlink` crate's.
 
 pub mod bridge;
+pub mod driver;
 pub mod plan;
