@@ -517,13 +517,14 @@ impl Bridge {
         }
     }
 
-    /// MISSION_ACK with an error and the reason as STATUSTEXT.
+    /// The reason as STATUSTEXT, then MISSION_ACK with an error: a client that stops listening
+    /// at the ACK has read why.
     fn refuse(&mut self, kind: MavMissionType, reason: &str) {
-        self.ack(kind, MavMissionResult::MAV_MISSION_DENIED);
         self.statustext(
             MavSeverity::MAV_SEVERITY_ERROR,
             &format!("refused: {reason}"),
         );
+        self.ack(kind, MavMissionResult::MAV_MISSION_DENIED);
     }
 
     fn commit(&mut self, _now: Instant, mission: Vec<Item>, fence: Vec<Item>, waiting: Waiting) {
