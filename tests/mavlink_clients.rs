@@ -32,6 +32,8 @@ fn script(name: &str) -> PathBuf {
 /// Runs `script` against a bridge to a fresh FCC; its output, after asserting it passed.
 fn run_client(test: &str, script_name: &str) -> String {
     let mut rig = Rig::new(test);
+    // Slow enough that the flight lasts several seconds of the 2 Hz downlink.
+    rig.config.guidance.time_scale = 10.0;
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
     let links = rig.gcs_links(&mut fcc);
@@ -95,4 +97,11 @@ fn pymavlink_uploads_downloads_and_is_refused_an_infeasible_mission() {
     assert!(out.contains("infeasible mission refused"), "{out}");
     // The violation, named by the safety gateway, reached the client in the STATUSTEXT.
     assert!(out.contains("inside no-fly-zone"), "{out}");
+}
+
+#[test]
+fn mavsdk_uploads_with_mission_raw_starts_and_sees_progress_and_positions() {
+    let out = run_client("mavlink-mavsdk", "mavsdk_mission.py");
+    assert!(out.contains("started"), "{out}");
+    assert!(out.contains("distinct"), "{out}");
 }

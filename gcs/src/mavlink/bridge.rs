@@ -37,7 +37,9 @@
 //! 4. **Rally points**: an empty list is accepted; points are refused (MAV_MISSION_UNSUPPORTED
 //!    and a STATUSTEXT: the ICD has none).
 //!
-//! MAV_CMD_MISSION_START is execute (#50000 command 1): a pending mission is committed first.
+//! MAV_CMD_MISSION_START is execute (#50000 command 1), and so is MAV_CMD_DO_SET_MODE to the
+//! mission mode (custom main mode 4, sub mode 4: what MAVSDK sends a generic autopilot); a
+//! pending mission is committed first. Other modes are accepted and change nothing.
 
 use std::collections::VecDeque;
 
@@ -152,6 +154,8 @@ pub struct Bridge {
     committing: Option<(Vec<Item>, Vec<Item>, Waiting)>,
     /// Execute asked while nothing was to commit: waiting for its outcome.
     executing: bool,
+    /// The command that asked for execute, for its COMMAND_ACK.
+    start_command: MavCmd,
     /// The mission item the aircraft flies to (MISSION_CURRENT).
     current: u16,
     state: MissionState,
@@ -175,6 +179,7 @@ impl Bridge {
             upload: None,
             committing: None,
             executing: false,
+            start_command: MavCmd::MAV_CMD_MISSION_START,
             current: 0,
             state: MissionState::MISSION_STATE_NO_MISSION,
             booted: None,
@@ -234,8 +239,12 @@ impl Bridge {
     pub fn handle(&mut self, now: Instant, _header: MavHeader, message: &MavMessage) {
         match message {
             MavMessage::HEARTBEAT(_) => {}
-            MavMessage::COMMAND_LONG(c) => self.command(now, c.command, c.param1),
-            MavMessage::COMMAND_INT(c) => self.command(now, c.command, c.param1),
+            MavMessage::COMMAND_LONG(c) => {
+                self.command(now, c.command, c.param1, c.param2, c.param3)
+            }
+            MavMessage::COMMAND_INT(c) => {
+                self.command(now, c.command, c.param1, c.param2, c.param3)
+            }
             MavMessage::PARAM_REQUEST_LIST(_) | MavMessage::PARAM_REQUEST_READ(_) => {
                 self.send(MavMessage::PARAM_VALUE(PARAM_VALUE_DATA {
                     param_value: 1.0,
@@ -270,7 +279,7 @@ impl Bridge {
         deprecated,
         reason = "REQUEST_AUTOPILOT_CAPABILITIES is superseded, not gone: clients still send it"
     )]
-    fn command(&mut self, now: Instant, command: MavCmd, param1: f32) {
+    fn command(&mut self, now: Instant, command: MavCmd, param1: f32, param2: f32, param3: f32) {
         let result = match command {
             MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => {
                 self.autopilot_version();
@@ -281,9 +290,16 @@ impl Bridge {
                 MavResult::MAV_RESULT_ACCEPTED
             }
             MavCmd::MAV_CMD_MISSION_START => {
-                self.execute(now);
+                self.execute_for(now, MavCmd::MAV_CMD_MISSION_START);
                 return;
             }
+            // The mission mode (custom main mode 4 AUTO, sub mode 4 MISSION, the numbers MAVSDK
+            // sends a generic autopilot to start a mission) is execute too.
+            MavCmd::MAV_CMD_DO_SET_MODE if param2 as u32 == 4 && param3 as u32 == 4 => {
+                self.execute_for(now, MavCmd::MAV_CMD_DO_SET_MODE);
+                return;
+            }
+            MavCmd::MAV_CMD_DO_SET_MODE => MavResult::MAV_RESULT_ACCEPTED,
             _ => MavResult::MAV_RESULT_UNSUPPORTED,
         };
         self.command_ack(command, result);
@@ -319,7 +335,8 @@ impl Bridge {
         }));
     }
 
-    fn execute(&mut self, now: Instant) {
+    fn execute_for(&mut self, now: Instant, command: MavCmd) {
+        self.start_command = command;
         if let Some(mission) = self.pending.take() {
             self.timers.stop(BridgeTimer::FenceWait);
             let fence = self.fence.clone();
@@ -340,13 +357,10 @@ impl Bridge {
         match outcome {
             Ok(()) => {
                 self.state = MissionState::MISSION_STATE_ACTIVE;
-                self.command_ack(
-                    MavCmd::MAV_CMD_MISSION_START,
-                    MavResult::MAV_RESULT_ACCEPTED,
-                );
+                self.command_ack(self.start_command, MavResult::MAV_RESULT_ACCEPTED);
             }
             Err(why) => {
-                self.command_ack(MavCmd::MAV_CMD_MISSION_START, MavResult::MAV_RESULT_DENIED);
+                self.command_ack(self.start_command, MavResult::MAV_RESULT_DENIED);
                 self.statustext(
                     MavSeverity::MAV_SEVERITY_ERROR,
                     &format!("execute refused: {why}"),
@@ -542,7 +556,7 @@ impl Bridge {
                         MavSeverity::MAV_SEVERITY_ERROR,
                         &format!("refused: {}", refusal.reason),
                     );
-                    self.command_ack(MavCmd::MAV_CMD_MISSION_START, MavResult::MAV_RESULT_DENIED);
+                    self.command_ack(self.start_command, MavResult::MAV_RESULT_DENIED);
                 }
             },
             Ok(plan) => {
@@ -591,10 +605,7 @@ impl Bridge {
                     Waiting::Nothing => self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &text),
                     Waiting::Execute => {
                         self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &text);
-                        self.command_ack(
-                            MavCmd::MAV_CMD_MISSION_START,
-                            MavResult::MAV_RESULT_DENIED,
-                        );
+                        self.command_ack(self.start_command, MavResult::MAV_RESULT_DENIED);
                     }
                 }
             }
