@@ -5,8 +5,7 @@
 //! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
 //!   export; [`geojson`]: areas as GeoJSON; [`import`]: the error and the rules all three
 //!   importers share (and `json_path`, the JSON walker of the two JSON formats).
-//! - [`mavlink`]: MAVLink 2 for QGroundControl, MAVSDK and pymavlink (the item conversion so
-//!   far).
+//! - [`mavlink`]: `gcs mavlink`, the vehicle for QGroundControl, MAVSDK and pymavlink.
 //! - [`monitor`]: what `gcs monitor` prints, position and FROM-TO-NEXT together.
 //! - [`map`]: the mission map as SVG; [`inspect`]: the frame inspector; [`profile`]: the
 //!   aircraft profile and environment the safety gateway checks against; [`report_table`]: the

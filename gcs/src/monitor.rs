@@ -52,14 +52,16 @@ impl Monitor {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use missionlink_interfaces::wire::{
         Altitude, AltitudeType, GeoPoint, Timestamp, Velocity, WaypointState,
     };
 
     use super::*;
 
-    fn states() -> InertialStates {
+    /// At 48.2725 N 11.6425 E, 120 m WGS-84, 25 m/s towards north-east (the example of ICD
+    /// A.26): the bridge's tests take it too.
+    pub(crate) fn states() -> InertialStates {
         let p = GeoPoint::from_degrees(48.2725, 11.6425).unwrap();
         InertialStates {
             time_stamp: Timestamp::default(),

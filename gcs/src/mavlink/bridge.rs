@@ -9,9 +9,10 @@
 //!
 //! System 1, component 1 (MAV_COMP_ID_AUTOPILOT1), HEARTBEAT once a second as MAV_TYPE 22 (VTOL
 //! with separate lift and cruise rotors, the demo eVTOL) and MAV_AUTOPILOT_GENERIC;
-//! AUTOPILOT_VERSION with MISSION_INT, MISSION_FENCE and MAVLINK2; an empty parameter list
-//! (PARAM_REQUEST_LIST is answered with no PARAM_VALUE... but one: a client waits for
-//! `param_count`, so the list is announced by a single read-only parameter `MLNK_VERSION`);
+//! AUTOPILOT_VERSION with MISSION_INT, MISSION_FENCE and MAVLINK2; a parameter list that holds
+//! nothing of the FCC's (it has no MAVLink parameters) but one read-only `MLNK_VERSION`: a
+//! client reads a list until it holds `param_count` values, and a list of none cannot be told
+//! from a lost answer;
 //! GLOBAL_POSITION_INT from each #101 of the downlink and MISSION_CURRENT from each #4001;
 //! STATUSTEXT for what the operator must read.
 //!
@@ -811,10 +812,8 @@ mod tests {
     use mavlink::dialects::common::{
         COMMAND_LONG_DATA, MISSION_REQUEST_LIST_DATA, MavMissionType as T,
     };
-    use missionlink_interfaces::wire::{Altitude, AltitudeType, GeoPoint, Timestamp, Velocity};
 
     use super::*;
-    use crate::mavlink::plan::{FENCE_CIRCLE_EXCLUSION, FENCE_POLYGON_INCLUSION};
     use crate::qgc::ImportOptions;
 
     fn at(ms: u64) -> Instant {
@@ -1251,20 +1250,7 @@ mod tests {
         assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
         b.executed(Ok(()));
         assert!(sent(&mut b).iter().any(|m| matches!(m, MavMessage::COMMAND_ACK(a) if a.result == MavResult::MAV_RESULT_ACCEPTED)));
-        let p = GeoPoint::from_degrees(48.2725, 11.6425).unwrap();
-        b.handle_position(
-            at(500),
-            &InertialStates {
-                time_stamp: Timestamp::default(),
-                latitude: Some(p.latitude),
-                longitude: Some(p.longitude),
-                altitude: Some(Altitude::from_metres(120.0).unwrap()),
-                altitude_type: Some(AltitudeType::Wgs84),
-                u_speed: Some(Velocity::from_raw(354)),
-                v_speed: Some(Velocity::from_raw(354)),
-                ..InertialStates::default()
-            },
-        );
+        b.handle_position(at(500), &crate::monitor::tests::states());
         let [MavMessage::GLOBAL_POSITION_INT(g)] = &sent(&mut b)[..] else {
             panic!("no GLOBAL_POSITION_INT")
         };
@@ -1303,6 +1289,5 @@ mod tests {
             MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT
                 | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
         ));
-        let _ = (FENCE_POLYGON_INCLUSION, FENCE_CIRCLE_EXCLUSION);
     }
 }
