@@ -1290,4 +1290,33 @@ mod tests {
                 | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
         ));
     }
+
+    /// Datagrams from anyone: every prefix of a valid one, and bytes from a fixed-seed
+    /// generator, never panic; what does not parse is counted.
+    #[test]
+    fn any_bytes_are_counted_never_a_panic() {
+        let mut b = Bridge::new(config());
+        let mut buf = [0u8; 300];
+        let mut out: &mut [u8] = &mut buf;
+        let len = mavlink::write_v2_msg(&mut out, MavHeader::default(), &mission()[1]).unwrap();
+        for cut in 0..len {
+            b.handle_datagram(at(0), &buf[..cut]);
+        }
+        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut bytes = [0u8; 300];
+        for round in 0..2000 {
+            for byte in bytes.iter_mut() {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                *byte = seed as u8;
+            }
+            // Every fourth datagram starts as a MAVLink 2 frame does.
+            if round % 4 == 0 {
+                bytes[0] = 0xfd;
+            }
+            b.handle_datagram(at(0), &bytes[..(round % 300)]);
+        }
+        assert!(b.unreadable >= 1000, "{}", b.unreadable);
+    }
 }
