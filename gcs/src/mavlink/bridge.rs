@@ -1003,6 +1003,11 @@ mod tests {
             .collect()
     }
 
+    /// The one MISSION_ACK of an accepted upload of `kind`.
+    fn accepted(kind: T) -> Vec<(T, MavMissionResult)> {
+        vec![(kind, MavMissionResult::MAV_MISSION_ACCEPTED)]
+    }
+
     fn texts(messages: &[MavMessage]) -> Vec<String> {
         messages
             .iter()
@@ -1043,13 +1048,7 @@ mod tests {
     fn mission_then_fence_commit_as_one() {
         let mut b = Bridge::new(config());
         let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
-        assert_eq!(
-            acks(&out),
-            [(
-                T::MAV_MISSION_TYPE_MISSION,
-                MavMissionResult::MAV_MISSION_ACCEPTED
-            )]
-        );
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_MISSION));
         assert!(
             b.poll_event().is_none(),
             "nothing committed before the fence"
@@ -1064,22 +1063,10 @@ mod tests {
         assert_eq!(b.poll_timeout(), None, "the fence ended the wait");
         b.committed(Ok(()));
         let out = sent(&mut b);
-        assert_eq!(
-            acks(&out),
-            [(
-                T::MAV_MISSION_TYPE_FENCE,
-                MavMissionResult::MAV_MISSION_ACCEPTED
-            )]
-        );
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
         // Rally: none is accepted.
         let out = upload(&mut b, at(200), T::MAV_MISSION_TYPE_RALLY, &[]);
-        assert_eq!(
-            acks(&out),
-            [(
-                T::MAV_MISSION_TYPE_RALLY,
-                MavMissionResult::MAV_MISSION_ACCEPTED
-            )]
-        );
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_RALLY));
         // Download: the same items.
         for (kind, items) in [
             (T::MAV_MISSION_TYPE_MISSION, mission()),
@@ -1129,13 +1116,7 @@ mod tests {
         let mut b = Bridge::new(config());
         // Without a mission, a fence is held for the next one.
         let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_FENCE, &fence());
-        assert_eq!(
-            acks(&out),
-            [(
-                T::MAV_MISSION_TYPE_FENCE,
-                MavMissionResult::MAV_MISSION_ACCEPTED
-            )]
-        );
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
         assert!(b.poll_event().is_none());
         upload(&mut b, at(1000), T::MAV_MISSION_TYPE_MISSION, &mission());
         b.handle_timeout(at(2999));
