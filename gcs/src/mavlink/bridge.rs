@@ -1003,6 +1003,23 @@ mod tests {
             .collect()
     }
 
+    /// COMMAND_LONG of `command` with `param1`, the other params 0.
+    fn command_long(command: MavCmd, param1: f32) -> MavMessage {
+        MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1,
+            param2: 0.0,
+            param3: 0.0,
+            param4: 0.0,
+            param5: 0.0,
+            param6: 0.0,
+            param7: 0.0,
+            command,
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            confirmation: 0,
+        })
+    }
+
     /// The one MISSION_ACK of an accepted upload of `kind`.
     fn accepted(kind: T) -> Vec<(T, MavMissionResult)> {
         vec![(kind, MavMissionResult::MAV_MISSION_ACCEPTED)]
@@ -1214,19 +1231,7 @@ mod tests {
         from_client(
             &mut b,
             at(0),
-            MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-                param1: 0.0,
-                param2: 0.0,
-                param3: 0.0,
-                param4: 0.0,
-                param5: 0.0,
-                param6: 0.0,
-                param7: 0.0,
-                command: MavCmd::MAV_CMD_MISSION_START,
-                target_system: SYSTEM_ID,
-                target_component: COMPONENT_ID,
-                confirmation: 0,
-            }),
+            command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
         );
         assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
         b.executed(Ok(()));
@@ -1248,19 +1253,7 @@ mod tests {
         from_client(
             &mut b,
             at(0),
-            MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
-                param1: 148.0,
-                param2: 0.0,
-                param3: 0.0,
-                param4: 0.0,
-                param5: 0.0,
-                param6: 0.0,
-                param7: 0.0,
-                command: MavCmd::MAV_CMD_REQUEST_MESSAGE,
-                target_system: SYSTEM_ID,
-                target_component: COMPONENT_ID,
-                confirmation: 0,
-            }),
+            command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 148.0),
         );
         let out = sent(&mut b);
         let Some(MavMessage::AUTOPILOT_VERSION(v)) = out.first() else {
