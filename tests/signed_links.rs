@@ -18,7 +18,7 @@ use missionlink_interfaces::wire::{
 };
 use missionlink_partitions::config::{Signing, SigningPolicy};
 use missionlink_platform::keys;
-use missionlink_services::link::signing::{LinkKey, Signer};
+use missionlink_services::link::signing::{LinkKey, SignatureCause, Signer};
 
 /// A new key file with `key_id` in the rig's directory.
 fn key_file(rig: &Rig, name: &str, key_id: u8) -> PathBuf {
@@ -74,6 +74,10 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     let mission_1 = plan("mission-1.toml");
     let valid_1 = link.station().validate(&mission_1).unwrap();
     upload(&mut link, &mission_1).unwrap();
+    // The FCC's position downlink (ICD §5.8) runs from its start: what it sent before this GCS
+    // started is refused as a replay (older than the GCS's start, ICD §9). From here on, every
+    // frame of the FCC verifies.
+    let stale = link.voter().stats().rejected_signatures;
 
     let stranger = UdpSocket::bind("127.0.0.1:0").unwrap();
     // Unsigned, as an attacker without the key sends them.
@@ -95,7 +99,13 @@ fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
     let valid_2 = link.station().validate(&mission_2).unwrap();
     upload(&mut link, &mission_2).unwrap();
     assert_eq!(download(&mut link).unwrap(), valid_2);
-    assert_eq!(link.voter().stats().rejected_signatures.total(), 0);
+    let rejected = link.voter().stats().rejected_signatures;
+    assert_eq!(rejected, stale, "{rejected:?}");
+    assert_eq!(
+        stale.total(),
+        stale.get(SignatureCause::Replay),
+        "{stale:?}"
+    );
     assert!(link.voter().signatures().stats().verified > 0);
 
     fcc.stop().unwrap();

@@ -85,7 +85,8 @@ pub struct GcsLink<G: SafetyGateway> {
     slots: Vec<[u8; MAX_DATAGRAM]>,
     /// The file that reserves time stamps across processes, and how far it reserves.
     stamp_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
-    /// Every message sent and every voted message received, when logging is on.
+    /// Every message sent and every voted message received, when logging is on, but the
+    /// periodic position downlink (#101).
     pub log: Vec<Logged>,
     logging: bool,
 }
@@ -186,8 +187,9 @@ impl<G: SafetyGateway> GcsLink<G> {
         let rejected = stats.rejected_signatures;
         Some(if rejected.total() > 0 {
             format!(
-                "the FCC answers, but its frames fail this GCS's signature check ({rejected:?}): \
-                 the two sides hold different keys or policies (ICD §9)"
+                "the FCC sends, but its frames fail this GCS's signature check ({rejected:?}): \
+                 this GCS signs with key {key_id}, and the two sides hold different keys or \
+                 policies. The GCS does not fall back to unsigned frames (ICD §9)"
             )
         } else {
             format!(
@@ -225,7 +227,10 @@ impl<G: SafetyGateway> GcsLink<G> {
     }
 
     fn record(&mut self, direction: Direction, message: Message) {
-        if self.logging {
+        // The log is of the exchanges of ICD §5: the periodic position downlink (#101, §5.8)
+        // would only grow it by two entries a second and shift the counts of transfers; the
+        // driver hands each position on as `GcsEvent::Position` instead.
+        if self.logging && !matches!(message, Message::InertialStates(_)) {
             self.log.push(Logged {
                 at: self.started.elapsed(),
                 direction,

@@ -5,6 +5,8 @@
 //! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
 //!   export; [`geojson`]: areas as GeoJSON; [`import`]: the error and the rules all three
 //!   importers share (and `json_path`, the JSON walker of the two JSON formats).
+//! - [`mavlink`]: `gcs mavlink`, the vehicle for QGroundControl, MAVSDK and pymavlink.
+//! - [`monitor`]: what `gcs monitor` prints, position and FROM-TO-NEXT together.
 //! - [`map`]: the mission map as SVG; [`inspect`]: the frame inspector; [`profile`]: the
 //!   aircraft profile and environment the safety gateway checks against; [`report_table`]: the
 //!   FCC's mission report (ICD §8) as a table.
@@ -15,7 +17,9 @@ pub mod import;
 pub mod inspect;
 mod json_path;
 pub mod map;
+pub mod mavlink;
 pub mod mission_file;
+pub mod monitor;
 pub mod pcap;
 pub mod profile;
 pub mod qgc;

@@ -96,6 +96,8 @@ const MESSAGES: &[&str] = &[
     r#"{"message_type":14000,"source_id":"0x0b000001","destination_id":"0x0a000001","ack_requested":true,"fields":{"time_stamp":"2026-11-21T12:02:02.000Z","mission_id":null,"status":"aborted","percent_complete":40,"waypoint_request":null,"mode":"receive_mission","reason":"integrity_mismatch","mission_checksum":null}}"#,
     r#"{"message_type":4001,"source_id":"0x0b000001","destination_id":"0x0a000001","fields":{"time_stamp":"2026-11-21T12:05:00.000Z","altitude_type":"wgs84","speed_type":"ground_speed","from":{"latitude":48.275,"longitude":11.645,"altitude":120.0,"time":"2026-11-21T12:04:10.000Z","waypoint_number":1},"to":{"latitude":48.278,"longitude":11.658,"altitude":120.0,"speed":25.0,"time":"2026-11-21T12:05:20.000Z","waypoint_number":2},"next":{"latitude":48.28,"longitude":11.68,"altitude":130.0,"speed":30.0,"time":"2026-11-21T12:06:00.000Z","waypoint_number":3},"loiter_configuration_report_validity":0}}"#,
     r#"{"message_type":4001,"source_id":"0x0b000001","destination_id":"0xffffffff","fields":{"time_stamp":"2026-11-21T12:05:01.000Z","altitude_type":null,"speed_type":null,"from":{"latitude":null,"longitude":null,"altitude":null,"time":null,"waypoint_number":null},"to":{"latitude":48.278,"longitude":11.658,"altitude":120.0,"speed":25.0,"time":null,"waypoint_number":1},"next":{"latitude":null,"longitude":null,"altitude":null,"speed":null,"time":null,"waypoint_number":0},"loiter_configuration_report_validity":null}}"#,
+    r#"{"message_type":101,"source_id":"0x0b000001","destination_id":"0x0a000001","fields":{"time_stamp":"2026-11-21T12:05:00.500Z","latitude":48.2725,"longitude":11.6425,"altitude":120.0,"altitude_type":"wgs84","u_speed":17.7,"v_speed":-17.7,"w_speed":null,"u_accel":null,"v_accel":null,"w_accel":null,"phi":null,"theta":null,"psi":null,"phi_dot":null,"theta_dot":null,"psi_dot":null,"magnetic_variation":null}}"#,
+    r#"{"message_type":101,"source_id":"0x0b000001","destination_id":"0x0a000001","fields":{"time_stamp":"2026-11-21T12:05:01.000Z","latitude":-33.8688,"longitude":-151.2093,"altitude":-12.5,"altitude_type":"agl","u_speed":-0.05,"v_speed":0.0,"w_speed":1.5,"u_accel":-3,"v_accel":4,"w_accel":-32768,"phi":32767,"theta":-1,"psi":16384,"phi_dot":7,"theta_dot":-7,"psi_dot":0,"magnetic_variation":-100}}"#,
     r#"{"message_type":2011,"ack_requested":true,"fields":{"time_stamp":"2026-11-21T12:00:00.000Z","mode":"initiate_upload","loop_count":3,"area_id":0,"safety_offset":25.0,"activity_id":0,"mission_id":null,"window_or_checksum":null}}"#,
     r#"{"message_type":2011,"ack_requested":true,"fields":{"time_stamp":"2026-11-21T12:00:30.000Z","mode":"upload_complete_staged","loop_count":3,"area_id":null,"safety_offset":null,"activity_id":null,"mission_id":"MEDEVAC-2","window_or_checksum":{"area_checksum":439041101}}}"#,
     r#"{"message_type":2011,"ack_requested":true,"fields":{"time_stamp":"2026-11-21T12:00:31.000Z","mode":"initiate_staged_download","loop_count":null,"area_id":2,"safety_offset":null,"activity_id":null,"mission_id":"MEDEVAC-2","window_or_checksum":{"transfer_window":32}}}"#,
@@ -706,7 +708,13 @@ fn value_names_are_the_enumerations_of_the_wire_layer() {
     let mut shown: BTreeMap<String, Vec<(u8, String)>> = BTreeMap::new();
     for l in values.lines() {
         let cols: Vec<&str> = l.split('\t').collect();
-        if cols.len() == 4 && cols[1].starts_with("missionlink.m") {
+        // Message fields only (`missionlink.m<type>.<key>`): the Message Type's own names
+        // (`missionlink.message_type`) include #101, whose number fits a u8 too.
+        let message_field = cols.get(1).is_some_and(|c| {
+            c.strip_prefix("missionlink.m")
+                .is_some_and(|rest| rest.starts_with(|ch: char| ch.is_ascii_digit()))
+        });
+        if cols.len() == 4 && message_field {
             if let Ok(n) = cols[2].parse::<u8>() {
                 shown
                     .entry(cols[1].trim_start_matches("missionlink.").to_owned())
@@ -748,6 +756,7 @@ fn value_names_are_the_enumerations_of_the_wire_layer() {
         ("m14000.reason", reason.clone()),
         ("m4001.altitude_type", altitude.clone()),
         ("m4001.speed_type", speed),
+        ("m101.altitude_type", altitude.clone()),
         ("m2011.mode", json_names(AreaTransferMode::ALL, |v| v as u8)),
         ("m2012.area_type", json_names(AreaType::ALL, |v| v as u8)),
         ("m2012.altitude_type", altitude),

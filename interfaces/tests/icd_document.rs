@@ -74,6 +74,7 @@ fn pv_bytes(t: MessageType) -> usize {
         MessageType::VehicleSpecificWaypoint => VehicleSpecificWaypoint::PV_BYTES,
         MessageType::MissionUploadDownloadStatus => MissionUploadDownloadStatus::PV_BYTES,
         MessageType::FromToNext => FromToNext::PV_BYTES,
+        MessageType::InertialStates => InertialStates::PV_BYTES,
         MessageType::AreaTransmissionCommand => AreaTransmissionCommand::PV_BYTES,
         MessageType::AreaPolygonLoopSegment => AreaPolygonLoopSegment::PV_BYTES,
         MessageType::AreaStatusAlert => AreaStatusAlert::PV_BYTES,

@@ -416,6 +416,24 @@ fn from_to_next() -> Msg {
     )
 }
 
+/// #101 with every field: position, altitude, the three velocities, and the raw I2 fields.
+fn inertial_states() -> Msg {
+    let mut fields = vec![
+        (0, ts(TS)),
+        (1, i4(LAT)),
+        (2, i4(LON)),
+        (3, i3(100)),
+        (4, u1(3)),
+        (5, (-20i16).to_be_bytes().to_vec()),
+        (6, 340i16.to_be_bytes().to_vec()),
+        (7, 2i16.to_be_bytes().to_vec()),
+    ];
+    for bit in 8..18u8 {
+        fields.push((bit, (i16::from(bit) - 12).to_be_bytes().to_vec()));
+    }
+    Msg::new(101, 3, fields)
+}
+
 fn area_command(mode: u8) -> Msg {
     Msg::new(
         2011,
@@ -556,6 +574,7 @@ fn all_messages() -> Vec<(Msg, &'static [u8])> {
         (rf_centre(), &[0, 1, 2, 4, 5, 6]),
         (transfer_status(), &[0, 2]),
         (from_to_next(), &[0]),
+        (inertial_states(), &[0]),
         (area_command(1), &[0, 1, 2]),
         (area_command(2), &[0, 1, 2]),
         (area_command(3), &[0, 1]),
@@ -1346,6 +1365,26 @@ fn every_mandatory_field_absent_is_missing_field() {
     }
 }
 
+/// #101 carries a position as a pair and an altitude with its reference (ICD §4): one half
+/// without the other is `MissingField` on the absent one.
+#[test]
+fn inertial_states_halves_are_missing_field() {
+    for absent in [1, 2, 4] {
+        assert_eq!(
+            inertial_states().without(absent).reject(),
+            rejected(
+                101,
+                Some((absent, name(101, absent))),
+                Cause::MissingField,
+                Some(TS)
+            ),
+            "#101 without bit {absent}"
+        );
+    }
+    // Without the altitude, its type alone is no contradiction.
+    assert!(inertial_states().without(3).decode().is_ok());
+}
+
 /// Named cases of the rule above, with the field named explicitly, and the fields mandatory
 /// only in some modes (ICD §4): absent where the mode needs them, they are missing; the other
 /// modes do without them.
@@ -1410,6 +1449,7 @@ fn pv_bit_beyond_the_defined_fields_is_unknown_field() {
         (waypoint().pv_bit(18), 13002, 18),
         (polygon().pv_bit(9), 2012, 9),
         (from_to_next().pv_bit(21), 4001, 21),
+        (inertial_states().pv_bit(18), 101, 18),
         (execute().pv_bit(7), 50000, 7),
     ];
     for (msg, ty, bit) in cases {
@@ -1561,6 +1601,7 @@ fn values_outside_a_fields_range_are_out_of_range() {
             "Next Latitude",
             -b90,
         ),
+        (inertial_states().with(1, i4(BEYOND_90)), 1, "Latitude", b90),
         (area(0, &vertex_beyond_90), 8, "Vertices", b90),
         (waypoint().with(8, u2(0)), 8, "Waypoint to Speed", 0),
         (

@@ -17,11 +17,12 @@ use missionlink_interfaces::wire::{
     AreaPolygonLoopSegment, AreaShape, AreaStatusAlert, AreaTransferMode, AreaTransmissionCommand,
     AreaTransmissionStatus, AreaType, Checksum, ChecksumWidth, DecodeError, EncodeError, Envelope,
     ExecuteCommand, FrameError, FromToNext, FromWaypointState, GeoPoint, GeofenceCheck, HEADER_LEN,
-    LegType, LocationType, MAX_DATA_LEN, MAX_FRAME_LEN, Message, MessageAcknowledgement,
-    MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport, MissionTransferCommand,
-    MissionUploadDownloadStatus, PolygonVertices, Reason, RouteType, SafetyOffset, SpecificData,
-    Speed, SpeedType, Text, Timestamp, TransferStatus, TransferWindow, TurnDirection, TurnType, U3,
-    UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint, WaypointState, WindowOrChecksum,
+    InertialStates, LegType, LocationType, MAX_DATA_LEN, MAX_FRAME_LEN, Message,
+    MessageAcknowledgement, MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport,
+    MissionTransferCommand, MissionUploadDownloadStatus, PolygonVertices, Reason, RouteType,
+    SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp, TransferStatus, TransferWindow,
+    TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint, Velocity,
+    WaypointState, WindowOrChecksum,
 };
 use proptest::collection::vec;
 use proptest::option;
@@ -447,6 +448,41 @@ fn from_to_next() -> impl Strategy<Value = FromToNext> {
         )
 }
 
+/// #101: a position is a pair, an altitude comes with its type (ICD §4).
+fn inertial_states() -> impl Strategy<Value = InertialStates> {
+    let velocity = || option::of(any::<i16>().prop_map(Velocity::from_raw));
+    (
+        time_stamp(),
+        option::of(geo_point()),
+        option::of((altitude(), pick(AltitudeType::ALL))),
+        option::of(pick(AltitudeType::ALL)),
+        (velocity(), velocity(), velocity()),
+        proptest::array::uniform10(option::of(any::<i16>())),
+    )
+        .prop_map(
+            |(time_stamp, position, altitude, lone_type, (u, v, w), other)| InertialStates {
+                time_stamp,
+                latitude: position.map(|p| p.latitude),
+                longitude: position.map(|p| p.longitude),
+                altitude: altitude.map(|(a, _)| a),
+                altitude_type: altitude.map(|(_, t)| t).or(lone_type),
+                u_speed: u,
+                v_speed: v,
+                w_speed: w,
+                u_accel: other[0],
+                v_accel: other[1],
+                w_accel: other[2],
+                phi: other[3],
+                theta: other[4],
+                psi: other[5],
+                phi_dot: other[6],
+                theta_dot: other[7],
+                psi_dot: other[8],
+                magnetic_variation: other[9],
+            },
+        )
+}
+
 fn area_transmission_command() -> impl Strategy<Value = AreaTransmissionCommand> {
     (
         time_stamp(),
@@ -654,6 +690,7 @@ fn message() -> impl Strategy<Value = Message> {
             .prop_map(Message::from)
             .boxed(),
         from_to_next().prop_map(Message::from).boxed(),
+        inertial_states().prop_map(Message::from).boxed(),
         area_transmission_command().prop_map(Message::from).boxed(),
         area_polygon_loop_segment().prop_map(Message::from).boxed(),
         area_status_alert().prop_map(Message::from).boxed(),
@@ -700,7 +737,9 @@ fn encode(envelope: &Envelope, message: &Message) -> Vec<u8> {
 /// Width of the presence vector of a message type (ICD §4).
 fn pv_bytes(t: MessageType) -> usize {
     match t {
-        MessageType::UaPositionWaypoint | MessageType::FromToNext => 3,
+        MessageType::UaPositionWaypoint | MessageType::FromToNext | MessageType::InertialStates => {
+            3
+        }
         MessageType::AreaPolygonLoopSegment | MessageType::MissionReport => 2,
         _ => 1,
     }

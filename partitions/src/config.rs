@@ -380,6 +380,35 @@ pub struct Config {
     pub isolation: crate::isolation::Isolation,
     /// The bridge to another host (off by default; docs/two-hosts.md).
     pub bridge: crate::bridge_config::Bridge,
+    /// Periodic downlink of mission data handling.
+    pub downlink: Downlink,
+}
+
+/// The periodic downlink of mission data handling (ICD §5.8).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Downlink {
+    /// #101 Inertial States per second, the position downlink; 0 sends none.
+    pub position_rate_hz: f64,
+}
+
+impl Default for Downlink {
+    fn default() -> Self {
+        Self {
+            position_rate_hz: 2.0,
+        }
+    }
+}
+
+impl Downlink {
+    /// The period of the position downlink; `None` when it is off (a rate of 0, or one that is
+    /// not a positive finite number).
+    pub fn position_period(&self) -> Option<Duration> {
+        let hz = self.position_rate_hz;
+        (hz.is_finite() && hz > 0.0)
+            .then(|| Duration::try_from_secs_f64(1.0 / hz).ok())
+            .flatten()
+    }
 }
 
 impl Config {
@@ -444,6 +473,7 @@ impl Config {
             endpoint: self.ids.fcc_endpoint(utc_at_zero),
             ack_timeout: self.timing.ack_timeout(),
             transfer_timeout: self.timing.transfer_timeout(),
+            position_period: self.downlink.position_period(),
         }
     }
 }
@@ -635,6 +665,29 @@ mod tests {
         assert_eq!(c.links.gcs_lte.to_string(), "127.0.0.1:4589");
         assert_eq!(c.timing.ack_timeout(), Duration::from_millis(500));
         assert_eq!(c.timing.transfer_timeout(), Duration::from_secs(3));
+        // ICD §5.8: the position downlink at 2 Hz.
+        assert_eq!(
+            c.downlink.position_period(),
+            Some(Duration::from_millis(500))
+        );
+    }
+
+    #[test]
+    fn a_position_rate_of_zero_or_no_number_turns_the_downlink_off() {
+        for text in [
+            "[downlink]\nposition_rate_hz = 0.0\n",
+            "[downlink]\nposition_rate_hz = -1.0\n",
+            "[downlink]\nposition_rate_hz = nan\n",
+        ] {
+            let c = Config::parse(text, Path::new("d.toml")).unwrap();
+            assert_eq!(c.downlink.position_period(), None, "{text}");
+        }
+        let c =
+            Config::parse("[downlink]\nposition_rate_hz = 10.0\n", Path::new("d.toml")).unwrap();
+        assert_eq!(
+            c.downlink.position_period(),
+            Some(Duration::from_millis(100))
+        );
     }
 
     #[test]

@@ -25,6 +25,7 @@ pub mod guidance;
 pub mod health;
 pub mod link;
 pub mod mission_data_handling;
+pub mod position;
 pub mod safety_gateway;
 #[cfg(any(test, feature = "testkit"))]
 pub mod testkit;

@@ -343,3 +343,87 @@ fn plans_describe_themselves_in_one_line() {
         r#"mission "MEDEVAC-1": take-off 30.0 m, 1 waypoints (1), route one-way; 1 areas, safety offset 25.0 m"#
     );
 }
+
+/// The position downlink (ICD §5.8) through signed links: with its default rate the FCC sends
+/// #101 every 500 ms of simulated time from guidance's first progress, never acknowledged; the
+/// GCS receives each with the latest position, the course of the last movement and the ground
+/// speed.
+#[test]
+fn positions_reach_the_gcs_at_2_hz_signed_and_unacknowledged() {
+    use missionlink_interfaces::contracts::GuidanceProgressPayload;
+    use missionlink_interfaces::wire::MessageType;
+    use missionlink_services::link::signing::Policy;
+    use missionlink_services::mission_data_handling::{FccConfig, MissionDataHandling};
+    use missionlink_services::position::DEFAULT_PERIOD;
+
+    let mut pair = Pair::signed(23, Policy::Require, Policy::Require);
+    pair.fcc = MissionDataHandling::new(FccConfig {
+        position_period: Some(DEFAULT_PERIOD),
+        ..fcc_config()
+    });
+    upload(&mut pair, &mission_2(), true);
+    pair.take_gcs_events();
+    let before = pair.sent.len();
+    let wire_before = pair.wire.len();
+    let start = pair.now;
+    // Guidance reports every 100 ms for 5 s, flying due east.
+    for step in 0..50u32 {
+        let progress = GuidanceProgressPayload {
+            sequence: u64::from(step) + 1,
+            latitude_deg: 48.27,
+            longitude_deg: 11.64 + f64::from(step) * 1e-4,
+            altitude_m: 120.0,
+            ground_speed_mps: 25.0,
+            on_ground: false,
+            ..GuidanceProgressPayload::IDLE
+        };
+        let now = start + Duration::from_millis(u64::from(step) * 100);
+        pair.run_until(now);
+        pair.fcc.handle_progress(now, &progress);
+    }
+    pair.run_until(start + Duration::from_millis(4_950));
+    let positions: Vec<_> = pair
+        .take_gcs_events()
+        .into_iter()
+        .filter_map(|e| match e {
+            GcsEvent::Position(p) => Some(p),
+            _ => None,
+        })
+        .collect();
+    // At 0, 500, ..., 4500 ms.
+    assert_eq!(positions.len(), 10, "{positions:?}");
+    let sent: Vec<_> = pair.sent[before..]
+        .iter()
+        .filter(|s| s.message.message_type() == MessageType::InertialStates)
+        .collect();
+    assert_eq!(sent.len(), 10);
+    for (i, s) in sent.iter().enumerate() {
+        assert_eq!(s.direction, Direction::Down);
+        assert!(!s.ack_requested, "#101 is never acknowledged");
+        assert_eq!(s.at, start + Duration::from_millis(500 * i as u64));
+    }
+    // Nothing answers it.
+    assert!(
+        pair.sent[before..]
+            .iter()
+            .all(|s| s.direction == Direction::Down)
+    );
+    // Every #101 on the wire is signed (ICD §9: Message Properties bit 5).
+    let on_wire: Vec<_> = pair.wire[wire_before..]
+        .iter()
+        .filter(|(_, _, bytes)| bytes[12..14] == [0x00, 0x65])
+        .collect();
+    assert_eq!(on_wire.len(), 20, "both links");
+    assert!(on_wire.iter().all(|(_, _, b)| b[15] & 0x20 != 0));
+    // The last, at 4500 ms, went before that instant's progress: it tells the one of 4400 ms.
+    let last = positions.last().unwrap();
+    let p = last.position().unwrap();
+    assert!((p.latitude.degrees() - 48.27).abs() < 1e-6);
+    assert!((p.longitude.degrees() - (11.64 + 44.0 * 1e-4)).abs() < 1e-6);
+    assert!((last.course_deg().unwrap() - 90.0).abs() < 0.5, "{last}");
+    assert!(
+        (last.ground_speed_mps().unwrap() - 25.0).abs() < 0.05,
+        "{last}"
+    );
+    assert_eq!(last.altitude.unwrap().metres(), 120.0);
+}

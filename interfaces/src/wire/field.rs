@@ -375,6 +375,72 @@ impl fmt::Debug for Speed {
 
 unsigned_codec!(Speed, u16, 2);
 
+/// VEL2 velocity (ICD §3): a signed 16-bit integer, LSB 0.05 m/s (about -1638 to +1638 m/s);
+/// the north, east and down speeds of #101.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+#[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
+#[repr(C)]
+pub struct Velocity(i16);
+
+impl Velocity {
+    /// Metres per second per LSB.
+    pub const LSB_MPS: f64 = 0.05;
+
+    /// The velocity with this raw VEL2 value.
+    pub const fn from_raw(raw: i16) -> Self {
+        Self(raw)
+    }
+
+    /// The raw VEL2 value.
+    pub const fn raw(self) -> i16 {
+        self.0
+    }
+
+    /// The velocity nearest to `mps`.
+    pub fn from_mps(mps: f64) -> Result<Self, OutOfRange> {
+        let v = checked(
+            "velocity (m/s)",
+            mps,
+            f64::from(i16::MIN) * Self::LSB_MPS,
+            f64::from(i16::MAX) * Self::LSB_MPS,
+        )?;
+        Ok(Self((v / Self::LSB_MPS).round() as i16))
+    }
+
+    /// The velocity in metres per second.
+    pub fn mps(self) -> f64 {
+        f64::from(self.0) * Self::LSB_MPS
+    }
+}
+
+impl fmt::Debug for Velocity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:.2} m/s", self.mps())
+    }
+}
+
+impl Codec for Velocity {
+    const SIZE: usize = 2;
+    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
+        Ok(Self(read_be(bytes) as u16 as i16))
+    }
+    fn encode(&self, out: &mut [u8]) {
+        write_be(u64::from(self.0 as u16), out);
+    }
+}
+
+/// I2: a signed 16-bit integer (the fields of #101 this project carries but never fills, kept
+/// as their raw wire value).
+impl Codec for i16 {
+    const SIZE: usize = 2;
+    fn decode(bytes: &[u8]) -> Result<Self, Cause> {
+        Ok(read_be(bytes) as u16 as i16)
+    }
+    fn encode(&self, out: &mut [u8]) {
+        write_be(u64::from(*self as u16), out);
+    }
+}
+
 /// Safety offset of #2011 and #3013 (ICD §4): an unsigned 16-bit distance, LSB 0.1 m.
 #[derive(
     Clone,
@@ -816,6 +882,7 @@ mod serde_impls {
     physical!(Angle, degrees, from_degrees);
     physical!(Altitude, metres, from_metres);
     physical!(Speed, mps, from_mps);
+    physical!(Velocity, mps, from_mps);
     physical!(SafetyOffset, metres, from_metres);
 
     impl Serialize for Timestamp {

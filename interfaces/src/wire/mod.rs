@@ -95,7 +95,7 @@ pub use enums::*;
 pub use error::{Cause, DecodeError, EncodeError, FieldRef, FrameError, MessageError, Reason};
 pub use field::{
     Altitude, Angle, Checksum, OutOfRange, SafetyOffset, Speed, Text, TextError, Timestamp,
-    TransferWindow, U3,
+    TransferWindow, U3, Velocity,
 };
 pub use frame::{
     BROADCAST_ID, ChecksumWidth, Envelope, Frame, Frames, HEADER_LEN, IDD_VERSION, MAX_DATA_LEN,

@@ -5,7 +5,7 @@
 
 use missionlink_interfaces::wire::{
     Altitude, Angle, AreaShape, Frame, GeoPoint, Message, SafetyOffset, SpecificData, Speed, Text,
-    Timestamp, WindowOrChecksum,
+    Timestamp, Velocity, WindowOrChecksum,
 };
 
 /// The pairs a frame decodes to: the wrapper (ICD §2), the trailer of a signed frame (§9),
@@ -74,6 +74,7 @@ pub fn pv_bytes(message: &Message) -> usize {
         Message::VehicleSpecificWaypoint(_) => VehicleSpecificWaypoint::PV_BYTES,
         Message::MissionUploadDownloadStatus(_) => MissionUploadDownloadStatus::PV_BYTES,
         Message::FromToNext(_) => FromToNext::PV_BYTES,
+        Message::InertialStates(_) => InertialStates::PV_BYTES,
         Message::AreaTransmissionCommand(_) => AreaTransmissionCommand::PV_BYTES,
         Message::AreaPolygonLoopSegment(_) => AreaPolygonLoopSegment::PV_BYTES,
         Message::AreaStatusAlert(_) => AreaStatusAlert::PV_BYTES,
@@ -105,6 +106,10 @@ fn alt(a: Altitude) -> String {
 
 fn speed(s: Speed) -> String {
     format!("{:.1} m/s (SPD2 {})", s.mps(), s.raw())
+}
+
+fn velocity(v: Velocity) -> String {
+    format!("{:.2} m/s (VEL2 {})", v.mps(), v.raw())
 }
 
 fn offset(o: SafetyOffset) -> String {
@@ -290,6 +295,32 @@ pub fn fields(message: &Message) -> Vec<(String, String)> {
                 m.loiter_configuration_report_validity,
                 |v| v.to_string(),
             );
+        }
+        Message::InertialStates(m) => {
+            o.push(kv("Time Stamp", ts(m.time_stamp)));
+            opt(&mut o, "Latitude", m.latitude, angle);
+            opt(&mut o, "Longitude", m.longitude, angle);
+            opt(&mut o, "Altitude", m.altitude, alt);
+            opt(&mut o, "Altitude Type", m.altitude_type, |t| {
+                t.numbered().to_string()
+            });
+            opt(&mut o, "U Speed", m.u_speed, velocity);
+            opt(&mut o, "V Speed", m.v_speed, velocity);
+            opt(&mut o, "W Speed", m.w_speed, velocity);
+            for (name, value) in [
+                ("U Accel", m.u_accel),
+                ("V Accel", m.v_accel),
+                ("W Accel", m.w_accel),
+                ("Phi", m.phi),
+                ("Theta", m.theta),
+                ("Psi", m.psi),
+                ("Phi Dot", m.phi_dot),
+                ("Theta Dot", m.theta_dot),
+                ("Psi Dot", m.psi_dot),
+                ("Magnetic Variation", m.magnetic_variation),
+            ] {
+                opt(&mut o, name, value, |v| v.to_string());
+            }
         }
         Message::AreaTransmissionCommand(m) => {
             o.push(kv("Time Stamp", ts(m.time_stamp)));

@@ -36,8 +36,8 @@ use std::collections::VecDeque;
 use missionlink_interfaces::capacity::{MAX_REPORT_ENTRIES, MAX_WAYPOINTS};
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
-    GeoPoint, Message, MessageType, MissionExecuteCommand, MissionPlanMode, MissionReport, Reason,
-    SafetyOffset, Text, Timestamp, TransferWindow,
+    GeoPoint, InertialStates, Message, MessageType, MissionExecuteCommand, MissionPlanMode,
+    MissionReport, Reason, SafetyOffset, Text, Timestamp, TransferWindow,
 };
 
 use crate::link::composite::Composite;
@@ -175,6 +175,8 @@ pub enum GcsEvent<R> {
     Failed(GcsError<R>),
     /// The FCC reported FROM-TO-NEXT (#4001).
     FromToNext(FromToNext),
+    /// The FCC's position downlink (#101, ICD §5.8).
+    Position(InertialStates),
 }
 
 /// The timers of the GCS logic: the sender's and each download receiver's deadline.
@@ -916,6 +918,10 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
         match message {
             Message::FromToNext(ftn) => {
                 self.events.push_back(GcsEvent::FromToNext(*ftn));
+            }
+            // A periodic status, never acknowledged (ICD §5.8).
+            Message::InertialStates(states) => {
+                self.events.push_back(GcsEvent::Position(*states));
             }
             Message::MessageAcknowledgement(_) | Message::AreaStatusAlert(_) => {
                 tracing::debug!("answer to nothing outstanding (late or duplicate)");

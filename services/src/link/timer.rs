@@ -133,7 +133,8 @@ mod tests {
         check_indices::<Demo, 3>();
         check_indices::<crate::link::retry::ExchangeTimer, 1>();
         check_indices::<crate::transfer::receiver::ReceiverTimer, 1>();
-        check_indices::<crate::mission_data_handling::FccTimer, 6>();
+        check_indices::<crate::mission_data_handling::FccTimer, 7>();
+        check_indices::<crate::position::PositionTimer, 1>();
         check_indices::<crate::ground_station::GcsTimer, 4>();
     }
 

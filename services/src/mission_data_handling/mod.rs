@@ -82,6 +82,7 @@ use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
 use crate::link::timer::Timer;
+use crate::position::PositionReporter;
 use crate::transfer::areas::AreaList;
 use crate::transfer::closer::{Closer, CloserMemory, ClosingAnswer};
 use crate::transfer::integrity::{areas_checksum, mission_checksum};
@@ -105,6 +106,9 @@ pub struct FccConfig {
     pub ack_timeout: Duration,
     /// How long an upload waits for the GCS before it is abandoned (ICD §1: 3 s).
     pub transfer_timeout: Duration,
+    /// The period of the position downlink (ICD §5.8: #101, by default every 500 ms); `None`
+    /// sends none.
+    pub position_period: Option<Duration>,
 }
 
 /// What the driver must know of: the lists to publish, failures to log, commands to forward.
@@ -216,16 +220,19 @@ pub enum FccTimer {
     InterruptedUpload = 4,
     /// The ack timeout of the report message in flight (ICD §8).
     Report = 5,
+    /// The next #101 of the position downlink (ICD §5.8), owned by the [`PositionReporter`].
+    Position = 6,
 }
 
-impl Timer<6> for FccTimer {
-    const ALL: [Self; 6] = [
+impl Timer<7> for FccTimer {
+    const ALL: [Self; 7] = [
         Self::MissionDownload,
         Self::AreaDownload,
         Self::MissionUpload,
         Self::AreaUpload,
         Self::InterruptedUpload,
         Self::Report,
+        Self::Position,
     ];
     fn index(self) -> usize {
         self as usize
@@ -271,6 +278,8 @@ pub struct MissionDataHandling {
     /// check of a staged mission (report, activation): allocated once.
     staged_fence: Box<Fence>,
     from_to_next: FromToNextReporter,
+    /// The position downlink (ICD §5.8).
+    position: PositionReporter,
     /// The last closer answered (ICD §11).
     closers: CloserMemory,
     /// While a mission upload cut by a restart is refused: until when.
@@ -354,6 +363,7 @@ impl MissionDataHandling {
             staged: StagedMissions::new(),
             staged_fence: Box::new(Fence::empty()),
             from_to_next: FromToNextReporter::new(),
+            position: PositionReporter::new(config.position_period),
             closers: CloserMemory::new(),
             interrupted_until: None,
             upload_recorded_open: false,
@@ -505,9 +515,10 @@ impl MissionDataHandling {
     }
 
     /// Guidance reported its progress: #4001 goes out when FROM, TO or NEXT changed (paper
-    /// §3.1.7, ICD §5.5).
+    /// §3.1.7, ICD §5.5); the next #101 of the position downlink tells it (ICD §5.8).
     pub fn handle_progress(&mut self, now: Instant, progress: &GuidanceProgressPayload) {
         self.navigation = *progress;
+        self.position.handle_progress(now, progress);
         if let Some(ftn) =
             self.from_to_next
                 .update(progress, &self.waypoint_list, Timestamp::default())
@@ -568,7 +579,8 @@ impl MissionDataHandling {
         self.earliest_deadline()
     }
 
-    /// The timers due at `now` fire: download retries, upload transfer timeouts.
+    /// The timers due at `now` fire: download retries, upload transfer timeouts, the position
+    /// downlink.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.fire_expired(now);
         self.record_upload_state();
@@ -585,7 +597,7 @@ impl MissionDataHandling {
     }
 }
 
-impl Composite<FccTimer, 6> for MissionDataHandling {
+impl Composite<FccTimer, 7> for MissionDataHandling {
     fn endpoint(&mut self) -> &mut Endpoint {
         &mut self.endpoint
     }
@@ -600,6 +612,7 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
             FccTimer::MissionUpload => self.mission_upload.poll_timeout(),
             FccTimer::AreaUpload => self.area_upload.poll_timeout(),
             FccTimer::InterruptedUpload => self.interrupted_until,
+            FccTimer::Position => self.position.poll_timeout(),
         }
     }
 
@@ -629,6 +642,12 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
             FccTimer::InterruptedUpload => {
                 tracing::info!("the mission upload cut by the restart is over");
                 self.interrupted_until = None;
+            }
+            // A periodic status, never acknowledged (ICD §5.8).
+            FccTimer::Position => {
+                if let Some(states) = self.position.handle_timeout(now, &self.waypoint_list) {
+                    self.endpoint.send(now, states.into(), false);
+                }
             }
         }
     }
@@ -736,6 +755,7 @@ impl Composite<FccTimer, 6> for MissionDataHandling {
             }
             // Messages the FCC sends, never receives.
             Message::FromToNext(_)
+            | Message::InertialStates(_)
             | Message::MissionUploadDownloadStatus(_)
             | Message::AreaStatusAlert(_)
             | Message::AreaTransmissionStatus(_)

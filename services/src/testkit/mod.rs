@@ -78,12 +78,15 @@ pub fn endpoint(local_id: u32, peer_id: u32) -> EndpointConfig {
     }
 }
 
-/// Mission data handling with the IDs and timeouts of ICD §1.
+/// Mission data handling with the IDs and timeouts of ICD §1, without the position downlink
+/// (ICD §5.8): the sequences of ICD §5 are scripted frame by frame, and a periodic #101 between
+/// their frames would only be skipped; the downlink's own tests set `position_period`.
 pub fn fcc_config() -> FccConfig {
     FccConfig {
         endpoint: endpoint(defaults::FCC_ID, defaults::GCS_ID),
         ack_timeout: defaults::ACK_TIMEOUT,
         transfer_timeout: defaults::TRANSFER_TIMEOUT,
+        position_period: None,
     }
 }
 

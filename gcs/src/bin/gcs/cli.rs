@@ -194,11 +194,35 @@ pub(crate) enum Command {
     Rth,
     /// Land at the next waypoint (#50000 land).
     Land,
-    /// Print FROM-TO-NEXT (#4001) as it changes.
+    /// Print FROM-TO-NEXT (#4001) as it changes and the position (#101, 2 Hz by default) with
+    /// the FROM-TO-NEXT it flies.
     Monitor {
         /// Stop after this many seconds (default: until interrupted).
         #[arg(long, value_name = "S")]
         seconds: Option<u64>,
+    },
+    /// Present the vehicle to MAVLink 2 clients (QGroundControl, MAVSDK, pymavlink) over UDP:
+    /// heartbeat, position and mission progress from the downlink, the mission protocol for
+    /// mission and fence items (committed to the FCC as one atomic upload through the safety
+    /// gateway), MAV_CMD_MISSION_START as execute. See docs/qgroundcontrol.md.
+    Mavlink {
+        /// Where to send (QGroundControl listens on 14550); a client that talks to the bridge
+        /// is answered too.
+        #[arg(long, default_value = "127.0.0.1:14550", value_name = "HOST:PORT")]
+        to: std::net::SocketAddr,
+        /// The bridge's own UDP address (port 0: the system chooses; printed at start).
+        #[arg(long, default_value = "0.0.0.0:0", value_name = "HOST:PORT")]
+        bind: std::net::SocketAddr,
+        /// Speed of waypoints before any DO_CHANGE_SPEED item, m/s (MAVLink items carry no
+        /// planning speed; a `.plan` calls it cruiseSpeed).
+        #[arg(long, default_value_t = 25.0, value_name = "M/S")]
+        cruise_speed: f64,
+        /// How long an accepted mission waits for a fence upload before it is committed with
+        /// the areas held, milliseconds.
+        #[arg(long, default_value_t = 3000, value_name = "MS")]
+        fence_wait_ms: u64,
+        #[command(flatten)]
+        safety: SafetyArgs,
     },
     /// Decode captured frames: every message with every field in readable units.
     ///

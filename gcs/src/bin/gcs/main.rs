@@ -902,14 +902,53 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                 let _ = signal_hook::flag::register(signal, std::sync::Arc::clone(&stop));
             }
             let start = std::time::Instant::now();
+            let mut monitor = missionlink_gcs::monitor::Monitor::new();
             while start.elapsed() < limit && !stop.load(std::sync::atomic::Ordering::Relaxed) {
                 link.run_until(Duration::from_millis(200), |event| {
-                    if let GcsEvent::FromToNext(f) = event {
-                        println!("{f}");
+                    match event {
+                        GcsEvent::FromToNext(f) => println!("{}", monitor.from_to_next(f)),
+                        GcsEvent::Position(p) => println!("{}", monitor.position(p)),
+                        _ => {}
                     }
                     false
                 });
             }
+            Ok(())
+        }
+        Command::Mavlink {
+            to,
+            bind,
+            cruise_speed,
+            fence_wait_ms,
+            safety,
+        } => {
+            use missionlink_gcs::mavlink::bridge::{Bridge, BridgeConfig};
+            use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
+            use missionlink_gcs::mavlink::plan::PlanContext;
+            let gateway = safety.gateway()?;
+            let mut link = open(config, gateway)?;
+            let mut socket = MavlinkSocket::bind(bind, to)
+                .map_err(|e| format!("cannot bind the MAVLink socket {bind}: {e}"))?;
+            let local = socket.local_addr().map_err(|e| e.to_string())?;
+            let mut bridge = Bridge::new(BridgeConfig {
+                heartbeat: Duration::from_secs(1),
+                item_timeout: Duration::from_millis(1500),
+                item_retries: 3,
+                fence_wait: Duration::from_millis(fence_wait_ms),
+                plan: PlanContext {
+                    cruise_speed_mps: cruise_speed,
+                    home: None,
+                    import: qgc::ImportOptions::default(),
+                },
+            });
+            driver::read_lists(&mut link, &mut bridge);
+            println!("MAVLink vehicle on {local}, sending to {to}");
+            let _ = io::stdout().flush();
+            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+            for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+                let _ = signal_hook::flag::register(signal, std::sync::Arc::clone(&stop));
+            }
+            driver::run(&mut link, &mut bridge, &mut socket, &stop).map_err(|e| e.to_string())?;
             Ok(())
         }
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),

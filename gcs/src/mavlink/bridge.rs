@@ -1,0 +1,1296 @@
+//! The MAVLink side of `gcs mavlink`, sans-IO: a state machine that reads the client's MAVLink 2
+//! messages, writes the vehicle's, and owns its deadlines in a timer table (heartbeat, the item
+//! request of an upload in progress, the commit of a mission that waits for its fence). Time is
+//! injected; the driver moves datagrams, hands over the downlink's positions and FROM-TO-NEXT,
+//! and carries out the [`BridgeEvent`]s on the GCS link (the safety gateway, the atomic upload,
+//! execute), reporting each outcome back.
+//!
+//! # The vehicle it presents
+//!
+//! System 1, component 1 (MAV_COMP_ID_AUTOPILOT1), HEARTBEAT once a second as MAV_TYPE 22 (VTOL
+//! with separate lift and cruise rotors, the demo eVTOL) and MAV_AUTOPILOT_GENERIC;
+//! AUTOPILOT_VERSION with MISSION_INT, MISSION_FENCE and MAVLINK2; a parameter list that holds
+//! nothing of the FCC's (it has no MAVLink parameters) but one read-only `MLNK_VERSION`: a
+//! client reads a list until it holds `param_count` values, and a list of none cannot be told
+//! from a lost answer;
+//! GLOBAL_POSITION_INT from each #101 of the downlink and MISSION_CURRENT from each #4001;
+//! STATUSTEXT for what the operator must read.
+//!
+//! # Mission and fence, committed as one
+//!
+//! QGroundControl uploads the mission, then the fence, then rally points, each after the
+//! previous MISSION_ACK. The FCC takes mission and areas as one atomic upload, so the bridge
+//! answers in time and commits once:
+//!
+//! 1. A complete **mission** upload is converted with the fence the bridge holds ([`plan`]'s
+//!    rules, those of a `.plan` import). Refused: MISSION_ACK with an error and a STATUSTEXT
+//!    naming the item and the violation; nothing changes. Accepted as the pending half of a
+//!    plan: MISSION_ACK ACCEPTED at once, and the commit waits [`BridgeConfig::fence_wait`] for
+//!    a fence upload.
+//! 2. A complete **fence** upload (within the wait, or alone) makes the pair (the pending
+//!    mission, else the mission held) a plan and commits it ([`BridgeEvent::Commit`]); its
+//!    MISSION_ACK is held until the FCC confirmed both lists: ACCEPTED, or an error with a
+//!    STATUSTEXT naming the violation or the failure (the FCC's lists stay as they were).
+//! 3. No fence within the wait: the pending mission is committed with the fence held (the
+//!    areas the FCC holds); a failure is a STATUSTEXT (the MISSION_ACK was sent).
+//!    Without a mission held or pending, a fence is held (ACCEPTED, and a STATUSTEXT says so)
+//!    and goes to the FCC with the next mission.
+//! 4. **Rally points**: an empty list is accepted; points are refused (MAV_MISSION_UNSUPPORTED
+//!    and a STATUSTEXT: the ICD has none).
+//!
+//! MAV_CMD_MISSION_START is execute (#50000 command 1), and so is MAV_CMD_DO_SET_MODE to the
+//! mission mode (custom main mode 4, sub mode 4: what MAVSDK sends a generic autopilot); a
+//! pending mission is committed first. Other modes are accepted and change nothing.
+
+use std::collections::VecDeque;
+
+use core::time::Duration;
+
+use mavlink::dialects::common::{
+    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA,
+    MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA, MISSION_ITEM_INT_DATA,
+    MISSION_REQUEST_INT_DATA, MavAutopilot, MavCmd, MavFrame, MavMessage, MavMissionResult,
+    MavMissionType, MavModeFlag, MavParamType, MavProtocolCapability, MavResult, MavSeverity,
+    MavState, MavType, MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+};
+use mavlink::{MavHeader, MavlinkReader, MavlinkVersion};
+use missionlink_interfaces::wire::{FromToNext, InertialStates};
+use missionlink_services::link::time::Instant;
+use missionlink_services::link::timer::{Timer, TimerTable};
+use num_traits::FromPrimitive;
+
+use super::plan::{Item, PlanContext, to_plan};
+use crate::qgc::QgcImport;
+
+/// The vehicle's system ID.
+pub const SYSTEM_ID: u8 = 1;
+/// MAV_COMP_ID_AUTOPILOT1.
+pub const COMPONENT_ID: u8 = 1;
+/// Items the bridge holds per list (the FCC holds 256 waypoints; a mission item list has a
+/// take-off, speed changes and a land besides).
+pub const MAX_ITEMS: u16 = 1024;
+
+/// Settings of the bridge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BridgeConfig {
+    /// HEARTBEAT period (MAVLink: 1 Hz).
+    pub heartbeat: Duration,
+    /// How long an upload waits for the item it requested before it asks again (MAVLink's
+    /// mission protocol: 1.5 s is the client's own default for its retries).
+    pub item_timeout: Duration,
+    /// How many times an item is asked for before the upload is abandoned.
+    pub item_retries: u8,
+    /// How long an accepted mission waits for a fence upload before it is committed alone.
+    pub fence_wait: Duration,
+    /// What the `.plan` import needs that MAVLink items do not say.
+    pub plan: PlanContext,
+}
+
+/// What the driver must carry out on the GCS link, then report back.
+#[derive(Debug, Clone)]
+pub enum BridgeEvent {
+    /// Validate `plan` (the safety gateway) and upload it atomically; report with
+    /// [`Bridge::committed`].
+    Commit {
+        /// The plan, converted by the `.plan` import's rules.
+        plan: Box<QgcImport>,
+    },
+    /// Send #50000 execute; report with [`Bridge::executed`].
+    Execute,
+}
+
+/// The timers of the bridge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BridgeTimer {
+    /// The next HEARTBEAT.
+    Heartbeat = 0,
+    /// The item an upload requested is overdue.
+    Item = 1,
+    /// The pending mission is committed without a fence.
+    FenceWait = 2,
+}
+
+impl Timer<3> for BridgeTimer {
+    const ALL: [Self; 3] = [Self::Heartbeat, Self::Item, Self::FenceWait];
+    fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// An upload from the client in progress.
+#[derive(Debug, Clone)]
+struct Upload {
+    kind: MavMissionType,
+    count: u16,
+    items: Vec<Item>,
+    retries: u8,
+}
+
+/// What a commit in progress answers when it ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Waiting {
+    /// The MISSION_ACK of a fence upload.
+    FenceAck,
+    /// Nothing: the mission's ACK went out.
+    Nothing,
+    /// Execute after the commit.
+    Execute,
+}
+
+/// The MAVLink vehicle of `gcs mavlink`.
+#[derive(Debug)]
+pub struct Bridge {
+    config: BridgeConfig,
+    timers: TimerTable<BridgeTimer, 3>,
+    sequence: u8,
+    outbox: VecDeque<MavMessage>,
+    events: VecDeque<BridgeEvent>,
+    /// The lists as the FCC holds them (the last commit, or what the driver read at start).
+    mission: Vec<Item>,
+    fence: Vec<Item>,
+    /// An accepted mission waiting for its fence.
+    pending: Option<Vec<Item>>,
+    upload: Option<Upload>,
+    /// The lists of the commit in progress, and what its end answers.
+    committing: Option<(Vec<Item>, Vec<Item>, Waiting)>,
+    /// Execute asked while nothing was to commit: waiting for its outcome.
+    executing: bool,
+    /// The command that asked for execute, for its COMMAND_ACK.
+    start_command: MavCmd,
+    /// The mission item the aircraft flies to (MISSION_CURRENT).
+    current: u16,
+    state: MissionState,
+    booted: Option<Instant>,
+    /// MAVLink datagrams that did not parse, counted (a flood costs counters, not lines).
+    pub unreadable: u64,
+}
+
+impl Bridge {
+    /// A bridge whose vehicle holds no lists yet.
+    pub fn new(config: BridgeConfig) -> Self {
+        Self {
+            config,
+            timers: TimerTable::new(),
+            sequence: 0,
+            outbox: VecDeque::new(),
+            events: VecDeque::new(),
+            mission: Vec::new(),
+            fence: Vec::new(),
+            pending: None,
+            upload: None,
+            committing: None,
+            executing: false,
+            start_command: MavCmd::MAV_CMD_MISSION_START,
+            current: 0,
+            state: MissionState::MISSION_STATE_NO_MISSION,
+            booted: None,
+            unreadable: 0,
+        }
+    }
+
+    /// The lists the FCC holds, as items (read by the driver at start, from a download).
+    pub fn set_lists(&mut self, mission: Vec<Item>, fence: Vec<Item>) {
+        self.state = if mission.is_empty() {
+            MissionState::MISSION_STATE_NO_MISSION
+        } else {
+            MissionState::MISSION_STATE_NOT_STARTED
+        };
+        self.mission = mission;
+        self.fence = fence;
+    }
+
+    /// The lists as held: (mission, fence).
+    pub fn lists(&self) -> (&[Item], &[Item]) {
+        (&self.mission, &self.fence)
+    }
+
+    fn list(&self, kind: MavMissionType) -> Option<&[Item]> {
+        match kind {
+            MavMissionType::MAV_MISSION_TYPE_MISSION => Some(&self.mission),
+            MavMissionType::MAV_MISSION_TYPE_FENCE => Some(&self.fence),
+            _ => None,
+        }
+    }
+
+    /// Starts the heartbeat at `now`.
+    pub fn start(&mut self, now: Instant) {
+        self.booted = Some(now);
+        self.timers.set(BridgeTimer::Heartbeat, now);
+    }
+
+    /// One datagram from the client, at `now`: every MAVLink message in it.
+    pub fn handle_datagram(&mut self, now: Instant, datagram: &[u8]) {
+        let mut reader = MavlinkReader::new(datagram);
+        let mut any = false;
+        while let Ok((header, message)) = reader.read_any_message::<MavMessage>() {
+            any = true;
+            self.handle(now, header, &message);
+        }
+        if !any {
+            self.unreadable += 1;
+        }
+    }
+
+    /// One message from the client.
+    #[allow(
+        deprecated,
+        reason = "MISSION_REQUEST is answered as MISSION_REQUEST_INT, as MAVLink asks of a \
+                  vehicle that gets one; older clients still send it"
+    )]
+    pub fn handle(&mut self, now: Instant, _header: MavHeader, message: &MavMessage) {
+        match message {
+            MavMessage::HEARTBEAT(_) => {}
+            MavMessage::COMMAND_LONG(c) => {
+                self.command(now, c.command, c.param1, c.param2, c.param3)
+            }
+            MavMessage::COMMAND_INT(c) => {
+                self.command(now, c.command, c.param1, c.param2, c.param3)
+            }
+            MavMessage::PARAM_REQUEST_LIST(_) | MavMessage::PARAM_REQUEST_READ(_) => {
+                self.send(MavMessage::PARAM_VALUE(PARAM_VALUE_DATA {
+                    param_value: 1.0,
+                    param_count: 1,
+                    param_index: 0,
+                    param_id: "MLNK_VERSION".into(),
+                    param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+                }));
+            }
+            MavMessage::MISSION_REQUEST_LIST(r) => self.request_list(r.mission_type),
+            MavMessage::MISSION_REQUEST_INT(r) => self.send_item(r.mission_type, r.seq),
+            MavMessage::MISSION_REQUEST(r) => self.send_item(r.mission_type, r.seq),
+            MavMessage::MISSION_COUNT(c) => self.count(now, c),
+            MavMessage::MISSION_ITEM_INT(i) => self.item(now, i),
+            MavMessage::MISSION_CLEAR_ALL(c) => {
+                // Clearing a list is an upload of none.
+                let empty = MISSION_COUNT_DATA {
+                    count: 0,
+                    target_system: SYSTEM_ID,
+                    target_component: COMPONENT_ID,
+                    mission_type: c.mission_type,
+                    opaque_id: 0,
+                };
+                self.count(now, &empty);
+            }
+            // The end of a download, or anything else a client sends: nothing to do.
+            _ => {}
+        }
+    }
+
+    #[allow(
+        deprecated,
+        reason = "REQUEST_AUTOPILOT_CAPABILITIES is superseded, not gone: clients still send it"
+    )]
+    fn command(&mut self, now: Instant, command: MavCmd, param1: f32, param2: f32, param3: f32) {
+        let result = match command {
+            MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => {
+                self.autopilot_version();
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            MavCmd::MAV_CMD_REQUEST_MESSAGE if param1 as u32 == 148 => {
+                self.autopilot_version();
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            MavCmd::MAV_CMD_MISSION_START => {
+                self.execute_for(now, MavCmd::MAV_CMD_MISSION_START);
+                return;
+            }
+            // The mission mode (custom main mode 4 AUTO, sub mode 4 MISSION, the numbers MAVSDK
+            // sends a generic autopilot to start a mission) is execute too.
+            MavCmd::MAV_CMD_DO_SET_MODE if param2 as u32 == 4 && param3 as u32 == 4 => {
+                self.execute_for(now, MavCmd::MAV_CMD_DO_SET_MODE);
+                return;
+            }
+            MavCmd::MAV_CMD_DO_SET_MODE => MavResult::MAV_RESULT_ACCEPTED,
+            _ => MavResult::MAV_RESULT_UNSUPPORTED,
+        };
+        self.command_ack(command, result);
+    }
+
+    fn command_ack(&mut self, command: MavCmd, result: MavResult) {
+        self.send(MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
+            command,
+            result,
+            progress: 0,
+            result_param2: 0,
+            target_system: 0,
+            target_component: 0,
+        }));
+    }
+
+    fn autopilot_version(&mut self) {
+        self.send(MavMessage::AUTOPILOT_VERSION(AUTOPILOT_VERSION_DATA {
+            capabilities: MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT
+                | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+                | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MAVLINK2,
+            uid: 0,
+            flight_sw_version: 0,
+            middleware_sw_version: 0,
+            os_sw_version: 0,
+            board_version: 0,
+            vendor_id: 0,
+            product_id: 0,
+            flight_custom_version: [0; 8],
+            middleware_custom_version: [0; 8],
+            os_custom_version: [0; 8],
+            uid2: [0; 18],
+        }));
+    }
+
+    fn execute_for(&mut self, now: Instant, command: MavCmd) {
+        self.start_command = command;
+        if let Some(mission) = self.pending.take() {
+            self.timers.stop(BridgeTimer::FenceWait);
+            let fence = self.fence.clone();
+            self.commit(now, mission, fence, Waiting::Execute);
+        } else if self.committing.is_some() {
+            if let Some((_, _, waiting)) = &mut self.committing {
+                *waiting = Waiting::Execute;
+            }
+        } else {
+            self.executing = true;
+            self.events.push_back(BridgeEvent::Execute);
+        }
+    }
+
+    /// The outcome of [`BridgeEvent::Execute`]: COMMAND_ACK, and a STATUSTEXT why not.
+    pub fn executed(&mut self, outcome: Result<(), String>) {
+        self.executing = false;
+        match outcome {
+            Ok(()) => {
+                self.state = MissionState::MISSION_STATE_ACTIVE;
+                self.command_ack(self.start_command, MavResult::MAV_RESULT_ACCEPTED);
+            }
+            Err(why) => {
+                self.command_ack(self.start_command, MavResult::MAV_RESULT_DENIED);
+                self.statustext(
+                    MavSeverity::MAV_SEVERITY_ERROR,
+                    &format!("execute refused: {why}"),
+                );
+            }
+        }
+    }
+
+    fn request_list(&mut self, kind: MavMissionType) {
+        let count = self.list(kind).map_or(0, |l| l.len());
+        self.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: u16::try_from(count).unwrap_or(u16::MAX),
+            target_system: 0,
+            target_component: 0,
+            mission_type: kind,
+            opaque_id: 0,
+        }));
+    }
+
+    fn send_item(&mut self, kind: MavMissionType, seq: u16) {
+        let item = self
+            .list(kind)
+            .and_then(|l| l.get(usize::from(seq)))
+            .copied();
+        match item {
+            Some(item) => self.send(MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
+                param1: item.params[0],
+                param2: item.params[1],
+                param3: item.params[2],
+                param4: item.params[3],
+                x: item.x,
+                y: item.y,
+                z: item.z,
+                seq,
+                command: MavCmd::from_u16(item.command).unwrap_or_default(),
+                target_system: 0,
+                target_component: 0,
+                frame: MavFrame::from_u8(item.frame).unwrap_or_default(),
+                current: u8::from(seq == 0),
+                autocontinue: 1,
+                mission_type: kind,
+            })),
+            None => self.ack(kind, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
+        }
+    }
+
+    fn ack(&mut self, kind: MavMissionType, result: MavMissionResult) {
+        self.send(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
+            target_system: 0,
+            target_component: 0,
+            mavtype: result,
+            mission_type: kind,
+            opaque_id: 0,
+        }));
+    }
+
+    fn count(&mut self, now: Instant, c: &MISSION_COUNT_DATA) {
+        match c.mission_type {
+            MavMissionType::MAV_MISSION_TYPE_MISSION | MavMissionType::MAV_MISSION_TYPE_FENCE => {}
+            MavMissionType::MAV_MISSION_TYPE_RALLY if c.count == 0 => {
+                self.ack(c.mission_type, MavMissionResult::MAV_MISSION_ACCEPTED);
+                return;
+            }
+            other => {
+                self.ack(other, MavMissionResult::MAV_MISSION_UNSUPPORTED);
+                self.statustext(
+                    MavSeverity::MAV_SEVERITY_WARNING,
+                    "rally points are not supported (the ICD has none)",
+                );
+                return;
+            }
+        }
+        if c.count > MAX_ITEMS {
+            self.ack(c.mission_type, MavMissionResult::MAV_MISSION_NO_SPACE);
+            return;
+        }
+        self.upload = Some(Upload {
+            kind: c.mission_type,
+            count: c.count,
+            items: Vec::with_capacity(usize::from(c.count)),
+            retries: 0,
+        });
+        if c.count == 0 {
+            self.upload_complete(now);
+        } else {
+            self.request_next(now);
+        }
+    }
+
+    fn request_next(&mut self, now: Instant) {
+        let Some(u) = &self.upload else {
+            return;
+        };
+        let seq = u16::try_from(u.items.len()).unwrap_or(u16::MAX);
+        let kind = u.kind;
+        self.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+            seq,
+            target_system: 0,
+            target_component: 0,
+            mission_type: kind,
+        }));
+        self.timers
+            .set(BridgeTimer::Item, now + self.config.item_timeout);
+    }
+
+    fn item(&mut self, now: Instant, i: &MISSION_ITEM_INT_DATA) {
+        let Some(u) = &mut self.upload else {
+            return;
+        };
+        if i.mission_type != u.kind || usize::from(i.seq) != u.items.len() {
+            // A repeat of an item already taken, or one out of order: ask for the right one.
+            return;
+        }
+        u.items.push(Item {
+            command: i.command as u16,
+            frame: i.frame as u8,
+            params: [i.param1, i.param2, i.param3, i.param4],
+            x: i.x,
+            y: i.y,
+            z: i.z,
+        });
+        u.retries = 0;
+        if u.items.len() == usize::from(u.count) {
+            self.timers.stop(BridgeTimer::Item);
+            self.upload_complete(now);
+        } else {
+            self.request_next(now);
+        }
+    }
+
+    fn upload_complete(&mut self, now: Instant) {
+        let Some(u) = self.upload.take() else {
+            return;
+        };
+        match u.kind {
+            MavMissionType::MAV_MISSION_TYPE_MISSION => {
+                match to_plan(&u.items, &self.fence, &self.config.plan) {
+                    Err(refusal) => self.refuse(u.kind, &refusal.reason),
+                    Ok(_) => {
+                        self.ack(u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
+                        self.pending = Some(u.items);
+                        self.timers
+                            .set(BridgeTimer::FenceWait, now + self.config.fence_wait);
+                    }
+                }
+            }
+            _ => {
+                let mission = match self.pending.take() {
+                    Some(m) => {
+                        self.timers.stop(BridgeTimer::FenceWait);
+                        m
+                    }
+                    None => self.mission.clone(),
+                };
+                if mission.is_empty() {
+                    // No mission to pair it with: the ICD's upload is mission and areas
+                    // together, so the fence is held for the next mission.
+                    self.fence = u.items;
+                    self.ack(u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
+                    self.statustext(
+                        MavSeverity::MAV_SEVERITY_INFO,
+                        "fence held: it goes to the FCC with the next mission",
+                    );
+                    return;
+                }
+                self.commit(now, mission, u.items, Waiting::FenceAck);
+            }
+        }
+    }
+
+    /// The reason as STATUSTEXT, then MISSION_ACK with an error: a client that stops listening
+    /// at the ACK has read why.
+    fn refuse(&mut self, kind: MavMissionType, reason: &str) {
+        self.statustext(
+            MavSeverity::MAV_SEVERITY_ERROR,
+            &format!("refused: {reason}"),
+        );
+        self.ack(kind, MavMissionResult::MAV_MISSION_DENIED);
+    }
+
+    fn commit(&mut self, _now: Instant, mission: Vec<Item>, fence: Vec<Item>, waiting: Waiting) {
+        match to_plan(&mission, &fence, &self.config.plan) {
+            Err(refusal) => match waiting {
+                Waiting::FenceAck => {
+                    self.refuse(MavMissionType::MAV_MISSION_TYPE_FENCE, &refusal.reason);
+                }
+                Waiting::Nothing => self.statustext(
+                    MavSeverity::MAV_SEVERITY_ERROR,
+                    &format!("refused: {}", refusal.reason),
+                ),
+                Waiting::Execute => {
+                    self.statustext(
+                        MavSeverity::MAV_SEVERITY_ERROR,
+                        &format!("refused: {}", refusal.reason),
+                    );
+                    self.command_ack(self.start_command, MavResult::MAV_RESULT_DENIED);
+                }
+            },
+            Ok(plan) => {
+                self.committing = Some((mission, fence, waiting));
+                self.events.push_back(BridgeEvent::Commit {
+                    plan: Box::new(plan),
+                });
+            }
+        }
+    }
+
+    /// The outcome of [`BridgeEvent::Commit`]: the FCC holds both lists (`Ok`), or not, and
+    /// why (the safety gateway's violation, the FCC's refusal, the link's failure).
+    pub fn committed(&mut self, outcome: Result<(), String>) {
+        let Some((mission, fence, waiting)) = self.committing.take() else {
+            return;
+        };
+        match outcome {
+            Ok(()) => {
+                self.mission = mission;
+                self.fence = fence;
+                self.current = 0;
+                self.state = MissionState::MISSION_STATE_NOT_STARTED;
+                self.statustext(
+                    MavSeverity::MAV_SEVERITY_INFO,
+                    "mission and fence active on the FCC",
+                );
+                match waiting {
+                    Waiting::FenceAck => {
+                        self.ack(
+                            MavMissionType::MAV_MISSION_TYPE_FENCE,
+                            MavMissionResult::MAV_MISSION_ACCEPTED,
+                        );
+                    }
+                    Waiting::Nothing => {}
+                    Waiting::Execute => {
+                        self.executing = true;
+                        self.events.push_back(BridgeEvent::Execute);
+                    }
+                }
+            }
+            Err(why) => {
+                let text = format!("not committed, the FCC's lists are unchanged: {why}");
+                match waiting {
+                    Waiting::FenceAck => self.refuse(MavMissionType::MAV_MISSION_TYPE_FENCE, &text),
+                    Waiting::Nothing => self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &text),
+                    Waiting::Execute => {
+                        self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &text);
+                        self.command_ack(self.start_command, MavResult::MAV_RESULT_DENIED);
+                    }
+                }
+            }
+        }
+    }
+
+    /// A STATUSTEXT: the text in chunks of 50 bytes (MAVLink 2 joins them by `id`).
+    pub fn statustext(&mut self, severity: MavSeverity, text: &str) {
+        let bytes = text.as_bytes();
+        let id = u16::from(self.sequence).wrapping_add(1);
+        for (n, chunk) in bytes.chunks(50).enumerate().take(8) {
+            let mut data = [0u8; 50];
+            for (d, b) in data.iter_mut().zip(chunk) {
+                *d = *b;
+            }
+            self.send(MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+                severity,
+                text: data.into(),
+                id: if bytes.len() > 50 { id } else { 0 },
+                chunk_seq: u8::try_from(n).unwrap_or(u8::MAX),
+            }));
+        }
+    }
+
+    /// A position of the downlink (#101): GLOBAL_POSITION_INT.
+    pub fn handle_position(&mut self, now: Instant, states: &InertialStates) {
+        let Some(position) = states.position() else {
+            return;
+        };
+        // The vehicle's home for the next plan: where it is (the take-off position of a
+        // mission whose take-off item gives none, and the reference of AMSL altitudes).
+        self.config.plan.home = Some(crate::qgc::Home {
+            latitude_deg: position.latitude.degrees(),
+            longitude_deg: position.longitude.degrees(),
+            altitude_m: states.altitude.map_or(0.0, |a| a.metres()),
+        });
+        let centi =
+            |v: Option<f64>| (v.unwrap_or(0.0) * 100.0).round().clamp(-32768.0, 32767.0) as i16;
+        let e7 = |deg: f64| (deg * 1e7).round() as i32;
+        let altitude_mm = states
+            .altitude
+            .map_or(0, |a| (a.metres() * 1000.0).round() as i32);
+        let time_boot_ms = self
+            .booted
+            .map_or(0, |b| now.saturating_since(b).as_millis() as u32);
+        self.send(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
+            time_boot_ms,
+            lat: e7(position.latitude.degrees()),
+            lon: e7(position.longitude.degrees()),
+            alt: altitude_mm,
+            relative_alt: altitude_mm,
+            vx: centi(states.u_speed.map(|v| v.mps())),
+            vy: centi(states.v_speed.map(|v| v.mps())),
+            vz: centi(states.w_speed.map(|v| v.mps())),
+            hdg: states
+                .course_deg()
+                .map_or(u16::MAX, |c| (c * 100.0).round() as u16),
+        }));
+    }
+
+    /// A FROM-TO-NEXT of the downlink (#4001): MISSION_CURRENT, the item of the TO waypoint.
+    pub fn handle_from_to_next(&mut self, ftn: &FromToNext) {
+        let to = ftn.to.waypoint_number.unwrap_or(0);
+        // Waypoint n of the FCC is the n-th waypoint or land item of the mission list.
+        let items: Vec<u16> = self
+            .mission
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| matches!(i.command, 16 | 21 | 85))
+            .filter_map(|(k, _)| u16::try_from(k).ok())
+            .collect();
+        match to {
+            0 if self.state == MissionState::MISSION_STATE_ACTIVE => {
+                self.state = MissionState::MISSION_STATE_COMPLETE;
+                self.current = u16::try_from(self.mission.len()).unwrap_or(u16::MAX);
+            }
+            0 => {}
+            n => {
+                if let Some(&seq) = items.get(usize::from(n) - 1) {
+                    self.current = seq;
+                }
+                self.state = MissionState::MISSION_STATE_ACTIVE;
+            }
+        }
+        self.mission_current();
+    }
+
+    fn mission_current(&mut self) {
+        self.send(MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
+            seq: self.current,
+            total: u16::try_from(self.mission.len()).unwrap_or(u16::MAX),
+            mission_state: self.state,
+            mission_mode: 1,
+            mission_id: 0,
+            fence_id: 0,
+            rally_points_id: 0,
+        }));
+    }
+
+    /// When [`Self::handle_timeout`] must be called next.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.timers.next_timeout()
+    }
+
+    /// The timers due at `now` fire.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        let due: Vec<BridgeTimer> = self.timers.expired(now).collect();
+        for timer in due {
+            match timer {
+                BridgeTimer::Heartbeat => {
+                    self.timers
+                        .set(BridgeTimer::Heartbeat, now + self.config.heartbeat);
+                    self.heartbeat();
+                    self.mission_current();
+                }
+                BridgeTimer::Item => {
+                    let again = self.upload.as_mut().map(|u| {
+                        u.retries += 1;
+                        u.retries <= self.config.item_retries
+                    });
+                    match again {
+                        Some(true) => self.request_next(now),
+                        Some(false) => {
+                            self.timers.stop(BridgeTimer::Item);
+                            if let Some(u) = self.upload.take() {
+                                self.ack(u.kind, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED);
+                            }
+                        }
+                        None => self.timers.stop(BridgeTimer::Item),
+                    }
+                }
+                BridgeTimer::FenceWait => {
+                    self.timers.stop(BridgeTimer::FenceWait);
+                    if let Some(mission) = self.pending.take() {
+                        let fence = self.fence.clone();
+                        self.commit(now, mission, fence, Waiting::Nothing);
+                    }
+                }
+            }
+        }
+    }
+
+    fn heartbeat(&mut self) {
+        let active = self.state == MissionState::MISSION_STATE_ACTIVE;
+        self.send(MavMessage::HEARTBEAT(HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype: MavType::MAV_TYPE_VTOL_FIXEDROTOR,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_GENERIC,
+            base_mode: if active {
+                MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED | MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+            } else {
+                MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED
+            },
+            system_status: if active {
+                MavState::MAV_STATE_ACTIVE
+            } else {
+                MavState::MAV_STATE_STANDBY
+            },
+            mavlink_version: 3,
+        }));
+    }
+
+    fn send(&mut self, message: MavMessage) {
+        self.outbox.push_back(message);
+    }
+
+    /// The next datagram to send: one MAVLink 2 message in `buf`; its length.
+    pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<usize> {
+        let message = self.outbox.pop_front()?;
+        let header = MavHeader {
+            system_id: u32::from(SYSTEM_ID),
+            component_id: COMPONENT_ID,
+            sequence: self.sequence,
+        };
+        self.sequence = self.sequence.wrapping_add(1);
+        let mut out: &mut [u8] = buf;
+        mavlink::write_v2_msg(&mut out, header, &message).ok()
+    }
+
+    /// The next event for the driver.
+    pub fn poll_event(&mut self) -> Option<BridgeEvent> {
+        self.events.pop_front()
+    }
+
+    /// Whether a commit or an execute is being carried out.
+    pub fn busy(&self) -> bool {
+        self.committing.is_some() || self.executing
+    }
+}
+
+/// Decodes a datagram the bridge sent (tests, and a driver that logs).
+pub fn decode(datagram: &[u8]) -> Vec<MavMessage> {
+    let mut reader = MavlinkReader::new(datagram);
+    let mut out = Vec::new();
+    while let Ok((_, m)) = reader.read_message::<MavMessage>(MavlinkVersion::V2) {
+        out.push(m);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use mavlink::dialects::common::{
+        COMMAND_LONG_DATA, MISSION_REQUEST_LIST_DATA, MavMissionType as T,
+    };
+
+    use super::*;
+    use crate::qgc::ImportOptions;
+
+    fn at(ms: u64) -> Instant {
+        Instant::from_millis(ms)
+    }
+
+    fn config() -> BridgeConfig {
+        BridgeConfig {
+            heartbeat: Duration::from_secs(1),
+            item_timeout: Duration::from_millis(1500),
+            item_retries: 3,
+            fence_wait: Duration::from_secs(2),
+            plan: PlanContext {
+                cruise_speed_mps: 25.0,
+                home: None,
+                import: ImportOptions::default(),
+            },
+        }
+    }
+
+    /// What the bridge sent since the last call, decoded.
+    fn sent(b: &mut Bridge) -> Vec<MavMessage> {
+        let mut out = Vec::new();
+        let mut buf = [0u8; 300];
+        while let Some(len) = b.poll_transmit(&mut buf) {
+            out.extend(decode(&buf[..len]));
+        }
+        out
+    }
+
+    /// The client's message, through the bytes of a datagram.
+    fn from_client(b: &mut Bridge, now: Instant, m: MavMessage) {
+        let mut buf = [0u8; 300];
+        let mut out: &mut [u8] = &mut buf;
+        let header = MavHeader {
+            system_id: 255,
+            component_id: 190,
+            sequence: 0,
+        };
+        let len = mavlink::write_v2_msg(&mut out, header, &m).unwrap();
+        b.handle_datagram(now, &buf[..len]);
+    }
+
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "a MISSION_ITEM_INT in one line: its fields"
+    )]
+    fn item(
+        seq: u16,
+        kind: T,
+        command: MavCmd,
+        frame: MavFrame,
+        p1: f32,
+        lat: f64,
+        lon: f64,
+        z: f32,
+    ) -> MavMessage {
+        MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
+            param1: p1,
+            param2: 0.0,
+            param3: 0.0,
+            param4: 0.0,
+            x: (lat * 1e7).round() as i32,
+            y: (lon * 1e7).round() as i32,
+            z,
+            seq,
+            command,
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            frame,
+            current: 0,
+            autocontinue: 1,
+            mission_type: kind,
+        })
+    }
+
+    fn mission() -> Vec<MavMessage> {
+        let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT;
+        let m = T::MAV_MISSION_TYPE_MISSION;
+        vec![
+            item(
+                0,
+                m,
+                MavCmd::MAV_CMD_NAV_TAKEOFF,
+                rel,
+                0.0,
+                48.26,
+                11.66,
+                30.0,
+            ),
+            item(
+                1,
+                m,
+                MavCmd::MAV_CMD_NAV_WAYPOINT,
+                rel,
+                0.0,
+                48.265,
+                11.655,
+                120.0,
+            ),
+            item(
+                2,
+                m,
+                MavCmd::MAV_CMD_NAV_WAYPOINT,
+                rel,
+                0.0,
+                48.275,
+                11.645,
+                120.0,
+            ),
+        ]
+    }
+
+    fn fence() -> Vec<MavMessage> {
+        let f = T::MAV_MISSION_TYPE_FENCE;
+        let g = MavFrame::MAV_FRAME_GLOBAL;
+        let corners = [
+            (48.255, 11.635),
+            (48.255, 11.69),
+            (48.285, 11.69),
+            (48.285, 11.635),
+        ];
+        let mut items: Vec<MavMessage> = corners
+            .iter()
+            .enumerate()
+            .map(|(i, &(lat, lon))| {
+                item(
+                    i as u16,
+                    f,
+                    MavCmd::MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION,
+                    g,
+                    4.0,
+                    lat,
+                    lon,
+                    0.0,
+                )
+            })
+            .collect();
+        items.push(item(
+            4,
+            f,
+            MavCmd::MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION,
+            g,
+            200.0,
+            48.268,
+            11.675,
+            0.0,
+        ));
+        items
+    }
+
+    /// Uploads `items` of `kind` as a client does: count, then each item the bridge requests.
+    fn upload(b: &mut Bridge, now: Instant, kind: T, items: &[MavMessage]) -> Vec<MavMessage> {
+        from_client(
+            b,
+            now,
+            MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+                count: items.len() as u16,
+                target_system: SYSTEM_ID,
+                target_component: COMPONENT_ID,
+                mission_type: kind,
+                opaque_id: 0,
+            }),
+        );
+        let mut out = Vec::new();
+        loop {
+            let got = sent(b);
+            let request = got.iter().find_map(|m| match m {
+                MavMessage::MISSION_REQUEST_INT(r) => Some(r.seq),
+                _ => None,
+            });
+            out.extend(got);
+            match request {
+                Some(seq) => from_client(b, now, items[usize::from(seq)].clone()),
+                None => return out,
+            }
+        }
+    }
+
+    fn acks(messages: &[MavMessage]) -> Vec<(T, MavMissionResult)> {
+        messages
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::MISSION_ACK(a) => Some((a.mission_type, a.mavtype)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// COMMAND_LONG of `command` with `param1`, the other params 0.
+    fn command_long(command: MavCmd, param1: f32) -> MavMessage {
+        MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+            param1,
+            param2: 0.0,
+            param3: 0.0,
+            param4: 0.0,
+            param5: 0.0,
+            param6: 0.0,
+            param7: 0.0,
+            command,
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            confirmation: 0,
+        })
+    }
+
+    /// The one MISSION_ACK of an accepted upload of `kind`.
+    fn accepted(kind: T) -> Vec<(T, MavMissionResult)> {
+        vec![(kind, MavMissionResult::MAV_MISSION_ACCEPTED)]
+    }
+
+    fn texts(messages: &[MavMessage]) -> Vec<String> {
+        messages
+            .iter()
+            .filter_map(|m| match m {
+                MavMessage::STATUSTEXT(t) => Some(
+                    String::from_utf8_lossy(&<[u8; 50]>::from(t.text))
+                        .trim_end_matches('\0')
+                        .to_owned(),
+                ),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Scripted time: a HEARTBEAT at start and every second, nothing at t - 1 ms.
+    #[test]
+    fn heartbeat_once_a_second() {
+        let mut b = Bridge::new(config());
+        b.start(at(0));
+        b.handle_timeout(at(0));
+        let first = sent(&mut b);
+        assert!(matches!(first.first(), Some(MavMessage::HEARTBEAT(h))
+            if h.autopilot == MavAutopilot::MAV_AUTOPILOT_GENERIC));
+        assert_eq!(b.poll_timeout(), Some(at(1000)));
+        b.handle_timeout(at(999));
+        assert!(sent(&mut b).is_empty());
+        b.handle_timeout(at(1000));
+        assert!(matches!(
+            sent(&mut b).first(),
+            Some(MavMessage::HEARTBEAT(_))
+        ));
+    }
+
+    /// QGroundControl's order: the mission is acknowledged as the pending half, the fence
+    /// commits the pair and is acknowledged when the FCC confirmed both; a download gives the
+    /// items back.
+    #[test]
+    fn mission_then_fence_commit_as_one() {
+        let mut b = Bridge::new(config());
+        let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_MISSION));
+        assert!(
+            b.poll_event().is_none(),
+            "nothing committed before the fence"
+        );
+        assert_eq!(b.poll_timeout(), Some(at(2000)));
+        let out = upload(&mut b, at(100), T::MAV_MISSION_TYPE_FENCE, &fence());
+        assert!(acks(&out).is_empty(), "the fence's ACK waits for the FCC");
+        let Some(BridgeEvent::Commit { plan }) = b.poll_event() else {
+            panic!("no commit");
+        };
+        assert_eq!(plan.plan.areas.len(), 2);
+        assert_eq!(b.poll_timeout(), None, "the fence ended the wait");
+        b.committed(Ok(()));
+        let out = sent(&mut b);
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
+        // Rally: none is accepted.
+        let out = upload(&mut b, at(200), T::MAV_MISSION_TYPE_RALLY, &[]);
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_RALLY));
+        // Download: the same items.
+        for (kind, items) in [
+            (T::MAV_MISSION_TYPE_MISSION, mission()),
+            (T::MAV_MISSION_TYPE_FENCE, fence()),
+        ] {
+            from_client(
+                &mut b,
+                at(300),
+                MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
+                    target_system: SYSTEM_ID,
+                    target_component: COMPONENT_ID,
+                    mission_type: kind,
+                }),
+            );
+            let count = sent(&mut b);
+            assert!(
+                matches!(count.first(), Some(MavMessage::MISSION_COUNT(c)) if usize::from(c.count) == items.len())
+            );
+            for (seq, want) in items.iter().enumerate() {
+                from_client(
+                    &mut b,
+                    at(300),
+                    MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+                        seq: seq as u16,
+                        target_system: SYSTEM_ID,
+                        target_component: COMPONENT_ID,
+                        mission_type: kind,
+                    }),
+                );
+                let (Some(MavMessage::MISSION_ITEM_INT(got)), MavMessage::MISSION_ITEM_INT(want)) =
+                    (sent(&mut b).first().cloned(), want)
+                else {
+                    panic!("no item {seq}");
+                };
+                assert_eq!(
+                    (got.command, got.x, got.y, got.z, got.param1),
+                    (want.command, want.x, want.y, want.z, want.param1)
+                );
+            }
+        }
+    }
+
+    /// A mission with no fence after it is committed with the fence held once the wait is
+    /// over: nothing at t - 1 ms, the commit at t.
+    #[test]
+    fn a_mission_alone_is_committed_after_the_wait() {
+        let mut b = Bridge::new(config());
+        // Without a mission, a fence is held for the next one.
+        let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_FENCE, &fence());
+        assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
+        assert!(b.poll_event().is_none());
+        upload(&mut b, at(1000), T::MAV_MISSION_TYPE_MISSION, &mission());
+        b.handle_timeout(at(2999));
+        assert!(b.poll_event().is_none());
+        b.handle_timeout(at(3000));
+        let Some(BridgeEvent::Commit { plan }) = b.poll_event() else {
+            panic!("no commit at the end of the wait")
+        };
+        assert_eq!(plan.plan.areas.len(), 2, "with the fence held");
+        b.committed(Err("the safety gateway refused: energy".to_owned()));
+        let t = texts(&sent(&mut b));
+        assert!(t.iter().any(|t| t.contains("unchanged")), "{t:?}");
+        assert_eq!(b.lists().0.len(), 0, "the FCC's lists stay as they were");
+    }
+
+    /// An item the ICD cannot carry: MISSION_ACK with an error and a STATUSTEXT naming it.
+    #[test]
+    fn a_refusal_names_the_item() {
+        let mut b = Bridge::new(config());
+        let mut m = mission();
+        m.insert(
+            2,
+            item(
+                2,
+                T::MAV_MISSION_TYPE_MISSION,
+                MavCmd::MAV_CMD_NAV_LOITER_UNLIM,
+                MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+                0.0,
+                48.27,
+                11.65,
+                120.0,
+            ),
+        );
+        let m: Vec<MavMessage> = m
+            .into_iter()
+            .enumerate()
+            .map(|(i, mut msg)| {
+                if let MavMessage::MISSION_ITEM_INT(d) = &mut msg {
+                    d.seq = i as u16;
+                }
+                msg
+            })
+            .collect();
+        let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &m);
+        assert_eq!(
+            acks(&out),
+            [(
+                T::MAV_MISSION_TYPE_MISSION,
+                MavMissionResult::MAV_MISSION_DENIED
+            )]
+        );
+        let t = texts(&out).join("");
+        assert!(t.contains("mission item 2"), "{t}");
+        assert!(b.poll_event().is_none());
+    }
+
+    /// An item not sent is asked for again after the timeout, then the upload is abandoned.
+    #[test]
+    fn a_missing_item_is_asked_again_then_abandoned() {
+        let mut b = Bridge::new(config());
+        from_client(
+            &mut b,
+            at(0),
+            MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+                count: 3,
+                target_system: SYSTEM_ID,
+                target_component: COMPONENT_ID,
+                mission_type: T::MAV_MISSION_TYPE_MISSION,
+                opaque_id: 0,
+            }),
+        );
+        assert_eq!(sent(&mut b).len(), 1);
+        b.handle_timeout(at(1499));
+        assert!(sent(&mut b).is_empty());
+        for k in 1..=3u64 {
+            b.handle_timeout(at(1500 * k));
+            assert!(
+                matches!(sent(&mut b).first(), Some(MavMessage::MISSION_REQUEST_INT(r)) if r.seq == 0)
+            );
+        }
+        b.handle_timeout(at(6000));
+        assert_eq!(
+            acks(&sent(&mut b)),
+            [(
+                T::MAV_MISSION_TYPE_MISSION,
+                MavMissionResult::MAV_MISSION_OPERATION_CANCELLED
+            )]
+        );
+    }
+
+    #[test]
+    fn mission_start_executes_and_positions_become_global_position_int() {
+        let mut b = Bridge::new(config());
+        b.start(at(0));
+        from_client(
+            &mut b,
+            at(0),
+            command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
+        );
+        assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+        b.executed(Ok(()));
+        assert!(sent(&mut b).iter().any(|m| matches!(m, MavMessage::COMMAND_ACK(a) if a.result == MavResult::MAV_RESULT_ACCEPTED)));
+        b.handle_position(at(500), &crate::monitor::tests::states());
+        let [MavMessage::GLOBAL_POSITION_INT(g)] = &sent(&mut b)[..] else {
+            panic!("no GLOBAL_POSITION_INT")
+        };
+        assert_eq!(
+            (g.lat, g.lon, g.alt, g.vx, g.vy, g.hdg),
+            (482_725_000, 116_425_000, 120_000, 1770, 1770, 4500)
+        );
+        assert_eq!(g.time_boot_ms, 500);
+    }
+
+    #[test]
+    fn autopilot_version_names_mission_int_and_fence() {
+        let mut b = Bridge::new(config());
+        from_client(
+            &mut b,
+            at(0),
+            command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 148.0),
+        );
+        let out = sent(&mut b);
+        let Some(MavMessage::AUTOPILOT_VERSION(v)) = out.first() else {
+            panic!("{out:?}")
+        };
+        assert!(v.capabilities.contains(
+            MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT
+                | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+        ));
+    }
+
+    /// Datagrams from anyone: every prefix of a valid one, and bytes from a fixed-seed
+    /// generator, never panic; what does not parse is counted.
+    #[test]
+    fn any_bytes_are_counted_never_a_panic() {
+        let mut b = Bridge::new(config());
+        let mut buf = [0u8; 300];
+        let mut out: &mut [u8] = &mut buf;
+        let len = mavlink::write_v2_msg(&mut out, MavHeader::default(), &mission()[1]).unwrap();
+        for cut in 0..len {
+            b.handle_datagram(at(0), &buf[..cut]);
+        }
+        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut bytes = [0u8; 300];
+        for round in 0..2000 {
+            for byte in bytes.iter_mut() {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                *byte = seed as u8;
+            }
+            // Every fourth datagram starts as a MAVLink 2 frame does.
+            if round % 4 == 0 {
+                bytes[0] = 0xfd;
+            }
+            b.handle_datagram(at(0), &bytes[..(round % 300)]);
+        }
+        assert!(b.unreadable >= 1000, "{}", b.unreadable);
+    }
+}

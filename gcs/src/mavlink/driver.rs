@@ -1,0 +1,164 @@
+//! The driver of `gcs mavlink`: one UDP socket for the MAVLink clients and the GCS link to the
+//! FCC. It only moves bytes and carries out the bridge's events: every datagram from a client
+//! goes to [`Bridge::handle_datagram`], every datagram of [`Bridge::poll_transmit`] goes to
+//! `--to` (where QGroundControl listens) and to the client that spoke last, if another; the
+//! downlink's #101 and #4001 go to the bridge; a [`BridgeEvent::Commit`] is validated by the
+//! safety gateway and uploaded atomically (ICD §8), a [`BridgeEvent::Execute`] is #50000
+//! execute, each outcome reported back to the bridge.
+
+use std::net::{SocketAddr, UdpSocket};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use missionlink_services::ground_station::{GcsEvent, SafetyGateway, Sequence};
+
+use super::bridge::{Bridge, BridgeEvent};
+use super::plan::from_plan;
+use crate::gcs_link::{Finished, GcsLink};
+use crate::qgc::ExportOptions;
+
+/// Largest MAVLink 2 datagram (280 bytes a frame; a datagram may hold several).
+const DATAGRAM: usize = 2048;
+
+/// The MAVLink side's socket: bound where the operator says, sending to `to`.
+#[derive(Debug)]
+pub struct MavlinkSocket {
+    socket: UdpSocket,
+    to: SocketAddr,
+    /// The client that spoke last.
+    peer: Option<SocketAddr>,
+}
+
+impl MavlinkSocket {
+    /// Binds `bind` (port 0: the system chooses) and sends to `to`.
+    pub fn bind(bind: SocketAddr, to: SocketAddr) -> std::io::Result<Self> {
+        let socket = UdpSocket::bind(bind)?;
+        Ok(Self {
+            socket,
+            to,
+            peer: None,
+        })
+    }
+
+    /// The bound address.
+    pub fn local_addr(&self) -> std::io::Result<SocketAddr> {
+        self.socket.local_addr()
+    }
+
+    fn send(&self, datagram: &[u8]) {
+        let mut targets = [Some(self.to), self.peer.filter(|p| *p != self.to)];
+        for target in targets.iter_mut().flatten() {
+            if let Err(e) = self.socket.send_to(datagram, *target) {
+                tracing::debug!(%e, %target, "MAVLink datagram not sent");
+            }
+        }
+    }
+}
+
+/// The lists the FCC holds, as MAVLink items, for the bridge to answer downloads with; none
+/// when the FCC holds none (or does not answer).
+pub fn read_lists<G: SafetyGateway>(link: &mut GcsLink<G>, bridge: &mut Bridge) {
+    let now = link.now();
+    if link.station().download(now).is_err() {
+        return;
+    }
+    if let Ok(Finished::Downloaded(plan)) = link.finish(|_| {}) {
+        let (mission, fence) = from_plan(&plan, &ExportOptions::default());
+        bridge.set_lists(mission, fence);
+    }
+}
+
+/// Validates and uploads `plan` atomically; why not, in the operator's words.
+fn commit<G: SafetyGateway>(
+    link: &mut GcsLink<G>,
+    plan: &missionlink_services::ground_station::MissionPlan,
+) -> Result<(), String> {
+    link.station().validate(plan).map_err(|e| e.to_string())?;
+    let now = link.now();
+    link.station()
+        .upload_with(now, plan, Sequence::Atomic)
+        .map_err(|e| e.to_string())?;
+    link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
+}
+
+fn execute<G: SafetyGateway>(link: &mut GcsLink<G>) -> Result<(), String> {
+    let now = link.now();
+    link.station()
+        .execute(now, missionlink_interfaces::wire::ExecuteCommand::Execute)
+        .map_err(|e| e.to_string())?;
+    link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
+}
+
+/// Runs the bridge until `stop` is set.
+pub fn run<G: SafetyGateway>(
+    link: &mut GcsLink<G>,
+    bridge: &mut Bridge,
+    socket: &mut MavlinkSocket,
+    stop: &AtomicBool,
+) -> std::io::Result<()> {
+    bridge.start(link.now());
+    let mut buf = [0u8; DATAGRAM];
+    while !stop.load(Ordering::Relaxed) {
+        let now = link.now();
+        if bridge.poll_timeout().is_some_and(|t| t <= now) {
+            bridge.handle_timeout(now);
+        }
+        while let Some(event) = bridge.poll_event() {
+            match event {
+                BridgeEvent::Commit { plan } => {
+                    let outcome = commit(link, &plan.plan);
+                    if let Err(why) = &outcome {
+                        tracing::warn!(%why, "the MAVLink client's plan was not committed");
+                    }
+                    bridge.committed(outcome);
+                }
+                BridgeEvent::Execute => bridge.executed(execute(link)),
+            }
+        }
+        while let Some(len) = bridge.poll_transmit(&mut buf) {
+            if let Some(datagram) = buf.get(..len) {
+                socket.send(datagram);
+            }
+        }
+        // The downlink: positions and FROM-TO-NEXT.
+        let mut positions = Vec::new();
+        let mut from_to_next = Vec::new();
+        link.run_until(Duration::from_millis(5), |event| {
+            match event {
+                GcsEvent::Position(p) => positions.push(*p),
+                GcsEvent::FromToNext(f) => from_to_next.push(*f),
+                _ => {}
+            }
+            false
+        });
+        let now = link.now();
+        for f in &from_to_next {
+            bridge.handle_from_to_next(f);
+        }
+        for p in &positions {
+            bridge.handle_position(now, p);
+        }
+        // The clients: wait at most until the bridge's next deadline.
+        let wait = bridge
+            .poll_timeout()
+            .map_or(Duration::from_millis(20), |t| t.saturating_since(now))
+            .clamp(Duration::from_millis(1), Duration::from_millis(20));
+        socket.socket.set_read_timeout(Some(wait))?;
+        let mut datagram = [0u8; DATAGRAM];
+        match socket.socket.recv_from(&mut datagram) {
+            Ok((len, from)) => {
+                socket.peer = Some(from);
+                if let Some(d) = datagram.get(..len) {
+                    bridge.handle_datagram(link.now(), d);
+                }
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
+}

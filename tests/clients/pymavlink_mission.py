@@ -1,0 +1,130 @@
+"""pymavlink against `gcs mavlink` (tests/mavlink_clients.rs starts both).
+
+Uploads a mission (a take-off and two waypoints) with a fence (an inclusion polygon and an
+exclusion circle) in QGroundControl's order (mission, then fence, then rally points, each after
+the previous MISSION_ACK), downloads both back and compares them with the upload, then uploads
+an infeasible mission (a waypoint inside the exclusion circle) with the same fence and expects
+it refused, the reason in a STATUSTEXT, and the lists as they were.
+
+Usage: python3 pymavlink_mission.py BRIDGE_PORT. Exit status 0 when every check passes; each
+check that fails is printed.
+"""
+
+import os
+import sys
+
+os.environ["MAVLINK20"] = "1"
+from pymavlink import mavutil  # noqa: E402
+
+MISSION, FENCE, RALLY = 0, 1, 2
+TAKEOFF, WAYPOINT = 22, 16
+POLYGON_INCLUSION, CIRCLE_EXCLUSION = 5001, 5004
+RELATIVE, GLOBAL = 3, 0
+TIMEOUT = 30
+
+
+def fail(why):
+    print(f"FAILED: {why}", flush=True)
+    sys.exit(1)
+
+
+def main():
+    port = int(sys.argv[1])
+    m = mavutil.mavlink_connection(
+        f"udpout:127.0.0.1:{port}", source_system=255, source_component=190
+    )
+    m.mav.heartbeat_send(6, 8, 0, 0, 0)  # MAV_TYPE_GCS, MAV_AUTOPILOT_INVALID
+    hb = m.wait_heartbeat(timeout=TIMEOUT)
+    if hb is None:
+        fail("no HEARTBEAT")
+    print(f"heartbeat from system {m.target_system}: type {hb.type}, autopilot {hb.autopilot}")
+    texts = []
+
+    def recv(types):
+        while True:
+            msg = m.recv_match(type=types + ["STATUSTEXT"], blocking=True, timeout=TIMEOUT)
+            if msg is None:
+                fail(f"no {types}")
+            if msg.get_type() == "STATUSTEXT":
+                texts.append(msg.text)
+                print(f"STATUSTEXT: {msg.text}", flush=True)
+                continue
+            return msg
+
+    def upload(kind, items):
+        m.mav.mission_count_send(1, 1, len(items), kind)
+        while True:
+            msg = recv(["MISSION_REQUEST_INT", "MISSION_REQUEST", "MISSION_ACK"])
+            if msg.get_type() == "MISSION_ACK":
+                return msg.type
+            command, frame, p1, lat, lon, alt = items[msg.seq]
+            m.mav.mission_item_int_send(
+                1, 1, msg.seq, frame, command, 0, 1, p1, 0, 0, 0,
+                int(round(lat * 1e7)), int(round(lon * 1e7)), alt, kind,
+            )
+
+    def download(kind):
+        m.mav.mission_request_list_send(1, 1, kind)
+        count = recv(["MISSION_COUNT"]).count
+        items = []
+        for seq in range(count):
+            m.mav.mission_request_int_send(1, 1, seq, kind)
+            it = recv(["MISSION_ITEM_INT"])
+            items.append((it.command, it.frame, it.param1, it.x / 1e7, it.y / 1e7, it.z))
+        m.mav.mission_ack_send(1, 1, 0, kind)
+        return items
+
+    def same(a, b):
+        return len(a) == len(b) and all(
+            x[0] == y[0] and x[1] == y[1] and abs(x[2] - y[2]) < 1e-3
+            and abs(x[3] - y[3]) < 1e-7 and abs(x[4] - y[4]) < 1e-7 and abs(x[5] - y[5]) < 1e-3
+            for x, y in zip(a, b)
+        )
+
+    mission = [
+        (TAKEOFF, RELATIVE, 0.0, 48.26, 11.66, 30.0),
+        (WAYPOINT, RELATIVE, 0.0, 48.265, 11.655, 120.0),
+        (WAYPOINT, RELATIVE, 0.0, 48.275, 11.645, 120.0),
+    ]
+    corners = [(48.255, 11.635), (48.255, 11.69), (48.285, 11.69), (48.285, 11.635)]
+    fence = [(POLYGON_INCLUSION, GLOBAL, 4.0, lat, lon, 0.0) for lat, lon in corners]
+    fence.append((CIRCLE_EXCLUSION, GLOBAL, 200.0, 48.268, 11.675, 0.0))
+
+    result = upload(MISSION, mission)
+    if result != 0:
+        fail(f"mission upload: MISSION_ACK {result}")
+    result = upload(FENCE, fence)
+    if result != 0:
+        fail(f"fence upload: MISSION_ACK {result}, {texts}")
+    result = upload(RALLY, [])
+    if result != 0:
+        fail(f"rally upload: MISSION_ACK {result}")
+    print("uploaded: mission and fence active on the FCC", flush=True)
+
+    if not same(download(MISSION), mission):
+        fail("the mission downloaded differs from the upload")
+    if not same(download(FENCE), fence):
+        fail("the fence downloaded differs from the upload")
+    print("downloaded: equal to the upload", flush=True)
+
+    # Infeasible: the second waypoint inside the exclusion circle.
+    infeasible = list(mission)
+    infeasible[1] = (WAYPOINT, RELATIVE, 0.0, 48.268, 11.675, 120.0)
+    texts.clear()
+    result = upload(MISSION, infeasible)
+    if result != 0:
+        print(f"infeasible mission refused at once: MISSION_ACK {result}", flush=True)
+    else:
+        result = upload(FENCE, fence)
+    if result == 0:
+        fail("the infeasible mission was accepted")
+    if not texts:
+        fail("no STATUSTEXT says why the infeasible mission was refused")
+    print(f"infeasible mission refused: MISSION_ACK {result}: {''.join(texts)}", flush=True)
+    if not same(download(MISSION), mission) or not same(download(FENCE), fence):
+        fail("the refusal changed the lists")
+    print("the lists are as they were", flush=True)
+
+
+if __name__ == "__main__":
+    main()
