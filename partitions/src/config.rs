@@ -458,12 +458,7 @@ impl Config {
     /// The link sections, what the ground reads of this configuration (a GCS link of the demo
     /// or of a test talking to this FCC).
     pub fn link(&self) -> LinkConfig {
-        LinkConfig {
-            ids: self.ids,
-            links: self.links,
-            timing: self.timing,
-            signing: self.signing.clone(),
-        }
+        LinkConfig::new(self.ids, self.links, self.timing, self.signing.clone())
     }
 
     /// The core of mission data handling as this configuration says (IDs and timeouts), its
@@ -596,6 +591,16 @@ impl std::fmt::Display for FifoPriority {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One file serves both sides: every section of the FCC's configuration is one the ground's
+    /// `LinkConfig` reads or passes over (a new FCC section must be added there).
+    #[test]
+    fn the_ground_reads_every_fcc_configuration() {
+        let text = toml::to_string(&Config::default()).unwrap();
+        let ground: Result<missionlink_platform::config::LinkConfig, _> =
+            missionlink_platform::config::parse(&text, Path::new("fcc.toml"));
+        assert!(ground.is_ok(), "{ground:?}");
+    }
 
     #[test]
     fn a_configuration_toml_cannot_carry_is_refused_not_handed_on_as_the_defaults() {

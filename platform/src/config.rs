@@ -200,9 +200,12 @@ pub struct Signing {
 
 /// The settings of the ground: the link sections of the configuration file. The FCC's own
 /// sections may stand in the same file (one file serves both sides); the ground passes over
-/// them, as it passes over the FCC-only flags of [`ConfigArgs`].
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default)]
+/// them, as it passes over the FCC-only flags of [`ConfigArgs`]. Any other section is refused
+/// with its line and column, as the FCC refuses it: a misspelt `[signin]` must not leave the
+/// ground unsigned without a word. (`missionlink_partitions::config` tests that every section of
+/// the FCC's configuration is one the ground passes over.)
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct LinkConfig {
     /// Node IDs.
     pub ids: Ids,
@@ -212,9 +215,39 @@ pub struct LinkConfig {
     pub timing: Timing,
     /// Link signing.
     pub signing: Signing,
+    /// The FCC's sections, passed over (never read, never written).
+    #[serde(skip_serializing)]
+    ipc: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    guidance: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    latency: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    launcher: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    health: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    realtime: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    isolation: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    bridge: Option<toml::Value>,
+    #[serde(skip_serializing)]
+    downlink: Option<toml::Value>,
 }
 
 impl LinkConfig {
+    /// The link sections, without the FCC's.
+    pub fn new(ids: Ids, links: Links, timing: Timing, signing: Signing) -> Self {
+        Self {
+            ids,
+            links,
+            timing,
+            signing,
+            ..Self::default()
+        }
+    }
+
     /// The configuration `args` name (handed over as TOML, a file or the defaults) with the
     /// link flags applied.
     pub fn resolve(args: &ConfigArgs) -> Result<Self, ConfigError> {
@@ -491,6 +524,17 @@ mod tests {
         assert_eq!(c.ids.fcc, defaults::FCC_ID);
         assert_eq!(c.signing.policy, SigningPolicy::Accept);
         assert_eq!(c.timing, Timing::default());
+    }
+
+    #[test]
+    fn a_section_neither_side_reads_is_refused_with_its_line() {
+        let e = parse::<LinkConfig>(
+            "[ids]\ngcs = 1\n\n[signin]\npolicy = \"require\"\n",
+            Path::new("gcs.toml"),
+        )
+        .unwrap_err();
+        assert!(e.to_string().starts_with("gcs.toml:4:"), "{e}");
+        assert!(e.to_string().contains("signin"), "{e}");
     }
 
     #[test]
