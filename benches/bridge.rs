@@ -144,7 +144,7 @@ fn main() {
     let dir = std::env::temp_dir().join(format!("missionlink-bench-bridge-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bin = common::bin_dir();
-    binaries::ensure_bridge(&bin, binaries::Build::IfMissing).unwrap();
+    binaries::ensure_bridge(&bin, binaries::Build::UnderCargo).unwrap();
 
     let services = ["fcc/link/uplink", "fcc/mission/waypoint-list"]
         .map(str::to_owned)

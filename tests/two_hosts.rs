@@ -207,7 +207,7 @@ impl Drop for Remote {
 /// Starts host B's guidance and bridge in namespace `ns` (from a thread that moves there).
 fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidance) -> Vec<Remote> {
     let bin = bin_dir();
-    binaries::ensure_bridge(&bin, binaries::Build::IfMissing).unwrap();
+    binaries::ensure_bridge(&bin, binaries::Build::UnderCargo).unwrap();
     std::thread::spawn(move || {
         Hosts::enter(&ns);
         let guidance = match guidance {
@@ -253,7 +253,7 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     let mut rig = Rig::new(&format!("two-hosts-{tag}"));
     bridge_a(&mut rig.config);
     let config_b = host_b(&rig.config, &rig.dir);
-    binaries::ensure_bridge(&bin_dir(), binaries::Build::IfMissing).unwrap();
+    binaries::ensure_bridge(&bin_dir(), binaries::Build::UnderCargo).unwrap();
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
     let remote = start_host_b(hosts.b.clone(), config_b, rig.dir.clone(), guidance);
