@@ -23,28 +23,6 @@ use rustix::process::Signal;
 
 const LIMIT: Duration = Duration::from_secs(30);
 
-/// Waits until `process`'s log holds a line with every one of `parts` (more than `before`
-/// such lines), or panics after `limit`; the time it took.
-fn wait_for_line(process: &Process, parts: &[&str], before: usize, limit: Duration) -> Duration {
-    let start = Instant::now();
-    let count = |text: &str| {
-        text.lines()
-            .filter(|l| parts.iter().all(|p| l.contains(p)))
-            .count()
-    };
-    while start.elapsed() < limit {
-        if count(&process.log_text()) > before {
-            return start.elapsed();
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!(
-        "{:?} never logged a line with {parts:?}:\n{}",
-        process.log_path(),
-        process.log_text()
-    );
-}
-
 /// The wall-clock seconds of the day now, as the log lines' UTC time stamps count them.
 fn seconds_of_day_now() -> f64 {
     std::time::SystemTime::now()

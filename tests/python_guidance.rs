@@ -52,7 +52,7 @@ fn repo() -> PathBuf {
 }
 
 fn guidance_script() -> PathBuf {
-    repo().join("partitions/python/missionlink_guidance.py")
+    python_guidance_script()
 }
 
 /// Fails, saying what to install, unless `python3` runs and imports the Python guidance's
@@ -105,22 +105,8 @@ struct PythonGuidance {
 impl PythonGuidance {
     /// Starts it under the rig's prefix, time scale, start position, rates and heartbeat period.
     fn start(rig: &Rig) -> Self {
-        let g = &rig.config.guidance;
         let log = rig.dir.join("guidance-py.log");
-        let child = Command::new(python())
-            .arg(guidance_script())
-            .args(["--service-prefix", &rig.config.ipc.service_prefix])
-            .args(["--time-scale", &g.time_scale.to_string()])
-            .args(["--start-latitude", &g.start_latitude_deg.to_string()])
-            .args(["--start-longitude", &g.start_longitude_deg.to_string()])
-            .args(["--climb-rate", &g.climb_rate_mps.to_string()])
-            .args(["--descent-rate", &g.descent_rate_mps.to_string()])
-            .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
-            .args([
-                "--heartbeat-period-ms",
-                &rig.config.health.period_ms.to_string(),
-            ])
-            .stdin(Stdio::null())
+        let child = python_guidance_command(&rig.config)
             .stdout(Stdio::null())
             .stderr(std::fs::File::create(&log).unwrap())
             .spawn()

@@ -88,27 +88,9 @@ fn host_b(a: &Config, dir: &std::path::Path) -> Config {
     b
 }
 
-/// Lines of `text` holding every one of `parts`.
-fn count(text: &str, parts: &[&str]) -> usize {
-    text.lines()
-        .filter(|l| parts.iter().all(|p| l.contains(p)))
-        .count()
-}
-
 /// Waits until `process`'s log holds more than `before` lines with every one of `parts`.
-fn wait_for_line(process: &Process, parts: &[&str], before: usize) -> Duration {
-    let start = Instant::now();
-    while start.elapsed() < LIMIT {
-        if count(&process.log_text(), parts) > before {
-            return start.elapsed();
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    panic!(
-        "{:?} never logged a line with {parts:?}:\n{}",
-        process.log_path(),
-        process.log_text()
-    );
+fn wait_for(process: &Process, parts: &[&str], before: usize) -> Duration {
+    wait_for_line(process, parts, before, LIMIT)
 }
 
 /// Execute once; the reason of a refusal, `None` when accepted. FROM-TO-NEXT heard meanwhile
@@ -212,28 +194,7 @@ fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidan
         Hosts::enter(&ns);
         let guidance = match guidance {
             RemoteGuidance::Stub => FccProcess::command(&bin, "guidance-stub", &config).unwrap(),
-            RemoteGuidance::Python => {
-                let g = &config.guidance;
-                let mut command = Command::new(python());
-                command
-                    .arg(
-                        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-                            .join("partitions/python/missionlink_guidance.py"),
-                    )
-                    .args(["--service-prefix", &config.ipc.service_prefix])
-                    .args(["--time-scale", &g.time_scale.to_string()])
-                    .args(["--start-latitude", &g.start_latitude_deg.to_string()])
-                    .args(["--start-longitude", &g.start_longitude_deg.to_string()])
-                    .args(["--climb-rate", &g.climb_rate_mps.to_string()])
-                    .args(["--descent-rate", &g.descent_rate_mps.to_string()])
-                    .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
-                    .args([
-                        "--heartbeat-period-ms",
-                        &config.health.period_ms.to_string(),
-                    ])
-                    .stdin(Stdio::null());
-                command
-            }
+            RemoteGuidance::Python => python_guidance_command(&config),
         };
         let bridge = FccProcess::command(&bin, "bridge", &config).unwrap();
         vec![
@@ -267,7 +228,7 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     };
 
     // The launcher hears the remote guidance's heartbeat through the bridges.
-    wait_for_line(
+    wait_for(
         &fcc,
         &["alive (not started by the launcher)", "partition=guidance"],
         0,
@@ -310,11 +271,12 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     ];
     let refusing = ["guidance not alive"];
     let text = fcc.log_text();
-    let (silent_before, refusing_before) = (count(&text, &silent), count(&text, &refusing));
+    let (silent_before, refusing_before) =
+        (count_lines(&text, &silent), count_lines(&text, &refusing));
     let cut = Instant::now();
     hosts.link(false);
-    let silent_after = wait_for_line(&fcc, &silent, silent_before);
-    wait_for_line(&fcc, &refusing, refusing_before);
+    let silent_after = wait_for(&fcc, &silent, silent_before);
+    wait_for(&fcc, &refusing, refusing_before);
     assert_eq!(
         execute(&mut link, &mut seen),
         Some(wire::Reason::WrongState),
@@ -328,10 +290,10 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     );
 
     // Alive lines from here on are the link's return (the link is down: nothing beats).
-    let alive_down = count(&fcc.log_text(), &alive);
+    let alive_down = count_lines(&fcc.log_text(), &alive);
     // The link is back: the same processes recover.
     hosts.link(true);
-    wait_for_line(&fcc, &alive, alive_down);
+    wait_for(&fcc, &alive, alive_down);
     let before = seen.len();
     assert_eq!(
         execute_when_ready(&mut link, &mut seen),

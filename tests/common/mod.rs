@@ -354,3 +354,59 @@ pub fn logged_since(link: &Link, from: usize, direction: Direction) -> usize {
         .filter(|l| l.direction == direction)
         .count()
 }
+
+/// Lines of `text` holding every one of `parts`.
+pub fn count_lines(text: &str, parts: &[&str]) -> usize {
+    text.lines()
+        .filter(|l| parts.iter().all(|p| l.contains(p)))
+        .count()
+}
+
+/// Waits until `process`'s log holds a line with every one of `parts` (more than `before`
+/// such lines), or panics after `limit`; the time it took.
+pub fn wait_for_line(
+    process: &Process,
+    parts: &[&str],
+    before: usize,
+    limit: Duration,
+) -> Duration {
+    let start = Instant::now();
+    while start.elapsed() < limit {
+        if count_lines(&process.log_text(), parts) > before {
+            return start.elapsed();
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    panic!(
+        "{:?} never logged a line with {parts:?}:\n{}",
+        process.log_path(),
+        process.log_text()
+    );
+}
+
+/// The Python guidance (partitions/python/missionlink_guidance.py).
+pub fn python_guidance_script() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("partitions/python/missionlink_guidance.py")
+}
+
+/// The command that starts the Python guidance as `config` sets the guidance stub (prefix,
+/// time scale, start position, rates, heartbeat period); stdin closed, the rest the caller's.
+pub fn python_guidance_command(config: &Config) -> std::process::Command {
+    let g = &config.guidance;
+    let mut command = std::process::Command::new(python());
+    command
+        .arg(python_guidance_script())
+        .args(["--service-prefix", &config.ipc.service_prefix])
+        .args(["--time-scale", &g.time_scale.to_string()])
+        .args(["--start-latitude", &g.start_latitude_deg.to_string()])
+        .args(["--start-longitude", &g.start_longitude_deg.to_string()])
+        .args(["--climb-rate", &g.climb_rate_mps.to_string()])
+        .args(["--descent-rate", &g.descent_rate_mps.to_string()])
+        .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
+        .args([
+            "--heartbeat-period-ms",
+            &config.health.period_ms.to_string(),
+        ])
+        .stdin(std::process::Stdio::null());
+    command
+}

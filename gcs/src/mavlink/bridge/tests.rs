@@ -1,0 +1,488 @@
+//! The MAVLink vehicle in scripted time.
+
+use mavlink::dialects::common::{
+    COMMAND_LONG_DATA, MISSION_REQUEST_LIST_DATA, MavMissionType as T,
+};
+
+use super::*;
+use crate::qgc::ImportOptions;
+
+fn at(ms: u64) -> Instant {
+    Instant::from_millis(ms)
+}
+
+fn config() -> BridgeConfig {
+    BridgeConfig {
+        heartbeat: Duration::from_secs(1),
+        item_timeout: Duration::from_millis(1500),
+        item_retries: 3,
+        fence_wait: Duration::from_secs(2),
+        plan: PlanContext {
+            cruise_speed_mps: 25.0,
+            home: None,
+            import: ImportOptions::default(),
+        },
+    }
+}
+
+/// What the bridge sent since the last call, decoded.
+fn sent(b: &mut Bridge) -> Vec<MavMessage> {
+    let mut out = Vec::new();
+    let mut buf = [0u8; 300];
+    while let Some(len) = b.poll_transmit(&mut buf) {
+        out.extend(decode(&buf[..len]));
+    }
+    out
+}
+
+/// The client's message, through the bytes of a datagram.
+fn from_client(b: &mut Bridge, now: Instant, m: MavMessage) {
+    let mut buf = [0u8; 300];
+    let mut out: &mut [u8] = &mut buf;
+    let header = MavHeader {
+        system_id: 255,
+        component_id: 190,
+        sequence: 0,
+    };
+    let len = mavlink::write_v2_msg(&mut out, header, &m).unwrap();
+    b.handle_datagram(now, &buf[..len]);
+}
+
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a MISSION_ITEM_INT in one line: its fields"
+)]
+fn item(
+    seq: u16,
+    kind: T,
+    command: MavCmd,
+    frame: MavFrame,
+    p1: f32,
+    lat: f64,
+    lon: f64,
+    z: f32,
+) -> MavMessage {
+    MavMessage::MISSION_ITEM_INT(MISSION_ITEM_INT_DATA {
+        param1: p1,
+        param2: 0.0,
+        param3: 0.0,
+        param4: 0.0,
+        x: (lat * 1e7).round() as i32,
+        y: (lon * 1e7).round() as i32,
+        z,
+        seq,
+        command,
+        target_system: SYSTEM_ID,
+        target_component: COMPONENT_ID,
+        frame,
+        current: 0,
+        autocontinue: 1,
+        mission_type: kind,
+    })
+}
+
+fn mission() -> Vec<MavMessage> {
+    let rel = MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT;
+    let m = T::MAV_MISSION_TYPE_MISSION;
+    vec![
+        item(
+            0,
+            m,
+            MavCmd::MAV_CMD_NAV_TAKEOFF,
+            rel,
+            0.0,
+            48.26,
+            11.66,
+            30.0,
+        ),
+        item(
+            1,
+            m,
+            MavCmd::MAV_CMD_NAV_WAYPOINT,
+            rel,
+            0.0,
+            48.265,
+            11.655,
+            120.0,
+        ),
+        item(
+            2,
+            m,
+            MavCmd::MAV_CMD_NAV_WAYPOINT,
+            rel,
+            0.0,
+            48.275,
+            11.645,
+            120.0,
+        ),
+    ]
+}
+
+fn fence() -> Vec<MavMessage> {
+    let f = T::MAV_MISSION_TYPE_FENCE;
+    let g = MavFrame::MAV_FRAME_GLOBAL;
+    let corners = [
+        (48.255, 11.635),
+        (48.255, 11.69),
+        (48.285, 11.69),
+        (48.285, 11.635),
+    ];
+    let mut items: Vec<MavMessage> = corners
+        .iter()
+        .enumerate()
+        .map(|(i, &(lat, lon))| {
+            item(
+                i as u16,
+                f,
+                MavCmd::MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION,
+                g,
+                4.0,
+                lat,
+                lon,
+                0.0,
+            )
+        })
+        .collect();
+    items.push(item(
+        4,
+        f,
+        MavCmd::MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION,
+        g,
+        200.0,
+        48.268,
+        11.675,
+        0.0,
+    ));
+    items
+}
+
+/// Uploads `items` of `kind` as a client does: count, then each item the bridge requests.
+fn upload(b: &mut Bridge, now: Instant, kind: T, items: &[MavMessage]) -> Vec<MavMessage> {
+    from_client(
+        b,
+        now,
+        MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: items.len() as u16,
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            mission_type: kind,
+            opaque_id: 0,
+        }),
+    );
+    let mut out = Vec::new();
+    loop {
+        let got = sent(b);
+        let request = got.iter().find_map(|m| match m {
+            MavMessage::MISSION_REQUEST_INT(r) => Some(r.seq),
+            _ => None,
+        });
+        out.extend(got);
+        match request {
+            Some(seq) => from_client(b, now, items[usize::from(seq)].clone()),
+            None => return out,
+        }
+    }
+}
+
+fn acks(messages: &[MavMessage]) -> Vec<(T, MavMissionResult)> {
+    messages
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::MISSION_ACK(a) => Some((a.mission_type, a.mavtype)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// COMMAND_LONG of `command` with `param1`, the other params 0.
+fn command_long(command: MavCmd, param1: f32) -> MavMessage {
+    MavMessage::COMMAND_LONG(COMMAND_LONG_DATA {
+        param1,
+        param2: 0.0,
+        param3: 0.0,
+        param4: 0.0,
+        param5: 0.0,
+        param6: 0.0,
+        param7: 0.0,
+        command,
+        target_system: SYSTEM_ID,
+        target_component: COMPONENT_ID,
+        confirmation: 0,
+    })
+}
+
+/// The one MISSION_ACK of an accepted upload of `kind`.
+fn accepted(kind: T) -> Vec<(T, MavMissionResult)> {
+    vec![(kind, MavMissionResult::MAV_MISSION_ACCEPTED)]
+}
+
+fn texts(messages: &[MavMessage]) -> Vec<String> {
+    messages
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::STATUSTEXT(t) => Some(
+                String::from_utf8_lossy(&<[u8; 50]>::from(t.text))
+                    .trim_end_matches('\0')
+                    .to_owned(),
+            ),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Scripted time: a HEARTBEAT at start and every second, nothing at t - 1 ms.
+#[test]
+fn heartbeat_once_a_second() {
+    let mut b = Bridge::new(config());
+    b.start(at(0));
+    b.handle_timeout(at(0));
+    let first = sent(&mut b);
+    assert!(matches!(first.first(), Some(MavMessage::HEARTBEAT(h))
+        if h.autopilot == MavAutopilot::MAV_AUTOPILOT_GENERIC));
+    assert_eq!(b.poll_timeout(), Some(at(1000)));
+    b.handle_timeout(at(999));
+    assert!(sent(&mut b).is_empty());
+    b.handle_timeout(at(1000));
+    assert!(matches!(
+        sent(&mut b).first(),
+        Some(MavMessage::HEARTBEAT(_))
+    ));
+}
+
+/// QGroundControl's order: the mission is acknowledged as the pending half, the fence
+/// commits the pair and is acknowledged when the FCC confirmed both; a download gives the
+/// items back.
+#[test]
+fn mission_then_fence_commit_as_one() {
+    let mut b = Bridge::new(config());
+    let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+    assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_MISSION));
+    assert!(
+        b.poll_event().is_none(),
+        "nothing committed before the fence"
+    );
+    assert_eq!(b.poll_timeout(), Some(at(2000)));
+    let out = upload(&mut b, at(100), T::MAV_MISSION_TYPE_FENCE, &fence());
+    assert!(acks(&out).is_empty(), "the fence's ACK waits for the FCC");
+    let Some(BridgeEvent::Commit { plan }) = b.poll_event() else {
+        panic!("no commit");
+    };
+    assert_eq!(plan.plan.areas.len(), 2);
+    assert_eq!(b.poll_timeout(), None, "the fence ended the wait");
+    b.committed(Ok(()));
+    let out = sent(&mut b);
+    assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
+    // Rally: none is accepted.
+    let out = upload(&mut b, at(200), T::MAV_MISSION_TYPE_RALLY, &[]);
+    assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_RALLY));
+    // Download: the same items.
+    for (kind, items) in [
+        (T::MAV_MISSION_TYPE_MISSION, mission()),
+        (T::MAV_MISSION_TYPE_FENCE, fence()),
+    ] {
+        from_client(
+            &mut b,
+            at(300),
+            MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
+                target_system: SYSTEM_ID,
+                target_component: COMPONENT_ID,
+                mission_type: kind,
+            }),
+        );
+        let count = sent(&mut b);
+        assert!(
+            matches!(count.first(), Some(MavMessage::MISSION_COUNT(c)) if usize::from(c.count) == items.len())
+        );
+        for (seq, want) in items.iter().enumerate() {
+            from_client(
+                &mut b,
+                at(300),
+                MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+                    seq: seq as u16,
+                    target_system: SYSTEM_ID,
+                    target_component: COMPONENT_ID,
+                    mission_type: kind,
+                }),
+            );
+            let (Some(MavMessage::MISSION_ITEM_INT(got)), MavMessage::MISSION_ITEM_INT(want)) =
+                (sent(&mut b).first().cloned(), want)
+            else {
+                panic!("no item {seq}");
+            };
+            assert_eq!(
+                (got.command, got.x, got.y, got.z, got.param1),
+                (want.command, want.x, want.y, want.z, want.param1)
+            );
+        }
+    }
+}
+
+/// A mission with no fence after it is committed with the fence held once the wait is
+/// over: nothing at t - 1 ms, the commit at t.
+#[test]
+fn a_mission_alone_is_committed_after_the_wait() {
+    let mut b = Bridge::new(config());
+    // Without a mission, a fence is held for the next one.
+    let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_FENCE, &fence());
+    assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
+    assert!(b.poll_event().is_none());
+    upload(&mut b, at(1000), T::MAV_MISSION_TYPE_MISSION, &mission());
+    b.handle_timeout(at(2999));
+    assert!(b.poll_event().is_none());
+    b.handle_timeout(at(3000));
+    let Some(BridgeEvent::Commit { plan }) = b.poll_event() else {
+        panic!("no commit at the end of the wait")
+    };
+    assert_eq!(plan.plan.areas.len(), 2, "with the fence held");
+    b.committed(Err("the safety gateway refused: energy".to_owned()));
+    let t = texts(&sent(&mut b));
+    assert!(t.iter().any(|t| t.contains("unchanged")), "{t:?}");
+    assert_eq!(b.lists().0.len(), 0, "the FCC's lists stay as they were");
+}
+
+/// An item the ICD cannot carry: MISSION_ACK with an error and a STATUSTEXT naming it.
+#[test]
+fn a_refusal_names_the_item() {
+    let mut b = Bridge::new(config());
+    let mut m = mission();
+    m.insert(
+        2,
+        item(
+            2,
+            T::MAV_MISSION_TYPE_MISSION,
+            MavCmd::MAV_CMD_NAV_LOITER_UNLIM,
+            MavFrame::MAV_FRAME_GLOBAL_RELATIVE_ALT,
+            0.0,
+            48.27,
+            11.65,
+            120.0,
+        ),
+    );
+    let m: Vec<MavMessage> = m
+        .into_iter()
+        .enumerate()
+        .map(|(i, mut msg)| {
+            if let MavMessage::MISSION_ITEM_INT(d) = &mut msg {
+                d.seq = i as u16;
+            }
+            msg
+        })
+        .collect();
+    let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &m);
+    assert_eq!(
+        acks(&out),
+        [(
+            T::MAV_MISSION_TYPE_MISSION,
+            MavMissionResult::MAV_MISSION_DENIED
+        )]
+    );
+    let t = texts(&out).join("");
+    assert!(t.contains("mission item 2"), "{t}");
+    assert!(b.poll_event().is_none());
+}
+
+/// An item not sent is asked for again after the timeout, then the upload is abandoned.
+#[test]
+fn a_missing_item_is_asked_again_then_abandoned() {
+    let mut b = Bridge::new(config());
+    from_client(
+        &mut b,
+        at(0),
+        MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+            count: 3,
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            mission_type: T::MAV_MISSION_TYPE_MISSION,
+            opaque_id: 0,
+        }),
+    );
+    assert_eq!(sent(&mut b).len(), 1);
+    b.handle_timeout(at(1499));
+    assert!(sent(&mut b).is_empty());
+    for k in 1..=3u64 {
+        b.handle_timeout(at(1500 * k));
+        assert!(
+            matches!(sent(&mut b).first(), Some(MavMessage::MISSION_REQUEST_INT(r)) if r.seq == 0)
+        );
+    }
+    b.handle_timeout(at(6000));
+    assert_eq!(
+        acks(&sent(&mut b)),
+        [(
+            T::MAV_MISSION_TYPE_MISSION,
+            MavMissionResult::MAV_MISSION_OPERATION_CANCELLED
+        )]
+    );
+}
+
+#[test]
+fn mission_start_executes_and_positions_become_global_position_int() {
+    let mut b = Bridge::new(config());
+    b.start(at(0));
+    from_client(
+        &mut b,
+        at(0),
+        command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
+    );
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+    b.executed(Ok(()));
+    assert!(sent(&mut b).iter().any(
+        |m| matches!(m, MavMessage::COMMAND_ACK(a) if a.result == MavResult::MAV_RESULT_ACCEPTED)
+    ));
+    b.handle_position(at(500), &crate::monitor::tests::states());
+    let [MavMessage::GLOBAL_POSITION_INT(g)] = &sent(&mut b)[..] else {
+        panic!("no GLOBAL_POSITION_INT")
+    };
+    assert_eq!(
+        (g.lat, g.lon, g.alt, g.vx, g.vy, g.hdg),
+        (482_725_000, 116_425_000, 120_000, 1770, 1770, 4500)
+    );
+    assert_eq!(g.time_boot_ms, 500);
+}
+
+#[test]
+fn autopilot_version_names_mission_int_and_fence() {
+    let mut b = Bridge::new(config());
+    from_client(
+        &mut b,
+        at(0),
+        command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 148.0),
+    );
+    let out = sent(&mut b);
+    let Some(MavMessage::AUTOPILOT_VERSION(v)) = out.first() else {
+        panic!("{out:?}")
+    };
+    assert!(v.capabilities.contains(
+        MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT
+            | MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_FENCE
+    ));
+}
+
+/// Datagrams from anyone: every prefix of a valid one, and bytes from a fixed-seed
+/// generator, never panic; what does not parse is counted.
+#[test]
+fn any_bytes_are_counted_never_a_panic() {
+    let mut b = Bridge::new(config());
+    let mut buf = [0u8; 300];
+    let mut out: &mut [u8] = &mut buf;
+    let len = mavlink::write_v2_msg(&mut out, MavHeader::default(), &mission()[1]).unwrap();
+    for cut in 0..len {
+        b.handle_datagram(at(0), &buf[..cut]);
+    }
+    let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut bytes = [0u8; 300];
+    for round in 0..2000 {
+        for byte in bytes.iter_mut() {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            *byte = seed as u8;
+        }
+        // Every fourth datagram starts as a MAVLink 2 frame does.
+        if round % 4 == 0 {
+            bytes[0] = 0xfd;
+        }
+        b.handle_datagram(at(0), &bytes[..(round % 300)]);
+    }
+    assert!(b.unreadable >= 1000, "{}", b.unreadable);
+}
