@@ -39,7 +39,7 @@ use missionlink_interfaces::wire::{self, GeoPoint};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::geofence::earth::{Site, distance_m};
-use missionlink_services::ground_station::{GcsError, GcsEvent};
+use missionlink_services::ground_station::GcsError;
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 use missionlink_services::link::time::Instant as SimInstant;
 use serde_json::{Value, json};
@@ -161,17 +161,6 @@ impl PythonGuidance {
 impl Drop for PythonGuidance {
     fn drop(&mut self) {
         self.stop();
-    }
-}
-
-/// Keeps the waypoint numbers (0 for none) of a #4001 the GCS received.
-fn record<R>(seen: &mut Vec<(u16, u16, u16)>, event: &GcsEvent<R>) {
-    if let GcsEvent::FromToNext(f) = event {
-        seen.push((
-            f.from.waypoint_number.unwrap_or(0),
-            f.to.waypoint_number.unwrap_or(0),
-            f.next.waypoint_number.unwrap_or(0),
-        ));
     }
 }
 

@@ -35,7 +35,7 @@ use missionlink_partitions::binaries;
 use missionlink_partitions::bridge_config::{Bridge, Mode};
 use missionlink_partitions::config::Config;
 use missionlink_partitions::launcher::FccProcess;
-use missionlink_services::ground_station::{GcsError, GcsEvent};
+use missionlink_services::ground_station::GcsError;
 
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(60);
@@ -119,17 +119,6 @@ fn execute_when_ready(link: &mut Link, seen: &mut Vec<(u16, u16, u16)>) -> Optio
             }
             outcome => return outcome,
         }
-    }
-}
-
-/// Keeps the waypoint numbers (0 for none) of a #4001 the GCS received.
-fn record<R>(seen: &mut Vec<(u16, u16, u16)>, event: &GcsEvent<R>) {
-    if let GcsEvent::FromToNext(f) = event {
-        seen.push((
-            f.from.waypoint_number.unwrap_or(0),
-            f.to.waypoint_number.unwrap_or(0),
-            f.next.waypoint_number.unwrap_or(0),
-        ));
     }
 }
 

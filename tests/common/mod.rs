@@ -410,3 +410,17 @@ pub fn python_guidance_command(config: &Config) -> std::process::Command {
         .stdin(std::process::Stdio::null());
     command
 }
+
+/// Keeps the waypoint numbers (0 for none) of a #4001 the GCS received.
+pub fn record<R>(
+    seen: &mut Vec<(u16, u16, u16)>,
+    event: &missionlink_services::ground_station::GcsEvent<R>,
+) {
+    if let missionlink_services::ground_station::GcsEvent::FromToNext(f) = event {
+        seen.push((
+            f.from.waypoint_number.unwrap_or(0),
+            f.to.waypoint_number.unwrap_or(0),
+            f.next.waypoint_number.unwrap_or(0),
+        ));
+    }
+}
