@@ -529,16 +529,26 @@ impl Report {
     }
 }
 
-/// The `main` of every partition binary: logging, the configuration (exit status 2 when it is
+/// The `main` of every partition binary: its command line ([`ConfigArgs`] under the name
+/// `name`, `about` its one-line help), logging, the configuration (exit status 2 when it is
 /// wrong), the partition's real-time settings (`realtime`: a refused one is a warning), then
 /// `run` with a [`Control`] driven by the signals that announces the partition's
 /// readiness in the state directory while it runs (exit status 1 with the error when it fails,
 /// 2 when its configuration cannot work: the launcher does not start it again).
 pub fn partition_main(
-    name: &str,
-    args: &ConfigArgs,
+    name: &'static str,
+    about: &'static str,
     run: impl FnOnce(&Config, &Control) -> Result<(), PartitionError>,
 ) -> std::process::ExitCode {
+    use clap::{Args, FromArgMatches};
+    let command = clap::Command::new(name)
+        .about(about)
+        .version(env!("CARGO_PKG_VERSION"));
+    let args = match ConfigArgs::from_arg_matches(&ConfigArgs::augment_args(command).get_matches())
+    {
+        Ok(args) => args,
+        Err(e) => e.exit(),
+    };
     missionlink_platform::init_logging();
     crate::ipc::quiet_iceoryx2_log();
     // The launcher at start: the watch compares against it once the fence is up.
@@ -546,7 +556,7 @@ pub fn partition_main(
         .exit_with_parent
         .then(rustix::process::getppid)
         .flatten();
-    let config = match Config::resolve(args) {
+    let config = match Config::resolve(&args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
@@ -579,6 +589,21 @@ pub fn partition_main(
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// The `main` of a partition binary: [`partition_main`] with the partition module's `NAME`
+/// and its `run` on `ipc::Service`; `about` is the one-line help.
+#[macro_export]
+macro_rules! partition_binary {
+    ($partition:ident, $about:literal) => {
+        fn main() -> ::std::process::ExitCode {
+            $crate::runtime::partition_main(
+                $crate::$partition::NAME,
+                $about,
+                $crate::$partition::run::<::iceoryx2::prelude::ipc::Service>,
+            )
+        }
+    };
 }
 
 /// The exit status of a process whose configuration is wrong or cannot work: starting it again

@@ -27,7 +27,7 @@ use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
 use missionlink_services::geofence::onboard::{self, RouteElement, RouteLeg, RouteView};
-use missionlink_services::geofence::path::{Path, Track};
+use missionlink_services::geofence::path::{ArcLeg, Path, Track};
 use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::Fence;
 use missionlink_services::ground_station::MissionPlan;
@@ -383,12 +383,12 @@ fn with_circles_in_turns(name: &str, messages: &[Message], take_off: (f64, f64))
     ) {
         let (
             RouteElement::Turn { kind, .. },
-            Path::Arc {
+            Path::Arc(ArcLeg {
                 from,
                 to,
                 centre,
                 direction,
-            },
+            }),
         ) = (leg.element, leg.path)
         else {
             continue;
@@ -532,7 +532,7 @@ fn guidance_flies_what_the_geofence_checks() {
             .find(|l| matches!(l.element, RouteElement::Turn { at: 2, .. }))
             .unwrap()
             .path;
-        let Path::Arc { from, to: end, .. } = arc else {
+        let Path::Arc(ArcLeg { from, to: end, .. }) = arc else {
             panic!("{arc:?}");
         };
         assert_eq!(to, 3, "TO when return to home is commanded");

@@ -11,7 +11,7 @@
 use missionlink_interfaces::wire::{Angle, GeoPoint, TurnDirection};
 use missionlink_services::geofence::clearance::{Clearance, clearance};
 use missionlink_services::geofence::earth::{self, Site};
-use missionlink_services::geofence::path::{Path, Track};
+use missionlink_services::geofence::path::{ArcLeg, Path, Track};
 use missionlink_services::geofence::turn::{TurnKind, turn};
 use missionlink_services::geofence::zone::{Zone, ZoneKind};
 
@@ -54,7 +54,7 @@ fn path(text: &str) -> Path {
         "arc" => {
             let (points, direction) = rest.rsplit_once(';').unwrap();
             let p = numbers(points);
-            Path::Arc {
+            Path::Arc(ArcLeg {
                 centre: site(p[0]),
                 from: site(p[1]),
                 to: site(p[2]),
@@ -63,7 +63,7 @@ fn path(text: &str) -> Path {
                     "ccw" => TurnDirection::CounterClockwise,
                     other => panic!("turn direction {other}"),
                 },
-            }
+            })
         }
         // A fly-by turn: the arc the geofence's turn construction gives (what guidance flies
         // and the checks check) at the waypoint between the two legs, at the radius given.

@@ -347,14 +347,9 @@ pub fn render(
         let name = format!("{}-{}", leg.from, leg.to);
         let screen: Vec<P> = leg.points.iter().map(|p| view.screen(*p)).collect();
         let kind = match leg.path {
-            Path::Arc {
-                from,
-                to,
-                centre,
-                direction,
-            } => {
-                let c = view.screen(proj.site(&centre));
-                for end in [from, to] {
+            Path::Arc(arc) => {
+                let c = view.screen(proj.site(&arc.centre));
+                for end in [arc.from, arc.to] {
                     let e = view.screen(proj.site(&end));
                     w!(
                         svg,
@@ -367,7 +362,7 @@ pub fn render(
                 }
                 format!(
                     r#"rf" data-leg="{name}" data-turn="{}"#,
-                    match direction {
+                    match arc.direction {
                         TurnDirection::Clockwise => "clockwise",
                         TurnDirection::CounterClockwise => "counter-clockwise",
                     }

@@ -4,6 +4,7 @@ use super::*;
 use crate::mission_file::MissionFile;
 use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
 use missionlink_services::geofence::earth;
+use missionlink_services::geofence::path::ArcLeg;
 use missionlink_services::geofence::local_frame::Coord;
 
 fn example_markers() -> Vec<Marker> {
@@ -130,12 +131,12 @@ fn rf_arc_turns_the_right_way_and_ends_at_the_waypoints() {
         Site::new(48.28, 11.68),
     );
     let arc = |direction| {
-        drawn_sites(Path::Arc {
+        drawn_sites(Path::Arc(ArcLeg {
             from: w1,
             to: role2,
             centre,
             direction,
-        })
+        }))
     };
     let cw = arc(TurnDirection::Clockwise);
     let close = |a: &Site, b: &Site| a.inverse(b).0 < 1e-6;

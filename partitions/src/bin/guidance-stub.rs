@@ -4,29 +4,7 @@
 //! publishes FROM / TO / NEXT and the position on `fcc/guidance/progress`. It reports when the
 //! position leaves the fly-zone or enters a no-fly-zone.
 //!
-//! The loop is `missionlink_partitions::guidance_stub::run`; this file parses the flags and runs it
-//! on `ipc::Service`.
+//! The loop is `missionlink_partitions::guidance_stub::run`; `partition_binary!` runs it on
+//! `ipc::Service` under `runtime::partition_main`, which parses the flags.
 
-use std::process::ExitCode;
-
-use clap::Parser;
-use iceoryx2::prelude::ipc;
-use missionlink_partitions::config::ConfigArgs;
-use missionlink_partitions::guidance_stub;
-use missionlink_partitions::runtime::partition_main;
-
-/// Guidance stub of the FCC.
-#[derive(Debug, Parser)]
-#[command(name = "guidance-stub", version)]
-struct Args {
-    #[command(flatten)]
-    config: ConfigArgs,
-}
-
-fn main() -> ExitCode {
-    partition_main(
-        guidance_stub::NAME,
-        &Args::parse().config,
-        guidance_stub::run::<ipc::Service>,
-    )
-}
+missionlink_partitions::partition_binary!(guidance_stub, "Guidance stub of the FCC.");

@@ -5,29 +5,7 @@
 //! automation adopts the phase guidance's progress shows, so it never drops an aircraft in the
 //! air back to "on ground".
 //!
-//! The loop is `missionlink_partitions::system_automation::run`; this file parses the flags and runs it
-//! on `ipc::Service`.
+//! The loop is `missionlink_partitions::system_automation::run`; `partition_binary!` runs it on
+//! `ipc::Service` under `runtime::partition_main`, which parses the flags.
 
-use std::process::ExitCode;
-
-use clap::Parser;
-use iceoryx2::prelude::ipc;
-use missionlink_partitions::config::ConfigArgs;
-use missionlink_partitions::runtime::partition_main;
-use missionlink_partitions::system_automation;
-
-/// System automation of the FCC.
-#[derive(Debug, Parser)]
-#[command(name = "system-automation", version)]
-struct Args {
-    #[command(flatten)]
-    config: ConfigArgs,
-}
-
-fn main() -> ExitCode {
-    partition_main(
-        system_automation::NAME,
-        &Args::parse().config,
-        system_automation::run::<ipc::Service>,
-    )
-}
+missionlink_partitions::partition_binary!(system_automation, "System automation of the FCC.");

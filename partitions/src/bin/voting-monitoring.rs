@@ -4,29 +4,10 @@
 //! publishes the voted uplink frames on `fcc/link/uplink`, and sends every frame of
 //! `fcc/link/downlink` on both links.
 //!
-//! The loop is `missionlink_partitions::voting_monitoring::run`; this file parses the flags and runs it
-//! on `ipc::Service`.
+//! The loop is `missionlink_partitions::voting_monitoring::run`; `partition_binary!` runs it on
+//! `ipc::Service` under `runtime::partition_main`, which parses the flags.
 
-use std::process::ExitCode;
-
-use clap::Parser;
-use iceoryx2::prelude::ipc;
-use missionlink_partitions::config::ConfigArgs;
-use missionlink_partitions::runtime::partition_main;
-use missionlink_partitions::voting_monitoring;
-
-/// Voting and monitoring of the direct and LTE links.
-#[derive(Debug, Parser)]
-#[command(name = "voting-monitoring", version)]
-struct Args {
-    #[command(flatten)]
-    config: ConfigArgs,
-}
-
-fn main() -> ExitCode {
-    partition_main(
-        voting_monitoring::NAME,
-        &Args::parse().config,
-        voting_monitoring::run::<ipc::Service>,
-    )
-}
+missionlink_partitions::partition_binary!(
+    voting_monitoring,
+    "Voting and monitoring of the direct and LTE links."
+);

@@ -29,7 +29,7 @@ use crate::transfer::mission::{Mission, WaypointRecord};
 
 use super::clearance::{Clearance, clearance};
 use super::earth::Site;
-use super::path::{Path, Track};
+use super::path::{ArcLeg, Path, Track};
 use super::turn::{Turn, TurnKind, turn};
 use super::zone::Fence;
 
@@ -230,12 +230,12 @@ fn site(w: &impl RouteWaypoint) -> Site {
 /// The leg flown from `from` to `to` by `to`'s leg type (a radius-to-fix leg as its arc).
 pub fn leg<W: RouteWaypoint>(from: &W, to: &W) -> Path {
     match (to.leg_type(), to.rf_centre()) {
-        (Some(LegType::RadiusToFix), Some((centre, direction))) => Path::Arc {
+        (Some(LegType::RadiusToFix), Some((centre, direction))) => Path::Arc(ArcLeg {
             from: site(from),
             to: site(to),
             centre: Site::of(centre),
             direction,
-        },
+        }),
         _ => Path::Geodesic {
             from: site(from),
             to: site(to),
@@ -350,17 +350,17 @@ fn direct<W: RouteWaypoint>(
         .and_then(|i| waypoints.get(i))
         .filter(|_| on_leg);
     Some(match before.map(|b| leg(b, w)) {
-        Some(Path::Arc {
+        Some(Path::Arc(ArcLeg {
             to,
             centre,
             direction,
             ..
-        }) => Path::Arc {
+        })) => Path::Arc(ArcLeg {
             from: position,
             to,
             centre,
             direction,
-        },
+        }),
         _ => Path::Geodesic {
             from: position,
             to: site(w),

@@ -15,6 +15,7 @@ use missionlink_interfaces::wire::TurnDirection;
 use super::PIECE_M;
 use super::earth::Site;
 use super::plane::Plane;
+use super::turn::ArcGeometry;
 use super::zone::Ball;
 
 /// Largest distance between a radius-to-fix arc and the chords between its corners, metres.
@@ -41,19 +42,8 @@ pub enum Path {
         /// End.
         to: Site,
     },
-    /// A radius-to-fix leg: from `from` to `to` around `centre` in `direction` (clockwise =
-    /// azimuth from the centre growing), the radius going linearly with the angle turned from
-    /// the start's to the end's distance from the centre (equal on a valid leg, ICD §7).
-    Arc {
-        /// Start (the previous waypoint).
-        from: Site,
-        /// End (the leg's own waypoint).
-        to: Site,
-        /// Centre (#13006).
-        centre: Site,
-        /// Turn direction.
-        direction: TurnDirection,
-    },
+    /// A radius-to-fix leg.
+    Arc(ArcLeg),
 }
 
 impl Path {
@@ -62,19 +52,41 @@ impl Path {
         match self {
             Self::Point(p) => Self::Point(p),
             Self::Geodesic { from, to } => Self::Geodesic { from: to, to: from },
-            Self::Arc {
-                from,
-                to,
-                centre,
-                direction,
-            } => Self::Arc {
-                from: to,
-                to: from,
-                centre,
-                direction: match direction {
-                    TurnDirection::Clockwise => TurnDirection::CounterClockwise,
-                    TurnDirection::CounterClockwise => TurnDirection::Clockwise,
-                },
+            Self::Arc(leg) => Self::Arc(leg.reversed()),
+        }
+    }
+}
+
+/// A radius-to-fix leg: from `from` to `to` around `centre` in `direction` (clockwise =
+/// azimuth from the centre growing), the radius going linearly with the angle turned from the
+/// start's to the end's distance from the centre (equal on a valid leg, ICD §7).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcLeg {
+    /// Start (the previous waypoint).
+    pub from: Site,
+    /// End (the leg's own waypoint).
+    pub to: Site,
+    /// Centre (#13006).
+    pub centre: Site,
+    /// Turn direction.
+    pub direction: TurnDirection,
+}
+
+impl ArcLeg {
+    /// Its centre, radii, azimuths and sweep.
+    pub fn geometry(&self) -> ArcGeometry {
+        ArcGeometry::of(&self.from, &self.to, &self.centre, self.direction)
+    }
+
+    /// The same leg flown the other way.
+    pub fn reversed(self) -> Self {
+        Self {
+            from: self.to,
+            to: self.from,
+            centre: self.centre,
+            direction: match self.direction {
+                TurnDirection::Clockwise => TurnDirection::CounterClockwise,
+                TurnDirection::CounterClockwise => TurnDirection::Clockwise,
             },
         }
     }
@@ -127,23 +139,15 @@ impl Track {
                     a = b;
                 }
             }
-            Path::Arc {
-                from,
-                to,
-                centre,
-                direction,
-            } => track.arc(from, to, centre, direction),
+            Path::Arc(leg) => track.arc(&leg.geometry()),
         }
         track
     }
 
-    fn arc(&mut self, from: Site, to: Site, centre: Site, direction: TurnDirection) {
-        let (r0, az0) = centre.inverse(&from);
-        let (r1, az1) = centre.inverse(&to);
-        let sweep = match direction {
-            TurnDirection::Clockwise => (az1 - az0).rem_euclid(360.0),
-            TurnDirection::CounterClockwise => -(az0 - az1).rem_euclid(360.0),
-        };
+    fn arc(&mut self, arc: &ArcGeometry) {
+        let ArcGeometry { r0, az0, r1, .. } = *arc;
+        // Signed: the azimuth from the centre falls on a counter-clockwise arc.
+        let sweep = if arc.clockwise { arc.sweep } else { -arc.sweep };
         let r = r0.max(r1);
         // Chords of sagitta ARC_SAG_M: a step of 2·acos(1 − s/r).
         let step = 2.0
@@ -165,8 +169,8 @@ impl Track {
                 y: radius * theta.cos(),
             });
         }
-        self.length_m = sweep.abs().to_radians() * (r0 + r1) / 2.0;
-        self.push_patch(centre, &corners);
+        self.length_m = arc.length_m();
+        self.push_patch(arc.centre, &corners);
     }
 
     fn push_patch(&mut self, origin: Site, corners: &[Coord]) {
@@ -240,7 +244,7 @@ impl Track {
     pub fn start(&self) -> Site {
         match self.path {
             Path::Point(p) => p,
-            Path::Geodesic { from, .. } | Path::Arc { from, .. } => from,
+            Path::Geodesic { from, .. } | Path::Arc(ArcLeg { from, .. }) => from,
         }
     }
 
@@ -294,7 +298,7 @@ impl Track {
                     .clamp(1.0, MAX_DRAWN_SITES as f64);
                 Some((from, to, length, azimuth, n as usize))
             }
-            Path::Point(_) | Path::Arc { .. } => None,
+            Path::Point(_) | Path::Arc(ArcLeg { .. }) => None,
         };
         let along = geodesic
             .into_iter()

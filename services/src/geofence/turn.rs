@@ -40,7 +40,7 @@ use heapless::Vec;
 use missionlink_interfaces::wire::TurnDirection;
 
 use super::earth::Site;
-use super::path::Path;
+use super::path::{ArcLeg, Path};
 
 /// Paths of one turn at most (fly-over: turn, intercept, turn).
 pub const MAX_TURN_PATHS: usize = 3;
@@ -166,12 +166,7 @@ pub fn length_m(path: &Path) -> f64 {
     match path {
         Path::Point(_) => 0.0,
         Path::Geodesic { from, to } => from.inverse(to).0,
-        Path::Arc {
-            from,
-            to,
-            centre,
-            direction,
-        } => ArcGeometry::of(from, to, centre, *direction).length_m(),
+        Path::Arc(leg) => leg.geometry().length_m(),
     }
 }
 
@@ -180,31 +175,21 @@ pub fn rest_from(path: &Path, at: Site) -> Path {
     match *path {
         Path::Point(p) => Path::Point(p),
         Path::Geodesic { to, .. } => Path::Geodesic { from: at, to },
-        Path::Arc {
-            to,
-            centre,
-            direction,
-            ..
-        } => Path::Arc {
-            from: at,
-            to,
-            centre,
-            direction,
-        },
+        Path::Arc(leg) => Path::Arc(ArcLeg { from: at, ..leg }),
     }
 }
 
 fn start(path: &Path) -> Site {
     match path {
         Path::Point(p) => *p,
-        Path::Geodesic { from, .. } | Path::Arc { from, .. } => *from,
+        Path::Geodesic { from, .. } | Path::Arc(ArcLeg { from, .. }) => *from,
     }
 }
 
 fn end(path: &Path) -> Site {
     match path {
         Path::Point(p) => *p,
-        Path::Geodesic { to, .. } | Path::Arc { to, .. } => *to,
+        Path::Geodesic { to, .. } | Path::Arc(ArcLeg { to, .. }) => *to,
     }
 }
 
@@ -366,17 +351,12 @@ impl LegNear {
                     length,
                 )
             }
-            Path::Arc {
-                from,
-                to,
-                centre,
-                direction,
-            } => {
-                let arc = ArcGeometry::of(&from, &to, &centre, direction);
-                let r = centre.inverse(at).0;
+            Path::Arc(leg) => {
+                let arc = leg.geometry();
+                let r = leg.centre.inverse(at).0;
                 (
                     Local::Circle {
-                        c: proj.xy(&centre),
+                        c: proj.xy(&leg.centre),
                         r,
                         clockwise: arc.clockwise,
                     },
@@ -412,18 +392,10 @@ impl LegNear {
                     proj.origin.direct(course, distance)
                 })
             }
-            (
-                Local::Circle { .. },
-                Path::Arc {
-                    from,
-                    to,
-                    centre,
-                    direction,
-                },
-            ) => {
-                let arc = ArcGeometry::of(&from, &to, &centre, direction);
-                let az = centre.inverse(&proj.site(t)).1;
-                let az_w = centre.inverse(&proj.origin).1;
+            (Local::Circle { .. }, Path::Arc(leg)) => {
+                let arc = leg.geometry();
+                let az = arc.centre.inverse(&proj.site(t)).1;
+                let az_w = arc.centre.inverse(&proj.origin).1;
                 let turned = if inbound {
                     angle_to_go(az, az_w, arc.clockwise)
                 } else {
@@ -499,12 +471,12 @@ fn fly_by(a: &LegNear, b: &LegNear, proj: &Aeqd, side: f64, r: f64) -> Option<Tu
             let leave = a.site_of(t1, proj, true)?;
             let join = b.site_of(t2, proj, false)?;
             let mut paths = Vec::new();
-            let _ = paths.push(Path::Arc {
+            let _ = paths.push(Path::Arc(ArcLeg {
                 from: leave,
                 to: join,
                 centre: proj.site(f),
                 direction: direction(side > 0.0),
-            });
+            }));
             Some(Turn {
                 kind: TurnKind::FlyBy,
                 leave,
@@ -535,12 +507,12 @@ fn over(a: &LegNear, b: &LegNear, proj: &Aeqd, delta: f64, side: f64, r: f64) ->
             }
             let join = b.site_of(t2, proj, false)?;
             let mut paths = Vec::new();
-            let _ = paths.push(Path::Arc {
+            let _ = paths.push(Path::Arc(ArcLeg {
                 from: at,
                 to: p1,
                 centre,
                 direction: direction(side > 0.0),
-            });
+            }));
             let intercept_end = if straight > MIN_STRAIGHT_M {
                 let e = proj.site(t1);
                 let _ = paths.push(Path::Geodesic { from: p1, to: e });
@@ -548,12 +520,12 @@ fn over(a: &LegNear, b: &LegNear, proj: &Aeqd, delta: f64, side: f64, r: f64) ->
             } else {
                 p1
             };
-            let _ = paths.push(Path::Arc {
+            let _ = paths.push(Path::Arc(ArcLeg {
                 from: intercept_end,
                 to: join,
                 centre: proj.site(f),
                 direction: direction(side < 0.0),
-            });
+            }));
             Some(Turn {
                 kind: TurnKind::FlyOver,
                 leave: at,
@@ -586,18 +558,18 @@ fn s_turn(b: &LegNear, proj: &Aeqd, centre: &Site, side: f64, r: f64) -> Option<
             continue;
         }
         let mut paths = Vec::new();
-        let _ = paths.push(Path::Arc {
+        let _ = paths.push(Path::Arc(ArcLeg {
             from: at,
             to: t1,
             centre: *centre,
             direction: direction(side > 0.0),
-        });
-        let _ = paths.push(Path::Arc {
+        }));
+        let _ = paths.push(Path::Arc(ArcLeg {
             from: t1,
             to: join,
             centre: proj.site(f),
             direction: direction(side < 0.0),
-        });
+        }));
         best = Some((
             turned,
             Turn {
@@ -632,7 +604,7 @@ mod tests {
         assert_eq!(t.kind, TurnKind::FlyBy);
         assert!((w.inverse(&t.leave).0 - r).abs() < 1e-6);
         assert!((w.inverse(&t.join).0 - r).abs() < 1e-6);
-        let Some(Path::Arc { centre, .. }) = t.paths.first() else {
+        let Some(Path::Arc(ArcLeg { centre, .. })) = t.paths.first() else {
             panic!("{t:?}");
         };
         assert!((centre.inverse(&t.leave).0 - r).abs() < 1e-5);

@@ -8,7 +8,7 @@ use missionlink_interfaces::contracts::WaypointEntry;
 use super::Guidance;
 use crate::geofence::earth::Site;
 use crate::geofence::onboard::FlyBy;
-use crate::geofence::path::Path;
+use crate::geofence::path::{ArcLeg, Path};
 use crate::geofence::turn::{ArcGeometry, TurnKind, angle_to_go, length_m};
 
 /// Path ends (turn paths, leg switches, arrivals) handled within one sub-step at most.
@@ -25,14 +25,9 @@ pub(super) fn remaining_on(path: &Path, here: &Site) -> f64 {
     match path {
         Path::Point(_) => 0.0,
         Path::Geodesic { to, .. } => here.inverse(to).0,
-        Path::Arc {
-            from,
-            to,
-            centre,
-            direction,
-        } => {
-            let arc = ArcGeometry::of(from, to, centre, *direction);
-            let az = centre.inverse(here).1;
+        Path::Arc(leg) => {
+            let arc = leg.geometry();
+            let az = arc.centre.inverse(here).1;
             let alpha = to_go(&arc, az);
             alpha.to_radians() * (arc.radius_at(az) + arc.r1) / 2.0
         }
@@ -53,7 +48,7 @@ pub(super) fn to_go(arc: &ArcGeometry, az: f64) -> f64 {
 pub(super) fn end_of(path: &Path) -> Site {
     match path {
         Path::Point(p) => *p,
-        Path::Geodesic { to, .. } | Path::Arc { to, .. } => *to,
+        Path::Geodesic { to, .. } | Path::Arc(ArcLeg { to, .. }) => *to,
     }
 }
 
@@ -198,14 +193,9 @@ impl Guidance {
                 };
                 here.direct(here.inverse(&aim).1, distance)
             }
-            Path::Arc {
-                from,
-                to,
-                centre,
-                direction,
-            } => {
-                let arc = ArcGeometry::of(&from, &to, &centre, direction);
-                let az = centre.inverse(here).1;
+            Path::Arc(leg) => {
+                let arc = leg.geometry();
+                let az = arc.centre.inverse(here).1;
                 let rho = arc.radius_at(az);
                 let slope = if arc.sweep > 0.0 {
                     (arc.r1 - arc.r0) / arc.sweep.to_radians()

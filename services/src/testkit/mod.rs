@@ -908,12 +908,12 @@ pub fn distance_to_path(
             let along = (d * (az - course).to_radians().cos()).clamp(0.0, length);
             at.inverse(&from.direct(course, along)).0
         }
-        crate::geofence::path::Path::Arc {
+        crate::geofence::path::Path::Arc(crate::geofence::path::ArcLeg {
             from,
             to,
             centre,
             direction,
-        } => {
+        }) => {
             let arc = crate::geofence::turn::ArcGeometry::of(&from, &to, &centre, direction);
             let az = centre.inverse(&at).1;
             let ends = at.inverse(&from).0.min(at.inverse(&to).0);
