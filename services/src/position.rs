@@ -22,7 +22,7 @@ use missionlink_interfaces::wire::{
 
 use crate::geofence::earth::{bearing_deg, distance_m};
 use crate::link::time::Instant;
-use crate::link::timer::{Timer, TimerTable};
+use crate::link::timer::TimerTable;
 
 /// The default rate of the position downlink (ICD §5.8): 2 Hz.
 pub const DEFAULT_PERIOD: Duration = Duration::from_millis(500);
@@ -31,17 +31,11 @@ pub const DEFAULT_PERIOD: Duration = Duration::from_millis(500);
 /// position (about 1 cm, ICD §3) a direction is noise.
 const MIN_MOVEMENT_M: f64 = 0.05;
 
-/// The one timer of the reporter: the next #101 is due.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PositionTimer {
-    /// Send the next #101.
-    Report = 0,
-}
-
-impl Timer<1> for PositionTimer {
-    const ALL: [Self; 1] = [Self::Report];
-    fn index(self) -> usize {
-        self as usize
+crate::timers! {
+    /// The one timer of the reporter: the next #101 is due.
+    pub enum PositionTimer {
+        /// Send the next #101.
+        Report,
     }
 }
 

@@ -159,35 +159,17 @@ pub struct Voter {
     overflow_log: LogLimiter<StepFull, 1>,
 }
 
-/// The cause of [`VotingStats::unreadable_messages`], logged like a rejection.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Unreadable {
-    NoTimeStamp = 0,
-}
-
-impl Cause<1> for Unreadable {
-    const ALL: [Self; 1] = [Self::NoTimeStamp];
-    fn index(self) -> usize {
-        self as usize
-    }
-    fn counter_name(self) -> &'static str {
-        "unreadable_messages"
+crate::causes! {
+    /// The cause of [`VotingStats::unreadable_messages`], logged like a rejection.
+    enum Unreadable {
+        NoTimeStamp => "unreadable_messages",
     }
 }
 
-/// The cause of [`VotingStats::overflow`], logged like a rejection.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum StepFull {
-    Overflow = 0,
-}
-
-impl Cause<1> for StepFull {
-    const ALL: [Self; 1] = [Self::Overflow];
-    fn index(self) -> usize {
-        self as usize
-    }
-    fn counter_name(self) -> &'static str {
-        "overflow"
+crate::causes! {
+    /// The cause of [`VotingStats::overflow`], logged like a rejection.
+    enum StepFull {
+        Overflow => "overflow",
     }
 }
 

@@ -4,8 +4,8 @@ use super::*;
 use crate::mission_file::MissionFile;
 use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
 use missionlink_services::geofence::earth;
-use missionlink_services::geofence::path::ArcLeg;
 use missionlink_services::geofence::local_frame::Coord;
+use missionlink_services::geofence::path::ArcLeg;
 
 fn example_markers() -> Vec<Marker> {
     vec![

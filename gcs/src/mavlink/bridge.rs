@@ -56,7 +56,7 @@ use mavlink::dialects::common::{
 use mavlink::{MavHeader, MavlinkReader, MavlinkVersion};
 use missionlink_interfaces::wire::{FromToNext, InertialStates};
 use missionlink_services::link::time::Instant;
-use missionlink_services::link::timer::{Timer, TimerTable};
+use missionlink_services::link::timer::TimerTable;
 use num_traits::FromPrimitive;
 
 use super::plan::{Item, PlanContext, to_plan};
@@ -99,21 +99,15 @@ pub enum BridgeEvent {
     Execute,
 }
 
-/// The timers of the bridge.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BridgeTimer {
-    /// The next HEARTBEAT.
-    Heartbeat = 0,
-    /// The item an upload requested is overdue.
-    Item = 1,
-    /// The pending mission is committed without a fence.
-    FenceWait = 2,
-}
-
-impl Timer<3> for BridgeTimer {
-    const ALL: [Self; 3] = [Self::Heartbeat, Self::Item, Self::FenceWait];
-    fn index(self) -> usize {
-        self as usize
+missionlink_services::timers! {
+    /// The timers of the bridge.
+    pub enum BridgeTimer {
+        /// The next HEARTBEAT.
+        Heartbeat,
+        /// The item an upload requested is overdue.
+        Item,
+        /// The pending mission is committed without a fence.
+        FenceWait,
     }
 }
 

@@ -44,7 +44,6 @@ use crate::link::composite::Composite;
 use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::{AttemptFailure, ExchangeError};
 use crate::link::time::Instant;
-use crate::link::timer::Timer;
 use crate::transfer::areas::{AreaBuffer, AreaList};
 use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::{Mission, MissionBuffer};
@@ -179,28 +178,17 @@ pub enum GcsEvent<R> {
     Position(InertialStates),
 }
 
-/// The timers of the GCS logic: the sender's and each download receiver's deadline.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum GcsTimer {
-    /// The ack timeout of the message in flight (ICD §1: 500 ms).
-    Sender = 0,
-    /// The transfer timeout of the mission download (ICD §1: 3 s).
-    MissionDownload = 1,
-    /// The transfer timeout of the area download.
-    AreaDownload = 2,
-    /// The transfer timeout of the mission report.
-    Report = 3,
-}
-
-impl Timer<4> for GcsTimer {
-    const ALL: [Self; 4] = [
-        Self::Sender,
-        Self::MissionDownload,
-        Self::AreaDownload,
-        Self::Report,
-    ];
-    fn index(self) -> usize {
-        self as usize
+crate::timers! {
+    /// The timers of the GCS logic: the sender's and each download receiver's deadline.
+    pub enum GcsTimer {
+        /// The ack timeout of the message in flight (ICD §1: 500 ms).
+        Sender,
+        /// The transfer timeout of the mission download (ICD §1: 3 s).
+        MissionDownload,
+        /// The transfer timeout of the area download.
+        AreaDownload,
+        /// The transfer timeout of the mission report.
+        Report,
     }
 }
 

@@ -74,16 +74,10 @@ mod tests {
     use super::*;
     use crate::testkit;
 
-    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-    enum Part {
-        Retry = 0,
-        Idle = 1,
-    }
-
-    impl Timer<2> for Part {
-        const ALL: [Self; 2] = [Self::Retry, Self::Idle];
-        fn index(self) -> usize {
-            self as usize
+    crate::timers! {
+        enum Part {
+            Retry,
+            Idle,
         }
     }
 

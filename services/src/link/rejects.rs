@@ -30,26 +30,60 @@ pub trait Cause<const N: usize>: Copy + Eq + fmt::Debug + 'static {
     fn counter_name(self) -> &'static str;
 }
 
-/// The rule of ICD §2 a frame breaks: a [`FrameError`] without the values it reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum FrameCause {
-    /// [`FrameError::TooShort`]: fewer bytes than the wrapper header (an empty datagram too).
-    TooShort = 0,
-    /// [`FrameError::LengthOutOfRange`]: Message Length 0 or above 528.
-    LengthOutOfRange = 1,
-    /// [`FrameError::LengthMismatch`]: Message Length and checksum width disagree with the
-    /// datagram.
-    LengthMismatch = 2,
-    /// [`FrameError::InvalidChecksumLength`]: checksum length code 11.
-    InvalidChecksumLength = 3,
-    /// [`FrameError::ChecksumMismatch`]: wrong checksum.
-    ChecksumMismatch = 4,
-    /// [`FrameError::UnsupportedVersion`]: IDD version outside 30..=40.
-    UnsupportedVersion = 5,
-    /// [`FrameError::WrongDestination`]: neither this node nor broadcast.
-    WrongDestination = 6,
-    /// [`FrameError::UnknownSource`]: not the configured peer.
-    UnknownSource = 7,
+/// Declares a cause `enum` and its [`Cause`] implementation from one list of variants, each
+/// with its counter's name, so the slots, [`Cause::ALL`] and the names cannot disagree: each
+/// variant's slot is its position.
+#[macro_export]
+macro_rules! causes {
+    (
+        $(#[$meta:meta])*
+        $vis:vis enum $name:ident {
+            $( $(#[$variant_meta:meta])* $variant:ident => $counter:literal ),+ $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        $vis enum $name {
+            $( $(#[$variant_meta])* $variant ),+
+        }
+
+        impl $crate::link::rejects::Cause<{ [$($counter),+].len() }> for $name {
+            const ALL: [Self; [$($counter),+].len()] = [$(Self::$variant),+];
+
+            fn index(self) -> usize {
+                self as usize
+            }
+
+            fn counter_name(self) -> &'static str {
+                match self {
+                    $(Self::$variant => $counter),+
+                }
+            }
+        }
+    };
+}
+
+crate::causes! {
+    /// The rule of ICD §2 a frame breaks: a [`FrameError`] without the values it reports.
+    pub enum FrameCause {
+        /// [`FrameError::TooShort`]: fewer bytes than the wrapper header (an empty datagram too).
+        TooShort => "too_short",
+        /// [`FrameError::LengthOutOfRange`]: Message Length 0 or above 528.
+        LengthOutOfRange => "length_out_of_range",
+        /// [`FrameError::LengthMismatch`]: Message Length and checksum width disagree with the
+        /// datagram.
+        LengthMismatch => "length_mismatch",
+        /// [`FrameError::InvalidChecksumLength`]: checksum length code 11.
+        InvalidChecksumLength => "invalid_checksum_length",
+        /// [`FrameError::ChecksumMismatch`]: wrong checksum.
+        ChecksumMismatch => "checksum_mismatch",
+        /// [`FrameError::UnsupportedVersion`]: IDD version outside 30..=40.
+        UnsupportedVersion => "unsupported_version",
+        /// [`FrameError::WrongDestination`]: neither this node nor broadcast.
+        WrongDestination => "wrong_destination",
+        /// [`FrameError::UnknownSource`]: not the configured peer.
+        UnknownSource => "unknown_source",
+    }
 }
 
 impl FrameCause {
@@ -64,36 +98,6 @@ impl FrameCause {
             FrameError::UnsupportedVersion { .. } => Self::UnsupportedVersion,
             FrameError::WrongDestination { .. } => Self::WrongDestination,
             FrameError::UnknownSource { .. } => Self::UnknownSource,
-        }
-    }
-}
-
-impl Cause<8> for FrameCause {
-    const ALL: [Self; 8] = [
-        Self::TooShort,
-        Self::LengthOutOfRange,
-        Self::LengthMismatch,
-        Self::InvalidChecksumLength,
-        Self::ChecksumMismatch,
-        Self::UnsupportedVersion,
-        Self::WrongDestination,
-        Self::UnknownSource,
-    ];
-
-    fn index(self) -> usize {
-        self as usize
-    }
-
-    fn counter_name(self) -> &'static str {
-        match self {
-            Self::TooShort => "too_short",
-            Self::LengthOutOfRange => "length_out_of_range",
-            Self::LengthMismatch => "length_mismatch",
-            Self::InvalidChecksumLength => "invalid_checksum_length",
-            Self::ChecksumMismatch => "checksum_mismatch",
-            Self::UnsupportedVersion => "unsupported_version",
-            Self::WrongDestination => "wrong_destination",
-            Self::UnknownSource => "unknown_source",
         }
     }
 }

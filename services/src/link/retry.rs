@@ -24,7 +24,7 @@ use missionlink_interfaces::wire::{
 
 use crate::link::endpoint::Endpoint;
 use crate::link::time::Instant;
-use crate::link::timer::{Timer, TimerTable};
+use crate::link::timer::TimerTable;
 
 /// The kind of answer a message waits for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -193,17 +193,11 @@ pub enum Outcome {
     Failed(ExchangeError),
 }
 
-/// The timer of an [`Exchange`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ExchangeTimer {
-    /// The ack timeout of the attempt in flight (ICD §1: 500 ms).
-    Ack = 0,
-}
-
-impl Timer<1> for ExchangeTimer {
-    const ALL: [Self; 1] = [Self::Ack];
-    fn index(self) -> usize {
-        self as usize
+crate::timers! {
+    /// The timer of an [`Exchange`].
+    pub enum ExchangeTimer {
+        /// The ack timeout of the attempt in flight (ICD §1: 500 ms).
+        Ack,
     }
 }
 

@@ -31,7 +31,6 @@ use missionlink_interfaces::wire::{self, Frame, FrameError, SignatureTrailer, Ti
 use sha2::Sha256;
 use zerocopy::IntoBytes;
 
-use crate::link::rejects::Cause;
 use crate::link::time::{Instant, UtcClock};
 
 /// Bytes of a link key.
@@ -275,41 +274,20 @@ impl FromStr for Policy {
     }
 }
 
-/// Why a frame failed the signature check (ICD §9): one counter and one log cause each.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SignatureCause {
-    /// Unsigned under `require`, or marked signed without the 16 bytes of a trailer.
-    NoTrailer = 0,
-    /// The trailer's Key ID names no configured key.
-    UnknownKey = 1,
-    /// The signature does not verify, or the Link ID names another link than the one the
-    /// datagram arrived on.
-    BadSignature = 2,
-    /// The time stamp is more than [`REPLAY_WINDOW`] from the receiver's clock, or the identity
-    /// (Source ID, Message Type, Time Stamp) was accepted on this link before, or the stamp is
-    /// older than what the replay memory still holds, or it cannot be read.
-    Replay = 3,
-}
-
-impl Cause<4> for SignatureCause {
-    const ALL: [Self; 4] = [
-        Self::NoTrailer,
-        Self::UnknownKey,
-        Self::BadSignature,
-        Self::Replay,
-    ];
-
-    fn index(self) -> usize {
-        self as usize
-    }
-
-    fn counter_name(self) -> &'static str {
-        match self {
-            Self::NoTrailer => "signature_no_trailer",
-            Self::UnknownKey => "signature_unknown_key",
-            Self::BadSignature => "signature_bad",
-            Self::Replay => "signature_replay",
-        }
+crate::causes! {
+    /// Why a frame failed the signature check (ICD §9): one counter and one log cause each.
+    pub enum SignatureCause {
+        /// Unsigned under `require`, or marked signed without the 16 bytes of a trailer.
+        NoTrailer => "signature_no_trailer",
+        /// The trailer's Key ID names no configured key.
+        UnknownKey => "signature_unknown_key",
+        /// The signature does not verify, or the Link ID names another link than the one the
+        /// datagram arrived on.
+        BadSignature => "signature_bad",
+        /// The time stamp is more than [`REPLAY_WINDOW`] from the receiver's clock, or the identity
+        /// (Source ID, Message Type, Time Stamp) was accepted on this link before, or the stamp is
+        /// older than what the replay memory still holds, or it cannot be read.
+        Replay => "signature_replay",
     }
 }
 

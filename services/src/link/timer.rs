@@ -23,6 +23,47 @@ pub trait Timer<const N: usize>: Copy + Eq + fmt::Debug + 'static {
     fn index(self) -> usize;
 }
 
+/// Declares a timer `enum` and its [`Timer`] implementation from one list of variants, so the
+/// slots, [`Timer::ALL`] and the variants cannot disagree: each variant's slot is its position.
+///
+/// ```
+/// missionlink_services::timers! {
+///     /// The timers of a transfer.
+///     pub enum TransferTimer {
+///         /// The ack timeout of the message in flight.
+///         Ack,
+///         /// The transfer timeout.
+///         Transfer,
+///     }
+/// }
+/// # use missionlink_services::link::timer::Timer;
+/// assert_eq!(TransferTimer::ALL, [TransferTimer::Ack, TransferTimer::Transfer]);
+/// assert_eq!(TransferTimer::Transfer.index(), 1);
+/// ```
+#[macro_export]
+macro_rules! timers {
+    (
+        $(#[$meta:meta])*
+        $vis:vis enum $name:ident {
+            $( $(#[$variant_meta:meta])* $variant:ident ),+ $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        $vis enum $name {
+            $( $(#[$variant_meta])* $variant ),+
+        }
+
+        impl $crate::link::timer::Timer<{ [$(stringify!($variant)),+].len() }> for $name {
+            const ALL: [Self; [$(stringify!($variant)),+].len()] = [$(Self::$variant),+];
+
+            fn index(self) -> usize {
+                self as usize
+            }
+        }
+    };
+}
+
 /// When each timer of `T` fires, if it is set.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct TimerTable<T: Timer<N>, const N: usize> {
@@ -110,17 +151,11 @@ mod tests {
         }
     }
 
-    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-    enum Demo {
-        Retry = 0,
-        Idle = 1,
-        Report = 2,
-    }
-
-    impl Timer<3> for Demo {
-        const ALL: [Self; 3] = [Self::Retry, Self::Idle, Self::Report];
-        fn index(self) -> usize {
-            self as usize
+    crate::timers! {
+        enum Demo {
+            Retry,
+            Idle,
+            Report,
         }
     }
 

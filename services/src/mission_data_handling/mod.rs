@@ -81,7 +81,6 @@ use crate::link::composite::Composite;
 use crate::link::endpoint::{Endpoint, EndpointConfig};
 use crate::link::retry::ExchangeError;
 use crate::link::time::Instant;
-use crate::link::timer::Timer;
 use crate::position::PositionReporter;
 use crate::transfer::areas::AreaList;
 use crate::transfer::closer::{Closer, CloserMemory, ClosingAnswer};
@@ -203,39 +202,25 @@ pub enum DataKind {
 /// Events the queue holds; the driver drains it after every call.
 pub const EVENT_CAPACITY: usize = 8;
 
-/// The timers of mission data handling, one per transfer: each names the deadline of the
-/// sender or receiver that runs the transfer.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FccTimer {
-    /// The ack timeout of the mission download message in flight (ICD §1: 500 ms).
-    MissionDownload = 0,
-    /// The ack timeout of the area download message in flight.
-    AreaDownload = 1,
-    /// The transfer timeout of the mission upload (ICD §1: 3 s).
-    MissionUpload = 2,
-    /// The transfer timeout of the area upload.
-    AreaUpload = 3,
-    /// The end of a mission upload interrupted by a restart: the transfer timeout after the
-    /// GCS was last heard in it.
-    InterruptedUpload = 4,
-    /// The ack timeout of the report message in flight (ICD §8).
-    Report = 5,
-    /// The next #101 of the position downlink (ICD §5.8), owned by the [`PositionReporter`].
-    Position = 6,
-}
-
-impl Timer<7> for FccTimer {
-    const ALL: [Self; 7] = [
-        Self::MissionDownload,
-        Self::AreaDownload,
-        Self::MissionUpload,
-        Self::AreaUpload,
-        Self::InterruptedUpload,
-        Self::Report,
-        Self::Position,
-    ];
-    fn index(self) -> usize {
-        self as usize
+crate::timers! {
+    /// The timers of mission data handling, one per transfer: each names the deadline of the
+    /// sender or receiver that runs the transfer.
+    pub enum FccTimer {
+        /// The ack timeout of the mission download message in flight (ICD §1: 500 ms).
+        MissionDownload,
+        /// The ack timeout of the area download message in flight.
+        AreaDownload,
+        /// The transfer timeout of the mission upload (ICD §1: 3 s).
+        MissionUpload,
+        /// The transfer timeout of the area upload.
+        AreaUpload,
+        /// The end of a mission upload interrupted by a restart: the transfer timeout after the
+        /// GCS was last heard in it.
+        InterruptedUpload,
+        /// The ack timeout of the report message in flight (ICD §8).
+        Report,
+        /// The next #101 of the position downlink (ICD §5.8), owned by the [`PositionReporter`].
+        Position,
     }
 }
 

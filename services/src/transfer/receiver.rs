@@ -29,7 +29,7 @@ use missionlink_interfaces::wire::{
 };
 
 use crate::link::time::Instant;
-use crate::link::timer::{Timer, TimerTable};
+use crate::link::timer::TimerTable;
 use crate::transfer::areas::{AreaBuffer, AreaList};
 use crate::transfer::integrity::{areas_checksum, mission_checksum};
 use crate::transfer::mission::{Mission, MissionBuffer};
@@ -60,17 +60,11 @@ pub struct TransferTimedOut {
     pub last_heard: Instant,
 }
 
-/// The timer of a receiver.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ReceiverTimer {
-    /// The transfer timeout, restarted by every message of the transfer.
-    Transfer = 0,
-}
-
-impl Timer<1> for ReceiverTimer {
-    const ALL: [Self; 1] = [Self::Transfer];
-    fn index(self) -> usize {
-        self as usize
+crate::timers! {
+    /// The timer of a receiver.
+    pub enum ReceiverTimer {
+        /// The transfer timeout, restarted by every message of the transfer.
+        Transfer,
     }
 }
 
