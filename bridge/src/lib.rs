@@ -51,39 +51,24 @@ pub const NAME: &str = missionlink_partitions::bridge_config::BINARY;
 const TICK: Duration = Duration::from_millis(100);
 
 /// Why the bridge cannot run.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum BridgeError {
     /// `[bridge]` is wrong (a service that does not exist, one both ways, a bad key prefix, a
     /// Zenoh endpoint Zenoh's configuration refuses).
+    #[error("configuration: {0}")]
     Config(String),
     /// The Zenoh session, a subscriber, queryable or liveliness token could not be opened.
+    #[error("zenoh: {0}")]
     Zenoh(String),
     /// iceoryx2 refused a node or a port.
-    Ipc(IpcError),
+    #[error("iceoryx2: {0}")]
+    Ipc(#[from] IpcError),
     /// The WaitSet could not be created, attached to or waited on.
+    #[error("WaitSet: {0}")]
     WaitSet(String),
     /// The incoming thread ended before it opened its ports.
+    #[error("incoming thread: {0}")]
     Thread(String),
-}
-
-impl std::fmt::Display for BridgeError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Config(e) => write!(f, "configuration: {e}"),
-            Self::Zenoh(e) => write!(f, "zenoh: {e}"),
-            Self::Ipc(e) => write!(f, "iceoryx2: {e}"),
-            Self::WaitSet(e) => write!(f, "WaitSet: {e}"),
-            Self::Thread(e) => write!(f, "incoming thread: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for BridgeError {}
-
-impl From<IpcError> for BridgeError {
-    fn from(e: IpcError) -> Self {
-        Self::Ipc(e)
-    }
 }
 
 fn zenoh_err(what: &str) -> impl Fn(zenoh::Error) -> BridgeError + '_ {

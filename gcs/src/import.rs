@@ -7,9 +7,10 @@ use core::fmt;
 use std::path::PathBuf;
 
 /// Why a mission file cannot be read or turned into a plan.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum MissionFileError {
     /// The file cannot be read.
+    #[error("{path}: {message}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -18,6 +19,7 @@ pub enum MissionFileError {
     },
     /// TOML syntax or type error (also a missing or unknown key), with line and column
     /// (1-based) and the message.
+    #[error("line {line}, column {column}: {message}")]
     Syntax {
         /// Line, from 1.
         line: usize,
@@ -28,6 +30,7 @@ pub enum MissionFileError {
     },
     /// A value that the wire types refuse, with the field path (e.g.
     /// `waypoints[2].latitude_deg`) and the reason.
+    #[error("{path}: {reason}")]
     Field {
         /// Where, e.g. `areas[1].circle.radius_m`.
         path: String,
@@ -37,6 +40,12 @@ pub enum MissionFileError {
     /// An imported file (QGroundControl `.plan`, GeoJSON) holds elements that the ICD cannot
     /// carry or the FCC cannot hold, and the import was not told to drop them: the plan would
     /// not be the one planned. Every such element, in file order (at least one).
+    #[error(
+        "not imported: {} element{} the ICD cannot carry or the FCC cannot hold{}",
+        .elements.len(),
+        if .elements.len() == 1 { "" } else { "s" },
+        each(.elements)
+    )]
     Unsupported {
         /// The elements, each with its JSON path and the reason.
         elements: Vec<Dropped>,
@@ -62,33 +71,10 @@ impl fmt::Display for Dropped {
     }
 }
 
-impl fmt::Display for MissionFileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Io { path, message } => write!(f, "{}: {message}", path.display()),
-            Self::Syntax {
-                line,
-                column,
-                message,
-            } => write!(f, "line {line}, column {column}: {message}"),
-            Self::Field { path, reason } => write!(f, "{path}: {reason}"),
-            Self::Unsupported { elements } => {
-                write!(
-                    f,
-                    "not imported: {} element{} the ICD cannot carry or the FCC cannot hold",
-                    elements.len(),
-                    if elements.len() == 1 { "" } else { "s" }
-                )?;
-                for e in elements {
-                    write!(f, "; {e}")?;
-                }
-                Ok(())
-            }
-        }
-    }
+/// `; <path>: <reason>` for every element, as [`MissionFileError::Unsupported`] lists them.
+fn each(elements: &[Dropped]) -> String {
+    elements.iter().map(|e| format!("; {e}")).collect()
 }
-
-impl std::error::Error for MissionFileError {}
 
 /// What an import does with an element that the ICD cannot carry or the FCC cannot hold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -21,7 +21,6 @@
 //! trailer names (a capture does not say which link a datagram came by). `gcs encode` ignores
 //! it: it writes unsigned frames.
 
-use core::fmt;
 use std::fmt::Write as _;
 
 use missionlink_interfaces::defaults;
@@ -34,33 +33,24 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 /// A frame the inspector could not read, or a JSON message it could not encode.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum InspectError {
     /// The text is not hex.
+    #[error("not a hex datagram: {0}")]
     Hex(hex::FromHexError),
     /// The frame is rejected (ICD §2) or the message is (ICD §3, §4).
+    #[error("{0}")]
     Decode(DecodeError),
     /// The JSON does not describe a message.
+    #[error("not a message in JSON: {0}")]
     Json(serde_json::Error),
     /// `message_type` names no message of the ICD.
+    #[error("message type {0} is not in the ICD")]
     UnknownMessageType(u16),
     /// The message does not encode.
+    #[error("cannot encode: {0}")]
     Encode(wire::EncodeError),
 }
-
-impl fmt::Display for InspectError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Hex(e) => write!(f, "not a hex datagram: {e}"),
-            Self::Decode(e) => write!(f, "{e}"),
-            Self::Json(e) => write!(f, "not a message in JSON: {e}"),
-            Self::UnknownMessageType(t) => write!(f, "message type {t} is not in the ICD"),
-            Self::Encode(e) => write!(f, "cannot encode: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for InspectError {}
 
 /// Parses one datagram written as hex; spaces, colons, underscores and a leading `0x` are
 /// ignored so that captures pasted from tools read as they are.

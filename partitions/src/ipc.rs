@@ -20,16 +20,9 @@ use missionlink_interfaces::contracts::{
 use crate::doorbell::{Doorbell, Doorbells, Ringers};
 
 /// Something iceoryx2 refused, with what was being done.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
 pub struct IpcError(pub String);
-
-impl std::fmt::Display for IpcError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for IpcError {}
 
 fn err(what: impl std::fmt::Display, e: impl Debug) -> IpcError {
     IpcError(format!("{what}: {e:?}"))

@@ -126,45 +126,33 @@ impl Isolation {
 }
 
 /// Why a partition could not fence itself as configured.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum IsolationError {
     /// `user` names no user of `/etc/passwd`.
+    #[error("[isolation] user {0:?}: no such user")]
     NoSuchUser(String),
     /// A user is configured but the process is neither root nor that user.
+    #[error("[isolation] user {user:?}: started neither as root nor as that user")]
     NotRoot {
         /// The configured user.
         user: String,
     },
     /// The process has other threads, which a per-thread fence would leave out.
+    #[error("{0} threads run: the fence needs the only one")]
     Threads(usize),
     /// setgroups/setgid/setuid failed.
+    #[error("dropping to the configured user: {0}")]
     DropUser(std::io::Error),
     /// prctl(PR_SET_NO_NEW_PRIVS) failed.
+    #[error("no_new_privs: {0}")]
     NoNewPrivs(std::io::Error),
     /// The Landlock ruleset could not be built or applied.
+    #[error("Landlock: {0}")]
     Landlock(String),
     /// The seccomp filter could not be built or installed.
+    #[error("seccomp: {0}")]
     Seccomp(String),
 }
-
-impl std::fmt::Display for IsolationError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::NoSuchUser(u) => write!(f, "[isolation] user {u:?}: no such user"),
-            Self::NotRoot { user } => write!(
-                f,
-                "[isolation] user {user:?}: started neither as root nor as that user"
-            ),
-            Self::Threads(n) => write!(f, "{n} threads run: the fence needs the only one"),
-            Self::DropUser(e) => write!(f, "dropping to the configured user: {e}"),
-            Self::NoNewPrivs(e) => write!(f, "no_new_privs: {e}"),
-            Self::Landlock(e) => write!(f, "Landlock: {e}"),
-            Self::Seccomp(e) => write!(f, "seccomp: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for IsolationError {}
 
 /// A user to drop to: its user and group IDs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -29,47 +29,26 @@ use missionlink_platform::udp::LinkError;
 pub const STOP_LATENCY: Duration = Duration::from_millis(50);
 
 /// Why a partition loop ended with an error.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum PartitionError {
     /// iceoryx2 refused a node, service or port, or a sample could not be sent.
-    Ipc(IpcError),
+    #[error("iceoryx2: {0}")]
+    Ipc(#[from] IpcError),
     /// The WaitSet could not be created, attached to or waited on.
+    #[error("WaitSet: {0}")]
     WaitSet(String),
     /// A UDP link could not be set up.
-    Link(LinkError),
+    #[error("link: {0}")]
+    Link(#[from] LinkError),
     /// The configuration cannot work (for example a peer address without a port).
+    #[error("configuration: {0}")]
     Config(String),
     /// A signal handler could not be installed.
+    #[error("signal handler: {0}")]
     Signals(std::io::Error),
     /// The partition could not fence itself as configured (`isolation`).
+    #[error("isolation: {0}")]
     Isolation(crate::isolation::IsolationError),
-}
-
-impl std::fmt::Display for PartitionError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Ipc(e) => write!(f, "iceoryx2: {e}"),
-            Self::WaitSet(e) => write!(f, "WaitSet: {e}"),
-            Self::Link(e) => write!(f, "link: {e}"),
-            Self::Config(e) => write!(f, "configuration: {e}"),
-            Self::Signals(e) => write!(f, "signal handler: {e}"),
-            Self::Isolation(e) => write!(f, "isolation: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for PartitionError {}
-
-impl From<IpcError> for PartitionError {
-    fn from(e: IpcError) -> Self {
-        Self::Ipc(e)
-    }
-}
-
-impl From<LinkError> for PartitionError {
-    fn from(e: LinkError) -> Self {
-        Self::Link(e)
-    }
 }
 
 impl PartitionError {

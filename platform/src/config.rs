@@ -270,9 +270,10 @@ impl LinkConfig {
 }
 
 /// A configuration file that cannot be used.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
     /// The file cannot be read.
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -280,6 +281,7 @@ pub enum ConfigError {
         error: std::io::Error,
     },
     /// The TOML is wrong: line, column and what.
+    #[error("{path}:{line}:{column}: {message}")]
     Syntax {
         /// The file.
         path: PathBuf,
@@ -293,30 +295,12 @@ pub enum ConfigError {
     /// The resolved configuration cannot be written as TOML (a path that is not UTF-8, say), so
     /// it could not be handed to the partitions: refused, rather than let them start with the
     /// defaults.
+    #[error("the configuration cannot be written as TOML: {message}")]
     Unrepresentable {
         /// What TOML could not represent.
         message: String,
     },
 }
-
-impl std::fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Io { path, error } => write!(f, "{}: {error}", path.display()),
-            Self::Syntax {
-                path,
-                line,
-                column,
-                message,
-            } => write!(f, "{}:{line}:{column}: {message}", path.display()),
-            Self::Unrepresentable { message } => {
-                write!(f, "the configuration cannot be written as TOML: {message}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for ConfigError {}
 
 /// 1-based line and column of byte `offset` in `text`.
 pub fn line_column(text: &str, offset: usize) -> (usize, usize) {

@@ -13,7 +13,6 @@
 //! the key is the only thing between a stranger on the LTE network and the mission. No error
 //! message, log line or `Debug` output carries key material.
 
-use std::fmt;
 use std::io::Write;
 use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
@@ -28,9 +27,10 @@ use serde::Deserialize;
 use crate::config::Signing;
 
 /// A key file or a signing configuration that cannot be used. Never holds key material.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum KeyError {
     /// The file cannot be read or written.
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -38,6 +38,11 @@ pub enum KeyError {
         error: std::io::Error,
     },
     /// Group or others may read or write the file.
+    #[error(
+        "{path}: a link key must be readable by its owner only, and this file has mode {:04o}; \
+         run `chmod 600 {path}`",
+        .mode & 0o7777
+    )]
     Exposed {
         /// The file.
         path: PathBuf,
@@ -45,6 +50,7 @@ pub enum KeyError {
         mode: u32,
     },
     /// The file is not a key file: what is wrong (never the key's value).
+    #[error("{path}: not a link key file: {message}")]
     Format {
         /// The file.
         path: PathBuf,
@@ -52,6 +58,7 @@ pub enum KeyError {
         message: String,
     },
     /// Two key files, or more than the keyring holds.
+    #[error("{path}: {error}")]
     Keyring {
         /// The file that did not fit.
         path: PathBuf,
@@ -59,31 +66,9 @@ pub enum KeyError {
         error: KeyringError,
     },
     /// The signing configuration contradicts itself.
+    #[error("signing: {0}")]
     Config(String),
 }
-
-impl fmt::Display for KeyError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Io { path, error } => write!(f, "{}: {error}", path.display()),
-            Self::Exposed { path, mode } => write!(
-                f,
-                "{}: a link key must be readable by its owner only, and this file has mode {:04o}; \
-                 run `chmod 600 {}`",
-                path.display(),
-                mode & 0o7777,
-                path.display()
-            ),
-            Self::Format { path, message } => {
-                write!(f, "{}: not a link key file: {message}", path.display())
-            }
-            Self::Keyring { path, error } => write!(f, "{}: {error}", path.display()),
-            Self::Config(message) => write!(f, "signing: {message}"),
-        }
-    }
-}
-
-impl std::error::Error for KeyError {}
 
 /// The fields of a key file.
 #[derive(Deserialize)]

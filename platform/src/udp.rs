@@ -82,16 +82,9 @@ pub struct LinkPair {
 }
 
 /// A socket that could not be set up.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
 pub struct LinkError(pub String);
-
-impl fmt::Display for LinkError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for LinkError {}
 
 fn bind(addr: SocketAddr, link: &str) -> Result<UdpSocket, LinkError> {
     UdpSocket::bind(addr)

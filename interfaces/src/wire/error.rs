@@ -136,6 +136,8 @@ pub enum FrameError {
     },
 }
 
+// Written out, not derived with thiserror: it takes a field named `source` (the Source ID of
+// `UnknownSource`) for the error's cause, and a u32 is no error.
 impl fmt::Display for FrameError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -303,6 +305,8 @@ impl MessageError {
     }
 }
 
+// Written out, not derived with thiserror: the message name and the field are printed only where
+// known, which one format string cannot say without a helper as long as this.
 impl fmt::Display for MessageError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match super::msg::MessageType::try_from(self.message_type) {
@@ -319,12 +323,14 @@ impl fmt::Display for MessageError {
 impl core::error::Error for MessageError {}
 
 /// Why bytes did not decode into a message.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum DecodeError {
     /// The wrapper is rejected (ICD §2): drop, count, log, never acknowledge.
-    Frame(FrameError),
+    #[error("frame rejected: {0}")]
+    Frame(#[from] FrameError),
     /// The message is rejected (ICD §3, §4): acknowledge with type 3 and the reason.
-    Message(MessageError),
+    #[error("message rejected: {0}")]
+    Message(#[from] MessageError),
 }
 
 impl DecodeError {
@@ -337,33 +343,11 @@ impl DecodeError {
     }
 }
 
-impl From<FrameError> for DecodeError {
-    fn from(e: FrameError) -> Self {
-        Self::Frame(e)
-    }
-}
-
-impl From<MessageError> for DecodeError {
-    fn from(e: MessageError) -> Self {
-        Self::Message(e)
-    }
-}
-
-impl fmt::Display for DecodeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Frame(e) => write!(f, "frame rejected: {e}"),
-            Self::Message(e) => write!(f, "message rejected: {e}"),
-        }
-    }
-}
-
-impl core::error::Error for DecodeError {}
-
 /// Why a message could not be encoded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum EncodeError {
     /// The output buffer is too small.
+    #[error("buffer of {available} bytes, at least {needed} needed")]
     BufferTooSmall {
         /// Bytes the frame needs at least.
         needed: usize,
@@ -371,18 +355,6 @@ pub enum EncodeError {
         available: usize,
     },
     /// The message data would exceed 528 bytes.
+    #[error("message data exceeds 528 bytes")]
     TooLong,
 }
-
-impl fmt::Display for EncodeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::BufferTooSmall { needed, available } => {
-                write!(f, "buffer of {available} bytes, at least {needed} needed")
-            }
-            Self::TooLong => write!(f, "message data exceeds 528 bytes"),
-        }
-    }
-}
-
-impl core::error::Error for EncodeError {}

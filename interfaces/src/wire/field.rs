@@ -13,7 +13,8 @@ use iceoryx2::prelude::ZeroCopySend;
 use super::error::Cause;
 
 /// A value given in physical units that its wire encoding cannot represent.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("{quantity} {value} is outside {min}..={max}")]
 pub struct OutOfRange {
     /// The quantity, e.g. "latitude".
     pub quantity: &'static str,
@@ -24,18 +25,6 @@ pub struct OutOfRange {
     /// Largest value the encoding carries.
     pub max: f64,
 }
-
-impl fmt::Display for OutOfRange {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} {} is outside {}..={}",
-            self.quantity, self.value, self.min, self.max
-        )
-    }
-}
-
-impl core::error::Error for OutOfRange {}
 
 fn checked(quantity: &'static str, value: f64, min: f64, max: f64) -> Result<f64, OutOfRange> {
     if value.is_finite() && value >= min && value <= max {
@@ -764,9 +753,10 @@ unsigned_codec!(Timestamp, u64, 5);
 pub struct Text<const N: usize>([u8; N]);
 
 /// Why a string cannot be a [`Text`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum TextError {
     /// Longer than `N - 1` bytes.
+    #[error("text of {len} bytes, at most {max} fit")]
     TooLong {
         /// Bytes given.
         len: usize,
@@ -774,19 +764,9 @@ pub enum TextError {
         max: usize,
     },
     /// Holds a NUL character, which would end the text early.
+    #[error("text contains a NUL character")]
     ContainsNul,
 }
-
-impl fmt::Display for TextError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::TooLong { len, max } => write!(f, "text of {len} bytes, at most {max} fit"),
-            Self::ContainsNul => write!(f, "text contains a NUL character"),
-        }
-    }
-}
-
-impl core::error::Error for TextError {}
 
 impl<const N: usize> Text<N> {
     /// The text `s`, if it has at most `N - 1` bytes and no NUL.

@@ -22,24 +22,15 @@ pub struct MissionPlan {
 }
 
 /// Why a plan does not assemble into the lists of ICD §7.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum InvalidPlan {
     /// The waypoint list, with the reason.
+    #[error("the waypoint list is invalid (ICD §7): {0}")]
     Mission(Reason),
     /// The area list, with the reason.
+    #[error("the area list is invalid (ICD §7): {0}")]
     Areas(Reason),
 }
-
-impl fmt::Display for InvalidPlan {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Mission(r) => write!(f, "the waypoint list is invalid (ICD §7): {r}"),
-            Self::Areas(r) => write!(f, "the area list is invalid (ICD §7): {r}"),
-        }
-    }
-}
-
-impl std::error::Error for InvalidPlan {}
 
 impl MissionPlan {
     /// The first step of a validation request: both lists assembled with the FCC's own

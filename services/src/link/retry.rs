@@ -148,6 +148,8 @@ impl ExchangeError {
     }
 }
 
+// Written out, not derived with thiserror: the subject and the retry are printed only where
+// there is one, which one format string cannot say without a helper as long as this.
 impl fmt::Display for ExchangeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(

@@ -3,24 +3,12 @@
 //! not moved on since the previous message. The receiver's message sampling relies on it: a
 //! (Source ID, Message Type, Time Stamp) triple names exactly one message.
 
-use core::fmt;
-
 use missionlink_interfaces::wire::Timestamp;
 
 /// The clock has passed the last time stamp a U5 holds (2034-11-01).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("no time stamp left: the U5 millisecond count of ICD §3 is exhausted")]
 pub struct TimeStampsExhausted;
-
-impl fmt::Display for TimeStampsExhausted {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "no time stamp left: the U5 millisecond count of ICD §3 is exhausted"
-        )
-    }
-}
-
-impl core::error::Error for TimeStampsExhausted {}
 
 /// Issues strictly increasing time stamps for one sender.
 #[derive(Debug, Clone, Default)]

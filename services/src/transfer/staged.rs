@@ -27,39 +27,24 @@ pub const MAX_MISSION_ID_LEN: usize = 19;
 pub struct MissionId(Text<20>);
 
 /// Why a text is not a Mission ID.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum MissionIdError {
     /// The ID is empty: an empty Mission ID names the active lists, never a staged mission.
+    #[error("the Mission ID is empty")]
     Empty,
     /// Longer than [`MAX_MISSION_ID_LEN`] characters.
+    #[error("the Mission ID has {len} characters, at most {MAX_MISSION_ID_LEN} fit")]
     TooLong {
         /// Bytes given.
         len: usize,
     },
     /// Holds a byte that is not printable ASCII (0x20..=0x7e).
+    #[error("the Mission ID holds a character that is not printable ASCII at byte {at}")]
     NotPrintable {
         /// Byte offset of the first such byte.
         at: usize,
     },
 }
-
-impl fmt::Display for MissionIdError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Empty => write!(f, "the Mission ID is empty"),
-            Self::TooLong { len } => write!(
-                f,
-                "the Mission ID has {len} characters, at most {MAX_MISSION_ID_LEN} fit"
-            ),
-            Self::NotPrintable { at } => write!(
-                f,
-                "the Mission ID holds a character that is not printable ASCII at byte {at}"
-            ),
-        }
-    }
-}
-
-impl core::error::Error for MissionIdError {}
 
 impl MissionId {
     /// The Mission ID `s`, if it is non-empty printable ASCII of at most 19 characters.
