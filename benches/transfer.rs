@@ -24,6 +24,11 @@
 //! that idle strategy instead of each partition's default (`config::Idle`), to compare the wait
 //! paths; `--vm-idle MODE` (with `--vm-spin-us N`) sets voting-monitoring's alone.
 //!
+//! `--case NAME` runs only the missions of that name (`mission-1`, `generated-10`,
+//! `generated-100`, `generated-256`, `worst-case-256`, `mission-1 signed`, `generated-256
+//! signed`), for many short runs to compare; `--no-isolation` starts the partitions unfenced
+//! (`[isolation] enabled = false`), to measure what the fence costs an upload.
+//!
 //! `--cpu-shares` (`--idle-seconds N`, `--upload-seconds N`) measures instead each partition's
 //! share of one CPU from /proc (its process's user and system time over the wall time): with
 //! the FCC up and no traffic, then while the GCS uploads the generated 256-waypoint mission back
@@ -108,8 +113,16 @@ fn measure(
     warm_up: usize,
     runs: usize,
 ) -> (Vec<Measured>, Option<std::process::ExitStatus>) {
+    let cases: Vec<_> = cases
+        .into_iter()
+        .filter(|(case, _)| chosen(&case.name))
+        .collect();
+    if cases.is_empty() {
+        return (Vec::new(), None);
+    }
     let mut rig = common::Rig::new(name);
     rig.config.ipc.idle = idle_override();
+    rig.config.isolation.enabled = fence_label() == "partitions fenced";
     if let Some((latitude, longitude)) = start {
         rig.config.guidance.start_latitude_deg = latitude;
         rig.config.guidance.start_longitude_deg = longitude;
@@ -366,6 +379,24 @@ fn output_dir() -> std::path::PathBuf {
     out
 }
 
+/// Whether the partitions run fenced (the default) or not (`--no-isolation`).
+fn fence_label() -> &'static str {
+    if std::env::args().any(|a| a == "--no-isolation") {
+        "partitions not fenced"
+    } else {
+        "partitions fenced"
+    }
+}
+
+/// Whether the case `name` runs: every case, or the one `--case NAME` names.
+fn chosen(name: &str) -> bool {
+    let args: Vec<String> = std::env::args().collect();
+    args.iter()
+        .position(|a| a == "--case")
+        .and_then(|i| args.get(i + 1))
+        .is_none_or(|only| only == name)
+}
+
 /// The number after `flag` on the command line, if given.
 fn number_after(args: &[String], flag: &str) -> Option<u64> {
     args.iter()
@@ -479,8 +510,9 @@ fn main() {
     println!(
         "Upload transfer through the real FCC partitions and GcsLink over UDP loopback \
          ({runs} runs per mission after {warm_up} warm-up runs; {cpus} CPUs; load average \
-         before {load_before}, after {load_after}; {})",
-        idle_label(&idle_override())
+         before {load_before}, after {load_after}; {}; {})",
+        idle_label(&idle_override()),
+        fence_label()
     );
     println!(
         "{:<14} {:<7} {:>4} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>8}",
@@ -602,6 +634,7 @@ fn main() {
             "load_average_after": load_after,
             "ms_per_waypoint_message_10_to_256": growth,
             "idle_strategy": idle_label(&idle_override()),
+            "isolation": fence_label(),
             "missions": json,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
