@@ -26,7 +26,8 @@ pub fn build_dir() -> Option<PathBuf> {
     }
 }
 
-fn missing(dir: &Path, names: &[&str]) -> Vec<String> {
+/// Which of `names` are not in `dir` (what [`ensure`] would build).
+pub fn missing(dir: &Path, names: &[&str]) -> Vec<String> {
     names
         .iter()
         .filter(|n| !dir.join(n).is_file())
@@ -78,10 +79,7 @@ fn ensure_of(dir: &Path, names: &[&str], package: &str, build: Build) -> Result<
         .unwrap_or_else(|| "cargo".to_owned());
     let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
     if !absent.is_empty() {
-        eprintln!(
-            "building the partition binaries ({}) ...",
-            absent.join(", ")
-        );
+        tracing::info!(binaries = %absent.join(", "), "building the missing binaries");
     }
     let mut command = Command::new(cargo);
     command

@@ -249,6 +249,14 @@ fn run(args: &Args) -> Result<(), String> {
         .clone()
         .or_else(binaries::build_dir)
         .ok_or("cannot find the partition binaries: give --bin-dir")?;
+    let absent = binaries::missing(&bin_dir, &binaries::FCC_BINARIES);
+    if !absent.is_empty() {
+        // On a fresh clone: the first run builds them, which takes a while.
+        println!(
+            "building the partition binaries ({}) ...",
+            absent.join(", ")
+        );
+    }
     let bin_dir = binaries::ensure(
         &bin_dir,
         &binaries::FCC_BINARIES,
