@@ -1,0 +1,83 @@
+//! Runs one of the measured paths of `benches/per_frame.rs` N times, for counting its
+//! instructions under callgrind: on this guest a timing of the same binary varies by a third
+//! from one run to the next, an instruction count does not.
+//!
+//! - `areas N`: the assembly and validation of the fly-zone and ten no-fly-zones of 60 vertices
+//!   (`testkit::eleven_areas`, the bench's "assembly/11_areas_60_vertices"), N times.
+//! - `frames N`: N #13002 frames of a 256-waypoint upload handed to mission data handling, each
+//!   answer taken (`handle_frame` and `poll_transmit`, the bench's "13002/frame_total"); the
+//!   frames are encoded before, outside the functions to read in the profile.
+//!
+//! ```sh
+//! cargo build --release --example count_instructions
+//! valgrind --tool=callgrind target/release/examples/count_instructions areas 50
+//! valgrind --tool=callgrind target/release/examples/count_instructions frames 10000
+//! callgrind_annotate --inclusive=yes callgrind.out.<pid> | grep -E "handle_frame|poll_transmit"
+//! ```
+//!
+//! Not a product binary: a measuring aid.
+// An aid stops at its first failure.
+#![allow(clippy::expect_used, clippy::panic)]
+
+use std::hint::black_box;
+
+use missionlink_interfaces::capacity::MAX_WAYPOINTS;
+use missionlink_interfaces::wire::{
+    self, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset, UaPositionWaypoint,
+};
+use missionlink_services::link::time::Instant;
+use missionlink_services::mission_data_handling::MissionDataHandling;
+use missionlink_services::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
+use missionlink_services::transfer::sender::mission_command;
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let what = args.next().unwrap_or_default();
+    let times: u64 = args.next().and_then(|n| n.parse().ok()).unwrap_or(200);
+    match what.as_str() {
+        "areas" => areas(times),
+        "frames" => frames(times),
+        other => panic!("{other:?}: areas N or frames N"),
+    }
+}
+
+fn areas(times: u64) {
+    let areas = testkit::area_buffer(&testkit::eleven_areas());
+    let offset = SafetyOffset::from_metres(25.0).expect("25 m is a safety offset");
+    for _ in 0..times {
+        let _ = black_box(black_box(&areas).assemble(11, offset));
+    }
+}
+
+fn frames(times: u64) {
+    let waypoints = MAX_WAYPOINTS as u16;
+    let frames: Vec<(Instant, Vec<u8>)> = (1..=times)
+        .map(|count| {
+            let n = (count % u64::from(waypoints)) as u16 + 1;
+            let latitude =
+                wire::Angle::from_degrees(48.26 + f64::from(n) * 1e-4).expect("latitude");
+            let message: Message = UaPositionWaypoint {
+                time_stamp: ts(UTC_AT_ZERO_MS + count),
+                waypoint_number: n,
+                next_waypoint: n % waypoints + 1,
+                leg_type: LegType::TrackToFix,
+                latitude,
+                ..testkit::full_waypoint()
+            }
+            .into();
+            (Instant::from_millis(count), uplink(&message))
+        })
+        .collect();
+    let mut fcc = MissionDataHandling::new(testkit::fcc_config());
+    let mut clear = mission_command(MissionPlanMode::ClearMission, None, None);
+    clear.set_time_stamp(ts(UTC_AT_ZERO_MS));
+    fcc.handle_frame(Instant::ZERO, &uplink(&clear))
+        .expect("clear accepted");
+    let mut out = [0u8; MAX_FRAME_LEN];
+    while fcc.poll_transmit(&mut out).is_some() {}
+    for (now, frame) in &frames {
+        fcc.handle_frame(*now, black_box(frame))
+            .expect("frame accepted");
+        while black_box(fcc.poll_transmit(&mut out)).is_some() {}
+    }
+}
