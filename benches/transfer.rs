@@ -122,7 +122,7 @@ fn measure(
     }
     let mut rig = common::Rig::new(name);
     rig.config.ipc.idle = idle_override();
-    rig.config.isolation.enabled = fence_label() == "partitions fenced";
+    rig.config.isolation.enabled = fenced();
     if let Some((latitude, longitude)) = start {
         rig.config.guidance.start_latitude_deg = latitude;
         rig.config.guidance.start_longitude_deg = longitude;
@@ -379,9 +379,14 @@ fn output_dir() -> std::path::PathBuf {
     out
 }
 
-/// Whether the partitions run fenced (the default) or not (`--no-isolation`).
+/// Whether the partitions run fenced: the default, unless `--no-isolation`.
+fn fenced() -> bool {
+    !std::env::args().any(|a| a == "--no-isolation")
+}
+
+/// [`fenced`] in words, for the table's header and the results file.
 fn fence_label() -> &'static str {
-    if std::env::args().any(|a| a == "--no-isolation") {
+    if !fenced() {
         "partitions not fenced"
     } else {
         "partitions fenced"
