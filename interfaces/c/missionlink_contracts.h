@@ -42,7 +42,7 @@ extern "C" {
 #endif
 
 /* Version of the payload layouts; part of every type name. */
-#define MISSIONLINK_CONTRACT_VERSION 3
+#define MISSIONLINK_CONTRACT_VERSION 4
 /* Service-name prefix used when none is configured. */
 #define MISSIONLINK_DEFAULT_SERVICE_PREFIX "missionlink"
 /* Marks an optional enumeration byte as absent. */
@@ -205,17 +205,17 @@ enum TurnDirection {
 };
 
 /* The iceoryx2 type names of the payloads. */
-#define MISSIONLINK_FRAME_PAYLOAD_TYPE_NAME "missionlink::FramePayload/v3"
-#define MISSIONLINK_WAYPOINT_ENTRY_TYPE_NAME "missionlink::WaypointEntry/v3"
-#define MISSIONLINK_WAYPOINT_LIST_PAYLOAD_TYPE_NAME "missionlink::WaypointListPayload/v3"
-#define MISSIONLINK_AREA_ALTITUDES_TYPE_NAME "missionlink::AreaAltitudes/v3"
-#define MISSIONLINK_POLYGON_AREA_TYPE_NAME "missionlink::PolygonArea/v3"
-#define MISSIONLINK_CIRCLE_AREA_TYPE_NAME "missionlink::CircleArea/v3"
-#define MISSIONLINK_AREA_LIST_PAYLOAD_TYPE_NAME "missionlink::AreaListPayload/v3"
-#define MISSIONLINK_AUTOMATION_STATE_PAYLOAD_TYPE_NAME "missionlink::AutomationStatePayload/v3"
-#define MISSIONLINK_AUTOMATION_COMMAND_PAYLOAD_TYPE_NAME "missionlink::AutomationCommandPayload/v3"
-#define MISSIONLINK_HEARTBEAT_PAYLOAD_TYPE_NAME "missionlink::HeartbeatPayload/v3"
-#define MISSIONLINK_GUIDANCE_PROGRESS_PAYLOAD_TYPE_NAME "missionlink::GuidanceProgressPayload/v3"
+#define MISSIONLINK_FRAME_PAYLOAD_TYPE_NAME "missionlink::FramePayload/v4"
+#define MISSIONLINK_WAYPOINT_ENTRY_TYPE_NAME "missionlink::WaypointEntry/v4"
+#define MISSIONLINK_WAYPOINT_LIST_PAYLOAD_TYPE_NAME "missionlink::WaypointListPayload/v4"
+#define MISSIONLINK_AREA_ALTITUDES_TYPE_NAME "missionlink::AreaAltitudes/v4"
+#define MISSIONLINK_POLYGON_AREA_TYPE_NAME "missionlink::PolygonArea/v4"
+#define MISSIONLINK_CIRCLE_AREA_TYPE_NAME "missionlink::CircleArea/v4"
+#define MISSIONLINK_AREA_LIST_PAYLOAD_TYPE_NAME "missionlink::AreaListPayload/v4"
+#define MISSIONLINK_AUTOMATION_STATE_PAYLOAD_TYPE_NAME "missionlink::AutomationStatePayload/v4"
+#define MISSIONLINK_AUTOMATION_COMMAND_PAYLOAD_TYPE_NAME "missionlink::AutomationCommandPayload/v4"
+#define MISSIONLINK_HEARTBEAT_PAYLOAD_TYPE_NAME "missionlink::HeartbeatPayload/v4"
+#define MISSIONLINK_GUIDANCE_PROGRESS_PAYLOAD_TYPE_NAME "missionlink::GuidanceProgressPayload/v4"
 
 /* The wire newtypes: raw values in the ICD's units (ICD §3). */
 
@@ -282,7 +282,9 @@ typedef struct WaypointListPayload {
     uint16_t count;             /* waypoints used */
     uint16_t initial_waypoint;
     bool bidirectional;
-    uint8_t reserved[7];
+    uint8_t reserved0;
+    Speed planning_wind;        /* wind the mission was checked in (#13001 field 5); 0: calm */
+    uint8_t reserved[4];
     WaypointEntry waypoints[MISSIONLINK_MAX_WAYPOINTS];
 } WaypointListPayload;
 

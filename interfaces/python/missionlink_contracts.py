@@ -26,7 +26,7 @@ from enum import IntEnum
 from typing import NamedTuple
 
 #: Version of the payload layouts; part of every type name.
-CONTRACT_VERSION = 3
+CONTRACT_VERSION = 4
 #: Service-name prefix used when none is configured.
 DEFAULT_SERVICE_PREFIX = "missionlink"
 #: Marks an optional enumeration byte as absent.
@@ -255,7 +255,7 @@ class FramePayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::FramePayload/v3"
+        return "missionlink::FramePayload/v4"
 
     def frame(self) -> bytes:
         """The frame bytes (clamped to the array, whatever `len` holds)."""
@@ -283,7 +283,7 @@ class WaypointEntry(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::WaypointEntry/v3"
+        return "missionlink::WaypointEntry/v4"
 
 
 class WaypointListPayload(ctypes.Structure):
@@ -296,14 +296,16 @@ class WaypointListPayload(ctypes.Structure):
         ("count", ctypes.c_uint16),
         ("initial_waypoint", ctypes.c_uint16),
         ("bidirectional", ctypes.c_bool),
-        ("reserved", ctypes.c_uint8 * 7),
+        ("reserved0", ctypes.c_uint8),
+        ("planning_wind", Speed),
+        ("reserved", ctypes.c_uint8 * 4),
         ("waypoints", WaypointEntry * MAX_WAYPOINTS),
     ]
 
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::WaypointListPayload/v3"
+        return "missionlink::WaypointListPayload/v4"
 
     def used(self) -> list[WaypointEntry]:
         """The waypoints in flight-plan order (clamped to the capacity, whatever `count` holds)."""
@@ -325,7 +327,7 @@ class AreaAltitudes(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AreaAltitudes/v3"
+        return "missionlink::AreaAltitudes/v4"
 
 
 class PolygonArea(ctypes.Structure):
@@ -342,7 +344,7 @@ class PolygonArea(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::PolygonArea/v3"
+        return "missionlink::PolygonArea/v4"
 
     def used(self) -> list[GeoPoint]:
         """The vertices (clamped to the capacity)."""
@@ -363,7 +365,7 @@ class CircleArea(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::CircleArea/v3"
+        return "missionlink::CircleArea/v4"
 
 
 class AreaListPayload(ctypes.Structure):
@@ -384,7 +386,7 @@ class AreaListPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AreaListPayload/v3"
+        return "missionlink::AreaListPayload/v4"
 
     def polygons(self) -> list[PolygonArea]:
         """Polygonal no-fly-zones (clamped to the capacity)."""
@@ -432,7 +434,7 @@ class AutomationStatePayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AutomationStatePayload/v3"
+        return "missionlink::AutomationStatePayload/v4"
 
 
 class AutomationCommandPayload(ctypes.Structure):
@@ -448,7 +450,7 @@ class AutomationCommandPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AutomationCommandPayload/v3"
+        return "missionlink::AutomationCommandPayload/v4"
 
 
 class HeartbeatPayload(ctypes.Structure):
@@ -465,7 +467,7 @@ class HeartbeatPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::HeartbeatPayload/v3"
+        return "missionlink::HeartbeatPayload/v4"
 
 
 class GuidanceProgressPayload(ctypes.Structure):
@@ -495,7 +497,7 @@ class GuidanceProgressPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::GuidanceProgressPayload/v3"
+        return "missionlink::GuidanceProgressPayload/v4"
 
     @property
     def from_(self) -> int:

@@ -24,7 +24,7 @@ use crate::wire::{
 };
 
 /// Version of the payload layouts; part of every type name.
-pub const CONTRACT_VERSION: u32 = 3;
+pub const CONTRACT_VERSION: u32 = 4;
 
 /// Service-name prefix used when none is configured.
 pub const DEFAULT_SERVICE_PREFIX: &str = "missionlink";
@@ -240,7 +240,7 @@ impl TryFrom<u8> for Link {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::FramePayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::FramePayload/v4"))]
 pub struct FramePayload {
     /// CLOCK_MONOTONIC nanoseconds when the frame entered the FCC (socket receive) or was
     /// produced (downlink): the start of the per-frame latency measurement.
@@ -300,7 +300,7 @@ impl FramePayload {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointEntry/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointEntry/v4"))]
 pub struct WaypointEntry {
     /// Waypoint Number.
     pub number: u16,
@@ -400,7 +400,7 @@ impl WaypointEntry {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointListPayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointListPayload/v4"))]
 pub struct WaypointListPayload {
     /// Counts activations of a new list since mission data handling started, from 1; 0 means
     /// no mission is active (after start or a clear).
@@ -416,7 +416,12 @@ pub struct WaypointListPayload {
     /// The route may be flown backwards for return to home (#13001 Activity ID bit 0).
     pub bidirectional: bool,
     /// Zero.
-    pub reserved: [u8; 7],
+    pub reserved0: u8,
+    /// The wind speed the mission was checked in (#13001 field 5; zero: calm): every turn is
+    /// flown and checked at the radius this wind forces (ICD §7 "Turns in wind").
+    pub planning_wind: Speed,
+    /// Zero.
+    pub reserved: [u8; 4],
     /// The waypoints in flight-plan order, from the initial one to the one with Next 0.
     pub waypoints: [WaypointEntry; MAX_WAYPOINTS],
 }
@@ -430,7 +435,9 @@ impl WaypointListPayload {
         count: 0,
         initial_waypoint: 0,
         bidirectional: false,
-        reserved: [0; 7],
+        reserved0: 0,
+        planning_wind: Speed::from_raw(0),
+        reserved: [0; 4],
         waypoints: [WaypointEntry::EMPTY; MAX_WAYPOINTS],
     };
 
@@ -474,7 +481,7 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AreaAltitudes/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AreaAltitudes/v4"))]
 pub struct AreaAltitudes {
     /// Lower Altitude, valid when `has_lower`.
     pub lower: Altitude,
@@ -546,7 +553,7 @@ impl AreaAltitudes {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::PolygonArea/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::PolygonArea/v4"))]
 pub struct PolygonArea {
     /// Area ID.
     pub area_id: u16,
@@ -593,7 +600,7 @@ impl PolygonArea {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::CircleArea/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::CircleArea/v4"))]
 pub struct CircleArea {
     /// Area ID.
     pub area_id: u16,
@@ -631,7 +638,7 @@ impl CircleArea {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AreaListPayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AreaListPayload/v4"))]
 pub struct AreaListPayload {
     /// Counts activations of a new list, from 1; 0 means no area list is active.
     pub generation: u64,
@@ -732,7 +739,7 @@ impl TryFrom<u8> for FlightPhase {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationStatePayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationStatePayload/v4"))]
 pub struct AutomationStatePayload {
     /// Counts state changes, from 1.
     pub sequence: u64,
@@ -788,7 +795,7 @@ impl AutomationStatePayload {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationCommandPayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationCommandPayload/v4"))]
 pub struct AutomationCommandPayload {
     /// Counts commands, from 1.
     pub sequence: u64,
@@ -826,7 +833,7 @@ pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration:
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::HeartbeatPayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::HeartbeatPayload/v4"))]
 pub struct HeartbeatPayload {
     /// Counts heartbeats of this process, from 1.
     pub sequence: u64,
@@ -852,7 +859,7 @@ pub struct HeartbeatPayload {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::GuidanceProgressPayload/v3"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::GuidanceProgressPayload/v4"))]
 pub struct GuidanceProgressPayload {
     /// Counts updates, from 1.
     pub sequence: u64,

@@ -210,6 +210,8 @@ fn rust_layouts() -> Vec<Layout> {
             count,
             initial_waypoint,
             bidirectional,
+            reserved0,
+            planning_wind,
             reserved,
             waypoints
         }),

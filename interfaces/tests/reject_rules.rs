@@ -686,6 +686,7 @@ fn hand_built_messages_decode_and_encode_byte_for_byte() {
                 route_id: Some(Text::new("R-7").unwrap()),
                 route_type: Some(RouteType::Flight),
                 bidirectional: true,
+                planning_wind: None,
             }
             .into(),
         ),

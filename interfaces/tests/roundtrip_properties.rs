@@ -230,14 +230,18 @@ fn ua_route() -> impl Strategy<Value = UaRoute> {
         option::of(text::<33>()),
         option::of(pick(RouteType::ALL)),
         any::<bool>(),
+        option::of(speed()),
     )
         .prop_map(
-            |(time_stamp, initial_waypoint, route_id, route_type, bidirectional)| UaRoute {
-                time_stamp,
-                initial_waypoint,
-                route_id,
-                route_type,
-                bidirectional,
+            |(time_stamp, initial_waypoint, route_id, route_type, bidirectional, planning_wind)| {
+                UaRoute {
+                    time_stamp,
+                    initial_waypoint,
+                    route_id,
+                    route_type,
+                    bidirectional,
+                    planning_wind,
+                }
             },
         )
 }

@@ -29,6 +29,8 @@
 //! start_longitude_deg = 11.66
 //! climb_rate_mps = 3.0
 //! descent_rate_mps = 2.0
+//! wind_speed_mps = 0.0            # the steady wind the simulated aircraft flies in
+//! wind_from_deg = 0.0             # (turns are sized by the plan's wind, ICD §7)
 //!
 //! [latency]
 //! report_interval_s = 0           # 0: report at shutdown and on SIGUSR1 only
@@ -261,6 +263,11 @@ pub struct Guidance {
     pub climb_rate_mps: f64,
     /// Vertical descent rate.
     pub descent_rate_mps: f64,
+    /// Speed of the steady wind the simulated aircraft flies in, m/s (the turns are sized by
+    /// the plan's wind, ICD §7 "Turns in wind").
+    pub wind_speed_mps: f64,
+    /// Direction that wind blows from, degrees clockwise from true north.
+    pub wind_from_deg: f64,
 }
 
 impl Default for Guidance {
@@ -272,6 +279,8 @@ impl Default for Guidance {
             start_longitude_deg: 11.66,
             climb_rate_mps: 3.0,
             descent_rate_mps: 2.0,
+            wind_speed_mps: 0.0,
+            wind_from_deg: 0.0,
         }
     }
 }

@@ -56,6 +56,8 @@ where
         climb_rate_mps: g.climb_rate_mps,
         descent_rate_mps: g.descent_rate_mps,
         time_scale: g.time_scale,
+        wind_speed_mps: g.wind_speed_mps,
+        wind_from_deg: g.wind_from_deg,
         ..GuidanceConfig::default()
     });
     let clock = DriverClock::start();

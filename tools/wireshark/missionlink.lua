@@ -127,6 +127,7 @@ local MESSAGES = {
         { "Route ID", "route_id", "CHAR33" },
         { "Route Type", "route_type", E(V.route_type) },
         { "Activity ID", "activity_id", "route_activity" },
+        { "Planning Wind Speed", "planning_wind", "SPD2" },
     } },
     [13002] = { name = "UA Position Waypoint", pv = 3, fields = {
         { "Time Stamp", "time_stamp", "TS" },

@@ -50,7 +50,7 @@ use missionlink_services::geofence::path::{Path, Track};
 use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::{Fence, Zone, ZoneKind};
 use missionlink_services::ground_station::ValidatedPlan;
-use missionlink_services::safety_gateway::AircraftProfile;
+use missionlink_services::safety_gateway::SafetyGateway;
 
 /// A mark the map draws in red: a violation the safety gateway reported (its code, a label, and
 /// where).
@@ -142,6 +142,7 @@ pub fn render(
     take_off: Option<GeoPoint>,
     markers: &[Marker],
     title: &str,
+    gateway: &SafetyGateway,
 ) -> String {
     let mission = &plan.mission;
     let offset = plan.areas.safety_offset.metres();
@@ -214,12 +215,16 @@ pub fn render(
     // The turns at the waypoints as flown and checked (the gateway's bank), from the take-off
     // position or, without one, from the initial waypoint.
     let fly_by = onboard::FlyBy {
-        bank_deg: AircraftProfile::default().max_bank_deg,
+        bank_deg: gateway.profile.max_bank_deg,
+    };
+    let in_wind = RouteView {
+        wind_mps: gateway.turn_wind_mps(mission),
+        ..list
     };
     let start = take_off.or(list.waypoints.first().map(|w| w.position()));
     let turns: Vec<Turn> = start
         .into_iter()
-        .flat_map(|s| onboard::execute_route(list, Site::of(s), Some(fly_by)))
+        .flat_map(|s| onboard::execute_route(in_wind, Site::of(s), Some(fly_by)))
         .filter_map(|leg| match leg.element {
             RouteElement::Turn { at, to, kind } => Some(Turn {
                 at,

@@ -69,6 +69,11 @@ pub struct RouteEntry {
     /// Route Type: launch, approach, flight, contingency-a, contingency-b.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub route_type: Option<String>,
+    /// Planning Wind Speed (#13001 bit 5, ICD §7 "Turns in wind"), m/s in steps of 0.5: the
+    /// wind the mission was checked in, which sizes the turns the FCC flies. Absent: calm, or
+    /// the wind of the check that uploads it (`--wind-mps`, the environment file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub planning_wind_mps: Option<f64>,
 }
 
 /// One `[[waypoints]]` entry: a #13002 UA Position Waypoint and its #13006 RF centre.
@@ -303,6 +308,7 @@ impl MissionFile {
                 bidirectional: route.bidirectional,
                 route_id: route.route_id.map(|t| t.as_str().to_owned()),
                 route_type: route.route_type.map(word),
+                planning_wind_mps: route.planning_wind.map(|w| w.mps()),
             },
             waypoints: mission
                 .waypoints

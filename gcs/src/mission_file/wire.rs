@@ -13,6 +13,10 @@ impl RouteEntry {
                 from_word("route.route_type", s)
             })?,
             bidirectional: self.bidirectional,
+            planning_wind: optional(self.planning_wind_mps, |mps| {
+                Speed::from_mps(mps)
+                    .map_err(|e| field_error("route.planning_wind_mps", e.to_string()))
+            })?,
         })
     }
 }

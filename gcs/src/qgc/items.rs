@@ -300,6 +300,7 @@ pub(super) fn import_items(
                 route_id: None,
                 route_type: None,
                 bidirectional: options.bidirectional,
+                planning_wind: None,
             }
             .into(),
         ),

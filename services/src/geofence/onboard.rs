@@ -183,6 +183,9 @@ pub struct RouteView<'a, W> {
     pub bidirectional: bool,
     /// The take-off height above ground.
     pub take_off_height: Altitude,
+    /// The wind speed every turn is sized for (the plan's #13001 field 5, m/s; 0 calm): see
+    /// [`FlyBy`].
+    pub wind_mps: f64,
 }
 
 // Copy whatever the waypoint type: the view holds a reference (a derive would ask `W: Copy`).
@@ -200,6 +203,7 @@ impl<'a> From<&'a WaypointListPayload> for RouteView<'a, WaypointEntry> {
             waypoints: list.waypoints(),
             bidirectional: list.bidirectional,
             take_off_height: list.take_off_height,
+            wind_mps: list.planning_wind.mps(),
         }
     }
 }
@@ -210,6 +214,7 @@ impl<'a> From<&'a Mission> for RouteView<'a, WaypointRecord> {
             waypoints: &mission.waypoints,
             bidirectional: mission.route.bidirectional,
             take_off_height: mission.take_off_height(),
+            wind_mps: mission.route.planning_wind.map_or(0.0, |w| w.mps()),
         }
     }
 }
@@ -305,7 +310,7 @@ pub fn execute_route<W: RouteWaypoint>(
         element: RouteElement::Climb,
         path: Path::Point(take_off),
     };
-    let waypoints = route.waypoints;
+    let (waypoints, wind) = (route.waypoints, route.wind_mps);
     let turns = fly_by.into_iter().flat_map(move |f| {
         waypoints.iter().enumerate().flat_map(move |(k, w)| {
             let next = waypoints.get(k + 1);
@@ -314,9 +319,10 @@ pub fn execute_route<W: RouteWaypoint>(
                 None => first.map(|(_, p)| p),
             };
             let t = match (inbound, next) {
-                (Some(inbound), Some(next)) => {
-                    Some((next.number(), f.turn(w, next, &inbound, &leg(w, next))))
-                }
+                (Some(inbound), Some(next)) => Some((
+                    next.number(),
+                    f.turn(w, next, &inbound, &leg(w, next), wind),
+                )),
                 _ => None,
             };
             t.into_iter()
@@ -379,7 +385,7 @@ pub fn return_route<W: RouteWaypoint>(
     to: u16,
     fly_by: Option<FlyBy>,
 ) -> impl Iterator<Item = RouteLeg> + '_ {
-    let waypoints = route.waypoints;
+    let (waypoints, wind) = (route.waypoints, route.wind_mps);
     let index = waypoints
         .iter()
         .position(|w| w.number() == to)
@@ -412,7 +418,7 @@ pub fn return_route<W: RouteWaypoint>(
                 turn_legs(
                     w.number(),
                     next.number(),
-                    f.turn(w, next, &inbound, &leg(next, w).reversed()),
+                    f.turn(w, next, &inbound, &leg(next, w).reversed(), wind),
                 )
             });
             t.into_iter().flatten()
@@ -427,7 +433,7 @@ pub fn return_route<W: RouteWaypoint>(
             Some(turn_legs(
                 at.number(),
                 w.number(),
-                f.turn(at, w, &leg(before, at), &leg(at, w)),
+                f.turn(at, w, &leg(before, at), &leg(at, w), wind),
             ))
         })
         .into_iter()
@@ -452,7 +458,7 @@ pub fn turns_round<W: RouteWaypoint>(
                 Some((
                     b.number(),
                     a.number(),
-                    fly_by.turn(b, a, &inbound, &inbound.reversed()),
+                    fly_by.turn(b, a, &inbound, &inbound.reversed(), route.wind_mps),
                 ))
             }
             _ => None,
@@ -461,12 +467,39 @@ pub fn turns_round<W: RouteWaypoint>(
     })
 }
 
-/// How guidance turns at a waypoint ([`super::turn`]): at the radius `r = v²/(g·tan(bank))`,
-/// `v` the speed flown in the turn (the next waypoint's: guidance flies towards it from the
-/// turn's start), fly-by or fly-over by the waypoint's turn type.
+/// How guidance turns at a waypoint ([`super::turn`]): at the radius the wind forces on a
+/// bank-limited aircraft, fly-by or fly-over by the waypoint's turn type.
+///
+/// # Turns in wind (ICD §7 "Turns in wind")
+///
+/// Guidance flies every turn as a path over the ground (ARINC 424 fly-by and RF legs are
+/// ground paths too): the arc, the intercept and the arc of [`super::turn`], at the radius
+///
+/// `r = (v + W)² / (g·tan(bank))`
+///
+/// with `v` the airspeed flown in the turn (the next waypoint's speed: guidance flies towards it
+/// from the turn's start) and `W` the wind speed the plan was checked in ([`RouteView::wind_mps`],
+/// #13001 field 5). This is the radius PANS-OPS (ICAO Doc 8168) protects a turn with: true
+/// airspeed plus the wind speed, at the bank limit. It is the smallest ground radius a
+/// bank-limited aircraft can hold **whatever the wind's direction**: holding a ground circle of
+/// radius `R` at airspeed `v` in a steady wind `w` (|w| = W < v) takes a horizontal
+/// acceleration `a = V_g² / (R·cos β)` perpendicular to the air velocity (`V_g` the ground speed,
+/// `β` the drift angle), and with `c` the cosine of the angle between air velocity and wind,
+/// `V_g² / cos β = (v² + W² + 2vWc)^{3/2} / (v + Wc)`, which grows with `c` over all of
+/// `[−1, 1]` (its logarithmic derivative is positive iff `2v² + vWc − W² > 0`, true for
+/// `W < v`): its largest value, at a tailwind, is `(v + W)²`. So `g·tan(bank) ≥ a` everywhere on
+/// the circle, in every direction of the wind up to `W`; the bank needed peaks at the limit only
+/// where the wind is straight behind. The direction is not needed, and is not assumed: a
+/// forecast's direction is the least certain part of it.
+///
+/// Because guidance holds this path over the ground, the path flown is the one path checked, not
+/// a band of drifted paths: a constant-bank turn would drift onto a trochoid that never meets
+/// the next leg tangentially, and where it rejoins the leg would depend on the controller's
+/// recovery, which no check could bound without modelling it. In calm air (`W = 0`) the radius is
+/// `v²/(g·tan(bank))`, the turn of ICD edition 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlyBy {
-    /// Guidance's bank angle in the turn, degrees (0 < bank < 90).
+    /// Guidance's bank angle limit in the turn, degrees (0 < bank < 90).
     pub bank_deg: f64,
 }
 
@@ -484,19 +517,33 @@ impl FlyBy {
         }
     }
 
-    /// Radius of a turn at `v` and the bank: `v²/(g·tan(bank))`, metres.
+    /// Radius of a turn at ground speed `v` and the bank: `v²/(g·tan(bank))`, metres.
     pub fn turn_radius_m(&self, v: f64) -> f64 {
         v * v / (GRAVITY_MPS2 * self.bank_deg.to_radians().tan())
     }
 
+    /// Radius of the turn flown at airspeed `v` in a wind of `wind_mps` from any direction:
+    /// `(v + W)²/(g·tan(bank))`, metres (see the type's documentation).
+    pub fn radius_in_wind_m(&self, v: f64, wind_mps: f64) -> f64 {
+        let wind = if wind_mps.is_finite() { wind_mps.max(0.0) } else { 0.0 };
+        self.turn_radius_m(v + wind)
+    }
+
     /// The turn at `w` from `inbound` (ending at `w`) onto `outbound` (starting there, to
-    /// `next`).
-    pub fn turn<W: RouteWaypoint>(&self, w: &W, next: &W, inbound: &Path, outbound: &Path) -> Turn {
+    /// `next`), sized for a wind of `wind_mps`.
+    pub fn turn<W: RouteWaypoint>(
+        &self,
+        w: &W,
+        next: &W,
+        inbound: &Path,
+        outbound: &Path,
+        wind_mps: f64,
+    ) -> Turn {
         turn(
             inbound,
             outbound,
             w.turn_type() == Some(TurnType::FlyOver),
-            self.turn_radius_m(Self::speed_mps(next)),
+            self.radius_in_wind_m(Self::speed_mps(next), wind_mps),
         )
     }
 }

@@ -37,7 +37,7 @@ use missionlink_interfaces::capacity::{MAX_REPORT_ENTRIES, MAX_WAYPOINTS};
 use missionlink_interfaces::wire::{
     AreaDownloadStatus, AreaTransferMode, EncodeError, ExecuteCommand, FrameError, FromToNext,
     GeoPoint, InertialStates, Message, MessageType, MissionExecuteCommand, MissionPlanMode,
-    MissionReport, Reason, SafetyOffset, Text, Timestamp, TransferWindow,
+    MissionReport, Reason, SafetyOffset, Speed, Text, Timestamp, TransferWindow,
 };
 
 use crate::link::composite::Composite;
@@ -81,6 +81,14 @@ pub trait SafetyGateway {
         areas: &AreaList,
         take_off: Option<GeoPoint>,
     ) -> Result<(), Self::Report>;
+
+    /// The wind the gateway sizes turns for (ICD §7 "Turns in wind"), `None` for calm. The
+    /// validation sends the larger of this and the plan's own planning wind (#13001 field 5),
+    /// so that the FCC flies and checks every turn as the gateway checked it, and a wind the
+    /// plan was made for is never lost.
+    fn planning_wind(&self) -> Option<Speed> {
+        None
+    }
 }
 
 /// No gateway configured: the lists pass with the checks of ICD §7 alone.
@@ -324,10 +332,15 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// that its defects come back as violations naming the area; the ICD reason is the answer
     /// only when the gateway finds nothing.
     pub fn validate(&self, plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<G::Report>> {
-        let lists = plan.lists_to_check().map_err(|e| match e {
+        let mut lists = plan.lists_to_check().map_err(|e| match e {
             InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
             InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
         })?;
+        let route = &mut lists.mission.route;
+        route.planning_wind = route
+            .planning_wind
+            .max(self.gateway.planning_wind())
+            .filter(|w| w.raw() != 0);
         self.gateway
             .check(&lists.mission, &lists.areas, plan.take_off_position)
             .map_err(GcsError::Gateway)?;

@@ -1,5 +1,5 @@
-//! The guidance model's settings: start position, climb and descent rates, bank limit,
-//! time scale, each replaced by its default where unusable.
+//! The guidance model's settings: start position, climb and descent rates, bank limit, the
+//! steady wind it flies in, time scale, each replaced by its default where unusable.
 
 use crate::geofence::onboard::FlyBy;
 
@@ -19,6 +19,12 @@ pub struct GuidanceConfig {
     pub max_bank_deg: f64,
     /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
     pub time_scale: f64,
+    /// Speed of the steady wind the simulated aircraft flies in (m/s), default 0 (calm). The
+    /// turns' radius is the plan's ([`crate::geofence::onboard::FlyBy`]); this wind sets the
+    /// ground speed along each path, and so the bank the path takes.
+    pub wind_speed_mps: f64,
+    /// Direction the wind blows from, degrees clockwise from true north, default 0.
+    pub wind_from_deg: f64,
 }
 
 impl Default for GuidanceConfig {
@@ -30,22 +36,44 @@ impl Default for GuidanceConfig {
             descent_rate_mps: 2.0,
             max_bank_deg: 25.0,
             time_scale: 1.0,
+            wind_speed_mps: 0.0,
+            wind_from_deg: 0.0,
         }
     }
 }
 
 impl GuidanceConfig {
     /// How this guidance turns at waypoints, for the geofence ([`crate::geofence::turn`] at
-    /// its bank: the construction [`Guidance`] flies).
+    /// its bank: the construction [`Guidance`] flies, sized for the wind of the plan flown).
     pub fn fly_by(&self) -> FlyBy {
         FlyBy {
             bank_deg: self.sanitized().max_bank_deg,
         }
     }
 
+    /// Ground speed flying at airspeed `v` along a ground course of `course_deg` in the
+    /// configured wind: the along-track wind plus what is left of `v` after the crab angle
+    /// cancels the crosswind, m/s. Where the wind leaves no forward speed on this course (the
+    /// safety gateway refuses such a leg, `ENERGY-TRACK`), a twentieth of `v`, so that the
+    /// model keeps moving along the path it was given.
+    pub fn ground_speed_mps(&self, v: f64, course_deg: f64) -> f64 {
+        let c = self.sanitized();
+        let w = c.wind_speed_mps;
+        // Angle between the course and where the wind blows to.
+        let delta = (course_deg - (c.wind_from_deg + 180.0)).to_radians();
+        let (along, cross) = (w * delta.cos(), w * delta.sin());
+        let ground = along + (v * v - cross * cross).max(0.0).sqrt();
+        if ground.is_finite() && ground > v / 20.0 {
+            ground
+        } else {
+            v / 20.0
+        }
+    }
+
     /// The configuration with every unusable value replaced by its default: non-finite or
     /// non-positive rates, a bank outside 0..90 deg, a negative or non-finite time scale, a
-    /// start position off the globe.
+    /// start position off the globe, a wind speed that is negative or not a number, a wind
+    /// direction that is not a number.
     pub(super) fn sanitized(self) -> Self {
         let d = Self::default();
         let positive = |v: f64, default: f64| {
@@ -73,6 +101,16 @@ impl GuidanceConfig {
                 self.time_scale
             } else {
                 d.time_scale
+            },
+            wind_speed_mps: if self.wind_speed_mps.is_finite() && self.wind_speed_mps >= 0.0 {
+                self.wind_speed_mps
+            } else {
+                d.wind_speed_mps
+            },
+            wind_from_deg: if self.wind_from_deg.is_finite() {
+                self.wind_from_deg.rem_euclid(360.0)
+            } else {
+                d.wind_from_deg
             },
         }
     }

@@ -24,8 +24,16 @@
 //!   Vertical and horizontal motion never mix except in Cruise.
 //! - **Altitudes**: waypoint altitudes are taken as heights above the start ground, whatever
 //!   their altitude type (no terrain, no geoid), without a vertical rate limit.
-//! - **Speed**: the TO waypoint's commanded speed is flown as ground speed at once (no wind, no
-//!   acceleration); a waypoint with speed 0 is flown at [`FALLBACK_SPEED_MPS`].
+//! - **Speed and wind**: the TO waypoint's commanded speed is flown as airspeed at once (no
+//!   acceleration); a waypoint with speed 0 is flown at [`FALLBACK_SPEED_MPS`]. The aircraft
+//!   flies in the steady wind of its configuration ([`GuidanceConfig::wind_speed_mps`]): it
+//!   holds each path over the ground, crabbing into the crosswind, at the ground speed the wind
+//!   leaves on the path's course there ([`GuidanceConfig::ground_speed_mps`]).
+//! - **Turns in wind**: every turn is sized for the wind the plan was checked in (the list's
+//!   `planning_wind`, #13001 field 5): radius `(v + W)²/(g·tan(bank))`, which a bank-limited
+//!   aircraft holds over the ground in a wind of up to `W` from any direction
+//!   ([`crate::geofence::onboard::FlyBy`] proves it); `services/tests/flown_path.rs` flies the
+//!   turns in winds from eight directions and measures the bank each step took.
 //! - **What is flown is what the geofence checks**: the legs between the waypoints and, at
 //!   every waypoint, the turn of [`crate::geofence::turn`], the one construction the onboard
 //!   check and the safety gateway check too. Guidance flies each of its paths exactly (to
@@ -44,8 +52,9 @@
 //!   waypoint's (the geofence's arc); turns onto and off them are the turns below, with the arc
 //!   as the leg turned off or onto.
 //! - **Fly-by** (ARINC 424 fly-by): at the TO waypoint the aircraft turns on the arc of radius
-//!   `r = v²/(g·tan(bank))` (`v` the speed flown in the turn: the next waypoint's, towards which
-//!   the aircraft flies from the turn's start; the configured bank) tangent to the leg
+//!   `r = (v + W)²/(g·tan(bank))` (`v` the speed flown in the turn: the next waypoint's, towards
+//!   which the aircraft flies from the turn's start; `W` the plan's wind; the configured bank)
+//!   tangent to the leg
 //!   in and the leg out; FROM-TO-NEXT switches where the arc starts (`r·tan(Δψ/2)` before the
 //!   waypoint between track-to-fix legs turning `Δψ`), and the next leg is joined where the
 //!   arc ends. **Legs too short for the arc** (its tangent point farther from the waypoint than

@@ -236,9 +236,13 @@ impl Guidance {
                 self.turn_radius(leg_speed(&after)),
             )
         } else {
-            self.config
-                .fly_by()
-                .turn(&w, &after, &self.route.leg, &outbound)
+            self.config.fly_by().turn(
+                &w,
+                &after,
+                &self.route.leg,
+                &outbound,
+                self.list.planning_wind.mps(),
+            )
         };
         self.planned = Some(Planned {
             serial: self.route.serial,

@@ -343,7 +343,7 @@ fn turn_at_w1(s: &Sim, w1_turn: TurnType) -> (Turn, f64) {
     let (inbound, outbound) = (onboard::leg(&w[0], &w[1]), onboard::leg(&w[1], &w[2]));
     let t = GuidanceConfig::default()
         .fly_by()
-        .turn(&w[1], &w[2], &inbound, &outbound);
+        .turn(&w[1], &w[2], &inbound, &outbound, 0.0);
     let paths: Vec<Path> = t.paths.iter().copied().chain([outbound]).collect();
     let worst = s
         .log

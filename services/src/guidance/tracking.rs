@@ -44,6 +44,16 @@ pub(super) fn to_go(arc: &ArcGeometry, az: f64) -> f64 {
     }
 }
 
+/// The course over the ground at `here` (a point of `path`) flying along it, degrees: towards
+/// the geodesic's end, along the arc's tangent.
+pub(super) fn course_on(path: &Path, here: &Site) -> f64 {
+    match path {
+        Path::Point(_) => 0.0,
+        Path::Geodesic { to, .. } => here.inverse(to).1,
+        Path::Arc(leg) => leg.geometry().course_at(here),
+    }
+}
+
 /// The end of a path.
 pub(super) fn end_of(path: &Path) -> Site {
     match path {
@@ -83,11 +93,17 @@ impl Guidance {
         let to_index = self.route.to?;
         let to = *self.entry(to_index)?;
         let target = Site::of(to.position);
-        let v = leg_speed(&to);
+        let here = Site::of(self.position);
+        // The TO waypoint's speed is the airspeed; the ground speed is the one on the course
+        // of the path flown here, in the configured wind.
+        let airspeed = leg_speed(&to);
+        let flying = self.route.turn.last().copied().unwrap_or(self.route.body);
+        let v = self
+            .config
+            .ground_speed_mps(airspeed, course_on(&flying, &here));
         self.ground_speed_mps = v;
         let budget = v * dt;
         let target_alt = to.altitude.metres();
-        let here = Site::of(self.position);
 
         // The turn onto this leg.
         if let Some(path) = self.route.turn.last().copied() {
@@ -109,7 +125,7 @@ impl Guidance {
                 return Some(remaining.max(0.0) / v);
             }
             self.climb_towards(target_alt, budget, ahead);
-            self.advance(&path, &here, budget, v);
+            self.advance(&path, &here, budget, airspeed);
             return Some(dt);
         }
 
@@ -151,7 +167,7 @@ impl Guidance {
         }
         self.climb_towards(target_alt, budget, to_end);
         let body = self.route.body;
-        self.advance(&body, &here, budget, v);
+        self.advance(&body, &here, budget, airspeed);
         Some(dt)
     }
 
@@ -212,8 +228,11 @@ impl Guidance {
         self.set_position(next);
     }
 
-    /// Turn radius at speed `v` and the bank limit, metres.
+    /// Radius of a turn flown at airspeed `v` in the plan's wind, metres
+    /// ([`FlyBy::radius_in_wind_m`]).
     pub(super) fn turn_radius(&self, v: f64) -> f64 {
-        self.config.fly_by().turn_radius_m(v)
+        self.config
+            .fly_by()
+            .radius_in_wind_m(v, self.list.planning_wind.mps())
     }
 }

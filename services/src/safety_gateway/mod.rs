@@ -137,6 +137,10 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
             Err(Report { violations })
         }
     }
+
+    fn planning_wind(&self) -> Option<missionlink_interfaces::wire::Speed> {
+        self.environment.planning_wind()
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -281,7 +285,10 @@ impl SafetyGateway {
     /// route the way back from the last waypoint and the turn round at every waypoint where a
     /// return to home may start. Paths the legs between the waypoints do not cover.
     fn turns(&self, mission: &Mission, take_off: Option<GeoPoint>) -> Vec<Leg> {
-        let route = RouteView::from(mission);
+        let route = RouteView {
+            wind_mps: self.turn_wind_mps(mission),
+            ..RouteView::from(mission)
+        };
         let entries = route.waypoints;
         let fly_by = onboard::FlyBy {
             bank_deg: self.profile.max_bank_deg,
@@ -327,6 +334,15 @@ impl SafetyGateway {
                 _ => None,
             })
             .collect()
+    }
+
+    /// The wind speed every turn of `mission` is checked in (ICD §7 "Turns in wind"): the larger
+    /// of the plan's planning wind (#13001 field 5) and the environment's, as the validation
+    /// sends it to the FCC ([`Environment::planning_wind`]), m/s.
+    pub fn turn_wind_mps(&self, mission: &Mission) -> f64 {
+        let plan = RouteView::from(mission).wind_mps;
+        let environment = self.environment.planning_wind().map_or(0.0, |w| w.mps());
+        plan.max(environment)
     }
 
     /// The energy estimate of `mission` flown from `take_off`.

@@ -1,6 +1,8 @@
 //! What the checks are checked against: the aircraft's limits and power model
 //! ([`AircraftProfile`]) and the conditions of the flight ([`Environment`]).
 
+use missionlink_interfaces::wire::Speed;
+
 use super::GRAVITY_MPS2;
 
 /// The aircraft's limits and its power model.
@@ -116,6 +118,18 @@ pub struct Environment {
     pub wind_from_deg: f64,
     /// Outside air temperature, °C.
     pub temperature_c: f64,
+}
+
+impl Environment {
+    /// The wind speed as the plan carries it (#13001 field 5, ICD §7 "Turns in wind"): rounded
+    /// up to the wire's 0.5 m/s, so that the turns flown are never sized for less wind than
+    /// the environment gives; `None` in calm air (and for a speed that is not a number or not
+    /// above 0, which the environment check reports where it is out of limits).
+    pub fn planning_wind(&self) -> Option<Speed> {
+        let steps = (self.wind_speed_mps / Speed::LSB_MPS).ceil();
+        (steps.is_finite() && steps >= 1.0)
+            .then(|| Speed::from_raw(steps.min(f64::from(u16::MAX)) as u16))
+    }
 }
 
 impl Default for Environment {

@@ -123,7 +123,9 @@ impl SafetyGateway {
                 );
                 c.at(centre);
             }
-            let ground = leg.speed_mps + self.environment.wind_speed_mps.max(0.0);
+            // The ground speed of a tailwind (ICD §7 "Turns in wind"): the wind the turns are
+            // checked in, from whatever direction.
+            let ground = leg.speed_mps + self.turn_wind_mps(mission);
             let min_r = p.min_turn_radius_m(ground);
             let r = rs.min(re);
             if below(r, min_r) {

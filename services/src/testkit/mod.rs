@@ -194,6 +194,7 @@ pub fn route(initial: u16, bidirectional: bool) -> UaRoute {
         route_id: None,
         route_type: Some(RouteType::Flight),
         bidirectional,
+        planning_wind: None,
     }
 }
 

@@ -96,6 +96,7 @@ impl Mission {
         p.take_off_height = self.take_off_height();
         p.initial_waypoint = self.route.initial_waypoint;
         p.bidirectional = self.route.bidirectional;
+        p.planning_wind = self.route.planning_wind.unwrap_or_default();
         p.count = self.waypoints.len() as u16;
         for (entry, record) in p.waypoints.iter_mut().zip(&self.waypoints) {
             let w = &record.waypoint;

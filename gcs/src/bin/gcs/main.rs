@@ -786,7 +786,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                 .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
             std::fs::write(
                 &output,
-                map::render(&valid, plan.take_off_position, &markers, &title),
+                map::render(&valid, plan.take_off_position, &markers, &title, &gateway),
             )
             .map_err(|e| format!("{}: {e}", output.display()))?;
             println!(

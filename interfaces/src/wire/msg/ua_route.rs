@@ -1,12 +1,13 @@
 //! #13001 UA Route (ICD §4): route properties, the initial waypoint and whether the route is
-//! bidirectional (ICD §5.1 step 4).
+//! bidirectional (ICD §5.1 step 4), and (edition 2) the wind the mission was checked in, which
+//! sizes the turns the FCC flies and checks (ICD §7).
 
 use core::fmt;
 
 use super::{MessageBody, MessageType, is_waypoint_number, reader};
 use crate::wire::enums::RouteType;
 use crate::wire::error::{EncodeError, MessageError};
-use crate::wire::field::{Text, Timestamp, U3};
+use crate::wire::field::{Speed, Text, Timestamp, U3};
 use crate::wire::presence::Writer;
 
 /// #13001.
@@ -24,6 +25,9 @@ pub struct UaRoute {
     /// Bit 4 (Activity ID, M), bit 0 of the U3: return-to-home may fly the route backwards.
     /// The other 23 bits have no meaning in this ICD: sent as 0, ignored on receive.
     pub bidirectional: bool,
+    /// Bit 5 (ext, ICD §7 "Turns in wind"): the wind speed the mission was planned and checked
+    /// in; the FCC flies and checks every turn at the radius this wind forces. Absent: calm.
+    pub planning_wind: Option<Speed>,
 }
 
 impl MessageBody for UaRoute {
@@ -34,6 +38,7 @@ impl MessageBody for UaRoute {
         "Route ID",
         "Route Type",
         "Activity ID",
+        "Planning Wind Speed",
     ];
     const PV_BYTES: usize = 1;
 
@@ -47,6 +52,7 @@ impl MessageBody for UaRoute {
             route_id: r.optional(2)?,
             route_type: r.optional(3)?,
             bidirectional: r.mandatory::<U3>(4)?.get() & 1 != 0,
+            planning_wind: r.optional(5)?,
         };
         r.finish()?;
         Ok(m)
@@ -62,6 +68,7 @@ impl MessageBody for UaRoute {
             4,
             &U3::new(u32::from(self.bidirectional)).unwrap_or_default(),
         )?;
+        w.optional(5, self.planning_wind.as_ref())?;
         Ok(w.finish())
     }
 
@@ -86,6 +93,9 @@ impl fmt::Display for UaRoute {
         )?;
         if let Some(t) = self.route_type {
             write!(f, ", {}", t.name())?;
+        }
+        if let Some(w) = self.planning_wind {
+            write!(f, ", planned in wind {} m/s", w.mps())?;
         }
         super::optional(f, "route", self.route_id.as_ref().map(Text::as_str))
     }
@@ -137,6 +147,7 @@ mod tests {
             route_id: Some(Text::new("TROL-CCP").unwrap()),
             route_type: Some(RouteType::Flight),
             bidirectional: true,
+            planning_wind: None,
         }
     }
 
@@ -167,6 +178,7 @@ mod tests {
                 route_id: None,
                 route_type: None,
                 bidirectional: false,
+                planning_wind: None,
                 ..repr()
             },
             "#13001 UA Route: initial waypoint 1, one-way",
