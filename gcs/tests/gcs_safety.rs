@@ -54,8 +54,21 @@ fn a_broken_copy_names_every_defect_and_fails() {
             "{out}"
         );
     }
+    // In that wind every turn is flown at (25 + 14)²/(g·tan 25°) = 331 m (ICD §7 "Turns in
+    // wind"): the turn round at waypoint 3 for a return to home leaves the fly-zone, which the
+    // same turn in calm air does not.
     assert!(
-        text(&o.stderr).contains("infeasible: 6 violations"),
+        out.contains("GEO-FZ-LEG fly-over turn at waypoint 3 intercepting the leg to 2"),
+        "{out}"
+    );
+    assert!(
+        out.contains("turns checked in a wind of 14 m/s from any direction"),
+        "{out}"
+    );
+    let calm = text(&gcs(&["validate", broken.to_str().unwrap()]).stdout);
+    assert!(!calm.contains("GEO-FZ-LEG"), "{calm}");
+    assert!(
+        text(&o.stderr).contains("infeasible: 7 violations"),
         "{}",
         text(&o.stderr)
     );

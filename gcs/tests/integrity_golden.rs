@@ -1,5 +1,5 @@
 //! ICD §11 golden values: the canonical forms and CRC-32 checksums of the demo missions and
-//! their areas, as `services/tests/data/integrity_reference.py` computes them from the ICD text
+//! their areas (and of mission 2 planned in wind), as `services/tests/data/integrity_reference.py` computes them from the ICD text
 //! alone (a third party can rerun it), against services' `transfer::integrity` on the same
 //! mission files read by the gcs.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
@@ -9,6 +9,7 @@
 use std::path::Path;
 
 use missionlink_gcs::mission_file::MissionFile;
+use missionlink_interfaces::wire::Speed;
 use missionlink_services::transfer::integrity::{
     areas_checksum, mission_checksum, write_areas, write_mission,
 };
@@ -27,15 +28,21 @@ fn the_demo_missions_canonical_forms_and_checksums_are_the_icds() {
             panic!("a row of three fields: {line}");
         };
         let (file, kind) = name.split_once('.').unwrap();
+        // "mission-2@wind12": the file planned in a wind of 12 m/s (#13001 field 5).
+        let (file, wind) = match file.split_once("@wind") {
+            Some((file, mps)) => (file, Some(Speed::from_mps(mps.parse().unwrap()).unwrap())),
+            None => (file, None),
+        };
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../missions")
             .join(format!("{file}.toml"));
-        let lists = MissionFile::read(&path)
+        let mut lists = MissionFile::read(&path)
             .unwrap()
             .to_plan()
             .unwrap()
             .assemble()
             .unwrap();
+        lists.mission.route.planning_wind = wind;
         let mut canonical = Vec::new();
         let checksum = match kind {
             "mission" => {
@@ -52,5 +59,5 @@ fn the_demo_missions_canonical_forms_and_checksums_are_the_icds() {
         assert_eq!(format!("{:08x}", checksum.value()), crc, "{name}: checksum");
         rows += 1;
     }
-    assert_eq!(rows, 4);
+    assert_eq!(rows, 5);
 }

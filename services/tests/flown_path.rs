@@ -34,9 +34,7 @@ use missionlink_services::geofence::zone::Fence;
 use missionlink_services::ground_station::MissionPlan;
 use missionlink_services::guidance::{Guidance, GuidanceConfig};
 use missionlink_services::link::time::Instant;
-use missionlink_services::safety_gateway::{
-    AircraftProfile, Element, Environment, SafetyGateway,
-};
+use missionlink_services::safety_gateway::{AircraftProfile, Element, Environment, SafetyGateway};
 use missionlink_services::testkit::{
     self, CCP, FLY_ZONE, NFZ_POLYGON, circle, distance_to_path, plan, polygon, rf_centre, route,
     take_off, waypoint,
@@ -183,7 +181,9 @@ const G: f64 = 9.806_65;
 /// to hover.
 fn bank_flown(flown: &[Site], wind: (f64, f64)) -> f64 {
     let dt = STEP.as_secs_f64();
-    let flown = flown.get(..flown.len().saturating_sub(1)).unwrap_or_default();
+    let flown = flown
+        .get(..flown.len().saturating_sub(1))
+        .unwrap_or_default();
     // Where the wind blows to, east and north, m/s.
     let to = (wind.1 + 180.0).to_radians();
     let (we, wn) = (wind.0 * to.sin(), wind.0 * to.cos());
@@ -896,7 +896,11 @@ fn band_plan(case: &BandCase, wind: f64, depth: f64) -> MissionPlan {
     ];
     let bare = MissionPlan {
         take_off_position: Some(point(case.take_off)),
-        ..plan(&case.messages, &[polygon(1, AreaType::FlyZone, &fly_zone)], "BAND")
+        ..plan(
+            &case.messages,
+            &[polygon(1, AreaType::FlyZone, &fly_zone)],
+            "BAND",
+        )
     };
     let offset = bare.safety_offset.metres();
     let mission = bare.assemble().unwrap().mission;
@@ -908,8 +912,13 @@ fn band_plan(case: &BandCase, wind: f64, depth: f64) -> MissionPlan {
         };
         onboard::execute_route(view, start, Some(fcc_turns())).collect()
     };
-    let is_turn = |l: &RouteLeg| matches!(l.element, RouteElement::Turn { at, .. } if at == case.at);
-    let windy: Vec<Path> = route(wind).into_iter().filter(is_turn).map(|l| l.path).collect();
+    let is_turn =
+        |l: &RouteLeg| matches!(l.element, RouteElement::Turn { at, .. } if at == case.at);
+    let windy: Vec<Path> = route(wind)
+        .into_iter()
+        .filter(is_turn)
+        .map(|l| l.path)
+        .collect();
     // What else is flown: the legs and the turn in calm air.
     let others: Vec<Path> = route(wind)
         .into_iter()
@@ -948,7 +957,10 @@ fn band_plan(case: &BandCase, wind: f64, depth: f64) -> MissionPlan {
                 (far(c), c)
             })
         })
-        .fold((f64::NEG_INFINITY, c), |best, x| if x.0 > best.0 { x } else { best });
+        .fold(
+            (f64::NEG_INFINITY, c),
+            |best, x| if x.0 > best.0 { x } else { best },
+        );
     let border = centre.direct(0.0, radius);
     MissionPlan {
         take_off_position: Some(point(case.take_off)),
@@ -1075,7 +1087,9 @@ fn a_zone_just_inside_a_turn_in_wind_is_refused_and_just_outside_accepted() {
         let clear = geo_violations(&outside, WIND_MPS);
         let margin = refused
             .iter()
-            .filter(|v| matches!(v.2, Element::Route(RouteElement::Turn { at, .. }) if at == case.at))
+            .filter(
+                |v| matches!(v.2, Element::Route(RouteElement::Turn { at, .. }) if at == case.at),
+            )
             .filter_map(|v| v.1)
             .fold(f64::INFINITY, f64::min);
         println!(
@@ -1092,8 +1106,16 @@ fn a_zone_just_inside_a_turn_in_wind_is_refused_and_just_outside_accepted() {
         );
         assert!(calm.is_empty(), "{}: calm {calm:?}", case.name);
         assert!(clear.is_empty(), "{}: outside {clear:?}", case.name);
-        assert!(!onboard_passes(&inside, WIND_MPS), "{}: onboard, inside", case.name);
+        assert!(
+            !onboard_passes(&inside, WIND_MPS),
+            "{}: onboard, inside",
+            case.name
+        );
         assert!(onboard_passes(&inside, 0.0), "{}: onboard, calm", case.name);
-        assert!(onboard_passes(&outside, WIND_MPS), "{}: onboard, outside", case.name);
+        assert!(
+            onboard_passes(&outside, WIND_MPS),
+            "{}: onboard, outside",
+            case.name
+        );
     }
 }

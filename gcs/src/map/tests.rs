@@ -49,7 +49,13 @@ fn assert_well_formed(svg: &str) {
 #[test]
 fn mission_2_draws_every_element() {
     let plan = validated(MISSION_2);
-    let svg = render(&plan, None, &[], "Demo mission 2", &SafetyGateway::default());
+    let svg = render(
+        &plan,
+        None,
+        &[],
+        "Demo mission 2",
+        &SafetyGateway::default(),
+    );
     assert_well_formed(&svg);
     assert_eq!(
         svg.matches(r#"<circle class="waypoint""#).count(),
@@ -90,7 +96,13 @@ fn mission_2_draws_every_element() {
 #[test]
 fn mission_1_draws_its_single_waypoint() {
     let plan = validated(MISSION_1);
-    let svg = render(&plan, None, &[], "Demo mission 1", &SafetyGateway::default());
+    let svg = render(
+        &plan,
+        None,
+        &[],
+        "Demo mission 1",
+        &SafetyGateway::default(),
+    );
     assert_well_formed(&svg);
     assert_eq!(svg.matches(r#"<circle class="waypoint""#).count(), 1);
     assert!(svg.contains(">1</text>"));
@@ -101,7 +113,13 @@ fn mission_1_draws_its_single_waypoint() {
     assert!(!svg.contains("class=\"leg "));
     // From its take-off position (TROL) the way to CCP is drawn, as the gateway checks it.
     let trol = MissionFile::parse(MISSION_1).unwrap().to_plan().unwrap();
-    let svg = render(&plan, trol.take_off_position, &[], "Demo mission 1", &SafetyGateway::default());
+    let svg = render(
+        &plan,
+        trol.take_off_position,
+        &[],
+        "Demo mission 1",
+        &SafetyGateway::default(),
+    );
     assert_well_formed(&svg);
     assert_eq!(svg.matches(r#"class="leg tf" data-leg="0-1""#).count(), 1);
 }
@@ -109,7 +127,13 @@ fn mission_1_draws_its_single_waypoint() {
 #[test]
 fn markers_are_drawn_and_listed() {
     let plan = validated(MISSION_2);
-    let svg = render(&plan, None, &example_markers(), "Mission 2 <& markers>", &SafetyGateway::default());
+    let svg = render(
+        &plan,
+        None,
+        &example_markers(),
+        "Mission 2 <& markers>",
+        &SafetyGateway::default(),
+    );
     assert_well_formed(&svg);
     assert!(svg.contains("Mission 2 &lt;&amp; markers&gt;"));
     // Two on the map, all three in the box.
@@ -238,7 +262,8 @@ fn docs_map() -> String {
         &validated(MISSION_2),
         file.to_plan().unwrap().take_off_position,
         &[],
-        "missionlink demo mission 2: CCP to ROLE2", &SafetyGateway::default()
+        "missionlink demo mission 2: CCP to ROLE2",
+        &SafetyGateway::default(),
     )
 }
 
@@ -252,7 +277,8 @@ fn write_maps() {
         &validated(MISSION_2),
         None,
         &example_markers(),
-        "missionlink demo mission 2 with example markers", &SafetyGateway::default()
+        "missionlink demo mission 2 with example markers",
+        &SafetyGateway::default(),
     );
     std::fs::write(std::env::temp_dir().join("mission-2-markers.svg"), markers).unwrap();
 }

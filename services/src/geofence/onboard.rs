@@ -525,7 +525,11 @@ impl FlyBy {
     /// Radius of the turn flown at airspeed `v` in a wind of `wind_mps` from any direction:
     /// `(v + W)²/(g·tan(bank))`, metres (see the type's documentation).
     pub fn radius_in_wind_m(&self, v: f64, wind_mps: f64) -> f64 {
-        let wind = if wind_mps.is_finite() { wind_mps.max(0.0) } else { 0.0 };
+        let wind = if wind_mps.is_finite() {
+            wind_mps.max(0.0)
+        } else {
+            0.0
+        };
         self.turn_radius_m(v + wind)
     }
 

@@ -160,7 +160,7 @@ impl<R: fmt::Display> fmt::Display for GcsError<R> {
             Self::Edition1 { request } => write!(
                 f,
                 "the FCC speaks ICD edition 1 (it refused the report request): {request} needs \
-                 edition 2 (ICD §8)"
+                 edition 2; nothing was sent but the report request"
             ),
             Self::ActivateWithoutId => write!(
                 f,

@@ -91,6 +91,18 @@ pub trait SafetyGateway {
     }
 }
 
+/// Sets the planning wind `mission` is sent with (#13001 field 5, ICD §7 "Turns in wind"): the
+/// larger of its own and the one `gateway` checks turns in, none in calm air. The one place the
+/// ground decides it: the validation before every upload, `gcs validate` (whose checksums are
+/// then the ones the FCC will report) and the map.
+pub fn plan_in_wind<G: SafetyGateway>(gateway: &G, mission: &mut Mission) {
+    let route = &mut mission.route;
+    route.planning_wind = route
+        .planning_wind
+        .max(gateway.planning_wind())
+        .filter(|w| w.raw() != 0);
+}
+
 /// No gateway configured: the lists pass with the checks of ICD §7 alone.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct WithoutGateway;
@@ -336,11 +348,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
             InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
         })?;
-        let route = &mut lists.mission.route;
-        route.planning_wind = route
-            .planning_wind
-            .max(self.gateway.planning_wind())
-            .filter(|w| w.raw() != 0);
+        plan_in_wind(&self.gateway, &mut lists.mission);
         self.gateway
             .check(&lists.mission, &lists.areas, plan.take_off_position)
             .map_err(GcsError::Gateway)?;
@@ -752,7 +760,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             (Purpose::Discovery(Then::Download), true) => match self.download_target {
                 Target::Active => self.request_mission(now),
                 Target::Staged(_) => self.fail(GcsError::Edition1 {
-                    request: "downloading a staged mission",
+                    request: "downloading a staged mission (ICD §8)",
                 }),
             },
             (Purpose::Truth, true) => self.request_mission(now),

@@ -420,7 +420,15 @@ impl<G: SafetyGateway> GroundStation<G> {
         match (job.kind, edition_2) {
             (Kind::Stage(_), false) => {
                 return self.fail(GcsError::Edition1 {
-                    request: "staging a mission",
+                    request: "staging a mission (ICD §8)",
+                });
+            }
+            // An edition-1 FCC cannot be told the wind its turns were checked in: it would fly
+            // and check them for calm air, tighter than the gateway checked (ICD §7 "Turns in
+            // wind"). Refused before anything is sent rather than sent without it.
+            (_, false) if job.mission.route.planning_wind.is_some() => {
+                return self.fail(GcsError::Edition1 {
+                    request: "a mission planned in wind (#13001 field 5, ICD §7 \"Turns in wind\")",
                 });
             }
             (Kind::Atomic, false) => job.kind = Kind::Paper { clear: true },

@@ -174,6 +174,9 @@ impl SafetyGateway {
     }
 }
 
+/// Reports `element` violating a zone by `margin` at `at`. The paths of one turn (a fly-over's
+/// turn, intercept and turn back) are one element: the turn violating a zone is one defect,
+/// reported once with the worst margin of its paths and where that is.
 fn geo_violation(
     c: &mut Collector,
     code: ViolationCode,
@@ -182,6 +185,17 @@ fn geo_violation(
     at: Site,
     detail: String,
 ) {
+    if let Some(v) = c
+        .out
+        .iter_mut()
+        .find(|v| v.code == code && v.element == element && v.detail == detail)
+    {
+        if v.margin_m.is_some_and(|m| margin < m) {
+            v.margin_m = Some(margin);
+            v.position = Some(earth::Position::lat_lon_deg(at));
+        }
+        return;
+    }
     c.push(code, element, detail, None);
     if let Some(v) = c.out.last_mut() {
         v.margin_m = Some(margin);

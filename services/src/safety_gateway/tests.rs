@@ -407,7 +407,12 @@ fn cases() -> Vec<Case> {
                 "wind over the limit",
                 mission_2(),
                 &m2,
-                &[(V::Wind, Element::Environment)],
+                // In 15 m/s every turn is flown at (25 + 15)²/(g·tan 25°) = 350 m (ICD §7
+                // "Turns in wind"): the turn round at ROLE2 leaves the fly-zone.
+                &[
+                    (V::Wind, Element::Environment),
+                    (V::FlyZoneLeg, turn_round(3, 2)),
+                ],
             )
         },
         Case {

@@ -54,7 +54,7 @@ fn optional<const N: usize>(out: &mut impl Canonical, value: Option<[u8; N]>) {
 }
 
 /// The canonical form of a mission (ICD §11): take-off height [opt], initial waypoint, route
-/// flags, waypoint count, then each waypoint in flight-plan order with its radius-to-fix centre
+/// flags (and the planning wind where flags bit 1 says so), waypoint count, then each waypoint in flight-plan order with its radius-to-fix centre
 /// (or nine zero bytes).
 pub fn write_mission(mission: &Mission, out: &mut impl Canonical) {
     let take_off = match mission.take_off.data {
@@ -63,7 +63,14 @@ pub fn write_mission(mission: &Mission, out: &mut impl Canonical) {
     };
     optional(out, take_off);
     out.put(&mission.route.initial_waypoint.to_be_bytes());
-    out.put(&[u8::from(mission.route.bidirectional)]);
+    // The planning wind sizes every turn flown (ICD §7 "Turns in wind"): covered, as route
+    // flags bit 1 and the SPD2 after them, so that a mission without one keeps the form (and
+    // the checksum) it had before the field existed.
+    let wind = mission.route.planning_wind;
+    out.put(&[u8::from(mission.route.bidirectional) | (u8::from(wind.is_some()) << 1)]);
+    if let Some(w) = wind {
+        out.put(&w.raw().to_be_bytes());
+    }
     out.put(&(mission.waypoints.len() as u16).to_be_bytes());
     for record in &mission.waypoints {
         let w = &record.waypoint;

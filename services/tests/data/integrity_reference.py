@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Golden values of ICD §11 (end-to-end mission integrity), written from the ICD text alone.
 
-For the demo missions (missions/mission-1.toml, missions/mission-2.toml) it builds the canonical
+For the demo missions (missions/mission-1.toml, missions/mission-2.toml, and mission 2 planned in a
+12 m/s wind: "mission-2@wind12") it builds the canonical
 byte strings of the mission and of the area list exactly as ICD §11 describes them, with the field
 encodings of ICD §3 (BAM4 = round(deg / 180 * 2^31), ALT3 = round(m / 0.02), SPD2 =
 round(mps / 0.5), safety offset U2 = round(m / 0.1)) and the enumerations of ICD §4, and their
@@ -61,7 +62,11 @@ def mission_bytes(m):
     out += opt(alt3(m["take_off_height_m"]), 3)
     route = m["route"]
     out += u(route["initial_waypoint"], 2)
-    out += u(1 if route.get("bidirectional", False) else 0, 1)
+    wind = route.get("planning_wind_mps")
+    flags = (1 if route.get("bidirectional", False) else 0) | (2 if wind is not None else 0)
+    out += u(flags, 1)
+    if wind is not None:
+        out += spd2(wind)
     by_number = {w["number"]: w for w in m["waypoints"]}
     out += u(len(by_number), 2)
     number = route["initial_waypoint"]
@@ -119,6 +124,11 @@ def main():
         for kind, data in (("mission", mission_bytes(m)), ("areas", areas_bytes(m))):
             print(f"mission-{n}.{kind} {data.hex()} {zlib.crc32(data):08x}")
             print(f"mission-{n}.{kind}: {len(data)} bytes", file=sys.stderr)
+    # Mission 2 planned in a 12 m/s wind (#13001 field 5, ICD §7 "Turns in wind").
+    m = tomllib.loads((ROOT / "missions" / "mission-2.toml").read_text())
+    m["route"]["planning_wind_mps"] = 12.0
+    data = mission_bytes(m)
+    print(f"mission-2@wind12.mission {data.hex()} {zlib.crc32(data):08x}")
 
 
 if __name__ == "__main__":

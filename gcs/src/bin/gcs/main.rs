@@ -29,7 +29,7 @@ use missionlink_platform::keys;
 use missionlink_platform::udp::LinkPair;
 use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_services::ground_station::{
-    GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan,
+    GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan, plan_in_wind,
 };
 use missionlink_services::link::signing::Keyring;
 use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
@@ -457,6 +457,21 @@ fn gateway_report(
     )
 }
 
+/// The wind the turns were checked in, as `gcs validate` names it (ICD §7 "Turns in wind").
+fn turns_in_wind(gateway: &SafetyGateway, mission: &Mission) -> String {
+    match gateway.turn_wind_mps(mission) {
+        w if w > 0.0 => format!(
+            "turns checked in a wind of {w} m/s from any direction (radius (v + {w})²/(g·tan {}°))",
+            gateway.profile.max_bank_deg
+        ),
+        _ => format!(
+            "turns checked in calm air (radius v²/(g·tan {}°)): give --wind-mps or an \
+             environment file for the wind of the flight",
+            gateway.profile.max_bank_deg
+        ),
+    }
+}
+
 fn position_json(p: Option<GeoPoint>) -> serde_json::Value {
     serde_json::json!(p.map(mission_file::position))
 }
@@ -562,7 +577,8 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
     // The ICD §7 assembly; an area list that fails it still goes through the gateway,
     // unchecked, so that its defects come back as violations naming the area.
     let (valid, icd_error) = match plan.lists_to_check() {
-        Ok(lists) => {
+        Ok(mut lists) => {
+            plan_in_wind(&gateway, &mut lists.mission);
             let error = lists.invalid;
             (
                 Some(ValidatedPlan {
@@ -602,6 +618,7 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
                 "feasible": feasible,
                 "summary": summary,
                 "take_off_position": position_json(plan.take_off_position),
+                "turn_wind_mps": valid.as_ref().map(|v| gateway.turn_wind_mps(&v.mission)),
                 "energy_wh": energy.map(|e| serde_json::json!({ "total": e.total_wh, "limit": e.limit_wh })),
                 "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
                 "error": icd_error.map(|e| e.to_string()),
@@ -615,6 +632,9 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
         match plan.take_off_position.map(mission_file::position) {
             Some([lat, lon]) => println!("  take-off position: {lat}, {lon}"),
             None => println!("  take-off position: none"),
+        }
+        if let Some(v) = &valid {
+            println!("  {}", turns_in_wind(&gateway, &v.mission));
         }
         if let Some(e) = energy {
             println!(
@@ -663,6 +683,8 @@ fn send_plan(
     let mut link = open(config, gateway)?;
     let nothing_sent = |e| format!("{}: {e}; nothing was sent", file.display());
     let validated = link.station().validate(&plan).map_err(nothing_sent)?;
+    // What the FCC holds once it is there (the planning wind of the validation included).
+    let sent = validated.clone();
     // Read after the validation: the first message's ack timer starts when it is sent.
     let now = link.now();
     let station = link.station();
@@ -676,9 +698,7 @@ fn send_plan(
     if let Ok(Finished::Uploaded(report)) = &finished {
         println!("{report}");
         print_messages(report);
-        if let Ok(valid) = plan.assemble() {
-            state.remember(&valid);
-        }
+        state.remember(&sent);
     }
     finished.map(|_| ())
 }
@@ -762,9 +782,12 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             // The map shows a plan with defects too: the lists as far as they assemble.
             let valid = plan
                 .lists_to_check()
-                .map(|lists| ValidatedPlan {
-                    mission: lists.mission,
-                    areas: lists.areas,
+                .map(|mut lists| {
+                    plan_in_wind(&gateway, &mut lists.mission);
+                    ValidatedPlan {
+                        mission: lists.mission,
+                        areas: lists.areas,
+                    }
                 })
                 .map_err(|e| Failure::input(format!("{}: {e}", file.display())))?;
             let markers: Vec<map::Marker> = gateway_report(
