@@ -179,14 +179,25 @@ pub fn rest_from(path: &Path, at: Site) -> Path {
     }
 }
 
-fn start(path: &Path) -> Site {
+/// The part of `path` up to `at`, a point of it.
+pub fn up_to(path: &Path, at: Site) -> Path {
+    match *path {
+        Path::Point(p) => Path::Point(p),
+        Path::Geodesic { from, .. } => Path::Geodesic { from, to: at },
+        Path::Arc(leg) => Path::Arc(ArcLeg { to: at, ..leg }),
+    }
+}
+
+/// Where `path` starts.
+pub fn start(path: &Path) -> Site {
     match path {
         Path::Point(p) => *p,
         Path::Geodesic { from, .. } | Path::Arc(ArcLeg { from, .. }) => *from,
     }
 }
 
-fn end(path: &Path) -> Site {
+/// Where `path` ends.
+pub fn end(path: &Path) -> Site {
     match path {
         Path::Point(p) => *p,
         Path::Geodesic { to, .. } | Path::Arc(ArcLeg { to, .. }) => *to,

@@ -8,8 +8,8 @@ use missionlink_interfaces::contracts::WaypointEntry;
 use super::Guidance;
 use crate::geofence::earth::Site;
 use crate::geofence::onboard::FlyBy;
-use crate::geofence::path::{ArcLeg, Path};
-use crate::geofence::turn::{ArcGeometry, TurnKind, angle_to_go, length_m};
+use crate::geofence::path::Path;
+use crate::geofence::turn::{ArcGeometry, TurnKind, angle_to_go, end, length_m};
 
 /// Path ends (turn paths, leg switches, arrivals) handled within one sub-step at most.
 const MAX_LEGS_PER_SUB_STEP: usize = 8;
@@ -51,14 +51,6 @@ pub(super) fn course_on(path: &Path, here: &Site) -> f64 {
         Path::Point(_) => 0.0,
         Path::Geodesic { to, .. } => here.inverse(to).1,
         Path::Arc(leg) => leg.geometry().course_at(here),
-    }
-}
-
-/// The end of a path.
-pub(super) fn end_of(path: &Path) -> Site {
-    match path {
-        Path::Point(p) => *p,
-        Path::Geodesic { to, .. } | Path::Arc(ArcLeg { to, .. }) => *to,
     }
 }
 
@@ -120,7 +112,7 @@ impl Guidance {
                 + length_m(&self.route.body);
             if remaining <= budget + REACHED_M {
                 self.climb_towards(target_alt, remaining.max(0.0), ahead);
-                self.set_position(end_of(&path));
+                self.set_position(end(&path));
                 self.route.turn.pop();
                 return Some(remaining.max(0.0) / v);
             }

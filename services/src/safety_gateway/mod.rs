@@ -14,8 +14,8 @@
 //!   every leg in the direction flown (track-to-fix legs as WGS-84 geodesics, radius-to-fix legs
 //!   as arcs around their centre in their turn direction), the turn at every waypoint as
 //!   guidance flies it ([`crate::geofence::turn`], at the profile's bank: the fly-by arc of
-//!   radius `r = v²/(g·tan(bank))` tangent to both legs, the fly-over's turn, intercept and turn
-//!   onto the next leg), the reverse route of a bidirectional route back to its start with its
+//!   radius `r = (v + W)²/(g·tan(bank))` tangent to both legs, the fly-over's turn, intercept
+//!   and turn onto the next leg; `W` the wind, below), the reverse route of a bidirectional route back to its start with its
 //!   turns and the turn round of a return to home at every waypoint, and the landing (a vertical descent at the last waypoint, checked
 //!   as that waypoint's point) must stay inside the fly-zone shrunk by the safety offset and
 //!   outside every no-fly-zone (polygon or circle) grown by it. The margin is the signed
@@ -42,19 +42,29 @@
 //! - **Route** (`ROUTE-*`): radius-to-fix start and end radius equal within
 //!   [`AircraftProfile::rf_radius_tolerance_m`]; radius-to-fix radius not below the minimum turn
 //!   radius `r = v²/(g·tan(bank))` for the worst-case ground speed `v` = the leg's speed plus the
-//!   wind speed; waypoint speeds inside the envelope; waypoint altitudes not above the maximum;
+//!   wind speed the turns are checked in; waypoint speeds inside the envelope; waypoint altitudes not above the maximum;
 //!   take-off height inside its limits. A fly-by turn the legs are too short for is no route
 //!   violation: guidance flies it over, and that path is checked geographically.
 //! - **Energy** (`ENERGY-*`, [`SafetyGateway::estimate_energy`]): vertical climb to the take-off
-//!   height at the climb rate and climb power; every leg (the one from the take-off point
-//!   included) at its TO waypoint's speed as airspeed with the power model
-//!   [`AircraftProfile::cruise_power_w`], its time from the ground speed along the track with the
-//!   wind (per chord of the geofence's pieces); altitude gained on a leg costs climb power for
+//!   height at the climb rate and climb power; the route as flown (the one from the take-off
+//!   point included): every leg at its TO waypoint's speed as airspeed, less the parts its turns
+//!   cut short, and every turn's paths at the speed flown in it, with the power model
+//!   [`AircraftProfile::cruise_power_w`], their time from the ground speed along the track with
+//!   the wind (per chord of the geofence's pieces); altitude gained on a leg costs climb power for
 //!   `Δh / climb rate` on top (altitude lost is not credited); the landing a vertical descent
 //!   from the last waypoint's altitude at the descent rate and descent power. Compared against
-//!   usable energy × (1 − reserve). A leg whose track cannot be held against the wind (crosswind
-//!   ≥ airspeed, or no forward ground speed) is its own violation (`ENERGY-TRACK`) and left out
-//!   of the sum.
+//!   usable energy × (1 − reserve) (`ENERGY-BUDGET`). On a bidirectional route the flight with a
+//!   return to home from the last waypoint (the longest: the reverse route with its turns, then
+//!   the landing at the initial waypoint) is compared too (`ENERGY-RETURN`). A leg or turn whose
+//!   track cannot be held against the wind (crosswind ≥ airspeed, or no forward ground speed) is
+//!   its own violation (`ENERGY-TRACK`) and left out of the sum.
+//! - **Wind** (ICD §7 "Turns in wind"): every turn is checked at the radius a bank-limited
+//!   aircraft holds over the ground in a wind of speed `W` from any direction, `(v + W)²/(g·tan
+//!   (bank))` ([`crate::geofence::onboard::FlyBy`] proves it), with `W` the larger of the
+//!   environment's wind and the plan's planning wind (#13001 field 5), rounded up to the wire's
+//!   0.5 m/s ([`SafetyGateway::turn_wind_mps`]): the wind the validation sends to the FCC, whose
+//!   guidance flies and whose onboard check checks the same turns. The direction is not used for
+//!   the turns (the bank it takes is within the limit whatever it is) but is for the energy.
 //! - **Environment** (`ENV-*`): wind speed and temperature inside the profile's limits.
 //!
 //! # Geometry
@@ -72,9 +82,10 @@
 //!
 //! # Not checked
 //!
-//! - The energy of the turns (the legs are counted in full, which is longer than the turns'
-//!   short cuts of the corners save, except behind fly-over intercepts).
-//! - The energy of a return-to-home on a bidirectional route (covered by the reserve).
+//! - The extra power of a banked turn (its load factor `1/cos(bank)` is 1.10 at 25°): a
+//!   turn is counted at the cruise power of its speed.
+//! - A return to home commanded before the last waypoint: it flies a turn round and less of the
+//!   route, and is bounded by the one from the last waypoint counted.
 
 use missionlink_interfaces::wire::{AreaShape, AreaType, GeoPoint, LegType, SpecificData};
 
@@ -348,7 +359,7 @@ impl SafetyGateway {
     /// The energy estimate of `mission` flown from `take_off`.
     pub fn estimate_energy(&self, mission: &Mission, take_off: Option<GeoPoint>) -> EnergyEstimate {
         let legs = Self::legs(mission, take_off);
-        self.energy(mission, take_off.is_some(), &legs).0
+        self.energy(mission, take_off, &legs).0
     }
 
     /// Every violation of `mission` in `areas` flown from `take_off` (empty: the mission
@@ -378,7 +389,7 @@ impl SafetyGateway {
         let mut flown = legs.clone();
         flown.extend(self.turns(mission, take_off));
         self.check_geography(mission, take_off, &fence, &valid, &flown, &mut c);
-        self.check_energy(mission, take_off.is_some(), &legs, &mut c);
+        self.check_energy(mission, take_off, &legs, &mut c);
         c.out
     }
 }

@@ -95,8 +95,11 @@ pub enum ViolationCode {
     TakeOffHeightHigh,
     /// `ENERGY-BUDGET`: the estimated energy exceeds usable energy minus reserve.
     EnergyBudget,
-    /// `ENERGY-TRACK`: a leg's track cannot be held against the wind.
+    /// `ENERGY-TRACK`: a leg's or a turn's track cannot be held against the wind.
     TrackNotHeld,
+    /// `ENERGY-RETURN`: the mission with a return to home from its last waypoint (a
+    /// bidirectional route) exceeds usable energy minus reserve.
+    EnergyReturn,
     /// `ENV-WIND`: wind above the limit.
     Wind,
     /// `ENV-TEMP`: temperature outside the limits.
@@ -134,6 +137,7 @@ impl ViolationCode {
             Self::TakeOffHeightHigh => "ROUTE-TOH-MAX",
             Self::EnergyBudget => "ENERGY-BUDGET",
             Self::TrackNotHeld => "ENERGY-TRACK",
+            Self::EnergyReturn => "ENERGY-RETURN",
             Self::Wind => "ENV-WIND",
             Self::Temperature => "ENV-TEMP",
         }
@@ -206,7 +210,7 @@ impl fmt::Display for Report {
 pub struct EnergyEstimate {
     /// Vertical climb to the take-off height and on to the first waypoint's altitude.
     pub take_off_wh: f64,
-    /// Legs, with the climbs along them.
+    /// Legs and turns as flown, with the climbs along them.
     pub cruise_wh: f64,
     /// Vertical descent from the last waypoint.
     pub landing_wh: f64,
@@ -214,4 +218,15 @@ pub struct EnergyEstimate {
     pub total_wh: f64,
     /// Usable energy minus the reserve.
     pub limit_wh: f64,
+    /// On a bidirectional route: a return to home from the last waypoint, the reverse route
+    /// with its turns and the landing at the initial waypoint (in place of [`Self::landing_wh`]).
+    pub return_wh: Option<f64>,
+}
+
+impl EnergyEstimate {
+    /// The flight with the return to home from the last waypoint, Wh (a bidirectional route).
+    pub fn with_return_wh(&self) -> Option<f64> {
+        self.return_wh
+            .map(|r| self.take_off_wh + self.cruise_wh + r)
+    }
 }

@@ -531,6 +531,68 @@ fn safety_gateway_energy_estimate_of_mission_2() {
     assert!(w.cruise_wh > e.cruise_wh, "{w:?} {e:?}");
 }
 
+/// A 90° fly-by between two legs of 2 km is counted as flown: the legs less `r·tan(45°) = r`
+/// each next to the corner, plus the arc's `π·r/2`, at 25 m/s in calm air; in a 12 m/s wind
+/// the turn is flown at `(25 + 12)²/(g·tan 25°)` and counted so.
+#[test]
+fn safety_gateway_energy_counts_the_turn_as_flown() {
+    let corner = earth::destination(geo(CCP), 90.0, 3000.0);
+    let corner = (corner.y(), corner.x());
+    let w1 = earth::destination(geo(corner), 180.0, 2000.0);
+    let (_, _, course_in) =
+        Site::of(geo((w1.y(), w1.x()))).inverse_azimuths(&Site::of(geo(corner)));
+    let w3 = earth::destination(geo(corner), course_in + 90.0, 2000.0);
+    let m = mission(
+        30.0,
+        false,
+        &[tf((w1.y(), w1.x())), tf(corner), tf((w3.y(), w3.x()))],
+    );
+    let p = AircraftProfile::default();
+    for wind in [0.0, 12.0] {
+        let g = SafetyGateway::new(
+            p,
+            Environment {
+                wind_speed_mps: wind,
+                ..Environment::default()
+            },
+        );
+        // Without a take-off point the route starts at waypoint 1: the two legs and the turn.
+        let e = g.estimate_energy(&m, None);
+        let r = p.min_turn_radius_m(25.0 + wind);
+        let metres = 2.0 * (2000.0 - r) + core::f64::consts::FRAC_PI_2 * r;
+        let wh = p.cruise_power_w(25.0) * metres / 25.0 / 3600.0;
+        if wind == 0.0 {
+            assert!((e.cruise_wh - wh).abs() < 1e-3 * wh, "{e:?}: {wh} Wh");
+        } else {
+            // The wind (from the north) changes the ground speed on every chord; the distance
+            // counted is still the turn's.
+            assert!(e.cruise_wh > wh * 0.9, "{e:?}: {wh} Wh");
+        }
+        assert_eq!(e.return_wh, None, "one-way");
+    }
+}
+
+/// On a bidirectional route the return to home from the last waypoint is counted: with a
+/// battery between the flight out and the flight out and back, `ENERGY-RETURN`.
+#[test]
+fn safety_gateway_energy_of_a_return_to_home() {
+    let g = SafetyGateway::default();
+    let e = g.estimate_energy(&mission_2(), Some(geo(CCP)));
+    let home = e.with_return_wh().unwrap();
+    assert!(home > e.total_wh, "{e:?}");
+    let mut small = g;
+    let usable = (e.total_wh + home) / 2.0 / (1.0 - small.profile.reserve_fraction);
+    small.profile.usable_energy_wh = usable;
+    let v = small.violations(&mission_2(), &area_list(&mission_2_areas()), Some(geo(CCP)));
+    let codes: Vec<&str> = v.iter().map(|v| v.code.code()).collect();
+    assert_eq!(codes, ["ENERGY-RETURN"], "{v:?}");
+    let one_way = mission(30.0, false, &[tf(CCP), tf(W1), tf(ROLE2)]);
+    assert_eq!(
+        small.estimate_energy(&one_way, Some(geo(CCP))).return_wh,
+        None
+    );
+}
+
 #[test]
 fn safety_gateway_codes_are_distinct() {
     use ViolationCode as V;
@@ -562,6 +624,7 @@ fn safety_gateway_codes_are_distinct() {
         V::TakeOffHeightHigh,
         V::EnergyBudget,
         V::TrackNotHeld,
+        V::EnergyReturn,
         V::Wind,
         V::Temperature,
     ];
