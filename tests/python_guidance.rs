@@ -7,13 +7,14 @@
 //!   progress the Python process published; the launcher hears its heartbeat, and a Rust
 //!   subscriber reads its heartbeat and progress with the Rust payload types.
 //! - **Same kinematics**: the Python model and `services::guidance` fly demo missions 1 and 2
-//!   (and mission 2 with return to home and with land-at, and a route through mission 2's
-//!   no-fly-zones and out of its fly-zone) from the same lists, each in its own process but in
-//!   simulated time: the same steps of 100 ms, the same scripted system automation (execute,
-//!   then the next phase whenever guidance reports the current one complete). The FROM-TO-NEXT
-//!   sequences must be equal; steps, flags, zones and positions are compared too. Simulated
-//!   time makes this exact and independent of the machine's load, which flying both
-//!   time-scaled through the FCC would not be.
+//!   (and mission 2 with return to home and with land-at, a route through mission 2's
+//!   no-fly-zones and out of its fly-zone, and mission 2 planned for and flown in a 12 m/s wind,
+//!   ICD §7 "Turns in wind") from the same lists, each in its own process but in simulated
+//!   time: the same steps of 100 ms, the same scripted system automation (execute, then the
+//!   next phase whenever guidance reports the current one complete). The FROM-TO-NEXT
+//!   sequences must be equal; steps, flags, zones, ground speeds and positions are compared
+//!   too. Simulated time makes this exact and independent of the machine's load, which flying
+//!   both time-scaled through the FCC would not be.
 //!
 //! Both need a Python 3 with the packages of partitions/python/requirements.txt: the one
 //! `tools/test` sets up in `target/venv` (`common::python`); without them they fail and say how
@@ -35,7 +36,7 @@ use missionlink_interfaces::contracts::{
     GuidanceProgressPayload, HeartbeatPayload, Partition, PolygonArea, WaypointEntry,
     WaypointListPayload,
 };
-use missionlink_interfaces::wire::{self, GeoPoint};
+use missionlink_interfaces::wire::{self, GeoPoint, Speed};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::geofence::earth::{Site, distance_m};
@@ -284,6 +285,15 @@ fn the_python_guidance_replaces_the_stub_and_from_to_next_reaches_the_gcs() {
 const STEP: Duration = Duration::from_millis(100);
 /// Steps at most per flight.
 const MAX_STEPS: usize = 20_000;
+/// No wind: (speed m/s, from degrees).
+const CALM: (f64, f64) = (0.0, 0.0);
+/// How far apart the two models' ground speeds may be in wind, m/s. In calm air the ground
+/// speed is the TO waypoint's speed, and the two agree exactly. In wind it is a function of the
+/// course at the aircraft's position, and the positions differ in their last bits (the two
+/// geodesic libraries round differently: the positions' micrometre below), so the speeds do
+/// too (by about 1e-9 m/s at most on these flights). A speed this far off moves the aircraft a
+/// nanometre further in a step, a thousandth of the positions' tolerance.
+const SPEED_IN_WIND_MPS: f64 = 1e-8;
 
 /// A flight: the lists, where it starts, and what automation commands on the way.
 struct Scenario {
@@ -296,6 +306,9 @@ struct Scenario {
     /// Set `route_reversed` (return to home) when guidance first reports this triple in
     /// cruise.
     return_home_at: Option<(u16, u16, u16)>,
+    /// The steady wind both models fly in: speed (m/s) and the direction it blows from
+    /// (degrees); the turns are sized by the list's `planning_wind` (ICD §7 "Turns in wind").
+    wind: (f64, f64),
 }
 
 /// What one step reported, as both sides print it.
@@ -329,7 +342,9 @@ impl Record {
         let v = line.as_array().unwrap();
         let n = |i: usize| v[i].as_u64().unwrap() as u16;
         let b = |i: usize| v[i].as_bool().unwrap();
-        let f = |i: usize| v[i].as_f64().unwrap();
+        // The floats come as text: serde_json's own float parsing may be an ulp off (without
+        // its `float_roundtrip` feature), the standard library's is exact.
+        let f = |i: usize| v[i].as_str().unwrap().parse::<f64>().unwrap();
         Self {
             triple: (n(0), n(1), n(2)),
             flags: (b(3), b(4), b(5)),
@@ -383,6 +398,8 @@ fn fly_rust(s: &Scenario) -> Vec<Record> {
     let mut g = Guidance::new(GuidanceConfig {
         start_latitude_deg: s.start.0,
         start_longitude_deg: s.start.1,
+        wind_speed_mps: s.wind.0,
+        wind_from_deg: s.wind.1,
         ..GuidanceConfig::default()
     });
     g.set_waypoint_list(&s.waypoints);
@@ -443,15 +460,18 @@ def fill(obj, value):
 s = json.load(sys.stdin)
 w = c.WaypointListPayload(); fill(w, s["waypoints"])
 a = c.AreaListPayload(); fill(a, s["areas"])
-g = mg.Guidance(mg.GuidanceConfig(start_latitude_deg=s["start"][0], start_longitude_deg=s["start"][1]))
+g = mg.Guidance(mg.GuidanceConfig(start_latitude_deg=s["start"][0], start_longitude_deg=s["start"][1],
+    wind_speed_mps=s["wind"][0], wind_from_deg=s["wind"][1]))
 g.set_waypoint_list(w)
 g.set_area_list(a)
 state = c.AutomationStatePayload(sequence=1, flown_waypoint_list=w.generation, flight_phase=c.FlightPhase.ON_GROUND)
 g.set_automation(state)
 out = []
+# The floats as their shortest round-trip text (repr), which Rust parses exactly.
 def record(p):
     out.append(json.dumps([p.from_, p.to, p.next, p.climb_complete, p.route_complete, p.on_ground,
-        p.latitude_deg, p.longitude_deg, p.altitude_m, p.ground_speed_mps, p.inside_fly_zone, p.in_no_fly_zone]))
+        repr(p.latitude_deg), repr(p.longitude_deg), repr(p.altitude_m), repr(p.ground_speed_mps),
+        p.inside_fly_zone, p.in_no_fly_zone]))
 now = 0
 record(g.step(now))
 state.flight_phase = c.FlightPhase.TAKE_OFF; state.sequence += 1
@@ -543,6 +563,7 @@ fn scenario_json(s: &Scenario) -> Value {
             "count": w.count,
             "initial_waypoint": w.initial_waypoint,
             "bidirectional": w.bidirectional,
+            "planning_wind": { "raw": w.planning_wind.raw() },
             "waypoints": w.waypoints().iter().map(waypoint).collect::<Vec<_>>(),
         },
         "areas": {
@@ -558,6 +579,7 @@ fn scenario_json(s: &Scenario) -> Value {
         "start": [s.start.0, s.start.1],
         "land_at": s.land_at,
         "return_home_at": s.return_home_at.map(|(f, t, n)| vec![f, t, n]),
+        "wind": [s.wind.0, s.wind.1],
         "step_ns": STEP.as_nanos() as u64,
         "max_steps": MAX_STEPS,
     })
@@ -620,7 +642,11 @@ fn scenarios() -> Vec<Scenario> {
         start: ccp,
         land_at,
         return_home_at,
+        wind: CALM,
     };
+    // Mission 2 planned for a 12 m/s wind (#13001 field 5): every turn at (v + W)²/(g·tan bank).
+    let mut m2_in_wind = m2;
+    m2_in_wind.planning_wind = Speed::from_raw(24);
     vec![
         Scenario {
             name: "mission 1",
@@ -629,6 +655,7 @@ fn scenarios() -> Vec<Scenario> {
             start: trol,
             land_at: 0,
             return_home_at: None,
+            wind: CALM,
         },
         mission_2("mission 2", 0, None),
         mission_2("mission 2, return to home at W1", 0, Some((1, 2, 3))),
@@ -645,6 +672,23 @@ fn scenarios() -> Vec<Scenario> {
             start: trol,
             land_at: 0,
             return_home_at: None,
+            wind: CALM,
+        },
+        // In wind: the turns sized for the planning wind, flown at the ground speed the
+        // simulated wind leaves on each path's course. CCP to W1 runs about 070: from 060 the
+        // wind is nearly head-on there, from 250 behind (and head-on on the way home); the
+        // turns and the arc meet it from every side.
+        Scenario {
+            name: "mission 2 planned for 12 m/s, in 12 m/s from 060",
+            waypoints: m2_in_wind,
+            wind: (12.0, 60.0),
+            ..mission_2("", 0, None)
+        },
+        Scenario {
+            name: "mission 2 planned for 12 m/s, in 12 m/s from 250, return to home at W1",
+            waypoints: m2_in_wind,
+            wind: (12.0, 250.0),
+            ..mission_2("", 0, Some((1, 2, 3)))
         },
     ]
 }
@@ -710,14 +754,27 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
             s.name
         );
         // The same flight, step by step: same length, the same triple, flags and zones at
-        // every step, and the positions and altitudes (geodesics of the same algorithms, the
-        // same turn construction) within a micrometre.
+        // every step, the same ground speed (exactly in calm air, within SPEED_IN_WIND_MPS in
+        // wind), and the positions and altitudes (geodesics of the same algorithms, the same
+        // turn construction) within a micrometre.
         assert_eq!(python.len(), rust.len(), "{}: steps", s.name);
         let mut worst_m: f64 = 0.0;
         let mut worst_alt: f64 = 0.0;
+        let mut worst_speed: f64 = 0.0;
         for (i, (p, r)) in python.iter().zip(&rust).enumerate() {
             assert_eq!(p.triple, r.triple, "{}: step {i}", s.name);
-            assert_eq!(p.speed, r.speed, "{}: step {i}", s.name);
+            if s.wind == CALM {
+                assert_eq!(p.speed, r.speed, "{}: step {i}", s.name);
+            } else {
+                assert!(
+                    (p.speed - r.speed).abs() < SPEED_IN_WIND_MPS,
+                    "{}: step {i}: ground speed {} (Python) and {} (Rust)",
+                    s.name,
+                    p.speed,
+                    r.speed
+                );
+            }
+            worst_speed = worst_speed.max((p.speed - r.speed).abs());
             assert_eq!(p.flags, r.flags, "{}: step {i}", s.name);
             assert_eq!(p.zones, r.zones, "{}: step {i}", s.name);
             let d = distance_m(
@@ -736,7 +793,7 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
         println!(
             "{}: {} steps of {} ms, FROM-TO-NEXT {rust_triples:?}, zones (inside the fly-zone, \
              in no-fly-zone) {:?}; worst position difference {worst_m:.2e} m, altitude \
-             {worst_alt:.2e} m ({:.1} s)",
+             {worst_alt:.2e} m, ground speed {worst_speed:.2e} m/s ({:.1} s)",
             s.name,
             rust.len(),
             STEP.as_millis(),
@@ -747,7 +804,8 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
 }
 
 /// The test's own check that the scenarios differ where they should: return to home and
-/// land-at change the sequence of mission 2 (otherwise comparing them would prove little).
+/// land-at change the sequence of mission 2, and the wind changes the ground speed (otherwise
+/// comparing them would prove little).
 #[test]
 fn the_scenarios_exercise_return_to_home_and_land_at() {
     let all = scenarios();
@@ -783,6 +841,25 @@ fn the_scenarios_exercise_return_to_home_and_land_at() {
         triples(&all[3]),
         [(0, 0, 0), (0, 1, 2), (1, 2, 0), (2, 0, 0), (0, 0, 0)]
     );
+    // The flights in wind: the calm flights' sequences, at ground speeds well off the 25 m/s
+    // airspeed (from 060 a headwind all the way, from 250 a tailwind out and a headwind home),
+    // so the wind is flown, not left out.
+    for (s, calm) in [(&all[6], &all[1]), (&all[7], &all[2])] {
+        assert_ne!(s.wind, CALM, "{}", s.name);
+        assert_eq!(triples(s), triples(calm), "{}", s.name);
+        let cruise: Vec<f64> = fly_rust(s)
+            .iter()
+            .map(|r| r.speed)
+            .filter(|v| *v > 0.0)
+            .collect();
+        let slowest = cruise.iter().copied().fold(f64::INFINITY, f64::min);
+        let fastest = cruise.iter().copied().fold(0.0, f64::max);
+        assert!(
+            slowest < 20.0 || fastest > 30.0,
+            "{}: ground speeds {slowest}..{fastest} m/s",
+            s.name
+        );
+    }
     assert!(Path::new(&guidance_script()).is_file());
 }
 

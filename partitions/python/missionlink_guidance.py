@@ -22,6 +22,13 @@ Usage (the FCC started without its stub: `fcc --without guidance-stub`):
 
 Logs go to stderr; SIGTERM or SIGINT ends it cleanly (exit status 0).
 
+Wind, as the Rust model (ICD §7 "Turns in wind"): every turn is sized for the wind the plan was
+checked in (the list's `planning_wind`), at the radius (v + W)^2 / (g tan(bank)), which a
+bank-limited aircraft holds over the ground whatever the wind's direction, so that the path
+flown is the one path the geofence checked. The simulated aircraft flies in the steady wind of
+`--wind-speed-mps` / `--wind-from-deg`: waypoint speeds are airspeeds, and each path is held
+over the ground at the ground speed that wind leaves on its course.
+
 Where the Rust model and this port differ (on purpose, to stay short): the zone tests. Rust
 densifies every geodesic border and decides in the tangent plane with the geofence's pieces;
 here a polygon is taken with straight edges in the azimuthal equidistant projection about the
@@ -136,6 +143,11 @@ class GuidanceConfig:
     max_bank_deg: float = 25.0
     #: Simulated seconds per real second; 0 pauses.
     time_scale: float = 1.0
+    #: Speed of the steady wind the simulated aircraft flies in, m/s; 0 calm. It sets the ground
+    #: speed along each path; the turns' radius is the plan's wind's (ICD §7 "Turns in wind").
+    wind_speed_mps: float = 0.0
+    #: Direction that wind blows from, degrees clockwise from true north.
+    wind_from_deg: float = 0.0
 
     def sanitized(self) -> "GuidanceConfig":
         """Every unusable value replaced by its default (as the Rust model does)."""
@@ -157,11 +169,40 @@ class GuidanceConfig:
             time_scale=self.time_scale
             if math.isfinite(self.time_scale) and self.time_scale >= 0.0
             else d.time_scale,
+            wind_speed_mps=self.wind_speed_mps
+            if math.isfinite(self.wind_speed_mps) and self.wind_speed_mps >= 0.0
+            else d.wind_speed_mps,
+            # Python's % on floats is Rust's rem_euclid (fmod, plus 360 when negative).
+            wind_from_deg=self.wind_from_deg % 360.0
+            if math.isfinite(self.wind_from_deg)
+            else d.wind_from_deg,
         )
 
     def turn_radius_m(self, v: float) -> float:
-        """Radius of a turn at `v` and the bank limit: v^2 / (g tan(bank)), metres."""
+        """Radius of a turn at ground speed `v` and the bank limit: v^2 / (g tan(bank)),
+        metres."""
         return v * v / (GRAVITY_MPS2 * math.tan(math.radians(self.max_bank_deg)))
+
+    def radius_in_wind_m(self, v: float, wind_mps: float) -> float:
+        """Radius of the turn flown at airspeed `v` in a wind of `wind_mps` from any direction:
+        (v + W)^2 / (g tan(bank)), metres (geofence::onboard::FlyBy::radius_in_wind_m). The
+        tailwind part of the turn needs the most bank; sizing for it holds the ground path
+        whichever way the wind blows, and a forecast's direction is its least certain part."""
+        wind = max(wind_mps, 0.0) if math.isfinite(wind_mps) else 0.0
+        return self.turn_radius_m(v + wind)
+
+    def ground_speed_mps(self, v: float, course_deg: float) -> float:
+        """Ground speed at airspeed `v` along a ground course of `course_deg` in the configured
+        wind: the along-track wind plus what is left of `v` once the crab cancels the crosswind;
+        a twentieth of `v` where the wind leaves less (the gateway refuses such a leg), so that
+        the model keeps moving along its path (GuidanceConfig::ground_speed_mps)."""
+        c = self.sanitized()
+        w = c.wind_speed_mps
+        # Angle between the course and where the wind blows to.
+        delta = math.radians(course_deg - (c.wind_from_deg + 180.0))
+        along, cross = w * math.cos(delta), w * math.sin(delta)
+        ground = along + math.sqrt(max(v * v - cross * cross, 0.0))
+        return ground if math.isfinite(ground) and ground > v / 20.0 else v / 20.0
 
 
 def inverse(a: Point, b: Point) -> tuple[float, float, float]:
@@ -520,6 +561,14 @@ def remaining_on(path: Path, here: Point) -> float:
     az = inverse(path.centre, here)[1]
     alpha = _to_go(arc, az)
     return math.radians(alpha) * (arc.radius_at(az) + arc.r1) / 2.0
+
+
+def course_on(path: Path, here: Point) -> float:
+    """The course over the ground at `here` (a point of `path`) flying along it, degrees:
+    towards the geodesic's end, along the arc's tangent (guidance::tracking::course_on)."""
+    if isinstance(path, GeodesicPath):
+        return inverse(here, path.to)[1]
+    return ArcGeometry(path).course_at(here)
 
 
 def _to_go(arc: ArcGeometry, az: float) -> float:
@@ -922,8 +971,8 @@ class Guidance:
         if w is None or after is None or outbound is None:
             return None
         fly_over = over or enum_or_none(TurnType, w.turn_type) == TurnType.FLY_OVER
-        # The radius at the speed flown in the turn: the next waypoint's.
-        t = turn(self.route.leg, outbound, fly_over, self.config.turn_radius_m(leg_speed(after)))
+        # The radius at the speed flown in the turn (the next waypoint's) in the plan's wind.
+        t = turn(self.route.leg, outbound, fly_over, self.turn_radius(leg_speed(after)))
         self.planned = (self.route.serial, nxt, over, t)
         return t
 
@@ -935,11 +984,15 @@ class Guidance:
         if to_index is None or to is None:
             return None
         target = point(to.position)
-        v = leg_speed(to)
+        here = self.position
+        # The TO waypoint's speed is the airspeed; the ground speed is the one on the course of
+        # the path flown here, in the configured wind.
+        airspeed = leg_speed(to)
+        flying = self.route.turn[0] if self.route.turn else self.route.body
+        v = self.config.ground_speed_mps(airspeed, course_on(flying, here))
         self.ground_speed_mps = v
         budget = v * dt
         target_alt = to.altitude.metres()
-        here = self.position
 
         # The turn onto this leg.
         if self.route.turn:
@@ -955,7 +1008,7 @@ class Guidance:
                 self.route.turn.pop(0)
                 return max(remaining, 0.0) / v
             self.climb_towards(target_alt, budget, ahead)
-            self.advance(path, here, budget, v)
+            self.advance(path, here, budget, airspeed)
             return dt
 
         # The leg, to the start of the turn at TO.
@@ -988,7 +1041,7 @@ class Guidance:
                 self.route.complete = True
             return used / v
         self.climb_towards(target_alt, budget, to_end)
-        self.advance(self.route.body, here, budget, v)
+        self.advance(self.route.body, here, budget, airspeed)
         return dt
 
     def climb_towards(self, target: float, distance: float, ahead: float) -> None:
@@ -1001,12 +1054,12 @@ class Guidance:
     def advance(self, path: Path, here: Point, distance: float, v: float) -> None:
         """Moves `distance` metres (less than what is left) along `path` from `here` (the
         look-ahead law on a geodesic, polar coordinates on an arc: services/src/guidance/tracking.rs
-        `advance`)."""
+        `advance`); `v` is the airspeed, which sizes the look-ahead."""
         if isinstance(path, GeodesicPath):
             length, course, _ = inverse(path.from_, path.to)
             d, az, _ = inverse(path.from_, here)
             along = d * math.cos(math.radians(az - course))
-            look_ahead = max(self.config.turn_radius_m(v), MIN_LOOK_AHEAD_M)
+            look_ahead = max(self.turn_radius(v), MIN_LOOK_AHEAD_M)
             if along + look_ahead >= length:
                 aim = path.to
             else:
@@ -1020,6 +1073,11 @@ class Guidance:
         step = min(math.degrees(distance / math.hypot(rho, slope)), _to_go(arc, az))
         az = az + step if arc.clockwise else az - step
         self.position = arc.at(az)
+
+    def turn_radius(self, v: float) -> float:
+        """Radius of a turn flown at airspeed `v` in the plan's wind (the list's
+        `planning_wind`), metres."""
+        return self.config.radius_in_wind_m(v, self.list.planning_wind.mps())
 
     # The zones.
 
@@ -1267,6 +1325,8 @@ def run(args: argparse.Namespace) -> int:
             climb_rate_mps=args.climb_rate,
             descent_rate_mps=args.descent_rate,
             time_scale=args.time_scale,
+            wind_speed_mps=args.wind_speed_mps,
+            wind_from_deg=args.wind_from_deg,
         )
     )
     pairing = ListPairing()
@@ -1391,6 +1451,12 @@ def parse_args(argv: Optional[list[str]] = None) -> argparse.Namespace:
         ("--start-longitude", d.start_longitude_deg, "start longitude, degrees (TROL)"),
         ("--climb-rate", d.climb_rate_mps, "take-off climb rate, m/s"),
         ("--descent-rate", d.descent_rate_mps, "landing descent rate, m/s"),
+        (
+            "--wind-speed-mps",
+            d.wind_speed_mps,
+            "speed of the steady wind flown in, m/s (turns are sized by the plan's wind)",
+        ),
+        ("--wind-from-deg", d.wind_from_deg, "direction the wind blows from, degrees true"),
     ]:
         text = what + " (default: %(default)s)"
         parser.add_argument(flag, type=float, default=default, help=text)

@@ -3,7 +3,8 @@
 //! `tests/data/geofence_reference.py` (how, in `tests/data/README.md`), must agree within
 //! [`TOLERANCE_M`]. The fly-by rows check the turn construction too: the reference finds the
 //! arc tangent to both legs on the ellipsoid by itself, the geofence takes the arc of
-//! `geofence::turn`. Run with `--nocapture` to see the table.
+//! `geofence::turn`; the fly-by rows in wind check its radius in wind too (ICD §7 "Turns in
+//! wind"). Run with `--nocapture` to see the table.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -11,6 +12,7 @@
 use missionlink_interfaces::wire::{Angle, GeoPoint, TurnDirection};
 use missionlink_services::geofence::clearance::{Clearance, clearance};
 use missionlink_services::geofence::earth::{self, Site};
+use missionlink_services::geofence::onboard::FlyBy;
 use missionlink_services::geofence::path::{ArcLeg, Path, Track};
 use missionlink_services::geofence::turn::{TurnKind, turn};
 use missionlink_services::geofence::zone::{Zone, ZoneKind};
@@ -76,6 +78,24 @@ fn path(text: &str) -> Path {
                 &Path::Geodesic { from: w, to: b },
                 false,
                 radius.parse().unwrap(),
+            );
+            assert_eq!(t.kind, TurnKind::FlyBy, "{text}");
+            t.paths[0]
+        }
+        // A fly-by turn in wind: the radius is the geofence's (`FlyBy::radius_in_wind_m`), the
+        // reference computes `(v + W)²/(g·tan(bank))` itself.
+        "flyby-wind" => {
+            let (points, bank) = rest.rsplit_once(';').unwrap();
+            let p = numbers(points);
+            let (a, w, b, (v, wind)) = (site(p[0]), site(p[1]), site(p[2]), p[3]);
+            let fly_by = FlyBy {
+                bank_deg: bank.parse().unwrap(),
+            };
+            let t = turn(
+                &Path::Geodesic { from: a, to: w },
+                &Path::Geodesic { from: w, to: b },
+                false,
+                fly_by.radius_in_wind_m(v, wind),
             );
             assert_eq!(t.kind, TurnKind::FlyBy, "{text}");
             t.paths[0]

@@ -403,6 +403,8 @@ pub fn python_guidance_command(config: &Config) -> std::process::Command {
         .args(["--climb-rate", &g.climb_rate_mps.to_string()])
         .args(["--descent-rate", &g.descent_rate_mps.to_string()])
         .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
+        .args(["--wind-speed-mps", &g.wind_speed_mps.to_string()])
+        .args(["--wind-from-deg", &g.wind_from_deg.to_string()])
         .args([
             "--heartbeat-period-ms",
             &config.health.period_ms.to_string(),

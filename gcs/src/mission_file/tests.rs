@@ -208,7 +208,8 @@ fn round_trip_variations() {
             ),
             (
                 "route_type = \"flight\"",
-                "route_type = \"contingency-b\"\nroute_id = \"CCP-ROLE2 über W1\"",
+                "route_type = \"contingency-b\"\nroute_id = \"CCP-ROLE2 über W1\"\n\
+                 planning_wind_mps = 12.5",
             ),
             (
                 "leg_type = \"track-to-fix\"",

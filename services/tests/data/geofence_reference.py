@@ -390,6 +390,8 @@ def path_text(kind, points, direction=None):
         body += ";" + direction
     if kind == "flyby":
         body += ";%.3f" % direction  # the turn radius
+    if kind == "flyby-wind":
+        body += ";%.1f %.1f;%.1f" % direction  # airspeed, wind speed; bank
     return "%s:%s" % (kind, body)
 
 
@@ -412,7 +414,16 @@ def parse_path(text):
     if kind == "flyby":
         a, w, b = (parse_pos(x) for x in parts[:3])
         return ArcPath(*flyby_arc(a, w, b, float(parts[3])))
+    if kind == "flyby-wind":
+        a, w, b = (parse_pos(x) for x in parts[:3])
+        v, wind = (float(x) for x in parts[3].split())
+        return ArcPath(*flyby_arc(a, w, b, wind_radius(v, wind, float(parts[4]))))
     raise ValueError(text)
+
+
+def wind_radius(v, wind, bank):
+    """The turn radius in wind (ICD §7 "Turns in wind"): (v + W)^2 / (g tan(bank)), metres."""
+    return (v + wind) ** 2 / (9.80665 * math.tan(math.radians(bank)))
 
 
 def parse_zone(text, settings):
@@ -644,6 +655,31 @@ def rows():
           "polygon")
     flyby("flyby_90_r5000_lat70_nfz_circle_clear", (69.65, 18.95), 300.0, 90.0, 5000.0, 20000.0,
           "clear")
+
+    # --- fly-by turns in wind (ICD §7 "Turns in wind") -------------------------------------------
+    # As above, at the radius a bank-limited aircraft holds over the ground in a wind of W from
+    # any direction, (v + W)^2 / (g tan(bank)), which the reference computes itself.
+    def flyby_wind(name, w, course_in, turn, v, wind, bank, length, zone):
+        r = wind_radius(v, wind, bank)
+        a = direct(w, course_in + 180.0, length)
+        g = G.Inverse(a[0], a[1], w[0], w[1], AZI)
+        b = direct(w, g["azi2"] + turn, length)
+        c, t1, t2, direction = flyby_arc(a, w, b, r)
+        az1 = inverse_azi(c[0], c[1], t1[0], t1[1])
+        az2 = inverse_azi(c[0], c[1], t2[0], t2[1])
+        mid = az1 + wrap180(az2 - az1) / 2.0
+        if zone == "entered":
+            z = zone_text("nfz", "circle", (direct(c, mid, r - 30.0), 40.0))
+        else:
+            z = zone_text("nfz", "circle", (direct(c, mid, r + 55.0), 40.0))
+        add(name, path_text("flyby-wind", [a, w, b], (v, wind, bank)), z)
+
+    flyby_wind("flyby_wind_90_v25_w12_munich_nfz_circle_entered", (48.27, 11.66), 0.0, 90.0,
+               25.0, 12.0, 25.0, 2000.0, "entered")
+    flyby_wind("flyby_wind_120_left_v20_w10_equator_nfz_circle_clear", (0.30, 32.50), 75.0,
+               -120.0, 20.0, 10.0, 25.0, 3000.0, "clear")
+    flyby_wind("flyby_wind_60_v30_w6_lat70_nfz_circle_entered", (69.65, 18.95), 300.0, 60.0,
+               30.0, 6.0, 25.0, 3000.0, "entered")
 
     # --- circles as no-fly-zones against legs -----------------------------------------------------
     # 60 km leg passing 1.2 km outside a 20 km circle (Po valley).

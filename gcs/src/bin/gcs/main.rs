@@ -619,7 +619,7 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
                 "summary": summary,
                 "take_off_position": position_json(plan.take_off_position),
                 "turn_wind_mps": valid.as_ref().map(|v| gateway.turn_wind_mps(&v.mission)),
-                "energy_wh": energy.map(|e| serde_json::json!({ "total": e.total_wh, "limit": e.limit_wh })),
+                "energy_wh": energy.map(|e| serde_json::json!({ "total": e.total_wh, "with_return": e.with_return_wh(), "limit": e.limit_wh })),
                 "violations": violations.iter().map(violation_json).collect::<Vec<_>>(),
                 "error": icd_error.map(|e| e.to_string()),
                 "mission_checksum": checksums.map(|(m, _)| m.to_string()),
@@ -637,10 +637,17 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
             println!("  {}", turns_in_wind(&gateway, &v.mission));
         }
         if let Some(e) = energy {
-            println!(
-                "  energy: {:.0} Wh needed of {:.0} Wh usable after the reserve",
-                e.total_wh, e.limit_wh
-            );
+            match e.with_return_wh() {
+                Some(home) => println!(
+                    "  energy: {:.0} Wh needed ({home:.0} Wh with a return to home from the last \
+                     waypoint) of {:.0} Wh usable after the reserve",
+                    e.total_wh, e.limit_wh
+                ),
+                None => println!(
+                    "  energy: {:.0} Wh needed of {:.0} Wh usable after the reserve",
+                    e.total_wh, e.limit_wh
+                ),
+            }
         }
         for v in &violations {
             println!("  {v}");
