@@ -8,8 +8,10 @@
 //! (track-to-fix as geodesics, radius-to-fix as arcs around their RF centre in their turn
 //! direction, each with a direction arrow); the turns at the waypoints as guidance flies them
 //! and the gateway checks them (orange: the fly-by arc tangent to both legs, the fly-over's
-//! turn, intercept and turn onto the next leg; `services::geofence::turn`, at the default
-//! profile's bank, forward from the take-off position); the RF centres as small crosses with
+//! turn, intercept and turn onto the next leg; `services::geofence::turn`, at the gateway's
+//! bank and in its wind, forward from the take-off position; in wind also the same turn in calm
+//! air, dashed, and the band between the two shaded: what the wind adds to the turn, ICD §7
+//! "Turns in wind"); the RF centres as small crosses with
 //! dotted radii to the arc's ends; the take-off point; the waypoints as numbered circles; every [`Marker`] as a
 //! red ring with its code. Beside the map: a legend, the projection, and a red box listing the
 //! markers (those without a position are drawn nowhere else). Above: the title, the mission ID
@@ -222,19 +224,32 @@ pub fn render(
         ..list
     };
     let start = take_off.or(list.waypoints.first().map(|w| w.position()));
-    let turns: Vec<Turn> = start
-        .into_iter()
-        .flat_map(|s| onboard::execute_route(in_wind, Site::of(s), Some(fly_by)))
-        .filter_map(|leg| match leg.element {
-            RouteElement::Turn { at, to, kind } => Some(Turn {
-                at,
-                to,
-                kind,
-                points: drawn(leg.path, &proj),
-            }),
-            _ => None,
+    let turns_in = |route: RouteView<'_, _>| -> Vec<Turn> {
+        start
+            .into_iter()
+            .flat_map(|s| onboard::execute_route(route, Site::of(s), Some(fly_by)))
+            .filter_map(|leg| match leg.element {
+                RouteElement::Turn { at, to, kind } => Some(Turn {
+                    at,
+                    to,
+                    kind,
+                    points: drawn(leg.path, &proj),
+                }),
+                _ => None,
+            })
+            .collect()
+    };
+    let turns = turns_in(in_wind);
+    // In wind, the same turns in calm air too: the band between them is what the wind adds
+    // (ICD §7 "Turns in wind"), where a turn refused in wind but not in calm air goes wrong.
+    let calm_turns = if in_wind.wind_mps > 0.0 {
+        turns_in(RouteView {
+            wind_mps: 0.0,
+            ..list
         })
-        .collect();
+    } else {
+        Vec::new()
+    };
     let take_off_at = take_off.map(|t| proj.site(&Site::of(t)));
     let legs: Vec<Leg> = route
         .into_iter()
@@ -386,8 +401,42 @@ pub fn render(
     }
     w!(svg, "</g>");
 
-    // The turns as flown, over the corners of the legs.
+    // The turns as flown, over the corners of the legs; in wind, first the band each turn
+    // sweeps from calm air to the wind checked (the turn's paths, then the calm turn's back:
+    // both start on the leg in, or at the waypoint, and end on the leg out) and the calm turn
+    // dashed.
     w!(svg, r#"<g class="turns">"#);
+    let key = |t: &Turn| (t.at, t.to);
+    let mut seen: Vec<(u16, u16)> = Vec::new();
+    for turn in turns.iter().chain(&calm_turns) {
+        if calm_turns.is_empty() || seen.contains(&key(turn)) {
+            continue;
+        }
+        seen.push(key(turn));
+        let points_of = |list: &[Turn]| -> Vec<P> {
+            list.iter()
+                .filter(|t| key(t) == key(turn))
+                .flat_map(|t| t.points.iter().map(|p| view.screen(*p)))
+                .collect()
+        };
+        let mut band = points_of(&turns);
+        let calm = points_of(&calm_turns);
+        band.extend(calm.iter().rev());
+        w!(
+            svg,
+            r#"<path class="turn-band" data-turn-at="{}" data-turn-to="{}" d="{} Z" fill="{TURN}" fill-opacity="0.18" stroke="none"/>"#,
+            turn.at,
+            turn.to,
+            path_d(&band)
+        );
+        w!(
+            svg,
+            r#"<path class="turn calm" data-turn-at="{}" data-turn-to="{}" d="{}" fill="none" stroke="{TURN}" stroke-width="1" stroke-dasharray="4 3"/>"#,
+            turn.at,
+            turn.to,
+            path_d(&calm)
+        );
+    }
     for turn in &turns {
         let screen: Vec<P> = turn.points.iter().map(|p| view.screen(*p)).collect();
         let kind = match turn.kind {
@@ -618,7 +667,7 @@ pub fn render(
         ))
     );
 
-    legend(&mut svg, &proj);
+    legend(&mut svg, &proj, !calm_turns.is_empty());
     violations(&mut svg, markers);
     svg.push_str("</svg>\n");
     svg

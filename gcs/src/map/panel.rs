@@ -2,8 +2,8 @@
 
 use super::*;
 
-/// The legend in the side panel.
-pub(super) fn legend(svg: &mut String, proj: &Projection) {
+/// The legend in the side panel; `in_wind`: the turns are drawn in wind and in calm air.
+pub(super) fn legend(svg: &mut String, proj: &Projection, in_wind: bool) {
     let x = PANEL_X;
     let mut y = 70.0;
     w!(svg, r#"<g class="legend">"#);
@@ -126,7 +126,11 @@ pub(super) fn legend(svg: &mut String, proj: &Projection) {
                 y - 8.0
             );
         },
-        "turn as flown (fly-by arc, fly-over)",
+        if in_wind {
+            "turn in wind (dashed: calm)"
+        } else {
+            "turn as flown (fly-by arc, fly-over)"
+        },
     );
     entry(
         svg,

@@ -6,6 +6,7 @@ use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
 use missionlink_services::geofence::earth;
 use missionlink_services::geofence::local_frame::Coord;
 use missionlink_services::geofence::path::ArcLeg;
+use missionlink_services::safety_gateway::{AircraftProfile, Environment};
 
 fn example_markers() -> Vec<Marker> {
     vec![
@@ -290,5 +291,37 @@ fn docs_map_is_current() {
     assert!(
         committed == docs_map(),
         "docs/mission-2.svg is stale: cargo test -p missionlink-gcs map::tests::write_maps -- --ignored"
+    );
+}
+
+/// In wind the map draws each turn as checked in that wind, the same turn in calm air dashed,
+/// and the band between them (ICD §7 "Turns in wind"); in calm air none of the two.
+#[test]
+fn in_wind_the_band_of_every_turn_is_drawn() {
+    let plan = validated(MISSION_2);
+    let take_off = MissionFile::parse(MISSION_2)
+        .unwrap()
+        .to_plan()
+        .unwrap()
+        .take_off_position;
+    let windy = SafetyGateway::new(
+        AircraftProfile::default(),
+        Environment {
+            wind_speed_mps: 12.0,
+            ..Environment::default()
+        },
+    );
+    let svg = render(&plan, take_off, &[], "in wind", &windy);
+    assert_well_formed(&svg);
+    let turns = svg.matches(r#"<path class="turn fly-by""#).count();
+    assert!(turns >= 1, "{svg}");
+    assert_eq!(svg.matches(r#"class="turn-band""#).count(), turns);
+    assert_eq!(svg.matches(r#"class="turn calm""#).count(), turns);
+    let calm = render(&plan, take_off, &[], "calm", &SafetyGateway::default());
+    assert!(!calm.contains("turn-band") && !calm.contains("turn calm"));
+    // The turn in wind is the wider one: its band is drawn where the calm arc is not.
+    assert_ne!(
+        svg.matches(r#"d="M"#).count(),
+        calm.matches(r#"d="M"#).count()
     );
 }
