@@ -7,11 +7,16 @@
 //! - `frames N`: N #13002 frames of a 256-waypoint upload handed to mission data handling, each
 //!   answer taken (`handle_frame` and `poll_transmit`, the bench's "13002/frame_total"); the
 //!   frames are encoded before, outside the functions to read in the profile.
+//! - `geofence N` / `geofence-wind N`: the onboard geofence check of the worst case
+//!   (`testkit::geofence_worst_case`, the fence built once), N times; `geofence-wind` with the
+//!   list planned in a wind of 2 m/s (the geofence bench's `track_to_fix_in_wind`: ICD §7 "Turns
+//!   in wind").
 //!
 //! ```sh
 //! cargo build --release --example count_instructions
 //! valgrind --tool=callgrind target/release/examples/count_instructions areas 50
 //! valgrind --tool=callgrind target/release/examples/count_instructions frames 10000
+//! valgrind --tool=callgrind target/release/examples/count_instructions geofence 20
 //! callgrind_annotate --inclusive=yes callgrind.out.<pid> | grep -E "handle_frame|poll_transmit"
 //! ```
 //!
@@ -23,8 +28,12 @@ use std::hint::black_box;
 
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::wire::{
-    self, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset, UaPositionWaypoint,
+    self, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset, Speed, UaPositionWaypoint,
 };
+use missionlink_services::automation::fcc_turns;
+use missionlink_services::geofence::earth::Site;
+use missionlink_services::geofence::onboard;
+use missionlink_services::geofence::zone::Fence;
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
 use missionlink_services::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
@@ -37,7 +46,24 @@ fn main() {
     match what.as_str() {
         "areas" => areas(times),
         "frames" => frames(times),
-        other => panic!("{other:?}: areas N or frames N"),
+        "geofence" => geofence(times, 0.0),
+        "geofence-wind" => geofence(times, 2.0),
+        other => panic!("{other:?}: areas N, frames N, geofence N or geofence-wind N"),
+    }
+}
+
+fn geofence(times: u64, wind_mps: f64) {
+    let (mut waypoints, areas, take_off) = testkit::geofence_worst_case();
+    waypoints.planning_wind = Speed::from_mps(wind_mps).expect("a wind speed");
+    let fence = Fence::of_payload(&areas);
+    let site = Site::of(take_off);
+    for _ in 0..times {
+        let route = onboard::execute_route(
+            onboard::RouteView::from(black_box(&waypoints)),
+            site,
+            Some(fcc_turns()),
+        );
+        assert!(onboard::check(black_box(&fence), route).is_ok());
     }
 }
 
