@@ -178,3 +178,53 @@ fn voting_monitoring_warns_at_every_start_while_signing_is_off() {
     }
     fcc.stop().unwrap();
 }
+
+/// A bridge that refuses its configuration (exit status 2) is given up, and the FCC it was to
+/// connect to the other host is degraded: the launcher says so and never announces the FCC up,
+/// though every partition of this host is.
+#[test]
+fn a_bridge_that_refuses_its_configuration_leaves_the_fcc_degraded_not_up() {
+    let mut rig = Rig::new("supervise-bridge");
+    rig.config.bridge.enabled = true;
+    // The real partitions, and a bridge that refuses its configuration as the real one does.
+    let bins = rig.dir.join("bin");
+    std::fs::create_dir_all(&bins).unwrap();
+    for name in PARTITIONS.iter().chain(&["fcc"]) {
+        std::os::unix::fs::symlink(bin_dir().join(name), bins.join(name)).unwrap();
+    }
+    let bridge = bins.join(missionlink_partitions::bridge_config::BINARY);
+    std::fs::write(
+        &bridge,
+        "#!/bin/sh\necho 'bridge: configuration refused' >&2\nexit 2\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&bridge, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let log = rig.dir.join("fcc.log");
+    let mut command = FccProcess::command(&bin_dir(), "fcc", &rig.config).unwrap();
+    command.arg("--bin-dir").arg(&bins);
+    let mut fcc = FccProcess::spawn(command, &rig.config, Some(&log)).unwrap();
+    let given_up = ["bridge not started again", "the FCC is degraded"];
+    let state_dir = rig.config.ipc.state_dir();
+    let start = Instant::now();
+    while lines_with(&fcc.log_text(), &given_up) == 0
+        || !PARTITIONS.iter().all(|p| state::is_ready(&state_dir, p))
+    {
+        assert!(
+            start.elapsed() < LIMIT,
+            "never given up, or the partitions never came up:\n{}",
+            fcc.log_text()
+        );
+        assert!(fcc.try_wait().unwrap().is_none(), "{}", fcc.log_text());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // A supervision round or two more, were the launcher to announce the FCC up after all.
+    std::thread::sleep(Duration::from_millis(500));
+    let text = fcc.log_text();
+    assert_eq!(lines_with(&text, &given_up), 1, "said once:\n{text}");
+    assert_eq!(lines_with(&text, &["all partitions up"]), 0, "{text}");
+    assert!(
+        !state::is_ready(&state_dir, "fcc"),
+        "degraded, not up:\n{text}"
+    );
+    fcc.stop().unwrap();
+}

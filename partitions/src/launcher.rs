@@ -384,7 +384,14 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 tracing::warn!(%e, dir = %state_dir.display(), "cannot announce readiness");
             }
         }
-        bridge.supervise(config, bin_dir, restart_delay);
+        if bridge.supervise(config, bin_dir, restart_delay) {
+            // The other host's partitions are out of reach for good: not up, degraded.
+            degraded = true;
+            if all_up {
+                withdraw_ready(&state_dir, NAME, own);
+                all_up = false;
+            }
+        }
         std::thread::sleep(SUPERVISION_PERIOD);
     }
     tracing::info!("stopping the FCC partitions");
@@ -424,9 +431,11 @@ impl BridgeChild {
         }
     }
 
-    fn supervise(&mut self, config: &Config, bin_dir: &Path, restart_delay: Duration) {
+    /// Starts, watches and restarts the bridge; `true` when it gives it up now (its
+    /// configuration cannot work, or there is no binary): the FCC is degraded from then on.
+    fn supervise(&mut self, config: &Config, bin_dir: &Path, restart_delay: Duration) -> bool {
         if !self.enabled {
-            return;
+            return false;
         }
         let died = self
             .child
@@ -436,9 +445,12 @@ impl BridgeChild {
             self.child = None;
             if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) {
                 // Starting it again cannot help: its configuration cannot work.
-                tracing::error!(status = %describe(status), "bridge not started again: its configuration cannot work");
+                tracing::error!(
+                    status = %describe(status),
+                    "bridge not started again (its configuration cannot work): the FCC is degraded"
+                );
                 self.enabled = false;
-                return;
+                return true;
             }
             tracing::error!(status = %describe(status), "bridge died; restarting it");
             self.start_at = Some(Instant::now() + restart_delay);
@@ -460,9 +472,10 @@ impl BridgeChild {
                     tracing::error!(
                         %e,
                         dir = %bin_dir.display(),
-                        "no bridge binary: build it with `cargo build --release -p missionlink-bridge`; the FCC runs without it"
+                        "no bridge binary: build it with `cargo build --release -p missionlink-bridge`; the FCC runs without it, degraded"
                     );
                     self.enabled = false;
+                    return true;
                 }
                 Err(e) => {
                     tracing::error!(%e, "cannot start the bridge; retrying");
@@ -470,6 +483,7 @@ impl BridgeChild {
                 }
             }
         }
+        false
     }
 
     fn stop(&mut self) {
