@@ -130,6 +130,9 @@ fn run(seed: u64, both_links: bool, max_loss: f64, tally: &mut Tally) {
     }
     match report.outcome() {
         UploadOutcome::Complete => tally.completed += 1,
+        // A refused step with the new lists active before it: only where an earlier attempt
+        // made them so.
+        UploadOutcome::AlreadyActive => tally.completed += 1,
         UploadOutcome::CompleteAfterLostAnswer => tally.confirmed_after_lost_answer += 1,
         UploadOutcome::PreviousActive => tally.previous += 1,
         UploadOutcome::Mixed => {

@@ -777,3 +777,33 @@ fn execute_refuses_command_4_and_sends_nothing() {
     assert!(s.gcs.frames().is_empty(), "a message went out");
     assert!(s.run(LIMIT).is_empty());
 }
+
+/// The upload in flight of the mission and areas already active: the FCC refuses the activation
+/// (`WrongState`: trajectory generation is active) and holds the lists active already. The GCS
+/// says so, nothing to do, not that an answer was lost; the outcome is a success.
+#[test]
+fn the_upload_of_the_lists_already_active_in_flight_is_nothing_to_do() {
+    let mut s = StationRig::new(FccRig::new().with_mission_2());
+    s.rig.fcc.set_automation_state(&flying());
+    let now = s.rig.now;
+    s.gcs
+        .upload_with(now, &mission_2(), Sequence::Atomic)
+        .unwrap();
+    let r = upload_report(&s.run(LIMIT));
+    assert_eq!(r.outcome(), UploadOutcome::AlreadyActive, "{r}");
+    assert!(r.is_complete(), "{r}");
+    let (_, e) = r.failure.as_ref().unwrap();
+    assert_eq!(e.reason(), Some(Reason::WrongState), "{r}");
+    let text = r.to_string();
+    assert!(
+        text.starts_with("nothing to do: the uploaded lists were active already"),
+        "{text}"
+    );
+    assert!(!text.contains("lost"), "{text}");
+    println!("{text}");
+    let expected = validated(&mission_2());
+    assert_eq!(
+        s.rig.fcc.active_mission().map(flown),
+        Some(flown(&expected.mission))
+    );
+}

@@ -177,6 +177,10 @@ pub enum UploadOutcome {
     /// Both lists are active, although an answer was lost and the transfer reported a failure
     /// (exit status 0).
     CompleteAfterLostAnswer,
+    /// Both lists are active, and were before the step the FCC refused (a refusal changes
+    /// nothing, ICD §5): the upload of the lists already active, in flight say, where the FCC
+    /// refuses the activation (`WrongState`). Nothing to do (exit status 0).
+    AlreadyActive,
     /// Neither list changed: the FCC holds the lists it held before (exit status 3).
     PreviousActive,
     /// One list is the new one, the other is not (exit status 4).
@@ -222,10 +226,11 @@ impl UploadReport {
         } else if lists.contains(&Held::Foreign) {
             UploadOutcome::Foreign
         } else if self.mission.is_new() && self.areas.is_new() {
-            if self.failure.is_some() {
-                UploadOutcome::CompleteAfterLostAnswer
-            } else {
-                UploadOutcome::Complete
+            match &self.failure {
+                None => UploadOutcome::Complete,
+                // A refused step changed nothing: the lists were active before it.
+                Some((_, e)) if e.reason().is_some() => UploadOutcome::AlreadyActive,
+                Some(_) => UploadOutcome::CompleteAfterLostAnswer,
             }
         } else if [self.mission, self.areas]
             .iter()
@@ -258,7 +263,9 @@ impl UploadReport {
     pub fn is_complete(&self) -> bool {
         matches!(
             self.outcome(),
-            UploadOutcome::Complete | UploadOutcome::CompleteAfterLostAnswer
+            UploadOutcome::Complete
+                | UploadOutcome::CompleteAfterLostAnswer
+                | UploadOutcome::AlreadyActive
         )
     }
 }
@@ -284,7 +291,8 @@ fn list(f: &mut fmt::Formatter<'_>, name: &str, list: &ListOutcome) -> fmt::Resu
 }
 
 /// One line for the operator: `upload complete (confirmed after a lost answer: ...): mission
-/// 0x1A2B3C4D, areas 0x5E6F7A8B active`, `upload failed (...): the previous mission and areas
+/// 0x1A2B3C4D, areas 0x5E6F7A8B active`, `nothing to do: the uploaded lists were active already
+/// (...)`, `upload failed (...): the previous mission and areas
 /// are active: ...`.
 impl fmt::Display for UploadReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -301,6 +309,13 @@ impl fmt::Display for UploadReport {
                     "{request} complete (confirmed after a lost answer: {phase}: {e})"
                 )?;
             }
+            (UploadOutcome::AlreadyActive, Some((phase, e))) => {
+                write!(
+                    f,
+                    "nothing to do: the uploaded lists were active already (the FCC refused the \
+                     {phase}, which changed nothing: {e})"
+                )?;
+            }
             (_, Some((phase, e))) => {
                 write!(f, "{request} failed ({phase}: {e}")?;
                 if let Some(hint) = self.hint() {
@@ -312,7 +327,9 @@ impl fmt::Display for UploadReport {
         }
         let (m, a) = (&self.mission, &self.areas);
         match outcome {
-            UploadOutcome::Complete | UploadOutcome::CompleteAfterLostAnswer => {
+            UploadOutcome::Complete
+            | UploadOutcome::CompleteAfterLostAnswer
+            | UploadOutcome::AlreadyActive => {
                 f.write_str(": mission ")?;
                 checksum(f, m.checksum)?;
                 f.write_str(" and areas ")?;

@@ -690,7 +690,19 @@ impl<G: SafetyGateway> GroundStation<G> {
             job.temp_staged = Some(t != (None, None));
         }
         if let Some(p) = phase.filter(|_| go_on) {
-            tracing::info!(%p, "its answer was lost but the FCC carried it out: the upload goes on");
+            let refused = job.failure.as_ref().and_then(|(_, e)| e.reason());
+            match refused {
+                // A refusal changes nothing (ICD §5): what it was to make so was so before.
+                Some(reason) => tracing::info!(
+                    %p,
+                    ?reason,
+                    "the FCC refused it and holds what it was to achieve already: the upload goes on"
+                ),
+                None => tracing::info!(
+                    %p,
+                    "its answer was lost but the FCC carried it out: the upload goes on"
+                ),
+            }
             job.confirmation = confirmation;
             return self.next_step(now, Some(p));
         }

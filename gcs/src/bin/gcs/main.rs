@@ -533,7 +533,9 @@ fn finish(link: &mut Link) -> Result<Finished, Failure> {
 /// The exit status of `gcs upload` for each outcome (see the command's help).
 fn upload_status(outcome: UploadOutcome) -> u8 {
     match outcome {
-        UploadOutcome::Complete | UploadOutcome::CompleteAfterLostAnswer => 0,
+        UploadOutcome::Complete
+        | UploadOutcome::CompleteAfterLostAnswer
+        | UploadOutcome::AlreadyActive => 0,
         UploadOutcome::PreviousActive => 3,
         UploadOutcome::Mixed => 4,
         UploadOutcome::Unknown => 5,
