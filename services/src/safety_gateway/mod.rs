@@ -145,7 +145,10 @@ impl crate::ground_station::SafetyGateway for SafetyGateway {
         if violations.is_empty() {
             Ok(())
         } else {
-            Err(Report { violations })
+            Err(Report {
+                violations,
+                turn_wind_mps: self.turn_wind_mps(mission),
+            })
         }
     }
 

@@ -190,18 +190,23 @@ impl fmt::Display for Violation {
 pub struct Report {
     /// Every violation, in check order: plan, environment, areas, route, geography, energy.
     pub violations: Vec<Violation>,
+    /// The wind speed the turns were checked in, m/s (ICD §7 "Turns in wind"; 0: calm).
+    pub turn_wind_mps: f64,
 }
 
 impl fmt::Display for Report {
-    /// One line per violation.
+    /// One line per violation, then the wind the turns were checked in.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, v) in self.violations.iter().enumerate() {
-            if i > 0 {
-                f.write_str("\n")?;
-            }
-            write!(f, "{v}")?;
+        for v in &self.violations {
+            writeln!(f, "{v}")?;
         }
-        Ok(())
+        match self.turn_wind_mps {
+            w if w > 0.0 => write!(
+                f,
+                "(turns checked in a wind of {w} m/s from any direction, ICD §7 \"Turns in wind\")"
+            ),
+            _ => f.write_str("(turns checked in calm air)"),
+        }
     }
 }
 

@@ -507,8 +507,16 @@ fn safety_gateway_margins_and_positions() {
         "{v:?}"
     );
     // The report prints one line per violation.
-    let report = Report { violations: v };
-    assert_eq!(report.to_string().lines().count(), report.violations.len());
+    let report = Report {
+        violations: v,
+        turn_wind_mps: 0.0,
+    };
+    // And the wind the turns were checked in.
+    assert_eq!(
+        report.to_string().lines().count(),
+        report.violations.len() + 1
+    );
+    assert!(report.to_string().ends_with("(turns checked in calm air)"));
 }
 
 #[test]
