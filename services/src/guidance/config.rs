@@ -14,7 +14,8 @@ pub struct GuidanceConfig {
     pub climb_rate_mps: f64,
     /// Descent rate of the landing (m/s), default 2.0.
     pub descent_rate_mps: f64,
-    /// Bank angle of the turns at waypoints (deg; their radius is `v²/(g·tan(bank))`),
+    /// Bank angle of the turns at waypoints (deg; their radius is `(v + W)²/(g·tan(bank))`, `W`
+    /// the plan's wind),
     /// default 25.
     pub max_bank_deg: f64,
     /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
