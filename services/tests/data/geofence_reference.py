@@ -625,8 +625,9 @@ def rows():
     # A fly-by waypoint W between legs of `length` m turning `turn` degrees (positive: right) at
     # radius r; a no-fly circle of 40 m radius whose centre lies `depth` m from the arc's centre
     # on the arc's middle radial (r - 30: the arc enters it by 10 m; r + 55: 15 m clear of it,
-    # between the arc and W), or a small quadrilateral inside the arc 20 m clear of it.
-    def flyby(name, w, course_in, turn, r, length, zone):
+    # between the arc and W), or a small quadrilateral inside the arc 20 m clear of it. `path`:
+    # how the row names the turn (kind, data), by default by that radius.
+    def flyby(name, w, course_in, turn, r, length, zone, path=None):
         a = direct(w, course_in + 180.0, length)
         g = G.Inverse(a[0], a[1], w[0], w[1], AZI)
         b = direct(w, g["azi2"] + turn, length)
@@ -641,7 +642,8 @@ def rows():
         else:  # a quadrilateral inside the arc, its nearest corner 20 m from it
             z = zone_text("nfz", "polygon", polygon_polar(c, [
                 (mid, r - 20.0), (mid + 25.0, r - 90.0), (mid, r - 160.0), (mid - 25.0, r - 90.0)]))
-        add(name, path_text("flyby", [a, w, b], r), z)
+        kind, data = path or ("flyby", r)
+        add(name, path_text(kind, [a, w, b], data), z)
 
     flyby("flyby_90_r137_munich_nfz_circle_entered", (48.27, 11.66), 0.0, 90.0, 136.7, 1500.0,
           "entered")
@@ -660,19 +662,8 @@ def rows():
     # As above, at the radius a bank-limited aircraft holds over the ground in a wind of W from
     # any direction, (v + W)^2 / (g tan(bank)), which the reference computes itself.
     def flyby_wind(name, w, course_in, turn, v, wind, bank, length, zone):
-        r = wind_radius(v, wind, bank)
-        a = direct(w, course_in + 180.0, length)
-        g = G.Inverse(a[0], a[1], w[0], w[1], AZI)
-        b = direct(w, g["azi2"] + turn, length)
-        c, t1, t2, direction = flyby_arc(a, w, b, r)
-        az1 = inverse_azi(c[0], c[1], t1[0], t1[1])
-        az2 = inverse_azi(c[0], c[1], t2[0], t2[1])
-        mid = az1 + wrap180(az2 - az1) / 2.0
-        if zone == "entered":
-            z = zone_text("nfz", "circle", (direct(c, mid, r - 30.0), 40.0))
-        else:
-            z = zone_text("nfz", "circle", (direct(c, mid, r + 55.0), 40.0))
-        add(name, path_text("flyby-wind", [a, w, b], (v, wind, bank)), z)
+        flyby(name, w, course_in, turn, wind_radius(v, wind, bank), length, zone,
+              path=("flyby-wind", (v, wind, bank)))
 
     flyby_wind("flyby_wind_90_v25_w12_munich_nfz_circle_entered", (48.27, 11.66), 0.0, 90.0,
                25.0, 12.0, 25.0, 2000.0, "entered")
