@@ -218,11 +218,12 @@ fn a_mission_closer_whose_checksum_differs_is_refused() {
     let mut rig = with_mission_1();
     let before = rig.fcc.active_mission().cloned().unwrap();
     let new = validated(&mission_2()).mission;
-    let answers = rig.upload_mission(&new, Some(other_than(mission_checksum(&new))));
+    let answers =
+        rig.upload_mission_into_empty_buffer(&new, Some(other_than(mission_checksum(&new))));
     assert_eq!(transfer_ack(&answers), Err(Reason::IntegrityMismatch));
     assert_eq!(rig.fcc.active_mission(), Some(&before));
     assert_eq!(rig.fcc.generations(), (1, 1));
-    // Opened by the clear, closed by the refusal: nothing activated.
+    // Opened by mode 10, closed by the refusal: nothing activated.
     assert_eq!(
         rig.events(),
         [FccEvent::MissionUploadOpened, FccEvent::MissionUploadClosed]
@@ -270,15 +271,23 @@ fn an_area_closer_whose_checksum_differs_is_refused() {
     assert_eq!(rig.events(), []);
 }
 
-/// #13000 mode 2 with Waypoint Number 0 clears the active mission (this project's clear); the
-/// empty list has no canonical form, so a checksum with it is `Malformed` and changes nothing.
-/// The same clear without a checksum then clears.
+/// The clear (#13000 mode 1) deletes the waypoint buffer and the active waypoint list at once
+/// (paper §3.1, ICD §5.1 step 1): one activation of the empty list. The empty list has no
+/// canonical form, so mode 2 with Waypoint Number 0 and a checksum is `Malformed` and changes
+/// nothing; without the checksum it closes the upload the clear opened, the list empty as it is.
 #[test]
-fn the_clear_of_the_active_mission_carries_no_checksum() {
+fn the_clear_deletes_the_active_mission_and_its_closer_carries_no_checksum() {
     let mut rig = FccRig::new().with_mission_2();
     let before = rig.fcc.active_mission().cloned().unwrap();
     rig.events();
     assert_eq!(transfer_ack(&rig.send(clear())), Ok(()));
+    assert_eq!(rig.fcc.active_mission(), None);
+    assert_eq!(rig.fcc.waypoint_list().waypoints(), []);
+    assert_eq!(rig.fcc.generations(), (2, 1));
+    assert_eq!(
+        rig.events(),
+        [FccEvent::MissionCleared, FccEvent::MissionUploadOpened]
+    );
     let with_checksum = MissionTransferCommand {
         mission_checksum: Some(mission_checksum(&before)),
         ..transfer_command(MissionPlanMode::TransmitMission, Some(0), None)
@@ -287,17 +296,13 @@ fn the_clear_of_the_active_mission_carries_no_checksum() {
         transfer_ack(&rig.send(with_checksum)),
         Err(Reason::Malformed)
     );
-    assert_eq!(rig.fcc.active_mission(), Some(&before));
-    assert_eq!(rig.fcc.generations(), (1, 1));
-    assert_eq!(rig.events(), [FccEvent::MissionUploadOpened]);
+    assert_eq!(rig.fcc.generations(), (2, 1));
+    assert_eq!(rig.events(), []);
     let without = transfer_command(MissionPlanMode::TransmitMission, Some(0), None);
     assert_eq!(transfer_ack(&rig.send(without)), Ok(()));
     assert_eq!(rig.fcc.active_mission(), None);
     assert_eq!(rig.fcc.generations(), (2, 1));
-    assert_eq!(
-        rig.events(),
-        [FccEvent::MissionCleared, FccEvent::MissionUploadClosed]
-    );
+    assert_eq!(rig.events(), [FccEvent::MissionUploadClosed]);
 }
 
 // ---- Idempotent closers ----
@@ -389,7 +394,7 @@ fn a_retried_closer_gets_the_same_refusal() {
         other_than(areas_checksum(&new.areas)),
     );
     assert_eq!(
-        transfer_ack(&rig.upload_mission(&new.mission, Some(m))),
+        transfer_ack(&rig.upload_mission_into_empty_buffer(&new.mission, Some(m))),
         Err(Reason::IntegrityMismatch)
     );
     rig.events();
@@ -573,14 +578,16 @@ fn a_restart_holds_the_cut_upload_until_a_clear() {
     );
     assert_eq!(rig.fcc.generations(), (1, 1));
     assert_eq!(rig.events(), []);
-    // The GCS starts over: the clear opens a new upload, which activates mission 2.
+    // The GCS starts over: the clear deletes mission 1 and opens a new upload, which
+    // activates mission 2.
     assert_eq!(transfer_ack(&rig.upload_mission(&new, None)), Ok(()));
     assert_eq!(rig.fcc.active_mission(), Some(&new));
-    assert_eq!(rig.fcc.generations(), (2, 1));
+    assert_eq!(rig.fcc.generations(), (3, 1));
     assert_eq!(
         rig.events(),
         [
-            FccEvent::MissionActivated { generation: 2 },
+            FccEvent::MissionCleared,
+            FccEvent::MissionActivated { generation: 3 },
             FccEvent::MissionUploadClosed
         ]
     );
@@ -699,7 +706,7 @@ fn a_restart_without_an_open_upload_holds_nothing() {
 }
 
 /// `MissionUploadOpened` and `MissionUploadClosed` come exactly when a mission upload opens or
-/// closes: a clear or an edit opens it; a closer (accepted or refused for its checksum), a
+/// closes: a clear (which also deletes the active list) or an edit opens it; a closer (accepted or refused for its checksum), a
 /// cancel or the transfer timeout closes it; a refused clear, the messages inside an upload,
 /// area uploads and downloads say nothing.
 #[test]
@@ -766,8 +773,8 @@ fn upload_events_come_exactly_when_an_upload_opens_or_closes() {
         ]
     );
 
-    // A closer refused for its checksum closes the upload.
-    let answers = rig.upload_mission(
+    // A closer refused for its checksum closes the upload (opened by mode 10).
+    let answers = rig.upload_mission_into_empty_buffer(
         &valid.mission,
         Some(other_than(mission_checksum(&valid.mission))),
     );
@@ -789,9 +796,13 @@ fn upload_events_come_exactly_when_an_upload_opens_or_closes() {
     follow(&mut rig, answers);
     rig.assert_download_complete(DataKind::Mission);
 
-    // The clear of the active mission: clear, then transmit with Waypoint Number 0.
+    // The clear deletes the active mission and opens an upload; transmit with Waypoint Number
+    // 0 closes it.
     assert_eq!(transfer_ack(&rig.send(clear())), Ok(()));
-    assert_eq!(rig.events(), [FccEvent::MissionUploadOpened]);
+    assert_eq!(
+        rig.events(),
+        [FccEvent::MissionCleared, FccEvent::MissionUploadOpened]
+    );
     assert_eq!(
         transfer_ack(&rig.send(transfer_command(
             MissionPlanMode::TransmitMission,
@@ -800,10 +811,7 @@ fn upload_events_come_exactly_when_an_upload_opens_or_closes() {
         ))),
         Ok(())
     );
-    assert_eq!(
-        rig.events(),
-        [FccEvent::MissionCleared, FccEvent::MissionUploadClosed]
-    );
+    assert_eq!(rig.events(), [FccEvent::MissionUploadClosed]);
     assert_eq!(rig.fcc.generations(), (2, 1));
 }
 

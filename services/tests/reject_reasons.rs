@@ -307,7 +307,9 @@ fn integrity_mismatch() {
     );
     let other = validated(&mission_1());
     assert_eq!(
-        reason_of(&rig.upload_mission(&other.mission, Some(mission_checksum(&mission)))),
+        reason_of(
+            &rig.upload_mission_into_empty_buffer(&other.mission, Some(mission_checksum(&mission)))
+        ),
         Some(Reason::IntegrityMismatch)
     );
     assert_eq!(

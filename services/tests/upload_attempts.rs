@@ -12,7 +12,7 @@ mod support;
 use std::time::Duration;
 
 use missionlink_interfaces::wire::{Message, MissionPlanMode, Reason};
-use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
+use missionlink_services::ground_station::outcome::{Held, UploadOutcome, UploadReport};
 use missionlink_services::ground_station::{
     GcsConfig, GcsError, GcsEvent, GroundStation, Phase, Sequence, WithoutGateway,
 };
@@ -74,11 +74,14 @@ fn outcome(pair: &mut Pair) -> Result<UploadReport, GcsError<core::convert::Infa
 /// Starts the atomic upload of mission 2, lets it send `waypoints` waypoints, then cuts the
 /// uplink (both links) for `cut`.
 fn upload_with_a_cut(pair: &mut Pair, waypoints: usize, cut: Duration) {
+    upload_by_with_a_cut(pair, Sequence::Atomic, waypoints, cut);
+}
+
+/// As [`upload_with_a_cut`], the upload by `sequence`.
+fn upload_by_with_a_cut(pair: &mut Pair, sequence: Sequence, waypoints: usize, cut: Duration) {
     let before = waypoints_sent(pair);
     let now = pair.now;
-    pair.gcs
-        .upload_with(now, &mission_2(), Sequence::Atomic)
-        .unwrap();
+    pair.gcs.upload_with(now, &mission_2(), sequence).unwrap();
     while waypoints_sent(pair) < before + waypoints {
         assert!(pair.step(), "the upload stopped");
     }
@@ -166,4 +169,57 @@ fn a_refusal_of_the_content_is_not_attempted_again() {
     assert_eq!(report.attempts, 1, "{report}");
     // The report before the upload and the question after its failure: one attempt.
     assert_eq!(report_requests(&pair) - reports_before, 2);
+}
+
+/// The paper's sequence clears first, and the clear deletes the active mission (paper §3.1, ICD
+/// §5.1 step 1): cut after its clear, the upload fails with no mission on the FCC, and says so
+/// (exit status 7 of `gcs upload`), the areas the previous ones.
+#[test]
+fn the_papers_sequence_cut_after_its_clear_says_the_fcc_holds_no_mission() {
+    let mut pair = pair(1);
+    let old_areas = pair.fcc.active_areas().cloned();
+    upload_by_with_a_cut(
+        &mut pair,
+        Sequence::Paper { clear: true },
+        1,
+        2 * ACK_TIMEOUT + Duration::from_millis(10),
+    );
+    let Err(GcsError::Upload(report)) = outcome(&mut pair) else {
+        panic!("the upload did not fail");
+    };
+    assert_eq!(pair.fcc.active_mission(), None);
+    assert_eq!(pair.fcc.active_areas(), old_areas.as_ref());
+    assert_eq!(report.outcome(), UploadOutcome::NoMission, "{report}");
+    assert_eq!(report.mission.held, Held::Cleared, "{report}");
+    assert_eq!(report.mission.checksum, None, "{report}");
+    assert_eq!(report.areas.held, Held::Previous, "{report}");
+    assert!(!report.is_complete());
+    let line = report.to_string();
+    assert!(
+        line.contains("the FCC holds no mission (the paper's sequence cleared it"),
+        "{line}"
+    );
+    assert!(line.contains("areas previous"), "{line}");
+}
+
+/// The same cut with a second attempt: the FCC held no mission only because the first
+/// attempt's own clear deleted it, so the upload is begun again and completes.
+#[test]
+fn the_papers_sequence_cut_after_its_clear_is_begun_again_and_completes() {
+    let mut pair = pair(2);
+    upload_by_with_a_cut(
+        &mut pair,
+        Sequence::Paper { clear: true },
+        1,
+        2 * ACK_TIMEOUT + Duration::from_millis(10),
+    );
+    let report = outcome(&mut pair).expect("the second attempt completes");
+    assert_eq!(report.outcome(), UploadOutcome::Complete, "{report}");
+    assert_eq!(report.attempts, 2, "{report}");
+    let new = pair.gcs.validate(&mission_2()).unwrap();
+    assert_eq!(
+        pair.fcc.active_mission().map(|m| &m.waypoints),
+        Some(&new.mission.waypoints)
+    );
+    assert_eq!(pair.fcc.active_areas(), Some(&new.areas));
 }

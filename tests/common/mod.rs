@@ -228,9 +228,9 @@ pub fn eventually<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> Optio
     None
 }
 
-/// The two commands that would clear the active mission if the FCC processed them, not yet
-/// stamped: a clear, and a transmit of the empty list (Waypoint Number 0). The attacks of the
-/// tests send them from where the FCC must not take them.
+/// Two commands that would change the active mission if the FCC processed them, not yet
+/// stamped: a clear (which deletes it, ICD §5.1), and a transmit of the empty list (Waypoint
+/// Number 0). The attacks of the tests send them from where the FCC must not take them.
 pub fn clearing_commands() -> [Message; 2] {
     [
         mission_command(MissionPlanMode::ClearMission, None, None),

@@ -453,11 +453,15 @@ impl<G: SafetyGateway> GroundStation<G> {
         );
     }
 
-    /// Clears the active mission: #13000 mode 1, then mode 2 with 0 waypoints (see
-    /// [`crate::mission_data_handling`]).
+    /// Clears the active mission: #13000 mode 1 deletes the waypoint buffer and the active
+    /// waypoint list (ICD §5.1 step 1). The FCC refuses it while trajectory generation is active.
     pub fn clear_mission(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
-        self.start(now, State::Commanding, Script::MissionClear);
+        self.start(
+            now,
+            State::Commanding,
+            Script::Request(mission_command(MissionPlanMode::ClearMission, None, None)),
+        );
         Ok(())
     }
 

@@ -26,6 +26,9 @@ pub enum Held {
     NotNew,
     /// Neither the list uploaded nor the one active before.
     Foreign,
+    /// None: the upload began with the clear of the paper's sequence (ICD §5.1 step 1), which
+    /// deletes the active waypoint list, and failed before its closer activated the new one.
+    Cleared,
     /// The GCS could not find out: the FCC did not answer its question.
     Unknown,
 }
@@ -187,6 +190,9 @@ pub enum UploadOutcome {
     Mixed,
     /// What the FCC holds is unknown: it did not answer (exit status 5).
     Unknown,
+    /// The FCC holds no mission: the paper's sequence cleared it, then failed (exit status 7).
+    /// Only an upload by the paper's sequence ends so; the atomic upload never does (ICD §8).
+    NoMission,
     /// The FCC holds a list that is neither the new one nor the one before (exit status 6).
     Foreign,
 }
@@ -225,6 +231,8 @@ impl UploadReport {
             UploadOutcome::Unknown
         } else if lists.contains(&Held::Foreign) {
             UploadOutcome::Foreign
+        } else if self.mission.held == Held::Cleared {
+            UploadOutcome::NoMission
         } else if self.mission.is_new() && self.areas.is_new() {
             match &self.failure {
                 None => UploadOutcome::Complete,
@@ -283,6 +291,7 @@ fn list(f: &mut fmt::Formatter<'_>, name: &str, list: &ListOutcome) -> fmt::Resu
         Held::Previous => "previous",
         Held::NotNew => "not the uploaded one",
         Held::Foreign => "neither the uploaded one nor the previous one",
+        Held::Cleared => "cleared",
         Held::Unknown => return write!(f, "{name} unknown"),
     };
     write!(f, "{name} {what} (")?;
@@ -292,8 +301,8 @@ fn list(f: &mut fmt::Formatter<'_>, name: &str, list: &ListOutcome) -> fmt::Resu
 
 /// One line for the operator: `upload complete (confirmed after a lost answer: ...): mission
 /// 0x1A2B3C4D, areas 0x5E6F7A8B active`, `nothing to do: the uploaded lists were active already
-/// (...)`, `upload failed (...): the previous mission and areas
-/// are active: ...`.
+/// (...)`, `upload failed (...): the previous mission and areas are active: ...`, `upload failed
+/// (...): the FCC holds no mission (...)`.
 impl fmt::Display for UploadReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let outcome = self.outcome();
@@ -362,6 +371,13 @@ impl fmt::Display for UploadReport {
                 f.write_str(": what the FCC holds is unknown (it did not answer): ")?;
                 list(f, "mission", m)?;
                 f.write_str(", ")?;
+                list(f, "areas", a)
+            }
+            UploadOutcome::NoMission => {
+                f.write_str(
+                    ": the FCC holds no mission (the paper's sequence cleared it before the \
+                     upload failed): ",
+                )?;
                 list(f, "areas", a)
             }
             UploadOutcome::Foreign => {

@@ -42,7 +42,8 @@ use missionlink_interfaces::wire::{Checksum, MissionReport, Text};
 
 use super::edit::{FullUpload, difference};
 use super::outcome::{
-    Before, Confirmation, ListOutcome, Messages, UploadKind, UploadOutcome, UploadReport, Warning,
+    Before, Confirmation, Held, ListOutcome, Messages, UploadKind, UploadOutcome, UploadReport,
+    Warning,
 };
 use super::{Edition, GcsError, GroundStation, MissionPlan, Phase, SafetyGateway, State, Then};
 use crate::link::retry::ExchangeError;
@@ -355,7 +356,8 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// After a failed attempt that left the lists the upload targets as they were (`clean`):
+    /// After a failed attempt that left the lists the upload targets as they were, or without a
+    /// mission only because the attempt's own clear deleted it (`clean`):
     /// begins the next attempt when the failure may pass (`may_pass`: the FCC did not answer,
     /// was busy, or lost the transfer in a restart, see [`ExchangeError::may_pass`]) and
     /// attempts are left. `true` when it did; `failure` says what failed, for the log.
@@ -707,7 +709,14 @@ impl<G: SafetyGateway> GroundStation<G> {
             return self.next_step(now, Some(p));
         }
         let (before_m, before_a) = job.before.unzip();
-        let m = ListOutcome::compare(target.0, new.0, before_m);
+        let mut m = ListOutcome::compare(target.0, new.0, before_m);
+        let cleared = job
+            .mission_step
+            .as_ref()
+            .is_some_and(|(opener, _)| *opener == Opener::Clear);
+        if cleared && target.0.is_none() && m.held != Held::Previous {
+            m.held = Held::Cleared;
+        }
         let a = ListOutcome::compare(target.1, new.1, before_a);
         self.end_upload(now, m, a, confirmation);
     }
@@ -841,7 +850,12 @@ impl<G: SafetyGateway> GroundStation<G> {
         let Some(job) = self.upload.as_ref() else {
             return;
         };
-        let clean = report.outcome() == UploadOutcome::PreviousActive && job.warning.is_none();
+        // The paper's sequence's own clear deleted the mission: attempting again (clear, then
+        // transmit) cannot leave less than the failure left.
+        let clean = matches!(
+            report.outcome(),
+            UploadOutcome::PreviousActive | UploadOutcome::NoMission
+        ) && job.warning.is_none();
         if let Some((phase, error)) = report.failure.filter(|_| !report.is_complete()) {
             let failure = format_args!("{phase}: {error}");
             if self.attempt_again(now, &failure, error.may_pass(), clean) {

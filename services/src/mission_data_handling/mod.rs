@@ -31,13 +31,12 @@
 //! GCS logic (`link::composite::Composite`): `poll_timeout` is their earliest, and
 //! `handle_timeout` fires the transfers whose deadlines are due.
 //!
-//! The clear of ICD §5.1 step 1 (#13000 mode 1) empties the waypoint buffer at once, but the
-//! active list only with the #13000 mode 2 that closes the transfer. This project's choice where
-//! the ICD's "empties ... the active list" meets the rule above: a full upload that fails after
-//! its clear would otherwise leave the FCC without its mission. To clear the active mission, a
-//! GCS sends the clear and then #13000 mode 2 with Waypoint Number 0, which activates the empty
-//! list ([`crate::transfer::sender::Script::MissionClear`]). A clear whose transfer is abandoned changes
-//! nothing.
+//! **The clear** (#13000 mode 1, ICD §5.1 step 1) deletes the waypoint buffer and the active
+//! waypoint list, as paper §3.1 says: a peer built from the paper that clears a mission is told
+//! the truth. It is refused while trajectory generation is active. The guarantee that a failed
+//! upload leaves the previous mission active belongs to the atomic upload (ICD §8): an upload by
+//! the paper's sequence that fails after its clear leaves the FCC without a mission, and the GCS
+//! says so. The clear of the areas (#2011 mode 6) deletes the active area list alike.
 //!
 //! **A newer opener ends what is left open.** A transfer opener from the GCS ends the download of
 //! the same kind whose request it is stamped after, and the upload of the same kind whose newest

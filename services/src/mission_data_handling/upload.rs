@@ -112,9 +112,13 @@ impl MissionDataHandling {
         if self.mission_download.is_some() {
             return Err(Reason::Busy);
         }
-        // The buffer empties now; the active list changes only with the transmit that closes
-        // the transfer (see the module documentation).
+        // Paper §3.1: the clear deletes the waypoint buffer and the waypoint list (ICD §5.1
+        // step 1); guidance sees the empty list as one activation.
         self.mission_upload.clear(now);
+        if self.active_mission.is_some() {
+            self.activate(Activation::Mission(None));
+            self.closers.forget();
+        }
         Ok(())
     }
 

@@ -128,9 +128,6 @@ pub enum Script {
         /// One #50001 per entry, Report Index and Count set.
         entries: heapless::Vec<MissionReport, MAX_REPORT_ENTRIES>,
     },
-    /// GCS to FCC: #13000 mode 1 clear, then #13000 mode 2 with Waypoint Number 0, which
-    /// activates the empty list (see [`crate::mission_data_handling`]).
-    MissionClear,
     /// One message and its answer.
     Request(Message),
 }
@@ -189,14 +186,13 @@ impl Script {
             Self::MissionDownload { mission, .. } => mission.message_count() + 1,
             Self::AreaUpload { list, .. } | Self::AreaDownload { list, .. } => list.areas.len() + 2,
             Self::MissionReport { entries } => entries.len(),
-            Self::MissionClear => 2,
             Self::Request(_) => 1,
         }
     }
 
     /// The indices of the script's data messages (ICD §10.2), which may be in flight together:
-    /// between the opener and the closer of an upload or a download. Reports, clears and
-    /// single requests have none.
+    /// between the opener and the closer of an upload or a download. Reports and single
+    /// requests have none.
     pub fn data_messages(&self) -> core::ops::Range<usize> {
         let len = self.len();
         match self {
@@ -206,7 +202,7 @@ impl Script {
             }
             Self::MissionDownload { .. } => 0..len.saturating_sub(1),
             Self::AreaUpload { .. } | Self::AreaDownload { .. } => 1..len.saturating_sub(1),
-            Self::MissionReport { .. } | Self::MissionClear | Self::Request(_) => 0..0,
+            Self::MissionReport { .. } | Self::Request(_) => 0..0,
         }
     }
 
@@ -300,15 +296,6 @@ impl Script {
                     _ => None,
                 }
             }
-            Self::MissionClear => match index {
-                0 => Some(mission_command(MissionPlanMode::ClearMission, None, None)),
-                1 => Some(mission_command(
-                    MissionPlanMode::TransmitMission,
-                    Some(0),
-                    None,
-                )),
-                _ => None,
-            },
             Self::MissionReport { entries } => entries.get(index).copied().map(Message::from),
             Self::Request(m) => (index == 0).then(|| m.clone()),
         }
@@ -318,7 +305,7 @@ impl Script {
     /// an answer: #13000 mode 5 and #2011 mode 5 cancel, #14000 aborted for a mission download.
     fn abandon_message(&self, reason: Reason) -> Option<Message> {
         match self {
-            Self::MissionUpload { .. } | Self::MissionClear => {
+            Self::MissionUpload { .. } => {
                 Some(mission_command(MissionPlanMode::CancelTransfer, None, None))
             }
             Self::MissionDownload { mission, .. } => Some(

@@ -16,7 +16,7 @@ use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
     AckType, AreaDownloadStatus, AreaListStatus, AreaTransferMode, AreaTransmissionCommand,
     Checksum, Envelope, MAX_FRAME_LEN, Message, MissionPlanMode, MissionTransferCommand, Reason,
-    SafetyOffset, SpecificData, Timestamp, TransferWindow, WindowOrChecksum,
+    SafetyOffset, SpecificData, Text, Timestamp, TransferWindow, WindowOrChecksum,
 };
 use missionlink_services::ground_station::{
     GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
@@ -550,6 +550,26 @@ impl FccRig {
         checksum: Option<Checksum>,
     ) -> Vec<Message> {
         self.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
+        for m in mission.messages() {
+            self.accepted(m);
+        }
+        self.send(transmit(mission, checksum))
+    }
+
+    /// Uploads `mission` into a buffer emptied by #13000 mode 10 with a Mission ID that holds
+    /// nothing (ICD §8), as the GCS opens a full upload toward edition 2: unlike the clear, the
+    /// opener leaves the active list alone until the closer. Returns the answers to the closer.
+    pub fn upload_mission_into_empty_buffer(
+        &mut self,
+        mission: &Mission,
+        checksum: Option<Checksum>,
+    ) -> Vec<Message> {
+        let unused = Text::new("no-such-mission").ok();
+        self.accepted(mission_command(
+            MissionPlanMode::LoadWaypointBuffer,
+            None,
+            unused,
+        ));
         for m in mission.messages() {
             self.accepted(m);
         }

@@ -75,7 +75,9 @@ pub(crate) enum Command {
         4  failed half way: one list is the new one, the other the previous one (the message \
            says which; only the paper's sequence can end so)\n  \
         5  failed, and what the FCC holds is unknown: it did not answer the question\n  \
-        6  failed: the FCC holds a list that is neither the new one nor the previous one")]
+        6  failed: the FCC holds a list that is neither the new one nor the previous one\n  \
+        7  failed after the clear of the paper's sequence (ICD §5.1): the FCC holds no mission \
+           (only the paper's sequence can end so)")]
     Upload {
         /// Mission file (.toml or .plan).
         file: PathBuf,
@@ -184,7 +186,8 @@ pub(crate) enum Command {
     /// ICD §11, to compare with what `gcs validate` and `gcs upload` print. An edition-1 FCC
     /// gives no report (exit status 1).
     Missions,
-    /// Clear the active mission (#13000 clear, then transmit of an empty list).
+    /// Clear the active mission: #13000 mode 1 deletes the waypoint buffer and the active
+    /// waypoint list (ICD §5.1); refused while trajectory generation is active.
     Clear,
     /// Clear the active areas (#2011 mode 6).
     ClearAreas,

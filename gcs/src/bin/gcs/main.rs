@@ -540,6 +540,7 @@ fn upload_status(outcome: UploadOutcome) -> u8 {
         UploadOutcome::Mixed => 4,
         UploadOutcome::Unknown => 5,
         UploadOutcome::Foreign => 6,
+        UploadOutcome::NoMission => 7,
     }
 }
 
