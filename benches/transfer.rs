@@ -127,13 +127,12 @@ fn measure(
         rig.config.guidance.start_latitude_deg = latitude;
         rig.config.guidance.start_longitude_deg = longitude;
     }
-    if signed {
-        // ICD §9 on both links, both ways, required by both sides.
-        let key = rig.dir.join("link.key");
-        missionlink_platform::keys::generate_key_file(&key, 1).unwrap();
+    if !signed {
+        // The rig signs both links, both ways, as the defaults do (ICD §9); the unsigned rows
+        // say so in writing, as a deployment would have to, and hold no key.
         rig.config.signing = missionlink_partitions::config::Signing {
-            policy: missionlink_partitions::config::SigningPolicy::Require,
-            key_files: vec![key],
+            policy: missionlink_partitions::config::SigningPolicy::Off,
+            key_files: Vec::new(),
             send_key_id: None,
         };
     }

@@ -108,7 +108,7 @@ fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
 }
 
 #[test]
-fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_lists() {
+fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_what_was_active() {
     let mut rig = Rig::new("kill9");
     // One attempt: this test is about the abort; a second one would complete the upload on the
     // restarted partition (tests/link_faults.rs).
@@ -137,8 +137,8 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     })
     .expect("the list of mission 1");
 
-    // Start uploading mission 2; after the clear, the take-off height and two waypoints,
-    // kill mission data handling.
+    // Start uploading mission 2 by the paper's sequence; after the clear (which deletes mission
+    // 1, ICD §5.1), the take-off height and two waypoints, kill mission data handling.
     link.enable_log();
     let now = link.now();
     link.station().upload(now, &mission_2, true).unwrap();
@@ -154,7 +154,8 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     signal_partition(&fcc, "mission-data-handling", rustix::process::Signal::KILL);
 
     // The GCS reports the abort after its retry, naming the message, then asks the FCC what is
-    // active (ICD §11): the previous lists, or unknown while the partition is still down.
+    // active (ICD §11): no mission (its clear deleted it), or unknown while the partition is
+    // still down.
     let outcome = finish(&mut link);
     let Err(GcsError::Upload(report)) = &outcome else {
         panic!("the upload did not fail: {outcome:?}");
@@ -166,12 +167,13 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     assert!(
         matches!(
             report.outcome(),
-            UploadOutcome::PreviousActive | UploadOutcome::Unknown
+            UploadOutcome::NoMission | UploadOutcome::Unknown
         ),
         "{report}"
     );
     eprintln!("the GCS reported: {report}");
-    // The launcher restarted the partition, which resumed with mission 1.
+    // The launcher restarted the partition, which resumed with what was active: no mission, the
+    // areas of mission 1.
     wait_for_log(&fcc, "partition died", Duration::from_secs(5));
     assert!(
         fcc.log_text().contains("killed by signal 9"),
@@ -194,12 +196,14 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_the_list
     })
     .unwrap_or_else(|| panic!("the list of mission 2 never came: {lists:#?}"));
 
-    // Guidance kept the last valid list throughout: mission 1, then mission 2, nothing else.
+    // Guidance was handed whole lists only: mission 1, the empty list of the clear, then
+    // mission 2; never a part of mission 2.
     let one = valid_1.mission.to_payload(1);
     assert!(
         lists.iter().all(|l| {
             (l.generation == 1 && same_waypoints(l, &one))
-                || (l.generation > 1
+                || (l.generation == 2 && l.count == 0)
+                || (l.generation > 2
                     && same_waypoints(l, &valid_2.mission.to_payload(l.generation)))
         }),
         "{lists:#?}"
@@ -412,4 +416,62 @@ fn execute_is_refused_when_the_way_from_the_take_off_point_crosses_a_no_fly_zone
     });
     assert_eq!(reason, Some(Some(wire::Reason::GeofenceViolation)));
     assert_eq!(download(&mut link).unwrap(), valid, "nothing changed");
+}
+
+/// The clear follows paper §3.1 (ICD §5.1 step 1): an edition-1 peer, with signing off as the
+/// FCC's configuration says in writing, clears the mission; guidance receives the empty list, a
+/// download gets "no mission" (#17000 type 3 `WrongState`, ICD §5.2) and execute is refused
+/// (`WrongState`, ICD §5.7) until a mission is uploaded again.
+#[test]
+fn after_an_edition_1_peers_clear_the_fcc_holds_no_mission() {
+    use common::ground::Ground;
+    use missionlink_partitions::config::{Signing, SigningPolicy};
+    use missionlink_services::transfer::sender::mission_command;
+    use wire::{ExecuteCommand, Message, MissionExecuteCommand, MissionPlanMode, Reason};
+
+    let mut rig = Rig::new("edition-1-clear");
+    rig.config.signing = Signing {
+        policy: SigningPolicy::Off,
+        key_files: Vec::new(),
+        send_key_id: None,
+    };
+    let mut fcc = rig.start_fcc();
+    let links = rig.gcs_links(&mut fcc);
+    let mut peer = Ground::new(&rig.config, links);
+    let valid = plan("mission-2.toml").assemble().unwrap();
+    peer.upload(&valid);
+    wait_for_log(
+        &fcc,
+        "waypoint list received generation=1 waypoints=3",
+        Duration::from_secs(20),
+    );
+
+    peer.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
+    wait_for_log(
+        &fcc,
+        "waypoint list received generation=2 waypoints=0",
+        Duration::from_secs(20),
+    );
+    // An edition-1 download request: no Transfer Window.
+    assert_eq!(
+        peer.refused(mission_command(MissionPlanMode::ReceiveMission, None, None)),
+        Some(Reason::WrongState)
+    );
+    let execute = || {
+        Message::from(MissionExecuteCommand {
+            time_stamp: wire::Timestamp::default(),
+            command: ExecuteCommand::Execute,
+            mission_id: None,
+        })
+    };
+    assert_eq!(peer.refused(execute()), Some(Reason::WrongState));
+
+    // Uploaded again, the same execute is accepted once guidance has reported a position.
+    peer.upload(&valid);
+    let accepted = eventually(Duration::from_secs(10), || match peer.refused(execute()) {
+        None => Some(()),
+        Some(Reason::WrongState) => None,
+        Some(other) => panic!("execute refused with {other:?}"),
+    });
+    assert_eq!(accepted, Some(()), "{}", fcc.log_text());
 }

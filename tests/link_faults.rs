@@ -91,6 +91,8 @@ fn claim(outcome: &Result<Finished, Error>, trial: usize) -> Option<bool> {
         Held::Previous | Held::NotNew => Some(false),
         Held::Unknown => None,
         Held::Foreign => panic!("trial {trial}: lists neither old nor new: {report}"),
+        // Only the paper's sequence clears; these uploads are atomic.
+        Held::Cleared => panic!("trial {trial}: an atomic upload said it cleared: {report}"),
     };
     let (mission, areas) = (said(report.mission.held), said(report.areas.held));
     assert!(

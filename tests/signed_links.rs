@@ -63,11 +63,15 @@ fn attack(
     }
 }
 
+/// The defaults (ICD §9: policy `require`), with the key the rig made as an operator makes it.
 #[test]
-fn under_require_a_stranger_changes_nothing_and_the_signed_operator_works() {
+fn with_the_default_policy_a_stranger_changes_nothing_and_the_signed_operator_works() {
     let mut rig = Rig::new("signed");
-    let key = key_file(&rig, "link.key", 1);
-    rig.config.signing = require(vec![key]);
+    assert_eq!(
+        rig.config.signing.policy,
+        SigningPolicy::Require,
+        "the default"
+    );
     let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     assert_eq!(link.signing_key_id(), Some(1));

@@ -14,6 +14,7 @@ use std::os::unix::fs::PermissionsExt;
 use std::time::{Duration, Instant};
 
 use common::*;
+use missionlink_partitions::config::{Signing, SigningPolicy};
 use missionlink_partitions::launcher::{FccProcess, PARTITIONS};
 use missionlink_partitions::state;
 
@@ -158,9 +159,54 @@ fn a_partition_that_keeps_dying_is_given_up_after_its_start_limit() {
     fcc.stop().unwrap();
 }
 
+/// Signing is required by default (ICD §9): an FCC without a key stops before any partition
+/// starts, with one line that says how to make one.
+#[test]
+fn an_fcc_without_a_key_under_the_default_policy_exits_at_once_saying_how_to_make_one() {
+    let mut rig = Rig::new("supervise-no-key");
+    rig.config.signing = Signing::default();
+    let log = rig.dir.join("fcc.log");
+    let command = FccProcess::command(&bin_dir(), "fcc", &rig.config).unwrap();
+    let mut fcc = FccProcess::spawn(command, &rig.config, Some(&log)).unwrap();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = fcc.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            start.elapsed() < LIMIT,
+            "the launcher went on:\n{}",
+            fcc.log_text()
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let text = fcc.log_text();
+    assert_eq!(status.code(), Some(2), "{text}");
+    assert_eq!(
+        lines_with(
+            &text,
+            &[
+                "the FCC cannot come up",
+                "link signing is require",
+                "gcs keygen",
+                "policy = \"off\""
+            ]
+        ),
+        1,
+        "{text}"
+    );
+    assert!(!text.contains("started"), "a partition started:\n{text}");
+}
+
+/// `policy = "off"` is a person's decision in writing, said at every start.
 #[test]
 fn voting_monitoring_warns_at_every_start_while_signing_is_off() {
-    let rig = Rig::new("supervise-unsigned");
+    let mut rig = Rig::new("supervise-unsigned");
+    rig.config.signing = Signing {
+        policy: SigningPolicy::Off,
+        key_files: Vec::new(),
+        send_key_id: None,
+    };
     let mut fcc = rig.start_fcc();
     let warning = ["the links are not authenticated", "signing is off"];
     assert_eq!(

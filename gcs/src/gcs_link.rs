@@ -19,7 +19,7 @@ use missionlink_platform::clock::DriverClock;
 use missionlink_platform::config::LinkConfig;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
-use missionlink_services::link::signing::Signer;
+use missionlink_services::link::signing::{Policy, Signer};
 
 /// How far ahead of the last stamp used [`GcsLink::with_stamp_lease`] reserves.
 const STAMP_LEASE: Duration = Duration::from_secs(1);
@@ -114,6 +114,19 @@ impl<G: SafetyGateway> GcsLink<G> {
             gateway,
         ));
         tracing::debug!(signing = %signing.summary(), "link signing (ICD §9)");
+        // Said at every start, as the FCC says it: a link anyone on the path can write to must
+        // not pass unnoticed.
+        match signing.policy {
+            Policy::Off => tracing::warn!(
+                "the links are not authenticated: signing is off ([signing] policy = \"off\"), \
+                 so this ground takes any FCC's answers for its vehicle's (ICD §9)"
+            ),
+            Policy::Accept => tracing::warn!(
+                "unsigned frames are accepted ([signing] policy = \"accept\"): only \"require\" \
+                 authenticates the links (ICD §9)"
+            ),
+            Policy::Require => {}
+        }
         Ok(Self {
             signing: signing.signer.as_ref().map(Signer::key_id),
             links: links.with_signer(signing.signer.clone()),
@@ -427,6 +440,8 @@ mod tests {
         config.links.gcs_lte = "127.0.0.1:0".parse().unwrap();
         config.links.fcc_direct = fcc_direct.local_addr().unwrap();
         config.links.fcc_lte = fcc_lte.local_addr().unwrap();
+        // The frames below are unsigned, as from an FCC that cannot sign.
+        config.signing.policy = missionlink_platform::config::SigningPolicy::Off;
         let mut link = GcsLink::open(&config, WithoutGateway).unwrap();
         link.enable_log();
         let [gcs_direct, gcs_lte] = link.links.sockets().map(|s| s.local_addr().unwrap());

@@ -750,7 +750,10 @@ mod tests {
         assert_eq!(resolved.signing.policy, SigningPolicy::Accept);
         assert_eq!(resolved.signing.key_files, [PathBuf::from("/other.key")]);
         assert_eq!(resolved.signing.send_key_id, Some(7));
-        assert_eq!(Config::default().signing.policy, SigningPolicy::Off);
+        // Signing is required unless a person writes otherwise (ICD §9).
+        assert_eq!(Config::default().signing.policy, SigningPolicy::Require);
+        let off = Config::parse("[signing]\npolicy = \"off\"\n", Path::new("f")).unwrap();
+        assert_eq!(off.signing.policy, SigningPolicy::Off);
     }
 
     #[test]

@@ -551,8 +551,15 @@ pub fn main(
 /// The configuration of a local FCC of its own (the demo's, a test's): service prefix `prefix`,
 /// state and latency summaries under `dir` (`state/`, `latency/`), the GCS's ends as `gcs` bound
 /// them, the FCC's ends on port 0 of loopback (voting-monitoring chooses and announces them:
-/// read them with [`FccProcess::links`]).
+/// read them with [`FccProcess::links`]). The links are signed as by default (ICD §9: policy
+/// `require`) with a key made for it, `<dir>/link.key`, which the FCC and the GCS on this
+/// configuration share; one made before in `dir` is used again.
 pub fn local_config(dir: &Path, prefix: String, gcs: &LocalEnds) -> Result<Config, LinkError> {
+    let key_file = dir.join("link.key");
+    if !key_file.exists() {
+        missionlink_platform::keys::generate_key_file(&key_file, 1)
+            .map_err(|e| LinkError(e.to_string()))?;
+    }
     let [direct, lte] = gcs.addrs()?;
     let any = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
     let mut config = Config::default();
@@ -563,6 +570,7 @@ pub fn local_config(dir: &Path, prefix: String, gcs: &LocalEnds) -> Result<Confi
     config.ipc.service_prefix = prefix;
     config.ipc.state_dir = Some(dir.join("state"));
     config.latency.summary_dir = Some(dir.join("latency"));
+    config.signing.key_files = vec![key_file];
     Ok(config)
 }
 

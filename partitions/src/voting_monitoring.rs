@@ -64,6 +64,9 @@ fn bind(
 /// (the FCC sends to them, so they cannot be the system's choice). The launcher checks it before
 /// it starts any partition; the partition again before it binds.
 pub fn check_config(config: &Config) -> Result<(), PartitionError> {
+    // The key files are read here too, so that an FCC without the key its policy needs stops
+    // at once with the line that says how to make one, before any partition starts.
+    LinkSigning::load(&config.signing).map_err(|e| PartitionError::Config(e.to_string()))?;
     let l = &config.links;
     for (peer, name) in [(l.gcs_direct, "gcs_direct"), (l.gcs_lte, "gcs_lte")] {
         if peer.port() == 0 {

@@ -18,7 +18,7 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{
     AreaType, ExecuteCommand, LegType, MAX_FRAME_LEN, MissionPlanMode,
 };
-use missionlink_partitions::config::Config;
+use missionlink_partitions::config::{Config, SigningPolicy};
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::runtime::{self, Control, PartitionError};
 use missionlink_partitions::{
@@ -234,6 +234,9 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
 fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_and_keeps_its_ports()
  {
     let (mut config, _dir) = config("vm");
+    // The voting of unsigned frames, as from a GCS that cannot sign, written in the
+    // configuration as a deployment would have to (the signed links: tests/signed_links.rs).
+    config.signing.policy = SigningPolicy::Off;
     let gcs_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
     let gcs_lte = UdpSocket::bind("127.0.0.1:0").unwrap();
     for s in [&gcs_direct, &gcs_lte] {

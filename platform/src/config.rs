@@ -24,7 +24,8 @@
 //! upload_attempts = 2             # a GCS upload that failed with the lists as they were, again
 //!
 //! [signing]                       # link signing, ICD §9 (see `keys`)
-//! policy = "off"                  # off | accept | require: what this node's receiver checks
+//! policy = "require"              # require (the default) | accept | off: what this node's
+//!                                 # receiver checks; "off" only for a peer that cannot sign
 //! key_files = ["/etc/missionlink/link-1.key"]   # 32-byte keys with their Key IDs, mode 0600
 //! send_key_id = 1                 # sign with this key (optional with one key file)
 //! ```
@@ -163,12 +164,14 @@ impl Timing {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum SigningPolicy {
-    /// Trailers are ignored and not checked (edition 1).
-    #[default]
+    /// Trailers are ignored and not checked (edition 1): for a peer that cannot sign, written
+    /// in the configuration or given as a flag, and warned about at every start.
     Off,
     /// A signed frame must verify; unsigned frames are still accepted.
     Accept,
-    /// Only frames that verify are accepted.
+    /// Only frames that verify are accepted: the default, so that with the defaults no stranger
+    /// who reaches the links changes anything.
+    #[default]
     Require,
 }
 

@@ -68,6 +68,18 @@ pub enum KeyError {
     /// The signing configuration contradicts itself.
     #[error("signing: {0}")]
     Config(String),
+    /// The policy checks signatures (`require`, the default, or `accept`) and no key file is
+    /// configured: the one line says how to make a key and how to run unsigned on purpose.
+    #[error(
+        "link signing is {policy} (ICD §9) and no key file is configured: make a key with \
+         `gcs keygen --fcc /etc/missionlink/link.key --ground ~/.config/missionlink/link.key` and \
+         name each side's file in [signing] key_files (or --key-file); only for a peer that \
+         cannot sign, write policy = \"off\" in [signing] (or --signing off)"
+    )]
+    NoKey {
+        /// The policy configured.
+        policy: Policy,
+    },
 }
 
 /// The fields of a key file.
@@ -128,13 +140,49 @@ fn parse_secret(hex: &str) -> Option<[u8; KEY_LEN]> {
 /// Writes a new key file at `path` with Key ID `key_id` and a key from the operating system's
 /// random source, readable by its owner only. An existing file is never overwritten.
 pub fn generate_key_file(path: &Path, key_id: u8) -> Result<(), KeyError> {
+    generate_key_files(&[path], key_id)
+}
+
+/// Writes one new key (Key ID `key_id`, from the operating system's random source) to every
+/// path of `paths`, the same path once: the FCC's key file and the ground's, which hold the same
+/// key (ICD §9). Each is readable by its owner only; a missing directory is made, readable by
+/// its owner only. An existing file is never overwritten, and when one cannot be written, the
+/// ones written before are removed: all of them are made, or none.
+pub fn generate_key_files(paths: &[&Path], key_id: u8) -> Result<(), KeyError> {
+    let mut secret = [0u8; KEY_LEN];
+    getrandom::fill(&mut secret).map_err(|e| KeyError::Io {
+        path: paths.first().map(|p| p.to_path_buf()).unwrap_or_default(),
+        error: std::io::Error::other(format!("no random source: {e}")),
+    })?;
+    let mut written: Vec<&Path> = Vec::new();
+    for path in paths {
+        if written.contains(path) {
+            continue;
+        }
+        if let Err(e) = write_key_file(path, key_id, &secret) {
+            for done in written {
+                let _ = std::fs::remove_file(done);
+            }
+            return Err(e);
+        }
+        written.push(path);
+    }
+    Ok(())
+}
+
+fn write_key_file(path: &Path, key_id: u8, secret: &[u8; KEY_LEN]) -> Result<(), KeyError> {
+    use std::os::unix::fs::DirBuilderExt;
     let io = |error| KeyError::Io {
         path: path.to_owned(),
         error,
     };
-    let mut secret = [0u8; KEY_LEN];
-    getrandom::fill(&mut secret)
-        .map_err(|e| io(std::io::Error::other(format!("no random source: {e}"))))?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::DirBuilder::new()
+            .recursive(true)
+            .mode(0o700)
+            .create(dir)
+            .map_err(io)?;
+    }
     let hex: String = secret.iter().map(|b| format!("{b:02x}")).collect();
     let mut file = std::fs::OpenOptions::new()
         .write(true)
@@ -179,9 +227,7 @@ impl LinkSigning {
         }
         let policy = Policy::from(signing.policy);
         if policy != Policy::Off && keys.is_empty() {
-            return Err(KeyError::Config(format!(
-                "policy {policy} checks signatures, and no key file is configured (key_files)"
-            )));
+            return Err(KeyError::NoKey { policy });
         }
         let ids: Vec<u8> = keys.ids().collect();
         let send_id = match (signing.send_key_id, ids.as_slice()) {
@@ -266,6 +312,38 @@ mod tests {
     }
 
     #[test]
+    fn one_key_is_written_to_the_fccs_and_the_grounds_file_or_to_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let fcc = dir.path().join("fcc/etc/link.key");
+        let ground = dir.path().join("ground.key");
+        generate_key_files(&[&fcc, &ground], 3).unwrap();
+        for path in [&fcc, &ground] {
+            let mode = std::fs::metadata(path).unwrap().permissions().mode();
+            assert_eq!(mode & 0o777, 0o600, "{path:?}");
+        }
+        let dir_mode = std::fs::metadata(fcc.parent().unwrap())
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(dir_mode & 0o777, 0o700);
+        assert_eq!(
+            std::fs::read_to_string(&fcc).unwrap(),
+            std::fs::read_to_string(&ground).unwrap()
+        );
+        assert_eq!(read_key_file(&fcc).unwrap().id(), 3);
+        // The same path twice is one file.
+        let same = dir.path().join("same.key");
+        generate_key_files(&[&same, &same], 1).unwrap();
+        // The second file exists: the first is not left behind.
+        let first = dir.path().join("first.key");
+        assert!(matches!(
+            generate_key_files(&[&first, &ground], 1),
+            Err(KeyError::Io { .. })
+        ));
+        assert!(!first.exists());
+    }
+
+    #[test]
     fn a_key_file_others_can_read_is_refused_and_the_message_says_how_to_fix_it() {
         let dir = tempfile::tempdir().unwrap();
         let text = format!("key_id = 1\nkey = \"{HEX}\"\n");
@@ -330,9 +408,17 @@ mod tests {
             key_files: key_files.iter().map(|p| (*p).clone()).collect(),
             send_key_id,
         };
-        let off = LinkSigning::load(&Signing::default()).unwrap();
+        let off = LinkSigning::load(&signing(SigningPolicy::Off, &[], None)).unwrap();
         assert_eq!(off.policy, Policy::Off);
         assert!(off.signer.is_none());
+        // The default requires a key, and says in one line how to make one.
+        let message = LinkSigning::load(&Signing::default())
+            .unwrap_err()
+            .to_string();
+        assert!(message.starts_with("link signing is require"), "{message}");
+        assert!(message.contains("gcs keygen"), "{message}");
+        assert!(message.contains("policy = \"off\""), "{message}");
+        assert!(!message.contains('\n'), "{message}");
         let only = LinkSigning::load(&signing(SigningPolicy::Require, &[&one], None)).unwrap();
         assert_eq!(only.signer.unwrap().key_id(), 1);
         let named =
@@ -344,6 +430,10 @@ mod tests {
         );
         for (bad, expected) in [
             (signing(SigningPolicy::Require, &[], None), "no key file"),
+            (
+                signing(SigningPolicy::Accept, &[], None),
+                "link signing is accept",
+            ),
             (
                 signing(SigningPolicy::Off, &[&one, &two], None),
                 "send_key_id",

@@ -24,10 +24,8 @@ use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::report_table;
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
 use missionlink_partitions::binaries;
-use missionlink_partitions::config::{Signing, SigningPolicy};
 use missionlink_partitions::latency;
 use missionlink_partitions::launcher::{self, FccProcess};
-use missionlink_platform::keys;
 use missionlink_platform::udp::LocalEnds;
 use missionlink_services::ground_station::outcome::UploadOutcome;
 use missionlink_services::ground_station::{GcsError, GcsEvent, MissionPlan};
@@ -271,15 +269,8 @@ fn run(args: &Args) -> Result<(), String> {
     let mut config =
         launcher::local_config(&run_dir, prefix, &gcs_ends).map_err(|e| e.to_string())?;
     config.guidance.time_scale = args.time_scale;
-    // The links are signed (ICD §9) with a key made for this run: every frame on both links,
-    // both ways, and each side requires it.
-    let key_file = run_dir.join("link.key");
-    keys::generate_key_file(&key_file, 1).map_err(|e| e.to_string())?;
-    config.signing = Signing {
-        policy: SigningPolicy::Require,
-        key_files: vec![key_file],
-        send_key_id: Some(1),
-    };
+    // The links are signed (ICD §9) with the key `local_config` made for this run: every frame
+    // on both links, both ways, and each side requires it (the default policy).
 
     println!(
         "missionlink demo: medical evacuation after Heimsch et al. (Aerospace 2024), section 4"

@@ -4,6 +4,7 @@
 //! its own: every port is chosen by the process that binds it.
 #![allow(dead_code)]
 
+pub mod ground;
 pub mod netns;
 
 use std::path::{Path, PathBuf};

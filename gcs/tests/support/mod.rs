@@ -51,21 +51,36 @@ pub fn scratch(test: &str) -> tempfile::TempDir {
 pub struct SilentFcc {
     direct: UdpSocket,
     lte: UdpSocket,
+    /// The link key the ground signs with (ICD §9: signing is required by default).
+    key: tempfile::TempDir,
 }
 
 impl SilentFcc {
-    /// Binds both on loopback, ports the system chooses.
+    /// Binds both on loopback, ports the system chooses, and makes a link key.
     pub fn bind() -> Self {
+        let key = scratch("silent-fcc-key");
+        let made = gcs(&[
+            "keygen",
+            "--fcc",
+            &key.path().join("link.key").display().to_string(),
+            "--ground",
+            &key.path().join("link.key").display().to_string(),
+        ]);
+        assert!(made.status.success(), "{}", text_of(&made));
         Self {
             direct: UdpSocket::bind("127.0.0.1:0").expect("direct bound"),
             lte: UdpSocket::bind("127.0.0.1:0").expect("LTE bound"),
+            key,
         }
     }
 
-    /// The `gcs` flags that point both links at these sockets (the GCS's own ends: port 0).
+    /// The `gcs` flags that point both links at these sockets (the GCS's own ends: port 0),
+    /// with the link key.
     pub fn args(&self) -> Vec<String> {
         let addr = |s: &UdpSocket| s.local_addr().expect("bound").to_string();
         vec![
+            "--key-file".to_owned(),
+            self.key.path().join("link.key").display().to_string(),
             "--fcc-direct".to_owned(),
             addr(&self.direct),
             "--fcc-lte".to_owned(),

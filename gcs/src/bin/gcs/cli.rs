@@ -250,14 +250,24 @@ pub(crate) enum Command {
         /// Datagrams in hex.
         hex: Vec<String>,
     },
-    /// Write a new link key file (ICD §9): 32 random bytes with a Key ID, readable by its owner
-    /// only (mode 0600). An existing file is never overwritten.
+    /// Make a link key (ICD §9) and write it to the FCC's key file and the ground's: 32 random
+    /// bytes with a Key ID, each file readable by its owner only (mode 0600, its directory made
+    /// 0700 when missing). An existing file is never overwritten; both files are written, or
+    /// neither.
     ///
-    /// Give the same file to the FCC and the GCS (`[signing] key_files`, or `--key-file`), and
-    /// choose the policy with `--signing off|accept|require`.
+    /// Link signing is required by default on both sides: name each side's file in its
+    /// `[signing] key_files` (or `--key-file`). On the FCC under systemd the unit reads
+    /// /etc/missionlink/link.key as a credential (docs/deployment.md). The same path for both
+    /// writes one file (an FCC and a ground on one machine).
+    #[command(after_help = "Example:\n  \
+        gcs keygen --fcc /etc/missionlink/link.key --ground ~/.config/missionlink/link.key")]
     Keygen {
-        /// Where to write the key.
-        file: PathBuf,
+        /// The FCC's key file to write.
+        #[arg(long, value_name = "FILE")]
+        fcc: PathBuf,
+        /// The ground's key file to write.
+        #[arg(long, value_name = "FILE")]
+        ground: PathBuf,
         /// Its Key ID (0-255): keys in rotation differ by it.
         #[arg(long, default_value_t = 1)]
         key_id: u8,

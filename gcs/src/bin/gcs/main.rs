@@ -1057,12 +1057,17 @@ fn run(cli: Cli) -> ExitCode {
                 return ExitCode::from(2);
             }
         },
-        Command::Keygen { file, key_id } => match keys::generate_key_file(&file, key_id) {
+        Command::Keygen {
+            fcc,
+            ground,
+            key_id,
+        } => match keys::generate_key_files(&[&fcc, &ground], key_id) {
             Ok(()) => {
                 println!(
-                    "wrote link key {key_id} to {} (mode 0600); give it to both sides: \
-                     [signing] key_files, or --key-file",
-                    file.display()
+                    "wrote link key {key_id} (mode 0600) for the FCC to {} and for the ground to \
+                     {}; name each in its side's [signing] key_files (or --key-file)",
+                    fcc.display(),
+                    ground.display()
                 );
                 Ok(true)
             }
