@@ -140,7 +140,7 @@ fn a_gcs_whose_key_the_fcc_does_not_hold_hears_nothing_and_says_why() {
     rig.config.signing = require(vec![gcs_key]);
     let mut link = rig.gcs(&mut fcc);
     let error = upload(&mut link, &plan("mission-1.toml")).unwrap_err();
-    let why = link.unheard_while_signing().expect("an explanation");
+    let why = link.unheard().expect("an explanation");
     assert!(why.contains("key 2"), "{why}");
     assert!(why.contains("does not fall back"), "{why}");
     // Nothing unsigned went out after the silence: the FCC saw only frames with key 2.

@@ -187,7 +187,7 @@ fn an_fcc_without_a_key_under_the_default_policy_exits_at_once_saying_how_to_mak
             &text,
             &[
                 "the FCC cannot come up",
-                "link signing is require",
+                "the link signing policy is require",
                 "gcs keygen",
                 "policy = \"off\""
             ]

@@ -187,17 +187,24 @@ impl<G: SafetyGateway> GcsLink<G> {
         self.signing
     }
 
-    /// When this GCS signs and has heard nothing from the FCC, why (ICD §9: a GCS with a key
-    /// never falls back to unsigned frames, so it says what the silence may mean instead): the
-    /// FCC's frames fail this GCS's check, or the FCC does not verify this GCS's key (or does
-    /// not run). `None` when the GCS does not sign or has heard the FCC.
-    pub fn unheard_while_signing(&self) -> Option<String> {
-        let key_id = self.signing?;
+    /// When this GCS has heard nothing from the FCC, what the silence may mean as far as link
+    /// signing goes (ICD §9): a GCS with a key never falls back to unsigned frames, so it says
+    /// that the FCC's frames fail its check, or that the FCC does not verify its key (or does
+    /// not run); a GCS without one says that an FCC that requires signing, the default, drops
+    /// its frames. `None` when the GCS has heard the FCC.
+    pub fn unheard(&self) -> Option<String> {
         let stats = self.voter.stats();
         if stats.forwarded.iter().any(|n| *n > 0) {
             return None;
         }
         let rejected = stats.rejected_signatures;
+        let Some(key_id) = self.signing else {
+            return Some(
+                "nothing was heard from the FCC. This GCS sends unsigned frames: an FCC that \
+                 requires signing (the default, ICD §9) drops them, or the FCC does not run"
+                    .to_owned(),
+            );
+        };
         Some(if rejected.total() > 0 {
             format!(
                 "the FCC sends, but its frames fail this GCS's signature check ({rejected:?}): \

@@ -219,8 +219,13 @@ impl StartLimit {
 /// Checks what each partition the launcher starts needs of `config`, before any is started.
 fn check_partitions(config: &Config, without: &[&str]) -> Result<(), PartitionError> {
     if !without.contains(&voting_monitoring::NAME) {
-        voting_monitoring::check_config(config)
-            .map_err(|e| PartitionError::Config(format!("{}: {e}", voting_monitoring::NAME)))?;
+        voting_monitoring::check_config(config).map_err(|e| {
+            let why = match e {
+                PartitionError::Config(why) => why,
+                other => other.to_string(),
+            };
+            PartitionError::Config(format!("{}: {why}", voting_monitoring::NAME))
+        })?;
     }
     crate::isolation::check_config(config).map_err(|e| PartitionError::Config(e.to_string()))?;
     Ok(())

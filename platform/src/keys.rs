@@ -71,7 +71,7 @@ pub enum KeyError {
     /// The policy checks signatures (`require`, the default, or `accept`) and no key file is
     /// configured: the one line says how to make a key and how to run unsigned on purpose.
     #[error(
-        "link signing is {policy} (ICD §9) and no key file is configured: make a key with \
+        "the link signing policy is {policy} (ICD §9) and no key file is configured: make a key with \
          `gcs keygen --fcc /etc/missionlink/link.key --ground ~/.config/missionlink/link.key` and \
          name each side's file in [signing] key_files (or --key-file); only for a peer that \
          cannot sign, write policy = \"off\" in [signing] (or --signing off)"
@@ -415,7 +415,10 @@ mod tests {
         let message = LinkSigning::load(&Signing::default())
             .unwrap_err()
             .to_string();
-        assert!(message.starts_with("link signing is require"), "{message}");
+        assert!(
+            message.starts_with("the link signing policy is require"),
+            "{message}"
+        );
         assert!(message.contains("gcs keygen"), "{message}");
         assert!(message.contains("policy = \"off\""), "{message}");
         assert!(!message.contains('\n'), "{message}");

@@ -8,7 +8,7 @@ mod support;
 
 use std::time::Duration;
 
-use missionlink_interfaces::wire::{GeoPoint, Message, Reason};
+use missionlink_interfaces::wire::{GeoPoint, Message, MissionPlanMode, Reason};
 use missionlink_services::ground_station::{GcsError, GcsEvent, ValidatedPlan};
 use missionlink_services::link::retry::AttemptFailure;
 use support::*;
@@ -216,7 +216,7 @@ fn invalid_plan_is_refused_before_anything_is_sent() {
 }
 
 #[test]
-fn clear_is_refused_while_guidance_is_active() {
+fn clear_is_refused_while_guidance_is_active_and_then_deletes_the_mission() {
     let mut pair = Pair::new(5);
     let plan = mission_2();
     upload(&mut pair, &plan, true);
@@ -241,6 +241,7 @@ fn clear_is_refused_while_guidance_is_active() {
     assert_eq!(pair.fcc.active_mission().cloned(), active);
     // Once guidance is inactive, the clear goes through.
     pair.fcc.set_automation_state(&on_ground());
+    let from = pair.sent.len();
     let now = pair.now;
     pair.gcs.clear_mission(now).unwrap();
     pair.run_until_standby(Duration::from_secs(10));
@@ -250,6 +251,28 @@ fn clear_is_refused_while_guidance_is_active() {
     ));
     assert_eq!(pair.fcc.active_mission(), None);
     assert!(!pair.fcc.waypoint_list().is_active());
+    // One message: the clear deletes the active list itself (ICD §5.1 step 1).
+    let sent: Vec<&Message> = pair.sent[from..]
+        .iter()
+        .filter(|s| s.direction == Direction::Up)
+        .map(|s| &s.message)
+        .collect();
+    assert!(
+        matches!(sent[..], [Message::MissionTransferCommand(c)] if c.mode == MissionPlanMode::ClearMission),
+        "{sent:?}"
+    );
+    // A download then says the FCC holds no mission, in those words.
+    let now = pair.now;
+    pair.gcs.download(now).unwrap();
+    pair.run_until_standby(Duration::from_secs(10));
+    let events = pair.take_gcs_events();
+    let Some(GcsEvent::Failed(error @ GcsError::NoMission)) = events.last() else {
+        panic!("the download did not find no mission: {events:?}");
+    };
+    assert!(
+        error.to_string().starts_with("the FCC holds no mission"),
+        "{error}"
+    );
 }
 
 #[test]

@@ -56,6 +56,9 @@ pub enum GcsError<R> {
     /// [`GroundStation::execute`] was asked for #50000 command 4, which must name the staged
     /// mission (ICD §8): [`GroundStation::activate`] sends it. Nothing was sent.
     ActivateWithoutId,
+    /// A download of the active lists found no mission: the FCC refused the mission download
+    /// request with `WrongState`, its answer when it holds none (ICD §5.2), after a clear say.
+    NoMission,
     /// A request about a staged mission failed (activate, delete, download).
     Staged {
         /// Which request.
@@ -161,6 +164,11 @@ impl<R: fmt::Display> fmt::Display for GcsError<R> {
                 f,
                 "the FCC speaks ICD edition 1 (it refused the report request): {request} needs \
                  edition 2; nothing was sent but the report request"
+            ),
+            Self::NoMission => write!(
+                f,
+                "the FCC holds no mission: it refused the mission download with WrongState, its \
+                 answer when no mission is active (ICD §5.2)"
             ),
             Self::ActivateWithoutId => write!(
                 f,

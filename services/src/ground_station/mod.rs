@@ -664,7 +664,10 @@ impl<G: SafetyGateway> GroundStation<G> {
             return;
         }
         let Some(job) = self.upload.as_mut() else {
-            let error = self.staged_error(phase, error);
+            let error = match (phase, self.download_target) {
+                (Phase::MissionDownload, Target::Active) if none_held => GcsError::NoMission,
+                _ => self.staged_error(phase, error),
+            };
             self.fail(error);
             return;
         };

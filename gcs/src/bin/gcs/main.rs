@@ -506,7 +506,7 @@ fn finish(link: &mut Link) -> Result<Finished, Failure> {
     if progress {
         eprintln!();
     }
-    let unheard = link.unheard_while_signing();
+    let unheard = link.unheard();
     outcome
         .map_err(|e| match e {
             GcsError::Upload(report) => Failure {
