@@ -7,6 +7,9 @@ use std::process::Command;
 
 use crate::launcher;
 
+/// The workspace's root package (the demo, the cross-process tests and benches).
+const ROOT_PACKAGE: &str = "missionlink";
+
 /// The binaries the FCC needs: the launcher and the partitions it starts
 /// ([`launcher::PARTITIONS`], the one list of them).
 pub const FCC_BINARIES: [&str; 5] = {
@@ -82,8 +85,13 @@ fn ensure_of(dir: &Path, names: &[&str], package: &str, build: Build) -> Result<
         tracing::info!(binaries = %absent.join(", "), "building the missing binaries");
     }
     let mut command = Command::new(cargo);
+    // With the workspace's root package beside it: cargo resolves the features of the shared
+    // dependencies (iceoryx2 and the rest) over the packages it builds, and the callers (the
+    // demo, the tests) were built with the root's resolution. The package alone would resolve
+    // them otherwise and compile every shared dependency a second time.
     command
-        .args(["build", "-q", "-p", package, "--bins", "--manifest-path"])
+        .args(["build", "-q", "-p", package, "-p", ROOT_PACKAGE, "--bins"])
+        .arg("--manifest-path")
         .arg(&manifest);
     if !cfg!(debug_assertions) {
         command.arg("--release");
