@@ -97,6 +97,8 @@ fn pymavlink_uploads_downloads_and_is_refused_an_infeasible_mission() {
     assert!(out.contains("infeasible mission refused"), "{out}");
     // The violation, named by the safety gateway, reached the client in the STATUSTEXT.
     assert!(out.contains("inside no-fly-zone"), "{out}");
+    // The client checked the target of every reply; it saw some.
+    assert!(out.contains("every one addressed to 255/190"), "{out}");
 }
 
 #[test]
@@ -104,4 +106,14 @@ fn mavsdk_uploads_with_mission_raw_starts_and_sees_progress_and_positions() {
     let out = run_client("mavlink-mavsdk", "mavsdk_mission.py");
     assert!(out.contains("started"), "{out}");
     assert!(out.contains("distinct"), "{out}");
+}
+
+/// MAVProxy, unmodified, with its own system and component IDs: it takes mission requests
+/// only when addressed to itself, so its upload proves the bridge answers whoever asked.
+#[test]
+fn mavproxy_loads_a_qgc_wpl_mission_and_fence_and_lists_it() {
+    let out = run_client("mavlink-mavproxy", "mavproxy_mission.py");
+    assert!(out.contains("fence uploaded"), "{out}");
+    assert!(out.contains("wp list: equal to the upload"), "{out}");
+    assert!(out.contains("wp clear: the FCC holds no mission"), "{out}");
 }

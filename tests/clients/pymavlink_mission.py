@@ -4,7 +4,9 @@ Uploads a mission (a take-off and two waypoints) with a fence (an inclusion poly
 exclusion circle) in QGroundControl's order (mission, then fence, then rally points, each after
 the previous MISSION_ACK), downloads both back and compares them with the upload, then uploads
 an infeasible mission (a waypoint inside the exclusion circle) with the same fence and expects
-it refused, the reason in a STATUSTEXT, and the lists as they were.
+it refused, the reason in a STATUSTEXT, and the lists as they were. The client has its own
+system and component (255, 190, a ground station's): every reply of the vehicle that names a
+target must name it, never system 0.
 
 Usage: python3 pymavlink_mission.py BRIDGE_PORT. Exit status 0 when every check passes; each
 check that fails is printed.
@@ -39,12 +41,18 @@ def main():
         fail("no HEARTBEAT")
     print(f"heartbeat from system {m.target_system}: type {hb.type}, autopilot {hb.autopilot}")
     texts = []
+    replies = []
 
     def recv(types):
         while True:
             msg = m.recv_match(type=types + ["STATUSTEXT"], blocking=True, timeout=TIMEOUT)
             if msg is None:
                 fail(f"no {types}")
+            target = getattr(msg, "target_system", None)
+            if target is not None:
+                replies.append(msg.get_type())
+                if (target, msg.target_component) != (255, 190):
+                    fail(f"{msg.get_type()} addressed to {target}/{msg.target_component}")
             if msg.get_type() == "STATUSTEXT":
                 texts.append(msg.text)
                 print(f"STATUSTEXT: {msg.text}", flush=True)
@@ -124,6 +132,7 @@ def main():
     if not same(download(MISSION), mission) or not same(download(FENCE), fence):
         fail("the refusal changed the lists")
     print("the lists are as they were", flush=True)
+    print(f"{len(replies)} replies, every one addressed to 255/190", flush=True)
 
 
 if __name__ == "__main__":

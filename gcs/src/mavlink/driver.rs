@@ -4,7 +4,8 @@
 //! `--to` (where QGroundControl listens) and to the client that spoke last, if another; the
 //! downlink's #101 and #4001 go to the bridge; a [`BridgeEvent::Commit`] is validated by the
 //! safety gateway and uploaded atomically (ICD §8), a [`BridgeEvent::Execute`] is #50000
-//! execute, each outcome reported back to the bridge.
+//! execute, a [`BridgeEvent::Clear`] the FCC's clear of the mission or the areas; each outcome
+//! is reported back to the bridge.
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -13,7 +14,7 @@ use std::time::Duration;
 use missionlink_services::ground_station::{GcsEvent, SafetyGateway, Sequence};
 
 use super::bridge::{Bridge, BridgeEvent};
-use super::plan::from_plan;
+use super::plan::{List, from_plan};
 use crate::gcs_link::{Finished, GcsLink};
 use crate::qgc::ExportOptions;
 
@@ -81,6 +82,19 @@ fn commit<G: SafetyGateway>(
     link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
 }
 
+/// The FCC's clear of `list`: the mission (#13000 mode 1 alone, which deletes the active
+/// mission) or the areas (#2011 mode 6); why not, in the operator's words.
+fn clear<G: SafetyGateway>(link: &mut GcsLink<G>, list: List) -> Result<(), String> {
+    let now = link.now();
+    let station = link.station();
+    match list {
+        List::Mission => station.clear_mission(now),
+        List::Fence => station.clear_areas(now),
+    }
+    .map_err(|e| e.to_string())?;
+    link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
+}
+
 fn execute<G: SafetyGateway>(link: &mut GcsLink<G>) -> Result<(), String> {
     let now = link.now();
     link.station()
@@ -113,6 +127,13 @@ pub fn run<G: SafetyGateway>(
                     bridge.committed(outcome);
                 }
                 BridgeEvent::Execute => bridge.executed(execute(link)),
+                BridgeEvent::Clear { list } => {
+                    let outcome = clear(link, list);
+                    if let Err(why) = &outcome {
+                        tracing::warn!(%why, %list, "the MAVLink client's clear was refused");
+                    }
+                    bridge.cleared(list, outcome);
+                }
             }
         }
         while let Some(len) = bridge.poll_transmit(&mut buf) {
