@@ -47,11 +47,12 @@ use std::collections::VecDeque;
 use core::time::Duration;
 
 use mavlink::dialects::common::{
-    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA,
-    MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA, MISSION_ITEM_INT_DATA,
-    MISSION_REQUEST_INT_DATA, MavAutopilot, MavCmd, MavFrame, MavMessage, MavMissionResult,
-    MavMissionType, MavModeFlag, MavParamType, MavProtocolCapability, MavResult, MavSeverity,
-    MavState, MavType, MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
+    HEARTBEAT_DATA, MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA,
+    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA, MISSION_REQUEST_INT_DATA, MavAutopilot,
+    MavCmd, MavFrame, MavLandedState, MavMessage, MavMissionResult, MavMissionType, MavModeFlag,
+    MavParamType, MavProtocolCapability, MavResult, MavSeverity, MavState, MavType, MavVtolState,
+    MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA,
 };
 use mavlink::{MavHeader, MavlinkReader, MavlinkVersion};
 use missionlink_interfaces::wire::{FromToNext, InertialStates};
@@ -66,6 +67,18 @@ use crate::qgc::QgcImport;
 pub const SYSTEM_ID: u8 = 1;
 /// MAV_COMP_ID_AUTOPILOT1.
 pub const COMPONENT_ID: u8 = 1;
+/// PX4's custom main mode AUTO (px4_custom_mode.h): the family of modes the FCC flies in.
+const PX4_MAIN_AUTO: u32 = 4;
+/// PX4's AUTO sub mode LOITER: "Hold", the vehicle waits (on the ground, or after the mission).
+const PX4_SUB_LOITER: u32 = 3;
+/// PX4's AUTO sub mode MISSION: the vehicle flies its mission.
+const PX4_SUB_MISSION: u32 = 4;
+
+/// PX4's custom_mode: the main mode in bits 16..24, the sub mode in bits 24..32.
+const fn px4_mode(main: u32, sub: u32) -> u32 {
+    (main << 16) | (sub << 24)
+}
+
 /// Items the bridge holds per list (the FCC holds 256 waypoints; a mission item list has a
 /// take-off, speed changes and a land besides).
 pub const MAX_ITEMS: u16 = 1024;
@@ -196,6 +209,11 @@ pub struct Bridge {
     start_command: (MavCmd, Peer),
     /// The mission item the aircraft flies to (MISSION_CURRENT).
     current: u16,
+    /// The mission items reported reached (MISSION_ITEM_REACHED) in this flight: all below it.
+    reached: u16,
+    /// The ICD §11 checksums of the lists the FCC holds (MISSION_CURRENT's mission_id and
+    /// fence_id; 0, MAVLink's "unknown", for none).
+    ids: (u32, u32),
     state: MissionState,
     booted: Option<Instant>,
     /// MAVLink datagrams that did not parse, counted (a flood costs counters, not lines).
@@ -225,6 +243,8 @@ impl Bridge {
             clearing: None,
             start_command: (MavCmd::MAV_CMD_MISSION_START, Peer::default()),
             current: 0,
+            reached: 0,
+            ids: (0, 0),
             state: MissionState::MISSION_STATE_NO_MISSION,
             booted: None,
             unreadable: 0,
@@ -242,6 +262,13 @@ impl Bridge {
         };
         self.mission = mission;
         self.fence = fence;
+    }
+
+    /// The ICD §11 checksums of the lists the FCC holds, mission and areas (what it confirmed
+    /// of an upload, or computed from a download), for MISSION_CURRENT's mission_id and
+    /// fence_id: a client sees by them that the vehicle's plan changed.
+    pub fn set_ids(&mut self, mission_id: u32, fence_id: u32) {
+        self.ids = (mission_id, fence_id);
     }
 
     /// The lists as held: (mission, fence).
@@ -360,13 +387,24 @@ impl Bridge {
                 self.execute_for(now, (MavCmd::MAV_CMD_MISSION_START, from));
                 return;
             }
-            // The mission mode (custom main mode 4 AUTO, sub mode 4 MISSION, the numbers MAVSDK
-            // sends a generic autopilot to start a mission) is execute too.
-            MavCmd::MAV_CMD_DO_SET_MODE if param2 as u32 == 4 && param3 as u32 == 4 => {
+            // The mission mode (PX4's AUTO.MISSION, what MAVSDK sends to start a mission and
+            // MAVProxy's `mode MISSION`) is execute too.
+            MavCmd::MAV_CMD_DO_SET_MODE
+                if param2 as u32 == PX4_MAIN_AUTO && param3 as u32 == PX4_SUB_MISSION =>
+            {
                 self.execute_for(now, (MavCmd::MAV_CMD_DO_SET_MODE, from));
                 return;
             }
-            MavCmd::MAV_CMD_DO_SET_MODE => MavResult::MAV_RESULT_ACCEPTED,
+            // Hold is what the vehicle does when no mission flies: nothing to change.
+            MavCmd::MAV_CMD_DO_SET_MODE
+                if param2 as u32 == PX4_MAIN_AUTO
+                    && param3 as u32 == PX4_SUB_LOITER
+                    && self.state != MissionState::MISSION_STATE_ACTIVE =>
+            {
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            // The FCC has no other mode to switch to (return and land are its #50000 commands).
+            MavCmd::MAV_CMD_DO_SET_MODE => MavResult::MAV_RESULT_UNSUPPORTED,
             _ => MavResult::MAV_RESULT_UNSUPPORTED,
         };
         self.command_ack((command, from), result);
@@ -424,6 +462,8 @@ impl Bridge {
         match outcome {
             Ok(()) => {
                 self.state = MissionState::MISSION_STATE_ACTIVE;
+                self.current = 0;
+                self.reached = 0;
                 self.command_ack(self.start_command, MavResult::MAV_RESULT_ACCEPTED);
             }
             Err(why) => {
@@ -478,12 +518,16 @@ impl Bridge {
             Ok(()) => match list {
                 List::Mission => {
                     self.mission.clear();
+                    self.ids.0 = 0;
                     self.pending = None;
                     self.timers.stop(BridgeTimer::FenceWait);
                     self.current = 0;
                     self.state = MissionState::MISSION_STATE_NO_MISSION;
                 }
-                List::Fence => self.fence.clear(),
+                List::Fence => {
+                    self.fence.clear();
+                    self.ids.1 = 0;
+                }
             },
             Err(why) => {
                 if clearing.refused.is_none() {
@@ -738,6 +782,7 @@ impl Bridge {
                 self.mission = mission;
                 self.fence = fence;
                 self.current = 0;
+                self.reached = 0;
                 self.state = MissionState::MISSION_STATE_NOT_STARTED;
                 self.statustext(
                     MavSeverity::MAV_SEVERITY_INFO,
@@ -857,41 +902,69 @@ impl Bridge {
         }));
     }
 
-    /// A FROM-TO-NEXT of the downlink (#4001): MISSION_CURRENT, the item of the TO waypoint.
+    /// A FROM-TO-NEXT of the downlink (#4001): MISSION_CURRENT, the item of the TO waypoint,
+    /// and MISSION_ITEM_REACHED for every item before it not yet reported (the take-off and
+    /// speed changes are reached when the aircraft flies past them to the next waypoint). TO 0
+    /// while the mission flies is its end: every item reached, MISSION_STATE_COMPLETE with the
+    /// last item as seq (an index a client can map, and MAVSDK's `is_mission_finished`).
     pub fn handle_from_to_next(&mut self, ftn: &FromToNext) {
         let to = ftn.to.waypoint_number.unwrap_or(0);
-        // Waypoint n of the FCC is the n-th waypoint or land item of the mission list.
-        let items: Vec<u16> = self
-            .mission
-            .iter()
-            .enumerate()
-            .filter(|(_, i)| matches!(i.command, 16 | 21 | 85))
-            .filter_map(|(k, _)| u16::try_from(k).ok())
-            .collect();
+        let last = u16::try_from(self.mission.len().saturating_sub(1)).unwrap_or(u16::MAX);
         match to {
-            0 if self.state == MissionState::MISSION_STATE_ACTIVE => {
+            0 if self.state == MissionState::MISSION_STATE_ACTIVE && !self.mission.is_empty() => {
                 self.state = MissionState::MISSION_STATE_COMPLETE;
-                self.current = u16::try_from(self.mission.len()).unwrap_or(u16::MAX);
+                self.current = last;
+                self.reach_below(last.saturating_add(1));
             }
             0 => {}
             n => {
-                if let Some(&seq) = items.get(usize::from(n) - 1) {
-                    self.current = seq;
-                }
+                // Waypoint n of the FCC is the n-th waypoint or land item of the mission list.
+                let seq = self
+                    .mission
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, i)| matches!(i.command, 16 | 21 | 85))
+                    .nth(usize::from(n) - 1)
+                    .and_then(|(k, _)| u16::try_from(k).ok());
                 self.state = MissionState::MISSION_STATE_ACTIVE;
+                if let Some(seq) = seq {
+                    self.current = seq;
+                    self.reach_below(seq);
+                }
             }
         }
         self.mission_current();
     }
 
+    /// MISSION_ITEM_REACHED for each item below `end` not reported yet, in order.
+    fn reach_below(&mut self, end: u16) {
+        while self.reached < end {
+            self.send(MavMessage::MISSION_ITEM_REACHED(
+                MISSION_ITEM_REACHED_DATA { seq: self.reached },
+            ));
+            self.reached += 1;
+        }
+    }
+
     fn mission_current(&mut self) {
+        let total = if self.mission.is_empty() {
+            // MAVLink: UINT16_MAX when the vehicle holds no mission.
+            u16::MAX
+        } else {
+            u16::try_from(self.mission.len()).unwrap_or(u16::MAX)
+        };
         self.send(MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
             seq: self.current,
-            total: u16::try_from(self.mission.len()).unwrap_or(u16::MAX),
+            total,
             mission_state: self.state,
-            mission_mode: 1,
-            mission_id: 0,
-            fence_id: 0,
+            // 1: in mission mode; 2: not (holding).
+            mission_mode: if self.state == MissionState::MISSION_STATE_ACTIVE {
+                1
+            } else {
+                2
+            },
+            mission_id: self.ids.0,
+            fence_id: self.ids.1,
             rally_points_id: 0,
         }));
     }
@@ -943,16 +1016,32 @@ impl Bridge {
         }
     }
 
+    /// HEARTBEAT as a PX4 autopilot: MAV_AUTOPILOT_PX4 and PX4's custom mode encoding are what
+    /// MAVSDK decodes to a flight mode, what MAVProxy (pymavlink's `mode_string_v10`) prints by
+    /// name, and what QGroundControl's PX4 plugin shows; a generic autopilot's custom mode
+    /// has no names in any of them. AUTO.MISSION while the mission flies, else AUTO.LOITER
+    /// (Hold): the FCC flies nothing else on its own. EXTENDED_SYS_STATE with it.
     fn heartbeat(&mut self) {
         let active = self.state == MissionState::MISSION_STATE_ACTIVE;
+        let flags = MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+            | MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED
+            | MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED
+            | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
         self.send(MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: 0,
+            custom_mode: px4_mode(
+                PX4_MAIN_AUTO,
+                if active {
+                    PX4_SUB_MISSION
+                } else {
+                    PX4_SUB_LOITER
+                },
+            ),
             mavtype: MavType::MAV_TYPE_VTOL_FIXEDROTOR,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_GENERIC,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
             base_mode: if active {
-                MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED | MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+                flags | MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
             } else {
-                MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED
+                flags
             },
             system_status: if active {
                 MavState::MAV_STATE_ACTIVE
@@ -961,6 +1050,25 @@ impl Bridge {
             },
             mavlink_version: 3,
         }));
+        self.send(MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
+            vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
+            landed_state: self.landed_state(),
+        }));
+    }
+
+    /// What the bridge knows of the ground: in the air while the mission it started flies; on
+    /// the ground at the end of a mission that lands; else unknown (a bridge started while the
+    /// aircraft flies cannot tell), MAVLink's UNDEFINED, never guessed.
+    fn landed_state(&self) -> MavLandedState {
+        match self.state {
+            MissionState::MISSION_STATE_ACTIVE => MavLandedState::MAV_LANDED_STATE_IN_AIR,
+            MissionState::MISSION_STATE_COMPLETE
+                if self.mission.last().is_some_and(|i| i.command == 21) =>
+            {
+                MavLandedState::MAV_LANDED_STATE_ON_GROUND
+            }
+            _ => MavLandedState::MAV_LANDED_STATE_UNDEFINED,
+        }
     }
 
     fn send(&mut self, message: MavMessage) {

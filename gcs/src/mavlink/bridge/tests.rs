@@ -237,8 +237,17 @@ fn heartbeat_once_a_second() {
     b.start(at(0));
     b.handle_timeout(at(0));
     let first = sent(&mut b);
+    // PX4's encoding: AUTO (4) in bits 16..24, LOITER (3) in bits 24..32, standing by.
     assert!(matches!(first.first(), Some(MavMessage::HEARTBEAT(h))
-        if h.autopilot == MavAutopilot::MAV_AUTOPILOT_GENERIC));
+        if h.autopilot == MavAutopilot::MAV_AUTOPILOT_PX4
+            && h.custom_mode == 0x0304_0000
+            && h.base_mode.contains(MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED)));
+    assert!(
+        first
+            .iter()
+            .any(|m| matches!(m, MavMessage::EXTENDED_SYS_STATE(e)
+        if e.landed_state == MavLandedState::MAV_LANDED_STATE_UNDEFINED))
+    );
     assert_eq!(b.poll_timeout(), Some(at(1000)));
     b.handle_timeout(at(999));
     assert!(sent(&mut b).is_empty());
@@ -709,4 +718,70 @@ fn clear_all_is_the_fccs_clear_and_its_refusal_says_why() {
     );
     assert!(out.iter().filter_map(target).all(|t| t == (255, 190)));
     assert_eq!(b.lists(), (&[][..], &[][..]));
+}
+
+fn from_to_next(to: u16) -> FromToNext {
+    FromToNext {
+        time_stamp: missionlink_interfaces::wire::Timestamp::from_millis(1).unwrap(),
+        altitude_type: None,
+        speed_type: None,
+        from: Default::default(),
+        to: missionlink_interfaces::wire::WaypointState {
+            waypoint_number: Some(to),
+            ..Default::default()
+        },
+        next: Default::default(),
+        loiter_configuration_report_validity: None,
+    }
+}
+
+/// #4001 after start: MISSION_ITEM_REACHED for every item once, in order, MISSION_CURRENT on
+/// the TO waypoint's item, and at the end (TO 0) MISSION_STATE_COMPLETE on the last item with
+/// the plan's checksums; the heartbeat says AUTO.MISSION and in the air meanwhile.
+#[test]
+fn progress_reaches_every_item_and_completes_on_the_last() {
+    let mut b = Bridge::new(config());
+    upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+    upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    b.set_ids(0x1234_5678, 0x9abc_def0);
+    b.committed(Ok(()));
+    b.start(at(20));
+    from_client(
+        &mut b,
+        at(20),
+        command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
+    );
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+    b.executed(Ok(()));
+    sent(&mut b);
+    let total = b.lists().0.len() as u16;
+    let mut reached = Vec::new();
+    let mut last = None;
+    for to in [1, 1, 2, 0] {
+        b.handle_from_to_next(&from_to_next(to));
+        for m in sent(&mut b) {
+            match m {
+                MavMessage::MISSION_ITEM_REACHED(r) => reached.push(r.seq),
+                MavMessage::MISSION_CURRENT(c) => last = Some(c),
+                _ => {}
+            }
+        }
+        if to == 2 {
+            b.handle_timeout(at(1020));
+            let beat = sent(&mut b);
+            assert!(beat.iter().any(|m| matches!(m, MavMessage::HEARTBEAT(h)
+                if h.custom_mode == 0x0404_0000)));
+            assert!(
+                beat.iter()
+                    .any(|m| matches!(m, MavMessage::EXTENDED_SYS_STATE(e)
+                if e.landed_state == MavLandedState::MAV_LANDED_STATE_IN_AIR))
+            );
+        }
+    }
+    assert_eq!(reached, (0..total).collect::<Vec<_>>());
+    let c = last.unwrap();
+    assert_eq!(c.mission_state, MissionState::MISSION_STATE_COMPLETE);
+    assert_eq!((c.seq, c.total), (total - 1, total));
+    assert_eq!((c.mission_id, c.fence_id), (0x1234_5678, 0x9abc_def0));
 }
