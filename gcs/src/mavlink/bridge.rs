@@ -8,13 +8,23 @@
 //! # The vehicle it presents
 //!
 //! System 1, component 1 (MAV_COMP_ID_AUTOPILOT1), HEARTBEAT once a second as MAV_TYPE 22 (VTOL
-//! with separate lift and cruise rotors, the demo eVTOL) and MAV_AUTOPILOT_GENERIC;
+//! with separate lift and cruise rotors, the demo eVTOL) and MAV_AUTOPILOT_PX4 with PX4's custom
+//! mode (AUTO.MISSION while the mission flies, AUTO.LOITER otherwise): the encoding MAVSDK,
+//! MAVProxy and QGroundControl all name, where a generic autopilot's mode has no name;
+//! EXTENDED_SYS_STATE with it;
 //! AUTOPILOT_VERSION with MISSION_INT, MISSION_FENCE and MAVLINK2; a parameter list that holds
 //! nothing of the FCC's (it has no MAVLink parameters) but one read-only `MLNK_VERSION`: a
 //! client reads a list until it holds `param_count` values, and a list of none cannot be told
 //! from a lost answer;
-//! GLOBAL_POSITION_INT from each #101 of the downlink and MISSION_CURRENT from each #4001;
-//! STATUSTEXT for what the operator must read.
+//! GLOBAL_POSITION_INT from each #101 of the downlink; MISSION_CURRENT and MISSION_ITEM_REACHED
+//! from each #4001; STATUSTEXT for what the operator must read.
+//!
+//! # Addressing
+//!
+//! MAVLink's routing rules: every reply (MISSION_REQUEST_INT, MISSION_ACK, MISSION_COUNT,
+//! MISSION_ITEM_INT, COMMAND_ACK) is addressed to the system and component of the message that
+//! asked; the vehicle's own messages are broadcast; commands and mission traffic addressed to
+//! another system or component are ignored (counted in [`Bridge::elsewhere`]).
 //!
 //! # Mission and fence, committed as one
 //!
@@ -39,8 +49,10 @@
 //!    and a STATUSTEXT: the ICD has none).
 //!
 //! MAV_CMD_MISSION_START is execute (#50000 command 1), and so is MAV_CMD_DO_SET_MODE to the
-//! mission mode (custom main mode 4, sub mode 4: what MAVSDK sends a generic autopilot); a
-//! pending mission is committed first. Other modes are accepted and change nothing.
+//! mission mode (PX4's AUTO.MISSION, main mode 4, sub mode 4); a pending mission is committed
+//! first. Hold (AUTO.LOITER) on the ground is accepted (it is the mode); other modes are
+//! unsupported. MISSION_CLEAR_ALL is the FCC's clear of the mission (#13000 mode 1) or of the
+//! areas (#2011 mode 6), refused as the FCC refuses it, with the reason in a STATUSTEXT.
 
 use std::collections::VecDeque;
 
