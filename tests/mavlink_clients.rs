@@ -91,12 +91,18 @@ fn run_client(test: &str, script_name: &str) -> String {
 }
 
 #[test]
-fn pymavlink_uploads_downloads_and_is_refused_an_infeasible_mission() {
+fn pymavlink_uploads_downloads_is_refused_and_follows_the_flight_to_its_end() {
     let out = run_client("mavlink-pymavlink", "pymavlink_mission.py");
     assert!(out.contains("downloaded: equal to the upload"), "{out}");
     assert!(out.contains("infeasible mission refused"), "{out}");
     // The violation, named by the safety gateway, reached the client in the STATUSTEXT.
     assert!(out.contains("inside no-fly-zone"), "{out}");
+    assert!(out.contains("clear while flying refused"), "{out}");
+    assert!(out.contains("mission complete on item 2 of 3"), "{out}");
+    assert!(out.contains("reached [0, 1, 2]"), "{out}");
+    assert!(out.contains("'MISSION'"), "{out}");
+    // The client checked the target of every reply; it saw some.
+    assert!(out.contains("every one addressed to 255/190"), "{out}");
 }
 
 #[test]
@@ -104,4 +110,18 @@ fn mavsdk_uploads_with_mission_raw_starts_and_sees_progress_and_positions() {
     let out = run_client("mavlink-mavsdk", "mavsdk_mission.py");
     assert!(out.contains("started"), "{out}");
     assert!(out.contains("distinct"), "{out}");
+    assert!(
+        out.contains("flight modes: ") && out.contains("'MISSION'"),
+        "{out}"
+    );
+}
+
+/// MAVProxy, unmodified, with its own system and component IDs: it takes mission requests
+/// only when addressed to itself, so its upload proves the bridge answers whoever asked.
+#[test]
+fn mavproxy_loads_a_qgc_wpl_mission_and_fence_and_lists_it() {
+    let out = run_client("mavlink-mavproxy", "mavproxy_mission.py");
+    assert!(out.contains("fence uploaded"), "{out}");
+    assert!(out.contains("wp list: equal to the upload"), "{out}");
+    assert!(out.contains("wp clear: the FCC holds no mission"), "{out}");
 }

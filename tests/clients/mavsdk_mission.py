@@ -3,7 +3,7 @@
 
 Connects, uploads a mission with MissionRaw (a take-off and two waypoints) and its geofence (the
 demo fly-zone as an inclusion polygon), starts it, and watches the mission progress and the
-positions until the last item is reached.
+positions until the last item is reached, and the flight mode MAVSDK decodes from HEARTBEAT.
 
 Usage: python3 mavsdk_mission.py BRIDGE_PORT. Exit status 0 when every check passes.
 """
@@ -62,6 +62,11 @@ async def main():
 
         positions = []
         progress = []
+        modes = set()
+
+        async def watch_modes():
+            async for m in telemetry.subscribe_flight_mode():
+                modes.add(getattr(m, "name", str(m)))
 
         async def watch_positions():
             async for p in telemetry.subscribe_position():
@@ -75,11 +80,16 @@ async def main():
                     return
 
         watcher = asyncio.ensure_future(watch_positions())
+        mode_watcher = asyncio.ensure_future(watch_modes())
         try:
             await asyncio.wait_for(watch_progress(), timeout=60)
         except asyncio.TimeoutError:
             fail(f"the mission did not reach its last item: {progress}")
         watcher.cancel()
+        mode_watcher.cancel()
+        print(f"flight modes: {sorted(modes)}", flush=True)
+        if "MISSION" not in modes:
+            fail(f"MAVSDK decoded no mission flight mode: {modes}")
         moved = {(round(lat, 5), round(lon, 5)) for lat, lon, _ in positions}
         print(f"{len(positions)} positions, {len(moved)} distinct; progress {progress}", flush=True)
         if len(moved) < 3:

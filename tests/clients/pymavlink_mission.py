@@ -4,13 +4,20 @@ Uploads a mission (a take-off and two waypoints) with a fence (an inclusion poly
 exclusion circle) in QGroundControl's order (mission, then fence, then rally points, each after
 the previous MISSION_ACK), downloads both back and compares them with the upload, then uploads
 an infeasible mission (a waypoint inside the exclusion circle) with the same fence and expects
-it refused, the reason in a STATUSTEXT, and the lists as they were.
+it refused, the reason in a STATUSTEXT, and the lists as they were. Then it starts the mission
+and follows it as a ground station does: the flight mode by name from HEARTBEAT (pymavlink's
+decoding, MAVProxy's), the landed state, a clear refused while the aircraft flies with the
+reason, MISSION_ITEM_REACHED for every item and MISSION_CURRENT to MISSION_STATE_COMPLETE on
+the last item, with the plan's checksums as mission_id and fence_id. The client has its own
+system and component (255, 190, a ground station's): every reply of the vehicle that names a
+target must name it, never system 0.
 
 Usage: python3 pymavlink_mission.py BRIDGE_PORT. Exit status 0 when every check passes; each
 check that fails is printed.
 """
 
 import os
+import struct
 import sys
 
 os.environ["MAVLINK20"] = "1"
@@ -39,12 +46,18 @@ def main():
         fail("no HEARTBEAT")
     print(f"heartbeat from system {m.target_system}: type {hb.type}, autopilot {hb.autopilot}")
     texts = []
+    replies = []
 
     def recv(types):
         while True:
             msg = m.recv_match(type=types + ["STATUSTEXT"], blocking=True, timeout=TIMEOUT)
             if msg is None:
                 fail(f"no {types}")
+            target = getattr(msg, "target_system", None)
+            if target is not None:
+                replies.append(msg.get_type())
+                if (target, msg.target_component) != (255, 190):
+                    fail(f"{msg.get_type()} addressed to {target}/{msg.target_component}")
             if msg.get_type() == "STATUSTEXT":
                 texts.append(msg.text)
                 print(f"STATUSTEXT: {msg.text}", flush=True)
@@ -124,6 +137,61 @@ def main():
     if not same(download(MISSION), mission) or not same(download(FENCE), fence):
         fail("the refusal changed the lists")
     print("the lists are as they were", flush=True)
+    fly(m, recv, texts)
+    print(f"{len(replies)} replies, every one addressed to 255/190", flush=True)
+
+
+def fly(m, recv, texts):
+    m.mav.command_long_send(1, 1, 300, 0, 0, 0, 0, 0, 0, 0, 0)  # MAV_CMD_MISSION_START
+    ack = recv(["COMMAND_ACK"])
+    if ack.result != 0:
+        fail(f"MISSION_START: COMMAND_ACK {ack.result}, {texts}")
+    print("mission started", flush=True)
+    modes, landed, reached, refused = set(), set(), [], None
+    while True:
+        msg = recv(["HEARTBEAT", "EXTENDED_SYS_STATE", "MISSION_ITEM_REACHED",
+                    "MISSION_CURRENT", "MISSION_ACK"])
+        kind = msg.get_type()
+        if kind == "HEARTBEAT":
+            modes.add(mavutil.mode_string_v10(msg))
+        elif kind == "EXTENDED_SYS_STATE":
+            landed.add(msg.landed_state)
+        elif kind == "MISSION_ITEM_REACHED":
+            reached.append(msg.seq)
+        elif kind == "MISSION_ACK":
+            refused = msg.type
+        elif kind == "MISSION_CURRENT":
+            if msg.mission_state == 3 and msg.seq >= 1 and refused is None:
+                texts.clear()
+                m.mav.mission_clear_all_send(1, 1, MISSION)
+                refused = -1
+            if msg.mission_state == 5:
+                break
+    if refused in (None, -1, 0):
+        fail(f"the clear while flying was not refused: {refused}")
+    if not any("refused" in t for t in texts):
+        fail(f"no STATUSTEXT says why the clear was refused: {texts}")
+    print(f"clear while flying refused: MISSION_ACK {refused}: {''.join(texts)}", flush=True)
+    if msg.seq != 2 or msg.total != 3:
+        fail(f"the end: MISSION_CURRENT seq {msg.seq} of {msg.total}")
+    # pymavlink 2.4.50's dialect stops at mission_mode: mission_id and fence_id are read from
+    # the payload (MAVLink 2 trims its trailing zeros; they are the 4-byte fields at offset 6).
+    buf = msg.get_msgbuf()
+    payload = bytes(buf[10:10 + buf[1]]).ljust(18, b"\0")
+    mission_id, fence_id = struct.unpack_from("<II", payload, 6)
+    if mission_id == 0 or fence_id == 0:
+        fail(f"no plan checksums: mission_id {mission_id}, fence_id {fence_id}")
+    print(f"mission complete on item {msg.seq} of {msg.total}, "
+          f"mission_id {mission_id:#010x}, fence_id {fence_id:#010x}", flush=True)
+    if reached != [0, 1, 2]:
+        fail(f"MISSION_ITEM_REACHED {reached}")
+    print(f"reached {reached}", flush=True)
+    if "MISSION" not in modes:
+        fail(f"flight modes {modes}")
+    print(f"flight modes by name: {sorted(modes)}", flush=True)
+    if 2 not in landed:  # MAV_LANDED_STATE_IN_AIR
+        fail(f"landed states {landed}")
+    print(f"landed states {sorted(landed)}", flush=True)
 
 
 if __name__ == "__main__":

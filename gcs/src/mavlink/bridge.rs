@@ -8,13 +8,23 @@
 //! # The vehicle it presents
 //!
 //! System 1, component 1 (MAV_COMP_ID_AUTOPILOT1), HEARTBEAT once a second as MAV_TYPE 22 (VTOL
-//! with separate lift and cruise rotors, the demo eVTOL) and MAV_AUTOPILOT_GENERIC;
+//! with separate lift and cruise rotors, the demo eVTOL) and MAV_AUTOPILOT_PX4 with PX4's custom
+//! mode (AUTO.MISSION while the mission flies, AUTO.LOITER otherwise): the encoding MAVSDK,
+//! MAVProxy and QGroundControl all name, where a generic autopilot's mode has no name;
+//! EXTENDED_SYS_STATE with it;
 //! AUTOPILOT_VERSION with MISSION_INT, MISSION_FENCE and MAVLINK2; a parameter list that holds
 //! nothing of the FCC's (it has no MAVLink parameters) but one read-only `MLNK_VERSION`: a
 //! client reads a list until it holds `param_count` values, and a list of none cannot be told
 //! from a lost answer;
-//! GLOBAL_POSITION_INT from each #101 of the downlink and MISSION_CURRENT from each #4001;
-//! STATUSTEXT for what the operator must read.
+//! GLOBAL_POSITION_INT from each #101 of the downlink; MISSION_CURRENT and MISSION_ITEM_REACHED
+//! from each #4001; STATUSTEXT for what the operator must read.
+//!
+//! # Addressing
+//!
+//! MAVLink's routing rules: every reply (MISSION_REQUEST_INT, MISSION_ACK, MISSION_COUNT,
+//! MISSION_ITEM_INT, COMMAND_ACK) is addressed to the system and component of the message that
+//! asked; the vehicle's own messages are broadcast; commands and mission traffic addressed to
+//! another system or component are ignored (counted in [`Bridge::elsewhere`]).
 //!
 //! # Mission and fence, committed as one
 //!
@@ -39,19 +49,22 @@
 //!    and a STATUSTEXT: the ICD has none).
 //!
 //! MAV_CMD_MISSION_START is execute (#50000 command 1), and so is MAV_CMD_DO_SET_MODE to the
-//! mission mode (custom main mode 4, sub mode 4: what MAVSDK sends a generic autopilot); a
-//! pending mission is committed first. Other modes are accepted and change nothing.
+//! mission mode (PX4's AUTO.MISSION, main mode 4, sub mode 4); a pending mission is committed
+//! first. Hold (AUTO.LOITER) on the ground is accepted (it is the mode); other modes are
+//! unsupported. MISSION_CLEAR_ALL is the FCC's clear of the mission (#13000 mode 1) or of the
+//! areas (#2011 mode 6), refused as the FCC refuses it, with the reason in a STATUSTEXT.
 
 use std::collections::VecDeque;
 
 use core::time::Duration;
 
 use mavlink::dialects::common::{
-    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA,
-    MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA, MISSION_ITEM_INT_DATA,
-    MISSION_REQUEST_INT_DATA, MavAutopilot, MavCmd, MavFrame, MavMessage, MavMissionResult,
-    MavMissionType, MavModeFlag, MavParamType, MavProtocolCapability, MavResult, MavSeverity,
-    MavState, MavType, MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
+    HEARTBEAT_DATA, MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA,
+    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA, MISSION_REQUEST_INT_DATA, MavAutopilot,
+    MavCmd, MavFrame, MavLandedState, MavMessage, MavMissionResult, MavMissionType, MavModeFlag,
+    MavParamType, MavProtocolCapability, MavResult, MavSeverity, MavState, MavType, MavVtolState,
+    MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA,
 };
 use mavlink::{MavHeader, MavlinkReader, MavlinkVersion};
 use missionlink_interfaces::wire::{FromToNext, InertialStates};
@@ -59,16 +72,32 @@ use missionlink_services::link::time::Instant;
 use missionlink_services::link::timer::TimerTable;
 use num_traits::FromPrimitive;
 
-use super::plan::{Item, PlanContext, to_plan};
+use super::plan::{Item, List, PlanContext, to_plan};
 use crate::qgc::QgcImport;
 
 /// The vehicle's system ID.
 pub const SYSTEM_ID: u8 = 1;
 /// MAV_COMP_ID_AUTOPILOT1.
 pub const COMPONENT_ID: u8 = 1;
+/// PX4's custom main mode AUTO (px4_custom_mode.h): the family of modes the FCC flies in.
+const PX4_MAIN_AUTO: u32 = 4;
+/// PX4's AUTO sub mode LOITER: "Hold", the vehicle waits (on the ground, or after the mission).
+const PX4_SUB_LOITER: u32 = 3;
+/// PX4's AUTO sub mode MISSION: the vehicle flies its mission.
+const PX4_SUB_MISSION: u32 = 4;
+
+/// PX4's custom_mode: the main mode in bits 16..24, the sub mode in bits 24..32.
+const fn px4_mode(main: u32, sub: u32) -> u32 {
+    (main << 16) | (sub << 24)
+}
+
 /// Items the bridge holds per list (the FCC holds 256 waypoints; a mission item list has a
 /// take-off, speed changes and a land besides).
 pub const MAX_ITEMS: u16 = 1024;
+
+/// The longest STATUSTEXT sent, in bytes: 20 chunks. Longer texts are cut (the bridge's texts
+/// are its own; only a gateway report that names many violations comes near).
+pub const STATUSTEXT_MAX: usize = 1000;
 
 /// Settings of the bridge.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -97,6 +126,24 @@ pub enum BridgeEvent {
     },
     /// Send #50000 execute; report with [`Bridge::executed`].
     Execute,
+    /// Carry out the FCC's clear of `list` (the mission: #13000 mode 1, which deletes the
+    /// active mission; the fence: #2011 mode 6, which removes the areas); report with
+    /// [`Bridge::cleared`].
+    Clear {
+        /// Which list.
+        list: List,
+    },
+}
+
+/// A MISSION_CLEAR_ALL being carried out: whom it answers, and how it went so far.
+#[derive(Debug, Clone)]
+struct Clearing {
+    peer: Peer,
+    kind: MavMissionType,
+    /// Clears not yet reported (two for MAV_MISSION_TYPE_ALL).
+    left: u8,
+    /// The first refusal, in the operator's words.
+    refused: Option<String>,
 }
 
 missionlink_services::timers! {
@@ -111,9 +158,28 @@ missionlink_services::timers! {
     }
 }
 
+/// A client by its MAVLink address: the system and component of a message that asked, to which
+/// its answer goes (MAVLink's routing rules: a reply is addressed to the requester; a client
+/// such as MAVProxy drops mission requests and acks addressed to any system but its own).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Peer {
+    /// The client's system ID.
+    pub system: u8,
+    /// The client's component ID.
+    pub component: u8,
+}
+
+/// Whether a message addressed to `system` and `component` is for this vehicle: its own IDs,
+/// or 0 (MAVLink's broadcast).
+fn for_us(system: u8, component: u8) -> bool {
+    (system == 0 || system == SYSTEM_ID) && (component == 0 || component == COMPONENT_ID)
+}
+
 /// An upload from the client in progress.
 #[derive(Debug, Clone)]
 struct Upload {
+    /// Who uploads: items are taken from it alone, requests and the ack go to it.
+    peer: Peer,
     kind: MavMissionType,
     count: u16,
     items: Vec<Item>,
@@ -145,18 +211,30 @@ pub struct Bridge {
     /// An accepted mission waiting for its fence.
     pending: Option<Vec<Item>>,
     upload: Option<Upload>,
-    /// The lists of the commit in progress, and what its end answers.
-    committing: Option<(Vec<Item>, Vec<Item>, Waiting)>,
+    /// The lists of the commit in progress, what its end answers, and to whom.
+    committing: Option<(Vec<Item>, Vec<Item>, Waiting, Peer)>,
     /// Execute asked while nothing was to commit: waiting for its outcome.
     executing: bool,
-    /// The command that asked for execute, for its COMMAND_ACK.
-    start_command: MavCmd,
+    /// A clear being carried out.
+    clearing: Option<Clearing>,
+    /// The command that asked for execute and who sent it, for its COMMAND_ACK.
+    start_command: (MavCmd, Peer),
     /// The mission item the aircraft flies to (MISSION_CURRENT).
     current: u16,
+    /// The mission items reported reached (MISSION_ITEM_REACHED) in this flight: all below it.
+    reached: u16,
+    /// The ICD §11 checksums of the lists the FCC holds (MISSION_CURRENT's mission_id and
+    /// fence_id; 0, MAVLink's "unknown", for none).
+    ids: (u32, u32),
     state: MissionState,
     booted: Option<Instant>,
     /// MAVLink datagrams that did not parse, counted (a flood costs counters, not lines).
     pub unreadable: u64,
+    /// Commands and mission messages addressed to another system or component, or from a
+    /// system ID MAVLink 2 cannot carry, ignored and counted.
+    pub elsewhere: u64,
+    /// The id of the last STATUSTEXT sent in chunks (0 is a text of one message).
+    statustext_id: u16,
 }
 
 impl Bridge {
@@ -174,11 +252,16 @@ impl Bridge {
             upload: None,
             committing: None,
             executing: false,
-            start_command: MavCmd::MAV_CMD_MISSION_START,
+            clearing: None,
+            start_command: (MavCmd::MAV_CMD_MISSION_START, Peer::default()),
             current: 0,
+            reached: 0,
+            ids: (0, 0),
             state: MissionState::MISSION_STATE_NO_MISSION,
             booted: None,
             unreadable: 0,
+            elsewhere: 0,
+            statustext_id: 0,
         }
     }
 
@@ -191,6 +274,13 @@ impl Bridge {
         };
         self.mission = mission;
         self.fence = fence;
+    }
+
+    /// The ICD §11 checksums of the lists the FCC holds, mission and areas (what it confirmed
+    /// of an upload, or computed from a download), for MISSION_CURRENT's mission_id and
+    /// fence_id: a client sees by them that the vehicle's plan changed.
+    pub fn set_ids(&mut self, mission_id: u32, fence_id: u32) {
+        self.ids = (mission_id, fence_id);
     }
 
     /// The lists as held: (mission, fence).
@@ -231,16 +321,46 @@ impl Bridge {
         reason = "MISSION_REQUEST is answered as MISSION_REQUEST_INT, as MAVLink asks of a \
                   vehicle that gets one; older clients still send it"
     )]
-    pub fn handle(&mut self, now: Instant, _header: MavHeader, message: &MavMessage) {
+    pub fn handle(&mut self, now: Instant, header: MavHeader, message: &MavMessage) {
+        let Ok(system) = u8::try_from(header.system_id) else {
+            self.elsewhere += 1;
+            return;
+        };
+        let from = Peer {
+            system,
+            component: header.component_id,
+        };
+        // The message's own target, for those that have one: traffic for another system or
+        // component is not ours to answer (MAVLink's routing rules).
+        let target = match message {
+            MavMessage::COMMAND_LONG(c) => Some((c.target_system, c.target_component)),
+            MavMessage::COMMAND_INT(c) => Some((c.target_system, c.target_component)),
+            MavMessage::PARAM_REQUEST_LIST(r) => Some((r.target_system, r.target_component)),
+            MavMessage::PARAM_REQUEST_READ(r) => Some((r.target_system, r.target_component)),
+            MavMessage::MISSION_REQUEST_LIST(r) => Some((r.target_system, r.target_component)),
+            MavMessage::MISSION_REQUEST_INT(r) => Some((r.target_system, r.target_component)),
+            MavMessage::MISSION_REQUEST(r) => Some((r.target_system, r.target_component)),
+            MavMessage::MISSION_COUNT(c) => Some((c.target_system, c.target_component)),
+            MavMessage::MISSION_ITEM_INT(i) => Some((i.target_system, i.target_component)),
+            MavMessage::MISSION_CLEAR_ALL(c) => Some((c.target_system, c.target_component)),
+            MavMessage::MISSION_SET_CURRENT(c) => Some((c.target_system, c.target_component)),
+            MavMessage::MISSION_ACK(a) => Some((a.target_system, a.target_component)),
+            _ => None,
+        };
+        if target.is_some_and(|(s, c)| !for_us(s, c)) {
+            self.elsewhere += 1;
+            return;
+        }
         match message {
             MavMessage::HEARTBEAT(_) => {}
             MavMessage::COMMAND_LONG(c) => {
-                self.command(now, c.command, c.param1, c.param2, c.param3)
+                self.command(now, from, c.command, [c.param1, c.param2, c.param3])
             }
             MavMessage::COMMAND_INT(c) => {
-                self.command(now, c.command, c.param1, c.param2, c.param3)
+                self.command(now, from, c.command, [c.param1, c.param2, c.param3])
             }
             MavMessage::PARAM_REQUEST_LIST(_) | MavMessage::PARAM_REQUEST_READ(_) => {
+                // PARAM_VALUE is broadcast: MAVLink's parameter protocol sends it to all.
                 self.send(MavMessage::PARAM_VALUE(PARAM_VALUE_DATA {
                     param_value: 1.0,
                     param_count: 1,
@@ -249,22 +369,12 @@ impl Bridge {
                     param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
                 }));
             }
-            MavMessage::MISSION_REQUEST_LIST(r) => self.request_list(r.mission_type),
-            MavMessage::MISSION_REQUEST_INT(r) => self.send_item(r.mission_type, r.seq),
-            MavMessage::MISSION_REQUEST(r) => self.send_item(r.mission_type, r.seq),
-            MavMessage::MISSION_COUNT(c) => self.count(now, c),
-            MavMessage::MISSION_ITEM_INT(i) => self.item(now, i),
-            MavMessage::MISSION_CLEAR_ALL(c) => {
-                // Clearing a list is an upload of none.
-                let empty = MISSION_COUNT_DATA {
-                    count: 0,
-                    target_system: SYSTEM_ID,
-                    target_component: COMPONENT_ID,
-                    mission_type: c.mission_type,
-                    opaque_id: 0,
-                };
-                self.count(now, &empty);
-            }
+            MavMessage::MISSION_REQUEST_LIST(r) => self.request_list(from, r.mission_type),
+            MavMessage::MISSION_REQUEST_INT(r) => self.send_item(from, r.mission_type, r.seq),
+            MavMessage::MISSION_REQUEST(r) => self.send_item(from, r.mission_type, r.seq),
+            MavMessage::MISSION_COUNT(c) => self.count(now, from, c),
+            MavMessage::MISSION_ITEM_INT(i) => self.item(now, from, i),
+            MavMessage::MISSION_CLEAR_ALL(c) => self.clear(from, c.mission_type),
             // The end of a download, or anything else a client sends: nothing to do.
             _ => {}
         }
@@ -274,7 +384,8 @@ impl Bridge {
         deprecated,
         reason = "REQUEST_AUTOPILOT_CAPABILITIES is superseded, not gone: clients still send it"
     )]
-    fn command(&mut self, now: Instant, command: MavCmd, param1: f32, param2: f32, param3: f32) {
+    fn command(&mut self, now: Instant, from: Peer, command: MavCmd, params: [f32; 3]) {
+        let [param1, param2, param3] = params;
         let result = match command {
             MavCmd::MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES => {
                 self.autopilot_version();
@@ -285,29 +396,40 @@ impl Bridge {
                 MavResult::MAV_RESULT_ACCEPTED
             }
             MavCmd::MAV_CMD_MISSION_START => {
-                self.execute_for(now, MavCmd::MAV_CMD_MISSION_START);
+                self.execute_for(now, (MavCmd::MAV_CMD_MISSION_START, from));
                 return;
             }
-            // The mission mode (custom main mode 4 AUTO, sub mode 4 MISSION, the numbers MAVSDK
-            // sends a generic autopilot to start a mission) is execute too.
-            MavCmd::MAV_CMD_DO_SET_MODE if param2 as u32 == 4 && param3 as u32 == 4 => {
-                self.execute_for(now, MavCmd::MAV_CMD_DO_SET_MODE);
+            // The mission mode (PX4's AUTO.MISSION, what MAVSDK sends to start a mission and
+            // MAVProxy's `mode MISSION`) is execute too.
+            MavCmd::MAV_CMD_DO_SET_MODE
+                if param2 as u32 == PX4_MAIN_AUTO && param3 as u32 == PX4_SUB_MISSION =>
+            {
+                self.execute_for(now, (MavCmd::MAV_CMD_DO_SET_MODE, from));
                 return;
             }
-            MavCmd::MAV_CMD_DO_SET_MODE => MavResult::MAV_RESULT_ACCEPTED,
+            // Hold is what the vehicle does when no mission flies: nothing to change.
+            MavCmd::MAV_CMD_DO_SET_MODE
+                if param2 as u32 == PX4_MAIN_AUTO
+                    && param3 as u32 == PX4_SUB_LOITER
+                    && self.state != MissionState::MISSION_STATE_ACTIVE =>
+            {
+                MavResult::MAV_RESULT_ACCEPTED
+            }
+            // The FCC has no other mode to switch to (return and land are its #50000 commands).
+            MavCmd::MAV_CMD_DO_SET_MODE => MavResult::MAV_RESULT_UNSUPPORTED,
             _ => MavResult::MAV_RESULT_UNSUPPORTED,
         };
-        self.command_ack(command, result);
+        self.command_ack((command, from), result);
     }
 
-    fn command_ack(&mut self, command: MavCmd, result: MavResult) {
+    fn command_ack(&mut self, (command, to): (MavCmd, Peer), result: MavResult) {
         self.send(MavMessage::COMMAND_ACK(COMMAND_ACK_DATA {
             command,
             result,
             progress: 0,
             result_param2: 0,
-            target_system: 0,
-            target_component: 0,
+            target_system: to.system,
+            target_component: to.component,
         }));
     }
 
@@ -330,14 +452,14 @@ impl Bridge {
         }));
     }
 
-    fn execute_for(&mut self, now: Instant, command: MavCmd) {
+    fn execute_for(&mut self, now: Instant, command: (MavCmd, Peer)) {
         self.start_command = command;
         if let Some(mission) = self.pending.take() {
             self.timers.stop(BridgeTimer::FenceWait);
             let fence = self.fence.clone();
-            self.commit(now, mission, fence, Waiting::Execute);
+            self.commit(now, mission, fence, Waiting::Execute, command.1);
         } else if self.committing.is_some() {
-            if let Some((_, _, waiting)) = &mut self.committing {
+            if let Some((_, _, waiting, _)) = &mut self.committing {
                 *waiting = Waiting::Execute;
             }
         } else {
@@ -352,6 +474,8 @@ impl Bridge {
         match outcome {
             Ok(()) => {
                 self.state = MissionState::MISSION_STATE_ACTIVE;
+                self.current = 0;
+                self.reached = 0;
                 self.command_ack(self.start_command, MavResult::MAV_RESULT_ACCEPTED);
             }
             Err(why) => {
@@ -364,18 +488,95 @@ impl Bridge {
         }
     }
 
-    fn request_list(&mut self, kind: MavMissionType) {
+    /// MISSION_CLEAR_ALL: the FCC's own clears, which it refuses as it refuses them to any GCS
+    /// (while the aircraft flies, during a transfer); rally points are none already.
+    fn clear(&mut self, from: Peer, kind: MavMissionType) {
+        let lists: &[List] = match kind {
+            MavMissionType::MAV_MISSION_TYPE_MISSION => &[List::Mission],
+            MavMissionType::MAV_MISSION_TYPE_FENCE => &[List::Fence],
+            MavMissionType::MAV_MISSION_TYPE_ALL => &[List::Mission, List::Fence],
+            _ => {
+                self.ack(from, kind, MavMissionResult::MAV_MISSION_ACCEPTED);
+                return;
+            }
+        };
+        if self.busy() || self.clearing.is_some() {
+            self.refuse(
+                from,
+                kind,
+                "the clear waits for the upload, execute or clear in progress: try again",
+            );
+            return;
+        }
+        self.clearing = Some(Clearing {
+            peer: from,
+            kind,
+            left: u8::try_from(lists.len()).unwrap_or(u8::MAX),
+            refused: None,
+        });
+        for list in lists {
+            self.events.push_back(BridgeEvent::Clear { list: *list });
+        }
+    }
+
+    /// The outcome of [`BridgeEvent::Clear`] of `list`: the FCC cleared it, or why not. The
+    /// MISSION_ACK goes out when every list of the MISSION_CLEAR_ALL is reported.
+    pub fn cleared(&mut self, list: List, outcome: Result<(), String>) {
+        let Some(clearing) = &mut self.clearing else {
+            return;
+        };
+        clearing.left = clearing.left.saturating_sub(1);
+        match outcome {
+            Ok(()) => match list {
+                List::Mission => {
+                    self.mission.clear();
+                    self.ids.0 = 0;
+                    self.pending = None;
+                    self.timers.stop(BridgeTimer::FenceWait);
+                    self.current = 0;
+                    self.state = MissionState::MISSION_STATE_NO_MISSION;
+                }
+                List::Fence => {
+                    self.fence.clear();
+                    self.ids.1 = 0;
+                }
+            },
+            Err(why) => {
+                if clearing.refused.is_none() {
+                    clearing.refused = Some(format!("{list} clear refused: {why}"));
+                }
+            }
+        }
+        if clearing.left > 0 {
+            return;
+        }
+        let Some(done) = self.clearing.take() else {
+            return;
+        };
+        match done.refused {
+            None => {
+                self.statustext(MavSeverity::MAV_SEVERITY_INFO, "cleared on the FCC");
+                self.ack(done.peer, done.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
+            }
+            Some(why) => {
+                self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &why);
+                self.ack(done.peer, done.kind, MavMissionResult::MAV_MISSION_DENIED);
+            }
+        }
+    }
+
+    fn request_list(&mut self, to: Peer, kind: MavMissionType) {
         let count = self.list(kind).map_or(0, |l| l.len());
         self.send(MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
             count: u16::try_from(count).unwrap_or(u16::MAX),
-            target_system: 0,
-            target_component: 0,
+            target_system: to.system,
+            target_component: to.component,
             mission_type: kind,
             opaque_id: 0,
         }));
     }
 
-    fn send_item(&mut self, kind: MavMissionType, seq: u16) {
+    fn send_item(&mut self, to: Peer, kind: MavMissionType, seq: u16) {
         let item = self
             .list(kind)
             .and_then(|l| l.get(usize::from(seq)))
@@ -391,36 +592,36 @@ impl Bridge {
                 z: item.z,
                 seq,
                 command: MavCmd::from_u16(item.command).unwrap_or_default(),
-                target_system: 0,
-                target_component: 0,
+                target_system: to.system,
+                target_component: to.component,
                 frame: MavFrame::from_u8(item.frame).unwrap_or_default(),
                 current: u8::from(seq == 0),
                 autocontinue: 1,
                 mission_type: kind,
             })),
-            None => self.ack(kind, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
+            None => self.ack(to, kind, MavMissionResult::MAV_MISSION_INVALID_SEQUENCE),
         }
     }
 
-    fn ack(&mut self, kind: MavMissionType, result: MavMissionResult) {
+    fn ack(&mut self, to: Peer, kind: MavMissionType, result: MavMissionResult) {
         self.send(MavMessage::MISSION_ACK(MISSION_ACK_DATA {
-            target_system: 0,
-            target_component: 0,
+            target_system: to.system,
+            target_component: to.component,
             mavtype: result,
             mission_type: kind,
             opaque_id: 0,
         }));
     }
 
-    fn count(&mut self, now: Instant, c: &MISSION_COUNT_DATA) {
+    fn count(&mut self, now: Instant, from: Peer, c: &MISSION_COUNT_DATA) {
         match c.mission_type {
             MavMissionType::MAV_MISSION_TYPE_MISSION | MavMissionType::MAV_MISSION_TYPE_FENCE => {}
             MavMissionType::MAV_MISSION_TYPE_RALLY if c.count == 0 => {
-                self.ack(c.mission_type, MavMissionResult::MAV_MISSION_ACCEPTED);
+                self.ack(from, c.mission_type, MavMissionResult::MAV_MISSION_ACCEPTED);
                 return;
             }
             other => {
-                self.ack(other, MavMissionResult::MAV_MISSION_UNSUPPORTED);
+                self.ack(from, other, MavMissionResult::MAV_MISSION_UNSUPPORTED);
                 self.statustext(
                     MavSeverity::MAV_SEVERITY_WARNING,
                     "rally points are not supported (the ICD has none)",
@@ -429,10 +630,11 @@ impl Bridge {
             }
         }
         if c.count > MAX_ITEMS {
-            self.ack(c.mission_type, MavMissionResult::MAV_MISSION_NO_SPACE);
+            self.ack(from, c.mission_type, MavMissionResult::MAV_MISSION_NO_SPACE);
             return;
         }
         self.upload = Some(Upload {
+            peer: from,
             kind: c.mission_type,
             count: c.count,
             items: Vec::with_capacity(usize::from(c.count)),
@@ -451,20 +653,25 @@ impl Bridge {
         };
         let seq = u16::try_from(u.items.len()).unwrap_or(u16::MAX);
         let kind = u.kind;
+        let to = u.peer;
         self.send(MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
             seq,
-            target_system: 0,
-            target_component: 0,
+            target_system: to.system,
+            target_component: to.component,
             mission_type: kind,
         }));
         self.timers
             .set(BridgeTimer::Item, now + self.config.item_timeout);
     }
 
-    fn item(&mut self, now: Instant, i: &MISSION_ITEM_INT_DATA) {
+    fn item(&mut self, now: Instant, from: Peer, i: &MISSION_ITEM_INT_DATA) {
         let Some(u) = &mut self.upload else {
             return;
         };
+        if from != u.peer {
+            // Another client's item is not part of this upload.
+            return;
+        }
         if i.mission_type != u.kind || usize::from(i.seq) != u.items.len() {
             // A repeat of an item already taken, or one out of order: ask for the right one.
             return;
@@ -493,9 +700,9 @@ impl Bridge {
         match u.kind {
             MavMissionType::MAV_MISSION_TYPE_MISSION => {
                 match to_plan(&u.items, &self.fence, &self.config.plan) {
-                    Err(refusal) => self.refuse(u.kind, &refusal.reason),
+                    Err(refusal) => self.refuse(u.peer, u.kind, &refusal.reason),
                     Ok(_) => {
-                        self.ack(u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
+                        self.ack(u.peer, u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
                         self.pending = Some(u.items);
                         self.timers
                             .set(BridgeTimer::FenceWait, now + self.config.fence_wait);
@@ -514,33 +721,46 @@ impl Bridge {
                     // No mission to pair it with: the ICD's upload is mission and areas
                     // together, so the fence is held for the next mission.
                     self.fence = u.items;
-                    self.ack(u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
+                    self.ack(u.peer, u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
                     self.statustext(
                         MavSeverity::MAV_SEVERITY_INFO,
                         "fence held: it goes to the FCC with the next mission",
                     );
                     return;
                 }
-                self.commit(now, mission, u.items, Waiting::FenceAck);
+                self.commit(now, mission, u.items, Waiting::FenceAck, u.peer);
             }
         }
     }
 
     /// The reason as STATUSTEXT, then MISSION_ACK with an error: a client that stops listening
     /// at the ACK has read why.
-    fn refuse(&mut self, kind: MavMissionType, reason: &str) {
+    fn refuse(&mut self, to: Peer, kind: MavMissionType, reason: &str) {
         self.statustext(
             MavSeverity::MAV_SEVERITY_ERROR,
             &format!("refused: {reason}"),
         );
-        self.ack(kind, MavMissionResult::MAV_MISSION_DENIED);
+        self.ack(to, kind, MavMissionResult::MAV_MISSION_DENIED);
     }
 
-    fn commit(&mut self, _now: Instant, mission: Vec<Item>, fence: Vec<Item>, waiting: Waiting) {
+    /// `peer`: who is answered when the commit ends (the fence's uploader, the commander of
+    /// execute).
+    fn commit(
+        &mut self,
+        _now: Instant,
+        mission: Vec<Item>,
+        fence: Vec<Item>,
+        waiting: Waiting,
+        peer: Peer,
+    ) {
         match to_plan(&mission, &fence, &self.config.plan) {
             Err(refusal) => match waiting {
                 Waiting::FenceAck => {
-                    self.refuse(MavMissionType::MAV_MISSION_TYPE_FENCE, &refusal.reason);
+                    self.refuse(
+                        peer,
+                        MavMissionType::MAV_MISSION_TYPE_FENCE,
+                        &refusal.reason,
+                    );
                 }
                 Waiting::Nothing => self.statustext(
                     MavSeverity::MAV_SEVERITY_ERROR,
@@ -555,7 +775,7 @@ impl Bridge {
                 }
             },
             Ok(plan) => {
-                self.committing = Some((mission, fence, waiting));
+                self.committing = Some((mission, fence, waiting, peer));
                 self.events.push_back(BridgeEvent::Commit {
                     plan: Box::new(plan),
                 });
@@ -566,7 +786,7 @@ impl Bridge {
     /// The outcome of [`BridgeEvent::Commit`]: the FCC holds both lists (`Ok`), or not, and
     /// why (the safety gateway's violation, the FCC's refusal, the link's failure).
     pub fn committed(&mut self, outcome: Result<(), String>) {
-        let Some((mission, fence, waiting)) = self.committing.take() else {
+        let Some((mission, fence, waiting, peer)) = self.committing.take() else {
             return;
         };
         match outcome {
@@ -574,6 +794,7 @@ impl Bridge {
                 self.mission = mission;
                 self.fence = fence;
                 self.current = 0;
+                self.reached = 0;
                 self.state = MissionState::MISSION_STATE_NOT_STARTED;
                 self.statustext(
                     MavSeverity::MAV_SEVERITY_INFO,
@@ -582,6 +803,7 @@ impl Bridge {
                 match waiting {
                     Waiting::FenceAck => {
                         self.ack(
+                            peer,
                             MavMissionType::MAV_MISSION_TYPE_FENCE,
                             MavMissionResult::MAV_MISSION_ACCEPTED,
                         );
@@ -596,7 +818,9 @@ impl Bridge {
             Err(why) => {
                 let text = format!("not committed, the FCC's lists are unchanged: {why}");
                 match waiting {
-                    Waiting::FenceAck => self.refuse(MavMissionType::MAV_MISSION_TYPE_FENCE, &text),
+                    Waiting::FenceAck => {
+                        self.refuse(peer, MavMissionType::MAV_MISSION_TYPE_FENCE, &text)
+                    }
                     Waiting::Nothing => self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &text),
                     Waiting::Execute => {
                         self.statustext(MavSeverity::MAV_SEVERITY_ERROR, &text);
@@ -607,22 +831,51 @@ impl Bridge {
         }
     }
 
-    /// A STATUSTEXT: the text in chunks of 50 bytes (MAVLink 2 joins them by `id`).
+    /// A STATUSTEXT, broadcast (it is the vehicle's own message). A text of up to 50 bytes is
+    /// one message with id 0; a longer one is MAVLink 2's chunks of 50 bytes under one nonzero
+    /// id, `chunk_seq` counting from 0, and ends with a chunk shorter than 50 bytes (an empty
+    /// one when the length is a multiple of 50): MAVSDK and MAVProxy join the chunks at that end
+    /// marker, and a text without one is dropped or shown late. Texts longer than
+    /// [`STATUSTEXT_MAX`] are cut there and end in "...": the essence is in the first 50 bytes.
     pub fn statustext(&mut self, severity: MavSeverity, text: &str) {
-        let bytes = text.as_bytes();
-        let id = u16::from(self.sequence).wrapping_add(1);
-        for (n, chunk) in bytes.chunks(50).enumerate().take(8) {
-            let mut data = [0u8; 50];
-            for (d, b) in data.iter_mut().zip(chunk) {
-                *d = *b;
+        let mut bytes = text.as_bytes();
+        let cut = bytes.len() > STATUSTEXT_MAX;
+        if cut {
+            let mut end = STATUSTEXT_MAX - 3;
+            while !text.is_char_boundary(end) {
+                end -= 1;
             }
-            self.send(MavMessage::STATUSTEXT(STATUSTEXT_DATA {
-                severity,
-                text: data.into(),
-                id: if bytes.len() > 50 { id } else { 0 },
-                chunk_seq: u8::try_from(n).unwrap_or(u8::MAX),
-            }));
+            bytes = bytes.get(..end).unwrap_or_default();
         }
+        let mut whole: Vec<u8> = bytes.to_vec();
+        if cut {
+            whole.extend_from_slice(b"...");
+        }
+        if whole.len() <= 50 {
+            self.statustext_chunk(severity, &whole, 0, 0);
+            return;
+        }
+        self.statustext_id = self.statustext_id.checked_add(1).unwrap_or(1);
+        let id = self.statustext_id;
+        let chunks = whole.len() / 50 + 1;
+        for n in 0..chunks {
+            let chunk = whole.get(n * 50..).unwrap_or_default();
+            let chunk = chunk.get(..50).unwrap_or(chunk);
+            self.statustext_chunk(severity, chunk, id, u8::try_from(n).unwrap_or(u8::MAX));
+        }
+    }
+
+    fn statustext_chunk(&mut self, severity: MavSeverity, chunk: &[u8], id: u16, chunk_seq: u8) {
+        let mut data = [0u8; 50];
+        for (d, b) in data.iter_mut().zip(chunk) {
+            *d = *b;
+        }
+        self.send(MavMessage::STATUSTEXT(STATUSTEXT_DATA {
+            severity,
+            text: data.into(),
+            id,
+            chunk_seq,
+        }));
     }
 
     /// A position of the downlink (#101): GLOBAL_POSITION_INT.
@@ -661,41 +914,69 @@ impl Bridge {
         }));
     }
 
-    /// A FROM-TO-NEXT of the downlink (#4001): MISSION_CURRENT, the item of the TO waypoint.
+    /// A FROM-TO-NEXT of the downlink (#4001): MISSION_CURRENT, the item of the TO waypoint,
+    /// and MISSION_ITEM_REACHED for every item before it not yet reported (the take-off and
+    /// speed changes are reached when the aircraft flies past them to the next waypoint). TO 0
+    /// while the mission flies is its end: every item reached, MISSION_STATE_COMPLETE with the
+    /// last item as seq (an index a client can map, and MAVSDK's `is_mission_finished`).
     pub fn handle_from_to_next(&mut self, ftn: &FromToNext) {
         let to = ftn.to.waypoint_number.unwrap_or(0);
-        // Waypoint n of the FCC is the n-th waypoint or land item of the mission list.
-        let items: Vec<u16> = self
-            .mission
-            .iter()
-            .enumerate()
-            .filter(|(_, i)| matches!(i.command, 16 | 21 | 85))
-            .filter_map(|(k, _)| u16::try_from(k).ok())
-            .collect();
+        let last = u16::try_from(self.mission.len().saturating_sub(1)).unwrap_or(u16::MAX);
         match to {
-            0 if self.state == MissionState::MISSION_STATE_ACTIVE => {
+            0 if self.state == MissionState::MISSION_STATE_ACTIVE && !self.mission.is_empty() => {
                 self.state = MissionState::MISSION_STATE_COMPLETE;
-                self.current = u16::try_from(self.mission.len()).unwrap_or(u16::MAX);
+                self.current = last;
+                self.reach_below(last.saturating_add(1));
             }
             0 => {}
             n => {
-                if let Some(&seq) = items.get(usize::from(n) - 1) {
-                    self.current = seq;
-                }
+                // Waypoint n of the FCC is the n-th waypoint or land item of the mission list.
+                let seq = self
+                    .mission
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, i)| matches!(i.command, 16 | 21 | 85))
+                    .nth(usize::from(n) - 1)
+                    .and_then(|(k, _)| u16::try_from(k).ok());
                 self.state = MissionState::MISSION_STATE_ACTIVE;
+                if let Some(seq) = seq {
+                    self.current = seq;
+                    self.reach_below(seq);
+                }
             }
         }
         self.mission_current();
     }
 
+    /// MISSION_ITEM_REACHED for each item below `end` not reported yet, in order.
+    fn reach_below(&mut self, end: u16) {
+        while self.reached < end {
+            self.send(MavMessage::MISSION_ITEM_REACHED(
+                MISSION_ITEM_REACHED_DATA { seq: self.reached },
+            ));
+            self.reached += 1;
+        }
+    }
+
     fn mission_current(&mut self) {
+        let total = if self.mission.is_empty() {
+            // MAVLink: UINT16_MAX when the vehicle holds no mission.
+            u16::MAX
+        } else {
+            u16::try_from(self.mission.len()).unwrap_or(u16::MAX)
+        };
         self.send(MavMessage::MISSION_CURRENT(MISSION_CURRENT_DATA {
             seq: self.current,
-            total: u16::try_from(self.mission.len()).unwrap_or(u16::MAX),
+            total,
             mission_state: self.state,
-            mission_mode: 1,
-            mission_id: 0,
-            fence_id: 0,
+            // 1: in mission mode; 2: not (holding).
+            mission_mode: if self.state == MissionState::MISSION_STATE_ACTIVE {
+                1
+            } else {
+                2
+            },
+            mission_id: self.ids.0,
+            fence_id: self.ids.1,
             rally_points_id: 0,
         }));
     }
@@ -726,7 +1007,11 @@ impl Bridge {
                         Some(false) => {
                             self.timers.stop(BridgeTimer::Item);
                             if let Some(u) = self.upload.take() {
-                                self.ack(u.kind, MavMissionResult::MAV_MISSION_OPERATION_CANCELLED);
+                                self.ack(
+                                    u.peer,
+                                    u.kind,
+                                    MavMissionResult::MAV_MISSION_OPERATION_CANCELLED,
+                                );
                             }
                         }
                         None => self.timers.stop(BridgeTimer::Item),
@@ -736,23 +1021,39 @@ impl Bridge {
                     self.timers.stop(BridgeTimer::FenceWait);
                     if let Some(mission) = self.pending.take() {
                         let fence = self.fence.clone();
-                        self.commit(now, mission, fence, Waiting::Nothing);
+                        self.commit(now, mission, fence, Waiting::Nothing, Peer::default());
                     }
                 }
             }
         }
     }
 
+    /// HEARTBEAT as a PX4 autopilot: MAV_AUTOPILOT_PX4 and PX4's custom mode encoding are what
+    /// MAVSDK decodes to a flight mode, what MAVProxy (pymavlink's `mode_string_v10`) prints by
+    /// name, and what QGroundControl's PX4 plugin shows; a generic autopilot's custom mode
+    /// has no names in any of them. AUTO.MISSION while the mission flies, else AUTO.LOITER
+    /// (Hold): the FCC flies nothing else on its own. EXTENDED_SYS_STATE with it.
     fn heartbeat(&mut self) {
         let active = self.state == MissionState::MISSION_STATE_ACTIVE;
+        let flags = MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+            | MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED
+            | MavModeFlag::MAV_MODE_FLAG_GUIDED_ENABLED
+            | MavModeFlag::MAV_MODE_FLAG_STABILIZE_ENABLED;
         self.send(MavMessage::HEARTBEAT(HEARTBEAT_DATA {
-            custom_mode: 0,
+            custom_mode: px4_mode(
+                PX4_MAIN_AUTO,
+                if active {
+                    PX4_SUB_MISSION
+                } else {
+                    PX4_SUB_LOITER
+                },
+            ),
             mavtype: MavType::MAV_TYPE_VTOL_FIXEDROTOR,
-            autopilot: MavAutopilot::MAV_AUTOPILOT_GENERIC,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_PX4,
             base_mode: if active {
-                MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED | MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
+                flags | MavModeFlag::MAV_MODE_FLAG_SAFETY_ARMED
             } else {
-                MavModeFlag::MAV_MODE_FLAG_AUTO_ENABLED
+                flags
             },
             system_status: if active {
                 MavState::MAV_STATE_ACTIVE
@@ -761,6 +1062,25 @@ impl Bridge {
             },
             mavlink_version: 3,
         }));
+        self.send(MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
+            vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
+            landed_state: self.landed_state(),
+        }));
+    }
+
+    /// What the bridge knows of the ground: in the air while the mission it started flies; on
+    /// the ground at the end of a mission that lands; else unknown (a bridge started while the
+    /// aircraft flies cannot tell), MAVLink's UNDEFINED, never guessed.
+    fn landed_state(&self) -> MavLandedState {
+        match self.state {
+            MissionState::MISSION_STATE_ACTIVE => MavLandedState::MAV_LANDED_STATE_IN_AIR,
+            MissionState::MISSION_STATE_COMPLETE
+                if self.mission.last().is_some_and(|i| i.command == 21) =>
+            {
+                MavLandedState::MAV_LANDED_STATE_ON_GROUND
+            }
+            _ => MavLandedState::MAV_LANDED_STATE_UNDEFINED,
+        }
     }
 
     fn send(&mut self, message: MavMessage) {
@@ -785,9 +1105,9 @@ impl Bridge {
         self.events.pop_front()
     }
 
-    /// Whether a commit or an execute is being carried out.
+    /// Whether a commit, an execute or a clear is being carried out.
     pub fn busy(&self) -> bool {
-        self.committing.is_some() || self.executing
+        self.committing.is_some() || self.executing || self.clearing.is_some()
     }
 }
 

@@ -4,7 +4,8 @@
 //! `--to` (where QGroundControl listens) and to the client that spoke last, if another; the
 //! downlink's #101 and #4001 go to the bridge; a [`BridgeEvent::Commit`] is validated by the
 //! safety gateway and uploaded atomically (ICD §8), a [`BridgeEvent::Execute`] is #50000
-//! execute, each outcome reported back to the bridge.
+//! execute, a [`BridgeEvent::Clear`] the FCC's clear of the mission or the areas; each outcome
+//! is reported back to the bridge.
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -13,7 +14,9 @@ use std::time::Duration;
 use missionlink_services::ground_station::{GcsEvent, SafetyGateway, Sequence};
 
 use super::bridge::{Bridge, BridgeEvent};
-use super::plan::from_plan;
+use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
+
+use super::plan::{List, from_plan};
 use crate::gcs_link::{Finished, GcsLink};
 use crate::qgc::ExportOptions;
 
@@ -65,19 +68,41 @@ pub fn read_lists<G: SafetyGateway>(link: &mut GcsLink<G>, bridge: &mut Bridge) 
     if let Ok(Finished::Downloaded(plan)) = link.finish(|_| {}) {
         let (mission, fence) = from_plan(&plan, &ExportOptions::default());
         bridge.set_lists(mission, fence);
+        bridge.set_ids(
+            mission_checksum(&plan.mission).value(),
+            areas_checksum(&plan.areas).value(),
+        );
     }
 }
 
-/// Validates and uploads `plan` atomically; why not, in the operator's words.
+/// Validates and uploads `plan` atomically: the checksums of the lists the FCC confirmed
+/// (ICD §11), or why not, in the operator's words.
 fn commit<G: SafetyGateway>(
     link: &mut GcsLink<G>,
     plan: &missionlink_services::ground_station::MissionPlan,
-) -> Result<(), String> {
+) -> Result<(u32, u32), String> {
     link.station().validate(plan).map_err(|e| e.to_string())?;
     let now = link.now();
     link.station()
         .upload_with(now, plan, Sequence::Atomic)
         .map_err(|e| e.to_string())?;
+    match link.finish(|_| {}).map_err(|e| e.to_string())? {
+        Finished::Uploaded(report) => Ok((report.uploaded.0.value(), report.uploaded.1.value())),
+        // Confirmed, without checksums to show: MAVLink's "unknown".
+        _ => Ok((0, 0)),
+    }
+}
+
+/// The FCC's clear of `list`: the mission (#13000 mode 1 alone, which deletes the active
+/// mission) or the areas (#2011 mode 6); why not, in the operator's words.
+fn clear<G: SafetyGateway>(link: &mut GcsLink<G>, list: List) -> Result<(), String> {
+    let now = link.now();
+    let station = link.station();
+    match list {
+        List::Mission => station.clear_mission(now),
+        List::Fence => station.clear_areas(now),
+    }
+    .map_err(|e| e.to_string())?;
     link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
 }
 
@@ -107,12 +132,22 @@ pub fn run<G: SafetyGateway>(
             match event {
                 BridgeEvent::Commit { plan } => {
                     let outcome = commit(link, &plan.plan);
-                    if let Err(why) = &outcome {
-                        tracing::warn!(%why, "the MAVLink client's plan was not committed");
+                    match &outcome {
+                        Ok((mission_id, fence_id)) => bridge.set_ids(*mission_id, *fence_id),
+                        Err(why) => {
+                            tracing::warn!(%why, "the MAVLink client's plan was not committed");
+                        }
                     }
-                    bridge.committed(outcome);
+                    bridge.committed(outcome.map(|_| ()));
                 }
                 BridgeEvent::Execute => bridge.executed(execute(link)),
+                BridgeEvent::Clear { list } => {
+                    let outcome = clear(link, list);
+                    if let Err(why) = &outcome {
+                        tracing::warn!(%why, %list, "the MAVLink client's clear was refused");
+                    }
+                    bridge.cleared(list, outcome);
+                }
             }
         }
         while let Some(len) = bridge.poll_transmit(&mut buf) {

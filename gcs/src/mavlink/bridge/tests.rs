@@ -237,8 +237,17 @@ fn heartbeat_once_a_second() {
     b.start(at(0));
     b.handle_timeout(at(0));
     let first = sent(&mut b);
+    // PX4's encoding: AUTO (4) in bits 16..24, LOITER (3) in bits 24..32, standing by.
     assert!(matches!(first.first(), Some(MavMessage::HEARTBEAT(h))
-        if h.autopilot == MavAutopilot::MAV_AUTOPILOT_GENERIC));
+        if h.autopilot == MavAutopilot::MAV_AUTOPILOT_PX4
+            && h.custom_mode == 0x0304_0000
+            && h.base_mode.contains(MavModeFlag::MAV_MODE_FLAG_CUSTOM_MODE_ENABLED)));
+    assert!(
+        first
+            .iter()
+            .any(|m| matches!(m, MavMessage::EXTENDED_SYS_STATE(e)
+        if e.landed_state == MavLandedState::MAV_LANDED_STATE_UNDEFINED))
+    );
     assert_eq!(b.poll_timeout(), Some(at(1000)));
     b.handle_timeout(at(999));
     assert!(sent(&mut b).is_empty());
@@ -485,4 +494,294 @@ fn any_bytes_are_counted_never_a_panic() {
         b.handle_datagram(at(0), &bytes[..(round % 300)]);
     }
     assert!(b.unreadable >= 1000, "{}", b.unreadable);
+}
+
+/// The target of a reply, for those messages that have one.
+fn target(m: &MavMessage) -> Option<(u8, u8)> {
+    match m {
+        MavMessage::MISSION_REQUEST_INT(r) => Some((r.target_system, r.target_component)),
+        MavMessage::MISSION_ACK(a) => Some((a.target_system, a.target_component)),
+        MavMessage::MISSION_COUNT(c) => Some((c.target_system, c.target_component)),
+        MavMessage::MISSION_ITEM_INT(i) => Some((i.target_system, i.target_component)),
+        MavMessage::COMMAND_ACK(a) => Some((a.target_system, a.target_component)),
+        _ => None,
+    }
+}
+
+/// Every reply goes to the client that asked (255, 190): the upload's requests and acks, the
+/// fence's ack held until the commit, a download, a COMMAND_ACK.
+#[test]
+fn replies_go_to_the_client_that_asked() {
+    let mut b = Bridge::new(config());
+    let mut out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+    out.extend(upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence()));
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    b.committed(Ok(()));
+    out.extend(sent(&mut b));
+    from_client(
+        &mut b,
+        at(20),
+        MavMessage::MISSION_REQUEST_LIST(MISSION_REQUEST_LIST_DATA {
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            mission_type: T::MAV_MISSION_TYPE_MISSION,
+        }),
+    );
+    from_client(
+        &mut b,
+        at(20),
+        MavMessage::MISSION_REQUEST_INT(MISSION_REQUEST_INT_DATA {
+            seq: 0,
+            target_system: SYSTEM_ID,
+            target_component: COMPONENT_ID,
+            mission_type: T::MAV_MISSION_TYPE_MISSION,
+        }),
+    );
+    from_client(
+        &mut b,
+        at(30),
+        command_long(MavCmd::MAV_CMD_DO_SET_MODE, 1.0),
+    );
+    out.extend(sent(&mut b));
+    let targets: Vec<(u8, u8)> = out.iter().filter_map(target).collect();
+    assert!(targets.len() >= 12, "{out:?}");
+    assert!(targets.iter().all(|t| *t == (255, 190)), "{targets:?}");
+    for kind in [
+        "MISSION_REQUEST_INT",
+        "MISSION_ACK",
+        "MISSION_COUNT",
+        "MISSION_ITEM_INT",
+    ] {
+        assert!(
+            out.iter().any(|m| format!("{m:?}").starts_with(kind)),
+            "no {kind}"
+        );
+    }
+    assert!(out.iter().any(|m| matches!(m, MavMessage::COMMAND_ACK(_))));
+}
+
+/// Commands and mission traffic addressed to another system or component are not answered and
+/// change nothing; they are counted.
+#[test]
+fn traffic_for_another_vehicle_is_ignored() {
+    let mut b = Bridge::new(config());
+    for (system, component) in [(7, 1), (1, 154)] {
+        from_client(
+            &mut b,
+            at(0),
+            MavMessage::MISSION_COUNT(MISSION_COUNT_DATA {
+                count: 3,
+                target_system: system,
+                target_component: component,
+                mission_type: T::MAV_MISSION_TYPE_MISSION,
+                opaque_id: 0,
+            }),
+        );
+        let mut start = command_long(MavCmd::MAV_CMD_MISSION_START, 0.0);
+        if let MavMessage::COMMAND_LONG(c) = &mut start {
+            c.target_system = system;
+            c.target_component = component;
+        }
+        from_client(&mut b, at(0), start);
+    }
+    assert!(sent(&mut b).is_empty());
+    assert!(b.poll_event().is_none());
+    assert_eq!(b.elsewhere, 4);
+    // Broadcast (0, 0) is for everyone.
+    let mut start = command_long(MavCmd::MAV_CMD_MISSION_START, 0.0);
+    if let MavMessage::COMMAND_LONG(c) = &mut start {
+        c.target_system = 0;
+        c.target_component = 0;
+    }
+    from_client(&mut b, at(0), start);
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+}
+
+/// The STATUSTEXT messages of one text: (id, chunk_seq, bytes without the padding).
+fn chunks(messages: &[MavMessage]) -> Vec<(u16, u8, Vec<u8>)> {
+    messages
+        .iter()
+        .filter_map(|m| match m {
+            MavMessage::STATUSTEXT(t) => {
+                let bytes = <[u8; 50]>::from(t.text);
+                let len = bytes.iter().position(|b| *b == 0).unwrap_or(50);
+                Some((t.id, t.chunk_seq, bytes[..len].to_vec()))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+/// Short texts are one message of id 0; long ones are chunks under one id that end with a
+/// chunk shorter than 50 bytes (empty when the length is a multiple of 50), none lost past 8.
+#[test]
+fn statustext_in_chunks_with_an_end_marker() {
+    let mut b = Bridge::new(config());
+    b.statustext(MavSeverity::MAV_SEVERITY_INFO, "short");
+    assert_eq!(chunks(&sent(&mut b)), [(0, 0, b"short".to_vec())]);
+
+    let long: String = (0..523)
+        .map(|i| char::from(b'a' + (i % 26) as u8))
+        .collect();
+    b.statustext(MavSeverity::MAV_SEVERITY_ERROR, &long);
+    let c = chunks(&sent(&mut b));
+    assert_eq!(c.len(), 11);
+    assert!(c.iter().all(|(id, _, _)| *id == c[0].0 && *id != 0));
+    assert!(
+        c.iter()
+            .enumerate()
+            .all(|(n, (_, seq, _))| usize::from(*seq) == n)
+    );
+    assert_eq!(c[10].2.len(), 23);
+    let joined: Vec<u8> = c.iter().flat_map(|(_, _, t)| t.clone()).collect();
+    assert_eq!(joined, long.as_bytes());
+
+    let hundred = "x".repeat(100);
+    b.statustext(MavSeverity::MAV_SEVERITY_ERROR, &hundred);
+    let c = chunks(&sent(&mut b));
+    assert_eq!(c.len(), 3);
+    assert!(c[2].2.is_empty(), "the end marker of a multiple of 50");
+    assert_ne!(c[0].0, 0);
+
+    let huge = "y".repeat(5000);
+    b.statustext(MavSeverity::MAV_SEVERITY_ERROR, &huge);
+    let c = chunks(&sent(&mut b));
+    let joined: Vec<u8> = c.iter().flat_map(|(_, _, t)| t.clone()).collect();
+    assert_eq!(joined.len(), STATUSTEXT_MAX);
+    assert!(joined.ends_with(b"..."));
+    assert!(c.last().is_some_and(|(_, _, t)| t.len() < 50));
+}
+
+fn clear_all(kind: T) -> MavMessage {
+    MavMessage::MISSION_CLEAR_ALL(mavlink::dialects::common::MISSION_CLEAR_ALL_DATA {
+        target_system: SYSTEM_ID,
+        target_component: COMPONENT_ID,
+        mission_type: kind,
+    })
+}
+
+/// MISSION_CLEAR_ALL is the FCC's clear: the mission's (#13000 mode 1) or the areas' (#2011
+/// mode 6); accepted, the list is empty; refused, MISSION_ACK DENIED with the FCC's reason in a
+/// STATUSTEXT and the lists unchanged.
+#[test]
+fn clear_all_is_the_fccs_clear_and_its_refusal_says_why() {
+    let mut b = Bridge::new(config());
+    upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+    upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    b.committed(Ok(()));
+    sent(&mut b);
+
+    from_client(&mut b, at(20), clear_all(T::MAV_MISSION_TYPE_MISSION));
+    assert!(matches!(
+        b.poll_event(),
+        Some(BridgeEvent::Clear {
+            list: List::Mission
+        })
+    ));
+    b.cleared(List::Mission, Err("refused GuidanceActive".to_owned()));
+    let out = sent(&mut b);
+    assert_eq!(
+        acks(&out),
+        [(
+            T::MAV_MISSION_TYPE_MISSION,
+            MavMissionResult::MAV_MISSION_DENIED
+        )]
+    );
+    assert!(texts(&out).join("").contains("GuidanceActive"), "{out:?}");
+    assert_eq!(b.lists().0.len(), mission().len());
+
+    from_client(&mut b, at(30), clear_all(T::MAV_MISSION_TYPE_ALL));
+    assert!(matches!(
+        b.poll_event(),
+        Some(BridgeEvent::Clear {
+            list: List::Mission
+        })
+    ));
+    assert!(matches!(
+        b.poll_event(),
+        Some(BridgeEvent::Clear { list: List::Fence })
+    ));
+    b.cleared(List::Mission, Ok(()));
+    assert!(
+        acks(&sent(&mut b)).is_empty(),
+        "the ack waits for both clears"
+    );
+    b.cleared(List::Fence, Ok(()));
+    let out = sent(&mut b);
+    assert_eq!(
+        acks(&out),
+        [(
+            T::MAV_MISSION_TYPE_ALL,
+            MavMissionResult::MAV_MISSION_ACCEPTED
+        )]
+    );
+    assert!(out.iter().filter_map(target).all(|t| t == (255, 190)));
+    assert_eq!(b.lists(), (&[][..], &[][..]));
+}
+
+fn from_to_next(to: u16) -> FromToNext {
+    FromToNext {
+        time_stamp: missionlink_interfaces::wire::Timestamp::from_millis(1).unwrap(),
+        altitude_type: None,
+        speed_type: None,
+        from: Default::default(),
+        to: missionlink_interfaces::wire::WaypointState {
+            waypoint_number: Some(to),
+            ..Default::default()
+        },
+        next: Default::default(),
+        loiter_configuration_report_validity: None,
+    }
+}
+
+/// #4001 after start: MISSION_ITEM_REACHED for every item once, in order, MISSION_CURRENT on
+/// the TO waypoint's item, and at the end (TO 0) MISSION_STATE_COMPLETE on the last item with
+/// the plan's checksums; the heartbeat says AUTO.MISSION and in the air meanwhile.
+#[test]
+fn progress_reaches_every_item_and_completes_on_the_last() {
+    let mut b = Bridge::new(config());
+    upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+    upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    b.set_ids(0x1234_5678, 0x9abc_def0);
+    b.committed(Ok(()));
+    b.start(at(20));
+    from_client(
+        &mut b,
+        at(20),
+        command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
+    );
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+    b.executed(Ok(()));
+    sent(&mut b);
+    let total = b.lists().0.len() as u16;
+    let mut reached = Vec::new();
+    let mut last = None;
+    for to in [1, 1, 2, 0] {
+        b.handle_from_to_next(&from_to_next(to));
+        for m in sent(&mut b) {
+            match m {
+                MavMessage::MISSION_ITEM_REACHED(r) => reached.push(r.seq),
+                MavMessage::MISSION_CURRENT(c) => last = Some(c),
+                _ => {}
+            }
+        }
+        if to == 2 {
+            b.handle_timeout(at(1020));
+            let beat = sent(&mut b);
+            assert!(beat.iter().any(|m| matches!(m, MavMessage::HEARTBEAT(h)
+                if h.custom_mode == 0x0404_0000)));
+            assert!(
+                beat.iter()
+                    .any(|m| matches!(m, MavMessage::EXTENDED_SYS_STATE(e)
+                if e.landed_state == MavLandedState::MAV_LANDED_STATE_IN_AIR))
+            );
+        }
+    }
+    assert_eq!(reached, (0..total).collect::<Vec<_>>());
+    let c = last.unwrap();
+    assert_eq!(c.mission_state, MissionState::MISSION_STATE_COMPLETE);
+    assert_eq!((c.seq, c.total), (total - 1, total));
+    assert_eq!((c.mission_id, c.fence_id), (0x1234_5678, 0x9abc_def0));
 }
