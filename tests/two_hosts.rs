@@ -9,10 +9,12 @@
 //! - Host B: a guidance (the Rust stub, or the Python guidance) and a bridge.
 //!
 //! Both hosts share this machine's /dev/shm: each uses a service prefix of its own, so their
-//! iceoryx2 services never meet and only the bridges carry data between them.
+//! iceoryx2 services never meet and only the bridges carry data between them. The bridges
+//! authenticate each other by mutual TLS with credentials the real `bridge credentials` makes
+//! for the test (docs/two-hosts.md, "Credentials").
 //!
-//! Each test uploads and executes demo mission 2, checks the whole FROM-TO-NEXT sequence at the
-//! GCS, then sets the veth down: the launcher reports the remote guidance not alive and execute
+//! The flights upload and execute demo mission 2, check the whole FROM-TO-NEXT sequence at the
+//! GCS, then set the veth down: the launcher reports the remote guidance not alive and execute
 //! is refused (`WrongState`); then up again: the launcher hears it alive and execute is accepted,
 //! without a restart of any process.
 //!
@@ -24,7 +26,7 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -44,9 +46,29 @@ const LIMIT: Duration = Duration::from_secs(60);
 /// process can hold it there).
 const ZENOH_PORT: u16 = 7447;
 
-/// Host A's configuration (the rig's) with the bridge listening on the veth: the lists and
-/// automation state go out, guidance's progress and heartbeat come in.
-fn bridge_a(config: &mut Config) {
+/// Makes a set of credentials with the real `bridge credentials`: under `dir/<set>`, host `a`
+/// (which listens on [`ADDR_A`]) and host `b`, signed by an authority of the set's own.
+fn credentials(dir: &Path, set: &str) -> PathBuf {
+    let out = dir.join(set);
+    let made = Command::new(bin_dir().join("bridge"))
+        .arg("credentials")
+        .arg("--out")
+        .arg(&out)
+        .args(["--host", &format!("a={ADDR_A}"), "--host", "b"])
+        .output()
+        .unwrap();
+    assert!(
+        made.status.success(),
+        "bridge credentials: {}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    out
+}
+
+/// Host A's configuration (the rig's) with the bridge listening on the veth, with host `a`'s
+/// credentials of the set `credentials`: the lists and automation state go out, guidance's
+/// progress and heartbeat come in.
+fn bridge_a(config: &mut Config, credentials: &Path) {
     config.launcher.without = vec!["guidance-stub".to_owned()];
     // Two FCC hosts, four bridges and two guidances run on this machine at once (and the
     // other test beside): a heartbeat period of 200 ms (hung after 500 ms) keeps a partition
@@ -55,7 +77,7 @@ fn bridge_a(config: &mut Config) {
     config.bridge = Bridge {
         enabled: true,
         mode: Mode::Peer,
-        listen: vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")],
+        listen: vec![format!("tls/{ADDR_A}:{ZENOH_PORT}")],
         connect: Vec::new(),
         key_prefix: format!("{}-vehicle", config.ipc.service_prefix),
         out: [
@@ -68,19 +90,22 @@ fn bridge_a(config: &mut Config) {
         inbound: ["fcc/guidance/progress", "fcc/health/guidance"]
             .map(str::to_owned)
             .to_vec(),
+        credentials: Some(credentials.join("a")),
         ..Bridge::default()
     };
 }
 
 /// Host B's configuration: host A's, under a service prefix and directories of its own, the
-/// bridge connecting to host A with the directions swapped.
-fn host_b(a: &Config, dir: &std::path::Path) -> Config {
+/// bridge connecting to host A with the directions swapped and host `b`'s credentials of the
+/// set `credentials`.
+fn host_b(a: &Config, dir: &Path, credentials: &Path) -> Config {
     let mut b = a.clone();
     b.ipc.service_prefix = format!("{}-b", a.ipc.service_prefix);
     b.ipc.state_dir = Some(dir.join("state-b"));
     b.latency.summary_dir = Some(dir.join("latency-b"));
     b.bridge.listen = Vec::new();
-    b.bridge.connect = vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")];
+    b.bridge.connect = vec![format!("tls/{ADDR_A}:{ZENOH_PORT}")];
+    b.bridge.credentials = Some(credentials.join("b"));
     std::mem::swap(&mut b.bridge.out, &mut b.bridge.inbound);
     // Mission 2 starts at CCP.
     b.guidance.start_latitude_deg = 48.275;
@@ -201,19 +226,19 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     // and every process it starts runs on host A.
     Hosts::enter(&hosts.a);
     let mut rig = Rig::new(&format!("two-hosts-{tag}"));
-    bridge_a(&mut rig.config);
-    let config_b = host_b(&rig.config, &rig.dir);
     binaries::ensure_bridge(&bin_dir(), binaries::Build::UnderCargo).unwrap();
+    let deployment = credentials(&rig.dir, "credentials");
+    bridge_a(&mut rig.config, &deployment);
+    let config_b = host_b(&rig.config, &rig.dir, &deployment);
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
     let remote = start_host_b(hosts.b.clone(), config_b, rig.dir.clone(), guidance);
     let logs = |fcc: &Process| {
-        format!(
-            "\n--- fcc ---\n{}\n--- host B bridge ---\n{}\n--- host B guidance ---\n{}",
-            fcc.log_text(),
-            remote[0].log_text(),
-            remote[1].log_text()
-        )
+        let b: Vec<String> = remote
+            .iter()
+            .map(|r| format!("\n--- host B: {} ---\n{}", r.log.display(), r.log_text()))
+            .collect();
+        format!("\n--- fcc ---\n{}{}", fcc.log_text(), b.concat())
     };
 
     // The launcher hears the remote guidance's heartbeat through the bridges.
