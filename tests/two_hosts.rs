@@ -16,7 +16,8 @@
 //! The flights upload and execute demo mission 2, check the whole FROM-TO-NEXT sequence at the
 //! GCS, then set the veth down: the launcher reports the remote guidance not alive and execute
 //! is refused (`WrongState`); then up again: the launcher hears it alive and execute is accepted,
-//! without a restart of any process.
+//! without a restart of any process. Both bridges show the fence in `/proc/<pid>/status`, on
+//! every thread.
 //!
 //! Network namespaces need root: run as root (CI's `.ci/run` does). Without root each test fails
 //! at once with one line saying so.
@@ -36,6 +37,7 @@ use missionlink_interfaces::wire;
 use missionlink_partitions::binaries;
 use missionlink_partitions::bridge_config::{Bridge, Mode};
 use missionlink_partitions::config::Config;
+use missionlink_partitions::isolation::status_shows_fence;
 use missionlink_partitions::launcher::FccProcess;
 use missionlink_services::ground_station::GcsError;
 
@@ -220,6 +222,53 @@ fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidan
     .unwrap()
 }
 
+/// The fence of process `pid`, on every one of its threads (Zenoh's runtime threads too):
+/// `NoNewPrivs` and `Seccomp` of each `/proc/<pid>/task/<tid>/status`, and the process's own
+/// two lines as they read.
+fn fence_of(pid: u32) -> (String, Vec<(String, bool)>) {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    let lines: Vec<&str> = status
+        .lines()
+        .filter(|l| l.starts_with("NoNewPrivs:") || l.starts_with("Seccomp:"))
+        .collect();
+    let threads = std::fs::read_dir(format!("/proc/{pid}/task"))
+        .unwrap()
+        .filter_map(|t| {
+            let t = t.ok()?;
+            let status = std::fs::read_to_string(t.path().join("status")).ok()?;
+            let name = status
+                .lines()
+                .find_map(|l| l.strip_prefix("Name:"))
+                .unwrap_or("")
+                .trim()
+                .to_owned();
+            Some((name, status_shows_fence(&status)))
+        })
+        .collect();
+    (lines.join(" "), threads)
+}
+
+/// Asserts that the bridge `pid` (`which`, for the message) is fenced on every thread, and
+/// prints the status lines seen.
+fn assert_fenced(which: &str, pid: u32) {
+    let (lines, threads) = fence_of(pid);
+    println!(
+        "{which} (pid {pid}): {lines:?}, {} threads, all fenced: {}",
+        threads.len(),
+        threads.iter().all(|(_, fenced)| *fenced)
+    );
+    assert!(
+        lines.contains("NoNewPrivs:\t1") && lines.contains("Seccomp:\t2"),
+        "{which}: {lines:?}"
+    );
+    // Zenoh's runtime runs threads of its own: they must be fenced too.
+    assert!(threads.len() > 2, "{which}: {threads:?}");
+    assert!(
+        threads.iter().all(|(_, fenced)| *fenced),
+        "{which}: threads not fenced: {threads:?}"
+    );
+}
+
 fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     let hosts = Hosts::new(tag);
     // This thread is host A from here on: the rig binds the GCS's ends on host A's loopback,
@@ -232,7 +281,7 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     let config_b = host_b(&rig.config, &rig.dir, &deployment);
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
-    let remote = start_host_b(hosts.b.clone(), config_b, rig.dir.clone(), guidance);
+    let mut remote = start_host_b(hosts.b.clone(), config_b, rig.dir.clone(), guidance);
     let logs = |fcc: &Process| {
         let b: Vec<String> = remote
             .iter()
@@ -247,6 +296,9 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
         &["alive (not started by the launcher)", "partition=guidance"],
         0,
     );
+    // Both bridges authenticated each other (nothing crosses otherwise) and are fenced.
+    assert_fenced("host A's bridge", partition_pid(&fcc, "bridge") as u32);
+    assert_fenced("host B's bridge", remote[0].child.id());
     let mut link = rig.gcs(&mut fcc);
     upload(&mut link, &plan("mission-2.toml"))
         .unwrap_or_else(|e| panic!("upload: {e}{}", logs(&fcc)));
@@ -328,6 +380,18 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
         "{tag}: recovered {:.1} s after the cut; FROM-TO-NEXT at the GCS {seen:?}",
         cut.elapsed().as_secs_f64()
     );
+    // No process died on the way: a bridge killed by its own fence (SIGSYS) would show here.
+    let died = ["died"];
+    let text = logs(&fcc);
+    assert_eq!(count_lines(&fcc.log_text(), &died), 0, "{text}");
+    for r in &mut remote {
+        assert_eq!(count_lines(&r.log_text(), &died), 0, "{text}");
+        assert!(
+            r.child.try_wait().unwrap().is_none(),
+            "{} ended{text}",
+            r.log.display()
+        );
+    }
     drop(link);
     fcc.stop().unwrap();
     drop(remote);

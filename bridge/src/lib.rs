@@ -25,6 +25,10 @@
 //!   nothing is forwarded to it and nothing it sends is published. `authentication = "none"`
 //!   (plain TCP) must be written in the configuration and is logged as a warning at every
 //!   start.
+//! - The bridge fences itself as a partition does (`missionlink_partitions::isolation`,
+//!   [`Profile::Bridge`](missionlink_partitions::isolation::Profile::Bridge)) before it opens
+//!   the Zenoh session, while it has one thread: every thread of Zenoh's runtime inherits the
+//!   fence.
 //!
 //! The bridge runs two threads of its own: the outgoing one sleeps in an iceoryx2 WaitSet on the
 //! services' events, the incoming one on a channel fed by Zenoh's callbacks; Zenoh's runtime
@@ -46,7 +50,8 @@ use missionlink_interfaces::contracts::{CONTRACT_VERSION, FccService};
 use missionlink_partitions::bridge_config::{Authentication, Bridge, BridgeConfigError, Mode};
 use missionlink_partitions::config::{Config, ConfigArgs, ConfigError};
 use missionlink_partitions::ipc::{Ipc, IpcError};
-use missionlink_partitions::runtime::{CONFIG_EXIT_CODE, Control};
+use missionlink_partitions::isolation::{Fence, IsolationError};
+use missionlink_partitions::runtime::{CONFIG_EXIT_CODE, Control, PartitionError};
 use zenoh::Wait;
 use zenoh::sample::SampleKind;
 
@@ -73,6 +78,9 @@ pub enum BridgeError {
     /// The credentials cannot be used (missing, readable by others, not PEM).
     #[error("credentials: {0}")]
     Credentials(#[from] CredentialError),
+    /// The bridge could not fence itself as configured (`[isolation]`).
+    #[error("isolation: {0}")]
+    Isolation(IsolationError),
     /// The Zenoh session, a subscriber, queryable or liveliness token could not be opened.
     #[error("zenoh: {0}")]
     Zenoh(String),
@@ -242,8 +250,9 @@ pub fn prepare(bridge: &Bridge) -> Result<Prepared, BridgeError> {
     })
 }
 
-/// Runs the bridge of `config` until `control` stops it: [`prepare`], then the Zenoh session
-/// and the two loops.
+/// Runs the bridge of `config` until `control` stops it: [`prepare`], the fence of `control`
+/// (`Control::fencing`; before Zenoh starts any thread), then the Zenoh session and the two
+/// loops.
 pub fn run(config: &Config, control: &Control) -> Result<(), BridgeError> {
     let bridge = &config.bridge;
     let Prepared {
@@ -253,6 +262,13 @@ pub fn run(config: &Config, control: &Control) -> Result<(), BridgeError> {
     } = prepare(bridge)?;
     let zenoh_config = zenoh_config(bridge, credentials.as_ref())?;
     drop(credentials);
+    // Zenoh's runtime starts its threads when the session opens: fenced from here on, they
+    // all inherit the fence (Landlock acts on the calling thread and those it starts).
+    control.fence().map_err(|e| match e {
+        PartitionError::Isolation(e) => BridgeError::Isolation(e),
+        // `Control::fence` fails with `Isolation` only; anything else is said as it is.
+        other => BridgeError::Thread(format!("fencing: {other}")),
+    })?;
     let id = bridge_id();
     let session = zenoh::open(zenoh_config)
         .wait()
@@ -641,20 +657,23 @@ fn query_current(session: &zenoh::Session, bridge: &Bridge, ports: &mut [InPort]
 }
 
 /// The `main` of `bridge`: the configuration (exit status 2 when it is wrong), the signals
-/// (SIGINT and SIGTERM stop it), then [`run`].
+/// (SIGINT and SIGTERM stop it), then [`run`], which fences the process before Zenoh starts.
 pub fn main(args: &ConfigArgs) -> std::process::ExitCode {
     missionlink_platform::init_logging();
     missionlink_partitions::ipc::quiet_iceoryx2_log();
-    if args.exit_with_parent {
-        if let Some(parent) = rustix::process::getppid() {
-            missionlink_partitions::runtime::watch_parent(parent);
-        }
-    }
+    // The launcher at start; the watch that ends the bridge without it starts once the fence
+    // is up (`Control::fencing`), so that its thread is fenced too.
+    let parent = args
+        .exit_with_parent
+        .then(rustix::process::getppid)
+        .flatten();
     let config = match Config::resolve(args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
-    let control = Control::new().announcing_ready(config.ipc.state_dir(), NAME);
+    let control = Control::new()
+        .announcing_ready(config.ipc.state_dir(), NAME)
+        .fencing(Fence::of(NAME, &config), parent);
     if let Err(e) = control.handle_signals() {
         tracing::error!(%e, "bridge failed");
         return std::process::ExitCode::FAILURE;
@@ -664,8 +683,12 @@ pub fn main(args: &ConfigArgs) -> std::process::ExitCode {
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(
-            e
-            @ (BridgeError::Config(_) | BridgeError::ZenohConfig(_) | BridgeError::Credentials(_)),
+            e @ (BridgeError::Config(_)
+            | BridgeError::ZenohConfig(_)
+            | BridgeError::Credentials(_)
+            | BridgeError::Isolation(
+                IsolationError::NoSuchUser(_) | IsolationError::NotRoot { .. },
+            )),
         ) => {
             // Starting it again cannot help: the launcher gives it up at once.
             tracing::error!("bridge refused to start: {e}");
