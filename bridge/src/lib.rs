@@ -159,9 +159,11 @@ pub fn zenoh_config(
         ("scouting/multicast/enabled", "false".to_owned()),
         // Peers learn of no other peers than their endpoints.
         ("scouting/gossip/enabled", "false".to_owned()),
-        // Open the session without waiting for the connect endpoints; Zenoh keeps trying them,
-        // and again after a cut.
-        ("connect/timeout_ms", "0".to_owned()),
+        // Open the session without waiting for the connect endpoints, and never give up on
+        // one: with no global timeout (-1) and no exit on failure, Zenoh tries each in the
+        // background at the retry period until it answers, and again after a cut. (A timeout of
+        // 0 would try each once only: a bridge started before the other would never connect.)
+        ("connect/timeout_ms", "-1".to_owned()),
         ("connect/exit_on_failure", "false".to_owned()),
         (
             "connect/retry",
