@@ -19,6 +19,13 @@
 //! without a restart of any process. Both bridges show the fence in `/proc/<pid>/status`, on
 //! every thread.
 //!
+//! The stranger: a guidance stub on host B behind two bridges that the FCC's must refuse, one
+//! with a certificate of another authority (it trusts the FCC's certificate, so only the FCC's
+//! check can refuse it), one without credentials (plain TCP). Each tries and fails again and
+//! again; meanwhile the FCC never takes the stranger's guidance as its own and refuses execute.
+//! Then the same guidance behind a bridge with the deployment's credentials is heard at once:
+//! only the authentication kept it out.
+//!
 //! Network namespaces need root: run as root (CI's `.ci/run` does). Without root each test fails
 //! at once with one line saying so.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
@@ -35,7 +42,7 @@ use common::netns::{ADDR_A, Hosts};
 use common::*;
 use missionlink_interfaces::wire;
 use missionlink_partitions::binaries;
-use missionlink_partitions::bridge_config::{Bridge, Mode};
+use missionlink_partitions::bridge_config::{Authentication, Bridge, Mode};
 use missionlink_partitions::config::Config;
 use missionlink_partitions::isolation::status_shows_fence;
 use missionlink_partitions::launcher::FccProcess;
@@ -47,6 +54,8 @@ const LIMIT: Duration = Duration::from_secs(60);
 /// The Zenoh port host A's bridge listens on, inside the test's own namespace (no other
 /// process can hold it there).
 const ZENOH_PORT: u16 = 7447;
+/// [`ZENOH_PORT`] as it appears in the endpoints of a log line.
+const ZENOH_PORT_TEXT: &str = ":7447";
 
 /// Makes a set of credentials with the real `bridge credentials`: under `dir/<set>`, host `a`
 /// (which listens on [`ADDR_A`]) and host `b`, signed by an authority of the set's own.
@@ -164,12 +173,15 @@ struct Remote {
 }
 
 impl Remote {
-    fn spawn(mut command: Command, log: PathBuf) -> Self {
+    fn spawn(command: Command, log: PathBuf) -> Self {
+        let level = std::env::var("RUST_LOG").unwrap_or_else(|_| "info".to_owned());
+        Self::spawn_logging(command, log, &level)
+    }
+
+    /// As [`Remote::spawn`], logging at `level` (`RUST_LOG`).
+    fn spawn_logging(mut command: Command, log: PathBuf, level: &str) -> Self {
         command
-            .env(
-                "RUST_LOG",
-                std::env::var("RUST_LOG").unwrap_or_else(|_| "info".to_owned()),
-            )
+            .env("RUST_LOG", level)
             .stdout(Stdio::null())
             .stderr(std::fs::File::create(&log).unwrap());
         let child = command
@@ -180,6 +192,20 @@ impl Remote {
 
     fn log_text(&self) -> String {
         std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+
+    /// Waits until its log holds `times` lines with every one of `parts`.
+    fn wait_for_lines(&self, parts: &[&str], times: usize) {
+        let end = Instant::now() + LIMIT;
+        while count_lines(&self.log_text(), parts) < times {
+            assert!(
+                Instant::now() < end,
+                "{} never logged {times} lines with {parts:?}:\n{}",
+                self.log.display(),
+                self.log_text()
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
     }
 }
 
@@ -217,6 +243,24 @@ fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidan
             Remote::spawn(bridge, dir.join("bridge-b.log")),
             Remote::spawn(guidance, dir.join("guidance-b.log")),
         ]
+    })
+    .join()
+    .unwrap()
+}
+
+/// Starts `binary` of the partitions' directory under `config` in namespace `ns`, its log at
+/// `log` (`RUST_LOG` = `level`).
+fn start_in(ns: &str, binary: &str, config: &Config, log: PathBuf, level: &str) -> Remote {
+    let (ns, binary, config, level) = (
+        ns.to_owned(),
+        binary.to_owned(),
+        config.clone(),
+        level.to_owned(),
+    );
+    std::thread::spawn(move || {
+        Hosts::enter(&ns);
+        let command = FccProcess::command(&bin_dir(), &binary, &config).unwrap();
+        Remote::spawn_logging(command, log, &level)
     })
     .join()
     .unwrap()
@@ -406,6 +450,130 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
         bridge["out fcc/mission/waypoint-list forwarded"] > 0,
         "{bridge:?}"
     );
+}
+
+/// The stranger (see the module's documentation): refused, and the FCC's guidance stays silent.
+#[test]
+fn a_stranger_bridge_is_refused_and_its_guidance_never_reaches_the_fcc() {
+    let hosts = Hosts::new("st");
+    Hosts::enter(&hosts.a);
+    let mut rig = Rig::new("two-hosts-stranger");
+    binaries::ensure_bridge(&bin_dir(), binaries::Build::UnderCargo).unwrap();
+    let deployment = credentials(&rig.dir, "credentials");
+    bridge_a(&mut rig.config, &deployment);
+    let config_b = host_b(&rig.config, &rig.dir, &deployment);
+    // The stranger with another authority's certificate, trusting the FCC's: only the FCC's
+    // check of the client certificate stands in its way.
+    let other = credentials(&rig.dir, "other-authority");
+    std::fs::copy(deployment.join("b/ca.pem"), other.join("b/ca.pem")).unwrap();
+    let mut other_ca = config_b.clone();
+    other_ca.bridge.credentials = Some(other.join("b"));
+    // The stranger without credentials, over plain TCP to the FCC's TLS endpoint.
+    let mut plain = config_b.clone();
+    plain.bridge.authentication = Authentication::None;
+    plain.bridge.credentials = None;
+    plain.bridge.connect = vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")];
+
+    let mut fcc = rig.start("fcc");
+    rig.ready(&mut fcc);
+    // The FCC's bridge listens before any stranger knocks.
+    wait_for(&fcc, &["bridge up", "authentication=Mtls"], 0);
+    let dir = rig.dir.clone();
+    // Each failed attempt of a stranger's bridge is a debug line of Zenoh's orchestrator.
+    let attempts = "info,zenoh::net::runtime::orchestrator=debug";
+    let guidance = start_in(
+        &hosts.b,
+        "guidance-stub",
+        &config_b,
+        dir.join("stranger-guidance.log"),
+        "info",
+    );
+    let strangers = [
+        start_in(
+            &hosts.b,
+            "bridge",
+            &other_ca,
+            dir.join("stranger-other-ca.log"),
+            attempts,
+        ),
+        start_in(
+            &hosts.b,
+            "bridge",
+            &plain,
+            dir.join("stranger-plain.log"),
+            attempts,
+        ),
+    ];
+    let logs = |fcc: &Process| {
+        format!(
+            "\n--- fcc ---\n{}\n--- stranger, other authority ---\n{}\n--- stranger, plain ---\n{}\n--- stranger's guidance ---\n{}",
+            fcc.log_text(),
+            strangers[0].log_text(),
+            strangers[1].log_text(),
+            guidance.log_text()
+        )
+    };
+    // The stranger's guidance runs and beats; its bridges come up (fenced too) and knock.
+    guidance.wait_for_lines(&["isolation applied", "guidance-stub"], 1);
+    let refused = ["Unable to connect to configured peer", ZENOH_PORT_TEXT];
+    // Zenoh tries again at its retry period (at most 1 s): three refusals each.
+    for stranger in &strangers {
+        stranger.wait_for_lines(&["bridge up"], 1);
+        stranger.wait_for_lines(&refused, 3);
+    }
+    let alive = ["alive (not started by the launcher)", "partition=guidance"];
+    let text = fcc.log_text();
+    assert_eq!(
+        count_lines(&text, &alive),
+        0,
+        "the FCC took the stranger's guidance{}",
+        logs(&fcc)
+    );
+    // The FCC's guidance is silent: execute is refused.
+    let mut link = rig.gcs(&mut fcc);
+    upload(&mut link, &plan("mission-2.toml"))
+        .unwrap_or_else(|e| panic!("upload: {e}{}", logs(&fcc)));
+    let mut seen = Vec::new();
+    assert_eq!(
+        execute(&mut link, &mut seen),
+        Some(wire::Reason::WrongState),
+        "{}",
+        logs(&fcc)
+    );
+    // Still refused after that, and still nothing taken.
+    for stranger in &strangers {
+        let before = count_lines(&stranger.log_text(), &refused);
+        stranger.wait_for_lines(&refused, before + 1);
+    }
+    assert_eq!(count_lines(&fcc.log_text(), &alive), 0, "{}", logs(&fcc));
+    assert!(seen.is_empty(), "FROM-TO-NEXT from a stranger: {seen:?}");
+    println!(
+        "stranger: refused {} times (other authority) and {} times (no credentials); the FCC never heard its guidance",
+        count_lines(&strangers[0].log_text(), &refused),
+        count_lines(&strangers[1].log_text(), &refused)
+    );
+
+    // The same guidance behind a bridge with the deployment's credentials is heard.
+    drop(strangers);
+    let bridge = start_in(
+        &hosts.b,
+        "bridge",
+        &config_b,
+        dir.join("bridge-b.log"),
+        "info",
+    );
+    wait_for(&fcc, &alive, 0);
+    assert_eq!(
+        execute_when_ready(&mut link, &mut seen),
+        None,
+        "\n--- fcc ---\n{}\n--- host B's bridge ---\n{}",
+        fcc.log_text(),
+        bridge.log_text()
+    );
+    drop(link);
+    fcc.stop().unwrap();
+    drop(bridge);
+    drop(guidance);
 }
 
 #[test]
