@@ -6,7 +6,10 @@
 //!
 //! - Host A: the FCC (`fcc --without guidance-stub`) with its bridge, started by the launcher
 //!   from `[bridge]`; the real GCS over UDP on host A's loopback.
-//! - Host B: a guidance (the Rust stub, or the Python guidance) and a bridge.
+//! - Host B: a guidance and a bridge: the Rust stub and the bridge started by the launcher
+//!   with the FCC's three other partitions left out, as
+//!   deploy/systemd/missionlink-guidance-host.service runs them; or the Python guidance and a
+//!   bridge started apart.
 //!
 //! Both hosts share this machine's /dev/shm: each uses a service prefix of its own, so their
 //! iceoryx2 services never meet and only the bridges carry data between them. The bridges
@@ -228,24 +231,60 @@ impl Drop for Remote {
     }
 }
 
-/// Starts host B's guidance and bridge in namespace `ns` (from a thread that moves there).
-fn start_host_b(ns: String, config: Config, dir: PathBuf, guidance: RemoteGuidance) -> Vec<Remote> {
+/// Starts host B in namespace `ns` (from a thread that moves there): with the stub, as
+/// deploy/systemd/missionlink-guidance-host.service runs it, the `fcc` launcher with the FCC's
+/// other three partitions left out, which starts the stub and the bridge; with the Python
+/// guidance, the bridge and the guidance apart. The first process is the one whose log names
+/// the bridge's process ID, or the bridge itself.
+fn start_host_b(
+    ns: String,
+    mut config: Config,
+    dir: PathBuf,
+    guidance: RemoteGuidance,
+) -> Vec<Remote> {
     let bin = bin_dir();
     binaries::ensure_bridge(&bin, binaries::Build::UnderCargo).unwrap();
     std::thread::spawn(move || {
         Hosts::enter(&ns);
-        let guidance = match guidance {
-            RemoteGuidance::Stub => FccProcess::command(&bin, "guidance-stub", &config).unwrap(),
-            RemoteGuidance::Python => python_guidance_command(&config),
-        };
-        let bridge = FccProcess::command(&bin, "bridge", &config).unwrap();
-        vec![
-            Remote::spawn(bridge, dir.join("bridge-b.log")),
-            Remote::spawn(guidance, dir.join("guidance-b.log")),
-        ]
+        match guidance {
+            RemoteGuidance::Stub => {
+                config.launcher.without = [
+                    "voting-monitoring",
+                    "mission-data-handling",
+                    "system-automation",
+                ]
+                .map(str::to_owned)
+                .to_vec();
+                let launcher = FccProcess::command(&bin, "fcc", &config).unwrap();
+                vec![Remote::spawn(launcher, dir.join("fcc-b.log"))]
+            }
+            RemoteGuidance::Python => {
+                let bridge = FccProcess::command(&bin, "bridge", &config).unwrap();
+                vec![
+                    Remote::spawn(bridge, dir.join("bridge-b.log")),
+                    Remote::spawn(python_guidance_command(&config), dir.join("guidance-b.log")),
+                ]
+            }
+        }
     })
     .join()
     .unwrap()
+}
+
+/// The process ID of host B's bridge: the launcher's child (its log says which), or the first
+/// process itself.
+fn bridge_b_pid(remote: &[Remote], guidance: RemoteGuidance) -> u32 {
+    match guidance {
+        RemoteGuidance::Python => remote[0].child.id(),
+        RemoteGuidance::Stub => remote[0]
+            .log_text()
+            .lines()
+            .rev()
+            .filter(|l| l.contains("started") && l.contains("partition=\"bridge\""))
+            .filter_map(|l| l.split("pid=").nth(1))
+            .find_map(|p| p.trim().parse().ok())
+            .expect("host B's launcher started its bridge"),
+    }
 }
 
 /// Starts `binary` of the partitions' directory under `config` in namespace `ns`, its log at
@@ -342,7 +381,7 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     );
     // Both bridges authenticated each other (nothing crosses otherwise) and are fenced.
     assert_fenced("host A's bridge", partition_pid(&fcc, "bridge") as u32);
-    assert_fenced("host B's bridge", remote[0].child.id());
+    assert_fenced("host B's bridge", bridge_b_pid(&remote, guidance));
     let mut link = rig.gcs(&mut fcc);
     upload(&mut link, &plan("mission-2.toml"))
         .unwrap_or_else(|e| panic!("upload: {e}{}", logs(&fcc)));
