@@ -481,9 +481,10 @@ type Conditions = Vec<(u8, SeccompCmpOp, u64)>;
 /// The system calls of `profile`, each with the conditions on its arguments (empty: any
 /// arguments), grouped by why. A partition's were found by running every partition under
 /// `strace -ff` through the demo, kill -9 and restarts of peers, and reading what iceoryx2 0.10
-/// does then; the bridge's by running two bridges under `strace -ff` through the two-host
-/// flight, a cut of the link and its return, and a refused stranger (docs/deployment.md
-/// "Isolation" lists the groups).
+/// does then; the bridge's by running two bridges under `strace -ff` through a connection,
+/// refused strangers and shutdown, and held by tests/two_hosts.rs (the flights, a cut of the
+/// link and its return, under `on_violation = "kill"`); docs/deployment.md "Isolation" lists
+/// the groups.
 pub fn allowed_syscalls(profile: Profile) -> BTreeMap<i64, Vec<Conditions>> {
     let inet = match profile {
         Profile::Partition { inet } => inet,
