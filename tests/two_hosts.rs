@@ -507,11 +507,13 @@ fn a_stranger_bridge_is_refused_and_its_guidance_never_reaches_the_fcc() {
     std::fs::copy(deployment.join("b/ca.pem"), other.join("b/ca.pem")).unwrap();
     let mut other_ca = config_b.clone();
     other_ca.bridge.credentials = Some(other.join("b"));
+    other_ca.latency.summary_dir = Some(rig.dir.join("latency-other-ca"));
     // The stranger without credentials, over plain TCP to the FCC's TLS endpoint.
     let mut plain = config_b.clone();
     plain.bridge.authentication = Authentication::None;
     plain.bridge.credentials = None;
     plain.bridge.connect = vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")];
+    plain.latency.summary_dir = Some(rig.dir.join("latency-plain"));
 
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
@@ -592,8 +594,31 @@ fn a_stranger_bridge_is_refused_and_its_guidance_never_reaches_the_fcc() {
         count_lines(&strangers[1].log_text(), &refused)
     );
 
-    // The same guidance behind a bridge with the deployment's credentials is heard.
+    // Nothing reached the strangers either: the lists and the automation state the FCC published
+    // stayed on its side (their summaries, written when they stop).
     drop(strangers);
+    for config in [&other_ca, &plain] {
+        let dir = config.latency.summary_dir.as_deref().unwrap();
+        let summaries = missionlink_partitions::latency::read_summaries(dir);
+        let counters = &summaries
+            .iter()
+            .find(|s| s.partition == "bridge")
+            .unwrap_or_else(|| panic!("no summary in {}", dir.display()))
+            .counters;
+        // What came in from Zenoh (what went out found no one: Zenoh counts a put to no
+        // subscriber as done).
+        let forwarded: Vec<_> = counters
+            .iter()
+            .filter(|(name, _)| name.starts_with("in ") && name.ends_with(" forwarded"))
+            .collect();
+        assert_eq!(forwarded.len(), 3, "{counters:?}");
+        assert!(
+            forwarded.iter().all(|(_, n)| **n == 0),
+            "a stranger forwarded: {counters:?}"
+        );
+    }
+
+    // The same guidance behind a bridge with the deployment's credentials is heard.
     let bridge = start_in(
         &hosts.b,
         "bridge",

@@ -340,6 +340,16 @@ pub fn generate(out: &Path, hosts: &[Host]) -> Result<Vec<PathBuf>, CredentialEr
             error,
         }
     };
+    // A host's directory that exists already stops the command before anything is written.
+    for (host, _, _) in &made {
+        let dir = out.join(&host.name);
+        if dir.exists() {
+            return Err(CredentialError::Io {
+                error: std::io::Error::from(std::io::ErrorKind::AlreadyExists),
+                path: dir,
+            });
+        }
+    }
     std::fs::DirBuilder::new()
         .recursive(true)
         .mode(0o700)
@@ -445,11 +455,17 @@ mod tests {
         // No file holds the authority's private key.
         let keys = std::fs::read_dir(out.join("fcc")).unwrap().count();
         assert_eq!(keys, 3);
-        // Nothing is overwritten.
+        // Nothing is overwritten, and a set with a host that exists writes nothing at all.
         assert!(matches!(
             generate(&out, &hosts()[..1]),
             Err(CredentialError::Io { .. })
         ));
+        let new_and_old = vec!["new".parse().unwrap(), hosts()[1].clone()];
+        assert!(matches!(
+            generate(&out, &new_and_old),
+            Err(CredentialError::Io { path, .. }) if path == out.join("guidance")
+        ));
+        assert!(!out.join("new").exists());
     }
 
     #[test]
