@@ -30,7 +30,7 @@ use iceoryx2::prelude::ipc;
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::contracts::{FccService, FramePayload, Link, WaypointListPayload};
 use missionlink_partitions::binaries;
-use missionlink_partitions::bridge_config::Bridge;
+use missionlink_partitions::bridge_config::{Authentication, Bridge};
 use missionlink_partitions::config::Config;
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
@@ -158,6 +158,9 @@ fn main() {
             listen: vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")],
             key_prefix: key_prefix.clone(),
             out: services.clone(),
+            // The numbers of BENCHMARKS.md "Across hosts" are over plain TCP; a deployment's
+            // bridges authenticate by mutual TLS (the default), whose hop is not measured here.
+            authentication: Authentication::None,
             ..Bridge::default()
         },
     );
@@ -169,6 +172,7 @@ fn main() {
             connect: vec![format!("tcp/{ADDR_A}:{ZENOH_PORT}")],
             key_prefix,
             inbound: services,
+            authentication: Authentication::None,
             ..Bridge::default()
         },
     );

@@ -16,7 +16,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use hdrhistogram::Histogram;
-use missionlink_partitions::isolation::{Threads, Violation, install_filter};
+use missionlink_partitions::isolation::{Profile, Threads, Violation, install_filter};
 use rustix::event::epoll;
 
 /// One frame's system calls, as a partition makes them: notify (sendto), wake (epoll_wait),
@@ -75,7 +75,12 @@ fn worker(filtered: bool, per_block: usize) -> (mpsc::Sender<()>, mpsc::Receiver
     std::thread::spawn(move || {
         let mut frame = Frame::new();
         if filtered {
-            install_filter(false, Violation::Kill, Threads::This).unwrap();
+            install_filter(
+                Profile::Partition { inet: false },
+                Violation::Kill,
+                Threads::This,
+            )
+            .unwrap();
         }
         while asked.recv().is_ok() {
             let mut ns = Vec::with_capacity(per_block);

@@ -19,9 +19,22 @@
 //! - Per service and direction, counters (forwarded, refused, dropped, own) go to the summary
 //!   (`<summary_dir>/bridge.toml`, as the partitions write theirs).
 //!
-//! The bridge runs two threads: the outgoing one sleeps in an iceoryx2 WaitSet on the services'
-//! events, the incoming one on a channel fed by Zenoh's callbacks.
+//! - The bridges authenticate each other by mutual TLS ([`credentials`]; ICD §14): with the
+//!   defaults a bridge without its credentials refuses to start (exit status 2). A peer that
+//!   cannot present a certificate of the deployment's authority gets no Zenoh session, so
+//!   nothing is forwarded to it and nothing it sends is published. `authentication = "none"`
+//!   (plain TCP) must be written in the configuration and is logged as a warning at every
+//!   start.
+//! - The bridge fences itself as a partition does (`missionlink_partitions::isolation`,
+//!   [`Profile::Bridge`](missionlink_partitions::isolation::Profile::Bridge)) before it opens
+//!   the Zenoh session, while it has one thread: every thread of Zenoh's runtime inherits the
+//!   fence.
+//!
+//! The bridge runs two threads of its own: the outgoing one sleeps in an iceoryx2 WaitSet on the
+//! services' events, the incoming one on a channel fed by Zenoh's callbacks; Zenoh's runtime
+//! runs its own.
 
+pub mod credentials;
 pub mod header;
 pub mod ports;
 pub mod raw;
@@ -34,13 +47,15 @@ use std::time::Duration;
 use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::prelude::{CallbackProgression, ipc};
 use missionlink_interfaces::contracts::{CONTRACT_VERSION, FccService};
-use missionlink_partitions::bridge_config::{Bridge, Mode};
+use missionlink_partitions::bridge_config::{Authentication, Bridge, BridgeConfigError, Mode};
 use missionlink_partitions::config::{Config, ConfigArgs, ConfigError};
 use missionlink_partitions::ipc::{Ipc, IpcError};
-use missionlink_partitions::runtime::{CONFIG_EXIT_CODE, Control};
+use missionlink_partitions::isolation::{Fence, IsolationError};
+use missionlink_partitions::runtime::{CONFIG_EXIT_CODE, Control, PartitionError};
 use zenoh::Wait;
 use zenoh::sample::SampleKind;
 
+use crate::credentials::{CredentialError, Credentials};
 use crate::header::{Header, Refusal};
 use crate::ports::Incoming;
 
@@ -53,10 +68,19 @@ const TICK: Duration = Duration::from_millis(100);
 /// Why the bridge cannot run.
 #[derive(Debug, thiserror::Error)]
 pub enum BridgeError {
-    /// `[bridge]` is wrong (a service that does not exist, one both ways, a bad key prefix, a
-    /// Zenoh endpoint Zenoh's configuration refuses).
+    /// `[bridge]` is wrong (a service that does not exist, one both ways, a bad key prefix,
+    /// endpoints that do not fit the authentication, mutual TLS without credentials).
     #[error("configuration: {0}")]
-    Config(String),
+    Config(#[from] BridgeConfigError),
+    /// A setting Zenoh's configuration refuses.
+    #[error("configuration: {0}")]
+    ZenohConfig(String),
+    /// The credentials cannot be used (missing, readable by others, not PEM).
+    #[error("credentials: {0}")]
+    Credentials(#[from] CredentialError),
+    /// The bridge could not fence itself as configured (`[isolation]`).
+    #[error("isolation: {0}")]
+    Isolation(IsolationError),
     /// The Zenoh session, a subscriber, queryable or liveliness token could not be opened.
     #[error("zenoh: {0}")]
     Zenoh(String),
@@ -113,8 +137,12 @@ fn congestion_control(service: FccService) -> zenoh::qos::CongestionControl {
 
 /// The Zenoh configuration of `[bridge]`: the mode, the explicit endpoints, multicast
 /// scouting off (no traffic to any address but the endpoints), a short lease so a cut link is
-/// noticed and the session re-opened within seconds.
-pub fn zenoh_config(bridge: &Bridge) -> Result<zenoh::Config, BridgeError> {
+/// noticed and the session re-opened within seconds, and with `credentials` mutual TLS
+/// ([`Credentials::zenoh_settings`]).
+pub fn zenoh_config(
+    bridge: &Bridge,
+    credentials: Option<&Credentials>,
+) -> Result<zenoh::Config, BridgeError> {
     let mut config = zenoh::Config::default();
     let json = |v: &[String]| {
         let quoted: Vec<String> = v.iter().map(|e| format!("{e:?}")).collect();
@@ -131,9 +159,11 @@ pub fn zenoh_config(bridge: &Bridge) -> Result<zenoh::Config, BridgeError> {
         ("scouting/multicast/enabled", "false".to_owned()),
         // Peers learn of no other peers than their endpoints.
         ("scouting/gossip/enabled", "false".to_owned()),
-        // Open the session without waiting for the connect endpoints; Zenoh keeps trying them,
-        // and again after a cut.
-        ("connect/timeout_ms", "0".to_owned()),
+        // Open the session without waiting for the connect endpoints, and never give up on
+        // one: with no global timeout (-1) and no exit on failure, Zenoh tries each in the
+        // background at the retry period until it answers, and again after a cut. (A timeout of
+        // 0 would try each once only: a bridge started before the other would never connect.)
+        ("connect/timeout_ms", "-1".to_owned()),
         ("connect/exit_on_failure", "false".to_owned()),
         (
             "connect/retry",
@@ -143,7 +173,16 @@ pub fn zenoh_config(bridge: &Bridge) -> Result<zenoh::Config, BridgeError> {
     ] {
         config
             .insert_json5(key, &value)
-            .map_err(|e| BridgeError::Config(format!("zenoh {key} = {value}: {e}")))?;
+            .map_err(|e| BridgeError::ZenohConfig(format!("zenoh {key} = {value}: {e}")))?;
+    }
+    for (key, value) in credentials
+        .map(Credentials::zenoh_settings)
+        .unwrap_or_default()
+    {
+        // The value may be a key: only the setting's name goes into the message.
+        config
+            .insert_json5(key, &value)
+            .map_err(|e| BridgeError::ZenohConfig(format!("zenoh {key}: {e}")))?;
     }
     Ok(config)
 }
@@ -178,12 +217,62 @@ impl Counters {
 /// The last sample of each history-1 service going out, by key: (payload, header).
 type LastSamples = Arc<Mutex<HashMap<String, (Vec<u8>, Vec<u8>)>>>;
 
-/// Runs the bridge of `config` until `control` stops it.
+/// What [`run`] needs checked before it starts: the services, and the credentials read (none
+/// without authentication). The check refuses a configuration that cannot work, and warns of
+/// one without authentication, before anything is opened ([`prepare`]).
+#[derive(Debug)]
+pub struct Prepared {
+    out: Vec<FccService>,
+    inbound: Vec<FccService>,
+    credentials: Option<Credentials>,
+}
+
+/// Checks `[bridge]` and reads the credentials it names: a configuration that cannot work is an
+/// error (exit status 2 in [`main`]); `authentication = "none"` is a warning, at every start.
+pub fn prepare(bridge: &Bridge) -> Result<Prepared, BridgeError> {
+    let (out, inbound) = bridge.services()?;
+    bridge.endpoints()?;
+    let credentials = match (bridge.authentication, &bridge.credentials) {
+        (Authentication::Mtls, Some(dir)) => Some(Credentials::read(dir)?),
+        (Authentication::Mtls, None) => return Err(BridgeConfigError::NoCredentials.into()),
+        (Authentication::None, _) => {
+            tracing::warn!(
+                listen = ?bridge.listen,
+                connect = ?bridge.connect,
+                "the bridge does not authenticate its peers ([bridge] authentication = \"none\"): \
+                 any host that reaches its endpoints is taken as the other bridge"
+            );
+            None
+        }
+    };
+    Ok(Prepared {
+        out,
+        inbound,
+        credentials,
+    })
+}
+
+/// Runs the bridge of `config` until `control` stops it: [`prepare`], the fence of `control`
+/// (`Control::fencing`; before Zenoh starts any thread), then the Zenoh session and the two
+/// loops.
 pub fn run(config: &Config, control: &Control) -> Result<(), BridgeError> {
     let bridge = &config.bridge;
-    let (out, inbound) = bridge.services().map_err(BridgeError::Config)?;
+    let Prepared {
+        out,
+        inbound,
+        credentials,
+    } = prepare(bridge)?;
+    let zenoh_config = zenoh_config(bridge, credentials.as_ref())?;
+    drop(credentials);
+    // Zenoh's runtime starts its threads when the session opens: fenced from here on, they
+    // all inherit the fence (Landlock acts on the calling thread and those it starts).
+    control.fence().map_err(|e| match e {
+        PartitionError::Isolation(e) => BridgeError::Isolation(e),
+        // `Control::fence` fails with `Isolation` only; anything else is said as it is.
+        other => BridgeError::Thread(format!("fencing: {other}")),
+    })?;
     let id = bridge_id();
-    let session = zenoh::open(zenoh_config(bridge)?)
+    let session = zenoh::open(zenoh_config)
         .wait()
         .map_err(zenoh_err("opening the session"))?;
     tracing::info!(
@@ -191,6 +280,7 @@ pub fn run(config: &Config, control: &Control) -> Result<(), BridgeError> {
         zid = %session.zid(),
         prefix = %config.ipc.service_prefix,
         key_prefix = %bridge.key_prefix,
+        authentication = ?bridge.authentication,
         listen = ?bridge.listen,
         connect = ?bridge.connect,
         out = ?bridge.out,
@@ -569,20 +659,23 @@ fn query_current(session: &zenoh::Session, bridge: &Bridge, ports: &mut [InPort]
 }
 
 /// The `main` of `bridge`: the configuration (exit status 2 when it is wrong), the signals
-/// (SIGINT and SIGTERM stop it), then [`run`].
+/// (SIGINT and SIGTERM stop it), then [`run`], which fences the process before Zenoh starts.
 pub fn main(args: &ConfigArgs) -> std::process::ExitCode {
     missionlink_platform::init_logging();
     missionlink_partitions::ipc::quiet_iceoryx2_log();
-    if args.exit_with_parent {
-        if let Some(parent) = rustix::process::getppid() {
-            missionlink_partitions::runtime::watch_parent(parent);
-        }
-    }
+    // The launcher at start; the watch that ends the bridge without it starts once the fence
+    // is up (`Control::fencing`), so that its thread is fenced too.
+    let parent = args
+        .exit_with_parent
+        .then(rustix::process::getppid)
+        .flatten();
     let config = match Config::resolve(args) {
         Ok(c) => c,
         Err(e) => return config_error(&e),
     };
-    let control = Control::new().announcing_ready(config.ipc.state_dir(), NAME);
+    let control = Control::new()
+        .announcing_ready(config.ipc.state_dir(), NAME)
+        .fencing(Fence::of(NAME, &config), parent);
     if let Err(e) = control.handle_signals() {
         tracing::error!(%e, "bridge failed");
         return std::process::ExitCode::FAILURE;
@@ -591,8 +684,16 @@ pub fn main(args: &ConfigArgs) -> std::process::ExitCode {
     control.forget_ready();
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e @ BridgeError::Config(_)) => {
-            tracing::error!(%e, "bridge failed");
+        Err(
+            e @ (BridgeError::Config(_)
+            | BridgeError::ZenohConfig(_)
+            | BridgeError::Credentials(_)
+            | BridgeError::Isolation(
+                IsolationError::NoSuchUser(_) | IsolationError::NotRoot { .. },
+            )),
+        ) => {
+            // Starting it again cannot help: the launcher gives it up at once.
+            tracing::error!("bridge refused to start: {e}");
             std::process::ExitCode::from(CONFIG_EXIT_CODE)
         }
         Err(e) => {
@@ -629,12 +730,61 @@ mod tests {
             listen: vec!["tcp/169.254.77.1:7447".to_owned()],
             ..Bridge::default()
         };
-        assert!(zenoh_config(&b).is_ok());
+        assert!(zenoh_config(&b, None).is_ok());
         assert!(answers_late_joiners(FccService::WaypointList));
         assert!(!answers_late_joiners(FccService::Heartbeat(
             missionlink_interfaces::contracts::Partition::Guidance
         )));
         assert!(!answers_late_joiners(FccService::Uplink));
+    }
+
+    #[test]
+    fn an_enabled_bridge_needs_its_credentials_unless_told_to_run_without() {
+        let dir = tempfile::tempdir().unwrap();
+        let made = credentials::generate(
+            dir.path(),
+            &["a=127.0.0.1".parse().unwrap(), "b".parse().unwrap()],
+        )
+        .unwrap();
+        let mut b = Bridge {
+            enabled: true,
+            listen: vec!["tls/127.0.0.1:7447".to_owned()],
+            ..Bridge::default()
+        };
+        // The defaults: mutual TLS, and no credentials named.
+        assert!(matches!(
+            prepare(&b),
+            Err(BridgeError::Config(BridgeConfigError::NoCredentials))
+        ));
+        b.credentials = Some(made[0].clone());
+        let prepared = prepare(&b).unwrap();
+        let config = zenoh_config(&b, prepared.credentials.as_ref()).unwrap();
+        assert_eq!(
+            config.get_json("transport/link/tls/enable_mtls").unwrap(),
+            "true"
+        );
+        assert_eq!(
+            config
+                .get_json("transport/link/tls/verify_name_on_connect")
+                .unwrap(),
+            "true"
+        );
+        // A key others may read: refused.
+        let key = made[0].join(credentials::PRIVATE_KEY_FILE);
+        std::fs::set_permissions(&key, std::os::unix::fs::PermissionsExt::from_mode(0o644))
+            .unwrap();
+        assert!(matches!(
+            prepare(&b),
+            Err(BridgeError::Credentials(CredentialError::Exposed { .. }))
+        ));
+        // Without authentication, in so many words: plain TCP, no credentials read.
+        b.authentication = Authentication::None;
+        assert!(matches!(
+            prepare(&b),
+            Err(BridgeError::Config(BridgeConfigError::NotTcp(_)))
+        ));
+        b.listen = vec!["tcp/127.0.0.1:7447".to_owned()];
+        assert!(prepare(&b).unwrap().credentials.is_none());
     }
 
     /// A publisher that keeps what it was given.

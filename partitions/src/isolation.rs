@@ -24,6 +24,17 @@
 //! threads started later, the doorbell's timer and the watch of the launcher, inherit all of
 //! it): Landlock below ABI 8 and the user drop act on the calling thread only.
 //!
+//! The bridge (`missionlink-bridge`, docs/two-hosts.md) is fenced the same way with a profile of
+//! its own ([`Profile::Bridge`]): the same four steps, its user in `[isolation.bridge]`, the
+//! iceoryx2 directories, its readiness file and the summaries writable, TCP bind and connect
+//! only on the ports of its configured endpoints (Landlock ABI 4), and an allow-list that adds
+//! what a Zenoh TCP/TLS client and server on a tokio runtime need. Zenoh starts its runtime's
+//! threads when its session opens, and Landlock cannot be put on threads that already run
+//! (`LANDLOCK_RESTRICT_SELF_TSYNC` is ABI 8; this code is written for ABI 6 and kernels with
+//! ABI 7): so the bridge applies its fence before it opens the session, while it has one
+//! thread ([`Fence::apply`] refuses otherwise), and every thread of Zenoh inherits all of it.
+//! The seccomp filter is installed with `SECCOMP_FILTER_FLAG_TSYNC` all the same.
+//!
 //! ```toml
 //! [isolation]
 //! enabled = true                  # false: no fence at all (say why in the deployment)
@@ -38,8 +49,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use landlock::{
-    ABI, Access, AccessFs, AccessNet, CompatLevel, Compatible, PathBeneath, PathFd, Ruleset,
-    RulesetAttr, RulesetCreatedAttr, RulesetStatus, Scope,
+    ABI, Access, AccessFs, AccessNet, CompatLevel, Compatible, NetPort, PathBeneath, PathFd,
+    Ruleset, RulesetAttr, RulesetCreatedAttr, RulesetStatus, Scope,
 };
 use seccompiler::{
     BpfProgram, SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter,
@@ -92,6 +103,8 @@ pub struct Isolation {
     /// guidance-stub.
     #[serde(rename = "guidance-stub")]
     pub guidance_stub: PartitionIsolation,
+    /// The bridge (`[bridge]`), fenced as a partition.
+    pub bridge: PartitionIsolation,
 }
 
 impl Default for Isolation {
@@ -103,13 +116,18 @@ impl Default for Isolation {
             mission_data_handling: PartitionIsolation::default(),
             system_automation: PartitionIsolation::default(),
             guidance_stub: PartitionIsolation::default(),
+            bridge: PartitionIsolation::default(),
         }
     }
 }
 
 impl Isolation {
-    /// The settings of the partition named `partition`; `None` for another name.
+    /// The settings of the partition named `partition` (or of the bridge); `None` for another
+    /// name.
     pub fn of(&self, partition: &str) -> Option<&PartitionIsolation> {
+        if partition == crate::bridge_config::BINARY {
+            return Some(&self.bridge);
+        }
         // In the launcher's order of the partitions.
         let index = crate::launcher::PARTITIONS
             .iter()
@@ -197,7 +215,11 @@ pub fn check_config(config: &Config) -> Result<(), IsolationError> {
     if !config.isolation.enabled {
         return Ok(());
     }
-    for name in crate::launcher::PARTITIONS {
+    let bridge = config
+        .bridge
+        .enabled
+        .then_some(crate::bridge_config::BINARY);
+    for name in crate::launcher::PARTITIONS.into_iter().chain(bridge) {
         if let Some(user) = config.isolation.of(name).and_then(|p| p.user.as_deref()) {
             lookup_user(user)?;
         }
@@ -205,16 +227,42 @@ pub fn check_config(config: &Config) -> Result<(), IsolationError> {
     Ok(())
 }
 
+/// Which allow-list a fence installs ([`allowed_syscalls`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Profile {
+    /// A partition's loop; `inet`: it may create inet sockets (voting-monitoring's UDP links).
+    Partition {
+        /// Inet sockets allowed.
+        inet: bool,
+    },
+    /// The bridge: a partition's calls with inet sockets, and what Zenoh's TCP and TLS links on
+    /// a tokio runtime add (listening, accepting, the runtime's wake-up eventfd).
+    Bridge,
+}
+
+impl Profile {
+    /// The allow-list's name in the log line of [`Fence::apply`].
+    fn describe(self) -> &'static str {
+        match self {
+            Self::Partition { inet: true } => "inet sockets allowed",
+            Self::Partition { inet: false } => "Unix sockets only",
+            Self::Bridge => "the bridge's: Zenoh over TCP and TLS",
+        }
+    }
+}
+
 /// The fence of one partition, built from the configuration before the loop opens anything and
 /// applied once by [`Fence::apply`] (from `runtime::Control::fence`).
 #[derive(Debug, Clone)]
 pub struct Fence {
     name: String,
-    inet: bool,
+    profile: Profile,
     user: Option<String>,
     on_violation: Violation,
     /// Directories the partition may write beneath.
     writable: Vec<PathBuf>,
+    /// The TCP ports it may bind and connect to (Landlock ABI 4); none for a partition.
+    ports: crate::bridge_config::Ports,
 }
 
 /// What the fence applied, for the one log line at start.
@@ -244,7 +292,8 @@ pub fn iceoryx2_root() -> PathBuf {
 pub const SHARED_MEMORY_DIR: &str = "/dev/shm";
 
 impl Fence {
-    /// The fence of the partition `name` under `config`; `None` when isolation is off.
+    /// The fence of the partition `name` (or of the bridge, `bridge_config::BINARY`) under
+    /// `config`; `None` when isolation is off.
     pub fn of(name: &str, config: &Config) -> Option<Self> {
         if !config.isolation.enabled {
             return None;
@@ -263,12 +312,28 @@ impl Fence {
         if let Some(dir) = &config.latency.summary_dir {
             writable.push(dir.clone());
         }
+        let bridge = name == crate::bridge_config::BINARY;
+        let profile = if bridge {
+            Profile::Bridge
+        } else {
+            Profile::Partition {
+                inet: name == crate::voting_monitoring::NAME,
+            }
+        };
+        // The bridge checked its endpoints before it fences itself (exit status 2 otherwise);
+        // a port that cannot be read is then not allowed, and Zenoh's bind or connect fails.
+        let ports = if bridge {
+            config.bridge.endpoints().unwrap_or_default()
+        } else {
+            crate::bridge_config::Ports::default()
+        };
         Some(Self {
             name: name.to_owned(),
-            inet: name == crate::voting_monitoring::NAME,
+            profile,
             user: config.isolation.of(name).and_then(|p| p.user.clone()),
             on_violation: config.isolation.on_violation,
             writable,
+            ports,
         })
     }
 
@@ -315,16 +380,20 @@ impl Fence {
             // A path that cannot be opened, a ruleset the kernel refuses: not applied, said.
             Err(e) => format!("not applied ({e})"),
         };
-        install_filter(self.inet, self.on_violation, Threads::All)?;
+        install_filter(self.profile, self.on_violation, Threads::All)?;
         applied.seccomp = true;
         tracing::info!(
             partition = %self.name,
             user = applied.user.as_deref().unwrap_or("(unchanged)"),
             no_new_privs = applied.no_new_privs,
             landlock = %applied.landlock,
+            tcp = %format_args!(
+                "bind {:?}, connect {:?}",
+                self.ports.listen, self.ports.connect
+            ),
             seccomp = %format_args!(
                 "allow-list ({}), violation: {:?}",
-                if self.inet { "inet sockets allowed" } else { "Unix sockets only" },
+                self.profile.describe(),
                 self.on_violation
             ),
             "isolation applied"
@@ -363,6 +432,17 @@ impl Fence {
                 Err(e) => tracing::warn!(dir = %dir.display(), %e, "not writable: cannot open it"),
             }
         }
+        // TCP: only the bridge's endpoints; a partition binds and connects no TCP port at all.
+        for (ports, access) in [
+            (&self.ports.listen, AccessNet::BindTcp),
+            (&self.ports.connect, AccessNet::ConnectTcp),
+        ] {
+            for port in ports {
+                ruleset = ruleset
+                    .add_rule(NetPort::new(*port, access))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
         Ok(ruleset)
     }
 }
@@ -398,11 +478,18 @@ fn drop_user(user: &str, ids: UserIds) -> Result<(), IsolationError> {
 /// A system call allowed under a condition on its arguments (all must hold).
 type Conditions = Vec<(u8, SeccompCmpOp, u64)>;
 
-/// The system calls a partition's loop needs, each with the conditions on its arguments (empty:
-/// any arguments), grouped by why. Found by running every partition under `strace -ff` through
-/// the demo, kill -9 and restarts of peers, and reading what iceoryx2 0.10 does then
-/// (docs/deployment.md "Isolation" lists the groups).
-pub fn allowed_syscalls(inet: bool) -> BTreeMap<i64, Vec<Conditions>> {
+/// The system calls of `profile`, each with the conditions on its arguments (empty: any
+/// arguments), grouped by why. A partition's were found by running every partition under
+/// `strace -ff` through the demo, kill -9 and restarts of peers, and reading what iceoryx2 0.10
+/// does then; the bridge's by running two bridges under `strace -ff` through a connection,
+/// refused strangers and shutdown, and held by tests/two_hosts.rs (the flights, a cut of the
+/// link and its return, under `on_violation = "kill"`); docs/deployment.md "Isolation" lists
+/// the groups.
+pub fn allowed_syscalls(profile: Profile) -> BTreeMap<i64, Vec<Conditions>> {
+    let inet = match profile {
+        Profile::Partition { inet } => inet,
+        Profile::Bridge => true,
+    };
     let mut allowed: BTreeMap<i64, Vec<Conditions>> = BTreeMap::new();
     let mut any = |calls: &[libc::c_long]| {
         for call in calls {
@@ -560,17 +647,39 @@ pub fn allowed_syscalls(inet: bool) -> BTreeMap<i64, Vec<Conditions>> {
         libc::SYS_prctl,
         vec![vec![(0, SeccompCmpOp::Eq, libc::PR_SET_NAME as u64)]],
     );
+    if profile == Profile::Bridge {
+        let mut any = |calls: &[libc::c_long]| {
+            for call in calls {
+                allowed.insert(*call, Vec::new());
+            }
+        };
+        // Zenoh's links: the listening endpoint's TCP socket listens and accepts (TLS on top
+        // is computation in the process); the runtime's reactor is woken through an eventfd.
+        any(&[libc::SYS_listen, libc::SYS_accept4, libc::SYS_eventfd2]);
+        // Zenoh asks for the host's interfaces (getifaddrs: a NETLINK_ROUTE socket) to name a
+        // link's interface in its link information. Allowed here only to be answered EPERM by
+        // the filter before this one ([`filter`]): Zenoh goes on without the names, and the
+        // bridge never reads or changes the host's routes.
+        if let Some(domains) = allowed.get_mut(&libc::SYS_socket) {
+            domains.push(vec![(0, SeccompCmpOp::Eq, libc::AF_NETLINK as u64)]);
+        }
+    }
     allowed
 }
 
-/// The BPF programs of a partition's filter, in the order they are installed: the one that
-/// makes clone3 fail with ENOSYS and the allow-list ([`allowed_syscalls`]). The kernel runs both and takes the stricter answer.
-pub fn filter(inet: bool, on_violation: Violation) -> Result<Vec<BpfProgram>, IsolationError> {
+/// The BPF programs of a fence of `profile`, in the order they are installed: the one that
+/// makes clone3 fail with ENOSYS, for the bridge the one that makes a netlink socket fail with
+/// EPERM, and the allow-list ([`allowed_syscalls`]). The kernel runs them all and takes the
+/// strictest answer.
+pub fn filter(
+    profile: Profile,
+    on_violation: Violation,
+) -> Result<Vec<BpfProgram>, IsolationError> {
     let arch = TargetArch::try_from(std::env::consts::ARCH)
         .map_err(|e| IsolationError::Seccomp(e.to_string()))?;
     let err = |e: seccompiler::BackendError| IsolationError::Seccomp(e.to_string());
     let mut rules: BTreeMap<i64, Vec<SeccompRule>> = BTreeMap::new();
-    for (call, alternatives) in allowed_syscalls(inet) {
+    for (call, alternatives) in allowed_syscalls(profile) {
         let mut chain = Vec::new();
         for conditions in alternatives {
             let conditions = conditions
@@ -601,9 +710,37 @@ pub fn filter(inet: bool, on_violation: Violation) -> Result<Vec<BpfProgram>, Is
     .map_err(err)?
     .try_into()
     .map_err(|e: seccompiler::BackendError| err(e))?;
-    // The clone3 filter first: installing a filter calls prctl and seccomp, which the allow-list
-    // forbids.
-    Ok(vec![clone3, allow_list])
+    let mut programs = vec![clone3];
+    if profile == Profile::Bridge {
+        // The bridge's netlink socket fails with EPERM (see [`allowed_syscalls`]).
+        let netlink: BpfProgram = SeccompFilter::new(
+            BTreeMap::from([(
+                libc::SYS_socket,
+                vec![
+                    SeccompRule::new(vec![
+                        SeccompCondition::new(
+                            0,
+                            SeccompCmpArgLen::Qword,
+                            SeccompCmpOp::Eq,
+                            libc::AF_NETLINK as u64,
+                        )
+                        .map_err(err)?,
+                    ])
+                    .map_err(err)?,
+                ],
+            )]),
+            SeccompAction::Allow,
+            SeccompAction::Errno(libc::EPERM as u32),
+            arch,
+        )
+        .map_err(err)?
+        .try_into()
+        .map_err(|e: seccompiler::BackendError| err(e))?;
+        programs.push(netlink);
+    }
+    // The allow-list last: installing a filter calls prctl and seccomp, which it forbids.
+    programs.push(allow_list);
+    Ok(programs)
 }
 
 /// Which threads a filter is installed on.
@@ -616,14 +753,15 @@ pub enum Threads {
     This,
 }
 
-/// Installs the seccomp filter of a partition (`inet`: voting-monitoring's) on `threads`; sets
-/// no_new_privs on the calling thread first (the kernel requires it of an unprivileged process).
+/// Installs the seccomp filter of `profile` on `threads`; sets no_new_privs on the calling
+/// thread first (the kernel requires it of an unprivileged process).
 pub fn install_filter(
-    inet: bool,
+    profile: Profile,
     on_violation: Violation,
     threads: Threads,
 ) -> Result<(), IsolationError> {
-    for program in &filter(inet, on_violation)? {
+    rustix::thread::set_no_new_privs(true).map_err(|e| IsolationError::NoNewPrivs(e.into()))?;
+    for program in &filter(profile, on_violation)? {
         match threads {
             Threads::All => seccompiler::apply_filter_all_threads(program),
             Threads::This => seccompiler::apply_filter(program),
@@ -705,8 +843,8 @@ mod tests {
 
     #[test]
     fn only_voting_monitoring_may_create_inet_sockets_and_no_partition_may_exec() {
-        let vm = allowed_syscalls(true);
-        let other = allowed_syscalls(false);
+        let vm = allowed_syscalls(Profile::Partition { inet: true });
+        let other = allowed_syscalls(Profile::Partition { inet: false });
         assert_eq!(vm.get(&libc::SYS_socket).unwrap().len(), 3);
         assert_eq!(other.get(&libc::SYS_socket).unwrap().len(), 1);
         for forbidden in [
@@ -724,8 +862,43 @@ mod tests {
         for forbidden in [libc::SYS_fork, libc::SYS_vfork] {
             assert!(!vm.contains_key(&forbidden));
         }
-        assert_eq!(filter(true, Violation::Kill).unwrap().len(), 2);
-        assert_eq!(filter(false, Violation::Errno).unwrap().len(), 2);
+        assert_eq!(
+            filter(Profile::Partition { inet: true }, Violation::Kill)
+                .unwrap()
+                .len(),
+            2
+        );
+        assert_eq!(
+            filter(Profile::Partition { inet: false }, Violation::Errno)
+                .unwrap()
+                .len(),
+            2
+        );
+    }
+
+    #[test]
+    fn the_bridge_may_listen_and_accept_but_never_exec_and_no_partition_may_listen() {
+        let bridge = allowed_syscalls(Profile::Bridge);
+        let vm = allowed_syscalls(Profile::Partition { inet: true });
+        for call in [libc::SYS_listen, libc::SYS_accept4] {
+            assert!(bridge.contains_key(&call) && !vm.contains_key(&call));
+        }
+        for forbidden in [
+            libc::SYS_execve,
+            libc::SYS_execveat,
+            libc::SYS_ptrace,
+            libc::SYS_setuid,
+            libc::SYS_mount,
+            libc::SYS_bpf,
+            libc::SYS_seccomp,
+        ] {
+            assert!(!bridge.contains_key(&forbidden), "{forbidden}");
+        }
+        // Threads only, as a partition.
+        assert_eq!(bridge.get(&libc::SYS_clone), vm.get(&libc::SYS_clone));
+        // A netlink socket is on the list only to fail with EPERM in a filter of its own.
+        assert_eq!(bridge.get(&libc::SYS_socket).unwrap().len(), 4);
+        assert_eq!(filter(Profile::Bridge, Violation::Kill).unwrap().len(), 3);
     }
 
     #[test]
@@ -744,6 +917,59 @@ mod tests {
         assert!(may_write(&sa, Path::new("/dev/shm/iox2_x")));
         config.isolation.enabled = false;
         assert!(Fence::of("system-automation", &config).is_none());
+    }
+
+    #[test]
+    fn the_bridge_is_fenced_as_a_partition_with_its_endpoints_ports() {
+        let mut config = Config::default();
+        config.ipc.state_dir = Some(PathBuf::from("/var/lib/missionlink"));
+        config.bridge.enabled = true;
+        config.bridge.credentials = Some(PathBuf::from("/etc/missionlink/bridge"));
+        config.bridge.listen = vec!["tls/169.254.77.1:7447".to_owned()];
+        config.bridge.connect = vec!["tls/169.254.77.2:7448".to_owned()];
+        let bridge = Fence::of(crate::bridge_config::BINARY, &config).unwrap();
+        assert_eq!(bridge.profile, Profile::Bridge);
+        assert_eq!(
+            (
+                bridge.ports.listen.as_slice(),
+                bridge.ports.connect.as_slice()
+            ),
+            ([7447].as_slice(), [7448].as_slice())
+        );
+        // Its readiness and iceoryx2's shared memory, not mission data handling's lists.
+        assert!(may_write(
+            &bridge,
+            Path::new("/var/lib/missionlink/ready/bridge")
+        ));
+        assert!(may_write(&bridge, Path::new("/dev/shm/iox2_x")));
+        assert!(!may_write(
+            &bridge,
+            Path::new("/var/lib/missionlink/active-lists.frames")
+        ));
+        assert!(!may_write(
+            &bridge,
+            Path::new("/etc/missionlink/bridge/ca.pem")
+        ));
+        // A partition binds and connects no TCP port.
+        let vm = Fence::of("voting-monitoring", &config).unwrap();
+        assert_eq!(vm.ports, crate::bridge_config::Ports::default());
+        assert_eq!(vm.profile, Profile::Partition { inet: true });
+        // `[isolation.bridge] user`, and the launcher checks that user when the bridge is on.
+        let c = Config::parse(
+            "[bridge]\nenabled = true\n[isolation.bridge]\nuser = \"no-such-user-here\"\n",
+            Path::new("f"),
+        )
+        .unwrap();
+        assert_eq!(
+            c.isolation.of("bridge").unwrap().user.as_deref(),
+            Some("no-such-user-here")
+        );
+        assert!(matches!(
+            check_config(&c),
+            Err(IsolationError::NoSuchUser(_))
+        ));
+        config.isolation.enabled = false;
+        assert!(Fence::of(crate::bridge_config::BINARY, &config).is_none());
     }
 
     #[test]
