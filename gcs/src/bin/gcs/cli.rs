@@ -256,8 +256,8 @@ pub(crate) enum Command {
     /// neither.
     ///
     /// Link signing is required by default on both sides: name each side's file in its
-    /// `[signing] key_files` (or `--key-file`). On the FCC under systemd the unit reads
-    /// /etc/missionlink/link.key as a credential (docs/deployment.md). The same path for both
+    /// `[signing] key_files` (or `--key-file`). On the FCC under systemd the key is
+    /// /etc/missionlink/link.key, owned by the FCC's user (docs/deployment.md). The same path for both
     /// writes one file (an FCC and a ground on one machine).
     #[command(after_help = "Example:\n  \
         gcs keygen --fcc /etc/missionlink/link.key --ground ~/.config/missionlink/link.key")]
