@@ -243,7 +243,10 @@ fn start_host_b(
     guidance: RemoteGuidance,
 ) -> Vec<Remote> {
     let bin = bin_dir();
-    binaries::ensure_bridge(&bin, binaries::Build::UnderCargo).unwrap();
+    // The test build's own bridge (its package's test, bridge/tests/cli.rs, makes cargo build
+    // it): a `cargo build` of the bridge alone would resolve the shared dependencies' features
+    // otherwise and compile them all again.
+    binaries::ensure_bridge(&bin, binaries::Build::IfMissing).unwrap();
     std::thread::spawn(move || {
         Hosts::enter(&ns);
         match guidance {
@@ -358,7 +361,7 @@ fn two_hosts(tag: &str, guidance: RemoteGuidance) {
     // and every process it starts runs on host A.
     Hosts::enter(&hosts.a);
     let mut rig = Rig::new(&format!("two-hosts-{tag}"));
-    binaries::ensure_bridge(&bin_dir(), binaries::Build::UnderCargo).unwrap();
+    binaries::ensure_bridge(&bin_dir(), binaries::Build::IfMissing).unwrap();
     let deployment = credentials(&rig.dir, "credentials");
     bridge_a(&mut rig.config, &deployment);
     let config_b = host_b(&rig.config, &rig.dir, &deployment);
@@ -497,7 +500,7 @@ fn a_stranger_bridge_is_refused_and_its_guidance_never_reaches_the_fcc() {
     let hosts = Hosts::new("st");
     Hosts::enter(&hosts.a);
     let mut rig = Rig::new("two-hosts-stranger");
-    binaries::ensure_bridge(&bin_dir(), binaries::Build::UnderCargo).unwrap();
+    binaries::ensure_bridge(&bin_dir(), binaries::Build::IfMissing).unwrap();
     let deployment = credentials(&rig.dir, "credentials");
     bridge_a(&mut rig.config, &deployment);
     let config_b = host_b(&rig.config, &rig.dir, &deployment);

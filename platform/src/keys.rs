@@ -435,7 +435,7 @@ mod tests {
             (signing(SigningPolicy::Require, &[], None), "no key file"),
             (
                 signing(SigningPolicy::Accept, &[], None),
-                "link signing is accept",
+                "policy is accept",
             ),
             (
                 signing(SigningPolicy::Off, &[&one, &two], None),
