@@ -28,11 +28,9 @@ fn lines_with(text: &str, parts: &[&str]) -> usize {
         .count()
 }
 
-#[test]
-fn a_configuration_a_partition_refuses_stops_the_fcc_before_anything_starts() {
-    let mut rig = Rig::new("supervise-config");
-    // The FCC sends to the GCS's ports: the system cannot choose them.
-    rig.config.links.gcs_direct = "127.0.0.1:0".parse().unwrap();
+/// Starts the launcher under `rig`'s configuration, which it must refuse: its exit status and
+/// its log, once it has ended (within [`LIMIT`]).
+fn launcher_refusing(rig: &Rig) -> (std::process::ExitStatus, String) {
     let log = rig.dir.join("fcc.log");
     let command = FccProcess::command(&bin_dir(), "fcc", &rig.config).unwrap();
     let mut fcc = FccProcess::spawn(command, &rig.config, Some(&log)).unwrap();
@@ -48,7 +46,15 @@ fn a_configuration_a_partition_refuses_stops_the_fcc_before_anything_starts() {
         );
         std::thread::sleep(Duration::from_millis(10));
     };
-    let text = fcc.log_text();
+    (status, fcc.log_text())
+}
+
+#[test]
+fn a_configuration_a_partition_refuses_stops_the_fcc_before_anything_starts() {
+    let mut rig = Rig::new("supervise-config");
+    // The FCC sends to the GCS's ports: the system cannot choose them.
+    rig.config.links.gcs_direct = "127.0.0.1:0".parse().unwrap();
+    let (status, text) = launcher_refusing(&rig);
     assert_eq!(status.code(), Some(2), "{text}");
     assert_eq!(
         lines_with(
@@ -165,22 +171,7 @@ fn a_partition_that_keeps_dying_is_given_up_after_its_start_limit() {
 fn an_fcc_without_a_key_under_the_default_policy_exits_at_once_saying_how_to_make_one() {
     let mut rig = Rig::new("supervise-no-key");
     rig.config.signing = Signing::default();
-    let log = rig.dir.join("fcc.log");
-    let command = FccProcess::command(&bin_dir(), "fcc", &rig.config).unwrap();
-    let mut fcc = FccProcess::spawn(command, &rig.config, Some(&log)).unwrap();
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = fcc.try_wait().unwrap() {
-            break status;
-        }
-        assert!(
-            start.elapsed() < LIMIT,
-            "the launcher went on:\n{}",
-            fcc.log_text()
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let text = fcc.log_text();
+    let (status, text) = launcher_refusing(&rig);
     assert_eq!(status.code(), Some(2), "{text}");
     assert_eq!(
         lines_with(

@@ -116,20 +116,26 @@ impl Ground {
     /// the waypoint messages, #13000 mode 8; #2011 mode 1, the #2012 areas, #2011 mode 7.
     pub fn stage(&mut self, id: &str, plan: &ValidatedPlan) {
         let id = Some(Text::new(id).unwrap());
-        self.accepted(mission_command(
-            MissionPlanMode::LoadWaypointBuffer,
-            None,
-            id,
-        ));
+        let opener = mission_command(MissionPlanMode::LoadWaypointBuffer, None, id);
+        self.send_lists(plan, opener, MissionPlanMode::StageMission, id);
+    }
+
+    /// Sends `plan`, every message accepted: `opener`, the waypoint messages, the #13000 of
+    /// `closer` (with `id`); #2011 mode 1, the #2012 areas, and the area closer that goes with
+    /// the mission's (mode 7 with `id` when staging, else mode 2).
+    fn send_lists(
+        &mut self,
+        plan: &ValidatedPlan,
+        opener: Message,
+        closer: MissionPlanMode,
+        id: Option<Text<20>>,
+    ) {
+        self.accepted(opener);
         for m in plan.mission.messages() {
             self.accepted(m);
         }
         let count = plan.mission.waypoints.len() as u16;
-        self.accepted(mission_command(
-            MissionPlanMode::StageMission,
-            Some(count),
-            id,
-        ));
+        self.accepted(mission_command(closer, Some(count), id));
         let areas = |mode, mission_id| {
             Message::from(AreaTransmissionCommand {
                 time_stamp: Timestamp::default(),
@@ -146,7 +152,11 @@ impl Ground {
         for a in &plan.areas.areas {
             self.accepted(a.clone().into());
         }
-        self.accepted(areas(AreaTransferMode::UploadCompleteStaged, id));
+        let area_closer = match closer {
+            MissionPlanMode::StageMission => AreaTransferMode::UploadCompleteStaged,
+            _ => AreaTransferMode::UploadComplete,
+        };
+        self.accepted(areas(area_closer, id));
     }
 
     /// Sends `message` and returns the reason the FCC refused it with (#17000 type 3), or `None`
@@ -165,33 +175,8 @@ impl Ground {
     /// Uploads `plan` by the paper's sequence as edition 1 sends it (ICD §5.1, §5.3): the clear,
     /// the waypoint messages, the transmit; the area upload.
     pub fn upload(&mut self, plan: &ValidatedPlan) {
-        self.accepted(mission_command(MissionPlanMode::ClearMission, None, None));
-        for m in plan.mission.messages() {
-            self.accepted(m);
-        }
-        let count = plan.mission.waypoints.len() as u16;
-        self.accepted(mission_command(
-            MissionPlanMode::TransmitMission,
-            Some(count),
-            None,
-        ));
-        let areas = |mode| {
-            Message::from(AreaTransmissionCommand {
-                time_stamp: Timestamp::default(),
-                mode,
-                loop_count: Some(plan.areas.areas.len() as u8),
-                area_id: None,
-                safety_offset: Some(plan.areas.safety_offset),
-                activity_id: None,
-                mission_id: None,
-                window_or_checksum: None,
-            })
-        };
-        self.accepted(areas(AreaTransferMode::InitiateUpload));
-        for a in &plan.areas.areas {
-            self.accepted(a.clone().into());
-        }
-        self.accepted(areas(AreaTransferMode::UploadComplete));
+        let clear = mission_command(MissionPlanMode::ClearMission, None, None);
+        self.send_lists(plan, clear, MissionPlanMode::TransmitMission, None);
     }
 
     /// Activates staged mission `id` (#50000 command 4).
