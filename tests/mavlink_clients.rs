@@ -29,70 +29,166 @@ fn script(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// A fresh FCC and the ground's link to it, for the bridge to serve clients over.
+struct Session {
+    rig: Rig,
+    fcc: Process,
+    link: GcsLink<SafetyGateway>,
+}
+
+impl Session {
+    fn new(test: &str) -> Self {
+        let mut rig = Rig::new(test);
+        // Slow enough that the flight lasts several seconds of the 2 Hz downlink.
+        rig.config.guidance.time_scale = 10.0;
+        let mut fcc = rig.start("fcc");
+        rig.ready(&mut fcc);
+        let links = rig.gcs_links(&mut fcc);
+        let link = GcsLink::with_links(&rig.config.link(), links, SafetyGateway::default())
+            .unwrap()
+            .with_stamp_lease(&rig.dir.join("gcs-time-stamps"))
+            .unwrap();
+        Self { rig, fcc, link }
+    }
+
+    /// The bridge's memory, in the state directory as `gcs mavlink` keeps it.
+    fn memory(&self) -> PathBuf {
+        self.rig.dir.join("mavlink-memory")
+    }
+
+    /// The session's capture.
+    fn tlog(&self) -> PathBuf {
+        self.rig.dir.join("session.tlog")
+    }
+
+    /// Starts a bridge as `gcs mavlink` does (the FCC's lists read, then its memory) and runs
+    /// `script` with `args` against it until the script exits; its output, after asserting it
+    /// passed.
+    fn serve(&mut self, script_name: &str, args: &[&str]) -> String {
+        let mut bridge = Bridge::new(BridgeConfig {
+            heartbeat: Duration::from_secs(1),
+            item_timeout: Duration::from_millis(1500),
+            item_retries: 3,
+            fence_wait: Duration::from_secs(3),
+            plan: PlanContext {
+                cruise_speed_mps: 25.0,
+                home: None,
+                import: ImportOptions::default(),
+            },
+        });
+        // QGroundControl is not listening in a test: the bridge answers the client that talks.
+        let mut socket = MavlinkSocket::bind(
+            "127.0.0.1:0".parse().unwrap(),
+            "127.0.0.1:9".parse().unwrap(),
+        )
+        .unwrap()
+        .with_tlog(&self.tlog())
+        .unwrap();
+        let port = socket.local_addr().unwrap().port();
+        let child = Command::new(python())
+            .arg(script(script_name))
+            .arg(port.to_string())
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap_or_else(|e| panic!("{:?}: {e}; run the tests with tools/test", python()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let waiter = {
+            let stop = Arc::clone(&stop);
+            std::thread::spawn(move || {
+                let out = child.wait_with_output().unwrap();
+                stop.store(true, Ordering::Relaxed);
+                out
+            })
+        };
+        let memory = self.memory();
+        driver::read_lists(&mut self.link, &mut bridge, Some(&memory));
+        driver::run(
+            &mut self.link,
+            &mut bridge,
+            &mut socket,
+            Some(&memory),
+            &stop,
+        )
+        .unwrap();
+        let out = waiter.join().unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        println!("{stdout}");
+        assert!(
+            out.status.success(),
+            "{script_name} failed ({}):\n{stdout}\n{stderr}",
+            out.status
+        );
+        stdout
+    }
+
+    fn stop(mut self) {
+        self.fcc.stop().unwrap();
+    }
+}
+
 /// Runs `script` against a bridge to a fresh FCC; its output, after asserting it passed.
 fn run_client(test: &str, script_name: &str) -> String {
-    let mut rig = Rig::new(test);
-    // Slow enough that the flight lasts several seconds of the 2 Hz downlink.
-    rig.config.guidance.time_scale = 10.0;
-    let mut fcc = rig.start("fcc");
-    rig.ready(&mut fcc);
-    let links = rig.gcs_links(&mut fcc);
-    let mut link = GcsLink::with_links(&rig.config.link(), links, SafetyGateway::default())
-        .unwrap()
-        .with_stamp_lease(&rig.dir.join("gcs-time-stamps"))
+    let mut session = Session::new(test);
+    let out = session.serve(script_name, &[]);
+    session.stop();
+    out
+}
+
+/// The message types the vehicle sent in a capture, and how many named system 0 as target,
+/// read by pymavlink.
+fn captured(tlog: &std::path::Path) -> (Vec<String>, usize) {
+    let out = Command::new(python())
+        .arg(script("tlog_messages.py"))
+        .arg(tlog)
+        .output()
         .unwrap();
-    let mut bridge = Bridge::new(BridgeConfig {
-        heartbeat: Duration::from_secs(1),
-        item_timeout: Duration::from_millis(1500),
-        item_retries: 3,
-        fence_wait: Duration::from_secs(3),
-        plan: PlanContext {
-            cruise_speed_mps: 25.0,
-            home: None,
-            import: ImportOptions::default(),
-        },
-    });
-    // QGroundControl is not listening in a test: the bridge answers the client that talks.
-    let mut socket = MavlinkSocket::bind(
-        "127.0.0.1:0".parse().unwrap(),
-        "127.0.0.1:9".parse().unwrap(),
-    )
-    .unwrap();
-    let port = socket.local_addr().unwrap().port();
-    let child = Command::new(python())
-        .arg(script(script_name))
-        .arg(port.to_string())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("{:?}: {e}; run the tests with tools/test", python()));
-    let stop = Arc::new(AtomicBool::new(false));
-    let waiter = {
-        let stop = Arc::clone(&stop);
-        std::thread::spawn(move || {
-            let out = child.wait_with_output().unwrap();
-            stop.store(true, Ordering::Relaxed);
-            out
-        })
-    };
-    driver::read_lists(&mut link, &mut bridge);
-    driver::run(&mut link, &mut bridge, &mut socket, &stop).unwrap();
-    let out = waiter.join().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
-        "{script_name} failed ({}):\n{stdout}\n{stderr}",
-        out.status
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
     );
-    fcc.stop().unwrap();
-    stdout
+    let kinds = text
+        .lines()
+        .next()
+        .and_then(|l| l.split(": ").nth(1))
+        .unwrap_or_default()
+        .split(' ')
+        .map(str::to_owned)
+        .collect();
+    let zero = text
+        .lines()
+        .find_map(|l| l.strip_prefix("addressed to system 0: "))
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap();
+    (kinds, zero)
 }
 
 #[test]
 fn pymavlink_uploads_downloads_is_refused_and_follows_the_flight_to_its_end() {
-    let out = run_client("mavlink-pymavlink", "pymavlink_mission.py");
+    let mut session = Session::new("mavlink-pymavlink");
+    let out = session.serve("pymavlink_mission.py", &[]);
+    // The session's capture, read by pymavlink: the telemetry a ground station asks for, and
+    // no reply addressed to system 0.
+    let (kinds, to_system_0) = captured(&session.tlog());
+    for kind in [
+        "HEARTBEAT",
+        "HOME_POSITION",
+        "SYS_STATUS",
+        "EXTENDED_SYS_STATE",
+        "ATTITUDE",
+        "VFR_HUD",
+        "GLOBAL_POSITION_INT",
+        "MISSION_CURRENT",
+        "MISSION_ITEM_REACHED",
+    ] {
+        assert!(kinds.iter().any(|k| k == kind), "no {kind} in {kinds:?}");
+    }
+    assert_eq!(to_system_0, 0);
+    session.stop();
     assert!(out.contains("downloaded: equal to the upload"), "{out}");
     assert!(out.contains("infeasible mission refused"), "{out}");
     // The violation, named by the safety gateway, reached the client in the STATUSTEXT.
@@ -103,6 +199,23 @@ fn pymavlink_uploads_downloads_is_refused_and_follows_the_flight_to_its_end() {
     assert!(out.contains("'MISSION'"), "{out}");
     // The client checked the target of every reply; it saw some.
     assert!(out.contains("every one addressed to 255/190"), "{out}");
+}
+
+/// The bridge restarted between an upload and a download (as `gcs mavlink` starts again: the
+/// FCC's lists read, then its memory): the download returns the take-off and waypoints the
+/// client uploaded, not the FCC's lists read back as items.
+#[test]
+fn a_restarted_bridge_returns_what_the_client_uploaded() {
+    let mut session = Session::new("mavlink-restart");
+    let out = session.serve("pymavlink_mission.py", &["upload"]);
+    assert!(out.contains("mission and fence active"), "{out}");
+    assert!(session.memory().exists());
+    let out = session.serve("pymavlink_mission.py", &["download"]);
+    assert!(
+        out.contains("after the restart, downloaded: equal"),
+        "{out}"
+    );
+    session.stop();
 }
 
 #[test]

@@ -5,6 +5,8 @@
 //! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
 //!   export; [`geojson`]: areas as GeoJSON; [`import`]: the error and the rules all three
 //!   importers share (and `json_path`, the JSON walker of the two JSON formats).
+//! - [`geoid`]: mean sea level against the WGS-84 ellipsoid, for MAVLink's and QGC's AMSL
+//!   altitudes.
 //! - [`mavlink`]: `gcs mavlink`, the vehicle for QGroundControl, MAVSDK and pymavlink.
 //! - [`monitor`]: what `gcs monitor` prints, position and FROM-TO-NEXT together.
 //! - [`map`]: the mission map as SVG; [`inspect`]: the frame inspector; [`profile`]: the
@@ -12,6 +14,7 @@
 //!   FCC's mission report (ICD §8) as a table.
 
 pub mod gcs_link;
+pub mod geoid;
 pub mod geojson;
 pub mod import;
 pub mod inspect;

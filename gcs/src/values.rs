@@ -6,6 +6,7 @@
 use missionlink_interfaces::wire::{Altitude, Angle, GeoPoint};
 use missionlink_services::geofence::earth;
 
+use crate::geoid;
 use crate::mission_file::MissionFileError;
 
 /// A [`MissionFileError::Field`]: `reason` at `path`.
@@ -117,6 +118,15 @@ pub(crate) fn degrees(a: Angle) -> f64 {
 /// The altitude in metres, the shortest decimal that gives it back.
 pub(crate) fn metres(a: Altitude) -> f64 {
     shortest(a.metres(), |m| Altitude::from_metres(m) == Ok(a))
+}
+
+/// A WGS-84 altitude as its height above mean sea level at a position, metres, the shortest
+/// decimal that gives the altitude back through [`crate::geoid`].
+pub(crate) fn amsl_metres(a: Altitude, latitude_deg: f64, longitude_deg: f64) -> f64 {
+    let amsl = geoid::amsl_from_wgs84(a.metres(), latitude_deg, longitude_deg);
+    shortest(amsl, |m| {
+        Altitude::from_metres(geoid::wgs84_from_amsl(m, latitude_deg, longitude_deg)) == Ok(a)
+    })
 }
 
 #[cfg(test)]

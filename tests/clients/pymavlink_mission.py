@@ -12,8 +12,12 @@ the last item, with the plan's checksums as mission_id and fence_id. The client 
 system and component (255, 190, a ground station's): every reply of the vehicle that names a
 target must name it, never system 0.
 
-Usage: python3 pymavlink_mission.py BRIDGE_PORT. Exit status 0 when every check passes; each
-check that fails is printed.
+With a second argument it plays one side of a restart of the bridge: `upload` uploads the
+mission and fence and ends; `download` (to the bridge started again) downloads both and compares
+them with the same upload: a restarted bridge returns what the client uploaded.
+
+Usage: python3 pymavlink_mission.py BRIDGE_PORT [upload|download]. Exit status 0 when every
+check passes; each check that fails is printed.
 """
 
 import os
@@ -103,6 +107,14 @@ def main():
     fence = [(POLYGON_INCLUSION, GLOBAL, 4.0, lat, lon, 0.0) for lat, lon in corners]
     fence.append((CIRCLE_EXCLUSION, GLOBAL, 200.0, 48.268, 11.675, 0.0))
 
+    phase = sys.argv[2] if len(sys.argv) > 2 else None
+    if phase == "download":
+        if not same(download(MISSION), mission):
+            fail("after the restart, the mission downloaded differs from the upload")
+        if not same(download(FENCE), fence):
+            fail("after the restart, the fence downloaded differs from the upload")
+        print("after the restart, downloaded: equal to the upload", flush=True)
+        return
     result = upload(MISSION, mission)
     if result != 0:
         fail(f"mission upload: MISSION_ACK {result}")
@@ -113,6 +125,8 @@ def main():
     if result != 0:
         fail(f"rally upload: MISSION_ACK {result}")
     print("uploaded: mission and fence active on the FCC", flush=True)
+    if phase == "upload":
+        return
 
     if not same(download(MISSION), mission):
         fail("the mission downloaded differs from the upload")

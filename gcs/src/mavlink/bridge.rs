@@ -59,19 +59,22 @@ use std::collections::VecDeque;
 use core::time::Duration;
 
 use mavlink::dialects::common::{
-    AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, EXTENDED_SYS_STATE_DATA, GLOBAL_POSITION_INT_DATA,
-    HEARTBEAT_DATA, MISSION_ACK_DATA, MISSION_COUNT_DATA, MISSION_CURRENT_DATA,
-    MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA, MISSION_REQUEST_INT_DATA, MavAutopilot,
-    MavCmd, MavFrame, MavLandedState, MavMessage, MavMissionResult, MavMissionType, MavModeFlag,
-    MavParamType, MavProtocolCapability, MavResult, MavSeverity, MavState, MavType, MavVtolState,
-    MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    ATTITUDE_DATA, AUTOPILOT_VERSION_DATA, COMMAND_ACK_DATA, EXTENDED_SYS_STATE_DATA,
+    GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, HOME_POSITION_DATA, MISSION_ACK_DATA,
+    MISSION_COUNT_DATA, MISSION_CURRENT_DATA, MISSION_ITEM_INT_DATA, MISSION_ITEM_REACHED_DATA,
+    MISSION_REQUEST_INT_DATA, MavAutopilot, MavCmd, MavFrame, MavLandedState, MavMessage,
+    MavMissionResult, MavMissionType, MavModeFlag, MavParamType, MavProtocolCapability, MavResult,
+    MavSeverity, MavState, MavSysStatusSensor, MavSysStatusSensorExtended, MavType, MavVtolState,
+    MissionState, PARAM_VALUE_DATA, STATUSTEXT_DATA, SYS_STATUS_DATA, VFR_HUD_DATA,
 };
 use mavlink::{MavHeader, MavlinkReader, MavlinkVersion};
-use missionlink_interfaces::wire::{FromToNext, InertialStates};
+use missionlink_interfaces::wire::{AltitudeType, FromToNext, InertialStates};
+use missionlink_services::geofence::earth::Site;
 use missionlink_services::link::time::Instant;
 use missionlink_services::link::timer::TimerTable;
 use num_traits::FromPrimitive;
 
+use super::memory::Memory;
 use super::plan::{Item, List, PlanContext, to_plan};
 use crate::qgc::QgcImport;
 
@@ -90,6 +93,14 @@ const PX4_SUB_MISSION: u32 = 4;
 const fn px4_mode(main: u32, sub: u32) -> u32 {
     (main << 16) | (sub << 24)
 }
+
+/// The message IDs REQUEST_MESSAGE asks for that the vehicle sends.
+const HEARTBEAT_ID: u32 = 0;
+const SYS_STATUS_ID: u32 = 1;
+const MISSION_CURRENT_ID: u32 = 42;
+const AUTOPILOT_VERSION_ID: u32 = 148;
+const HOME_POSITION_ID: u32 = 242;
+const EXTENDED_SYS_STATE_ID: u32 = 245;
 
 /// Items the bridge holds per list (the FCC holds 256 waypoints; a mission item list has a
 /// take-off, speed changes and a land besides).
@@ -169,6 +180,61 @@ pub struct Peer {
     pub component: u8,
 }
 
+/// The vehicle's home as MAVLink means it: where the flight starts and the reference of
+/// `relative_alt`. It is where the aircraft is while no mission flies, and it stays where the
+/// mission started while the mission flies (PX4 sets it at arming; the FCC's arming is
+/// execute).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Home {
+    /// Latitude, degrees.
+    pub latitude_deg: f64,
+    /// Longitude, degrees.
+    pub longitude_deg: f64,
+    /// The altitude as the FCC reports it (#101 field 4), metres.
+    pub altitude_m: f64,
+    /// Its type (#101 field 5).
+    pub altitude_type: Option<AltitudeType>,
+}
+
+impl Home {
+    /// The home's altitude above mean sea level, when its type says where that is.
+    pub fn amsl_m(&self) -> Option<f64> {
+        amsl_m(
+            self.altitude_m,
+            self.altitude_type,
+            self.latitude_deg,
+            self.longitude_deg,
+        )
+    }
+}
+
+/// An altitude of the FCC above mean sea level: a WGS-84 height less the geoid's undulation
+/// ([`crate::geoid`]); a barometric altitude is one already (set to the local QNH, ICD §4
+/// #13002 type 1); pressure altitude (standard atmosphere), height above ground and no type do
+/// not say where sea level is.
+fn amsl_m(altitude_m: f64, kind: Option<AltitudeType>, lat: f64, lon: f64) -> Option<f64> {
+    match kind {
+        Some(AltitudeType::Wgs84) => Some(crate::geoid::amsl_from_wgs84(altitude_m, lat, lon)),
+        Some(AltitudeType::Baro) => Some(altitude_m),
+        _ => None,
+    }
+}
+
+/// Degrees as MAVLink's integer latitude and longitude (degE7).
+fn e7(degrees: f64) -> i32 {
+    (degrees * 1e7).round() as i32
+}
+
+/// A #101 angle (I2, pi / 2^15 rad per unit) in radians. TEMPORARY until the interfaces accessor lands.
+fn rad(raw: Option<i16>) -> Option<f64> {
+    raw.map(|r| f64::from(r) * core::f64::consts::PI / 32768.0)
+}
+
+/// Metres as MAVLink's integer millimetres.
+fn mm(metres: f64) -> i32 {
+    (metres * 1000.0).round() as i32
+}
+
 /// Whether a message addressed to `system` and `component` is for this vehicle: its own IDs,
 /// or 0 (MAVLink's broadcast).
 fn for_us(system: u8, component: u8) -> bool {
@@ -235,6 +301,15 @@ pub struct Bridge {
     pub elsewhere: u64,
     /// The id of the last STATUSTEXT sent in chunks (0 is a text of one message).
     statustext_id: u16,
+    /// The vehicle's home, once a position told it.
+    home: Option<Home>,
+    /// The home last sent in HOME_POSITION.
+    home_sent: Option<Home>,
+    /// Messages of the data links as the ground received them: (all, rejected), for
+    /// SYS_STATUS.
+    link_counts: (u64, u64),
+    /// What the bridge must remember across a restart changed (see [`Self::memory`]).
+    remember: bool,
 }
 
 impl Bridge {
@@ -262,6 +337,10 @@ impl Bridge {
             unreadable: 0,
             elsewhere: 0,
             statustext_id: 0,
+            home: None,
+            home_sent: None,
+            link_counts: (0, 0),
+            remember: false,
         }
     }
 
@@ -281,6 +360,42 @@ impl Bridge {
     /// fence_id: a client sees by them that the vehicle's plan changed.
     pub fn set_ids(&mut self, mission_id: u32, fence_id: u32) {
         self.ids = (mission_id, fence_id);
+        self.remember = true;
+    }
+
+    /// What changed since the last call and must be remembered across a restart, if
+    /// anything: the lists as the client uploaded them under the checksums the FCC confirmed,
+    /// and the home (the driver writes it to the state directory).
+    pub fn memory(&mut self) -> Option<Memory> {
+        if !core::mem::take(&mut self.remember) {
+            return None;
+        }
+        Some(Memory {
+            ids: self.ids,
+            mission: self.mission.clone(),
+            fence: self.fence.clone(),
+            home: self.home,
+        })
+    }
+
+    /// What a previous run remembered, after the FCC's lists were read ([`Self::set_lists`],
+    /// [`Self::set_ids`]): its items stand for the FCC's lists when the FCC still holds the
+    /// lists they were committed as (the same checksums; not for a mission or fence the FCC
+    /// does not hold, checksum 0), so a download returns what the client uploaded. Its home
+    /// is the vehicle's until a position moves it.
+    pub fn recall(&mut self, memory: Memory) {
+        if memory.ids == self.ids {
+            if self.ids.0 != 0 {
+                self.mission = memory.mission;
+            }
+            if self.ids.1 != 0 {
+                self.fence = memory.fence;
+            }
+        }
+        if let Some(home) = memory.home {
+            self.set_home(home);
+        }
+        self.remember = false;
     }
 
     /// The lists as held: (mission, fence).
@@ -391,9 +506,14 @@ impl Bridge {
                 self.autopilot_version();
                 MavResult::MAV_RESULT_ACCEPTED
             }
-            MavCmd::MAV_CMD_REQUEST_MESSAGE if param1 as u32 == 148 => {
-                self.autopilot_version();
-                MavResult::MAV_RESULT_ACCEPTED
+            MavCmd::MAV_CMD_REQUEST_MESSAGE => {
+                self.request_message((command, from), param1 as u32);
+                return;
+            }
+            // The superseded form of REQUEST_MESSAGE(HOME_POSITION) that MAVProxy sends.
+            MavCmd::MAV_CMD_GET_HOME_POSITION => {
+                self.request_message((command, from), HOME_POSITION_ID);
+                return;
             }
             MavCmd::MAV_CMD_MISSION_START => {
                 self.execute_for(now, (MavCmd::MAV_CMD_MISSION_START, from));
@@ -420,6 +540,30 @@ impl Bridge {
             _ => MavResult::MAV_RESULT_UNSUPPORTED,
         };
         self.command_ack((command, from), result);
+    }
+
+    /// MAV_CMD_REQUEST_MESSAGE: COMMAND_ACK, then the message, for the messages the vehicle
+    /// sends; HOME_POSITION is temporarily rejected until a position with an altitude above
+    /// mean sea level told the home (a client asks again); any other message is unsupported.
+    fn request_message(&mut self, command: (MavCmd, Peer), id: u32) {
+        let send: fn(&mut Self) = match id {
+            HEARTBEAT_ID => Self::heartbeat,
+            SYS_STATUS_ID => Self::sys_status,
+            MISSION_CURRENT_ID => Self::mission_current,
+            AUTOPILOT_VERSION_ID => Self::autopilot_version,
+            HOME_POSITION_ID if self.home.and_then(|h| h.amsl_m()).is_some() => Self::home_position,
+            HOME_POSITION_ID => {
+                self.command_ack(command, MavResult::MAV_RESULT_TEMPORARILY_REJECTED);
+                return;
+            }
+            EXTENDED_SYS_STATE_ID => Self::extended_sys_state,
+            _ => {
+                self.command_ack(command, MavResult::MAV_RESULT_UNSUPPORTED);
+                return;
+            }
+        };
+        self.command_ack(command, MavResult::MAV_RESULT_ACCEPTED);
+        send(self);
     }
 
     fn command_ack(&mut self, (command, to): (MavCmd, Peer), result: MavResult) {
@@ -526,6 +670,9 @@ impl Bridge {
             return;
         };
         clearing.left = clearing.left.saturating_sub(1);
+        if outcome.is_ok() {
+            self.remember = true;
+        }
         match outcome {
             Ok(()) => match list {
                 List::Mission => {
@@ -793,6 +940,7 @@ impl Bridge {
             Ok(()) => {
                 self.mission = mission;
                 self.fence = fence;
+                self.remember = true;
                 self.current = 0;
                 self.reached = 0;
                 self.state = MissionState::MISSION_STATE_NOT_STARTED;
@@ -878,40 +1026,134 @@ impl Bridge {
         }));
     }
 
-    /// A position of the downlink (#101): GLOBAL_POSITION_INT.
+    /// A position of the downlink (#101): GLOBAL_POSITION_INT, ATTITUDE and VFR_HUD, at the
+    /// downlink's rate (2 Hz by default, ICD §5.8). What #101 leaves out is sent as MAVLink's
+    /// "unknown" where MAVLink has one (heading UINT16_MAX, a float NaN, throttle UINT16_MAX
+    /// like the other unsigned 16-bit unknowns); ATTITUDE needs all three angles and VFR_HUD
+    /// the heading, else they are not sent. The home follows the position while no mission
+    /// flies and the aircraft stands: HOME_POSITION when it moved.
     pub fn handle_position(&mut self, now: Instant, states: &InertialStates) {
         let Some(position) = states.position() else {
             return;
         };
-        // The vehicle's home for the next plan: where it is (the take-off position of a
-        // mission whose take-off item gives none, and the reference of AMSL altitudes).
-        self.config.plan.home = Some(crate::qgc::Home {
-            latitude_deg: position.latitude.degrees(),
-            longitude_deg: position.longitude.degrees(),
-            altitude_m: states.altitude.map_or(0.0, |a| a.metres()),
+        let (lat, lon) = (position.latitude.degrees(), position.longitude.degrees());
+        let altitude = states.altitude.map(|a| a.metres());
+        // Standing: a bridge restarted while the aircraft flies learns that the mission flies
+        // from the next FROM-TO-NEXT only, and must not take the air for the home meanwhile.
+        let standing = states.ground_speed_mps().is_none_or(|v| v < 0.5);
+        if self.state != MissionState::MISSION_STATE_ACTIVE
+            && standing
+            && let Some(altitude_m) = altitude
+        {
+            self.set_home(Home {
+                latitude_deg: lat,
+                longitude_deg: lon,
+                altitude_m,
+                altitude_type: states.altitude_type,
+            });
+        }
+        let amsl = altitude.and_then(|h| amsl_m(h, states.altitude_type, lat, lon));
+        // Above home: in the home's altitude type; a height above ground is one above home's
+        // ground by itself.
+        let relative = altitude.and_then(|h| match self.home {
+            Some(home) if home.altitude_type == states.altitude_type => Some(h - home.altitude_m),
+            None if states.altitude_type == Some(AltitudeType::Agl) => Some(h),
+            _ => None,
         });
-        let centi =
-            |v: Option<f64>| (v.unwrap_or(0.0) * 100.0).round().clamp(-32768.0, 32767.0) as i16;
-        let e7 = |deg: f64| (deg * 1e7).round() as i32;
-        let altitude_mm = states
-            .altitude
-            .map_or(0, |a| (a.metres() * 1000.0).round() as i32);
         let time_boot_ms = self
             .booted
             .map_or(0, |b| now.saturating_since(b).as_millis() as u32);
+        let centi =
+            |v: Option<f64>| (v.unwrap_or(0.0) * 100.0).round().clamp(-32768.0, 32767.0) as i16;
+        let heading_deg = rad(states.psi).map(|r| r.to_degrees().rem_euclid(360.0));
         self.send(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
             time_boot_ms,
-            lat: e7(position.latitude.degrees()),
-            lon: e7(position.longitude.degrees()),
-            alt: altitude_mm,
-            relative_alt: altitude_mm,
+            lat: e7(lat),
+            lon: e7(lon),
+            // MAVLink has no "unknown" altitude: without a sea level the height above home
+            // stands in (docs/qgroundcontrol.md says when).
+            alt: amsl.or(relative).map_or(0, mm),
+            relative_alt: relative.map_or(0, mm),
             vx: centi(states.u_speed.map(|v| v.mps())),
             vy: centi(states.v_speed.map(|v| v.mps())),
             vz: centi(states.w_speed.map(|v| v.mps())),
-            hdg: states
-                .course_deg()
-                .map_or(u16::MAX, |c| (c * 100.0).round() as u16),
+            hdg: heading_deg.map_or(u16::MAX, |h| ((h * 100.0).round() as u16) % 36_000),
         }));
+        if let (Some(roll), Some(pitch), Some(yaw)) =
+            (rad(states.phi), rad(states.theta), rad(states.psi))
+        {
+            self.send(MavMessage::ATTITUDE(ATTITUDE_DATA {
+                time_boot_ms,
+                roll: roll as f32,
+                pitch: pitch as f32,
+                yaw: yaw as f32,
+                rollspeed: f32::NAN,
+                pitchspeed: f32::NAN,
+                yawspeed: f32::NAN,
+            }));
+        }
+        if let Some(heading) = heading_deg {
+            self.send(MavMessage::VFR_HUD(VFR_HUD_DATA {
+                // #101 carries no airspeed.
+                airspeed: f32::NAN,
+                groundspeed: states.ground_speed_mps().map_or(f32::NAN, |v| v as f32),
+                alt: amsl.map_or(f32::NAN, |a| a as f32),
+                climb: states.w_speed.map_or(f32::NAN, |w| -w.mps() as f32),
+                heading: (heading.round() as i16) % 360,
+                throttle: u16::MAX,
+            }));
+        }
+    }
+
+    /// The home moved to `home`: kept (and remembered), and HOME_POSITION sent when it moved by
+    /// a metre or more from the home last sent.
+    fn set_home(&mut self, home: Home) {
+        // The plan's home: the take-off position of a mission whose take-off item gives none,
+        // and the reference of AMSL take-off altitudes, so only one whose sea level is known.
+        self.config.plan.home = home.amsl_m().map(|altitude_m| crate::qgc::Home {
+            latitude_deg: home.latitude_deg,
+            longitude_deg: home.longitude_deg,
+            altitude_m,
+        });
+        self.home = Some(home);
+        let moved = self.home_sent.is_none_or(|sent| {
+            sent.altitude_type != home.altitude_type
+                || (sent.altitude_m - home.altitude_m).abs() >= 1.0
+                || Site::new(sent.latitude_deg, sent.longitude_deg)
+                    .chord_m(&Site::new(home.latitude_deg, home.longitude_deg))
+                    >= 1.0
+        });
+        if moved {
+            self.remember = true;
+            self.home_position();
+        }
+    }
+
+    /// HOME_POSITION, when the home and its altitude above mean sea level are known; the local
+    /// frame's origin is the home itself.
+    fn home_position(&mut self) {
+        let Some((home, amsl)) = self.home.and_then(|h| Some((h, h.amsl_m()?))) else {
+            return;
+        };
+        self.home_sent = Some(home);
+        self.send(MavMessage::HOME_POSITION(HOME_POSITION_DATA {
+            latitude: e7(home.latitude_deg),
+            longitude: e7(home.longitude_deg),
+            altitude: mm(amsl),
+            x: 0.0,
+            y: 0.0,
+            z: 0.0,
+            q: [1.0, 0.0, 0.0, 0.0],
+            approach_x: 0.0,
+            approach_y: 0.0,
+            approach_z: 0.0,
+            time_usec: 0,
+        }));
+    }
+
+    /// The vehicle's home, once known.
+    pub fn home(&self) -> Option<Home> {
+        self.home
     }
 
     /// A FROM-TO-NEXT of the downlink (#4001): MISSION_CURRENT, the item of the TO waypoint,
@@ -995,6 +1237,8 @@ impl Bridge {
                     self.timers
                         .set(BridgeTimer::Heartbeat, now + self.config.heartbeat);
                     self.heartbeat();
+                    self.extended_sys_state();
+                    self.sys_status();
                     self.mission_current();
                 }
                 BridgeTimer::Item => {
@@ -1062,10 +1306,53 @@ impl Bridge {
             },
             mavlink_version: 3,
         }));
+    }
+
+    /// EXTENDED_SYS_STATE: the landed state; the VTOL state is not reported by the FCC.
+    fn extended_sys_state(&mut self) {
         self.send(MavMessage::EXTENDED_SYS_STATE(EXTENDED_SYS_STATE_DATA {
             vtol_state: MavVtolState::MAV_VTOL_STATE_UNDEFINED,
             landed_state: self.landed_state(),
         }));
+    }
+
+    /// SYS_STATUS, once a second: what the FCC reports of its state is its mission and
+    /// position, not its sensors or power, so no sensor is claimed present and the battery is
+    /// MAVLink's "unknown" (voltage UINT16_MAX, current and remaining -1); the load is not
+    /// reported (0). The communication counters are the data links' as the ground receives
+    /// them: `errors_comm` the messages rejected (ICD §2 frame rules, §9 signatures), and
+    /// `drop_rate_comm` their share of all received, in 0.01 %.
+    fn sys_status(&mut self) {
+        let (all, rejected) = self.link_counts;
+        let drop = if all == 0 {
+            0
+        } else {
+            u16::try_from(rejected.saturating_mul(10_000) / all).unwrap_or(10_000)
+        };
+        self.send(MavMessage::SYS_STATUS(SYS_STATUS_DATA {
+            onboard_control_sensors_present: MavSysStatusSensor::empty(),
+            onboard_control_sensors_enabled: MavSysStatusSensor::empty(),
+            onboard_control_sensors_health: MavSysStatusSensor::empty(),
+            load: 0,
+            voltage_battery: u16::MAX,
+            current_battery: -1,
+            drop_rate_comm: drop,
+            errors_comm: u16::try_from(rejected).unwrap_or(u16::MAX),
+            errors_count1: 0,
+            errors_count2: 0,
+            errors_count3: 0,
+            errors_count4: 0,
+            battery_remaining: -1,
+            onboard_control_sensors_present_extended: MavSysStatusSensorExtended::empty(),
+            onboard_control_sensors_enabled_extended: MavSysStatusSensorExtended::empty(),
+            onboard_control_sensors_health_extended: MavSysStatusSensorExtended::empty(),
+        }));
+    }
+
+    /// The data links' messages as the ground received them so far: all, and those rejected
+    /// (for SYS_STATUS).
+    pub fn set_link_counts(&mut self, all: u64, rejected: u64) {
+        self.link_counts = (all, rejected);
     }
 
     /// What the bridge knows of the ground: in the air while the mission it started flies; on

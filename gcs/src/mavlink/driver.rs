@@ -7,15 +7,19 @@
 //! execute, a [`BridgeEvent::Clear`] the FCC's clear of the mission or the areas; each outcome
 //! is reported back to the bridge.
 
+use std::fs::File;
+use std::io::{BufWriter, Write as _};
 use std::net::{SocketAddr, UdpSocket};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use missionlink_services::ground_station::{GcsEvent, SafetyGateway, Sequence};
 
 use super::bridge::{Bridge, BridgeEvent};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 
+use super::memory::Memory;
 use super::plan::{List, from_plan};
 use crate::gcs_link::{Finished, GcsLink};
 use crate::qgc::ExportOptions;
@@ -30,6 +34,8 @@ pub struct MavlinkSocket {
     to: SocketAddr,
     /// The client that spoke last.
     peer: Option<SocketAddr>,
+    /// The session's capture, if asked for.
+    tlog: Option<BufWriter<File>>,
 }
 
 impl MavlinkSocket {
@@ -40,7 +46,17 @@ impl MavlinkSocket {
             socket,
             to,
             peer: None,
+            tlog: None,
         })
+    }
+
+    /// The same socket capturing every MAVLink message it sends and receives into `path`, a
+    /// telemetry log as QGroundControl and MAVProxy write them (`.tlog`: each message after its
+    /// time, microseconds since 1970 as 8 bytes big-endian), which they, pymavlink and
+    /// Wireshark's MAVLink dissector read.
+    pub fn with_tlog(mut self, path: &Path) -> std::io::Result<Self> {
+        self.tlog = Some(BufWriter::new(File::create(path)?));
+        Ok(self)
     }
 
     /// The bound address.
@@ -48,7 +64,8 @@ impl MavlinkSocket {
         self.socket.local_addr()
     }
 
-    fn send(&self, datagram: &[u8]) {
+    fn send(&mut self, datagram: &[u8]) {
+        self.capture(datagram);
         let mut targets = [Some(self.to), self.peer.filter(|p| *p != self.to)];
         for target in targets.iter_mut().flatten() {
             if let Err(e) = self.socket.send_to(datagram, *target) {
@@ -56,11 +73,93 @@ impl MavlinkSocket {
             }
         }
     }
+
+    /// Each message of `datagram` into the capture, if one is kept. A write that fails ends
+    /// the capture, said once.
+    fn capture(&mut self, datagram: &[u8]) {
+        let Some(tlog) = &mut self.tlog else {
+            return;
+        };
+        let micros = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| u64::try_from(d.as_micros()).unwrap_or(u64::MAX));
+        let mut written = Ok(());
+        for message in messages(datagram) {
+            written = written
+                .and_then(|()| tlog.write_all(&micros.to_be_bytes()))
+                .and_then(|()| tlog.write_all(message));
+        }
+        if let Err(e) = written.and_then(|()| tlog.flush()) {
+            tracing::warn!(%e, "the MAVLink capture ends: it cannot be written");
+            self.tlog = None;
+        }
+    }
+}
+
+/// The MAVLink messages of a datagram, by their framing (MAVLink 1: 0xFE, length, 6 header
+/// bytes with the start, 2 of checksum; MAVLink 2: 0xFD, length, 10 header bytes, 2 of
+/// checksum, 13 of signature when its incompatibility flag 1 says so). Bytes that are not a
+/// whole message end the list.
+fn messages(datagram: &[u8]) -> impl Iterator<Item = &[u8]> {
+    let mut rest = datagram;
+    core::iter::from_fn(move || {
+        let (&magic, tail) = rest.split_first()?;
+        let &payload = tail.first()?;
+        let payload = usize::from(payload);
+        let len = match magic {
+            0xFE => 6 + payload + 2,
+            0xFD => 10 + payload + 2 + if tail.get(1)? & 1 != 0 { 13 } else { 0 },
+            _ => return None,
+        };
+        let message = rest.get(..len)?;
+        rest = rest.get(len..).unwrap_or_default();
+        Some(message)
+    })
+}
+
+/// What a previous run remembered in `path` ([`Memory`]), if it is there and reads; a file
+/// that does not read is said once and left for the next memory to replace.
+fn recall(path: &Path) -> Option<Memory> {
+    let text = std::fs::read_to_string(path).ok()?;
+    match Memory::from_text(&text) {
+        Ok(memory) => Some(memory),
+        Err(e) => {
+            tracing::warn!(
+                path = %path.display(),
+                %e,
+                "the MAVLink memory is not read: downloads give the lists as the FCC holds them"
+            );
+            None
+        }
+    }
+}
+
+/// Writes `memory` to `path` whole: a temporary file beside it, renamed over it, so a crash
+/// leaves the old memory or the new one.
+fn remember(path: &Path, memory: &Memory) {
+    let temporary = path.with_extension("tmp");
+    let written = std::fs::write(&temporary, memory.to_text())
+        .and_then(|()| std::fs::rename(&temporary, path));
+    if let Err(e) = written {
+        tracing::warn!(path = %path.display(), %e, "the MAVLink memory is not written");
+    }
 }
 
 /// The lists the FCC holds, as MAVLink items, for the bridge to answer downloads with; none
-/// when the FCC holds none (or does not answer).
-pub fn read_lists<G: SafetyGateway>(link: &mut GcsLink<G>, bridge: &mut Bridge) {
+/// when the FCC holds none (or does not answer). Then what a previous run remembered in
+/// `memory`, if given ([`Bridge::recall`]).
+pub fn read_lists<G: SafetyGateway>(
+    link: &mut GcsLink<G>,
+    bridge: &mut Bridge,
+    memory: Option<&Path>,
+) {
+    read_fcc_lists(link, bridge);
+    if let Some(m) = memory.and_then(recall) {
+        bridge.recall(m);
+    }
+}
+
+fn read_fcc_lists<G: SafetyGateway>(link: &mut GcsLink<G>, bridge: &mut Bridge) {
     let now = link.now();
     if link.station().download(now).is_err() {
         return;
@@ -114,11 +213,13 @@ fn execute<G: SafetyGateway>(link: &mut GcsLink<G>) -> Result<(), String> {
     link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
 }
 
-/// Runs the bridge until `stop` is set.
+/// Runs the bridge until `stop` is set, keeping what it must remember across a restart in
+/// `memory`, if given.
 pub fn run<G: SafetyGateway>(
     link: &mut GcsLink<G>,
     bridge: &mut Bridge,
     socket: &mut MavlinkSocket,
+    memory: Option<&Path>,
     stop: &AtomicBool,
 ) -> std::io::Result<()> {
     bridge.start(link.now());
@@ -150,6 +251,16 @@ pub fn run<G: SafetyGateway>(
                 }
             }
         }
+        if let (Some(path), Some(m)) = (memory, bridge.memory()) {
+            remember(path, &m);
+        }
+        let stats = link.voter().stats();
+        let rejected = stats.rejected_frames.total()
+            + stats.rejected_signatures.total()
+            + stats.unreadable_messages;
+        let [direct, lte] = stats.forwarded;
+        let all = direct + lte + stats.duplicates + stats.stale + stats.overflow + rejected;
+        bridge.set_link_counts(all, rejected);
         while let Some(len) = bridge.poll_transmit(&mut buf) {
             if let Some(datagram) = buf.get(..len) {
                 socket.send(datagram);
@@ -184,6 +295,7 @@ pub fn run<G: SafetyGateway>(
             Ok((len, from)) => {
                 socket.peer = Some(from);
                 if let Some(d) = datagram.get(..len) {
+                    socket.capture(d);
                     bridge.handle_datagram(link.now(), d);
                 }
             }

@@ -6,6 +6,8 @@
 //!   atomic upload to the FCC.
 //! - [`driver`]: the UDP socket and the GCS link; it only moves bytes and carries out the
 //!   bridge's commits and executes.
+//! - [`memory`]: what the bridge remembers across its restarts (the items the client
+//!   uploaded, the home), so a download returns what was uploaded.
 //! - [`plan`]: MAVLink mission and fence items to the GCS's plan through the one `.plan`
 //!   importer ([`crate::qgc`]), so a client's mission is taken or refused, with the index of the
 //!   item, by the same rules as a `.plan` file; and the FCC's lists back to items.
@@ -16,4 +18,5 @@
 
 pub mod bridge;
 pub mod driver;
+pub mod memory;
 pub mod plan;

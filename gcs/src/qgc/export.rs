@@ -138,7 +138,13 @@ pub fn export_plan(plan: &ValidatedPlan, options: &ExportOptions) -> (String, Ve
                 "fly-over: QGC has no fly-over turn without a hold time: written as fly-by",
             ));
         }
-        let alt = metres(w.altitude);
+        // Frame 0 is above mean sea level: a WGS-84 height less the geoid's undulation there.
+        let alt = match w.altitude_type {
+            Some(AltitudeType::Wgs84) => {
+                amsl_metres(w.altitude, w.latitude.degrees(), w.longitude.degrees())
+            }
+            _ => metres(w.altitude),
+        };
         items.push(json!({
             "AMSLAltAboveTerrain": null,
             "Altitude": alt,

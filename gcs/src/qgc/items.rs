@@ -132,6 +132,7 @@ pub(super) fn import_items(
                         .at(4)?
                         .error("a waypoint needs latitude and longitude"));
                 };
+                let value = wgs84_of_global(value, kind, position);
                 let hold = params.at(0)?.opt_number()?.unwrap_or(0.0);
                 let turn_type = if hold > 0.0 {
                     dropped.push(note(
@@ -171,6 +172,7 @@ pub(super) fn import_items(
                         else {
                             continue;
                         };
+                        let value = wgs84_of_global(value, kind, position);
                         (altitude(&params.at(6)?.path, value)?, kind)
                     }
                 };
@@ -346,8 +348,23 @@ impl<'a> Params<'a> {
     }
 }
 
+/// A waypoint's altitude of a global frame, above mean sea level, as the WGS-84 height the
+/// FCC flies at its position ([`crate::geoid`]); other altitudes as they are.
+fn wgs84_of_global(value: f64, kind: AltitudeType, position: GeoPoint) -> f64 {
+    match kind {
+        AltitudeType::Wgs84 => crate::geoid::wgs84_from_amsl(
+            value,
+            position.latitude.degrees(),
+            position.longitude.degrees(),
+        ),
+        _ => value,
+    }
+}
+
 /// The altitude of a take-off, waypoint or land and its type by the item's frame; `None` (and
-/// the item in `dropped`) for a frame that is not supported.
+/// the item in `dropped`) for a frame that is not supported. A global frame's altitude is above
+/// mean sea level, typed [`AltitudeType::Wgs84`]: a waypoint's becomes its WGS-84 height by
+/// [`wgs84_of_global`]; a take-off's is compared with the home's, also above mean sea level.
 pub(super) fn item_altitude(
     item: &At<'_>,
     params: &Params<'_>,

@@ -54,8 +54,9 @@
 //! - **Altitude frames** of waypoints and take-off: 3 `GLOBAL_RELATIVE_ALT` and 6 (its `_INT`)
 //!   are heights above home, written as AGL (#13002 altitude type 2: exact at home, the
 //!   terrain elsewhere is not known to the file); 10 `GLOBAL_TERRAIN_ALT` and 11 are above
-//!   terrain, AGL; 0 `GLOBAL` and 5 are AMSL, written as WGS-84 (type 3; the geoid separation is
-//!   not applied). QGC's "calculated above terrain" mode (`AltitudeMode` 3) saves frame 0 with a
+//!   terrain, AGL; 0 `GLOBAL` and 5 are AMSL: a waypoint's altitude becomes its WGS-84 height
+//!   (type 3) at its position by the geoid ([`crate::geoid`], EGM96), so the FCC flies at the
+//!   height above mean sea level the operator planned. QGC's "calculated above terrain" mode (`AltitudeMode` 3) saves frame 0 with a
 //!   null altitude when it had no terrain data: the item's `Altitude` (above terrain) is then
 //!   taken as AGL. Any other frame is not supported (the item, path `.frame`).
 //! - **Everything else** is not supported: other commands (loiters 17, 18, 19, 31,
@@ -90,7 +91,7 @@
 //! ([`ExportOptions::take_off_position`], else the home position) with the take-off height
 //! (frame 3), a `DO_CHANGE_SPEED` wherever the speed or its type changes (the first waypoint's
 //! speed is also `cruiseSpeed` and `hoverSpeed`), every waypoint in flight-plan order (AGL in
-//! frame 3, WGS-84 in frame 0), a land at the last waypoint, the planned home (given, else the
+//! frame 3, WGS-84 in frame 0 as its height above mean sea level by the geoid), a land at the last waypoint, the planned home (given, else the
 //! take-off position, else the first waypoint, at 0 m AMSL), the geofence (the
 //! fly-zone an inclusion polygon, no-fly polygons exclusion polygons, no-fly circles exclusion
 //! circles whose radius is the geodesic distance centre -> border point, to the millimetre)
@@ -116,8 +117,8 @@ use serde_json::{Value, json};
 
 use crate::mission_file::MissionFileError;
 use crate::values::{
-    altitude, border_due_north, degrees, field_error, latitude, longitude, metres, point, radius,
-    radius_mm,
+    altitude, amsl_metres, border_due_north, degrees, field_error, latitude, longitude, metres,
+    point, radius, radius_mm,
 };
 
 pub use crate::import::{Dropped, Unsupported};

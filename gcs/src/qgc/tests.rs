@@ -85,6 +85,12 @@ fn assert_rows(m: &Mission, expected: &[Row]) {
     }
 }
 
+/// The WGS-84 height of an altitude above mean sea level (the geoid is 47.16 m above the
+/// ellipsoid at QGC's default home in Zurich).
+fn amsl(metres: f64, lat: f64, lon: f64) -> f64 {
+    crate::geoid::wgs84_from_amsl(metres, lat, lon)
+}
+
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() < 0.011
 }
@@ -131,7 +137,15 @@ fn ardu_plane_is_refused_for_its_loiters_or_imported_without_them() {
     let ground = Some(SpeedType::GroundSpeed);
     let expected: Vec<Row> = vec![
         (pos(47.4104747, 8.565406), 120.0, Agl, 15.0, None, FlyBy),
-        (pos(47.397, 8.585312), 688.06, Wgs84, 15.0, None, FlyBy),
+        // Frame 0, 688.06 m above mean sea level: its WGS-84 height there.
+        (
+            pos(47.397, 8.585312),
+            amsl(688.06, 47.397, 8.585312),
+            Wgs84,
+            15.0,
+            None,
+            FlyBy,
+        ),
         // Frame 10, above terrain.
         (pos(47.3700507, 8.5455), 100.0, Agl, 15.0, None, FlyBy),
         // After DO_CHANGE_SPEED (items[6]): 18 m/s ground speed.
@@ -177,7 +191,14 @@ fn multi_rotor_imports_with_hover_speed_and_terrain_altitudes() {
     let expected: Vec<Row> = vec![
         // Multi-rotor (vehicleType 2): hoverSpeed 5 m/s until the speed change.
         (pos(47.4104747, 8.565406), 60.0, Agl, 5.0, None, FlyBy),
-        (pos(47.397, 8.585312), 638.06, Wgs84, 10.0, ground, FlyBy),
+        (
+            pos(47.397, 8.585312),
+            amsl(638.06, 47.397, 8.585312),
+            Wgs84,
+            10.0,
+            ground,
+            FlyBy,
+        ),
         // AltitudeMode 3 without terrain data: Altitude above terrain.
         (pos(47.3700507, 8.585312), 80.0, Agl, 10.0, ground, FlyBy),
         (pos(47.3700507, 8.505688), 40.0, Agl, 10.0, ground, FlyBy),

@@ -224,8 +224,16 @@ pub(crate) enum Command {
         /// the areas held, milliseconds.
         #[arg(long, default_value_t = 3000, value_name = "MS")]
         fence_wait_ms: u64,
+        /// Capture every MAVLink message sent and received into FILE, a telemetry log
+        /// (`.tlog`) that QGroundControl, MAVProxy and pymavlink replay.
+        #[arg(long, value_name = "FILE")]
+        tlog: Option<std::path::PathBuf>,
         #[command(flatten)]
         safety: SafetyArgs,
+        /// The items the client uploaded and the vehicle's home are kept in
+        /// DIR/mavlink-memory, so a download after a restart returns what was uploaded.
+        #[command(flatten)]
+        state: StateArgs,
     },
     /// Decode captured frames: every message with every field in readable units.
     ///

@@ -953,7 +953,9 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             bind,
             cruise_speed,
             fence_wait_ms,
+            tlog,
             safety,
+            state,
         } => {
             use missionlink_gcs::mavlink::bridge::{Bridge, BridgeConfig};
             use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
@@ -962,6 +964,15 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             let mut link = open(config, gateway)?;
             let mut socket = MavlinkSocket::bind(bind, to)
                 .map_err(|e| format!("cannot bind the MAVLink socket {bind}: {e}"))?;
+            if let Some(path) = &tlog {
+                socket = socket
+                    .with_tlog(path)
+                    .map_err(|e| format!("cannot write the capture {}: {e}", path.display()))?;
+            }
+            let memory = state_base(state.state_dir.clone()).and_then(|dir| {
+                std::fs::create_dir_all(&dir).ok()?;
+                Some(dir.join("mavlink-memory"))
+            });
             let local = socket.local_addr().map_err(|e| e.to_string())?;
             let mut bridge = Bridge::new(BridgeConfig {
                 heartbeat: Duration::from_secs(1),
@@ -974,14 +985,21 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                     import: qgc::ImportOptions::default(),
                 },
             });
-            driver::read_lists(&mut link, &mut bridge);
+            driver::read_lists(&mut link, &mut bridge, memory.as_deref());
             println!("MAVLink vehicle on {local}, sending to {to}");
             let _ = io::stdout().flush();
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
             for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
                 let _ = signal_hook::flag::register(signal, std::sync::Arc::clone(&stop));
             }
-            driver::run(&mut link, &mut bridge, &mut socket, &stop).map_err(|e| e.to_string())?;
+            driver::run(
+                &mut link,
+                &mut bridge,
+                &mut socket,
+                memory.as_deref(),
+                &stop,
+            )
+            .map_err(|e| e.to_string())?;
             Ok(())
         }
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),

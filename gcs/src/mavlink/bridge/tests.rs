@@ -6,6 +6,7 @@ use mavlink::dialects::common::{
 
 use super::*;
 use crate::qgc::ImportOptions;
+use mavlink::Message as _;
 
 fn at(ms: u64) -> Instant {
     Instant::from_millis(ms)
@@ -424,13 +425,60 @@ fn a_missing_item_is_asked_again_then_abandoned() {
     );
 }
 
+/// Standing at `lat`, `lon`, `alt` m WGS-84 (the aircraft before take-off).
+fn standing(lat: f64, lon: f64, alt: f64) -> InertialStates {
+    let p = missionlink_interfaces::wire::GeoPoint::from_degrees(lat, lon).unwrap();
+    InertialStates {
+        latitude: Some(p.latitude),
+        longitude: Some(p.longitude),
+        altitude: Some(missionlink_interfaces::wire::Altitude::from_metres(alt).unwrap()),
+        altitude_type: Some(AltitudeType::Wgs84),
+        u_speed: Some(missionlink_interfaces::wire::Velocity::from_raw(0)),
+        v_speed: Some(missionlink_interfaces::wire::Velocity::from_raw(0)),
+        ..InertialStates::default()
+    }
+}
+
+/// Flying: the monitor's example (120 m WGS-84, 25 m/s towards north-east), banked 20 deg
+/// right, pitched 2 deg up, heading 40 deg, climbing 1.5 m/s.
+fn flying() -> InertialStates {
+    let i2 = |deg: f64| Some((deg.to_radians() * 32768.0 / core::f64::consts::PI).round() as i16);
+    InertialStates {
+        w_speed: Some(missionlink_interfaces::wire::Velocity::from_mps(-1.5).unwrap()),
+        phi: i2(20.0),
+        theta: i2(2.0),
+        psi: i2(40.0),
+        ..crate::monitor::tests::states()
+    }
+}
+
 #[test]
 fn mission_start_executes_and_positions_become_global_position_int() {
     let mut b = Bridge::new(config());
     b.start(at(0));
+    // Standing before the mission: the home, sent once, above mean sea level by the geoid.
+    b.handle_position(at(100), &standing(48.26, 11.66, 500.0));
+    let n = crate::geoid::undulation_m(48.26, 11.66);
+    let out = sent(&mut b);
+    let Some(MavMessage::HOME_POSITION(h)) = out
+        .iter()
+        .find(|m| matches!(m, MavMessage::HOME_POSITION(_)))
+    else {
+        panic!("no HOME_POSITION: {out:?}")
+    };
+    assert_eq!((h.latitude, h.longitude), (482_600_000, 116_600_000));
+    assert_eq!(h.altitude, ((500.0 - n) * 1000.0).round() as i32);
+    b.handle_position(at(600), &standing(48.26, 11.66, 500.0));
+    assert!(
+        !sent(&mut b)
+            .iter()
+            .any(|m| matches!(m, MavMessage::HOME_POSITION(_))),
+        "the home did not move: not sent again"
+    );
+
     from_client(
         &mut b,
-        at(0),
+        at(700),
         command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
     );
     assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
@@ -438,15 +486,163 @@ fn mission_start_executes_and_positions_become_global_position_int() {
     assert!(sent(&mut b).iter().any(
         |m| matches!(m, MavMessage::COMMAND_ACK(a) if a.result == MavResult::MAV_RESULT_ACCEPTED)
     ));
-    b.handle_position(at(500), &crate::monitor::tests::states());
-    let [MavMessage::GLOBAL_POSITION_INT(g)] = &sent(&mut b)[..] else {
-        panic!("no GLOBAL_POSITION_INT")
+    // Flying: the home stays where the mission started.
+    b.handle_position(at(1_000), &flying());
+    let out = sent(&mut b);
+    let [
+        MavMessage::GLOBAL_POSITION_INT(g),
+        MavMessage::ATTITUDE(a),
+        MavMessage::VFR_HUD(v),
+    ] = &out[..]
+    else {
+        panic!("GLOBAL_POSITION_INT, ATTITUDE and VFR_HUD: {out:?}")
+    };
+    let n_here = crate::geoid::undulation_m(48.2725, 11.6425);
+    assert_eq!(
+        (g.lat, g.lon, g.vx, g.vy, g.vz, g.hdg),
+        (482_725_000, 116_425_000, 1770, 1770, -150, 4000)
+    );
+    assert_eq!(
+        g.alt,
+        ((120.0 - n_here) * 1000.0).round() as i32,
+        "above mean sea level"
+    );
+    assert_eq!(g.relative_alt, -380_000, "above the home, 500 m");
+    assert_eq!(g.time_boot_ms, 1_000);
+    assert!((a.roll.to_degrees() - 20.0).abs() < 0.01, "{a:?}");
+    assert!((a.pitch.to_degrees() - 2.0).abs() < 0.01, "{a:?}");
+    assert!((a.yaw.to_degrees() - 40.0).abs() < 0.01, "{a:?}");
+    assert!(a.rollspeed.is_nan(), "#101 carries no rates: unknown");
+    assert!(v.airspeed.is_nan(), "#101 carries no airspeed: unknown");
+    assert_eq!((v.heading, v.throttle), (40, u16::MAX));
+    assert!(
+        (v.groundspeed - 25.03).abs() < 0.01 && (v.climb - 1.5).abs() < 0.01,
+        "{v:?}"
+    );
+    assert!((f64::from(v.alt) - (120.0 - n_here)).abs() < 0.01);
+    // The home is the one the mission started from, asked for in both ways.
+    for (command, id) in [
+        (MavCmd::MAV_CMD_REQUEST_MESSAGE, 242.0),
+        (MavCmd::MAV_CMD_GET_HOME_POSITION, 0.0),
+    ] {
+        from_client(&mut b, at(1_100), command_long(command, id));
+        let out = sent(&mut b);
+        assert!(
+            matches!(&out[..], [MavMessage::COMMAND_ACK(a), MavMessage::HOME_POSITION(h)]
+                if a.result == MavResult::MAV_RESULT_ACCEPTED && h.latitude == 482_600_000),
+            "{out:?}"
+        );
+    }
+}
+
+#[test]
+fn home_position_is_asked_again_until_a_position_tells_it() {
+    let mut b = Bridge::new(config());
+    from_client(
+        &mut b,
+        at(0),
+        command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 242.0),
+    );
+    let out = sent(&mut b);
+    assert!(
+        matches!(&out[..], [MavMessage::COMMAND_ACK(a)]
+            if a.result == MavResult::MAV_RESULT_TEMPORARILY_REJECTED),
+        "{out:?}"
+    );
+    // A message the vehicle does not send is unsupported; the ones it sends are sent.
+    from_client(
+        &mut b,
+        at(0),
+        command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 33.0),
+    );
+    assert!(matches!(&sent(&mut b)[..], [MavMessage::COMMAND_ACK(a)]
+        if a.result == MavResult::MAV_RESULT_UNSUPPORTED));
+    from_client(
+        &mut b,
+        at(0),
+        command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 1.0),
+    );
+    assert!(
+        matches!(&sent(&mut b)[..], [MavMessage::COMMAND_ACK(_), MavMessage::SYS_STATUS(s)]
+        if s.voltage_battery == u16::MAX && s.battery_remaining == -1)
+    );
+}
+
+#[test]
+fn the_second_heartbeat_has_sys_status_with_the_links_counts() {
+    let mut b = Bridge::new(config());
+    b.start(at(0));
+    b.set_link_counts(1000, 25);
+    b.handle_timeout(at(0));
+    let out = sent(&mut b);
+    let kinds: Vec<&str> = out.iter().map(|m| m.message_name()).collect();
+    assert_eq!(
+        kinds,
+        [
+            "HEARTBEAT",
+            "EXTENDED_SYS_STATE",
+            "SYS_STATUS",
+            "MISSION_CURRENT"
+        ]
+    );
+    let Some(MavMessage::SYS_STATUS(s)) = out.get(2) else {
+        panic!("{out:?}")
     };
     assert_eq!(
-        (g.lat, g.lon, g.alt, g.vx, g.vy, g.hdg),
-        (482_725_000, 116_425_000, 120_000, 1770, 1770, 4500)
+        (s.errors_comm, s.drop_rate_comm),
+        (25, 250),
+        "2.5 % in 0.01 %"
     );
-    assert_eq!(g.time_boot_ms, 500);
+}
+
+/// The lists as the client uploaded them and the home, remembered across a restart; items of
+/// lists the FCC no longer holds are not taken.
+#[test]
+fn a_restarted_bridge_downloads_what_was_uploaded() {
+    let mut b = Bridge::new(config());
+    b.start(at(0));
+    b.handle_position(at(0), &standing(48.26, 11.66, 0.0));
+    upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
+    upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
+    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    b.set_ids(0x1234, 0x5678);
+    b.committed(Ok(()));
+    let memory = b.memory().expect("the commit is remembered");
+    assert!(b.memory().is_none(), "once");
+    let memory = super::super::memory::Memory::from_text(&memory.to_text()).unwrap();
+
+    // The FCC's lists read back (a take-off becomes a waypoint, a land is added): not what
+    // the client sent, until the memory is recalled under the same checksums.
+    let exported = vec![
+        Item {
+            command: 16,
+            frame: 3,
+            params: [0.0; 4],
+            x: 482_600_000,
+            y: 116_600_000,
+            z: 30.0
+        };
+        4
+    ];
+    let mut restarted = Bridge::new(config());
+    restarted.set_lists(exported.clone(), Vec::new());
+    restarted.set_ids(0x1234, 0x5678);
+    restarted.recall(memory.clone());
+    assert_eq!(restarted.lists().0.len(), 3);
+    assert_eq!(
+        restarted.lists().0[0].command,
+        22,
+        "the take-off as uploaded"
+    );
+    assert_eq!(restarted.lists().1.len(), fence().len());
+    assert_eq!(restarted.home(), b.home());
+
+    // Another ground station uploaded since: the FCC's lists stand.
+    let mut other = Bridge::new(config());
+    other.set_lists(exported.clone(), Vec::new());
+    other.set_ids(0x9999, 0x5678);
+    other.recall(memory);
+    assert_eq!(other.lists().0, &exported[..]);
 }
 
 #[test]
@@ -458,8 +654,8 @@ fn autopilot_version_names_mission_int_and_fence() {
         command_long(MavCmd::MAV_CMD_REQUEST_MESSAGE, 148.0),
     );
     let out = sent(&mut b);
-    let Some(MavMessage::AUTOPILOT_VERSION(v)) = out.first() else {
-        panic!("{out:?}")
+    let [MavMessage::COMMAND_ACK(_), MavMessage::AUTOPILOT_VERSION(v)] = &out[..] else {
+        panic!("the acknowledgement, then the message: {out:?}")
     };
     assert!(v.capabilities.contains(
         MavProtocolCapability::MAV_PROTOCOL_CAPABILITY_MISSION_INT

@@ -1,0 +1,78 @@
+//! The geoid: where mean sea level lies against the WGS-84 ellipsoid, the one vertical datum the
+//! ground side converts with. The ICD's altitudes are WGS-84 heights (ICD §3, altitude type 3);
+//! MAVLink's AMSL altitudes (GLOBAL_POSITION_INT `alt`, HOME_POSITION) and QGroundControl's
+//! global frames (0, 5) are heights above mean sea level. Between the two lies the geoid
+//! undulation N, 45.5 m at the demo's airfield: an AMSL altitude taken as WGS-84 would put
+//! the aircraft 45 m lower than the operator planned.
+//!
+//! The model is EGM96 (the `egm96` crate: NGA's spherical harmonics to degree 360), which GNSS
+//! receivers and autopilots report MSL altitudes against. An evaluation costs about a millisecond,
+//! so the last value is kept per cell of 1/120 degree (at most 930 m across): the undulation's
+//! gradient, at most a few centimetres per kilometre outside the steepest mountain ranges, moves
+//! it by less than the wire's altitude step within a cell.
+
+use std::cell::Cell;
+
+/// Cells per degree of the memo.
+const CELLS_PER_DEGREE: f64 = 120.0;
+
+thread_local! {
+    /// The last cell evaluated and its undulation.
+    static LAST: Cell<Option<((i64, i64), f64)>> = const { Cell::new(None) };
+}
+
+/// The geoid undulation N at a position, metres: the height of mean sea level above the WGS-84
+/// ellipsoid (positive where the geoid lies above it).
+pub fn undulation_m(latitude_deg: f64, longitude_deg: f64) -> f64 {
+    let cell = (
+        (latitude_deg * CELLS_PER_DEGREE).round() as i64,
+        (longitude_deg * CELLS_PER_DEGREE).round() as i64,
+    );
+    if let Some((last, n)) = LAST.get()
+        && last == cell
+    {
+        return n;
+    }
+    let n = egm96::egm96_compute_altitude_offset(
+        cell.0 as f64 / CELLS_PER_DEGREE,
+        cell.1 as f64 / CELLS_PER_DEGREE,
+    );
+    LAST.set(Some((cell, n)));
+    n
+}
+
+/// The height above mean sea level of a WGS-84 height at a position.
+pub fn amsl_from_wgs84(wgs84_m: f64, latitude_deg: f64, longitude_deg: f64) -> f64 {
+    wgs84_m - undulation_m(latitude_deg, longitude_deg)
+}
+
+/// The WGS-84 height of a height above mean sea level at a position.
+pub fn wgs84_from_amsl(amsl_m: f64, latitude_deg: f64, longitude_deg: f64) -> f64 {
+    amsl_m + undulation_m(latitude_deg, longitude_deg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Published EGM96 undulations: 45.48 m near Munich (the PyPI `egm96` package's example,
+    /// from GeographicLib's 5' grid) and 17.16 m at (0, 0) (NGA's EGM96 calculator).
+    #[test]
+    fn undulation_where_it_is_known() {
+        for (lat, lon, n) in [(48.14, 11.58, 45.48), (0.0, 0.0, 17.16)] {
+            let got = undulation_m(lat, lon);
+            assert!(
+                (got - n).abs() < 0.05,
+                "N at ({lat}, {lon}): {got} m, expected {n} m"
+            );
+        }
+    }
+
+    #[test]
+    fn amsl_and_wgs84_are_inverse() {
+        let h = 567.25;
+        let amsl = amsl_from_wgs84(h, 48.26, 11.66);
+        assert!((amsl - (h - undulation_m(48.26, 11.66))).abs() < 1e-9);
+        assert!((wgs84_from_amsl(amsl, 48.26, 11.66) - h).abs() < 1e-9);
+    }
+}
