@@ -229,6 +229,18 @@ fn mavsdk_uploads_with_mission_raw_starts_and_sees_progress_and_positions() {
     );
 }
 
+/// MAVSDK's plugins as a script writer uses them: Telemetry, Geofence, Mission (a refusal
+/// with its reason in `status_text`, an upload downloaded equal, progress to
+/// `is_mission_finished`), Action, and the clears.
+#[test]
+fn mavsdk_plugins_upload_fly_and_clear() {
+    let out = run_client("mavlink-mavsdk-plugins", "mavsdk_plugins.py");
+    assert!(out.contains("stopping at waypoints refused"), "{out}");
+    assert!(out.contains("downloaded: equal to the upload"), "{out}");
+    assert!(out.contains("mission finished"), "{out}");
+    assert!(out.contains("the FCC holds no mission"), "{out}");
+}
+
 /// MAVProxy, unmodified, with its own system and component IDs: it takes mission requests
 /// only when addressed to itself, so its upload proves the bridge answers whoever asked.
 #[test]

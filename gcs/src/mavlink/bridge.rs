@@ -1105,8 +1105,8 @@ impl Bridge {
         }
     }
 
-    /// The home moved to `home`: kept (and remembered), and HOME_POSITION sent when it moved by
-    /// a metre or more from the home last sent.
+    /// The home moved to `home`: kept (and remembered), and HOME_POSITION sent at once when it
+    /// moved by a metre or more from the home last sent (and with every heartbeat).
     fn set_home(&mut self, home: Home) {
         // The plan's home: the take-off position of a mission whose take-off item gives none,
         // and the reference of AMSL take-off altitudes, so only one whose sea level is known.
@@ -1240,6 +1240,9 @@ impl Bridge {
                     self.extended_sys_state();
                     self.sys_status();
                     self.mission_current();
+                    // As PX4 streams it: a client that subscribes late hears it within a
+                    // second, and one that asked too early needs not ask again.
+                    self.home_position();
                 }
                 BridgeTimer::Item => {
                     let again = self.upload.as_mut().map(|u| {
@@ -1317,22 +1320,31 @@ impl Bridge {
     }
 
     /// SYS_STATUS, once a second: what the FCC reports of its state is its mission and
-    /// position, not its sensors or power, so no sensor is claimed present and the battery is
+    /// position, not its sensors or power, so no sensor but the geofence is claimed present and
+    /// the battery is
     /// MAVLink's "unknown" (voltage UINT16_MAX, current and remaining -1); the load is not
     /// reported (0). The communication counters are the data links' as the ground receives
     /// them: `errors_comm` the messages rejected (ICD §2 frame rules, §9 signatures), and
     /// `drop_rate_comm` their share of all received, in 0.01 %.
     fn sys_status(&mut self) {
         let (all, rejected) = self.link_counts;
-        let drop = if all == 0 {
-            0
+        let drop = rejected
+            .saturating_mul(10_000)
+            .checked_div(all)
+            .map_or(0, |d| u16::try_from(d).unwrap_or(10_000));
+        // The geofence: present and enabled while the FCC holds areas; healthy because the
+        // route flown passed the FCC's onboard check against them (ICD §7) and guidance flies
+        // no other (a breach of the position is not on the downlink). MAVProxy announces a
+        // "fence breach" for a health bit that is clear.
+        let fence = if self.ids.1 != 0 {
+            MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE
         } else {
-            u16::try_from(rejected.saturating_mul(10_000) / all).unwrap_or(10_000)
+            MavSysStatusSensor::empty()
         };
         self.send(MavMessage::SYS_STATUS(SYS_STATUS_DATA {
-            onboard_control_sensors_present: MavSysStatusSensor::empty(),
-            onboard_control_sensors_enabled: MavSysStatusSensor::empty(),
-            onboard_control_sensors_health: MavSysStatusSensor::empty(),
+            onboard_control_sensors_present: fence,
+            onboard_control_sensors_enabled: fence,
+            onboard_control_sensors_health: MavSysStatusSensor::MAV_SYS_STATUS_GEOFENCE,
             load: 0,
             voltage_battery: u16::MAX,
             current_battery: -1,

@@ -83,6 +83,9 @@ impl fmt::Display for Refusal {
 /// fence polygon and circle onto the index of its first item.
 #[derive(Debug, Clone, Default)]
 struct Layout {
+    /// MAVLink mission items before `mission.items[0]`: 1 when the first item is a QGC WPL
+    /// home row ([`home_row`]).
+    mission_offset: u16,
     polygons: Vec<u16>,
     circles: Vec<u16>,
 }
@@ -96,7 +99,9 @@ impl Layout {
             rest.split(']').next()?.parse().ok()
         };
         if let Some(i) = index("mission.items[") {
-            return u16::try_from(i).ok().map(|i| (List::Mission, i));
+            return u16::try_from(i)
+                .ok()
+                .map(|i| (List::Mission, i.saturating_add(self.mission_offset)));
         }
         if let Some(i) = index("geoFence.polygons[") {
             return self.polygons.get(i).map(|&s| (List::Fence, s));
@@ -170,8 +175,43 @@ pub struct PlanContext {
     pub import: ImportOptions,
 }
 
+/// MAV_CMD_NAV_WAYPOINT.
+const NAV_WAYPOINT: u16 = 16;
+/// MAV_CMD_NAV_TAKEOFF and MAV_CMD_NAV_VTOL_TAKEOFF.
+const NAV_TAKEOFF: [u16; 2] = [22, 84];
+
+/// The home row of a QGC WPL 110 file, as MAVProxy and Mission Planner write and send it: item
+/// 0 a waypoint (ArduPilot's home), the take-off after it. A waypoint before the take-off
+/// cannot be flown (the ICD's take-off comes first, and the `.plan` import refuses one), so
+/// the one case is read as what the file means: the planned home (the take-off position when
+/// the take-off has none, and the reference of AMSL take-off altitudes), not a waypoint. Its
+/// altitude is above mean sea level in a global frame (0, 5); in any other frame it is the
+/// home's own, 0 above itself, which says nothing of sea level: the vehicle's home altitude
+/// stands.
+fn home_row(mission: &[Item], context: &PlanContext) -> Option<Home> {
+    let (first, second) = (mission.first()?, mission.get(1)?);
+    if first.command != NAV_WAYPOINT || !NAV_TAKEOFF.contains(&second.command) {
+        return None;
+    }
+    let altitude_m = match first.frame {
+        0 | 5 => f64::from(first.z),
+        _ => context.home.map_or(0.0, |h| h.altitude_m),
+    };
+    Some(Home {
+        latitude_deg: degrees(first.x),
+        longitude_deg: degrees(first.y),
+        altitude_m,
+    })
+}
+
 /// The `.plan` document of `mission` and `fence` items, and where its elements came from.
 fn plan_document(mission: &[Item], fence: &[Item], context: &PlanContext) -> (String, Layout) {
+    let home_row = home_row(mission, context);
+    let mission = if home_row.is_some() {
+        mission.get(1..).unwrap_or_default()
+    } else {
+        mission
+    };
     let items: Vec<Value> = mission
         .iter()
         .enumerate()
@@ -188,7 +228,10 @@ fn plan_document(mission: &[Item], fence: &[Item], context: &PlanContext) -> (St
             })
         })
         .collect();
-    let mut layout = Layout::default();
+    let mut layout = Layout {
+        mission_offset: u16::from(home_row.is_some()),
+        ..Layout::default()
+    };
     let mut polygons = Vec::new();
     let mut circles = Vec::new();
     let mut i = 0usize;
@@ -233,7 +276,7 @@ fn plan_document(mission: &[Item], fence: &[Item], context: &PlanContext) -> (St
             }
         }
     }
-    let home = context.home.map_or(Value::Null, |h| {
+    let home = home_row.or(context.home).map_or(Value::Null, |h| {
         json!([h.latitude_deg, h.longitude_deg, h.altitude_m])
     });
     let mut mission_json = json!({
@@ -435,6 +478,47 @@ mod tests {
         let refusal = to_plan(&m, &fence(), &context()).unwrap_err();
         assert_eq!(refusal.item, Some((List::Mission, 2)), "{refusal}");
         assert!(refusal.reason.starts_with("mission item 2: "), "{refusal}");
+    }
+
+    /// A QGC WPL file's home row (item 0, a waypoint before the take-off, AMSL in frame 0) is
+    /// the planned home, not a waypoint: an AMSL take-off is measured from it, and a refusal
+    /// still names the item the client sent.
+    #[test]
+    fn a_home_row_is_the_planned_home() {
+        let mut m = mission();
+        m[0] = item(TAKE_OFF, FRAME_GLOBAL, 0.0, 0.0, 530.0);
+        m.insert(0, item(WAYPOINT, FRAME_GLOBAL, 48.26, 11.66, 500.0));
+        let import = to_plan(&m, &fence(), &context()).unwrap();
+        let home = import.home.unwrap();
+        assert_eq!(
+            (home.latitude_deg, home.longitude_deg, home.altitude_m),
+            (48.26, 11.66, 500.0)
+        );
+        let mission = import
+            .plan
+            .mission
+            .assemble(Some(import.plan.mission.len() as u16), None)
+            .unwrap();
+        assert_eq!(mission.waypoints.len(), 2, "the home row is no waypoint");
+        assert_eq!(mission.take_off_height().metres(), 30.0);
+        assert_eq!(
+            import
+                .plan
+                .take_off_position
+                .map(|p| p.to_string())
+                .as_deref(),
+            Some("48.260000 N 11.660000 E")
+        );
+        m.insert(3, item(LOITER_UNLIMITED, RELATIVE, 48.27, 11.65, 120.0));
+        let refusal = to_plan(&m, &fence(), &context()).unwrap_err();
+        assert_eq!(refusal.item, Some((List::Mission, 3)), "{refusal}");
+        // A waypoint first without a take-off after it is a waypoint.
+        let plain = vec![mission_waypoint(), mission_waypoint()];
+        assert!(home_row(&plain, &context()).is_none());
+    }
+
+    fn mission_waypoint() -> Item {
+        item(WAYPOINT, RELATIVE, 48.265, 11.655, 120.0)
     }
 
     #[test]

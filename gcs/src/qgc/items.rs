@@ -138,8 +138,9 @@ pub(super) fn import_items(
                     dropped.push(note(
                         &params.at(0)?.path,
                         format!(
-                            "hold {hold} s is not supported (the ICD has no hold time); dropped, \
-                             the waypoint is fly-over"
+                            "hold {hold} s is not supported: the FCC flies through its \
+                             waypoints and stops at none (the ICD has no hold time; without \
+                             the hold the waypoint is fly-over)"
                         ),
                     ));
                     TurnType::FlyOver

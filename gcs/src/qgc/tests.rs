@@ -432,8 +432,9 @@ fn everything_the_icd_cannot_carry_refuses_the_file_or_is_dropped() {
     let expected = [
         "mission.items[2]: complex item \"survey\" is not supported (only take-off, \
          waypoint, land and speed change)",
-        "mission.items[3].params[0]: hold 5 s is not supported (the ICD has no hold \
-         time); dropped, the waypoint is fly-over",
+        "mission.items[3].params[0]: hold 5 s is not supported: the FCC flies through its \
+         waypoints and stops at none (the ICD has no hold time; without the hold the \
+         waypoint is fly-over)",
         "mission.items[4]: command 20 (NAV_RETURN_TO_LAUNCH) is not supported",
         "mission.items[5].frame: command 16 (NAV_WAYPOINT) in frame 1 (LOCAL_NED) is \
          not supported: only global (0, 5), relative (3, 6) and terrain (10, 11) frames",

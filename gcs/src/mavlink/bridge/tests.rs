@@ -453,6 +453,10 @@ fn flying() -> InertialStates {
 }
 
 #[test]
+#[allow(
+    deprecated,
+    reason = "GET_HOME_POSITION is superseded by REQUEST_MESSAGE, and MAVProxy still sends it"
+)]
 fn mission_start_executes_and_positions_become_global_position_int() {
     let mut b = Bridge::new(config());
     b.start(at(0));
