@@ -136,6 +136,21 @@ async def main():
         mode_watcher = asyncio.ensure_future(watch_modes())
         await mission.start_mission()
         print("started", flush=True)
+        # In the air: the attitude, the position above mean sea level and above home, and the
+        # HUD's ground speed (its airspeed NaN: the FCC reports none).
+        await asyncio.sleep(3.0)
+        attitude = await first(telemetry.attitude_euler())
+        position = await first(telemetry.position())
+        hud = await first(telemetry.fixedwing_metrics())
+        print(f"attitude: roll {attitude.roll_deg:.1f} pitch {attitude.pitch_deg:.1f} "
+              f"yaw {attitude.yaw_deg:.1f} deg; position {position.absolute_altitude_m:.1f} m "
+              f"above mean sea level, {position.relative_altitude_m:.1f} m above home; "
+              f"ground speed {hud.groundspeed_m_s:.1f} m/s, climb {hud.climb_rate_m_s:.1f} m/s",
+              flush=True)
+        if any(math.isnan(v) for v in (attitude.roll_deg, attitude.pitch_deg, attitude.yaw_deg,
+                                       position.absolute_altitude_m,
+                                       position.relative_altitude_m)):
+            fail("attitude or altitudes unknown in flight")
         progress = []
 
         async def follow():
