@@ -266,6 +266,10 @@ impl Guidance {
             route_complete: self.route.complete,
             on_ground: self.on_ground(),
             reserved: [0; 3],
+            heading_deg: f32::NAN,
+            roll_deg: f32::NAN,
+            pitch_deg: f32::NAN,
+            climb_rate_mps: f32::NAN,
         }
     }
 
