@@ -4,7 +4,10 @@
 //! 1 (TROL to CCP) flies. The rate itself is tested in simulated time
 //! (`missionlink_services::position`, `services/tests/mission_pair.rs`); here what the GCS sees:
 //! the aircraft on the ground at TROL, then positions on the way to CCP with the course towards
-//! it, FROM-TO-NEXT among them, and the aircraft at CCP at the end.
+//! it, FROM-TO-NEXT among them, and the aircraft at CCP at the end; with each position what
+//! guidance knows of its vertical speed and attitude (ICD §4 #101): nothing of the heading
+//! before it moved, level on the ground, on the way the nose towards CCP (no wind), wings level
+//! on the straight leg, climbing from the take-off height to CCP's altitude.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -82,6 +85,10 @@ fn the_gcs_sees_the_aircraft_fly_demo_mission_1() {
     let at = p.position().unwrap();
     assert!(distance_m(at, trol()) < 1.0, "{p}");
     assert_eq!(p.ground_speed_mps(), Some(0.0), "{p}");
+    // Standing, level; where the nose points is not known before the first movement.
+    assert_eq!(p.climb_rate_mps(), Some(0.0), "{p}");
+    assert_eq!((p.roll_rad(), p.pitch_rad()), (Some(0.0), Some(0.0)), "{p}");
+    assert_eq!(p.heading_rad(), None, "{p}");
 
     upload(&mut link, &plan("mission-1.toml")).unwrap();
     execute(&mut link);
@@ -136,6 +143,13 @@ fn the_gcs_sees_the_aircraft_fly_demo_mission_1() {
         let off = (p.course_deg().unwrap() - towards_ccp + 540.0).rem_euclid(360.0) - 180.0;
         assert!(off.abs() < 5.0, "course {p} vs {towards_ccp:.1} deg");
         assert_eq!(p.altitude_type, Some(wire::AltitudeType::Wgs84));
+        // In calm air the nose points along the course; the leg is straight; it climbs from
+        // the take-off height (30 m) to CCP's altitude on the way.
+        let off = (p.heading_deg().unwrap() - towards_ccp + 540.0).rem_euclid(360.0) - 180.0;
+        assert!(off.abs() < 5.0, "heading {p} vs {towards_ccp:.1} deg");
+        assert_eq!(p.roll_rad(), Some(0.0), "{p}");
+        assert!(p.climb_rate_mps().is_some_and(|c| c > 0.0), "{p}");
+        assert!(p.pitch_rad().is_some_and(|t| t > 0.0), "{p}");
     }
     // FROM-TO-NEXT among the positions: towards CCP (TO 1), shown with them by `gcs monitor`.
     assert!(

@@ -12,8 +12,8 @@
 //!   ICD §7 "Turns in wind") from the same lists, each in its own process but in simulated
 //!   time: the same steps of 100 ms, the same scripted system automation (execute, then the
 //!   next phase whenever guidance reports the current one complete). The FROM-TO-NEXT
-//!   sequences must be equal; steps, flags, zones, ground speeds and positions are compared
-//!   too. Simulated time makes this exact and independent of the machine's load, which flying
+//!   sequences must be equal; steps, flags, zones, ground speeds, positions, heading, bank,
+//!   pitch and climb rate are compared too. Simulated time makes this exact and independent of the machine's load, which flying
 //!   both time-scaled through the FCC would not be.
 //!
 //! Both need a Python 3 with the packages of partitions/python/requirements.txt: the one
@@ -294,6 +294,13 @@ const CALM: (f64, f64) = (0.0, 0.0);
 /// too (by about 1e-9 m/s at most on these flights). A speed this far off moves the aircraft a
 /// nanometre further in a step, a thousandth of the positions' tolerance.
 const SPEED_IN_WIND_MPS: f64 = 1e-8;
+/// How far apart the two models' heading, bank, pitch (degrees) and climb rate (m/s) may be.
+/// Each is computed in double precision from the same positions and altitudes (within a
+/// micrometre of each other), then rounded to the payload's `f32`, whose step is 3e-5 deg at
+/// 360 deg: on these flights they are equal or one step apart (4e-6 deg at 100 deg).
+const ATTITUDE_TOLERANCE: [f64; 4] = [1e-4, 1e-4, 1e-4, 1e-5];
+/// The names of the attitude values, for the failures.
+const ATTITUDE: [&str; 4] = ["heading", "roll", "pitch", "climb rate"];
 
 /// A flight: the lists, where it starts, and what automation commands on the way.
 struct Scenario {
@@ -323,6 +330,9 @@ struct Record {
     speed: f64,
     /// inside_fly_zone, in_no_fly_zone.
     zones: (bool, u16),
+    /// heading, roll, pitch (degrees) and climb rate (m/s): the payload's `f32`s, NaN when not
+    /// known.
+    attitude: [f64; 4],
 }
 
 impl Record {
@@ -335,6 +345,7 @@ impl Record {
             altitude: p.altitude_m,
             speed: p.ground_speed_mps,
             zones: (p.inside_fly_zone, p.in_no_fly_zone),
+            attitude: [p.heading_deg, p.roll_deg, p.pitch_deg, p.climb_rate_mps].map(f64::from),
         }
     }
 
@@ -353,6 +364,8 @@ impl Record {
             altitude: f(8),
             speed: f(9),
             zones: (b(10), n(11)),
+            // `nan` parses as NaN.
+            attitude: [f(12), f(13), f(14), f(15)],
         }
     }
 }
@@ -471,7 +484,8 @@ out = []
 def record(p):
     out.append(json.dumps([p.from_, p.to, p.next, p.climb_complete, p.route_complete, p.on_ground,
         repr(p.latitude_deg), repr(p.longitude_deg), repr(p.altitude_m), repr(p.ground_speed_mps),
-        p.inside_fly_zone, p.in_no_fly_zone]))
+        p.inside_fly_zone, p.in_no_fly_zone,
+        repr(p.heading_deg), repr(p.roll_deg), repr(p.pitch_deg), repr(p.climb_rate_mps)]))
 now = 0
 record(g.step(now))
 state.flight_phase = c.FlightPhase.TAKE_OFF; state.sequence += 1
@@ -761,7 +775,34 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
         let mut worst_m: f64 = 0.0;
         let mut worst_alt: f64 = 0.0;
         let mut worst_speed: f64 = 0.0;
+        let mut worst_attitude = [0.0f64; 4];
         for (i, (p, r)) in python.iter().zip(&rust).enumerate() {
+            for k in 0..4 {
+                let (a, b) = (p.attitude[k], r.attitude[k]);
+                assert_eq!(
+                    a.is_nan(),
+                    b.is_nan(),
+                    "{}: step {i}: {} {a} (Python) and {b} (Rust)",
+                    s.name,
+                    ATTITUDE[k]
+                );
+                if a.is_nan() {
+                    continue;
+                }
+                let diff = if k == 0 {
+                    // Headings either side of north are close.
+                    ((a - b + 540.0).rem_euclid(360.0) - 180.0).abs()
+                } else {
+                    (a - b).abs()
+                };
+                assert!(
+                    diff <= ATTITUDE_TOLERANCE[k],
+                    "{}: step {i}: {} {a} (Python) and {b} (Rust)",
+                    s.name,
+                    ATTITUDE[k]
+                );
+                worst_attitude[k] = worst_attitude[k].max(diff);
+            }
             assert_eq!(p.triple, r.triple, "{}: step {i}", s.name);
             if s.wind == CALM {
                 assert_eq!(p.speed, r.speed, "{}: step {i}", s.name);
@@ -793,19 +834,24 @@ fn the_python_model_flies_the_demo_missions_with_the_same_from_to_next_as_the_ru
         println!(
             "{}: {} steps of {} ms, FROM-TO-NEXT {rust_triples:?}, zones (inside the fly-zone, \
              in no-fly-zone) {:?}; worst position difference {worst_m:.2e} m, altitude \
-             {worst_alt:.2e} m, ground speed {worst_speed:.2e} m/s ({:.1} s)",
+             {worst_alt:.2e} m, ground speed {worst_speed:.2e} m/s, heading, roll, pitch \
+             {:.1e} {:.1e} {:.1e} deg, climb rate {:.1e} m/s ({:.1} s)",
             s.name,
             rust.len(),
             STEP.as_millis(),
             changes(rust.iter().map(|r| r.zones)),
+            worst_attitude[0],
+            worst_attitude[1],
+            worst_attitude[2],
+            worst_attitude[3],
             started.elapsed().as_secs_f64()
         );
     }
 }
 
 /// The test's own check that the scenarios differ where they should: return to home and
-/// land-at change the sequence of mission 2, and the wind changes the ground speed (otherwise
-/// comparing them would prove little).
+/// land-at change the sequence of mission 2, the wind changes the ground speed, and the flights
+/// bank both ways, climb and descend (otherwise comparing them would prove little).
 #[test]
 fn the_scenarios_exercise_return_to_home_and_land_at() {
     let all = scenarios();
@@ -860,6 +906,22 @@ fn the_scenarios_exercise_return_to_home_and_land_at() {
             s.name
         );
     }
+    // Mission 2 turns left at W1 onto the clockwise arc: the bank of the fly-by (25 deg) to
+    // the left, the arc's to the right; the heading is known once it moves, and the climb and
+    // the descent show in the climb rate.
+    let flight = fly_rust(&all[1]);
+    let most = |k: usize, f: fn(f64, f64) -> f64| {
+        flight
+            .iter()
+            .map(|r| r.attitude[k])
+            .filter(|v| !v.is_nan())
+            .fold(0.0, f)
+    };
+    assert!(most(1, f64::min) < -24.0, "{}", most(1, f64::min));
+    assert!(most(1, f64::max) > 3.0, "{}", most(1, f64::max));
+    assert!(most(3, f64::max) > 1.0 && most(3, f64::min) < -1.0);
+    assert!(flight.first().is_some_and(|r| r.attitude[0].is_nan()));
+    assert!(flight.last().is_some_and(|r| !r.attitude[0].is_nan()));
     assert!(Path::new(&guidance_script()).is_file());
 }
 

@@ -19,7 +19,7 @@ pub fn bytes_of<T: ZeroCopySend + Copy>(value: &T) -> &[u8] {
     unsafe { core::slice::from_raw_parts((value as *const T).cast::<u8>(), size_of::<T>()) }
 }
 
-/// The payload type's iceoryx2 type name (`missionlink::FramePayload/v4`, ...), which the
+/// The payload type's iceoryx2 type name (`missionlink::FramePayload/v5`, ...), which the
 /// header carries and the receiver checks.
 pub fn type_name<T: ZeroCopySend>() -> &'static str {
     // SAFETY: `type_name` only returns a static string; iceoryx2 marks it unsafe to discourage
@@ -48,7 +48,7 @@ mod tests {
         assert_eq!(HeartbeatPayload::try_read_from_bytes(bytes).unwrap(), beat);
         assert_eq!(
             type_name::<HeartbeatPayload>(),
-            "missionlink::HeartbeatPayload/v4"
+            "missionlink::HeartbeatPayload/v5"
         );
     }
 }

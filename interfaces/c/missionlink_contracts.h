@@ -42,7 +42,7 @@ extern "C" {
 #endif
 
 /* Version of the payload layouts; part of every type name. */
-#define MISSIONLINK_CONTRACT_VERSION 4
+#define MISSIONLINK_CONTRACT_VERSION 5
 /* Service-name prefix used when none is configured. */
 #define MISSIONLINK_DEFAULT_SERVICE_PREFIX "missionlink"
 /* Marks an optional enumeration byte as absent. */
@@ -205,17 +205,17 @@ enum TurnDirection {
 };
 
 /* The iceoryx2 type names of the payloads. */
-#define MISSIONLINK_FRAME_PAYLOAD_TYPE_NAME "missionlink::FramePayload/v4"
-#define MISSIONLINK_WAYPOINT_ENTRY_TYPE_NAME "missionlink::WaypointEntry/v4"
-#define MISSIONLINK_WAYPOINT_LIST_PAYLOAD_TYPE_NAME "missionlink::WaypointListPayload/v4"
-#define MISSIONLINK_AREA_ALTITUDES_TYPE_NAME "missionlink::AreaAltitudes/v4"
-#define MISSIONLINK_POLYGON_AREA_TYPE_NAME "missionlink::PolygonArea/v4"
-#define MISSIONLINK_CIRCLE_AREA_TYPE_NAME "missionlink::CircleArea/v4"
-#define MISSIONLINK_AREA_LIST_PAYLOAD_TYPE_NAME "missionlink::AreaListPayload/v4"
-#define MISSIONLINK_AUTOMATION_STATE_PAYLOAD_TYPE_NAME "missionlink::AutomationStatePayload/v4"
-#define MISSIONLINK_AUTOMATION_COMMAND_PAYLOAD_TYPE_NAME "missionlink::AutomationCommandPayload/v4"
-#define MISSIONLINK_HEARTBEAT_PAYLOAD_TYPE_NAME "missionlink::HeartbeatPayload/v4"
-#define MISSIONLINK_GUIDANCE_PROGRESS_PAYLOAD_TYPE_NAME "missionlink::GuidanceProgressPayload/v4"
+#define MISSIONLINK_FRAME_PAYLOAD_TYPE_NAME "missionlink::FramePayload/v5"
+#define MISSIONLINK_WAYPOINT_ENTRY_TYPE_NAME "missionlink::WaypointEntry/v5"
+#define MISSIONLINK_WAYPOINT_LIST_PAYLOAD_TYPE_NAME "missionlink::WaypointListPayload/v5"
+#define MISSIONLINK_AREA_ALTITUDES_TYPE_NAME "missionlink::AreaAltitudes/v5"
+#define MISSIONLINK_POLYGON_AREA_TYPE_NAME "missionlink::PolygonArea/v5"
+#define MISSIONLINK_CIRCLE_AREA_TYPE_NAME "missionlink::CircleArea/v5"
+#define MISSIONLINK_AREA_LIST_PAYLOAD_TYPE_NAME "missionlink::AreaListPayload/v5"
+#define MISSIONLINK_AUTOMATION_STATE_PAYLOAD_TYPE_NAME "missionlink::AutomationStatePayload/v5"
+#define MISSIONLINK_AUTOMATION_COMMAND_PAYLOAD_TYPE_NAME "missionlink::AutomationCommandPayload/v5"
+#define MISSIONLINK_HEARTBEAT_PAYLOAD_TYPE_NAME "missionlink::HeartbeatPayload/v5"
+#define MISSIONLINK_GUIDANCE_PROGRESS_PAYLOAD_TYPE_NAME "missionlink::GuidanceProgressPayload/v5"
 
 /* The wire newtypes: raw values in the ICD's units (ICD §3). */
 
@@ -359,7 +359,9 @@ typedef struct HeartbeatPayload {
     uint8_t reserved[4];
 } HeartbeatPayload;
 
-/* fcc/guidance/progress: FROM, TO and NEXT and the position, from guidance. */
+/* fcc/guidance/progress: FROM, TO and NEXT, the position and the attitude, from guidance.
+ * The four floats are NaN where guidance does not know one (before anything is flown, all
+ * four); a reader takes any value that is not finite as not known. */
 typedef struct GuidanceProgressPayload {
     uint64_t sequence;
     uint64_t time_ns;
@@ -378,6 +380,10 @@ typedef struct GuidanceProgressPayload {
     bool route_complete;
     bool on_ground;
     uint8_t reserved[3];
+    float heading_deg;          /* true heading (nose), deg clockwise from north, 0..360 */
+    float roll_deg;             /* bank, deg, positive right wing down */
+    float pitch_deg;            /* deg, positive nose up */
+    float climb_rate_mps;       /* vertical speed, m/s, positive up */
 } GuidanceProgressPayload;
 
 #ifdef __cplusplus

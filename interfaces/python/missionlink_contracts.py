@@ -22,11 +22,12 @@ known values). Optional enumeration bytes hold ABSENT when absent.
 from __future__ import annotations
 
 import ctypes
+import math
 from enum import IntEnum
 from typing import NamedTuple
 
 #: Version of the payload layouts; part of every type name.
-CONTRACT_VERSION = 4
+CONTRACT_VERSION = 5
 #: Service-name prefix used when none is configured.
 DEFAULT_SERVICE_PREFIX = "missionlink"
 #: Marks an optional enumeration byte as absent.
@@ -255,7 +256,7 @@ class FramePayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::FramePayload/v4"
+        return "missionlink::FramePayload/v5"
 
     def frame(self) -> bytes:
         """The frame bytes (clamped to the array, whatever `len` holds)."""
@@ -283,7 +284,7 @@ class WaypointEntry(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::WaypointEntry/v4"
+        return "missionlink::WaypointEntry/v5"
 
 
 class WaypointListPayload(ctypes.Structure):
@@ -305,7 +306,7 @@ class WaypointListPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::WaypointListPayload/v4"
+        return "missionlink::WaypointListPayload/v5"
 
     def used(self) -> list[WaypointEntry]:
         """The waypoints in flight-plan order (clamped to the capacity, whatever `count` holds)."""
@@ -327,7 +328,7 @@ class AreaAltitudes(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AreaAltitudes/v4"
+        return "missionlink::AreaAltitudes/v5"
 
 
 class PolygonArea(ctypes.Structure):
@@ -344,7 +345,7 @@ class PolygonArea(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::PolygonArea/v4"
+        return "missionlink::PolygonArea/v5"
 
     def used(self) -> list[GeoPoint]:
         """The vertices (clamped to the capacity)."""
@@ -365,7 +366,7 @@ class CircleArea(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::CircleArea/v4"
+        return "missionlink::CircleArea/v5"
 
 
 class AreaListPayload(ctypes.Structure):
@@ -386,7 +387,7 @@ class AreaListPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AreaListPayload/v4"
+        return "missionlink::AreaListPayload/v5"
 
     def polygons(self) -> list[PolygonArea]:
         """Polygonal no-fly-zones (clamped to the capacity)."""
@@ -434,7 +435,7 @@ class AutomationStatePayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AutomationStatePayload/v4"
+        return "missionlink::AutomationStatePayload/v5"
 
 
 class AutomationCommandPayload(ctypes.Structure):
@@ -450,7 +451,7 @@ class AutomationCommandPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::AutomationCommandPayload/v4"
+        return "missionlink::AutomationCommandPayload/v5"
 
 
 class HeartbeatPayload(ctypes.Structure):
@@ -467,11 +468,16 @@ class HeartbeatPayload(ctypes.Structure):
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::HeartbeatPayload/v4"
+        return "missionlink::HeartbeatPayload/v5"
 
 
 class GuidanceProgressPayload(ctypes.Structure):
-    """fcc/guidance/progress: FROM, TO and NEXT and the position, from guidance."""
+    """fcc/guidance/progress: FROM, TO and NEXT, the position and the attitude, from guidance.
+
+    The four floats (heading, roll, pitch, climb rate) are NaN where guidance does not know
+    one: a guidance that does not compute one sends NaN, and so does every payload made here
+    until it is set (`__init__` below). A reader takes any value that is not finite as not
+    known."""
 
     _fields_ = [
         ("sequence", ctypes.c_uint64),
@@ -492,12 +498,29 @@ class GuidanceProgressPayload(ctypes.Structure):
         ("route_complete", ctypes.c_bool),
         ("on_ground", ctypes.c_bool),
         ("reserved", ctypes.c_uint8 * 3),
+        #: True heading (where the nose points), degrees clockwise from north, 0..360.
+        ("heading_deg", ctypes.c_float),
+        #: Bank, degrees, positive right wing down.
+        ("roll_deg", ctypes.c_float),
+        #: Pitch, degrees, positive nose up.
+        ("pitch_deg", ctypes.c_float),
+        #: Vertical speed, m/s, positive up.
+        ("climb_rate_mps", ctypes.c_float),
     ]
+
+    #: The fields that are NaN until set ("not known", as the Rust IDLE value).
+    UNKNOWN_UNTIL_SET = ("heading_deg", "roll_deg", "pitch_deg", "climb_rate_mps")
+
+    def __init__(self, *args, **kwargs):
+        # ctypes zeroes every field; 0 would read as a real heading, bank, pitch and climb rate.
+        for name in self.UNKNOWN_UNTIL_SET:
+            kwargs.setdefault(name, math.nan)
+        super().__init__(*args, **kwargs)
 
     @staticmethod
     def type_name() -> str:
         """The iceoryx2 type name."""
-        return "missionlink::GuidanceProgressPayload/v4"
+        return "missionlink::GuidanceProgressPayload/v5"
 
     @property
     def from_(self) -> int:

@@ -24,7 +24,7 @@ use crate::wire::{
 };
 
 /// Version of the payload layouts; part of every type name.
-pub const CONTRACT_VERSION: u32 = 4;
+pub const CONTRACT_VERSION: u32 = 5;
 
 /// Service-name prefix used when none is configured.
 pub const DEFAULT_SERVICE_PREFIX: &str = "missionlink";
@@ -240,7 +240,7 @@ impl TryFrom<u8> for Link {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::FramePayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::FramePayload/v5"))]
 pub struct FramePayload {
     /// CLOCK_MONOTONIC nanoseconds when the frame entered the FCC (socket receive) or was
     /// produced (downlink): the start of the per-frame latency measurement.
@@ -300,7 +300,7 @@ impl FramePayload {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointEntry/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointEntry/v5"))]
 pub struct WaypointEntry {
     /// Waypoint Number.
     pub number: u16,
@@ -400,7 +400,7 @@ impl WaypointEntry {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointListPayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::WaypointListPayload/v5"))]
 pub struct WaypointListPayload {
     /// Counts activations of a new list since mission data handling started, from 1; 0 means
     /// no mission is active (after start or a clear).
@@ -481,7 +481,7 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AreaAltitudes/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AreaAltitudes/v5"))]
 pub struct AreaAltitudes {
     /// Lower Altitude, valid when `has_lower`.
     pub lower: Altitude,
@@ -553,7 +553,7 @@ impl AreaAltitudes {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::PolygonArea/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::PolygonArea/v5"))]
 pub struct PolygonArea {
     /// Area ID.
     pub area_id: u16,
@@ -600,7 +600,7 @@ impl PolygonArea {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::CircleArea/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::CircleArea/v5"))]
 pub struct CircleArea {
     /// Area ID.
     pub area_id: u16,
@@ -638,7 +638,7 @@ impl CircleArea {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AreaListPayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AreaListPayload/v5"))]
 pub struct AreaListPayload {
     /// Counts activations of a new list, from 1; 0 means no area list is active.
     pub generation: u64,
@@ -739,7 +739,7 @@ impl TryFrom<u8> for FlightPhase {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationStatePayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationStatePayload/v5"))]
 pub struct AutomationStatePayload {
     /// Counts state changes, from 1.
     pub sequence: u64,
@@ -795,7 +795,7 @@ impl AutomationStatePayload {
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationCommandPayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::AutomationCommandPayload/v5"))]
 pub struct AutomationCommandPayload {
     /// Counts commands, from 1.
     pub sequence: u64,
@@ -833,7 +833,7 @@ pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration:
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::HeartbeatPayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::HeartbeatPayload/v5"))]
 pub struct HeartbeatPayload {
     /// Counts heartbeats of this process, from 1.
     pub sequence: u64,
@@ -847,19 +847,29 @@ pub struct HeartbeatPayload {
     pub reserved: [u8; 4],
 }
 
-/// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints and the position, from guidance.
+/// `fcc/guidance/progress`: the FROM, TO and NEXT waypoints, the position and how the aircraft
+/// moves and lies, from guidance.
+///
+/// The heading, bank, pitch and climb rate are `f32` and NaN where guidance does not know one
+/// (a guidance that does not compute it sends NaN; [`Self::IDLE`] has NaN in all four). A
+/// reader takes any value that is not finite as not known: the bytes are written by another
+/// process. Mission data handling sends them in #101 (ICD §4 #101).
+///
+/// `IntoBytes` proves at compile time that no byte is implicit padding (the `reserved` bytes
+/// before the `f32`s are explicit), and lets [`Self::same_report_as`] compare the bytes.
 #[derive(
     Debug,
     Clone,
     Copy,
     PartialEq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
-#[cfg_attr(feature = "ipc", type_name("missionlink::GuidanceProgressPayload/v4"))]
+#[cfg_attr(feature = "ipc", type_name("missionlink::GuidanceProgressPayload/v5"))]
 pub struct GuidanceProgressPayload {
     /// Counts updates, from 1.
     pub sequence: u64,
@@ -895,6 +905,15 @@ pub struct GuidanceProgressPayload {
     pub on_ground: bool,
     /// Zero.
     pub reserved: [u8; 3],
+    /// True heading, where the nose points: degrees clockwise from true north, 0..360. In wind
+    /// it differs from the course over the ground by the crab angle. NaN: not known.
+    pub heading_deg: f32,
+    /// Bank, degrees, positive right wing down. NaN: not known.
+    pub roll_deg: f32,
+    /// Pitch, degrees, positive nose up. NaN: not known.
+    pub pitch_deg: f32,
+    /// Vertical speed, m/s, positive up. NaN: not known.
+    pub climb_rate_mps: f32,
 }
 
 impl GuidanceProgressPayload {
@@ -917,11 +936,28 @@ impl GuidanceProgressPayload {
         route_complete: false,
         on_ground: true,
         reserved: [0; 3],
+        heading_deg: f32::NAN,
+        roll_deg: f32::NAN,
+        pitch_deg: f32::NAN,
+        climb_rate_mps: f32::NAN,
     };
 
     /// The FROM-TO-NEXT triple.
     pub fn from_to_next(&self) -> (u16, u16, u16) {
         (self.from, self.to, self.next)
+    }
+
+    /// Whether `other` reports what `self` does, the counters (`sequence`, `time_ns`) aside.
+    /// The bytes are compared, not the values: a NaN ("not known") is the same as the same NaN,
+    /// where `==` would call every report with an unknown value a change.
+    pub fn same_report_as(&self, other: &Self) -> bool {
+        use zerocopy::IntoBytes;
+        let without_counters = |p: &Self| Self {
+            sequence: 0,
+            time_ns: 0,
+            ..*p
+        };
+        without_counters(self).as_bytes() == without_counters(other).as_bytes()
     }
 }
 
@@ -947,6 +983,30 @@ mod tests {
         assert_eq!(p.frame(), &big[..]);
         assert_eq!(p.link(), Some(Link::Lte));
         assert!(FramePayload::new(Link::Direct, &[0; MAX_FRAME_LEN + 1], 0).is_none());
+    }
+
+    #[test]
+    fn a_report_is_the_same_whatever_its_counters_and_unknown_values() {
+        let a = GuidanceProgressPayload {
+            sequence: 1,
+            time_ns: 5,
+            ..GuidanceProgressPayload::IDLE
+        };
+        let b = GuidanceProgressPayload {
+            sequence: 2,
+            time_ns: 9,
+            ..GuidanceProgressPayload::IDLE
+        };
+        // NaN != NaN: a copy of a report with an unknown value is not `==` to it.
+        let copy = a;
+        assert_ne!(a, copy);
+        assert!(a.same_report_as(&copy));
+        assert!(a.same_report_as(&b));
+        let turning = GuidanceProgressPayload {
+            roll_deg: 25.0,
+            ..b
+        };
+        assert!(!a.same_report_as(&turning));
     }
 
     #[test]

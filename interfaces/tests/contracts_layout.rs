@@ -289,7 +289,11 @@ fn rust_layouts() -> Vec<Layout> {
             climb_complete,
             route_complete,
             on_ground,
-            reserved
+            reserved,
+            heading_deg,
+            roll_deg,
+            pitch_deg,
+            climb_rate_mps
         }),
     ]
 }

@@ -9,10 +9,11 @@ as `ipc::ListPairing` takes them) and to the automation state, flies the list wi
 point-mass model of services/src/guidance/ (ported below: same phases, sub-steps, legs
 tracked along their geodesics, radius-to-fix arcs, the turns of services/src/geofence/turn.rs
 (fly-by arcs, fly-over intercepts), return to home and land-at, on the same WGS-84 geodesics),
-time-scaled for demos, and publishes FROM / TO / NEXT and the position on
-`fcc/guidance/progress`, notifying the event service of the same name as the Rust publishers
-do. It beats on `fcc/health/guidance` with a HeartbeatPayload every period, from its event
-loop, so system automation sees a live guidance.
+time-scaled for demos, and publishes FROM / TO / NEXT, the position, the heading, bank,
+pitch and climb rate (as the Rust model computes them) on `fcc/guidance/progress`, notifying
+the event service of the same name as the Rust publishers do. It beats on
+`fcc/health/guidance` with a HeartbeatPayload every period, from its event loop, so system
+automation sees a live guidance.
 
 Usage (the FCC started without its stub: `fcc --without guidance-stub`):
 
@@ -203,6 +204,41 @@ class GuidanceConfig:
         along, cross = w * math.cos(delta), w * math.sin(delta)
         ground = along + math.sqrt(max(v * v - cross * cross, 0.0))
         return ground if math.isfinite(ground) and ground > v / 20.0 else v / 20.0
+
+    def crab_deg(self, v: float, course_deg: float) -> float:
+        """The crab angle at airspeed `v` along a ground course of `course_deg` in the
+        configured wind: asin(crosswind / v), degrees, positive clockwise; square to the course
+        where the crosswind is stronger than `v` (GuidanceConfig::crab_deg)."""
+        c = self.sanitized()
+        # Angle between the course and where the wind blows to: a wind blowing to the right of
+        # the course (sin < 0 here) is met with the nose turned left.
+        delta = math.radians(course_deg - (c.wind_from_deg + 180.0))
+        cross = c.wind_speed_mps * math.sin(delta)
+        if v > 0.0:
+            return math.degrees(math.asin(max(-1.0, min(1.0, cross / v))))
+        return 0.0
+
+    def heading_deg(self, v: float, course_deg: float) -> float:
+        """The true heading at airspeed `v` along a ground course of `course_deg`: the course
+        turned by the crab angle, degrees in 0..360 (GuidanceConfig::heading_deg)."""
+        heading = (course_deg + self.crab_deg(v, course_deg)) % 360.0
+        # % rounds a tiny negative angle up to 360 itself.
+        return heading if heading < 360.0 else 0.0
+
+
+def bank_on_radius_deg(ground_mps: float, radius_m: float, drift_deg: float) -> float:
+    """The bank that holds a ground path curving at radius `radius_m` at ground speed
+    `ground_mps` with the drift angle `drift_deg`: atan(V_g^2 / (g R cos(drift))), degrees in
+    0..90; 0 for a radius not above 0 (geofence::onboard::FlyBy::bank_on_radius_deg)."""
+    if math.isnan(radius_m) or radius_m <= 0.0:
+        return 0.0
+    cos_drift = math.cos(math.radians(drift_deg))
+    # Rust divides by a cosine of 0 to infinity, which atan takes to 90 deg; Python raises.
+    if cos_drift == 0.0:
+        return 90.0
+    acceleration = ground_mps * ground_mps / (radius_m * cos_drift)
+    bank = math.degrees(math.atan(abs(acceleration) / GRAVITY_MPS2))
+    return 0.0 if math.isnan(bank) else bank
 
 
 def inverse(a: Point, b: Point) -> tuple[float, float, float]:
@@ -571,6 +607,25 @@ def course_on(path: Path, here: Point) -> float:
     return ArcGeometry(path).course_at(here)
 
 
+def bank_on(path: Path, here: Point, v: float, crab_deg: float) -> float:
+    """The bank flying along `path` at `here` at ground speed `v` with the crab angle
+    `crab_deg`, degrees, positive right wing down: 0 on a geodesic; on an arc the bank that
+    holds its radius there, to the right when it runs clockwise (guidance::tracking::bank_on)."""
+    if isinstance(path, GeodesicPath):
+        return 0.0
+    arc = ArcGeometry(path)
+    az = inverse(path.centre, here)[1]
+    bank = bank_on_radius_deg(v, arc.radius_at(az), crab_deg)
+    return bank if arc.clockwise else -bank
+
+
+def heading_f32(heading_deg: float) -> float:
+    """A heading in 0..360 as the payload's float, in 0..360 too: headings just below 360 that
+    round to 360 in single precision are north, 0 (guidance::heading_f32)."""
+    h = ctypes.c_float(heading_deg).value
+    return h if h < 360.0 else 0.0
+
+
 def _to_go(arc: ArcGeometry, az: float) -> float:
     alpha = angle_to_go(az, arc.az1, arc.clockwise)
     return 0.0 if alpha > arc.sweep and alpha > 180.0 else alpha
@@ -682,6 +737,14 @@ class Guidance:
         self.position: Point = (self.config.start_latitude_deg, self.config.start_longitude_deg)
         self.altitude_m = 0.0
         self.ground_speed_mps = 0.0
+        #: Airspeed of the last stretch flown, m/s; 0 when not moving over the ground.
+        self.airspeed_mps = 0.0
+        #: Where the nose points, degrees 0..360; None before the first movement over the ground.
+        self.heading_deg: Optional[float] = None
+        #: Bank of the last stretch flown, degrees, positive right.
+        self.roll_deg = 0.0
+        #: Altitude gained over the last sub-step per simulated second, m/s.
+        self.climb_rate_mps = 0.0
         self.climb_complete = False
         self.route = Route()
         self.planned = None
@@ -743,17 +806,19 @@ class Guidance:
             pass
         else:
             self.altitude_m = 0.0
+            self.climb_rate_mps = 0.0
             self.reset_route()
             self.climb_complete = False
         self.sync_direction()
         if phase != FlightPhase.CRUISE:
-            self.ground_speed_mps = 0.0
+            self.hold_position()
 
         simulated = elapsed * self.config.time_scale
         if simulated > 0.0:
             n = max(math.ceil(simulated / MAX_SUB_STEP_S), 1)
             h = simulated / n
             for _ in range(n):
+                before = self.altitude_m
                 if phase == FlightPhase.TAKE_OFF:
                     busy = self.climb(h)
                 elif phase == FlightPhase.CRUISE:
@@ -762,11 +827,19 @@ class Guidance:
                     busy = self.descend(h)
                 else:
                     busy = False
+                # A sub-step that ends holding ends with no vertical speed.
+                self.climb_rate_mps = (self.altitude_m - before) / h if busy else 0.0
                 if not busy:
                     break
 
         self.check_zones()
         from_, to, next_ = self.triple(phase)
+        on_ground = self.on_ground()
+        if on_ground:
+            roll, pitch, climb = 0.0, 0.0, 0.0
+        else:
+            pitch = math.degrees(math.atan2(self.climb_rate_mps, self.airspeed_mps))
+            roll, climb = self.roll_deg, self.climb_rate_mps
         p = GuidanceProgressPayload(
             sequence=self.sequence,
             time_ns=now_ns,
@@ -782,10 +855,21 @@ class Guidance:
             trajectory_generation_active=phase == FlightPhase.CRUISE,
             climb_complete=self.climb_complete,
             route_complete=self.route.complete,
-            on_ground=self.on_ground(),
+            on_ground=on_ground,
+            heading_deg=math.nan if self.heading_deg is None else heading_f32(self.heading_deg),
+            roll_deg=roll,
+            pitch_deg=pitch,
+            climb_rate_mps=climb,
         )
         p.from_ = from_
         return p
+
+    def hold_position(self) -> None:
+        """Not moving over the ground: no ground speed, no airspeed, no bank; the nose keeps
+        pointing where it did."""
+        self.ground_speed_mps = 0.0
+        self.airspeed_mps = 0.0
+        self.roll_deg = 0.0
 
     def on_ground(self) -> bool:
         """On the ground: before take-off, after touchdown, or in an unknown phase."""
@@ -955,7 +1039,7 @@ class Guidance:
                 break
             used = self.fly_leg(left)
             if used is None:
-                self.ground_speed_mps = 0.0
+                self.hold_position()
                 return False
             left -= used
         return True
@@ -986,11 +1070,16 @@ class Guidance:
         target = point(to.position)
         here = self.position
         # The TO waypoint's speed is the airspeed; the ground speed is the one on the course of
-        # the path flown here, in the configured wind.
+        # the path flown here, in the configured wind, and so are the heading and the bank.
         airspeed = leg_speed(to)
         flying = self.route.turn[0] if self.route.turn else self.route.body
-        v = self.config.ground_speed_mps(airspeed, course_on(flying, here))
+        course = course_on(flying, here)
+        v = self.config.ground_speed_mps(airspeed, course)
+        crab = self.config.crab_deg(airspeed, course)
         self.ground_speed_mps = v
+        self.airspeed_mps = airspeed
+        self.heading_deg = self.config.heading_deg(airspeed, course)
+        self.roll_deg = bank_on(flying, here, v, crab)
         budget = v * dt
         target_alt = to.altitude.metres()
 

@@ -28,14 +28,10 @@ pub const ROLE: Partition = Partition::Guidance;
 /// Progress is published on every change and at least this often.
 const REPUBLISH: Duration = Duration::from_secs(1);
 
-/// Whether `next` differs from `last` in anything but the counters (sequence, time).
+/// Whether `next` differs from `last` in anything but the counters (sequence, time). The bytes
+/// are compared: a value guidance does not know is NaN, which `==` never finds equal.
 fn changed(last: Option<&GuidanceProgressPayload>, next: &GuidanceProgressPayload) -> bool {
-    let without_counters = |p: &GuidanceProgressPayload| GuidanceProgressPayload {
-        sequence: 0,
-        time_ns: 0,
-        ..*p
-    };
-    last.is_none_or(|last| without_counters(last) != without_counters(next))
+    last.is_none_or(|last| !last.same_report_as(next))
 }
 
 /// Runs the guidance stub on the service type `S` until `control` or a termination request

@@ -8,9 +8,15 @@
 //! Guidance's progress carries position, altitude and ground speed, not the direction of
 //! flight: the course is the direction from the previous reported position to the latest one
 //! (the direction of the last movement), and #101 carries both as its horizontal velocity (U
-//! Speed north, V Speed east), as STANAG 4586 does. W Speed stays absent: guidance reports no
-//! vertical speed, and the progress' time is the host's, not guidance's simulated time, so a
-//! rate of climb computed from it would be off by the time scale.
+//! Speed north, V Speed east), as STANAG 4586 does.
+//!
+//! Guidance reports its own climb rate, heading, bank and pitch too (NaN when it does not know
+//! one). The climb rate is its vertical speed in its own simulated time, so it holds whatever
+//! the time scale, which a rate computed here from the progress' host time would not. #101
+//! carries them as W Speed (downwards, so the climb rate negated), Phi (roll), Theta (pitch) and
+//! Psi (heading, wrapped into the I2's -pi..pi: 350 deg is sent as -10 deg), each only when the
+//! value is finite and fits the field (ICD §4 #101); otherwise the field is absent, as it is
+//! for a value not known.
 
 use core::time::Duration;
 
@@ -119,7 +125,8 @@ impl PositionReporter {
         Some(self.inertial_states(&progress, list))
     }
 
-    /// The #101 of `progress`: fields 1 to 6 as ICD §4 says what the FCC fills in.
+    /// The #101 of `progress`: fields 1 to 7 and 11 to 13 as ICD §4 #101 says what the FCC
+    /// fills in.
     fn inertial_states(
         &self,
         progress: &GuidanceProgressPayload,
@@ -149,6 +156,14 @@ impl PositionReporter {
             (Some(u), Some(v)) => (Some(u), Some(v)),
             _ => (None, None),
         };
+        // Written by another process: NaN is "not known", and so is anything else not finite.
+        let known = |v: f32| Some(f64::from(v)).filter(|v| v.is_finite());
+        // W Speed is positive downwards; a rate beyond VEL2's range (1638 m/s) is left out.
+        let w_speed = known(progress.climb_rate_mps)
+            .and_then(|climb| Velocity::from_mps(if climb == 0.0 { 0.0 } else { -climb }).ok());
+        let angle = |deg: f32, to_raw: fn(f64) -> Option<i16>| {
+            known(deg).and_then(|d| to_raw(d.to_radians()))
+        };
         InertialStates {
             time_stamp: Timestamp::default(),
             latitude: position.map(|p| p.latitude),
@@ -157,7 +172,10 @@ impl PositionReporter {
             altitude_type: altitude.map(|_| altitude_type),
             u_speed,
             v_speed,
-            w_speed: None,
+            w_speed,
+            phi: angle(progress.roll_deg, InertialStates::roll_from_rad),
+            theta: angle(progress.pitch_deg, InertialStates::pitch_from_rad),
+            psi: angle(progress.heading_deg, InertialStates::heading_from_rad),
             ..InertialStates::default()
         }
     }
@@ -282,5 +300,87 @@ mod tests {
         let still = r.handle_timeout(at(1_500), &list).unwrap();
         assert_eq!(still.ground_speed_mps(), Some(0.0));
         assert_eq!(still.course_deg(), None);
+    }
+
+    /// The #101 of one progress, sent at once.
+    fn report(progress: &GuidanceProgressPayload) -> InertialStates {
+        let mut r = PositionReporter::new(Some(DEFAULT_PERIOD));
+        r.handle_progress(at(0), progress);
+        r.handle_timeout(at(0), &WaypointListPayload::EMPTY)
+            .unwrap()
+    }
+
+    /// What guidance knows of its attitude and vertical speed goes into W Speed, Phi, Theta and
+    /// Psi (ICD §4 #101): W Speed downwards, so a climb is negative; a heading of 350 deg is
+    /// -10 deg in the I2; a bank to the left is negative.
+    #[test]
+    fn attitude_and_vertical_speed_are_sent_when_known() {
+        let m = report(&GuidanceProgressPayload {
+            heading_deg: 350.0,
+            roll_deg: -25.0,
+            pitch_deg: 2.5,
+            climb_rate_mps: 1.5,
+            ..progress(1, 48.0, 11.0)
+        });
+        assert_eq!(m.w_speed, Some(Velocity::from_mps(-1.5).unwrap()));
+        assert_eq!(m.climb_rate_mps(), Some(1.5));
+        let unit_deg = InertialStates::ANGLE_LSB_RAD.to_degrees();
+        let deg = |rad: Option<f64>| rad.unwrap().to_degrees();
+        assert!((deg(m.heading_rad()) + 10.0).abs() <= unit_deg, "{m:?}");
+        assert!(m.psi.unwrap() < 0, "{m:?}");
+        assert!((m.heading_deg().unwrap() - 350.0).abs() <= unit_deg);
+        assert!((deg(m.roll_rad()) + 25.0).abs() <= unit_deg, "{m:?}");
+        assert!((deg(m.pitch_rad()) - 2.5).abs() <= unit_deg, "{m:?}");
+        // The fields' own encodings: pi / 2^15 rad per unit.
+        assert_eq!(
+            (m.phi, m.theta, m.psi),
+            (Some(-4551), Some(455), Some(-1820))
+        );
+
+        // Descending: W Speed positive.
+        let down = report(&GuidanceProgressPayload {
+            climb_rate_mps: -2.0,
+            ..progress(1, 48.0, 11.0)
+        });
+        assert_eq!(down.w_speed, Some(Velocity::from_mps(2.0).unwrap()));
+        // Level, wings level, north: all present and 0.
+        let level = report(&GuidanceProgressPayload {
+            heading_deg: 0.0,
+            roll_deg: 0.0,
+            pitch_deg: 0.0,
+            climb_rate_mps: 0.0,
+            ..progress(1, 48.0, 11.0)
+        });
+        assert_eq!(level.w_speed, Some(Velocity::from_raw(0)));
+        assert_eq!(
+            (level.phi, level.theta, level.psi),
+            (Some(0), Some(0), Some(0))
+        );
+    }
+
+    /// NaN is guidance's "not known": the field is absent, and so is one for a value that is not
+    /// finite or does not fit the field; what is known is sent beside it.
+    #[test]
+    fn attitude_and_vertical_speed_not_known_are_absent() {
+        let unknown = report(&progress(1, 48.0, 11.0));
+        assert!(GuidanceProgressPayload::IDLE.heading_deg.is_nan());
+        assert_eq!(
+            (unknown.w_speed, unknown.phi, unknown.theta, unknown.psi),
+            (None, None, None, None)
+        );
+        let odd = report(&GuidanceProgressPayload {
+            heading_deg: f32::INFINITY,
+            roll_deg: f32::NEG_INFINITY,
+            pitch_deg: 3.0,
+            climb_rate_mps: 5_000.0,
+            ..progress(1, 48.0, 11.0)
+        });
+        assert_eq!((odd.w_speed, odd.phi, odd.psi), (None, None, None));
+        assert!(odd.theta.is_some());
+        // The frame carries exactly what is present: it decodes to the same.
+        use missionlink_interfaces::wire::MessageBody;
+        let mut buf = [0u8; 64];
+        let len = odd.encode(&mut buf).unwrap();
+        assert_eq!(InertialStates::decode(&buf[..len]).unwrap(), odd);
     }
 }

@@ -522,6 +522,22 @@ impl FlyBy {
         v * v / (GRAVITY_MPS2 * self.bank_deg.to_radians().tan())
     }
 
+    /// The bank that holds a ground path curving at radius `radius_m` at ground speed
+    /// `ground_mps` with the drift angle `drift_deg` between the air velocity and the ground
+    /// track: `atan(V_g² / (g·R·cos β))` (the relation of the type's documentation; in calm air
+    /// `atan(v²/(g·R))`, the inverse of [`Self::turn_radius_m`]), degrees in 0..=90. 0 for a
+    /// radius that is not above 0 (turning on the spot is no banked turn).
+    pub fn bank_on_radius_deg(ground_mps: f64, radius_m: f64, drift_deg: f64) -> f64 {
+        if radius_m.is_nan() || radius_m <= 0.0 {
+            return 0.0;
+        }
+        let acceleration = ground_mps * ground_mps / (radius_m * drift_deg.to_radians().cos());
+        // A drift of 90 deg (a crosswind stronger than the airspeed) divides by 0: infinite,
+        // which atan takes to 90 deg; NaN (a speed that is not a number) reads as no bank.
+        let bank = (acceleration.abs() / GRAVITY_MPS2).atan().to_degrees();
+        if bank.is_nan() { 0.0 } else { bank }
+    }
+
     /// Radius of the turn flown at airspeed `v` in a wind of `wind_mps` from any direction:
     /// `(v + W)²/(g·tan(bank))`, metres (see the type's documentation).
     pub fn radius_in_wind_m(&self, v: f64, wind_mps: f64) -> f64 {
@@ -621,6 +637,19 @@ mod tests {
             "{refused:?}"
         );
         assert_eq!(check(&fence, execute_route(route, take_off, None)), Ok(()));
+    }
+
+    /// The bank of a turn is the inverse of its radius: at the radius of the bank limit the
+    /// limit, in calm air; drift needs more bank on the same radius; no radius, no bank.
+    #[test]
+    fn the_bank_on_a_radius_inverts_the_turn_radius() {
+        let fly_by = FlyBy { bank_deg: 25.0 };
+        let r = fly_by.turn_radius_m(25.0);
+        assert!((FlyBy::bank_on_radius_deg(25.0, r, 0.0) - 25.0).abs() < 1e-12);
+        assert!(FlyBy::bank_on_radius_deg(25.0, r, 20.0) > 25.0);
+        assert!((FlyBy::bank_on_radius_deg(25.0, r, 90.0) - 90.0).abs() < 1e-9);
+        assert_eq!(FlyBy::bank_on_radius_deg(25.0, 0.0, 0.0), 0.0);
+        assert_eq!(FlyBy::bank_on_radius_deg(f64::NAN, r, 0.0), 0.0);
     }
 
     /// The ground's plan and the FCC's published list are one route: every path of execute,

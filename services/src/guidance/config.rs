@@ -71,6 +71,33 @@ impl GuidanceConfig {
         }
     }
 
+    /// The crab angle flying at airspeed `v` along a ground course of `course_deg` in the
+    /// configured wind: how far the nose is turned into the crosswind to cancel it,
+    /// `asin(crosswind / v)`, degrees, positive clockwise (the same crosswind as
+    /// [`Self::ground_speed_mps`]). Where the crosswind is stronger than `v` (the model then
+    /// moves at a twentieth of `v`), the nose points square to the course, into the wind.
+    pub fn crab_deg(&self, v: f64, course_deg: f64) -> f64 {
+        let c = self.sanitized();
+        // Angle between the course and where the wind blows to: a wind blowing to the right of
+        // the course (sin < 0 here) is met with the nose turned left.
+        let delta = (course_deg - (c.wind_from_deg + 180.0)).to_radians();
+        let cross = c.wind_speed_mps * delta.sin();
+        if v > 0.0 {
+            (cross / v).clamp(-1.0, 1.0).asin().to_degrees()
+        } else {
+            0.0
+        }
+    }
+
+    /// The true heading flying at airspeed `v` along a ground course of `course_deg` in the
+    /// configured wind: the course turned by [`Self::crab_deg`], degrees clockwise from north
+    /// in 0..360. Equal to the course in calm air.
+    pub fn heading_deg(&self, v: f64, course_deg: f64) -> f64 {
+        let heading = (course_deg + self.crab_deg(v, course_deg)).rem_euclid(360.0);
+        // rem_euclid rounds a tiny negative angle up to 360 itself.
+        if heading < 360.0 { heading } else { 0.0 }
+    }
+
     /// The configuration with every unusable value replaced by its default: non-finite or
     /// non-positive rates, a bank outside 0..90 deg, a negative or non-finite time scale, a
     /// start position off the globe, a wind speed that is negative or not a number, a wind

@@ -1,7 +1,7 @@
 //! Guidance kinematics (the guidance stub partition, docs/design.md "Partitions"): a point-mass
 //! model that flies the active waypoint list through the flight phases of system automation and
-//! reports its progress (FROM-TO-NEXT, position, fly-zone and no-fly-zone status) on
-//! `fcc/guidance/progress`.
+//! reports its progress (FROM-TO-NEXT, position, heading, bank, pitch and climb rate, fly-zone
+//! and no-fly-zone status) on `fcc/guidance/progress`.
 //!
 //! Sans-IO like the rest of `services`: the driver passes the automation state, the waypoint
 //! list and the area list when they arrive, and calls [`Guidance::step`] with the time; the
@@ -88,6 +88,23 @@
 //! - **Areas**: the fly-zone and the no-fly-zones are 2-D: altitude bounds and the safety offset
 //!   are not applied. A circle's radius is the geodesic distance centre -> border point.
 //!   Leaving the fly-zone and entering a no-fly-zone are logged once, on the change.
+//! - **Attitude and climb rate** (reported for the position downlink, ICD §4 #101), each of the
+//!   last stretch flown, as the ground speed is:
+//!   - *heading*: the course of the path flown turned into the crosswind by the crab angle
+//!     ([`GuidanceConfig::crab_deg`]); the course itself in calm air. It is kept while the
+//!     aircraft does not move over the ground (climb, descent, hover, on the ground), and not
+//!     known (NaN) before its first movement: a point mass that never moved points nowhere.
+//!   - *roll*: the bank that holds the path flown at the ground speed, `atan(V_g²/(g·R·cos β))`
+//!     with `R` the radius of the arc there and `β` the crab angle
+//!     ([`crate::geofence::onboard::FlyBy`] sizes the turns by the same relation: in calm air
+//!     a turn at the plan's speed takes exactly the configured bank), positive to the right; 0
+//!     on geodesics, on the spot and when not moving over the ground.
+//!   - *climb rate*: the altitude gained over the last sub-step per simulated second (so a
+//!     time scale does not scale it), 0 once the model holds (climb done, route complete).
+//!   - *pitch*: the flight-path angle through the air mass, `atan2(climb rate, airspeed)`, the
+//!     airspeed being the TO waypoint's speed while moving over the ground and 0 otherwise: the
+//!     vertical climb of take-off reads +90 deg and the descent of the landing -90 deg.
+//!   - On the ground roll, pitch and climb rate are 0.
 
 mod config;
 mod route;
@@ -130,6 +147,16 @@ pub struct Guidance {
     position: Point<f64>,
     altitude_m: f64,
     ground_speed_mps: f64,
+    /// Airspeed of the last stretch flown, m/s; 0 when not moving over the ground.
+    airspeed_mps: f64,
+    /// Where the nose points, degrees clockwise from north, 0..360; `None` before the first
+    /// movement over the ground.
+    heading_deg: Option<f64>,
+    /// Bank of the last stretch flown, degrees, positive right; 0 when not moving over the
+    /// ground.
+    roll_deg: f64,
+    /// Altitude gained over the last sub-step per simulated second, m/s.
+    climb_rate_mps: f64,
     climb_complete: bool,
     route: Route,
     /// The turn at the TO waypoint, once planned.
@@ -156,6 +183,10 @@ impl Guidance {
             position: Point::new(config.start_longitude_deg, config.start_latitude_deg),
             altitude_m: 0.0,
             ground_speed_mps: 0.0,
+            airspeed_mps: 0.0,
+            heading_deg: None,
+            roll_deg: 0.0,
+            climb_rate_mps: 0.0,
             climb_complete: false,
             route: Route::NOT_STARTED,
             planned: None,
@@ -218,13 +249,14 @@ impl Guidance {
             Some(FlightPhase::Landing) => {}
             Some(FlightPhase::OnGround | FlightPhase::Landed) | None => {
                 self.altitude_m = 0.0;
+                self.climb_rate_mps = 0.0;
                 self.reset_route();
                 self.climb_complete = false;
             }
         }
         self.sync_direction();
         if phase != Some(FlightPhase::Cruise) {
-            self.ground_speed_mps = 0.0;
+            self.hold_position();
         }
 
         let simulated = elapsed * self.config.time_scale;
@@ -233,11 +265,19 @@ impl Guidance {
             let h = simulated / n;
             let mut i = 0.0;
             while i < n {
+                let before = self.altitude_m;
                 let busy = match phase {
                     Some(FlightPhase::TakeOff) => self.climb(h),
                     Some(FlightPhase::Cruise) => self.fly(h),
                     Some(FlightPhase::Landing) => self.descend(h),
                     _ => false,
+                };
+                // A sub-step that ends holding (climb done, on the ground, route complete)
+                // ends with no vertical speed, whatever it climbed before it stopped.
+                self.climb_rate_mps = if busy {
+                    (self.altitude_m - before) / h
+                } else {
+                    0.0
                 };
                 if !busy {
                     break;
@@ -248,6 +288,13 @@ impl Guidance {
 
         self.check_zones();
         let (from, to, next) = self.triple(phase);
+        let on_ground = self.on_ground();
+        let (roll, pitch, climb) = if on_ground {
+            (0.0, 0.0, 0.0)
+        } else {
+            let pitch = self.climb_rate_mps.atan2(self.airspeed_mps).to_degrees();
+            (self.roll_deg, pitch, self.climb_rate_mps)
+        };
         GuidanceProgressPayload {
             sequence: self.sequence,
             time_ns: now.micros().saturating_mul(1000),
@@ -264,9 +311,21 @@ impl Guidance {
             trajectory_generation_active: phase == Some(FlightPhase::Cruise),
             climb_complete: self.climb_complete,
             route_complete: self.route.complete,
-            on_ground: self.on_ground(),
+            on_ground,
             reserved: [0; 3],
+            heading_deg: self.heading_deg.map_or(f32::NAN, heading_f32),
+            roll_deg: roll as f32,
+            pitch_deg: pitch as f32,
+            climb_rate_mps: climb as f32,
         }
+    }
+
+    /// Not moving over the ground (climb, descent, hover, on the ground): no ground speed, no
+    /// airspeed, no bank; the nose keeps pointing where it did.
+    fn hold_position(&mut self) {
+        self.ground_speed_mps = 0.0;
+        self.airspeed_mps = 0.0;
+        self.roll_deg = 0.0;
     }
 
     /// On the ground: before take-off, after touchdown, or in an unknown phase.
@@ -326,6 +385,13 @@ impl Guidance {
         }
         true
     }
+}
+
+/// A heading in 0..360 as the payload's `f32`, in 0..360 too: the few headings just below 360
+/// that round to 360 in `f32` are north, 0.
+fn heading_f32(heading_deg: f64) -> f32 {
+    let h = heading_deg as f32;
+    if h < 360.0 { h } else { 0.0 }
 }
 
 #[cfg(test)]

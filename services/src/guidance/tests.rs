@@ -560,6 +560,186 @@ fn time_scale_ten_flies_the_same_path_ten_times_faster() {
     assert_eq!(p1.altitude_m, p10.altitude_m);
 }
 
+/// Angle from `b` to `a`, degrees in -180..180.
+fn angle_between(a: f64, b: f64) -> f64 {
+    (a - b + 540.0).rem_euclid(360.0) - 180.0
+}
+
+/// Heading, bank, pitch and climb rate through mission 1's phases: on the ground nothing is
+/// known of the heading and the rest is 0; the take-off is a vertical climb at the climb rate;
+/// the cruise climbs along the leg at the heading of the course (calm air), wings level; the
+/// landing descends at the descent rate; landed, the nose points where it did.
+#[test]
+fn attitude_and_climb_rate_through_the_phases() {
+    let mut s = Sim::new(GuidanceConfig::default(), &mission1());
+    let p = s.step();
+    assert!(p.heading_deg.is_nan(), "{p:?}");
+    assert_eq!((p.roll_deg, p.pitch_deg, p.climb_rate_mps), (0.0, 0.0, 0.0));
+
+    s.phase(FlightPhase::TakeOff);
+    let p = s.step();
+    assert_eq!(p.climb_rate_mps, 3.0);
+    assert_eq!((p.roll_deg, p.pitch_deg), (0.0, 90.0));
+    assert!(
+        p.heading_deg.is_nan(),
+        "no movement over the ground yet: {p:?}"
+    );
+    let (p, _) = s.run_until(1000, |p| p.climb_complete);
+    assert!(p.climb_rate_mps > 0.0, "{p:?}");
+    // Holding at the take-off height.
+    let p = s.step();
+    assert_eq!((p.climb_rate_mps, p.pitch_deg), (0.0, 0.0));
+
+    s.phase(FlightPhase::Cruise);
+    let start = s.log.len();
+    let (_, steps) = s.run_until(2000, |p| p.route_complete);
+    let mid = s.log[start + steps / 2];
+    let course = bearing_deg(here(&mid), pt(CCP));
+    let off = angle_between(f64::from(mid.heading_deg), course);
+    assert!(
+        off.abs() < 1e-3,
+        "heading {} course {course}",
+        mid.heading_deg
+    );
+    assert_eq!(mid.roll_deg, 0.0);
+    // 30 m to 120 m over the 2004 m leg at 25 m/s: about 1.12 m/s, at its flight-path angle.
+    let climb = f64::from(mid.climb_rate_mps);
+    assert!((climb - 90.0 / 2004.0 * SPEED).abs() < 0.01, "{climb}");
+    let pitch = (climb / SPEED).atan().to_degrees();
+    assert!((f64::from(mid.pitch_deg) - pitch).abs() < 1e-4, "{mid:?}");
+    // Hovering at CCP: no bank, no climb, the heading of the arrival kept.
+    let arrival = s.log[s.log.len() - 1].heading_deg;
+    assert!((0.0..360.0).contains(&arrival), "{arrival}");
+    let p = s.step();
+    assert_eq!((p.roll_deg, p.pitch_deg, p.climb_rate_mps), (0.0, 0.0, 0.0));
+    assert_eq!(p.heading_deg, arrival);
+
+    s.phase(FlightPhase::Landing);
+    let p = s.step();
+    assert_eq!((p.climb_rate_mps, p.pitch_deg), (-2.0, -90.0));
+    let (p, _) = s.run_until(2000, |p| p.on_ground);
+    assert_eq!((p.roll_deg, p.pitch_deg, p.climb_rate_mps), (0.0, 0.0, 0.0));
+    assert_eq!(p.heading_deg, arrival);
+}
+
+/// The nose points along the course in calm air and is turned into a crosswind by the crab
+/// angle `asin(W/v)`; the ground speed is what is left of the airspeed.
+#[test]
+fn heading_is_the_course_turned_into_the_crosswind() {
+    let course = bearing_deg(pt(TROL), pt(CCP));
+    let fly = |wind_speed_mps: f64, wind_from_deg: f64| {
+        let mut s = Sim::new(
+            GuidanceConfig {
+                wind_speed_mps,
+                wind_from_deg,
+                ..GuidanceConfig::default()
+            },
+            &mission1(),
+        );
+        s.take_off();
+        s.phase(FlightPhase::Cruise);
+        let start = s.log.len();
+        let (_, steps) = s.run_until(3000, |p| p.route_complete);
+        let mid = s.log[start + steps / 2];
+        let course_there = bearing_deg(here(&mid), pt(CCP));
+        assert!(angle_between(course_there, course).abs() < 0.1);
+        (mid, course_there)
+    };
+
+    let (calm, course_there) = fly(0.0, 0.0);
+    let off = angle_between(f64::from(calm.heading_deg), course_there);
+    assert!(
+        off.abs() < 1e-3,
+        "calm: heading {} course {course_there}",
+        calm.heading_deg
+    );
+
+    // 10 m/s from the right of the course: the nose turns right, into it.
+    let (windy, course_there) = fly(10.0, (course + 90.0).rem_euclid(360.0));
+    let crab = (10.0 / SPEED).asin().to_degrees();
+    let off = angle_between(f64::from(windy.heading_deg), course_there);
+    assert!((off - crab).abs() < 0.01, "crab {off} expected {crab}");
+    assert!((0.0..360.0).contains(&windy.heading_deg));
+    let ground = (SPEED * SPEED - 100.0).sqrt();
+    assert!((windy.ground_speed_mps - ground).abs() < 0.01, "{windy:?}");
+    assert_eq!(windy.roll_deg, 0.0);
+
+    // From the left: the nose turns left.
+    let (windy, course_there) = fly(10.0, (course - 90.0).rem_euclid(360.0));
+    let off = angle_between(f64::from(windy.heading_deg), course_there);
+    assert!((off + crab).abs() < 0.01, "crab {off} expected {}", -crab);
+}
+
+/// Wings level on the legs; in the fly-by turn at W1 of mission 2 the configured bank (the
+/// turn is sized for it: `v²/(g·tan(bank))` in calm air), to the side the turn goes; on the
+/// radius-to-fix arc the bank its radius takes, `atan(v²/(g·R))`.
+#[test]
+fn roll_is_the_bank_of_the_turn_flown() {
+    let (s, start) = fly_mission2(TurnType::FlyBy);
+    let (t, _) = turn_at_w1(&s, TurnType::FlyBy);
+    let Path::Arc(arc) = t.paths[0] else {
+        panic!("the fly-by turn is an arc: {:?}", t.paths[0]);
+    };
+    let right = arc.direction == TurnDirection::Clockwise;
+    let bank = GuidanceConfig::default().max_bank_deg;
+
+    // The leg CCP -> W1, away from its ends.
+    let on_leg: Vec<_> = s.log[start..]
+        .iter()
+        .filter(|p| p.to == 2 && p.trajectory_generation_active)
+        .collect();
+    assert!(on_leg.len() > 100, "{}", on_leg.len());
+    for p in &on_leg[..on_leg.len() - 1] {
+        assert_eq!(p.roll_deg, 0.0, "{p:?}");
+    }
+
+    // The turn: the samples on its arc, but the first and the last (the step that leaves the
+    // leg, the step that joins the radius-to-fix arc).
+    let in_turn: Vec<_> = s
+        .log
+        .iter()
+        .filter(|p| {
+            p.to == 3 && crate::testkit::distance_to_path(&t.paths[0], Site::of(here(p))) < 0.001
+        })
+        .collect();
+    assert!(in_turn.len() > 10, "{}", in_turn.len());
+    for p in &in_turn[1..in_turn.len() - 1] {
+        let roll = f64::from(p.roll_deg);
+        assert!((roll.abs() - bank).abs() < 0.5, "bank {roll} in the turn");
+        assert_eq!(roll > 0.0, right, "bank {roll}, turning right: {right}");
+    }
+
+    // The radius-to-fix arc (clockwise, 962 m): a gentle bank to the right.
+    let radius = distance_m(pt(RF_CENTRE), pt(ROLE2));
+    let rf_bank = (SPEED * SPEED / (9.806_65 * radius)).atan().to_degrees();
+    let on_rf: Vec<_> = s
+        .log
+        .iter()
+        .filter(|p| {
+            p.to == 3
+                && !p.route_complete
+                && crate::testkit::distance_to_path(&t.paths[0], Site::of(here(p))) > 1.0
+        })
+        .collect();
+    assert!(on_rf.len() > 10, "{}", on_rf.len());
+    for p in &on_rf[1..on_rf.len() - 1] {
+        assert!(
+            (f64::from(p.roll_deg) - rf_bank).abs() < 0.05,
+            "bank {} on the arc, {rf_bank} expected",
+            p.roll_deg
+        );
+    }
+    eprintln!(
+        "mission 2: wings level on {} samples of the leg; bank {:?} deg on {} samples of the \
+         turn at W1 (limit {bank}); {:.2} deg on {} samples of the arc ({rf_bank:.2} expected)",
+        on_leg.len(),
+        in_turn[in_turn.len() / 2].roll_deg,
+        in_turn.len(),
+        on_rf[on_rf.len() / 2].roll_deg,
+        on_rf.len()
+    );
+}
+
 #[test]
 fn new_list_in_the_air_waits_for_automation() {
     let mut s = Sim::new(GuidanceConfig::default(), &mission1());

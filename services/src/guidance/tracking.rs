@@ -54,6 +54,23 @@ pub(super) fn course_on(path: &Path, here: &Site) -> f64 {
     }
 }
 
+/// The bank flying along `path` at `here` (a point of it) at ground speed `v` with the crab
+/// angle `crab_deg`, degrees, positive right wing down: 0 on a geodesic and on the spot; on an
+/// arc (a turn, a radius-to-fix leg) the bank that holds the arc's radius there
+/// ([`FlyBy::bank_on_radius_deg`], the relation the turns are sized by), to the right when
+/// the arc runs clockwise.
+pub(super) fn bank_on(path: &Path, here: &Site, v: f64, crab_deg: f64) -> f64 {
+    match path {
+        Path::Point(_) | Path::Geodesic { .. } => 0.0,
+        Path::Arc(leg) => {
+            let arc = leg.geometry();
+            let az = arc.centre.inverse(here).1;
+            let bank = FlyBy::bank_on_radius_deg(v, arc.radius_at(az), crab_deg);
+            if arc.clockwise { bank } else { -bank }
+        }
+    }
+}
+
 /// The speed flown towards `e`.
 pub(super) fn leg_speed(e: &WaypointEntry) -> f64 {
     FlyBy::speed_mps(e)
@@ -70,7 +87,7 @@ impl Guidance {
             match self.fly_leg(left) {
                 Some(used) => left -= used,
                 None => {
-                    self.ground_speed_mps = 0.0;
+                    self.hold_position();
                     return false;
                 }
             }
@@ -87,13 +104,17 @@ impl Guidance {
         let target = Site::of(to.position);
         let here = Site::of(self.position);
         // The TO waypoint's speed is the airspeed; the ground speed is the one on the course
-        // of the path flown here, in the configured wind.
+        // of the path flown here, in the configured wind, and so are the heading (the course
+        // turned into the crosswind) and the bank the path takes.
         let airspeed = leg_speed(&to);
         let flying = self.route.turn.last().copied().unwrap_or(self.route.body);
-        let v = self
-            .config
-            .ground_speed_mps(airspeed, course_on(&flying, &here));
+        let course = course_on(&flying, &here);
+        let v = self.config.ground_speed_mps(airspeed, course);
+        let crab = self.config.crab_deg(airspeed, course);
         self.ground_speed_mps = v;
+        self.airspeed_mps = airspeed;
+        self.heading_deg = Some(self.config.heading_deg(airspeed, course));
+        self.roll_deg = bank_on(&flying, &here, v, crab);
         let budget = v * dt;
         let target_alt = to.altitude.metres();
 

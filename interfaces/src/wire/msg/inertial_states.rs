@@ -5,7 +5,13 @@
 //! Ground speed and course are not fields of their own: they are the horizontal part of the
 //! north and east velocity (U Speed, V Speed), as STANAG 4586 carries them
 //! ([`InertialStates::ground_speed_mps`], [`InertialStates::course_deg`]).
+//!
+//! Phi, Theta and Psi (roll, pitch, heading) stay the raw I2 of the wire, pi / 2^15 rad per
+//! unit (ICD §4 #101); [`InertialStates::roll_rad`] and its siblings read them, and
+//! [`InertialStates::roll_from_rad`] and its siblings make them from radians: an angle wrapped
+//! into the field's -pi..pi, a pitch clamped to -pi/2..=pi/2.
 
+use core::f64::consts::{FRAC_PI_2, PI, TAU};
 use core::fmt;
 
 use super::{GeoPoint, MessageBody, MessageType, latitude, reader};
@@ -32,7 +38,8 @@ pub struct InertialStates {
     pub u_speed: Option<Velocity>,
     /// Bit 6: the velocity towards east.
     pub v_speed: Option<Velocity>,
-    /// Bit 7: the velocity downwards.
+    /// Bit 7: the velocity downwards; the FCC sends guidance's climb rate, negated, when
+    /// guidance knows it ([`Self::climb_rate_mps`]).
     pub w_speed: Option<Velocity>,
     /// Bit 8: north acceleration, 0.01 m/s² per unit; raw I2, never filled by this project.
     pub u_accel: Option<i16>,
@@ -40,11 +47,15 @@ pub struct InertialStates {
     pub v_accel: Option<i16>,
     /// Bit 10: downward acceleration, 0.01 m/s² per unit; raw I2, never filled by this project.
     pub w_accel: Option<i16>,
-    /// Bit 11: roll, pi / 2^15 rad per unit; raw I2, never filled by this project.
+    /// Bit 11: roll, pi / 2^15 rad per unit, positive right wing down; raw I2. The FCC sends
+    /// guidance's bank when guidance knows it ([`Self::roll_rad`], [`Self::roll_from_rad`]).
     pub phi: Option<i16>,
-    /// Bit 12: pitch, pi / 2^15 rad per unit; raw I2, never filled by this project.
+    /// Bit 12: pitch, pi / 2^15 rad per unit, positive nose up; raw I2. The FCC sends guidance's
+    /// pitch when guidance knows it ([`Self::pitch_rad`], [`Self::pitch_from_rad`]).
     pub theta: Option<i16>,
-    /// Bit 13: heading, pi / 2^15 rad per unit; raw I2, never filled by this project.
+    /// Bit 13: true heading, where the nose points, pi / 2^15 rad per unit clockwise from true
+    /// north, in -pi..pi; raw I2. The FCC sends guidance's heading when guidance knows it
+    /// ([`Self::heading_rad`], [`Self::heading_from_rad`]).
     pub psi: Option<i16>,
     /// Bit 14: roll rate, 0.001 rad/s per unit; raw I2, never filled by this project.
     pub phi_dot: Option<i16>,
@@ -57,6 +68,9 @@ pub struct InertialStates {
 }
 
 impl InertialStates {
+    /// Radians per unit of Phi, Theta, Psi and Magnetic Variation: pi / 2^15.
+    pub const ANGLE_LSB_RAD: f64 = PI / 32_768.0;
+
     /// The position, when both latitude and longitude are present.
     pub fn position(&self) -> Option<GeoPoint> {
         Some(GeoPoint {
@@ -84,6 +98,78 @@ impl InertialStates {
                 .rem_euclid(360.0),
         )
     }
+
+    /// Vertical speed in m/s, positive up: W Speed (positive down) negated.
+    pub fn climb_rate_mps(&self) -> Option<f64> {
+        let down = self.w_speed?.mps();
+        // Level is 0, not -0 (which prints as "-0.0").
+        Some(if down == 0.0 { 0.0 } else { -down })
+    }
+
+    /// Roll (Phi) in radians, positive right wing down, in -pi..pi.
+    pub fn roll_rad(&self) -> Option<f64> {
+        self.phi.map(angle_rad)
+    }
+
+    /// Pitch (Theta) in radians, positive nose up.
+    pub fn pitch_rad(&self) -> Option<f64> {
+        self.theta.map(angle_rad)
+    }
+
+    /// True heading (Psi) in radians clockwise from true north, in -pi..pi.
+    pub fn heading_rad(&self) -> Option<f64> {
+        self.psi.map(angle_rad)
+    }
+
+    /// True heading (Psi) in degrees clockwise from true north, in 0..360, as
+    /// [`Self::course_deg`] gives the course.
+    pub fn heading_deg(&self) -> Option<f64> {
+        Some(self.heading_rad()?.to_degrees().rem_euclid(360.0))
+    }
+
+    /// Phi of a roll of `rad` radians: wrapped into -pi..pi (a roll of 190 deg is one of -170),
+    /// to the nearest unit; `None` when `rad` is not finite (not known).
+    pub fn roll_from_rad(rad: f64) -> Option<i16> {
+        wrapped_angle(rad)
+    }
+
+    /// Theta of a pitch of `rad` radians: clamped to -pi/2..=pi/2 (the nose points no higher
+    /// than straight up), to the nearest unit; `None` when `rad` is not finite (not known).
+    pub fn pitch_from_rad(rad: f64) -> Option<i16> {
+        if !rad.is_finite() {
+            return None;
+        }
+        // Within -16384..=16384 units: the cast cannot saturate.
+        Some((rad.clamp(-FRAC_PI_2, FRAC_PI_2) / Self::ANGLE_LSB_RAD).round() as i16)
+    }
+
+    /// Psi of a heading of `rad` radians clockwise from true north: wrapped into -pi..pi, as
+    /// the I2 field holds it (a heading of 350 deg is one of -10 deg), to the nearest unit;
+    /// `None` when `rad` is not finite (not known).
+    pub fn heading_from_rad(rad: f64) -> Option<i16> {
+        wrapped_angle(rad)
+    }
+}
+
+/// An I2 angle (pi / 2^15 rad per unit) in radians.
+fn angle_rad(raw: i16) -> f64 {
+    f64::from(raw) * InertialStates::ANGLE_LSB_RAD
+}
+
+/// `rad` as an I2 angle: wrapped into -pi..pi, where +pi, one unit beyond the field's largest
+/// value, is the same angle as -pi, its smallest; `None` when `rad` is not finite.
+fn wrapped_angle(rad: f64) -> Option<i16> {
+    if !rad.is_finite() {
+        return None;
+    }
+    let units = ((rad + PI).rem_euclid(TAU) - PI) / InertialStates::ANGLE_LSB_RAD;
+    // -32768.0..=32768.0 after rounding; 32768 units is +pi, which the field writes as -pi.
+    let units = units.round();
+    Some(if units >= 32_768.0 {
+        i16::MIN
+    } else {
+        units as i16
+    })
 }
 
 impl MessageBody for InertialStates {
@@ -194,7 +280,8 @@ impl MessageBody for InertialStates {
 }
 
 /// `#101 Inertial States: 48.272500 N 11.642500 E, 120.0 m WGS-84, ground speed 25.0 m/s,
-/// course 45.0 deg`; `position unknown` without latitude and longitude.
+/// course 45.0 deg, climb 1.2 m/s, heading 350.0 deg, roll -25.0 deg, pitch 2.7 deg`, each
+/// part only when its fields are present; `position unknown` without latitude and longitude.
 impl fmt::Display for InertialStates {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: ", Self::TYPE)?;
@@ -213,6 +300,18 @@ impl fmt::Display for InertialStates {
         }
         if let Some(course) = self.course_deg() {
             write!(f, ", course {course:.1} deg")?;
+        }
+        if let Some(climb) = self.climb_rate_mps() {
+            write!(f, ", climb {climb:.1} m/s")?;
+        }
+        if let Some(heading) = self.heading_deg() {
+            write!(f, ", heading {heading:.1} deg")?;
+        }
+        if let Some(roll) = self.roll_rad() {
+            write!(f, ", roll {:.1} deg", roll.to_degrees())?;
+        }
+        if let Some(pitch) = self.pitch_rad() {
+            write!(f, ", pitch {:.1} deg", pitch.to_degrees())?;
         }
         Ok(())
     }
@@ -308,8 +407,87 @@ mod tests {
     fn display() {
         super::super::assert_display(
             repr(),
-            "#101 Inertial States: 48.272500 N 11.642500 E, 120.0 m WGS-84, ground speed 25.0 m/s, course 45.0 deg",
+            "#101 Inertial States: 48.272500 N 11.642500 E, 120.0 m WGS-84, ground speed 25.0 m/s, course 45.0 deg, climb 0.0 m/s",
         );
+        let deg = |d: f64| d.to_radians();
+        super::super::assert_display(
+            InertialStates {
+                w_speed: Some(Velocity::from_mps(-1.2).unwrap()),
+                phi: InertialStates::roll_from_rad(deg(-25.0)),
+                theta: InertialStates::pitch_from_rad(deg(2.7)),
+                psi: InertialStates::heading_from_rad(deg(350.0)),
+                ..repr()
+            },
+            "#101 Inertial States: 48.272500 N 11.642500 E, 120.0 m WGS-84, ground speed 25.0 m/s, course 45.0 deg, climb 1.2 m/s, heading 350.0 deg, roll -25.0 deg, pitch 2.7 deg",
+        );
+    }
+
+    /// Phi and Psi wrap into the I2's -pi..pi (ICD §4 #101: pi / 2^15 rad per unit), +pi
+    /// becoming -pi; Theta clamps to straight up or down; what is not finite is not sent.
+    #[test]
+    fn angles_from_radians_wrap_and_clamp() {
+        let deg = |d: f64| d.to_radians();
+        let heading = |d: f64| InertialStates::heading_from_rad(deg(d));
+        // 350 deg is -10 deg: -10 / 180 * 32768 = -1820.4 -> -1820.
+        assert_eq!(heading(350.0), Some(-1820));
+        assert_eq!(heading(-10.0), Some(-1820));
+        assert_eq!(heading(10.0), Some(1820));
+        assert_eq!(heading(0.0), Some(0));
+        assert_eq!(heading(360.0), Some(0));
+        assert_eq!(heading(720.0 + 90.0), Some(16_384));
+        // +pi is the same angle as -pi, the field's smallest value; its largest is just below.
+        assert_eq!(heading(180.0), Some(i16::MIN));
+        assert_eq!(heading(-180.0), Some(i16::MIN));
+        assert_eq!(heading(179.995), Some(i16::MAX));
+        // Within half a unit of +pi: rounded to it, so to -pi.
+        assert_eq!(heading(179.999), Some(i16::MIN));
+        assert_eq!(heading(180.0 - 180.0 / 32_768.0), Some(i16::MAX));
+        assert_eq!(InertialStates::roll_from_rad(deg(190.0)), Some(-30_948));
+        assert_eq!(InertialStates::roll_from_rad(deg(-25.0)), Some(-4551));
+        let pitch = |d: f64| InertialStates::pitch_from_rad(deg(d));
+        assert_eq!(pitch(90.0), Some(16_384));
+        assert_eq!(pitch(120.0), Some(16_384));
+        assert_eq!(pitch(-95.0), Some(-16_384));
+        assert_eq!(pitch(2.7), Some(492));
+        for nothing in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert_eq!(InertialStates::roll_from_rad(nothing), None);
+            assert_eq!(InertialStates::pitch_from_rad(nothing), None);
+            assert_eq!(InertialStates::heading_from_rad(nothing), None);
+        }
+    }
+
+    /// The accessors read back what the constructors made, within half a unit; the heading in
+    /// radians is signed as the field is, in degrees it runs 0..360 as the course does.
+    #[test]
+    fn angles_read_back() {
+        let unit = InertialStates::ANGLE_LSB_RAD;
+        let m = InertialStates {
+            phi: InertialStates::roll_from_rad(0.3),
+            theta: InertialStates::pitch_from_rad(-0.2),
+            psi: InertialStates::heading_from_rad(350f64.to_radians()),
+            w_speed: Some(Velocity::from_mps(-2.0).unwrap()),
+            ..repr()
+        };
+        assert!((m.roll_rad().unwrap() - 0.3).abs() <= unit / 2.0);
+        assert!((m.pitch_rad().unwrap() + 0.2).abs() <= unit / 2.0);
+        assert!((m.heading_rad().unwrap() + 10f64.to_radians()).abs() <= unit / 2.0);
+        assert!((m.heading_deg().unwrap() - 350.0).abs() < 0.01);
+        assert_eq!(m.climb_rate_mps(), Some(2.0));
+        let south = InertialStates {
+            psi: InertialStates::heading_from_rad(core::f64::consts::PI),
+            ..repr()
+        };
+        assert_eq!(south.heading_rad(), Some(-core::f64::consts::PI));
+        assert_eq!(south.heading_deg(), Some(180.0));
+        let none = InertialStates {
+            w_speed: None,
+            ..repr()
+        };
+        assert_eq!(
+            (none.roll_rad(), none.pitch_rad(), none.heading_rad()),
+            (None, None, None)
+        );
+        assert_eq!((none.heading_deg(), none.climb_rate_mps()), (None, None));
     }
 
     /// A latitude without its longitude, and an altitude without its type, are refused as
