@@ -225,11 +225,6 @@ fn e7(degrees: f64) -> i32 {
     (degrees * 1e7).round() as i32
 }
 
-/// A #101 angle (I2, pi / 2^15 rad per unit) in radians. TEMPORARY until the interfaces accessor lands.
-fn rad(raw: Option<i16>) -> Option<f64> {
-    raw.map(|r| f64::from(r) * core::f64::consts::PI / 32768.0)
-}
-
 /// Metres as MAVLink's integer millimetres.
 fn mm(metres: f64) -> i32 {
     (metres * 1000.0).round() as i32
@@ -1065,7 +1060,7 @@ impl Bridge {
             .map_or(0, |b| now.saturating_since(b).as_millis() as u32);
         let centi =
             |v: Option<f64>| (v.unwrap_or(0.0) * 100.0).round().clamp(-32768.0, 32767.0) as i16;
-        let heading_deg = rad(states.psi).map(|r| r.to_degrees().rem_euclid(360.0));
+        let heading_deg = states.heading_deg();
         self.send(MavMessage::GLOBAL_POSITION_INT(GLOBAL_POSITION_INT_DATA {
             time_boot_ms,
             lat: e7(lat),
@@ -1080,7 +1075,7 @@ impl Bridge {
             hdg: heading_deg.map_or(u16::MAX, |h| ((h * 100.0).round() as u16) % 36_000),
         }));
         if let (Some(roll), Some(pitch), Some(yaw)) =
-            (rad(states.phi), rad(states.theta), rad(states.psi))
+            (states.roll_rad(), states.pitch_rad(), states.heading_rad())
         {
             self.send(MavMessage::ATTITUDE(ATTITUDE_DATA {
                 time_boot_ms,
@@ -1098,7 +1093,7 @@ impl Bridge {
                 airspeed: f32::NAN,
                 groundspeed: states.ground_speed_mps().map_or(f32::NAN, |v| v as f32),
                 alt: amsl.map_or(f32::NAN, |a| a as f32),
-                climb: states.w_speed.map_or(f32::NAN, |w| -w.mps() as f32),
+                climb: states.climb_rate_mps().map_or(f32::NAN, |c| c as f32),
                 heading: (heading.round() as i16) % 360,
                 throttle: u16::MAX,
             }));

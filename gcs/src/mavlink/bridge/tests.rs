@@ -442,12 +442,11 @@ fn standing(lat: f64, lon: f64, alt: f64) -> InertialStates {
 /// Flying: the monitor's example (120 m WGS-84, 25 m/s towards north-east), banked 20 deg
 /// right, pitched 2 deg up, heading 40 deg, climbing 1.5 m/s.
 fn flying() -> InertialStates {
-    let i2 = |deg: f64| Some((deg.to_radians() * 32768.0 / core::f64::consts::PI).round() as i16);
     InertialStates {
         w_speed: Some(missionlink_interfaces::wire::Velocity::from_mps(-1.5).unwrap()),
-        phi: i2(20.0),
-        theta: i2(2.0),
-        psi: i2(40.0),
+        phi: InertialStates::roll_from_rad(20f64.to_radians()),
+        theta: InertialStates::pitch_from_rad(2f64.to_radians()),
+        psi: InertialStates::heading_from_rad(40f64.to_radians()),
         ..crate::monitor::tests::states()
     }
 }
