@@ -139,9 +139,9 @@ async def main():
         # In the air: the attitude, the position above mean sea level and above home, and the
         # HUD's ground speed (its airspeed NaN: the FCC reports none).
         await asyncio.sleep(3.0)
-        attitude = await first(telemetry.attitude_euler())
-        position = await first(telemetry.position())
-        hud = await first(telemetry.fixedwing_metrics())
+        attitude = await first(telemetry.subscribe_attitude_euler())
+        position = await first(telemetry.subscribe_position())
+        hud = await first(telemetry.subscribe_fixedwing_metrics())
         print(f"attitude: roll {attitude.roll_deg:.1f} pitch {attitude.pitch_deg:.1f} "
               f"yaw {attitude.yaw_deg:.1f} deg; position {position.absolute_altitude_m:.1f} m "
               f"above mean sea level, {position.relative_altitude_m:.1f} m above home; "
