@@ -185,6 +185,11 @@ def fly(m, recv, texts):
         fail(f"the clear while flying was not refused: {refused}")
     if not any("refused" in t for t in texts):
         fail(f"no STATUSTEXT says why the clear was refused: {texts}")
+    # The essence in the first chunk (50 characters), where a ground station shows it first.
+    first = next(t for t in texts if "refused" in t)
+    if "refused while" not in first:
+        fail(f"the first 50 characters do not say why: {first!r}")
+    print(f"first 50 characters: {first!r}", flush=True)
     print(f"clear while flying refused: MISSION_ACK {refused}: {''.join(texts)}", flush=True)
     if msg.seq != 2 or msg.total != 3:
         fail(f"the end: MISSION_CURRENT seq {msg.seq} of {msg.total}")

@@ -685,7 +685,7 @@ impl Bridge {
             },
             Err(why) => {
                 if clearing.refused.is_none() {
-                    clearing.refused = Some(format!("{list} clear refused: {why}"));
+                    clearing.refused = Some(format!("{list} not cleared: {why}"));
                 }
             }
         }

@@ -14,7 +14,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use missionlink_services::ground_station::{GcsEvent, SafetyGateway, Sequence};
+use missionlink_services::ground_station::{GcsError, GcsEvent, SafetyGateway, Sequence};
 
 use super::bridge::{Bridge, BridgeEvent};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
@@ -192,6 +192,19 @@ fn commit<G: SafetyGateway>(
     }
 }
 
+/// A failure in the operator's words with the FCC's reason first, when it gave one: a ground
+/// station shows the first 50 characters of a STATUSTEXT, and "command failed: #13000 Mission
+/// Transfer Command" would fill them.
+fn in_words<R: core::fmt::Display>(e: &GcsError<R>) -> String {
+    match e {
+        GcsError::Transfer { error, .. } => match error.reason() {
+            Some(reason) => format!("{} ({reason}); {e}", reason.meaning()),
+            None => e.to_string(),
+        },
+        _ => e.to_string(),
+    }
+}
+
 /// The FCC's clear of `list`: the mission (#13000 mode 1 alone, which deletes the active
 /// mission) or the areas (#2011 mode 6); why not, in the operator's words.
 fn clear<G: SafetyGateway>(link: &mut GcsLink<G>, list: List) -> Result<(), String> {
@@ -201,16 +214,16 @@ fn clear<G: SafetyGateway>(link: &mut GcsLink<G>, list: List) -> Result<(), Stri
         List::Mission => station.clear_mission(now),
         List::Fence => station.clear_areas(now),
     }
-    .map_err(|e| e.to_string())?;
-    link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
+    .map_err(|e| in_words(&e))?;
+    link.finish(|_| {}).map(|_| ()).map_err(|e| in_words(&e))
 }
 
 fn execute<G: SafetyGateway>(link: &mut GcsLink<G>) -> Result<(), String> {
     let now = link.now();
     link.station()
         .execute(now, missionlink_interfaces::wire::ExecuteCommand::Execute)
-        .map_err(|e| e.to_string())?;
-    link.finish(|_| {}).map(|_| ()).map_err(|e| e.to_string())
+        .map_err(|e| in_words(&e))?;
+    link.finish(|_| {}).map(|_| ()).map_err(|e| in_words(&e))
 }
 
 /// Runs the bridge until `stop` is set, keeping what it must remember across a restart in
