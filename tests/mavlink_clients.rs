@@ -1,5 +1,5 @@
 //! `gcs mavlink` against MAVLink clients that no one here wrote: the real FCC (launcher and
-//! partitions), the GCS link with the safety gateway, the bridge's driver on a UDP port the
+//! partitions), the GCS link with the safety gateway, the vehicle's driver on a UDP port the
 //! system chooses, and a Python client in a child process (`tests/clients/`, packages from
 //! partitions/python/requirements.txt, installed by tools/test). The client's checks are its
 //! own; this test passes when it exits with status 0, and prints what it said.
@@ -17,9 +17,9 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::GcsLink;
-use missionlink_gcs::mavlink::bridge::{Bridge, BridgeConfig};
 use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
 use missionlink_gcs::mavlink::plan::PlanContext;
+use missionlink_gcs::mavlink::vehicle::{Vehicle, VehicleConfig};
 use missionlink_gcs::qgc::ImportOptions;
 use missionlink_services::safety_gateway::SafetyGateway;
 
@@ -29,7 +29,7 @@ fn script(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// A fresh FCC and the ground's link to it, for the bridge to serve clients over.
+/// A fresh FCC and the ground's link to it, for the vehicle to serve clients over.
 struct Session {
     rig: Rig,
     fcc: Process,
@@ -51,7 +51,7 @@ impl Session {
         Self { rig, fcc, link }
     }
 
-    /// The bridge's memory, in the state directory as `gcs mavlink` keeps it.
+    /// The vehicle's memory, in the state directory as `gcs mavlink` keeps it.
     fn memory(&self) -> PathBuf {
         self.rig.dir.join("mavlink-memory")
     }
@@ -61,11 +61,11 @@ impl Session {
         self.rig.dir.join("session.tlog")
     }
 
-    /// Starts a bridge as `gcs mavlink` does (the FCC's lists read, then its memory) and runs
+    /// Starts a vehicle as `gcs mavlink` does (the FCC's lists read, then its memory) and runs
     /// `script` with `args` against it until the script exits; its output, after asserting it
     /// passed.
     fn serve(&mut self, script_name: &str, args: &[&str]) -> String {
-        let mut bridge = Bridge::new(BridgeConfig {
+        let mut vehicle = Vehicle::new(VehicleConfig {
             heartbeat: Duration::from_secs(1),
             item_timeout: Duration::from_millis(1500),
             item_retries: 3,
@@ -76,7 +76,7 @@ impl Session {
                 import: ImportOptions::default(),
             },
         });
-        // QGroundControl is not listening in a test: the bridge answers the client that talks.
+        // QGroundControl is not listening in a test: the vehicle answers the client that talks.
         let mut socket = MavlinkSocket::bind(
             "127.0.0.1:0".parse().unwrap(),
             "127.0.0.1:9".parse().unwrap(),
@@ -103,10 +103,10 @@ impl Session {
             })
         };
         let memory = self.memory();
-        driver::read_lists(&mut self.link, &mut bridge, Some(&memory));
+        driver::read_lists(&mut self.link, &mut vehicle, Some(&memory));
         driver::run(
             &mut self.link,
-            &mut bridge,
+            &mut vehicle,
             &mut socket,
             Some(&memory),
             &stop,
@@ -129,7 +129,7 @@ impl Session {
     }
 }
 
-/// Runs `script` against a bridge to a fresh FCC; its output, after asserting it passed.
+/// Runs `script` against a vehicle to a fresh FCC; its output, after asserting it passed.
 fn run_client(test: &str, script_name: &str) -> String {
     let mut session = Session::new(test);
     let out = session.serve(script_name, &[]);
@@ -201,11 +201,11 @@ fn pymavlink_uploads_downloads_is_refused_and_follows_the_flight_to_its_end() {
     assert!(out.contains("every one addressed to 255/190"), "{out}");
 }
 
-/// The bridge restarted between an upload and a download (as `gcs mavlink` starts again: the
+/// `gcs mavlink` restarted between an upload and a download (as it starts again: the
 /// FCC's lists read, then its memory): the download returns the take-off and waypoints the
 /// client uploaded, not the FCC's lists read back as items.
 #[test]
-fn a_restarted_bridge_returns_what_the_client_uploaded() {
+fn a_restarted_gcs_mavlink_returns_what_the_client_uploaded() {
     let mut session = Session::new("mavlink-restart");
     let out = session.serve("pymavlink_mission.py", &["upload"]);
     assert!(out.contains("mission and fence active"), "{out}");
@@ -242,7 +242,7 @@ fn mavsdk_plugins_upload_fly_and_clear() {
 }
 
 /// MAVProxy, unmodified, with its own system and component IDs: it takes mission requests
-/// only when addressed to itself, so its upload proves the bridge answers whoever asked.
+/// only when addressed to itself, so its upload proves the vehicle answers whoever asked.
 #[test]
 fn mavproxy_loads_a_qgc_wpl_mission_and_fence_and_lists_it() {
     let out = run_client("mavlink-mavproxy", "mavproxy_mission.py");

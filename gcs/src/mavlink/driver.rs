@@ -1,11 +1,11 @@
 //! The driver of `gcs mavlink`: one UDP socket for the MAVLink clients and the GCS link to the
-//! FCC. It only moves bytes and carries out the bridge's events: every datagram from a client
-//! goes to [`Bridge::handle_datagram`], every datagram of [`Bridge::poll_transmit`] goes to
+//! FCC. It only moves bytes and carries out the vehicle's events: every datagram from a client
+//! goes to [`Vehicle::handle_datagram`], every datagram of [`Vehicle::poll_transmit`] goes to
 //! `--to` (where QGroundControl listens) and to the client that spoke last, if another; the
-//! downlink's #101 and #4001 go to the bridge; a [`BridgeEvent::Commit`] is validated by the
-//! safety gateway and uploaded atomically (ICD §8), a [`BridgeEvent::Execute`] is #50000
-//! execute, a [`BridgeEvent::Clear`] the FCC's clear of the mission or the areas; each outcome
-//! is reported back to the bridge.
+//! downlink's #101 and #4001 go to the vehicle; a [`VehicleEvent::Commit`] is validated by the
+//! safety gateway and uploaded atomically (ICD §8), a [`VehicleEvent::Execute`] is #50000
+//! execute, a [`VehicleEvent::Clear`] the FCC's clear of the mission or the areas; each outcome
+//! is reported back to the vehicle.
 
 use std::fs::File;
 use std::io::{BufWriter, Write as _};
@@ -16,7 +16,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use missionlink_services::ground_station::{GcsError, GcsEvent, SafetyGateway, Sequence};
 
-use super::bridge::{Bridge, BridgeEvent};
+use super::vehicle::{Vehicle, VehicleEvent};
 use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
 
 use super::memory::Memory;
@@ -145,29 +145,29 @@ fn remember(path: &Path, memory: &Memory) {
     }
 }
 
-/// The lists the FCC holds, as MAVLink items, for the bridge to answer downloads with; none
+/// The lists the FCC holds, as MAVLink items, for the vehicle to answer downloads with; none
 /// when the FCC holds none (or does not answer). Then what a previous run remembered in
-/// `memory`, if given ([`Bridge::recall`]).
+/// `memory`, if given ([`Vehicle::recall`]).
 pub fn read_lists<G: SafetyGateway>(
     link: &mut GcsLink<G>,
-    bridge: &mut Bridge,
+    vehicle: &mut Vehicle,
     memory: Option<&Path>,
 ) {
-    read_fcc_lists(link, bridge);
+    read_fcc_lists(link, vehicle);
     if let Some(m) = memory.and_then(recall) {
-        bridge.recall(m);
+        vehicle.recall(m);
     }
 }
 
-fn read_fcc_lists<G: SafetyGateway>(link: &mut GcsLink<G>, bridge: &mut Bridge) {
+fn read_fcc_lists<G: SafetyGateway>(link: &mut GcsLink<G>, vehicle: &mut Vehicle) {
     let now = link.now();
     if link.station().download(now).is_err() {
         return;
     }
     if let Ok(Finished::Downloaded(plan)) = link.finish(|_| {}) {
         let (mission, fence) = from_plan(&plan, &ExportOptions::default());
-        bridge.set_lists(mission, fence);
-        bridge.set_ids(
+        vehicle.set_lists(mission, fence);
+        vehicle.set_ids(
             mission_checksum(&plan.mission).value(),
             areas_checksum(&plan.areas).value(),
         );
@@ -226,45 +226,45 @@ fn execute<G: SafetyGateway>(link: &mut GcsLink<G>) -> Result<(), String> {
     link.finish(|_| {}).map(|_| ()).map_err(|e| in_words(&e))
 }
 
-/// Runs the bridge until `stop` is set, keeping what it must remember across a restart in
+/// Runs the vehicle until `stop` is set, keeping what it must remember across a restart in
 /// `memory`, if given.
 pub fn run<G: SafetyGateway>(
     link: &mut GcsLink<G>,
-    bridge: &mut Bridge,
+    vehicle: &mut Vehicle,
     socket: &mut MavlinkSocket,
     memory: Option<&Path>,
     stop: &AtomicBool,
 ) -> std::io::Result<()> {
-    bridge.start(link.now());
+    vehicle.start(link.now());
     let mut buf = [0u8; DATAGRAM];
     while !stop.load(Ordering::Relaxed) {
         let now = link.now();
-        if bridge.poll_timeout().is_some_and(|t| t <= now) {
-            bridge.handle_timeout(now);
+        if vehicle.poll_timeout().is_some_and(|t| t <= now) {
+            vehicle.handle_timeout(now);
         }
-        while let Some(event) = bridge.poll_event() {
+        while let Some(event) = vehicle.poll_event() {
             match event {
-                BridgeEvent::Commit { plan } => {
+                VehicleEvent::Commit { plan } => {
                     let outcome = commit(link, &plan.plan);
                     match &outcome {
-                        Ok((mission_id, fence_id)) => bridge.set_ids(*mission_id, *fence_id),
+                        Ok((mission_id, fence_id)) => vehicle.set_ids(*mission_id, *fence_id),
                         Err(why) => {
                             tracing::warn!(%why, "the MAVLink client's plan was not committed");
                         }
                     }
-                    bridge.committed(outcome.map(|_| ()));
+                    vehicle.committed(outcome.map(|_| ()));
                 }
-                BridgeEvent::Execute => bridge.executed(execute(link)),
-                BridgeEvent::Clear { list } => {
+                VehicleEvent::Execute => vehicle.executed(execute(link)),
+                VehicleEvent::Clear { list } => {
                     let outcome = clear(link, list);
                     if let Err(why) = &outcome {
                         tracing::warn!(%why, %list, "the MAVLink client's clear was refused");
                     }
-                    bridge.cleared(list, outcome);
+                    vehicle.cleared(list, outcome);
                 }
             }
         }
-        if let (Some(path), Some(m)) = (memory, bridge.memory()) {
+        if let (Some(path), Some(m)) = (memory, vehicle.memory()) {
             remember(path, &m);
         }
         let stats = link.voter().stats();
@@ -273,8 +273,8 @@ pub fn run<G: SafetyGateway>(
             + stats.unreadable_messages;
         let [direct, lte] = stats.forwarded;
         let all = direct + lte + stats.duplicates + stats.stale + stats.overflow + rejected;
-        bridge.set_link_counts(all, rejected);
-        while let Some(len) = bridge.poll_transmit(&mut buf) {
+        vehicle.set_link_counts(all, rejected);
+        while let Some(len) = vehicle.poll_transmit(&mut buf) {
             if let Some(datagram) = buf.get(..len) {
                 socket.send(datagram);
             }
@@ -292,13 +292,13 @@ pub fn run<G: SafetyGateway>(
         });
         let now = link.now();
         for f in &from_to_next {
-            bridge.handle_from_to_next(f);
+            vehicle.handle_from_to_next(f);
         }
         for p in &positions {
-            bridge.handle_position(now, p);
+            vehicle.handle_position(now, p);
         }
-        // The clients: wait at most until the bridge's next deadline.
-        let wait = bridge
+        // The clients: wait at most until the vehicle's next deadline.
+        let wait = vehicle
             .poll_timeout()
             .map_or(Duration::from_millis(20), |t| t.saturating_since(now))
             .clamp(Duration::from_millis(1), Duration::from_millis(20));
@@ -309,7 +309,7 @@ pub fn run<G: SafetyGateway>(
                 socket.peer = Some(from);
                 if let Some(d) = datagram.get(..len) {
                     socket.capture(d);
-                    bridge.handle_datagram(link.now(), d);
+                    vehicle.handle_datagram(link.now(), d);
                 }
             }
             Err(e)

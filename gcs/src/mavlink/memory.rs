@@ -17,13 +17,13 @@ use core::str::FromStr;
 
 use missionlink_interfaces::wire::AltitudeType;
 
-use super::bridge::Home;
 use super::plan::Item;
+use super::vehicle::Home;
 
 /// The first line of a memory file.
 const HEADER: &str = "missionlink-mavlink 1";
 
-/// What the bridge remembers.
+/// What the vehicle remembers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Memory {
     /// The ICD §11 checksums of the lists the FCC confirmed: mission, areas.

@@ -1,12 +1,12 @@
 //! `gcs mavlink`: the GCS presents the vehicle to MAVLink 2 clients (QGroundControl, MAVSDK,
 //! pymavlink) over UDP.
 //!
-//! - [`bridge`]: the vehicle's MAVLink logic, sans-IO (time injected, its timer table); its
+//! - [`vehicle`]: the vehicle's MAVLink logic, sans-IO (time injected, its timer table); its
 //!   module documentation says how QGroundControl's mission, fence and rally uploads become one
 //!   atomic upload to the FCC.
 //! - [`driver`]: the UDP socket and the GCS link; it only moves bytes and carries out the
-//!   bridge's commits and executes.
-//! - [`memory`]: what the bridge remembers across its restarts (the items the client
+//!   vehicle's commits and executes.
+//! - [`memory`]: what the vehicle remembers across its restarts (the items the client
 //!   uploaded, the home), so a download returns what was uploaded.
 //! - [`plan`]: MAVLink mission and fence items to the GCS's plan through the one `.plan`
 //!   importer ([`crate::qgc`]), so a client's mission is taken or refused, with the index of the
@@ -16,7 +16,7 @@
 //!
 //! The MAVLink 2 framing and the `common` message set are the `mavlink` crate's.
 
-pub mod bridge;
 pub mod driver;
 pub mod memory;
 pub mod plan;
+pub mod vehicle;

@@ -957,9 +957,9 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             safety,
             state,
         } => {
-            use missionlink_gcs::mavlink::bridge::{Bridge, BridgeConfig};
             use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
             use missionlink_gcs::mavlink::plan::PlanContext;
+            use missionlink_gcs::mavlink::vehicle::{Vehicle, VehicleConfig};
             let gateway = safety.gateway()?;
             let mut link = open(config, gateway)?;
             let mut socket = MavlinkSocket::bind(bind, to)
@@ -974,7 +974,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                 Some(dir.join("mavlink-memory"))
             });
             let local = socket.local_addr().map_err(|e| e.to_string())?;
-            let mut bridge = Bridge::new(BridgeConfig {
+            let mut vehicle = Vehicle::new(VehicleConfig {
                 heartbeat: Duration::from_secs(1),
                 item_timeout: Duration::from_millis(1500),
                 item_retries: 3,
@@ -985,7 +985,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                     import: qgc::ImportOptions::default(),
                 },
             });
-            driver::read_lists(&mut link, &mut bridge, memory.as_deref());
+            driver::read_lists(&mut link, &mut vehicle, memory.as_deref());
             println!("MAVLink vehicle on {local}, sending to {to}");
             let _ = io::stdout().flush();
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -994,7 +994,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             }
             driver::run(
                 &mut link,
-                &mut bridge,
+                &mut vehicle,
                 &mut socket,
                 memory.as_deref(),
                 &stop,

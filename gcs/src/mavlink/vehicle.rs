@@ -2,7 +2,7 @@
 //! messages, writes the vehicle's, and owns its deadlines in a timer table (heartbeat, the item
 //! request of an upload in progress, the commit of a mission that waits for its fence). Time is
 //! injected; the driver moves datagrams, hands over the downlink's positions and FROM-TO-NEXT,
-//! and carries out the [`BridgeEvent`]s on the GCS link (the safety gateway, the atomic upload,
+//! and carries out the [`VehicleEvent`]s on the GCS link (the safety gateway, the atomic upload,
 //! execute), reporting each outcome back.
 //!
 //! # The vehicle it presents
@@ -24,21 +24,21 @@
 //! MAVLink's routing rules: every reply (MISSION_REQUEST_INT, MISSION_ACK, MISSION_COUNT,
 //! MISSION_ITEM_INT, COMMAND_ACK) is addressed to the system and component of the message that
 //! asked; the vehicle's own messages are broadcast; commands and mission traffic addressed to
-//! another system or component are ignored (counted in [`Bridge::elsewhere`]).
+//! another system or component are ignored (counted in [`Vehicle::elsewhere`]).
 //!
 //! # Mission and fence, committed as one
 //!
 //! QGroundControl uploads the mission, then the fence, then rally points, each after the
-//! previous MISSION_ACK. The FCC takes mission and areas as one atomic upload, so the bridge
+//! previous MISSION_ACK. The FCC takes mission and areas as one atomic upload, so the vehicle
 //! answers in time and commits once:
 //!
-//! 1. A complete **mission** upload is converted with the fence the bridge holds ([`plan`]'s
+//! 1. A complete **mission** upload is converted with the fence the vehicle holds ([`plan`]'s
 //!    rules, those of a `.plan` import). Refused: MISSION_ACK with an error and a STATUSTEXT
 //!    naming the item and the violation; nothing changes. Accepted as the pending half of a
-//!    plan: MISSION_ACK ACCEPTED at once, and the commit waits [`BridgeConfig::fence_wait`] for
+//!    plan: MISSION_ACK ACCEPTED at once, and the commit waits [`VehicleConfig::fence_wait`] for
 //!    a fence upload.
 //! 2. A complete **fence** upload (within the wait, or alone) makes the pair (the pending
-//!    mission, else the mission held) a plan and commits it ([`BridgeEvent::Commit`]); its
+//!    mission, else the mission held) a plan and commits it ([`VehicleEvent::Commit`]); its
 //!    MISSION_ACK is held until the FCC confirmed both lists: ACCEPTED, or an error with a
 //!    STATUSTEXT naming the violation or the failure (the FCC's lists stay as they were).
 //! 3. No fence within the wait: the pending mission is committed with the fence held (the
@@ -102,17 +102,17 @@ const AUTOPILOT_VERSION_ID: u32 = 148;
 const HOME_POSITION_ID: u32 = 242;
 const EXTENDED_SYS_STATE_ID: u32 = 245;
 
-/// Items the bridge holds per list (the FCC holds 256 waypoints; a mission item list has a
+/// Items the vehicle holds per list (the FCC holds 256 waypoints; a mission item list has a
 /// take-off, speed changes and a land besides).
 pub const MAX_ITEMS: u16 = 1024;
 
-/// The longest STATUSTEXT sent, in bytes: 20 chunks. Longer texts are cut (the bridge's texts
+/// The longest STATUSTEXT sent, in bytes: 20 chunks. Longer texts are cut (the vehicle's texts
 /// are its own; only a gateway report that names many violations comes near).
 pub const STATUSTEXT_MAX: usize = 1000;
 
-/// Settings of the bridge.
+/// Settings of the vehicle.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BridgeConfig {
+pub struct VehicleConfig {
     /// HEARTBEAT period (MAVLink: 1 Hz).
     pub heartbeat: Duration,
     /// How long an upload waits for the item it requested before it asks again (MAVLink's
@@ -128,18 +128,18 @@ pub struct BridgeConfig {
 
 /// What the driver must carry out on the GCS link, then report back.
 #[derive(Debug, Clone)]
-pub enum BridgeEvent {
+pub enum VehicleEvent {
     /// Validate `plan` (the safety gateway) and upload it atomically; report with
-    /// [`Bridge::committed`].
+    /// [`Vehicle::committed`].
     Commit {
         /// The plan, converted by the `.plan` import's rules.
         plan: Box<QgcImport>,
     },
-    /// Send #50000 execute; report with [`Bridge::executed`].
+    /// Send #50000 execute; report with [`Vehicle::executed`].
     Execute,
     /// Carry out the FCC's clear of `list` (the mission: #13000 mode 1, which deletes the
     /// active mission; the fence: #2011 mode 6, which removes the areas); report with
-    /// [`Bridge::cleared`].
+    /// [`Vehicle::cleared`].
     Clear {
         /// Which list.
         list: List,
@@ -158,8 +158,8 @@ struct Clearing {
 }
 
 missionlink_services::timers! {
-    /// The timers of the bridge.
-    pub enum BridgeTimer {
+    /// The timers of the vehicle.
+    pub enum VehicleTimer {
         /// The next HEARTBEAT.
         Heartbeat,
         /// The item an upload requested is overdue.
@@ -260,12 +260,12 @@ enum Waiting {
 
 /// The MAVLink vehicle of `gcs mavlink`.
 #[derive(Debug)]
-pub struct Bridge {
-    config: BridgeConfig,
-    timers: TimerTable<BridgeTimer, 3>,
+pub struct Vehicle {
+    config: VehicleConfig,
+    timers: TimerTable<VehicleTimer, 3>,
     sequence: u8,
     outbox: VecDeque<MavMessage>,
-    events: VecDeque<BridgeEvent>,
+    events: VecDeque<VehicleEvent>,
     /// The lists as the FCC holds them (the last commit, or what the driver read at start).
     mission: Vec<Item>,
     fence: Vec<Item>,
@@ -303,13 +303,13 @@ pub struct Bridge {
     /// Messages of the data links as the ground received them: (all, rejected), for
     /// SYS_STATUS.
     link_counts: (u64, u64),
-    /// What the bridge must remember across a restart changed (see [`Self::memory`]).
+    /// What the vehicle must remember across a restart changed (see [`Self::memory`]).
     remember: bool,
 }
 
-impl Bridge {
-    /// A bridge whose vehicle holds no lists yet.
-    pub fn new(config: BridgeConfig) -> Self {
+impl Vehicle {
+    /// A vehicle that holds no lists yet.
+    pub fn new(config: VehicleConfig) -> Self {
         Self {
             config,
             timers: TimerTable::new(),
@@ -409,7 +409,7 @@ impl Bridge {
     /// Starts the heartbeat at `now`.
     pub fn start(&mut self, now: Instant) {
         self.booted = Some(now);
-        self.timers.set(BridgeTimer::Heartbeat, now);
+        self.timers.set(VehicleTimer::Heartbeat, now);
     }
 
     /// One datagram from the client, at `now`: every MAVLink message in it.
@@ -594,7 +594,7 @@ impl Bridge {
     fn execute_for(&mut self, now: Instant, command: (MavCmd, Peer)) {
         self.start_command = command;
         if let Some(mission) = self.pending.take() {
-            self.timers.stop(BridgeTimer::FenceWait);
+            self.timers.stop(VehicleTimer::FenceWait);
             let fence = self.fence.clone();
             self.commit(now, mission, fence, Waiting::Execute, command.1);
         } else if self.committing.is_some() {
@@ -603,11 +603,11 @@ impl Bridge {
             }
         } else {
             self.executing = true;
-            self.events.push_back(BridgeEvent::Execute);
+            self.events.push_back(VehicleEvent::Execute);
         }
     }
 
-    /// The outcome of [`BridgeEvent::Execute`]: COMMAND_ACK, and a STATUSTEXT why not.
+    /// The outcome of [`VehicleEvent::Execute`]: COMMAND_ACK, and a STATUSTEXT why not.
     pub fn executed(&mut self, outcome: Result<(), String>) {
         self.executing = false;
         match outcome {
@@ -654,11 +654,11 @@ impl Bridge {
             refused: None,
         });
         for list in lists {
-            self.events.push_back(BridgeEvent::Clear { list: *list });
+            self.events.push_back(VehicleEvent::Clear { list: *list });
         }
     }
 
-    /// The outcome of [`BridgeEvent::Clear`] of `list`: the FCC cleared it, or why not. The
+    /// The outcome of [`VehicleEvent::Clear`] of `list`: the FCC cleared it, or why not. The
     /// MISSION_ACK goes out when every list of the MISSION_CLEAR_ALL is reported.
     pub fn cleared(&mut self, list: List, outcome: Result<(), String>) {
         let Some(clearing) = &mut self.clearing else {
@@ -674,7 +674,7 @@ impl Bridge {
                     self.mission.clear();
                     self.ids.0 = 0;
                     self.pending = None;
-                    self.timers.stop(BridgeTimer::FenceWait);
+                    self.timers.stop(VehicleTimer::FenceWait);
                     self.current = 0;
                     self.state = MissionState::MISSION_STATE_NO_MISSION;
                 }
@@ -803,7 +803,7 @@ impl Bridge {
             mission_type: kind,
         }));
         self.timers
-            .set(BridgeTimer::Item, now + self.config.item_timeout);
+            .set(VehicleTimer::Item, now + self.config.item_timeout);
     }
 
     fn item(&mut self, now: Instant, from: Peer, i: &MISSION_ITEM_INT_DATA) {
@@ -828,7 +828,7 @@ impl Bridge {
         });
         u.retries = 0;
         if u.items.len() == usize::from(u.count) {
-            self.timers.stop(BridgeTimer::Item);
+            self.timers.stop(VehicleTimer::Item);
             self.upload_complete(now);
         } else {
             self.request_next(now);
@@ -847,14 +847,14 @@ impl Bridge {
                         self.ack(u.peer, u.kind, MavMissionResult::MAV_MISSION_ACCEPTED);
                         self.pending = Some(u.items);
                         self.timers
-                            .set(BridgeTimer::FenceWait, now + self.config.fence_wait);
+                            .set(VehicleTimer::FenceWait, now + self.config.fence_wait);
                     }
                 }
             }
             _ => {
                 let mission = match self.pending.take() {
                     Some(m) => {
-                        self.timers.stop(BridgeTimer::FenceWait);
+                        self.timers.stop(VehicleTimer::FenceWait);
                         m
                     }
                     None => self.mission.clone(),
@@ -918,14 +918,14 @@ impl Bridge {
             },
             Ok(plan) => {
                 self.committing = Some((mission, fence, waiting, peer));
-                self.events.push_back(BridgeEvent::Commit {
+                self.events.push_back(VehicleEvent::Commit {
                     plan: Box::new(plan),
                 });
             }
         }
     }
 
-    /// The outcome of [`BridgeEvent::Commit`]: the FCC holds both lists (`Ok`), or not, and
+    /// The outcome of [`VehicleEvent::Commit`]: the FCC holds both lists (`Ok`), or not, and
     /// why (the safety gateway's violation, the FCC's refusal, the link's failure).
     pub fn committed(&mut self, outcome: Result<(), String>) {
         let Some((mission, fence, waiting, peer)) = self.committing.take() else {
@@ -954,7 +954,7 @@ impl Bridge {
                     Waiting::Nothing => {}
                     Waiting::Execute => {
                         self.executing = true;
-                        self.events.push_back(BridgeEvent::Execute);
+                        self.events.push_back(VehicleEvent::Execute);
                     }
                 }
             }
@@ -1033,7 +1033,7 @@ impl Bridge {
         };
         let (lat, lon) = (position.latitude.degrees(), position.longitude.degrees());
         let altitude = states.altitude.map(|a| a.metres());
-        // Standing: a bridge restarted while the aircraft flies learns that the mission flies
+        // Standing: `gcs mavlink` restarted while the aircraft flies learns that the mission flies
         // from the next FROM-TO-NEXT only, and must not take the air for the home meanwhile.
         let standing = states.ground_speed_mps().is_none_or(|v| v < 0.5);
         if self.state != MissionState::MISSION_STATE_ACTIVE
@@ -1225,12 +1225,12 @@ impl Bridge {
 
     /// The timers due at `now` fire.
     pub fn handle_timeout(&mut self, now: Instant) {
-        let due: Vec<BridgeTimer> = self.timers.expired(now).collect();
+        let due: Vec<VehicleTimer> = self.timers.expired(now).collect();
         for timer in due {
             match timer {
-                BridgeTimer::Heartbeat => {
+                VehicleTimer::Heartbeat => {
                     self.timers
-                        .set(BridgeTimer::Heartbeat, now + self.config.heartbeat);
+                        .set(VehicleTimer::Heartbeat, now + self.config.heartbeat);
                     self.heartbeat();
                     self.extended_sys_state();
                     self.sys_status();
@@ -1239,7 +1239,7 @@ impl Bridge {
                     // second, and one that asked too early needs not ask again.
                     self.home_position();
                 }
-                BridgeTimer::Item => {
+                VehicleTimer::Item => {
                     let again = self.upload.as_mut().map(|u| {
                         u.retries += 1;
                         u.retries <= self.config.item_retries
@@ -1247,7 +1247,7 @@ impl Bridge {
                     match again {
                         Some(true) => self.request_next(now),
                         Some(false) => {
-                            self.timers.stop(BridgeTimer::Item);
+                            self.timers.stop(VehicleTimer::Item);
                             if let Some(u) = self.upload.take() {
                                 self.ack(
                                     u.peer,
@@ -1256,11 +1256,11 @@ impl Bridge {
                                 );
                             }
                         }
-                        None => self.timers.stop(BridgeTimer::Item),
+                        None => self.timers.stop(VehicleTimer::Item),
                     }
                 }
-                BridgeTimer::FenceWait => {
-                    self.timers.stop(BridgeTimer::FenceWait);
+                VehicleTimer::FenceWait => {
+                    self.timers.stop(VehicleTimer::FenceWait);
                     if let Some(mission) = self.pending.take() {
                         let fence = self.fence.clone();
                         self.commit(now, mission, fence, Waiting::Nothing, Peer::default());
@@ -1362,8 +1362,8 @@ impl Bridge {
         self.link_counts = (all, rejected);
     }
 
-    /// What the bridge knows of the ground: in the air while the mission it started flies; on
-    /// the ground at the end of a mission that lands; else unknown (a bridge started while the
+    /// What the vehicle knows of the ground: in the air while the mission it started flies; on
+    /// the ground at the end of a mission that lands; else unknown (`gcs mavlink` started while the
     /// aircraft flies cannot tell), MAVLink's UNDEFINED, never guessed.
     fn landed_state(&self) -> MavLandedState {
         match self.state {
@@ -1395,7 +1395,7 @@ impl Bridge {
     }
 
     /// The next event for the driver.
-    pub fn poll_event(&mut self) -> Option<BridgeEvent> {
+    pub fn poll_event(&mut self) -> Option<VehicleEvent> {
         self.events.pop_front()
     }
 
@@ -1405,7 +1405,7 @@ impl Bridge {
     }
 }
 
-/// Decodes a datagram the bridge sent (tests, and a driver that logs).
+/// Decodes a datagram the vehicle sent (tests, and a driver that logs).
 pub fn decode(datagram: &[u8]) -> Vec<MavMessage> {
     let mut reader = MavlinkReader::new(datagram);
     let mut out = Vec::new();

@@ -12,8 +12,8 @@ fn at(ms: u64) -> Instant {
     Instant::from_millis(ms)
 }
 
-fn config() -> BridgeConfig {
-    BridgeConfig {
+fn config() -> VehicleConfig {
+    VehicleConfig {
         heartbeat: Duration::from_secs(1),
         item_timeout: Duration::from_millis(1500),
         item_retries: 3,
@@ -26,8 +26,8 @@ fn config() -> BridgeConfig {
     }
 }
 
-/// What the bridge sent since the last call, decoded.
-fn sent(b: &mut Bridge) -> Vec<MavMessage> {
+/// What the vehicle sent since the last call, decoded.
+fn sent(b: &mut Vehicle) -> Vec<MavMessage> {
     let mut out = Vec::new();
     let mut buf = [0u8; 300];
     while let Some(len) = b.poll_transmit(&mut buf) {
@@ -37,7 +37,7 @@ fn sent(b: &mut Bridge) -> Vec<MavMessage> {
 }
 
 /// The client's message, through the bytes of a datagram.
-fn from_client(b: &mut Bridge, now: Instant, m: MavMessage) {
+fn from_client(b: &mut Vehicle, now: Instant, m: MavMessage) {
     let mut buf = [0u8; 300];
     let mut out: &mut [u8] = &mut buf;
     let header = MavHeader {
@@ -157,8 +157,8 @@ fn fence() -> Vec<MavMessage> {
     items
 }
 
-/// Uploads `items` of `kind` as a client does: count, then each item the bridge requests.
-fn upload(b: &mut Bridge, now: Instant, kind: T, items: &[MavMessage]) -> Vec<MavMessage> {
+/// Uploads `items` of `kind` as a client does: count, then each item the vehicle requests.
+fn upload(b: &mut Vehicle, now: Instant, kind: T, items: &[MavMessage]) -> Vec<MavMessage> {
     from_client(
         b,
         now,
@@ -234,7 +234,7 @@ fn texts(messages: &[MavMessage]) -> Vec<String> {
 /// Scripted time: a HEARTBEAT at start and every second, nothing at t - 1 ms.
 #[test]
 fn heartbeat_once_a_second() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     b.start(at(0));
     b.handle_timeout(at(0));
     let first = sent(&mut b);
@@ -264,7 +264,7 @@ fn heartbeat_once_a_second() {
 /// items back.
 #[test]
 fn mission_then_fence_commit_as_one() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
     assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_MISSION));
     assert!(
@@ -274,7 +274,7 @@ fn mission_then_fence_commit_as_one() {
     assert_eq!(b.poll_timeout(), Some(at(2000)));
     let out = upload(&mut b, at(100), T::MAV_MISSION_TYPE_FENCE, &fence());
     assert!(acks(&out).is_empty(), "the fence's ACK waits for the FCC");
-    let Some(BridgeEvent::Commit { plan }) = b.poll_event() else {
+    let Some(VehicleEvent::Commit { plan }) = b.poll_event() else {
         panic!("no commit");
     };
     assert_eq!(plan.plan.areas.len(), 2);
@@ -331,7 +331,7 @@ fn mission_then_fence_commit_as_one() {
 /// over: nothing at t - 1 ms, the commit at t.
 #[test]
 fn a_mission_alone_is_committed_after_the_wait() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     // Without a mission, a fence is held for the next one.
     let out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_FENCE, &fence());
     assert_eq!(acks(&out), accepted(T::MAV_MISSION_TYPE_FENCE));
@@ -340,7 +340,7 @@ fn a_mission_alone_is_committed_after_the_wait() {
     b.handle_timeout(at(2999));
     assert!(b.poll_event().is_none());
     b.handle_timeout(at(3000));
-    let Some(BridgeEvent::Commit { plan }) = b.poll_event() else {
+    let Some(VehicleEvent::Commit { plan }) = b.poll_event() else {
         panic!("no commit at the end of the wait")
     };
     assert_eq!(plan.plan.areas.len(), 2, "with the fence held");
@@ -353,7 +353,7 @@ fn a_mission_alone_is_committed_after_the_wait() {
 /// An item the ICD cannot carry: MISSION_ACK with an error and a STATUSTEXT naming it.
 #[test]
 fn a_refusal_names_the_item() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     let mut m = mission();
     m.insert(
         2,
@@ -394,7 +394,7 @@ fn a_refusal_names_the_item() {
 /// An item not sent is asked for again after the timeout, then the upload is abandoned.
 #[test]
 fn a_missing_item_is_asked_again_then_abandoned() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     from_client(
         &mut b,
         at(0),
@@ -457,7 +457,7 @@ fn flying() -> InertialStates {
     reason = "GET_HOME_POSITION is superseded by REQUEST_MESSAGE, and MAVProxy still sends it"
 )]
 fn mission_start_executes_and_positions_become_global_position_int() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     b.start(at(0));
     // Standing before the mission: the home, sent once, above mean sea level by the geoid.
     b.handle_position(at(100), &standing(48.26, 11.66, 500.0));
@@ -484,7 +484,7 @@ fn mission_start_executes_and_positions_become_global_position_int() {
         at(700),
         command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
     );
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Execute)));
     b.executed(Ok(()));
     assert!(sent(&mut b).iter().any(
         |m| matches!(m, MavMessage::COMMAND_ACK(a) if a.result == MavResult::MAV_RESULT_ACCEPTED)
@@ -540,7 +540,7 @@ fn mission_start_executes_and_positions_become_global_position_int() {
 
 #[test]
 fn home_position_is_asked_again_until_a_position_tells_it() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     from_client(
         &mut b,
         at(0),
@@ -573,7 +573,7 @@ fn home_position_is_asked_again_until_a_position_tells_it() {
 
 #[test]
 fn the_second_heartbeat_has_sys_status_with_the_links_counts() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     b.start(at(0));
     b.set_link_counts(1000, 25);
     b.handle_timeout(at(0));
@@ -601,13 +601,13 @@ fn the_second_heartbeat_has_sys_status_with_the_links_counts() {
 /// The lists as the client uploaded them and the home, remembered across a restart; items of
 /// lists the FCC no longer holds are not taken.
 #[test]
-fn a_restarted_bridge_downloads_what_was_uploaded() {
-    let mut b = Bridge::new(config());
+fn a_restarted_vehicle_downloads_what_was_uploaded() {
+    let mut b = Vehicle::new(config());
     b.start(at(0));
     b.handle_position(at(0), &standing(48.26, 11.66, 0.0));
     upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
     upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Commit { .. })));
     b.set_ids(0x1234, 0x5678);
     b.committed(Ok(()));
     let memory = b.memory().expect("the commit is remembered");
@@ -627,7 +627,7 @@ fn a_restarted_bridge_downloads_what_was_uploaded() {
         };
         4
     ];
-    let mut restarted = Bridge::new(config());
+    let mut restarted = Vehicle::new(config());
     restarted.set_lists(exported.clone(), Vec::new());
     restarted.set_ids(0x1234, 0x5678);
     restarted.recall(memory.clone());
@@ -641,7 +641,7 @@ fn a_restarted_bridge_downloads_what_was_uploaded() {
     assert_eq!(restarted.home(), b.home());
 
     // Another ground station uploaded since: the FCC's lists stand.
-    let mut other = Bridge::new(config());
+    let mut other = Vehicle::new(config());
     other.set_lists(exported.clone(), Vec::new());
     other.set_ids(0x9999, 0x5678);
     other.recall(memory);
@@ -650,7 +650,7 @@ fn a_restarted_bridge_downloads_what_was_uploaded() {
 
 #[test]
 fn autopilot_version_names_mission_int_and_fence() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     from_client(
         &mut b,
         at(0),
@@ -670,7 +670,7 @@ fn autopilot_version_names_mission_int_and_fence() {
 /// generator, never panic; what does not parse is counted.
 #[test]
 fn any_bytes_are_counted_never_a_panic() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     let mut buf = [0u8; 300];
     let mut out: &mut [u8] = &mut buf;
     let len = mavlink::write_v2_msg(&mut out, MavHeader::default(), &mission()[1]).unwrap();
@@ -711,10 +711,10 @@ fn target(m: &MavMessage) -> Option<(u8, u8)> {
 /// fence's ack held until the commit, a download, a COMMAND_ACK.
 #[test]
 fn replies_go_to_the_client_that_asked() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     let mut out = upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
     out.extend(upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence()));
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Commit { .. })));
     b.committed(Ok(()));
     out.extend(sent(&mut b));
     from_client(
@@ -763,7 +763,7 @@ fn replies_go_to_the_client_that_asked() {
 /// change nothing; they are counted.
 #[test]
 fn traffic_for_another_vehicle_is_ignored() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     for (system, component) in [(7, 1), (1, 154)] {
         from_client(
             &mut b,
@@ -793,7 +793,7 @@ fn traffic_for_another_vehicle_is_ignored() {
         c.target_component = 0;
     }
     from_client(&mut b, at(0), start);
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Execute)));
 }
 
 /// The STATUSTEXT messages of one text: (id, chunk_seq, bytes without the padding).
@@ -815,7 +815,7 @@ fn chunks(messages: &[MavMessage]) -> Vec<(u16, u8, Vec<u8>)> {
 /// chunk shorter than 50 bytes (empty when the length is a multiple of 50), none lost past 8.
 #[test]
 fn statustext_in_chunks_with_an_end_marker() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     b.statustext(MavSeverity::MAV_SEVERITY_INFO, "short");
     assert_eq!(chunks(&sent(&mut b)), [(0, 0, b"short".to_vec())]);
 
@@ -864,17 +864,17 @@ fn clear_all(kind: T) -> MavMessage {
 /// STATUSTEXT and the lists unchanged.
 #[test]
 fn clear_all_is_the_fccs_clear_and_its_refusal_says_why() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
     upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Commit { .. })));
     b.committed(Ok(()));
     sent(&mut b);
 
     from_client(&mut b, at(20), clear_all(T::MAV_MISSION_TYPE_MISSION));
     assert!(matches!(
         b.poll_event(),
-        Some(BridgeEvent::Clear {
+        Some(VehicleEvent::Clear {
             list: List::Mission
         })
     ));
@@ -893,13 +893,13 @@ fn clear_all_is_the_fccs_clear_and_its_refusal_says_why() {
     from_client(&mut b, at(30), clear_all(T::MAV_MISSION_TYPE_ALL));
     assert!(matches!(
         b.poll_event(),
-        Some(BridgeEvent::Clear {
+        Some(VehicleEvent::Clear {
             list: List::Mission
         })
     ));
     assert!(matches!(
         b.poll_event(),
-        Some(BridgeEvent::Clear { list: List::Fence })
+        Some(VehicleEvent::Clear { list: List::Fence })
     ));
     b.cleared(List::Mission, Ok(()));
     assert!(
@@ -939,10 +939,10 @@ fn from_to_next(to: u16) -> FromToNext {
 /// the plan's checksums; the heartbeat says AUTO.MISSION and in the air meanwhile.
 #[test]
 fn progress_reaches_every_item_and_completes_on_the_last() {
-    let mut b = Bridge::new(config());
+    let mut b = Vehicle::new(config());
     upload(&mut b, at(0), T::MAV_MISSION_TYPE_MISSION, &mission());
     upload(&mut b, at(10), T::MAV_MISSION_TYPE_FENCE, &fence());
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Commit { .. })));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Commit { .. })));
     b.set_ids(0x1234_5678, 0x9abc_def0);
     b.committed(Ok(()));
     b.start(at(20));
@@ -951,7 +951,7 @@ fn progress_reaches_every_item_and_completes_on_the_last() {
         at(20),
         command_long(MavCmd::MAV_CMD_MISSION_START, 0.0),
     );
-    assert!(matches!(b.poll_event(), Some(BridgeEvent::Execute)));
+    assert!(matches!(b.poll_event(), Some(VehicleEvent::Execute)));
     b.executed(Ok(()));
     sent(&mut b);
     let total = b.lists().0.len() as u16;
