@@ -1413,6 +1413,7 @@ def run(args: argparse.Namespace) -> int:
             start_longitude_deg=args.start_longitude,
             climb_rate_mps=args.climb_rate,
             descent_rate_mps=args.descent_rate,
+            max_bank_deg=args.max_bank_deg,
             time_scale=args.time_scale,
             wind_speed_mps=args.wind_speed_mps,
             wind_from_deg=args.wind_from_deg,
@@ -1540,6 +1541,7 @@ def parse_args(argv: Optional[list[str]] = None) -> argparse.Namespace:
         ("--start-longitude", d.start_longitude_deg, "start longitude, degrees (TROL)"),
         ("--climb-rate", d.climb_rate_mps, "take-off climb rate, m/s"),
         ("--descent-rate", d.descent_rate_mps, "landing descent rate, m/s"),
+        ("--max-bank-deg", d.max_bank_deg, "bank of the turns, degrees (their radius)"),
         (
             "--wind-speed-mps",
             d.wind_speed_mps,

@@ -29,6 +29,7 @@
 //! start_longitude_deg = 11.66
 //! climb_rate_mps = 3.0
 //! descent_rate_mps = 2.0
+//! max_bank_deg = 25.0             # the bank of turns (their radius, ICD §7 "Turns in wind")
 //! wind_speed_mps = 0.0            # the steady wind the simulated aircraft flies in
 //! wind_from_deg = 0.0             # (turns are sized by the plan's wind, ICD §7)
 //!
@@ -71,6 +72,7 @@ pub use missionlink_platform::config::{
     CONFIG_FILE_ENV, CONFIG_TOML_ENV, ConfigArgs, ConfigError, Ids, LinkConfig, Links, PREFIX_ENV,
     Signing, SigningPolicy, Timing,
 };
+use missionlink_services::guidance::GuidanceConfig;
 use missionlink_services::mission_data_handling::FccConfig;
 use serde::{Deserialize, Serialize};
 
@@ -247,44 +249,6 @@ impl Ipc {
     }
 }
 
-/// The guidance stub.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Guidance {
-    /// Simulated seconds per second (demo time scale).
-    pub time_scale: f64,
-    /// How often guidance integrates and publishes its progress.
-    pub update_interval_ms: u64,
-    /// Start position, latitude.
-    pub start_latitude_deg: f64,
-    /// Start position, longitude.
-    pub start_longitude_deg: f64,
-    /// Vertical climb rate.
-    pub climb_rate_mps: f64,
-    /// Vertical descent rate.
-    pub descent_rate_mps: f64,
-    /// Speed of the steady wind the simulated aircraft flies in, m/s (the turns are sized by
-    /// the plan's wind, ICD §7 "Turns in wind").
-    pub wind_speed_mps: f64,
-    /// Direction that wind blows from, degrees clockwise from true north.
-    pub wind_from_deg: f64,
-}
-
-impl Default for Guidance {
-    fn default() -> Self {
-        Self {
-            time_scale: 1.0,
-            update_interval_ms: 50,
-            start_latitude_deg: 48.26,
-            start_longitude_deg: 11.66,
-            climb_rate_mps: 3.0,
-            descent_rate_mps: 2.0,
-            wind_speed_mps: 0.0,
-            wind_from_deg: 0.0,
-        }
-    }
-}
-
 /// Latency reports.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -373,8 +337,8 @@ pub struct Config {
     pub timing: Timing,
     /// iceoryx2.
     pub ipc: Ipc,
-    /// Guidance stub.
-    pub guidance: Guidance,
+    /// The guidance stub's model (`[guidance]`: the services' own settings, read as they are).
+    pub guidance: GuidanceConfig,
     /// Latency reports.
     pub latency: Latency,
     /// Launcher.
@@ -702,6 +666,25 @@ mod tests {
             c.downlink.position_period(),
             Some(Duration::from_millis(100))
         );
+    }
+
+    /// `[guidance]` is the model's own settings: every one of them, the bank limit included,
+    /// and nothing else.
+    #[test]
+    fn guidance_reads_into_the_models_settings() {
+        let c = Config::parse(
+            "[guidance]\nmax_bank_deg = 30.0\nupdate_interval_ms = 20\n",
+            Path::new("g.toml"),
+        )
+        .unwrap();
+        assert_eq!(c.guidance.max_bank_deg, 30.0);
+        assert_eq!(c.guidance.update_interval_ms, 20);
+        assert_eq!(
+            c.guidance.climb_rate_mps,
+            GuidanceConfig::default().climb_rate_mps
+        );
+        let e = Config::parse("[guidance]\nbank = 30.0\n", Path::new("g.toml")).unwrap_err();
+        assert!(e.to_string().contains("g.toml:2:1"), "{e}");
     }
 
     #[test]

@@ -12,7 +12,7 @@ use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
     AutomationStatePayload, FccService, GuidanceProgressPayload, Partition,
 };
-use missionlink_services::guidance::{Guidance, GuidanceConfig};
+use missionlink_services::guidance::Guidance;
 
 use crate::config::Config;
 use crate::ipc::{Ipc, ListPairing};
@@ -46,16 +46,7 @@ where
     let progress = ipc.publisher::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
 
     let g = &config.guidance;
-    let mut guidance = Guidance::new(GuidanceConfig {
-        start_latitude_deg: g.start_latitude_deg,
-        start_longitude_deg: g.start_longitude_deg,
-        climb_rate_mps: g.climb_rate_mps,
-        descent_rate_mps: g.descent_rate_mps,
-        time_scale: g.time_scale,
-        wind_speed_mps: g.wind_speed_mps,
-        wind_from_deg: g.wind_from_deg,
-        ..GuidanceConfig::default()
-    });
+    let mut guidance = Guidance::new(*g);
     let clock = DriverClock::start();
     let interval = Duration::from_millis(g.update_interval_ms.max(1));
 

@@ -403,6 +403,7 @@ pub fn python_guidance_command(config: &Config) -> std::process::Command {
         .args(["--start-longitude", &g.start_longitude_deg.to_string()])
         .args(["--climb-rate", &g.climb_rate_mps.to_string()])
         .args(["--descent-rate", &g.descent_rate_mps.to_string()])
+        .args(["--max-bank-deg", &g.max_bank_deg.to_string()])
         .args(["--update-interval-ms", &g.update_interval_ms.to_string()])
         .args(["--wind-speed-mps", &g.wind_speed_mps.to_string()])
         .args(["--wind-from-deg", &g.wind_from_deg.to_string()])

@@ -3,8 +3,14 @@
 
 use crate::geofence::onboard::FlyBy;
 
-/// Settings of the guidance model.
+/// Settings of the guidance model, as the FCC's configuration file's `[guidance]` table gives
+/// them (every field optional, unknown names refused).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct GuidanceConfig {
     /// Start latitude on the ground (degrees); default: TROL 48.26 from the demo missions.
     pub start_latitude_deg: f64,
@@ -26,6 +32,9 @@ pub struct GuidanceConfig {
     pub wind_speed_mps: f64,
     /// Direction the wind blows from, degrees clockwise from true north, default 0.
     pub wind_from_deg: f64,
+    /// How often the guidance partition steps the model and publishes its progress (ms),
+    /// default 50; the model itself takes any step (it sub-steps long ones).
+    pub update_interval_ms: u64,
 }
 
 impl Default for GuidanceConfig {
@@ -39,6 +48,7 @@ impl Default for GuidanceConfig {
             time_scale: 1.0,
             wind_speed_mps: 0.0,
             wind_from_deg: 0.0,
+            update_interval_ms: 50,
         }
     }
 }
@@ -139,6 +149,11 @@ impl GuidanceConfig {
                 self.wind_from_deg.rem_euclid(360.0)
             } else {
                 d.wind_from_deg
+            },
+            update_interval_ms: if self.update_interval_ms > 0 {
+                self.update_interval_ms
+            } else {
+                d.update_interval_ms
             },
         }
     }
