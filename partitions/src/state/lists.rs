@@ -10,28 +10,15 @@
 //! Both active lists and their generations are one file ([`save_active`],
 //! `active-lists.frames`): an activation that replaces both (ICD §8) cannot be torn by a kill
 //! between two writes. Each staged mission is a file of its own under `staged/`
-//! ([`save_staged`]). Every file is replaced atomically (written, flushed to the disk, renamed),
-//! so a crash mid-write leaves the previous content. The layout before, one file per active
-//! list, is still read when the new file is absent (an FCC upgraded in place keeps its lists).
+//! ([`save_staged`]). Every file is replaced atomically ([`super::write_atomically`]).
 //!
 //! A mission upload that is open is recorded too (`mission-upload.open`, empty): a partition
 //! restarted in the middle of one must not take the rest of it as an edit of the active list
 //! (`services::mission_data_handling`, "A restart never assembles a transfer it did not see from
 //! the start").
-//!
-//! Voting-monitoring announces here where it bound the FCC's ends of the links
-//! ([`BoundLinks`], `links.toml`): with port 0 in the configuration the system chooses them, the
-//! GCS (the demo, the tests) reads them here, and a restarted voting-monitoring binds the same
-//! ports again so the GCS keeps talking to them.
-//!
-//! Every partition process announces here when it is up (its ports open, waiting for data), and
-//! the launcher once all its partitions are ([`announce_ready`], `ready/<binary>`): the demo and
-//! the tests wait for that instead of sleeping.
 
 use std::io;
-use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
 use missionlink_interfaces::wire::{
     self, AreaTransferMode, AreaTransmissionCommand, Envelope, MAX_FRAME_LEN, Message,
@@ -42,190 +29,11 @@ use missionlink_services::transfer::mission::{Mission, MissionBuffer};
 use missionlink_services::transfer::sender::mission_command;
 use missionlink_services::transfer::staged::MissionId;
 
+use super::{remove_if_present, sync_dir, write_atomically};
+
 const ACTIVE_LISTS: &str = "active-lists.frames";
-const LEGACY_WAYPOINT_LIST: &str = "waypoint-list.frames";
-const LEGACY_AREA_LIST: &str = "area-list.frames";
 const STAGED: &str = "staged";
 const MISSION_UPLOAD_OPEN: &str = "mission-upload.open";
-const LINKS: &str = "links.toml";
-const READY: &str = "ready";
-
-/// Where voting-monitoring bound the FCC's ends of the two links.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoundLinks {
-    /// The FCC receives the direct link here.
-    pub fcc_direct: SocketAddr,
-    /// The FCC receives the LTE link here.
-    pub fcc_lte: SocketAddr,
-}
-
-impl BoundLinks {
-    /// Points `config`'s FCC ends at these (for the GCS that talks to this FCC).
-    pub fn apply(&self, config: &mut crate::config::Config) {
-        config.links.fcc_direct = self.fcc_direct;
-        config.links.fcc_lte = self.fcc_lte;
-    }
-}
-
-/// The directory of the readiness announcements under the state directory `dir`.
-pub fn ready_dir(dir: &Path) -> PathBuf {
-    dir.join(READY)
-}
-
-/// Announces `links` in `dir` (atomically: a reader sees the old file or the new one).
-pub fn save_links(dir: &Path, links: &BoundLinks) -> io::Result<()> {
-    let text = toml::to_string(links).map_err(io::Error::other)?;
-    write_atomically(&dir.join(LINKS), text.as_bytes())
-}
-
-/// The links announced in `dir`, if any.
-pub fn load_links(dir: &Path) -> Option<BoundLinks> {
-    let text = std::fs::read_to_string(dir.join(LINKS)).ok()?;
-    toml::from_str(&text).ok()
-}
-
-/// Removes the announcement in `dir`, so that the next one read is a new one.
-pub fn forget_links(dir: &Path) -> io::Result<()> {
-    match std::fs::remove_file(dir.join(LINKS)) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
-        _ => Ok(()),
-    }
-}
-
-/// Waits until links are announced in `dir` (the file is polled), for at most `limit`, while
-/// `alive` says the announcing process may still come.
-pub fn wait_for_links(
-    dir: &Path,
-    limit: Duration,
-    alive: impl FnMut() -> bool,
-) -> Option<BoundLinks> {
-    wait_for(limit, alive, || load_links(dir))
-}
-
-fn ready_path(dir: &Path, binary: &str) -> PathBuf {
-    dir.join(READY).join(binary)
-}
-
-/// Announces in `dir` that `binary` is up: a partition once its ports are open and it waits
-/// for data, the launcher once every partition it started is. The file holds the process ID.
-pub fn announce_ready(dir: &Path, binary: &str) -> io::Result<()> {
-    write_atomically(
-        &ready_path(dir, binary),
-        std::process::id().to_string().as_bytes(),
-    )
-}
-
-/// Removes `binary`'s announcement in `dir` (it stopped, died or is about to start again).
-pub fn forget_ready(dir: &Path, binary: &str) -> io::Result<()> {
-    match std::fs::remove_file(ready_path(dir, binary)) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
-        _ => Ok(()),
-    }
-}
-
-/// Removes `binary`'s announcement in `dir` if process `pid` made it: a process that ends
-/// withdraws its own announcement, never the one of a newer instance started meanwhile in the
-/// same directory (a launcher restarted at once after `kill -9`, while the old partitions are
-/// still on their way out).
-pub fn withdraw_ready(dir: &Path, binary: &str, pid: u32) -> io::Result<()> {
-    let path = ready_path(dir, binary);
-    match std::fs::read_to_string(&path) {
-        Ok(text) if text.trim() == pid.to_string() => match std::fs::remove_file(&path) {
-            Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
-            _ => Ok(()),
-        },
-        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
-        _ => Ok(()),
-    }
-}
-
-/// Whether `binary` announced in `dir` that it is up.
-pub fn is_ready(dir: &Path, binary: &str) -> bool {
-    ready_path(dir, binary).is_file()
-}
-
-/// Waits until `binary` announces in `dir` that it is up (the file is polled), for at most
-/// `limit`, while `alive` says it may still come; whether it did.
-pub fn wait_for_ready(
-    dir: &Path,
-    binary: &str,
-    limit: Duration,
-    alive: impl FnMut() -> bool,
-) -> bool {
-    wait_for(limit, alive, || is_ready(dir, binary).then_some(())).is_some()
-}
-
-/// Polls `probe` until it gives a value, for at most `limit`, while `alive` says it may still
-/// come (another process writes what it looks for: no event to sleep on).
-fn wait_for<T>(
-    limit: Duration,
-    mut alive: impl FnMut() -> bool,
-    mut probe: impl FnMut() -> Option<T>,
-) -> Option<T> {
-    let end = Instant::now() + limit;
-    loop {
-        if let Some(found) = probe() {
-            return Some(found);
-        }
-        if Instant::now() >= end || !alive() {
-            return None;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
-
-/// The directory of one FCC instance's state (`<temp>/missionlink-state/<prefix>` unless
-/// configured).
-pub fn default_dir(prefix: &str) -> PathBuf {
-    let safe: String = prefix
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    std::env::temp_dir().join("missionlink-state").join(safe)
-}
-
-/// Writes `bytes` to `path` so that a reader, or the next start after a crash or a power loss,
-/// finds either the previous file or the new one, whole: a temporary file of this process's own
-/// is written and flushed to the disk, renamed over `path`, and the directory is flushed so that
-/// the rename itself survives.
-fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = path.parent();
-    if let Some(dir) = dir {
-        std::fs::create_dir_all(dir)?;
-    }
-    // A name of this process's own: two processes writing the same file never share a
-    // half-written one.
-    let tmp = path.with_extension(format!("tmp.{}", std::process::id()));
-    let mut file = std::fs::File::create(&tmp)?;
-    io::Write::write_all(&mut file, bytes)?;
-    file.sync_all()?;
-    drop(file);
-    std::fs::rename(&tmp, path)?;
-    if let Some(dir) = dir {
-        sync_dir(dir)?;
-    }
-    Ok(())
-}
-
-/// Flushes a directory's entries (a rename or a removal in it) to the disk.
-fn sync_dir(dir: &Path) -> io::Result<()> {
-    std::fs::File::open(dir)?.sync_all()
-}
-
-/// Removes `path`; a file that is not there is removed already.
-fn remove_if_present(path: &Path) -> io::Result<()> {
-    match std::fs::remove_file(path) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
-        _ => Ok(()),
-    }
-}
 
 /// The messages that carry `mission`, as an upload does (ICD §5.1): take-off height, waypoints,
 /// RF centres, route, and the #13000 transmit with the count and the Mission ID. None for no
@@ -393,9 +201,6 @@ pub struct ActiveLists {
 /// atomically: an activation that changes both lists (ICD §8) is on disk whole or not at all,
 /// never torn by a kill between two writes. The file: the mission generation and the area
 /// generation (8 bytes each, big-endian), then the two lists as [`encode_lists`] lays them out.
-///
-/// The files of the layout before (one per list) are removed once the new file is in place, so
-/// they are never read again after an upgrade.
 pub fn save_active(
     dir: &Path,
     mission: Option<&Mission>,
@@ -406,16 +211,10 @@ pub fn save_active(
     let mut bytes = mission_generation.to_be_bytes().to_vec();
     bytes.extend_from_slice(&area_generation.to_be_bytes());
     encode_lists(&mut bytes, mission, areas)?;
-    write_atomically(&dir.join(ACTIVE_LISTS), &bytes)?;
-    remove_if_present(&dir.join(LEGACY_WAYPOINT_LIST))?;
-    remove_if_present(&dir.join(LEGACY_AREA_LIST))
+    write_atomically(&dir.join(ACTIVE_LISTS), &bytes)
 }
 
 /// The active lists saved last, `None` when there are none or the file is damaged (logged).
-///
-/// An FCC upgraded in place keeps its lists: without `active-lists.frames`, the two files of the
-/// layout before are read (`waypoint-list.frames` and `area-list.frames`, each its generation
-/// then its frames), and whichever of them is there and whole is used.
 pub fn load_active(dir: &Path) -> Option<ActiveLists> {
     let path = dir.join(ACTIVE_LISTS);
     match std::fs::read(&path) {
@@ -436,41 +235,12 @@ pub fn load_active(dir: &Path) -> Option<ActiveLists> {
                 area_generation: u64::from_be_bytes(*area_generation),
             })
         }
-        Err(e) if e.kind() == io::ErrorKind::NotFound => load_legacy(dir),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
         Err(e) => {
             tracing::warn!(path = %path.display(), %e, "cannot read the state file");
             None
         }
     }
-}
-
-/// The lists in the layout before [`save_active`]: one file per list.
-fn load_legacy(dir: &Path) -> Option<ActiveLists> {
-    let read = |name: &str| {
-        let path = dir.join(name);
-        let bytes = std::fs::read(&path).ok()?;
-        let Some((generation, rest)) = bytes.split_first_chunk::<8>() else {
-            tracing::warn!(path = %path.display(), "state file is damaged: too short");
-            return None;
-        };
-        Some((u64::from_be_bytes(*generation), decode_frames(&path, rest)?))
-    };
-    let mission = read(LEGACY_WAYPOINT_LIST)
-        .and_then(|(g, messages)| assemble_mission(&messages).map(|m| (m, g)));
-    let areas =
-        read(LEGACY_AREA_LIST).and_then(|(g, messages)| assemble_areas(&messages).map(|a| (a, g)));
-    if mission.is_none() && areas.is_none() {
-        return None;
-    }
-    tracing::info!(dir = %dir.display(), "the active lists read from the layout before");
-    let (mission, mission_generation) = mission.unwrap_or((None, 0));
-    let (areas, area_generation) = areas.unwrap_or((None, 0));
-    Some(ActiveLists {
-        mission,
-        mission_generation,
-        areas,
-        area_generation,
-    })
 }
 
 /// The file of staged mission `id`: `staged/<hex of the ID's bytes>.frames`. Hex keeps every
@@ -600,13 +370,6 @@ mod tests {
         MissionId::new(s).unwrap()
     }
 
-    /// A file in the layout before [`save_active`]: the generation, then the frames.
-    fn write_legacy(dir: &Path, name: &str, generation: u64, messages: &[Message]) {
-        let mut bytes = generation.to_be_bytes().to_vec();
-        encode_frames(&mut bytes, messages).unwrap();
-        std::fs::write(dir.join(name), bytes).unwrap();
-    }
-
     #[test]
     fn the_active_lists_read_back_whole_with_their_generations() {
         let dir = tempfile::tempdir().unwrap();
@@ -663,64 +426,6 @@ mod tests {
                 panic!("flipped at {at}: read {read:?}");
             }
         }
-    }
-
-    #[test]
-    fn without_the_active_file_the_two_files_of_the_layout_before_are_read() {
-        let dir = tempfile::tempdir().unwrap();
-        let [(m1, a1), (m2, a2)] = missions();
-        write_legacy(
-            dir.path(),
-            LEGACY_WAYPOINT_LIST,
-            7,
-            &mission_messages(Some(&m1)),
-        );
-        write_legacy(dir.path(), LEGACY_AREA_LIST, 6, &area_messages(Some(&a1)));
-        let expected = ActiveLists {
-            mission: Some(m1.clone()),
-            mission_generation: 7,
-            areas: Some(a1),
-            area_generation: 6,
-        };
-        assert_eq!(load_active(dir.path()), Some(expected));
-
-        // Only the waypoint list was ever saved: no areas, generation 0.
-        std::fs::remove_file(dir.path().join(LEGACY_AREA_LIST)).unwrap();
-        let only_mission = load_active(dir.path()).unwrap();
-        assert_eq!(only_mission.mission, Some(m1));
-        assert_eq!(
-            (only_mission.areas, only_mission.area_generation),
-            (None, 0)
-        );
-
-        // The first save after the upgrade takes over: the old files go.
-        save_active(dir.path(), Some(&m2), 8, Some(&a2), 7).unwrap();
-        assert!(!dir.path().join(LEGACY_WAYPOINT_LIST).exists());
-        assert!(!dir.path().join(LEGACY_AREA_LIST).exists());
-        assert_eq!(load_active(dir.path()).unwrap().mission, Some(m2));
-    }
-
-    #[test]
-    fn a_damaged_file_of_the_layout_before_is_skipped_and_the_other_still_read() {
-        let dir = tempfile::tempdir().unwrap();
-        let [(m1, a1), _] = missions();
-        write_legacy(
-            dir.path(),
-            LEGACY_WAYPOINT_LIST,
-            2,
-            &mission_messages(Some(&m1)),
-        );
-        std::fs::write(dir.path().join(LEGACY_AREA_LIST), [0u8; 5]).unwrap();
-        let active = load_active(dir.path()).unwrap();
-        assert_eq!((active.mission, active.areas), (Some(m1), None));
-        write_legacy(
-            dir.path(),
-            LEGACY_AREA_LIST,
-            2,
-            &area_messages(Some(&a1))[1..],
-        );
-        std::fs::remove_file(dir.path().join(LEGACY_WAYPOINT_LIST)).unwrap();
-        assert_eq!(load_active(dir.path()), None, "areas without their opener");
     }
 
     #[test]
@@ -787,43 +492,5 @@ mod tests {
             assert!(name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'.'));
             assert_eq!(staged_id(name), Some(id), "{s:?}");
         }
-    }
-
-    #[test]
-    fn a_process_withdraws_only_its_own_announcement() {
-        let dir =
-            std::env::temp_dir().join(format!("missionlink-state-own-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        announce_ready(&dir, "voting-monitoring").unwrap();
-        // The old instance of a partition on its way out meets the new one's announcement.
-        withdraw_ready(&dir, "voting-monitoring", std::process::id() + 1).unwrap();
-        assert!(is_ready(&dir, "voting-monitoring"), "not its announcement");
-        withdraw_ready(&dir, "voting-monitoring", std::process::id()).unwrap();
-        assert!(!is_ready(&dir, "voting-monitoring"));
-        withdraw_ready(&dir, "voting-monitoring", std::process::id()).unwrap();
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn readiness_is_announced_withdrawn_and_waited_for() {
-        let dir =
-            std::env::temp_dir().join(format!("missionlink-state-ready-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        assert!(!is_ready(&dir, "fcc"));
-        forget_ready(&dir, "fcc").unwrap();
-        // A process that is gone is not waited for.
-        assert!(!wait_for_ready(
-            &dir,
-            "fcc",
-            Duration::from_secs(20),
-            || false
-        ));
-        announce_ready(&dir, "fcc").unwrap();
-        assert!(is_ready(&dir, "fcc"));
-        assert!(!is_ready(&dir, "guidance-stub"), "each binary its own");
-        assert!(wait_for_ready(&dir, "fcc", Duration::ZERO, || true));
-        forget_ready(&dir, "fcc").unwrap();
-        assert!(!is_ready(&dir, "fcc"));
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
