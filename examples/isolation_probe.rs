@@ -18,15 +18,18 @@
 
 use std::process::ExitCode;
 
-use missionlink_partitions::config::{Config, ConfigArgs};
+use missionlink_partitions::config::{Config, FccArgs};
 use missionlink_partitions::isolation::Fence;
 
 fn main() -> ExitCode {
     missionlink_platform::init_logging();
     missionlink_partitions::ipc::quiet_iceoryx2_log();
-    let args = ConfigArgs {
-        config_toml: std::env::var("MISSIONLINK_CONFIG_TOML").ok(),
-        ..ConfigArgs::default()
+    let args = FccArgs {
+        link: missionlink_platform::config::LinkArgs {
+            config_toml: std::env::var("MISSIONLINK_CONFIG_TOML").ok(),
+            ..Default::default()
+        },
+        ..FccArgs::default()
     };
     let config = Config::resolve(&args).expect("configuration");
     let role = std::env::var("MISSIONLINK_PROBE_AS").unwrap_or_else(|_| "guidance-stub".into());

@@ -48,7 +48,7 @@ use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::prelude::{CallbackProgression, ipc};
 use missionlink_interfaces::contracts::{CONTRACT_VERSION, FccService};
 use missionlink_partitions::bridge_config::{Authentication, Bridge, BridgeConfigError, Mode};
-use missionlink_partitions::config::{Config, ConfigArgs, ConfigError};
+use missionlink_partitions::config::{Config, ConfigError, FccArgs};
 use missionlink_partitions::ipc::{Ipc, IpcError};
 use missionlink_partitions::isolation::{Fence, IsolationError};
 use missionlink_partitions::runtime::{CONFIG_EXIT_CODE, Control, PartitionError};
@@ -660,7 +660,7 @@ fn query_current(session: &zenoh::Session, bridge: &Bridge, ports: &mut [InPort]
 
 /// The `main` of `bridge`: the configuration (exit status 2 when it is wrong), the signals
 /// (SIGINT and SIGTERM stop it), then [`run`], which fences the process before Zenoh starts.
-pub fn main(args: &ConfigArgs) -> std::process::ExitCode {
+pub fn main(args: &FccArgs) -> std::process::ExitCode {
     missionlink_platform::init_logging();
     missionlink_partitions::ipc::quiet_iceoryx2_log();
     // The launcher at start; the watch that ends the bridge without it starts once the fence

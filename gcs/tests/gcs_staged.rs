@@ -61,3 +61,32 @@ fn every_staged_command_documents_its_exit_statuses() {
     let stage = text(&gcs(&["stage", "--help"]).stdout);
     assert!(stage.contains("--id <ID>"), "{stage}");
 }
+
+/// The ground takes the link's flags and none of the FCC's own: a flag it would accept and
+/// ignore is one an operator believes did something.
+#[test]
+fn the_gcs_takes_the_link_flags_and_none_of_the_fccs() {
+    let top = text(&gcs(&["--help"]).stdout);
+    for link in ["--config", "--fcc-direct", "--ack-timeout-ms", "--key-file"] {
+        assert!(top.contains(link), "{link}: {top}");
+    }
+    for command in ["", "upload", "download", "monitor", "mavlink", "execute"] {
+        let args: &[&str] = if command.is_empty() {
+            &["--help"]
+        } else {
+            &[command, "--help"]
+        };
+        let help = text(&gcs(args).stdout);
+        for fcc in [
+            "--prefix",
+            "--time-scale",
+            "--poll",
+            "--summary-dir",
+            "--heartbeat-ms",
+        ] {
+            assert!(!help.contains(fcc), "{command} {fcc}: {help}");
+        }
+    }
+    let o = gcs(&["download", "--poll"]);
+    assert_eq!(o.status.code(), Some(2), "refused, not ignored");
+}

@@ -2,7 +2,8 @@
 //! ([`missionlink_platform::config`]: `[ids]`, `[links]`, `[timing]`, `[signing]`) and the
 //! sections only the FCC has, in one TOML file. Every setting has a built-in default (ICD §1),
 //! so no file is needed to start; a file may override any of them, and command-line flags
-//! ([`ConfigArgs`], the same for the FCC and the gcs tool) override the file.
+//! ([`FccArgs`]: the link's, the same for the FCC and the gcs tool, and the FCC's own) override
+//! the file.
 //!
 //! ```toml
 //! # [ids], [links], [timing], [signing]: see missionlink_platform::config
@@ -69,7 +70,7 @@ use std::time::Duration;
 use missionlink_interfaces::contracts::{DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX};
 use missionlink_interfaces::wire::Timestamp;
 pub use missionlink_platform::config::{
-    CONFIG_FILE_ENV, CONFIG_TOML_ENV, ConfigArgs, ConfigError, Ids, LinkConfig, Links, PREFIX_ENV,
+    CONFIG_FILE_ENV, CONFIG_TOML_ENV, ConfigError, Ids, LinkArgs, LinkConfig, Links, PREFIX_ENV,
     Signing, SigningPolicy, Timing,
 };
 use missionlink_services::guidance::GuidanceConfig;
@@ -249,6 +250,34 @@ impl Ipc {
     }
 }
 
+/// The flags of the FCC's binaries (the launcher, each partition, the Zenoh bridge): the link's,
+/// which the gcs tool takes too, and the FCC's own.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct FccArgs {
+    /// The link's flags (the configuration file among them).
+    #[command(flatten)]
+    pub link: LinkArgs,
+    /// Prefix of the iceoryx2 service names.
+    #[arg(long, value_name = "PREFIX", env = PREFIX_ENV)]
+    pub prefix: Option<String>,
+    /// Guidance time scale (simulated seconds per second).
+    #[arg(long, value_name = "FACTOR")]
+    pub time_scale: Option<f64>,
+    /// Spin instead of sleeping (lowest latency).
+    #[arg(long)]
+    pub poll: bool,
+    /// Directory for the latency summaries written at shutdown.
+    #[arg(long, value_name = "DIR")]
+    pub summary_dir: Option<PathBuf>,
+    /// Heartbeat period of every partition, milliseconds (`[health] period_ms`).
+    #[arg(long, value_name = "MS")]
+    pub heartbeat_ms: Option<u64>,
+    /// End when the parent process ends (the launcher passes it, so that its partitions do not
+    /// outlive it even after a `kill -9` of the launcher).
+    #[arg(long, hide = true)]
+    pub exit_with_parent: bool,
+}
+
 /// Latency reports.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -397,9 +426,10 @@ impl Config {
 
     /// The configuration `args` name (handed over as TOML, a file or the defaults) with every
     /// flag applied, the link's and the FCC's.
-    pub fn resolve(args: &ConfigArgs) -> Result<Self, ConfigError> {
-        let mut c: Self = args.load()?;
-        args.apply_link(&mut c.ids, &mut c.links, &mut c.timing, &mut c.signing);
+    pub fn resolve(args: &FccArgs) -> Result<Self, ConfigError> {
+        let mut c: Self = args.link.load()?;
+        args.link
+            .apply_link(&mut c.ids, &mut c.links, &mut c.timing, &mut c.signing);
         if let Some(p) = &args.prefix {
             c.ipc.service_prefix = p.clone();
         }
@@ -578,9 +608,9 @@ mod tests {
     #[test]
     fn a_configuration_toml_cannot_carry_is_refused_not_handed_on_as_the_defaults() {
         use std::os::unix::ffi::OsStrExt;
-        let args = ConfigArgs {
+        let args = FccArgs {
             summary_dir: Some(PathBuf::from(std::ffi::OsStr::from_bytes(b"/tmp/\xff"))),
-            ..ConfigArgs::default()
+            ..FccArgs::default()
         };
         let error = Config::resolve(&args).unwrap_err();
         assert!(
@@ -722,12 +752,15 @@ mod tests {
         assert_eq!(Config::parse(&text, Path::new("y")).unwrap(), c);
         let e = Config::parse("[signing]\npolicy = \"always\"\n", Path::new("f")).unwrap_err();
         assert!(e.to_string().contains("f:2:10"), "{e}");
-        let args = ConfigArgs {
-            config_toml: Some(text),
-            signing: Some(SigningPolicy::Accept),
-            key_files: vec![PathBuf::from("/other.key")],
-            send_key_id: Some(7),
-            ..ConfigArgs::default()
+        let args = FccArgs {
+            link: LinkArgs {
+                config_toml: Some(text),
+                signing: Some(SigningPolicy::Accept),
+                key_files: vec![PathBuf::from("/other.key")],
+                send_key_id: Some(7),
+                ..LinkArgs::default()
+            },
+            ..FccArgs::default()
         };
         let resolved = Config::resolve(&args).unwrap();
         assert_eq!(resolved.signing.policy, SigningPolicy::Accept);
@@ -753,11 +786,14 @@ mod tests {
         let mut handed = Config::default();
         handed.ipc.service_prefix = "handed".to_owned();
         handed.guidance.time_scale = 7.0;
-        let args = ConfigArgs {
-            config: Some(PathBuf::from("/nonexistent/missionlink.toml")),
-            config_toml: Some(handed.to_toml().unwrap()),
-            fcc_id: Some(5),
-            ..ConfigArgs::default()
+        let args = FccArgs {
+            link: LinkArgs {
+                config: Some(PathBuf::from("/nonexistent/missionlink.toml")),
+                config_toml: Some(handed.to_toml().unwrap()),
+                fcc_id: Some(5),
+                ..LinkArgs::default()
+            },
+            ..FccArgs::default()
         };
         let resolved = Config::resolve(&args).unwrap();
         handed.ids.fcc = 5;
@@ -778,10 +814,13 @@ mod tests {
             Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
             c
         );
-        let args = ConfigArgs {
-            config_toml: Some(c.to_toml().unwrap()),
+        let args = FccArgs {
+            link: LinkArgs {
+                config_toml: Some(c.to_toml().unwrap()),
+                ..LinkArgs::default()
+            },
             heartbeat_ms: Some(0),
-            ..ConfigArgs::default()
+            ..FccArgs::default()
         };
         let resolved = Config::resolve(&args).unwrap();
         assert_eq!(

@@ -37,7 +37,7 @@ use iceoryx2::prelude::ipc;
 use missionlink_interfaces::contracts::Partition;
 use missionlink_services::health::Liveness;
 
-use crate::config::{self, Config, ConfigArgs};
+use crate::config::{self, Config, FccArgs};
 use crate::health::Watch;
 use crate::ipc::Ipc;
 use crate::runtime::{CONFIG_EXIT_CODE, Control, PartitionError, config_error};
@@ -507,7 +507,7 @@ impl BridgeChild {
 /// `without` added to those it leaves out, `--print-config`, then [`run`] until SIGINT or
 /// SIGTERM.
 pub fn main(
-    args: &ConfigArgs,
+    args: &FccArgs,
     without: &[String],
     bin_dir: Option<PathBuf>,
     print_config: bool,

@@ -15,7 +15,7 @@ use iceoryx2::waitset::{WaitSetRunError, WaitSetRunResult};
 
 use missionlink_interfaces::contracts::Partition;
 
-use crate::config::{Config, ConfigArgs, ConfigError, Idle, IdleMode};
+use crate::config::{Config, ConfigError, FccArgs, Idle, IdleMode};
 use crate::doorbell::Doorbell;
 use crate::health::Heartbeat;
 use crate::ipc::{Ipc, IpcError};
@@ -508,7 +508,7 @@ impl Report {
     }
 }
 
-/// The `main` of every partition binary: its command line ([`ConfigArgs`] under the name
+/// The `main` of every partition binary: its command line ([`FccArgs`] under the name
 /// `name`, `about` its one-line help), logging, the configuration (exit status 2 when it is
 /// wrong), the partition's real-time settings (`realtime`: a refused one is a warning), then
 /// `run` with a [`Control`] driven by the signals that announces the partition's
@@ -523,8 +523,7 @@ pub fn partition_main(
     let command = clap::Command::new(name)
         .about(about)
         .version(env!("CARGO_PKG_VERSION"));
-    let args = match ConfigArgs::from_arg_matches(&ConfigArgs::augment_args(command).get_matches())
-    {
+    let args = match FccArgs::from_arg_matches(&FccArgs::augment_args(command).get_matches()) {
         Ok(args) => args,
         Err(e) => e.exit(),
     };

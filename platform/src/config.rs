@@ -1,7 +1,7 @@
 //! The link configuration both sides read: node IDs, the UDP ports of the two links, timeouts
 //! and link signing (ICD §1, §5, §9), each with a built-in default, so no file is needed to
 //! start; a TOML file may override any of them, and command-line flags override the file. The
-//! FCC and the gcs tool read the same file and take the same flags ([`ConfigArgs`]): the FCC's
+//! FCC and the gcs tool read the same file and take the same link flags ([`LinkArgs`]): the FCC's
 //! own sections (`[ipc]`, `[guidance]`, `[latency]`, `[launcher]`, `[health]`, `[realtime]`)
 //! are `missionlink_partitions::config`'s, and the ground's [`LinkConfig`] passes over them.
 //!
@@ -203,7 +203,7 @@ pub struct Signing {
 
 /// The settings of the ground: the link sections of the configuration file. The FCC's own
 /// sections may stand in the same file (one file serves both sides); the ground passes over
-/// them, as it passes over the FCC-only flags of [`ConfigArgs`]. Any other section is refused
+/// them. Any other section is refused
 /// with its line and column, as the FCC refuses it: a misspelt `[signin]` must not leave the
 /// ground unsigned without a word. (`missionlink_partitions::config` tests that every section of
 /// the FCC's configuration is one the ground passes over.)
@@ -253,7 +253,7 @@ impl LinkConfig {
 
     /// The configuration `args` name (handed over as TOML, a file or the defaults) with the
     /// link flags applied.
-    pub fn resolve(args: &ConfigArgs) -> Result<Self, ConfigError> {
+    pub fn resolve(args: &LinkArgs) -> Result<Self, ConfigError> {
         let mut c: Self = args.load()?;
         args.apply_link(&mut c.ids, &mut c.links, &mut c.timing, &mut c.signing);
         Ok(c)
@@ -362,13 +362,12 @@ pub const PREFIX_ENV: &str = "MISSIONLINK_PREFIX";
 /// `kill -9` could leave behind.
 pub const CONFIG_TOML_ENV: &str = "MISSIONLINK_CONFIG_TOML";
 
-/// The flags every binary takes, the FCC's and the gcs tool's alike: a configuration file and
-/// overrides of its most used settings. The ground applies the link flags
-/// ([`LinkConfig::resolve`]) and passes over the FCC's (`--prefix`, `--time-scale`, `--poll`,
-/// `--summary-dir`, `--heartbeat-ms`), which `missionlink_partitions::config::Config::resolve`
-/// applies.
+/// The flags of the link, which the FCC's binaries and the gcs tool alike take: a configuration
+/// file and overrides of the link sections' most used settings ([`LinkConfig::resolve`]). The
+/// FCC's own flags are its binaries' alone (`missionlink_partitions::config::FccArgs`): the
+/// ground neither takes nor shows them.
 #[derive(Debug, Clone, Default, Args)]
-pub struct ConfigArgs {
+pub struct LinkArgs {
     /// Configuration file (TOML); every setting has a built-in default.
     #[arg(long, value_name = "FILE", env = CONFIG_FILE_ENV)]
     pub config: Option<PathBuf>,
@@ -376,9 +375,6 @@ pub struct ConfigArgs {
     /// `missionlink_partitions::config::hand_to`).
     #[arg(long, hide = true, value_name = "TOML", env = CONFIG_TOML_ENV)]
     pub config_toml: Option<String>,
-    /// Prefix of the iceoryx2 service names.
-    #[arg(long, value_name = "PREFIX", env = PREFIX_ENV)]
-    pub prefix: Option<String>,
     /// GCS (CUCS) ID.
     #[arg(long, value_parser = parse_id)]
     pub gcs_id: Option<u32>,
@@ -410,15 +406,6 @@ pub struct ConfigArgs {
     /// they were is begun again).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..))]
     pub upload_attempts: Option<u8>,
-    /// Guidance time scale (simulated seconds per second).
-    #[arg(long, value_name = "FACTOR")]
-    pub time_scale: Option<f64>,
-    /// Spin instead of sleeping (lowest latency).
-    #[arg(long)]
-    pub poll: bool,
-    /// Directory for the latency summaries written at shutdown.
-    #[arg(long, value_name = "DIR")]
-    pub summary_dir: Option<PathBuf>,
     /// What this node's receiver does with link signatures (ICD §9).
     #[arg(long, value_name = "POLICY")]
     pub signing: Option<SigningPolicy>,
@@ -429,16 +416,9 @@ pub struct ConfigArgs {
     /// The Key ID to sign with (needed with several key files).
     #[arg(long, value_name = "ID")]
     pub send_key_id: Option<u8>,
-    /// Heartbeat period of every partition, milliseconds (`[health] period_ms`).
-    #[arg(long, value_name = "MS")]
-    pub heartbeat_ms: Option<u64>,
-    /// End when the parent process ends (the launcher passes it, so that its partitions do not
-    /// outlive it even after a `kill -9` of the launcher).
-    #[arg(long, hide = true)]
-    pub exit_with_parent: bool,
 }
 
-impl ConfigArgs {
+impl LinkArgs {
     /// The configuration handed over as TOML ([`CONFIG_TOML_ENV`]), else the file's, else the
     /// defaults, as `C`; no flag applied yet.
     pub fn load<C: DeserializeOwned + Default>(&self) -> Result<C, ConfigError> {
@@ -535,14 +515,12 @@ mod tests {
 
     #[test]
     fn the_link_flags_override_the_handed_over_configuration() {
-        let args = ConfigArgs {
+        let args = LinkArgs {
             config_toml: Some("[timing]\nack_timeout_ms = 900\n".into()),
             fcc_id: Some(7),
             transfer_window: Some(4),
             signing: Some(SigningPolicy::Require),
-            // An FCC flag: the ground passes over it.
-            poll: true,
-            ..ConfigArgs::default()
+            ..LinkArgs::default()
         };
         let c = LinkConfig::resolve(&args).unwrap();
         assert_eq!(c.timing.ack_timeout(), Duration::from_millis(900));

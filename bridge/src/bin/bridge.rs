@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use missionlink_bridge::credentials::{self, Host};
-use missionlink_partitions::config::ConfigArgs;
+use missionlink_partitions::config::FccArgs;
 
 /// Bridge between the FCC's iceoryx2 services and Zenoh.
 #[derive(Debug, Parser)]
@@ -20,7 +20,7 @@ struct Args {
     #[command(subcommand)]
     command: Option<Command>,
     #[command(flatten)]
-    config: ConfigArgs,
+    config: FccArgs,
 }
 
 #[derive(Debug, Subcommand)]

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use missionlink_partitions::config::ConfigArgs;
+use missionlink_partitions::config::FccArgs;
 use missionlink_partitions::launcher;
 
 /// Launcher of the FCC partitions.
@@ -14,7 +14,7 @@ use missionlink_partitions::launcher;
 #[command(name = "fcc", version)]
 struct Args {
     #[command(flatten)]
-    config: ConfigArgs,
+    config: FccArgs,
     /// Where the partition binaries are (default: next to this one).
     #[arg(long, value_name = "DIR")]
     bin_dir: Option<PathBuf>,

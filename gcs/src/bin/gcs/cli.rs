@@ -8,7 +8,7 @@ use super::*;
 #[command(name = "gcs", version)]
 pub(crate) struct Cli {
     #[command(flatten)]
-    pub(crate) config: ConfigArgs,
+    pub(crate) config: LinkArgs,
     /// Write every datagram sent and received on both links to FILE (pcap, UDP over IPv4 with
     /// the real addresses and ports): open it in Wireshark with tools/wireshark/missionlink.lua.
     #[arg(long, global = true, value_name = "FILE")]

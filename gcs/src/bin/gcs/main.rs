@@ -24,7 +24,7 @@ use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError
 use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
-use missionlink_platform::config::{ConfigArgs, LinkConfig, parse_id};
+use missionlink_platform::config::{LinkArgs, LinkConfig, parse_id};
 use missionlink_platform::keys;
 use missionlink_platform::udp::LinkPair;
 use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
