@@ -4,12 +4,12 @@
 //! leg and zone (`testkit::geofence_worst_case`; a failing check stops at its first violation).
 //!
 //! - `geofence/<case>/end_to_end`: `Fence::of_payload` of the published area list, then
-//!   `onboard::check` of `onboard::execute_route` from the take-off position: what the FCC does
+//!   `onboard::check` of `flown_route::execute_route` from the take-off position: what the FCC does
 //!   before it accepts #50000 execute;
 //! - `geofence/<case>/check`: the check alone, the fence built beforehand;
 //! - `<case>/check, legs only` (percentiles only): the same without the turns at the waypoints
 //!   (`execute_route(.., None)`), to see what the turns cost;
-//! - `geofence/<case>/return_check`: the check of `onboard::return_route` from the take-off
+//! - `geofence/<case>/return_check`: the check of `flown_route::return_route` from the take-off
 //!   position back over the whole route (return to home), the fence built beforehand;
 //! - `geofence/<case>/fence`: `Fence::of_payload` alone;
 //! - `gateway/track_to_fix`: the GCS's whole safety gateway (`SafetyGateway::violations`, every
@@ -29,6 +29,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
+use missionlink_services::geofence::flown_route;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -78,8 +79,8 @@ fn end_to_end(waypoints: &WaypointListPayload, areas: &AreaListPayload, take_off
 fn check(fence: &Fence, waypoints: &WaypointListPayload, take_off: Site) -> Result<(), Violation> {
     onboard::check(
         fence,
-        onboard::execute_route(
-            onboard::RouteView::from(waypoints),
+        flown_route::execute_route(
+            flown_route::RouteView::from(waypoints),
             take_off,
             Some(fcc_turns()),
         ),
@@ -106,8 +107,8 @@ fn criterion_benches(c: &mut Criterion) {
             b.iter(|| {
                 onboard::check(
                     black_box(&fence),
-                    onboard::return_route(
-                        onboard::RouteView::from(black_box(&waypoints)),
+                    flown_route::return_route(
+                        flown_route::RouteView::from(black_box(&waypoints)),
                         site,
                         0,
                         Some(fcc_turns()),
@@ -165,7 +166,11 @@ fn main() {
         percentiles(&format!("{name}/check, legs only"), runs, || {
             onboard::check(
                 black_box(&fence),
-                onboard::execute_route(onboard::RouteView::from(black_box(&waypoints)), site, None),
+                flown_route::execute_route(
+                    flown_route::RouteView::from(black_box(&waypoints)),
+                    site,
+                    None,
+                ),
             )
             .is_ok()
         });

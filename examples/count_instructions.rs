@@ -32,8 +32,8 @@ use missionlink_interfaces::wire::{
 };
 use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::onboard;
 use missionlink_services::geofence::zone::Fence;
+use missionlink_services::geofence::{flown_route, onboard};
 use missionlink_services::link::time::Instant;
 use missionlink_services::mission_data_handling::MissionDataHandling;
 use missionlink_services::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
@@ -58,8 +58,8 @@ fn geofence(times: u64, wind_mps: f64) {
     let fence = Fence::of_payload(&areas);
     let site = Site::of(take_off);
     for _ in 0..times {
-        let route = onboard::execute_route(
-            onboard::RouteView::from(black_box(&waypoints)),
+        let route = flown_route::execute_route(
+            flown_route::RouteView::from(black_box(&waypoints)),
             site,
             Some(fcc_turns()),
         );

@@ -26,7 +26,8 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{ExecuteCommand, GeofenceCheck, Reason};
 
 use crate::geofence::earth::Site;
-use crate::geofence::onboard::{self, RouteView, RouteWaypoint};
+use crate::geofence::flown_route::{self, RouteView, RouteWaypoint};
+use crate::geofence::onboard;
 use crate::geofence::zone::Fence;
 use crate::guidance::GuidanceConfig;
 use crate::health::Liveness;
@@ -90,7 +91,7 @@ pub fn check_command(
             }
             geofence(
                 fence,
-                onboard::return_route(
+                flown_route::return_route(
                     RouteView::from(waypoints),
                     here,
                     navigation.to,
@@ -158,7 +159,7 @@ fn take_off_check(
     let here = here.ok_or(Reason::WrongState)?;
     geofence(
         fence,
-        onboard::execute_route(RouteView::from(waypoints), here, Some(fcc_turns())),
+        flown_route::execute_route(RouteView::from(waypoints), here, Some(fcc_turns())),
     )
 }
 
@@ -186,7 +187,7 @@ pub fn report_check<W: RouteWaypoint>(
         (Some(here), Some(route), Some(fence)) => {
             match geofence(
                 fence,
-                onboard::execute_route(route, here, Some(fcc_turns())),
+                flown_route::execute_route(route, here, Some(fcc_turns())),
             ) {
                 Ok(()) => (GeofenceCheck::Passed, None),
                 Err(reason) => (GeofenceCheck::Failed, Some(reason)),
@@ -199,13 +200,16 @@ pub fn report_check<W: RouteWaypoint>(
 /// How the FCC's guidance turns at fly-by waypoints: the guidance stub's, whose bank the
 /// configuration does not change (`[guidance]` has none). A guidance partition swapped in
 /// that turns otherwise is checked as if it turned like the stub.
-pub fn fcc_turns() -> onboard::FlyBy {
+pub fn fcc_turns() -> flown_route::FlyBy {
     GuidanceConfig::default().fly_by()
 }
 
 /// The onboard geofence check (ICD §7 ext): `GeofenceViolation` names no leg on the wire, so
 /// the leg and the area go to the log.
-fn geofence(fence: &Fence, route: impl Iterator<Item = onboard::RouteLeg>) -> Result<(), Reason> {
+fn geofence(
+    fence: &Fence,
+    route: impl Iterator<Item = flown_route::RouteLeg>,
+) -> Result<(), Reason> {
     onboard::check(fence, route).map_err(|v| {
         tracing::warn!(
             element = %v.element,

@@ -27,7 +27,8 @@ use missionlink_interfaces::wire::{
 use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::onboard::{self, RouteElement, RouteLeg, RouteView};
+use missionlink_services::geofence::flown_route::{self, RouteElement, RouteLeg, RouteView};
+use missionlink_services::geofence::onboard;
 use missionlink_services::geofence::path::{ArcLeg, Path, Track};
 use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::Fence;
@@ -76,21 +77,26 @@ fn checked(
 ) -> Vec<RouteLeg> {
     let turns = Some(fcc_turns());
     let mut legs: Vec<RouteLeg> =
-        onboard::execute_route(RouteView::from(list), take_off, turns).collect();
+        flown_route::execute_route(RouteView::from(list), take_off, turns).collect();
     if list.bidirectional {
         if let Some(last) = list.waypoints().last() {
             // As the gateway: the route complete at the last waypoint (`to` 0).
-            legs.extend(onboard::return_route(
+            legs.extend(flown_route::return_route(
                 RouteView::from(list),
                 Site::of(last.position),
                 0,
                 turns,
             ));
         }
-        legs.extend(onboard::turns_round(RouteView::from(list), fcc_turns()));
+        legs.extend(flown_route::turns_round(RouteView::from(list), fcc_turns()));
     }
     if let Some((at, to)) = home_from {
-        legs.extend(onboard::return_route(RouteView::from(list), at, to, turns));
+        legs.extend(flown_route::return_route(
+            RouteView::from(list),
+            at,
+            to,
+            turns,
+        ));
     }
     legs
 }
@@ -222,10 +228,10 @@ fn check(f: &Flight) -> Outcome {
     let tracks: Vec<Track> = route.iter().map(|l| Track::new(l.path)).collect();
 
     // Every flown position near a checked path; after a return to home is commanded, near a
-    // path of what the FCC checks then (`onboard::return_route` from there).
+    // path of what the FCC checks then (`flown_route::return_route` from there).
     let home_route: Vec<RouteLeg> = home
         .map(|(at, to)| {
-            onboard::return_route(RouteView::from(&list), at, to, Some(fcc_turns())).collect()
+            flown_route::return_route(RouteView::from(&list), at, to, Some(fcc_turns())).collect()
         })
         .unwrap_or_default();
     let mut worst_distance: f64 = 0.0;
@@ -396,7 +402,7 @@ fn turn_kinds(f: &Flight) -> Vec<TurnKind> {
     let list = f.plan.assemble().unwrap().mission.to_payload(1);
     let take_off = Site::of(f.plan.take_off_position.unwrap());
     let mut kinds: Vec<(u16, TurnKind)> =
-        onboard::execute_route(RouteView::from(&list), take_off, Some(fcc_turns()))
+        flown_route::execute_route(RouteView::from(&list), take_off, Some(fcc_turns()))
             .filter_map(|l| match l.element {
                 RouteElement::Turn { at, kind, .. } => Some((at, kind)),
                 _ => None,
@@ -482,7 +488,7 @@ fn with_circles_in_turns(name: &str, messages: &[Message], take_off: (f64, f64))
     };
     let list = bare.assemble().unwrap().mission.to_payload(1);
     let mut areas = vec![polygon(1, AreaType::FlyZone, &fly_zone)];
-    for leg in onboard::execute_route(
+    for leg in flown_route::execute_route(
         RouteView::from(&list),
         Site::of(point(take_off)),
         Some(fcc_turns()),
@@ -639,7 +645,7 @@ fn guidance_flies_what_the_geofence_checks() {
         let take_off = Site::of(on_the_arc.plan.take_off_position.unwrap());
         let (_, home) = fly(&on_the_arc, &list);
         let (here, to) = home.unwrap();
-        let arc = onboard::execute_route(RouteView::from(&list), take_off, Some(fcc_turns()))
+        let arc = flown_route::execute_route(RouteView::from(&list), take_off, Some(fcc_turns()))
             .find(|l| matches!(l.element, RouteElement::Turn { at: 2, .. }))
             .unwrap()
             .path;
@@ -769,7 +775,7 @@ const BANK_READING_DEG: f64 = 0.2;
 /// Guidance flies the turns in wind, from eight directions at the profile's limit, exactly on
 /// the paths the onboard check and the safety gateway check for the plan's wind (#13001 field
 /// 5), and holds them within its bank limit (the turns' radius `(v + W)²/(g·tan(bank))`,
-/// `geofence::onboard::FlyBy`): fly-by at 60°, 90°, 120° and 150°, fly-over at 90°, a U-turn,
+/// `geofence::flown_route::FlyBy`): fly-by at 60°, 90°, 120° and 150°, fly-over at 90°, a U-turn,
 /// fly-by onto and off a radius-to-fix leg, and a return to home on a bidirectional route.
 #[test]
 fn guidance_flies_the_turns_in_wind_on_the_paths_checked_within_its_bank() {
@@ -932,7 +938,7 @@ fn band_plan(case: &BandCase, wind: f64, depth: f64) -> MissionPlan {
             wind_mps,
             ..RouteView::from(&mission)
         };
-        onboard::execute_route(view, start, Some(fcc_turns())).collect()
+        flown_route::execute_route(view, start, Some(fcc_turns())).collect()
     };
     let is_turn =
         |l: &RouteLeg| matches!(l.element, RouteElement::Turn { at, .. } if at == case.at);
@@ -1055,7 +1061,7 @@ fn onboard_passes(plan: &MissionPlan, wind: f64) -> bool {
     let take_off = Site::of(plan.take_off_position.unwrap());
     onboard::check(
         &fence,
-        onboard::execute_route(RouteView::from(&list), take_off, Some(fcc_turns())),
+        flown_route::execute_route(RouteView::from(&list), take_off, Some(fcc_turns())),
     )
     .is_ok()
 }

@@ -12,7 +12,7 @@
 use missionlink_interfaces::wire::{Angle, GeoPoint, TurnDirection};
 use missionlink_services::geofence::clearance::{Clearance, clearance};
 use missionlink_services::geofence::earth::{self, Site};
-use missionlink_services::geofence::onboard::FlyBy;
+use missionlink_services::geofence::flown_route::FlyBy;
 use missionlink_services::geofence::path::{ArcLeg, Path, Track};
 use missionlink_services::geofence::turn::{TurnKind, turn};
 use missionlink_services::geofence::zone::{Zone, ZoneKind};

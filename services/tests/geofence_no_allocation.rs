@@ -13,6 +13,7 @@
 #[path = "support/counting_alloc.rs"]
 mod counting_alloc;
 
+use missionlink_services::geofence::flown_route;
 use std::hint::black_box;
 
 use counting_alloc::counted;
@@ -37,16 +38,16 @@ fn the_onboard_check_allocates_nothing_in_its_worst_case() {
             let fence = Fence::of_payload(black_box(&areas));
             let execute = onboard::check(
                 &fence,
-                onboard::execute_route(
-                    onboard::RouteView::from(&waypoints),
+                flown_route::execute_route(
+                    flown_route::RouteView::from(&waypoints),
                     site,
                     Some(fcc_turns()),
                 ),
             );
             let back = onboard::check(
                 &fence,
-                onboard::return_route(
-                    onboard::RouteView::from(&waypoints),
+                flown_route::return_route(
+                    flown_route::RouteView::from(&waypoints),
                     site,
                     0,
                     Some(fcc_turns()),
@@ -54,8 +55,8 @@ fn the_onboard_check_allocates_nothing_in_its_worst_case() {
             );
             let halfway = onboard::check(
                 &fence,
-                onboard::return_route(
-                    onboard::RouteView::from(&waypoints),
+                flown_route::return_route(
+                    flown_route::RouteView::from(&waypoints),
                     site,
                     128,
                     Some(fcc_turns()),
@@ -80,8 +81,8 @@ fn a_failing_onboard_check_allocates_nothing() {
         let fence = Fence::of_payload(black_box(&areas));
         onboard::check(
             &fence,
-            onboard::execute_route(
-                onboard::RouteView::from(&waypoints),
+            flown_route::execute_route(
+                flown_route::RouteView::from(&waypoints),
                 site,
                 Some(fcc_turns()),
             ),

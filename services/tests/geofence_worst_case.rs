@@ -15,7 +15,8 @@ use missionlink_interfaces::wire::{GeoPoint, LegType};
 use missionlink_services::automation::fcc_turns;
 use missionlink_services::geofence::clearance::clearance;
 use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::onboard::{self, RouteElement};
+use missionlink_services::geofence::flown_route::{self, RouteElement};
+use missionlink_services::geofence::onboard;
 use missionlink_services::geofence::path::Track;
 use missionlink_services::geofence::zone::Fence;
 use missionlink_services::testkit::{
@@ -25,8 +26,8 @@ use missionlink_services::testkit::{
 
 /// The smallest margin of the execute route to each zone, in the fence's order.
 fn closest_per_zone(fence: &Fence, list: &WaypointListPayload, take_off: GeoPoint) -> Vec<f64> {
-    let tracks: Vec<Track> = onboard::execute_route(
-        onboard::RouteView::from(list),
+    let tracks: Vec<Track> = flown_route::execute_route(
+        flown_route::RouteView::from(list),
         Site::of(take_off),
         Some(fcc_turns()),
     )
@@ -67,8 +68,8 @@ fn the_worst_case_passes_with_every_zone_40_m_from_the_route() {
         assert_eq!(
             onboard::check(
                 &fence,
-                onboard::execute_route(
-                    onboard::RouteView::from(&waypoints),
+                flown_route::execute_route(
+                    flown_route::RouteView::from(&waypoints),
                     site,
                     Some(fcc_turns())
                 )
@@ -79,8 +80,8 @@ fn the_worst_case_passes_with_every_zone_40_m_from_the_route() {
         assert_eq!(
             onboard::check(
                 &fence,
-                onboard::return_route(
-                    onboard::RouteView::from(&waypoints),
+                flown_route::return_route(
+                    flown_route::RouteView::from(&waypoints),
                     site,
                     0,
                     Some(fcc_turns())
@@ -132,8 +133,8 @@ fn a_no_fly_zone_moved_onto_the_route_fails_the_check() {
         let fence = Fence::of_payload(&areas);
         onboard::check(
             &fence,
-            onboard::execute_route(
-                onboard::RouteView::from(&waypoints),
+            flown_route::execute_route(
+                flown_route::RouteView::from(&waypoints),
                 take_off,
                 Some(fcc_turns()),
             ),

@@ -27,7 +27,7 @@ pub(super) fn unit(a: P) -> Option<P> {
     (l > 1e-9).then(|| mul(a, 1.0 / l))
 }
 
-/// The drawing projection (`services::geofence::local_frame`), with the map's point type.
+/// The drawing projection (`local_frame`), with the map's point type.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Projection(pub(super) LocalFrame);
 

@@ -18,14 +18,14 @@
 //! and the waypoint and area counts. A scale bar (metres) and a north arrow sit on the map.
 //!
 //! The map draws what the safety gateway checks: the areas are the geofence's zones
-//! ([`Fence::of_list`]) and the legs the geofence's paths ([`onboard::legs`], as the gateway and
+//! ([`Fence::of_list`]) and the legs the geofence's paths ([`flown_route::legs`], as the gateway and
 //! the FCC walk them), each drawn through the sites along it ([`Track::sites`]): geodesic edges
 //! and track-to-fix legs at most [`DRAW_STEP_M`] apart along the geodesic (a 35 km leg along
 //! 71° N bows about 70 m north of the line between its ends, and is drawn so), radius-to-fix
 //! arcs at the geofence's corners, circles as the points at their geodesic radius (centre to
 //! border point) around the centre. Nothing is decided on the map.
 //!
-//! Drawing projection (for the screen only): `services::geofence::local_frame`, equirectangular
+//! Drawing projection (for the screen only): `local_frame`, equirectangular
 //! about the centre of the fly-zone's bounding box with the WGS-84 radii of curvature there
 //! (`x = N(φ0)·cos φ0·Δλ`, `y = M(φ0)·Δφ`), north up. The map fits the fly-zone (and anything
 //! lying outside it, say a violating waypoint) with a margin into the map frame.
@@ -39,15 +39,15 @@
 //! The take-off: given the plan's take-off position, the map marks it "take-off" with the
 //! take-off height (#13006 type 1) and draws the leg from there to the initial waypoint (flown
 //! direct, `data-leg="0-<initial>"`), both as the safety gateway checks them (the geofence's
-//! [`onboard::execute_route`]); without one it marks the initial waypoint. The leg type of the
+//! [`flown_route::execute_route`]); without one it marks the initial waypoint. The leg type of the
 //! initial waypoint (the leg that would end there) is not drawn: it is flown direct.
 
 use std::fmt::Write as _;
 
+use local_frame::LocalFrame;
 use missionlink_interfaces::wire::{AreaShape, GeoPoint, SpecificData, TurnDirection};
 use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::local_frame::LocalFrame;
-use missionlink_services::geofence::onboard::{self, RouteElement, RouteView, RouteWaypoint};
+use missionlink_services::geofence::flown_route::{self, RouteElement, RouteView, RouteWaypoint};
 use missionlink_services::geofence::path::{Path, Track};
 use missionlink_services::geofence::turn::TurnKind;
 use missionlink_services::geofence::zone::{Fence, Zone, ZoneKind};
@@ -107,6 +107,7 @@ macro_rules! w {
 }
 
 mod geometry;
+mod local_frame;
 mod panel;
 mod svg;
 
@@ -210,13 +211,13 @@ pub fn render(
     // The legs the safety gateway checks, in the order flown: from the take-off position when
     // the plan has one.
     let list = RouteView::from(mission);
-    let route: Vec<onboard::RouteLeg> = match take_off {
-        Some(t) => onboard::execute_route(list, Site::of(t), None).collect(),
-        None => onboard::legs(list).collect(),
+    let route: Vec<flown_route::RouteLeg> = match take_off {
+        Some(t) => flown_route::execute_route(list, Site::of(t), None).collect(),
+        None => flown_route::legs(list).collect(),
     };
     // The turns at the waypoints as flown and checked (the gateway's bank), from the take-off
     // position or, without one, from the initial waypoint.
-    let fly_by = onboard::FlyBy {
+    let fly_by = flown_route::FlyBy {
         bank_deg: gateway.profile.max_bank_deg,
     };
     let in_wind = RouteView {
@@ -227,7 +228,7 @@ pub fn render(
     let turns_in = |route: RouteView<'_, _>| -> Vec<Turn> {
         start
             .into_iter()
-            .flat_map(|s| onboard::execute_route(route, Site::of(s), Some(fly_by)))
+            .flat_map(|s| flown_route::execute_route(route, Site::of(s), Some(fly_by)))
             .filter_map(|leg| match leg.element {
                 RouteElement::Turn { at, to, kind } => Some(Turn {
                     at,

@@ -1,10 +1,10 @@
 //! Tests of the mission map.
 
+use super::local_frame::Coord;
 use super::*;
 use crate::mission_file::MissionFile;
 use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
 use missionlink_services::geofence::earth;
-use missionlink_services::geofence::local_frame::Coord;
 use missionlink_services::geofence::path::ArcLeg;
 use missionlink_services::safety_gateway::{AircraftProfile, Environment};
 

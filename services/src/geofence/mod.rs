@@ -13,9 +13,9 @@
 //!   construction guidance flies and the checks check.
 //! - [`clearance`]: the signed margin of a track against a zone, with the position of the
 //!   closest approach or of the deepest violation.
+//! - [`flown_route`]: the route as flown, leg by leg and turn by turn (execute, return to home,
+//!   the turns round), which the onboard check, the safety gateway and the map walk.
 //! - [`onboard`]: the check of ICD §7 (ext) before execute, return to home and activation.
-//! - [`local_frame`]: the map's drawing projection (flat, for the screen only: no check is
-//!   made in it).
 //!
 //! Everything the FCC runs is allocation-free (fixed capacities) and bounded in time: at most
 //! [`path::MAX_PIECES`] pieces per geodesic, [`path::MAX_CORNERS`] corners per arc,
@@ -23,7 +23,7 @@
 
 pub mod clearance;
 pub mod earth;
-pub mod local_frame;
+pub mod flown_route;
 pub mod onboard;
 pub mod path;
 pub mod plane;

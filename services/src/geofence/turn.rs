@@ -4,7 +4,7 @@
 //! check exactly these paths: there is one construction, [`turn`].
 //!
 //! - **Fly-by** (ARINC 424 fly-by): the arc of radius `r` (`v²/(g·tan(bank))` in calm air, sized
-//!   for the wind by [`super::onboard::FlyBy`]) tangent to both
+//!   for the wind by [`super::flown_route::FlyBy`]) tangent to both
 //!   legs, inside the corner; it leaves the inbound leg at its first tangent point (where
 //!   FROM-TO-NEXT switches) and joins the outbound leg at the second. Between two track-to-fix
 //!   legs turning `Δψ` the tangent points are `r·tan(Δψ/2)` from the waypoint along the legs; a

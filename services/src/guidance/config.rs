@@ -1,7 +1,7 @@
 //! The guidance model's settings: start position, climb and descent rates, bank limit, the
 //! steady wind it flies in, time scale, each replaced by its default where unusable.
 
-use crate::geofence::onboard::FlyBy;
+use crate::geofence::flown_route::FlyBy;
 
 /// Settings of the guidance model, as the FCC's configuration file's `[guidance]` table gives
 /// them (every field optional, unknown names refused).
@@ -27,7 +27,7 @@ pub struct GuidanceConfig {
     /// Simulated seconds per real second (demo time scale), default 1.0; 0 pauses.
     pub time_scale: f64,
     /// Speed of the steady wind the simulated aircraft flies in (m/s), default 0 (calm). The
-    /// turns' radius is the plan's ([`crate::geofence::onboard::FlyBy`]); this wind sets the
+    /// turns' radius is the plan's ([`crate::geofence::flown_route::FlyBy`]); this wind sets the
     /// ground speed along each path, and so the bank the path takes.
     pub wind_speed_mps: f64,
     /// Direction the wind blows from, degrees clockwise from true north, default 0.

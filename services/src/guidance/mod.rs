@@ -32,7 +32,7 @@
 //! - **Turns in wind**: every turn is sized for the wind the plan was checked in (the list's
 //!   `planning_wind`, #13001 field 5): radius `(v + W)²/(g·tan(bank))`, which a bank-limited
 //!   aircraft holds over the ground in a wind of up to `W` from any direction
-//!   ([`crate::geofence::onboard::FlyBy`] proves it); `services/tests/flown_path.rs` flies the
+//!   ([`crate::geofence::flown_route::FlyBy`] proves it); `services/tests/flown_path.rs` flies the
 //!   turns in winds from eight directions and measures the bank each step took.
 //! - **What is flown is what the geofence checks**: the legs between the waypoints and, at
 //!   every waypoint, the turn of [`crate::geofence::turn`], the one construction the onboard
@@ -96,7 +96,7 @@
 //!     known (NaN) before its first movement: a point mass that never moved points nowhere.
 //!   - *roll*: the bank that holds the path flown at the ground speed, `atan(V_g²/(g·R·cos β))`
 //!     with `R` the radius of the arc there and `β` the crab angle
-//!     ([`crate::geofence::onboard::FlyBy`] sizes the turns by the same relation: in calm air
+//!     ([`crate::geofence::flown_route::FlyBy`] sizes the turns by the same relation: in calm air
 //!     a turn at the plan's speed takes exactly the configured bank), positive to the right; 0
 //!     on geodesics, on the spot and when not moving over the ground.
 //!   - *climb rate*: the altitude gained over the last sub-step per simulated second (so a
@@ -128,7 +128,7 @@ pub const MAX_SUB_STEP_S: f64 = 0.05;
 
 /// Speed flown towards a waypoint whose commanded speed is 0, m/s (the geofence models the
 /// same turns: [`FlyBy`]).
-pub use crate::geofence::onboard::FALLBACK_SPEED_MPS;
+pub use crate::geofence::flown_route::{self, FALLBACK_SPEED_MPS};
 
 /// Climb and descent end this close to their target altitude, metres.
 const ALTITUDE_EPSILON_M: f64 = 1e-6;

@@ -2,12 +2,12 @@
 //! onto it), which waypoint comes next (forwards, reversed for return to home, cut short by
 //! land-at), the legs between waypoints and the turn planned at TO.
 
+use crate::geofence::flown_route;
 use missionlink_interfaces::contracts::{FlightPhase, WaypointEntry};
 
 use super::Guidance;
 use super::tracking::leg_speed;
 use crate::geofence::earth::{Site, distance_m, point};
-use crate::geofence::onboard;
 use crate::geofence::path::Path;
 use crate::geofence::turn::{MAX_TURN_PATHS, Turn, rest_from, turn};
 
@@ -177,9 +177,9 @@ impl Guidance {
     /// leg type of `to`, backwards the leg from `to` to `from` turned round.
     pub(super) fn leg_between(&self, from: usize, to: usize) -> Option<Path> {
         if to > from {
-            Some(onboard::leg(self.entry(from)?, self.entry(to)?))
+            Some(flown_route::leg(self.entry(from)?, self.entry(to)?))
         } else {
-            Some(onboard::leg(self.entry(to)?, self.entry(from)?).reversed())
+            Some(flown_route::leg(self.entry(to)?, self.entry(from)?).reversed())
         }
     }
 

@@ -1,6 +1,7 @@
 //! The guidance model's tests: phases, legs, fly-by and fly-over turns, radius-to-fix legs,
 //! return to home, land-at, new lists in the air and the zone status.
 
+use crate::geofence::flown_route;
 use core::time::Duration;
 
 use missionlink_interfaces::contracts::{CircleArea, PolygonArea, WaypointEntry};
@@ -9,7 +10,6 @@ use missionlink_interfaces::wire::{
 };
 
 use crate::geofence::earth::{Site, bearing_deg, destination, distance_m};
-use crate::geofence::onboard;
 use crate::geofence::path::Path;
 use crate::geofence::turn::{Turn, TurnKind};
 
@@ -340,7 +340,10 @@ fn rf_leg(
 fn turn_at_w1(s: &Sim, w1_turn: TurnType) -> (Turn, f64) {
     let l = mission2(2, w1_turn);
     let w = l.waypoints();
-    let (inbound, outbound) = (onboard::leg(&w[0], &w[1]), onboard::leg(&w[1], &w[2]));
+    let (inbound, outbound) = (
+        flown_route::leg(&w[0], &w[1]),
+        flown_route::leg(&w[1], &w[2]),
+    );
     let t = GuidanceConfig::default()
         .fly_by()
         .turn(&w[1], &w[2], &inbound, &outbound, 0.0);

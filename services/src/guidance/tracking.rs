@@ -7,7 +7,7 @@ use missionlink_interfaces::contracts::WaypointEntry;
 
 use super::Guidance;
 use crate::geofence::earth::Site;
-use crate::geofence::onboard::FlyBy;
+use crate::geofence::flown_route::FlyBy;
 use crate::geofence::path::Path;
 use crate::geofence::turn::{ArcGeometry, TurnKind, angle_to_go, end, length_m};
 

@@ -203,7 +203,7 @@ impl MissionDataHandling {
         let (geofence_check, reason) = automation::report_check(
             self.waypoint_list
                 .is_active()
-                .then(|| crate::geofence::onboard::RouteView::from(&self.waypoint_list)),
+                .then(|| crate::geofence::flown_route::RouteView::from(&self.waypoint_list)),
             (self.area_list.area_count() > 0).then_some(&*self.fence),
             &self.navigation,
         );
@@ -241,7 +241,7 @@ impl MissionDataHandling {
                 entry
                     .mission
                     .as_ref()
-                    .map(crate::geofence::onboard::RouteView::from),
+                    .map(crate::geofence::flown_route::RouteView::from),
                 fence,
                 &self.navigation,
             );

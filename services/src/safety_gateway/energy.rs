@@ -8,6 +8,7 @@
 //! landing at the initial waypoint.
 
 use super::*;
+use crate::geofence::flown_route;
 use crate::geofence::turn::{end, rest_from, start, up_to};
 
 /// A path of the route as the estimate counts it: what it is, where it goes, the airspeed
@@ -25,7 +26,7 @@ struct Flown {
 /// the start of the leg after it (up to where the turn joins it).
 fn as_flown(
     legs: Vec<Flown>,
-    route: &[onboard::RouteLeg],
+    route: &[flown_route::RouteLeg],
     speed_of: impl Fn(u16) -> f64,
 ) -> Vec<Flown> {
     let mut out: Vec<Flown> = Vec::with_capacity(legs.len() * 2);
@@ -44,7 +45,7 @@ fn as_flown(
             RouteElement::Leg { to, .. } | RouteElement::ReverseLeg { to, .. } => Some(to),
             _ => None,
         };
-        let turn: Vec<&onboard::RouteLeg> = match (at, next_to) {
+        let turn: Vec<&flown_route::RouteLeg> = match (at, next_to) {
             (Some(at_n), Some(to_n)) => route
                 .iter()
                 .filter(|l| {
@@ -145,7 +146,7 @@ impl SafetyGateway {
             wind_mps: self.turn_wind_mps(mission),
             ..RouteView::from(mission)
         };
-        let fly_by = onboard::FlyBy {
+        let fly_by = flown_route::FlyBy {
             bank_deg: p.max_bank_deg,
         };
         let speed_of = |n: u16| {
@@ -167,9 +168,9 @@ impl SafetyGateway {
         let start = take_off
             .map(Site::of)
             .or(route.waypoints.first().map(|w| Site::of(w.position())));
-        let forward_turns: Vec<onboard::RouteLeg> = start
+        let forward_turns: Vec<flown_route::RouteLeg> = start
             .into_iter()
-            .flat_map(|s| onboard::execute_route(route, s, Some(fly_by)))
+            .flat_map(|s| flown_route::execute_route(route, s, Some(fly_by)))
             .collect();
         let (cruise_wh, mut not_held) =
             self.cruise(&as_flown(forward_legs, &forward_turns, speed_of));
@@ -178,8 +179,8 @@ impl SafetyGateway {
         // The return to home from the last waypoint (the route complete): the reverse route
         // with its turns, then the landing at the initial waypoint.
         let return_wh = last.filter(|_| route.bidirectional).map(|w| {
-            let back: Vec<onboard::RouteLeg> =
-                onboard::return_route(route, Site::of(w.position()), 0, Some(fly_by)).collect();
+            let back: Vec<flown_route::RouteLeg> =
+                flown_route::return_route(route, Site::of(w.position()), 0, Some(fly_by)).collect();
             let reverse: Vec<Flown> = back
                 .iter()
                 .filter_map(|l| match l.element {

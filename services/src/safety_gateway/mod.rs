@@ -60,7 +60,7 @@
 //!   its own violation (`ENERGY-TRACK`) and left out of the sum.
 //! - **Wind** (ICD §7 "Turns in wind"): every turn is checked at the radius a bank-limited
 //!   aircraft holds over the ground in a wind of speed `W` from any direction, `(v + W)²/(g·tan
-//!   (bank))` ([`crate::geofence::onboard::FlyBy`] proves it), with `W` the larger of the
+//!   (bank))` ([`crate::geofence::flown_route::FlyBy`] proves it), with `W` the larger of the
 //!   environment's wind and the plan's planning wind (#13001 field 5), rounded up to the wire's
 //!   0.5 m/s ([`SafetyGateway::turn_wind_mps`]): the wind the validation sends to the FCC, whose
 //!   guidance flies and whose onboard check checks the same turns. The direction is not used for
@@ -90,7 +90,7 @@
 use missionlink_interfaces::wire::{AreaShape, AreaType, GeoPoint, LegType, SpecificData};
 
 use crate::geofence::earth::{self, Site};
-use crate::geofence::onboard::{self, RouteElement, RouteView, RouteWaypoint};
+use crate::geofence::flown_route::{self, RouteElement, RouteView, RouteWaypoint};
 use crate::geofence::path::{Path, Track};
 use crate::geofence::zone::Fence;
 use crate::transfer::areas::AreaList;
@@ -277,7 +277,7 @@ impl SafetyGateway {
                 climb_m: (first.altitude().metres() - toh).max(0.0),
             });
         }
-        for (i, (leg, w)) in onboard::legs(route).zip(entries.windows(2)).enumerate() {
+        for (i, (leg, w)) in flown_route::legs(route).zip(entries.windows(2)).enumerate() {
             let [a, b] = w else { continue };
             legs.push(Leg {
                 element: leg.element,
@@ -304,7 +304,7 @@ impl SafetyGateway {
             ..RouteView::from(mission)
         };
         let entries = route.waypoints;
-        let fly_by = onboard::FlyBy {
+        let fly_by = flown_route::FlyBy {
             bank_deg: self.profile.max_bank_deg,
         };
         let index = |n: u16| entries.iter().position(|w| w.number() == n);
@@ -314,16 +314,15 @@ impl SafetyGateway {
         let last = entries.last();
         let forward = start
             .into_iter()
-            .flat_map(|s| onboard::execute_route(route, s, Some(fly_by)));
+            .flat_map(|s| flown_route::execute_route(route, s, Some(fly_by)));
         let bidirectional = route.bidirectional;
         // The way back from the last waypoint (`to` 0: the route complete); the turns round
         // at the waypoints are `turns_round`'s.
-        let back = last
-            .filter(|_| bidirectional)
-            .into_iter()
-            .flat_map(|w| onboard::return_route(route, Site::of(w.position()), 0, Some(fly_by)));
+        let back = last.filter(|_| bidirectional).into_iter().flat_map(|w| {
+            flown_route::return_route(route, Site::of(w.position()), 0, Some(fly_by))
+        });
         let round = bidirectional
-            .then(|| onboard::turns_round(route, fly_by))
+            .then(|| flown_route::turns_round(route, fly_by))
             .into_iter()
             .flatten();
         forward

@@ -4,7 +4,7 @@
 
 use core::fmt;
 
-use crate::geofence::onboard::RouteElement;
+use crate::geofence::flown_route::RouteElement;
 
 /// What a violation concerns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

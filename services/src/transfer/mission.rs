@@ -7,7 +7,7 @@
 //! of an uploaded mission gives back every field equal (ICD §5.2).
 
 use crate::geofence::earth;
-use crate::geofence::onboard::RouteWaypoint;
+use crate::geofence::flown_route::RouteWaypoint;
 use heapless::Vec;
 use heapless::index_map::FnvIndexMap;
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;

@@ -1,15 +1,22 @@
 //! The map's drawing projection: an equirectangular projection about a reference point with the
-//! radii of curvature there of the WGS-84 ellipsoid of [`super::earth`] (east-west scale error
-//! about tan(lat0) x |dlat|: under 0.03 % over the demo area), north up.
+//! radii of curvature there of the WGS-84 ellipsoid of the one Earth model
+//! (`missionlink_services::geofence::earth`; east-west scale error about tan(lat0) x |dlat|: under
+//! 0.03 % over the demo area), north up.
 //!
 //! It only puts on the screen what the geofence computed: the map draws the sites along the
-//! geofence's geodesics, arcs and circles ([`super::path::Track::sites`]) through it, and no
-//! check, distance or crossing is decided in it.
+//! geofence's geodesics, arcs and circles (`Track::sites`) through it, and no check, distance or
+//! crossing is decided in it; so it lives with the map, not with the geofence.
 
-pub use geo::Coord;
-use missionlink_interfaces::wire::GeoPoint;
+use missionlink_services::geofence::earth::{WGS84_A_M, WGS84_E2};
 
-use super::earth::{WGS84_A_M, WGS84_E2};
+/// A point of the frame: metres east (x) and north (y) of the reference point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coord {
+    /// Metres east.
+    pub x: f64,
+    /// Metres north.
+    pub y: f64,
+}
 
 /// Equirectangular projection about a reference point, WGS-84 radii of curvature there: for
 /// drawing only.
@@ -55,16 +62,28 @@ impl LocalFrame {
         }
     }
 
-    /// [`LocalFrame::xy`] of a wire position.
-    pub fn point(&self, p: &GeoPoint) -> Coord {
-        self.xy(p.latitude.degrees(), p.longitude.degrees())
-    }
-
-    /// Latitude and longitude (degrees) of a point of the frame.
+    /// Latitude and longitude (degrees) of a point of the frame (the map's tests read what
+    /// was drawn back).
+    #[cfg(test)]
     pub fn deg(&self, c: Coord) -> (f64, f64) {
         (
             self.lat0 + c.y / self.m_per_deg_lat,
             self.lon0 + c.x / self.m_per_deg_lon,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use missionlink_services::geofence::earth::Site;
+
+    /// On the same ellipsoid as the geofence, the frame scales latitude as the meridian arc.
+    #[test]
+    fn latitude_scales_as_the_meridian_arc() {
+        let frame = LocalFrame::new(48.0, 11.0);
+        let y = frame.xy(48.0005, 11.0).y - frame.xy(47.9995, 11.0).y;
+        let (arc, _) = Site::new(47.9995, 11.0).inverse(&Site::new(48.0005, 11.0));
+        assert!((y - arc).abs() < 1e-6, "{y} {arc}");
     }
 }
