@@ -7,12 +7,13 @@ use core::fmt::Debug;
 use iceoryx2::identifiers::UniquePublisherId;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::{ZeroCopySend, ipc};
+use iceoryx2::service::static_config::message_type_details::{TypeDetail, TypeVariant};
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FramePayload,
     GuidanceProgressPayload, HeartbeatPayload, WaypointListPayload,
 };
 use missionlink_partitions::ipc::{Ipc, IpcError, Publisher, Subscriber};
-use zerocopy::{Immutable, KnownLayout, TryFromBytes};
+use zerocopy::{Immutable, IntoBytes, KnownLayout, TryFromBytes};
 
 use crate::header::Refusal;
 use crate::raw;
@@ -20,10 +21,29 @@ use crate::raw;
 /// A service's contract, as the header names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Contract {
-    /// The iceoryx2 type name.
-    pub type_name: &'static str,
     /// The payload's size.
     pub size: usize,
+    /// The payload type as iceoryx2 describes it when a port of the service opens (type name,
+    /// size, alignment): the type name is read from it, which is safe, where
+    /// `ZeroCopySend::type_name` is an unsafe fn.
+    detail: TypeDetail,
+}
+
+impl Contract {
+    /// The contract of the payload type `T`.
+    pub fn of<T: ZeroCopySend>() -> Self {
+        Self {
+            size: size_of::<T>(),
+            detail: TypeDetail::new::<T>(TypeVariant::FixedSize),
+        }
+    }
+
+    /// The iceoryx2 type name (`missionlink::FramePayload/v5`, ...), which the header carries
+    /// and the receiver checks. Empty if it were not UTF-8 (it is made from a `&str`), which
+    /// no header matches.
+    pub fn type_name(&self) -> &str {
+        core::str::from_utf8(self.detail.type_name()).unwrap_or_default()
+    }
 }
 
 /// A subscriber of a service going out.
@@ -62,9 +82,9 @@ struct Out<T: Debug + ZeroCopySend + 'static> {
     subscriber: Subscriber<ipc::Service, T>,
 }
 
-impl<T: Debug + Copy + ZeroCopySend + 'static> Outgoing for Out<T> {
+impl<T: Debug + Copy + ZeroCopySend + IntoBytes + Immutable + 'static> Outgoing for Out<T> {
     fn contract(&self) -> Contract {
-        contract::<T>()
+        Contract::of::<T>()
     }
 
     fn listener(&self) -> &Listener<ipc::Service> {
@@ -87,7 +107,7 @@ where
     T: Debug + Copy + ZeroCopySend + TryFromBytes + KnownLayout + Immutable + 'static,
 {
     fn contract(&self) -> Contract {
-        contract::<T>()
+        Contract::of::<T>()
     }
 
     fn id(&self) -> UniquePublisherId {
@@ -95,20 +115,12 @@ where
     }
 
     fn publish(&self, bytes: &[u8]) -> Result<(), PublishError> {
-        let value =
-            T::try_read_from_bytes(bytes).map_err(|_| PublishError::Refused(Refusal::Invalid))?;
+        let value = raw::read::<T>(bytes).map_err(PublishError::Refused)?;
         self.publisher.send(&value).map_err(PublishError::Ipc)
     }
 
     fn update_connections(&self) {
         self.publisher.update_connections();
-    }
-}
-
-fn contract<T: ZeroCopySend>() -> Contract {
-    Contract {
-        type_name: raw::type_name::<T>(),
-        size: size_of::<T>(),
     }
 }
 
@@ -166,5 +178,5 @@ pub fn incoming(
 
 /// The contract of `service`.
 pub fn contract_of(service: FccService) -> Contract {
-    with_payload!(service, T => contract::<T>())
+    with_payload!(service, T => Contract::of::<T>())
 }
