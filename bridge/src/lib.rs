@@ -34,6 +34,11 @@
 //! services' events, the incoming one on a channel fed by Zenoh's callbacks; Zenoh's runtime
 //! runs its own.
 
+// No unsafe code in the bridge: payload bytes go through zerocopy ([`raw`]) and type names
+// through iceoryx2's safe `TypeDetail` ([`ports::Contract`]). `forbid`, not the workspace's
+// `deny`, so that no `allow` further down can bring it back.
+#![forbid(unsafe_code)]
+
 pub mod credentials;
 pub mod header;
 pub mod ports;
@@ -437,7 +442,7 @@ fn run_outgoing(
                     payload_size: u32::try_from(contract.size).unwrap_or(u32::MAX),
                     bridge_id: id,
                     sequence: p.sequence,
-                    type_name: contract.type_name,
+                    type_name: contract.type_name(),
                 }
                 .emit(&mut header);
                 if p.history {
@@ -494,7 +499,7 @@ impl InPort {
         let contract = self.port.contract();
         if let Err(r) = header.check(
             CONTRACT_VERSION,
-            contract.type_name,
+            contract.type_name(),
             contract.size,
             payload.len(),
         ) {
@@ -536,7 +541,7 @@ impl InPort {
                 service = %self.service,
                 %reason,
                 received = %header.map_or_else(|| "-".to_owned(), ToString::to_string),
-                expected = %format_args!("{} ({} B, contract v{CONTRACT_VERSION})", contract.type_name, contract.size),
+                expected = %format_args!("{} ({} B, contract v{CONTRACT_VERSION})", contract.type_name(), contract.size),
                 "sample from Zenoh refused (logged once per service; the summary counts them)"
             );
         }
@@ -832,7 +837,7 @@ mod tests {
             payload_size: contract.size as u32,
             bridge_id,
             sequence,
-            type_name: contract.type_name,
+            type_name: contract.type_name(),
         }
         .emit(&mut out);
         out

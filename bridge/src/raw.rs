@@ -1,37 +1,38 @@
 //! The raw bytes of a contract's payload, as they lie in shared memory: what the bridge sends
-//! to Zenoh (docs/design.md "Across hosts": raw fixed-layout bytes). The one unsafe part of the
-//! bridge; the way back (bytes to a payload) is zerocopy's `TryFromBytes`, which checks every
-//! field (a `bool` byte that is neither 0 nor 1 is refused) and is safe.
-#![allow(unsafe_code)]
+//! to Zenoh and takes from it (docs/design.md "Across hosts": raw fixed-layout bytes; ICD §14).
+//!
+//! Both ways go through zerocopy, with no unsafe code. A payload has no padding (every payload
+//! derives `IntoBytes`, interfaces/src/contracts.rs), so its bytes are all its fields' and
+//! `as_bytes` gives them; the way back is `TryFromBytes` (not `FromBytes`: a payload's `bool`
+//! has two valid bytes), which checks every field, and refuses a `bool` byte that is neither 0
+//! nor 1, before anything is published.
 
-use iceoryx2::prelude::ZeroCopySend;
+use zerocopy::{Immutable, IntoBytes, KnownLayout, TryFromBytes};
 
-/// The payload's bytes, `size_of::<T>()` of them.
-///
-/// Padding: two contracts have some (`FramePayload` ends in 4 bytes of it,
-/// `AutomationStatePayload` has 1 inside and 6 at the end). Those bytes are copied as they lie
-/// in the sample's shared memory, which iceoryx2 maps zero-filled; the receiver's
-/// `TryFromBytes` never reads them.
-pub fn bytes_of<T: ZeroCopySend + Copy>(value: &T) -> &[u8] {
-    // SAFETY: `value` is a valid reference to `size_of::<T>()` bytes that live as long as the
-    // returned slice; `T: ZeroCopySend` is `#[repr(C)]` plain data without pointers (iceoryx2's
-    // contract for shared memory), and `u8` has no alignment requirement.
-    unsafe { core::slice::from_raw_parts((value as *const T).cast::<u8>(), size_of::<T>()) }
+use crate::header::Refusal;
+
+/// The payload's bytes, `size_of::<T>()` of them, every one written by whoever made the value.
+pub fn bytes_of<T: IntoBytes + Immutable>(value: &T) -> &[u8] {
+    value.as_bytes()
 }
 
-/// The payload type's iceoryx2 type name (`missionlink::FramePayload/v5`, ...), which the
-/// header carries and the receiver checks.
-pub fn type_name<T: ZeroCopySend>() -> &'static str {
-    // SAFETY: `type_name` only returns a static string; iceoryx2 marks it unsafe to discourage
-    // overriding it, not calling it.
-    unsafe { <T as ZeroCopySend>::type_name() }
+/// A payload from bytes of the network. Refused, never a panic: bytes of another length than
+/// `size_of::<T>()` ([`Refusal::Size`], with the length received), or bytes that are not a valid
+/// value of `T` ([`Refusal::Invalid`]). The value is copied out, so the bytes need no alignment
+/// (a Zenoh payload has none to promise).
+pub fn read<T: TryFromBytes + KnownLayout + Immutable>(bytes: &[u8]) -> Result<T, Refusal> {
+    if bytes.len() != size_of::<T>() {
+        return Err(Refusal::Size(
+            u32::try_from(bytes.len()).unwrap_or(u32::MAX),
+        ));
+    }
+    T::try_read_from_bytes(bytes).map_err(|_| Refusal::Invalid)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_interfaces::contracts::HeartbeatPayload;
-    use zerocopy::TryFromBytes;
+    use missionlink_interfaces::contracts::{AutomationStatePayload, HeartbeatPayload};
 
     #[test]
     fn bytes_of_a_payload_read_back_as_the_same_payload() {
@@ -45,10 +46,29 @@ mod tests {
         let bytes = bytes_of(&beat);
         assert_eq!(bytes.len(), 32);
         assert_eq!(bytes[..8], 7u64.to_ne_bytes());
-        assert_eq!(HeartbeatPayload::try_read_from_bytes(bytes).unwrap(), beat);
+        assert_eq!(read::<HeartbeatPayload>(bytes), Ok(beat));
+    }
+
+    #[test]
+    fn bytes_of_another_length_or_no_valid_value_are_refused() {
+        let bytes = bytes_of(&AutomationStatePayload::ON_GROUND).to_vec();
         assert_eq!(
-            type_name::<HeartbeatPayload>(),
-            "missionlink::HeartbeatPayload/v5"
+            read::<AutomationStatePayload>(&bytes[..39]),
+            Err(Refusal::Size(39))
+        );
+        let mut longer = bytes.clone();
+        longer.push(0);
+        assert_eq!(
+            read::<AutomationStatePayload>(&longer),
+            Err(Refusal::Size(41))
+        );
+        assert_eq!(read::<AutomationStatePayload>(&[]), Err(Refusal::Size(0)));
+        // `trajectory_generation_active` (byte 25) is a bool: 2 is no value of it.
+        let mut invalid = bytes;
+        invalid[25] = 2;
+        assert_eq!(
+            read::<AutomationStatePayload>(&invalid),
+            Err(Refusal::Invalid)
         );
     }
 }

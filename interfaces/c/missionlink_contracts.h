@@ -28,8 +28,10 @@
  * Enumerations cross shared memory as uint8_t (the enums below name the values): a byte
  * written by another process may hold anything, so a reader treats an unknown value as
  * unknown. Optional enumeration bytes hold MISSIONLINK_ABSENT when absent. Every "reserved"
- * field is written as zero. AutomationStatePayload and FramePayload have padding the compiler
- * inserts (C and Rust place it alike).
+ * field is written as zero. No structure has padding: the bytes alignment would add are
+ * reserved fields of their own, so a structure set to zero (memset, or = {0}) and then filled
+ * in has every byte written, as the Rust partitions write theirs (the bridge sends the bytes as
+ * they lie across hosts, ICD §14).
  */
 #ifndef MISSIONLINK_CONTRACTS_H
 #define MISSIONLINK_CONTRACTS_H
@@ -256,6 +258,7 @@ typedef struct FramePayload {
     uint8_t link;          /* enum Link */
     uint8_t reserved[5];
     uint8_t bytes[MISSIONLINK_MAX_FRAME_LEN];
+    uint8_t reserved_tail[4];
 } FramePayload;
 
 /* One waypoint of the assembled list, in flight-plan order. */
@@ -337,9 +340,10 @@ typedef struct AutomationStatePayload {
     uint8_t flight_phase;                /* enum FlightPhase */
     bool trajectory_generation_active;
     bool route_reversed;                 /* return to home */
+    uint8_t reserved0;
     uint16_t land_at;                    /* land at this waypoint, 0 for the last */
     bool guidance_alive;
-    uint8_t reserved[3];
+    uint8_t reserved[9];
 } AutomationStatePayload;
 
 /* fcc/automation/command: a #50000 command that mission data handling accepted. */

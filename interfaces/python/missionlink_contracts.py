@@ -17,6 +17,11 @@ payloads use it without iceoryx2 installed.
 Enumerations cross shared memory as raw bytes (`c_uint8`): a byte written by another process
 may hold anything, so readers map an unknown value to "unknown" (the IntEnums below name the
 known values). Optional enumeration bytes hold ABSENT when absent.
+
+No structure has padding: the bytes alignment would add are `reserved*` fields of their own,
+zero in a new structure (ctypes zeroes it) and never to be set otherwise, so every byte a
+partition publishes is a byte it wrote (the bridge sends the bytes as they lie across hosts,
+ICD §14).
 """
 
 from __future__ import annotations
@@ -251,6 +256,7 @@ class FramePayload(ctypes.Structure):
         ("link", ctypes.c_uint8),
         ("reserved", ctypes.c_uint8 * 5),
         ("bytes", ctypes.c_uint8 * MAX_FRAME_LEN),
+        ("reserved_tail", ctypes.c_uint8 * 4),
     ]
 
     @staticmethod
@@ -414,11 +420,7 @@ def same_activation(waypoints: WaypointListPayload, areas: AreaListPayload) -> b
 
 
 class AutomationStatePayload(ctypes.Structure):
-    """fcc/automation/state: the flight phase and which functions are active.
-
-    One byte of padding follows route_reversed (land_at is 2-aligned) and six end it; ctypes
-    places them as C and Rust do.
-    """
+    """fcc/automation/state: the flight phase and which functions are active."""
 
     _fields_ = [
         ("sequence", ctypes.c_uint64),
@@ -427,9 +429,10 @@ class AutomationStatePayload(ctypes.Structure):
         ("flight_phase", ctypes.c_uint8),
         ("trajectory_generation_active", ctypes.c_bool),
         ("route_reversed", ctypes.c_bool),
+        ("reserved0", ctypes.c_uint8),
         ("land_at", ctypes.c_uint16),
         ("guidance_alive", ctypes.c_bool),
-        ("reserved", ctypes.c_uint8 * 3),
+        ("reserved", ctypes.c_uint8 * 9),
     ]
 
     @staticmethod

@@ -11,6 +11,13 @@
 //! Enumerations cross shared memory as raw `u8` with typed accessors: the bytes are written by
 //! another process, and an out-of-range discriminant must read as "unknown", never as undefined
 //! behaviour. Optional values carry a `has_*` flag next to them for the same reason.
+//!
+//! No payload has padding: the bytes that alignment would add are fields of their own, named
+//! `reserved*`, documented "Zero." and written as zero by every constructor and constant. Every
+//! payload derives zerocopy's `IntoBytes`, which does not compile for a type with padding, so
+//! every byte of a payload is a written byte: the bridge sends the bytes as they are across
+//! hosts (docs/design.md "Across hosts", ICD §14) and never an uninitialised one, and a reader
+//! may compare payloads by their bytes ([`GuidanceProgressPayload::same_report_as`]).
 
 use core::fmt;
 
@@ -236,7 +243,13 @@ impl TryFrom<u8> for Link {
 /// A STANAG frame crossing shared memory: opaque bytes plus metadata. The protocol code views
 /// the bytes with [`crate::wire::Frame`]; the payload itself never interprets them.
 #[derive(
-    Debug, Clone, Copy, zerocopy::TryFromBytes, zerocopy::KnownLayout, zerocopy::Immutable,
+    Debug,
+    Clone,
+    Copy,
+    zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
@@ -257,6 +270,8 @@ pub struct FramePayload {
     pub reserved: [u8; 5],
     /// The frame: wrapper, data, checksum.
     pub bytes: [u8; MAX_FRAME_LEN],
+    /// Zero.
+    pub reserved_tail: [u8; 4],
 }
 
 impl FramePayload {
@@ -272,6 +287,7 @@ impl FramePayload {
             link: link as u8,
             reserved: [0; 5],
             bytes,
+            reserved_tail: [0; 4],
         })
     }
 
@@ -295,6 +311,7 @@ impl FramePayload {
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -396,7 +413,13 @@ impl WaypointEntry {
 /// `fcc/mission/waypoint-list`: the active waypoint list with its take-off height and route
 /// properties, as assembled and validated by mission data handling (ICD §5.1, §7).
 #[derive(
-    Debug, Clone, Copy, zerocopy::TryFromBytes, zerocopy::KnownLayout, zerocopy::Immutable,
+    Debug,
+    Clone,
+    Copy,
+    zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
@@ -476,6 +499,7 @@ pub fn same_activation(waypoints: &WaypointListPayload, areas: &AreaListPayload)
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -548,6 +572,7 @@ impl AreaAltitudes {
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -595,6 +620,7 @@ impl PolygonArea {
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -634,7 +660,13 @@ impl CircleArea {
 /// `fcc/mission/area-list`: the active area list (ICD §5.3, §7): one fly-zone polygon, the
 /// no-fly-zone polygons, the no-fly-zone circles, and the safety offset.
 #[derive(
-    Debug, Clone, Copy, zerocopy::TryFromBytes, zerocopy::KnownLayout, zerocopy::Immutable,
+    Debug,
+    Clone,
+    Copy,
+    zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
+    zerocopy::KnownLayout,
+    zerocopy::Immutable,
 )]
 #[cfg_attr(feature = "ipc", derive(ZeroCopySend))]
 #[repr(C)]
@@ -734,6 +766,7 @@ impl TryFrom<u8> for FlightPhase {
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -753,13 +786,15 @@ pub struct AutomationStatePayload {
     pub trajectory_generation_active: bool,
     /// Fly the route backwards, to its initial waypoint (return to home, #50000 command 2).
     pub route_reversed: bool,
+    /// Zero.
+    pub reserved0: u8,
     /// Land at this waypoint instead of the last one (#50000 command 3), 0 for the last.
     pub land_at: u16,
     /// Guidance's heartbeat ([`HeartbeatPayload`] on `fcc/health/guidance`) came within its
     /// limit: without it the flight commands of #50000 are refused (`WrongState`).
     pub guidance_alive: bool,
     /// Zero.
-    pub reserved: [u8; 3],
+    pub reserved: [u8; 9],
 }
 
 impl AutomationStatePayload {
@@ -771,9 +806,10 @@ impl AutomationStatePayload {
         flight_phase: FlightPhase::OnGround as u8,
         trajectory_generation_active: false,
         route_reversed: false,
+        reserved0: 0,
         land_at: 0,
         guidance_alive: false,
-        reserved: [0; 3],
+        reserved: [0; 9],
     };
 
     /// The flight phase, or `None` for a value no publisher of this version writes.
@@ -790,6 +826,7 @@ impl AutomationStatePayload {
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -828,6 +865,7 @@ pub const DEFAULT_HEARTBEAT_PERIOD: core::time::Duration = core::time::Duration:
     PartialEq,
     Eq,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -855,8 +893,8 @@ pub struct HeartbeatPayload {
 /// reader takes any value that is not finite as not known: the bytes are written by another
 /// process. Mission data handling sends them in #101 (ICD §4 #101).
 ///
-/// `IntoBytes` proves at compile time that no byte is implicit padding (the `reserved` bytes
-/// before the `f32`s are explicit), and lets [`Self::same_report_as`] compare the bytes.
+/// `IntoBytes` (as on every payload: no byte is padding) lets [`Self::same_report_as`] compare
+/// the bytes.
 #[derive(
     Debug,
     Clone,

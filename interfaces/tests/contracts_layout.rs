@@ -9,7 +9,8 @@
 //!   `#[type_name(...)]`; the service paths and QoS of [`FccService::ALL`]; the capacities; the
 //!   enumerations' values. Each field list is an exhaustive destructuring pattern of the type,
 //!   so a field added in Rust and not listed here does not compile, and the fields listed must
-//!   cover every byte of the type but for the padding alignment requires (checked here).
+//!   cover every byte of the type: no structure has padding (checked here; the bytes alignment
+//!   would add are `reserved*` fields, interfaces/src/contracts.rs).
 //! - **C**: `interfaces/c/missionlink_contracts.h` is parsed for its structures, their fields
 //!   and every `MISSIONLINK_` name it defines; a program generated from that, compiled with `cc`
 //!   against the header, prints `sizeof`, `_Alignof` and `offsetof` of everything, the type
@@ -19,6 +20,11 @@
 //!
 //! Any line in one list and not in another fails the test with the lines that differ. Without
 //! `cc` or `python3` the test fails and says what to install: it never skips.
+//!
+//! The values as well as the layouts: a C program makes each empty value of the contracts from
+//! the header alone (zero, then what the header says is not zero when nothing is known) and its
+//! bytes must be those of the Rust constants (`WaypointListPayload::EMPTY`, ...), reserved
+//! bytes included.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -43,6 +49,7 @@ use missionlink_interfaces::wire::{
     Altitude, AltitudeType, Angle, ExecuteCommand, GeoPoint, LegType, MAX_FRAME_LEN, SafetyOffset,
     Speed, SpeedType, TurnDirection, TurnType,
 };
+use zerocopy::{Immutable, IntoBytes};
 
 /// One field of a structure as Rust lays it out.
 struct Field {
@@ -86,6 +93,13 @@ fn short_type_name(full: &str) -> String {
     out
 }
 
+/// `size_of::<T>()`, for a type without padding only: zerocopy's `IntoBytes`, derived on every
+/// structure of the contracts, does not hold for a type with padding (contracts.rs), so a
+/// structure listed in [`rust_layouts`] without it does not compile.
+fn size_without_padding<T: IntoBytes>() -> usize {
+    size_of::<T>()
+}
+
 fn field_size<T, F>(_: fn(&T) -> &F) -> usize {
     size_of::<F>()
 }
@@ -124,7 +138,7 @@ macro_rules! layout {
         };
         Layout {
             name: stringify!($t),
-            size: size_of::<$t>(),
+            size: size_without_padding::<$t>(),
             align: align_of::<$t>(),
             type_name: layout!(@type_name $kind $t),
             fields: vec![$(Field {
@@ -158,7 +172,7 @@ macro_rules! newtype {
         );
         Layout {
             name: stringify!($t),
-            size: size_of::<$t>(),
+            size: size_without_padding::<$t>(),
             align: align_of::<$t>(),
             type_name: None,
             fields: vec![Field {
@@ -187,7 +201,8 @@ fn rust_layouts() -> Vec<Layout> {
             len,
             link,
             reserved,
-            bytes
+            bytes,
+            reserved_tail
         }),
         layout!(named WaypointEntry {
             number,
@@ -255,6 +270,7 @@ fn rust_layouts() -> Vec<Layout> {
             flight_phase,
             trajectory_generation_active,
             route_reversed,
+            reserved0,
             land_at,
             guidance_alive,
             reserved
@@ -492,9 +508,13 @@ fn interfaces_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// A directory of this test run's own.
-fn scratch_dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("missionlink-contracts-{}", std::process::id()));
+/// A directory of this test run's own for `what` (the tests of this file run in parallel, and
+/// each removes its directory when done).
+fn scratch_dir(what: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "missionlink-contracts-{}-{what}",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
@@ -720,7 +740,7 @@ fn c_program(header: &CHeader, layouts: &[Layout]) -> String {
 
 /// The facts of the C header, from a program compiled with `cc` against it.
 fn c_facts(layouts: &[Layout]) -> BTreeSet<String> {
-    let header_path = interfaces_dir().join("c").join("missionlink_contracts.h");
+    let header_path = c_header_path();
     let text = std::fs::read_to_string(&header_path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", header_path.display()));
     let header = parse_header(&text);
@@ -734,10 +754,25 @@ fn c_facts(layouts: &[Layout]) -> BTreeSet<String> {
         header_path.display()
     );
 
-    let dir = scratch_dir();
-    let source = dir.join("layout.c");
-    let program = dir.join("layout");
-    std::fs::write(&source, c_program(&header, layouts)).unwrap();
+    run_c("layout", &c_program(&header, layouts))
+        .lines()
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The C header.
+fn c_header_path() -> PathBuf {
+    interfaces_dir().join("c").join("missionlink_contracts.h")
+}
+
+/// Compiles `program` against the header with `cc` (strict C11, every warning an error), runs
+/// it and returns what it printed.
+fn run_c(name: &str, program: &str) -> String {
+    let header_path = c_header_path();
+    let dir = scratch_dir(name);
+    let source = dir.join(format!("{name}.c"));
+    let executable = dir.join(name);
+    std::fs::write(&source, program).unwrap();
     let compiled = output(
         Command::new("cc")
             .args([
@@ -751,7 +786,7 @@ fn c_facts(layouts: &[Layout]) -> BTreeSet<String> {
             .arg(header_path.parent().unwrap())
             .arg(&source)
             .arg("-o")
-            .arg(&program),
+            .arg(&executable),
         "the contracts test compiles the C header with `cc`, which is not installed: install a \
          C compiler (Debian: apt-get install gcc)",
     );
@@ -762,15 +797,150 @@ fn c_facts(layouts: &[Layout]) -> BTreeSet<String> {
         header_path.display(),
         String::from_utf8_lossy(&compiled.stderr)
     );
-    let run = output(&mut Command::new(&program), "the compiled program is gone");
+    let run = output(
+        &mut Command::new(&executable),
+        "the compiled program is gone",
+    );
     assert!(run.status.success(), "{run:?}");
-    let facts = String::from_utf8(run.stdout)
-        .unwrap()
-        .lines()
-        .map(str::to_owned)
-        .collect();
     let _ = std::fs::remove_dir_all(&dir);
-    facts
+    String::from_utf8(run.stdout).unwrap()
+}
+
+/// The empty values of the contracts as a C partition makes them from the header alone: the
+/// structure set to zero, then the fields the header says are not zero when nothing is known
+/// (an optional enumeration byte holds MISSIONLINK_ABSENT; guidance's four floats are NaN
+/// before anything is flown, on the ground). It prints each one's bytes in hex, one line each:
+/// `<name> <hex>`, in the order of [`rust_empty_values`].
+const C_EMPTY_VALUES: &str = r#"
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "missionlink_contracts.h"
+
+static void print(const char *name, const void *value, size_t size) {
+    const unsigned char *b = value;
+    printf("%s ", name);
+    for (size_t i = 0; i < size; i++) {
+        printf("%02x", b[i]);
+    }
+    printf("\n");
+}
+
+static void no_altitudes(AreaAltitudes *a) {
+    a->altitude_type = MISSIONLINK_ABSENT;
+}
+
+static void empty_waypoint(WaypointEntry *w) {
+    w->altitude_type = MISSIONLINK_ABSENT;
+    w->speed_type = MISSIONLINK_ABSENT;
+    w->rf_turn_direction = MISSIONLINK_ABSENT;
+}
+
+static void empty_polygon(PolygonArea *p) {
+    no_altitudes(&p->altitudes);
+}
+
+static void empty_circle(CircleArea *c) {
+    no_altitudes(&c->altitudes);
+}
+
+/* Static: the lists are kilobytes. Each is set to zero before use all the same. */
+static FramePayload frame;
+static WaypointEntry waypoint;
+static WaypointListPayload waypoints;
+static AreaAltitudes altitudes;
+static PolygonArea polygon;
+static CircleArea circle;
+static AreaListPayload areas;
+static AutomationStatePayload state;
+static GuidanceProgressPayload progress;
+
+#define ZERO(v) memset(&(v), 0, sizeof(v))
+
+int main(void) {
+    ZERO(frame);
+    frame.link = MISSIONLINK_LINK_DIRECT;
+    print("FramePayload", &frame, sizeof frame);
+
+    ZERO(waypoint);
+    empty_waypoint(&waypoint);
+    print("WaypointEntry", &waypoint, sizeof waypoint);
+
+    ZERO(waypoints);
+    for (size_t i = 0; i < MISSIONLINK_MAX_WAYPOINTS; i++) {
+        empty_waypoint(&waypoints.waypoints[i]);
+    }
+    print("WaypointListPayload", &waypoints, sizeof waypoints);
+
+    ZERO(altitudes);
+    no_altitudes(&altitudes);
+    print("AreaAltitudes", &altitudes, sizeof altitudes);
+
+    ZERO(polygon);
+    empty_polygon(&polygon);
+    print("PolygonArea", &polygon, sizeof polygon);
+
+    ZERO(circle);
+    empty_circle(&circle);
+    print("CircleArea", &circle, sizeof circle);
+
+    ZERO(areas);
+    empty_polygon(&areas.fly_zone);
+    for (size_t i = 0; i < MISSIONLINK_MAX_NO_FLY_ZONES; i++) {
+        empty_polygon(&areas.no_fly_polygons[i]);
+        empty_circle(&areas.no_fly_circles[i]);
+    }
+    print("AreaListPayload", &areas, sizeof areas);
+
+    ZERO(state);
+    state.flight_phase = MISSIONLINK_FLIGHT_PHASE_ON_GROUND;
+    print("AutomationStatePayload", &state, sizeof state);
+
+    ZERO(progress);
+    progress.on_ground = true;
+    progress.heading_deg = NAN;
+    progress.roll_deg = NAN;
+    progress.pitch_deg = NAN;
+    progress.climb_rate_mps = NAN;
+    print("GuidanceProgressPayload", &progress, sizeof progress);
+    return 0;
+}
+"#;
+
+/// The bytes of `value` in hex. `IntoBytes`: every byte is a field's (there is no padding to
+/// read).
+fn hex<T: IntoBytes + Immutable>(value: &T) -> String {
+    value
+        .as_bytes()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The empty values Rust defines (the constants, and a frame payload of no frame), as
+/// `<name> <hex>` in the order of [`C_EMPTY_VALUES`].
+fn rust_empty_values() -> Vec<String> {
+    let frame = FramePayload::new(Link::Direct, &[], 0).unwrap();
+    [
+        ("FramePayload", hex(&frame)),
+        ("WaypointEntry", hex(&WaypointEntry::EMPTY)),
+        ("WaypointListPayload", hex(&WaypointListPayload::EMPTY)),
+        ("AreaAltitudes", hex(&AreaAltitudes::NONE)),
+        ("PolygonArea", hex(&PolygonArea::EMPTY)),
+        ("CircleArea", hex(&CircleArea::EMPTY)),
+        ("AreaListPayload", hex(&AreaListPayload::EMPTY)),
+        (
+            "AutomationStatePayload",
+            hex(&AutomationStatePayload::ON_GROUND),
+        ),
+        (
+            "GuidanceProgressPayload",
+            hex(&GuidanceProgressPayload::IDLE),
+        ),
+    ]
+    .into_iter()
+    .map(|(name, bytes)| format!("{name} {bytes}"))
+    .collect()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -867,15 +1037,17 @@ fn python_facts() -> BTreeSet<String> {
 // ---------------------------------------------------------------------------------------------
 
 #[test]
-fn the_listed_fields_cover_every_byte_of_each_payload_but_alignment_padding() {
+fn the_listed_fields_cover_every_byte_of_each_structure_with_no_padding() {
+    // No padding in any structure (contracts.rs): what alignment would add is a `reserved*`
+    // field, so C and Python see those bytes as fields too, and the fact lists compare them.
     for layout in rust_layouts() {
         let gaps = padding(&layout);
-        if !gaps.is_empty() {
-            eprintln!(
-                "{} ({} bytes): alignment padding at (offset, bytes) {gaps:?}",
-                layout.name, layout.size
-            );
-        }
+        assert!(
+            gaps.is_empty(),
+            "{} ({} bytes): padding at (offset, bytes) {gaps:?}: make it a reserved field",
+            layout.name,
+            layout.size
+        );
     }
 }
 
@@ -911,6 +1083,45 @@ fn the_python_module_matches_the_rust_types() {
         panic!("{diff}");
     }
     eprintln!("Python module: {} facts agree with Rust", python.len());
+}
+
+#[test]
+fn the_empty_values_are_the_bytes_a_c_partition_makes_from_the_header() {
+    // Every byte of a payload crosses hosts as it is (ICD §14), so the Rust constants must be
+    // what a partition in C starts from: zero but where the header says otherwise. A reserved
+    // byte a constant left non-zero, or a field that is not zero when nothing is known and
+    // that the header does not say so of, shows here as the first byte that differs.
+    let c: Vec<String> = run_c("empty", C_EMPTY_VALUES)
+        .lines()
+        .map(str::to_owned)
+        .collect();
+    let rust = rust_empty_values();
+    assert_eq!(c.len(), rust.len(), "the C program printed {c:?}");
+    for (r, c) in rust.iter().zip(&c) {
+        let (name, r) = r.split_once(' ').unwrap();
+        let (c_name, c) = c.split_once(' ').unwrap();
+        assert_eq!(
+            name, c_name,
+            "the C program prints its values in another order"
+        );
+        assert_eq!(r.len(), c.len(), "{name}: Rust and C differ in size");
+        if let Some(at) = r.bytes().zip(c.bytes()).position(|(a, b)| a != b) {
+            // Two hex digits a byte; show eight bytes from the first that differs.
+            let byte = at / 2;
+            let from = |hex: &str| -> String {
+                hex.get(byte * 2..)
+                    .unwrap_or_default()
+                    .chars()
+                    .take(16)
+                    .collect()
+            };
+            panic!(
+                "{name}: Rust and C differ from byte {byte}: Rust {}..., C {}...",
+                from(r),
+                from(c)
+            );
+        }
+    }
 }
 
 #[test]

@@ -170,6 +170,7 @@ unsigned_codec!(U3, u32, 3);
     PartialOrd,
     Ord,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -248,6 +249,7 @@ impl Codec for Angle {
     PartialOrd,
     Ord,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -323,6 +325,7 @@ impl Codec for Altitude {
     PartialOrd,
     Ord,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
@@ -441,6 +444,7 @@ impl Codec for i16 {
     PartialOrd,
     Ord,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]

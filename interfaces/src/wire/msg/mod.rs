@@ -86,6 +86,7 @@ fn is_waypoint_number(n: u16) -> bool {
     Hash,
     Default,
     zerocopy::TryFromBytes,
+    zerocopy::IntoBytes,
     zerocopy::KnownLayout,
     zerocopy::Immutable,
 )]
