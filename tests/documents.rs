@@ -339,3 +339,83 @@ fn the_scan_finds_what_is_missing_and_only_that() {
     // four links of docs/a: 13.
     assert_eq!(checked, 13);
 }
+
+/// The source directories the module map of docs/design.md accounts for: every crate's sources
+/// and the root package's (the fuzz targets' crate whole: its examples and tests too).
+const MAPPED: &[&str] = &[
+    "interfaces/src",
+    "services/src",
+    "platform/src",
+    "partitions/src",
+    "gcs/src",
+    "bridge/src",
+    "fuzz-targets",
+    "src",
+];
+
+/// docs/design.md's module map is true to the code: every Rust source file of the crates and
+/// the root package is named in it, by its path or by a directory inside the sources that holds
+/// it (`gcs/src/map/`; a crate's own directory, `gcs/`, names no module); a `lib.rs` or `mod.rs`
+/// by a file beside it too (it only gathers them). Every workspace member is named as a crate.
+/// (That every path it names exists is [`every_path_a_document_names_is_in_the_repository`]'s.)
+#[test]
+fn the_module_map_names_every_module() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let design = fs::read_to_string(root.join("docs/design.md")).unwrap();
+    let map = design
+        .split("\n## Module map")
+        .nth(1)
+        .and_then(|rest| rest.split("\n## ").next())
+        .expect("docs/design.md has a section \"Module map\"");
+    let named: BTreeSet<String> = code_spans(&without_fences(map))
+        .into_iter()
+        .map(|(_, span)| span)
+        .collect();
+    let covered = |sources: &str, file: &Path| {
+        let by_directory = file
+            .ancestors()
+            .skip(1)
+            .take_while(|dir| dir.as_os_str().len() > sources.len())
+            .any(|dir| named.contains(&format!("{}/", dir.display())));
+        let gathering = file
+            .file_name()
+            .is_some_and(|n| n == "lib.rs" || n == "mod.rs");
+        let sibling_named = file.parent().is_some_and(|dir| {
+            named
+                .iter()
+                .any(|n| Path::new(n).parent() == Some(dir) && !n.ends_with('/'))
+        });
+        named.contains(&file.display().to_string()) || by_directory || (gathering && sibling_named)
+    };
+    let mut missing: Vec<String> = MAPPED
+        .iter()
+        .flat_map(|dir| {
+            files(&root.join(dir))
+                .into_iter()
+                .map(move |f| (*dir, Path::new(dir).join(f)))
+        })
+        .filter(|(_, f)| f.extension().is_some_and(|e| e == "rs"))
+        .filter(|(sources, f)| !covered(sources, f))
+        .map(|(_, f)| f.display().to_string())
+        .collect();
+    missing.sort();
+    let members = [
+        "interfaces",
+        "services",
+        "platform",
+        "partitions",
+        "gcs",
+        "bridge",
+    ];
+    for member in members {
+        if !map.contains(&format!("**`{member}/`**")) {
+            missing.push(format!("the crate {member}/"));
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "docs/design.md's module map does not name {} module(s):\n{}",
+        missing.len(),
+        missing.join("\n")
+    );
+}
