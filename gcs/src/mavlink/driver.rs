@@ -52,8 +52,8 @@ impl MavlinkSocket {
 
     /// The same socket capturing every MAVLink message it sends and receives into `path`, a
     /// telemetry log as QGroundControl and MAVProxy write them (`.tlog`: each message after its
-    /// time, microseconds since 1970 as 8 bytes big-endian), which they, pymavlink and
-    /// Wireshark's MAVLink dissector read.
+    /// time, microseconds since 1970 as 8 bytes big-endian), which pymavlink reads (the
+    /// pymavlink test reads its session's capture back with it).
     pub fn with_tlog(mut self, path: &Path) -> std::io::Result<Self> {
         self.tlog = Some(BufWriter::new(File::create(path)?));
         Ok(self)

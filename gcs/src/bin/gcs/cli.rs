@@ -225,7 +225,7 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 3000, value_name = "MS")]
         fence_wait_ms: u64,
         /// Capture every MAVLink message sent and received into FILE, a telemetry log
-        /// (`.tlog`) that QGroundControl, MAVProxy and pymavlink replay.
+        /// (`.tlog`, the format QGroundControl and MAVProxy write; pymavlink reads it).
         #[arg(long, value_name = "FILE")]
         tlog: Option<std::path::PathBuf>,
         #[command(flatten)]
