@@ -17,8 +17,8 @@ use core::str::FromStr;
 
 use missionlink_interfaces::wire::AltitudeType;
 
+use super::home::Home;
 use super::plan::Item;
-use super::vehicle::Home;
 
 /// The first line of a memory file.
 const HEADER: &str = "missionlink-mavlink 1";

@@ -6,6 +6,7 @@
 //!   atomic upload to the FCC.
 //! - [`driver`]: the UDP socket and the GCS link; it only moves bytes and carries out the
 //!   vehicle's commits and executes.
+//! - [`home`]: the vehicle's home and altitudes above mean sea level.
 //! - [`memory`]: what the vehicle remembers across its restarts (the items the client
 //!   uploaded, the home), so a download returns what was uploaded.
 //! - [`plan`]: MAVLink mission and fence items to the GCS's plan through the one `.plan`
@@ -17,6 +18,7 @@
 //! The MAVLink 2 framing and the `common` message set are the `mavlink` crate's.
 
 pub mod driver;
+pub mod home;
 pub mod memory;
 pub mod plan;
 pub mod vehicle;
