@@ -179,8 +179,8 @@ fn main() {
     let mut bridge_a = start_bridge(&hosts.a, &bin, &a, dir.join("bridge-a.log"));
     let mut bridge_b = start_bridge(&hosts.b, &bin, &b, dir.join("bridge-b.log"));
 
-    let host_a = Ipc::<ipc::Service>::open("bench-partition-a", &a.ipc.service_prefix).unwrap();
-    let host_b = Ipc::<ipc::Service>::open("bench-partition-b", &b.ipc.service_prefix).unwrap();
+    let host_a = Ipc::<ipc::Service>::open("bench-partition-a", &a.ipc).unwrap();
+    let host_b = Ipc::<ipc::Service>::open("bench-partition-b", &b.ipc).unwrap();
     let mut rows = Vec::new();
 
     // 548 B frames, fcc/link/uplink.

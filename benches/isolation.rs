@@ -16,7 +16,8 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use hdrhistogram::Histogram;
-use missionlink_partitions::isolation::{Profile, Threads, Violation, install_filter};
+use missionlink_partitions::config::Violation;
+use missionlink_partitions::isolation::{Profile, Threads, install_filter};
 use rustix::event::epoll;
 
 /// One frame's system calls, as a partition makes them: notify (sendto), wake (epoll_wait),

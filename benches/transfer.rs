@@ -45,8 +45,9 @@ mod common;
 use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_partitions::binaries;
-use missionlink_partitions::config::{Idle, IdleMode, IdlePerPartition};
+use missionlink_partitions::config::{Idle, IdleMode, PerPartition};
 use missionlink_services::ground_station::{MissionPlan, Sequence};
 use missionlink_services::testkit;
 
@@ -209,7 +210,7 @@ fn measure(
 /// The partitions' idle strategies: each partition's default unless `--idle
 /// block|backoff|doorbell` (with `--spin-us N`, else no spin) names one for every partition (to
 /// compare the wait paths).
-fn idle_override() -> IdlePerPartition {
+fn idle_override() -> PerPartition<Idle> {
     let args: Vec<String> = std::env::args().collect();
     let mode_after = |flag: &str| {
         args.iter()
@@ -223,15 +224,15 @@ fn idle_override() -> IdlePerPartition {
             })
     };
     let mut idle = match mode_after("--idle") {
-        Some(mode) => IdlePerPartition::all(Idle {
+        Some(mode) => PerPartition::all(Idle {
             mode,
             spin_us: number_after(&args, "--spin-us").unwrap_or(0),
             yield_us: 0,
         }),
-        None => IdlePerPartition::default(),
+        None => PerPartition::default(),
     };
     if let Some(mode) = mode_after("--vm-idle") {
-        idle.voting_monitoring = Idle {
+        idle[Partition::VotingMonitoring] = Idle {
             mode,
             spin_us: number_after(&args, "--vm-spin-us").unwrap_or(0),
             yield_us: 0,
@@ -242,8 +243,11 @@ fn idle_override() -> IdlePerPartition {
 
 /// How the partitions wait, for the output: mission data handling's strategy, and
 /// voting-monitoring's where it differs.
-fn idle_label(idle: &IdlePerPartition) -> String {
-    let (vm, mdh) = (idle.voting_monitoring, idle.mission_data_handling);
+fn idle_label(idle: &PerPartition<Idle>) -> String {
+    let (vm, mdh) = (
+        idle[Partition::VotingMonitoring],
+        idle[Partition::MissionDataHandling],
+    );
     let show = |i: Idle| format!("{:?} spin {} µs", i.mode, i.spin_us).to_lowercase();
     if vm == mdh {
         format!("every partition {}", show(mdh))
@@ -253,12 +257,7 @@ fn idle_label(idle: &IdlePerPartition) -> String {
 }
 
 /// The partitions of the FCC, as the launcher names them.
-const PARTITIONS: [&str; 4] = [
-    "voting-monitoring",
-    "mission-data-handling",
-    "system-automation",
-    "guidance-stub",
-];
+const PARTITIONS: [&str; 4] = Partition::BINARIES;
 
 /// CPU time (user + system) of process `pid` so far, in clock ticks, from /proc.
 fn cpu_ticks(pid: i32) -> u64 {

@@ -34,7 +34,9 @@ fn main() -> ExitCode {
     let config = Config::resolve(&args).expect("configuration");
     let role = std::env::var("MISSIONLINK_PROBE_AS").unwrap_or_else(|_| "guidance-stub".into());
     let attempt = std::env::var("MISSIONLINK_PROBE_TRY").expect("MISSIONLINK_PROBE_TRY");
-    let fence = Fence::of(&role, &config).expect("isolation is on");
+    let partition = missionlink_interfaces::contracts::Partition::from_binary(&role)
+        .unwrap_or_else(|| panic!("no partition {role:?}"));
+    let fence = Fence::of(partition, &config).expect("isolation is on");
     fence.apply().expect("fenced");
     println!("fenced as {role}");
     let answer = match attempt.as_str() {

@@ -79,7 +79,11 @@ fn watch(
     seen: Arc<(Mutex<Watched>, Condvar)>,
     stop: Arc<AtomicBool>,
 ) {
-    let node = Ipc::<ipc::Service>::open("activation-watcher", &prefix).unwrap();
+    let node = Ipc::<ipc::Service>::open(
+        "activation-watcher",
+        &missionlink_partitions::config::Ipc::with_prefix(&prefix),
+    )
+    .unwrap();
     let lists = node.active_lists().unwrap();
     let waitset = runtime::waitset::<ipc::Service>().unwrap();
     let _guards = [
@@ -145,7 +149,7 @@ fn alternate_activations_of_two_staged_missions_hand_out_only_whole_pairs() {
     let last = (ACTIVATIONS - 1) % 2;
 
     // The lists published last, as a late subscriber receives them from the history.
-    let late = Ipc::<ipc::Service>::open("activation-late", &rig.config.ipc.service_prefix)
+    let late = Ipc::<ipc::Service>::open("activation-late", &rig.config.ipc)
         .unwrap()
         .active_lists()
         .unwrap();

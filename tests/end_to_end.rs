@@ -94,7 +94,7 @@ fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
     );
 
     // A subscriber started late, here, gets exactly the assembled lists.
-    let late = Ipc::<ipc::Service>::open("late-subscriber", &config.ipc.service_prefix).unwrap();
+    let late = Ipc::<ipc::Service>::open("late-subscriber", &config.ipc).unwrap();
     let waypoints = late
         .subscriber::<WaypointListPayload>(FccService::WaypointList)
         .unwrap();
@@ -123,7 +123,7 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_what_was
     upload(&mut link, &mission_1).unwrap();
 
     // Watch the waypoint list guidance sees, all along.
-    let watch = Ipc::<ipc::Service>::open("watch", &config.ipc.service_prefix).unwrap();
+    let watch = Ipc::<ipc::Service>::open("watch", &config.ipc).unwrap();
     let seen = watch
         .subscriber::<WaypointListPayload>(FccService::WaypointList)
         .unwrap();

@@ -15,8 +15,8 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::*;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_interfaces::wire;
-use missionlink_partitions::launcher::PARTITIONS;
 use missionlink_services::ground_station::GcsError;
 use missionlink_services::ground_station::GcsEvent;
 use rustix::process::Signal;
@@ -61,7 +61,7 @@ fn exists(pid: i32) -> bool {
 fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
     let rig = Rig::new("health-stop");
     let mut fcc = rig.start_fcc();
-    for partition in PARTITIONS {
+    for partition in Partition::BINARIES {
         let tag = format!("partition=\"{partition}\"");
         let pid = partition_pid(&fcc, partition);
         let stopped_at = seconds_of_day_now();

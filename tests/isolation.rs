@@ -19,9 +19,11 @@ use std::process::{Command, Output};
 use std::time::Duration;
 
 use common::*;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_partitions::config;
-use missionlink_partitions::isolation::{Violation, status_shows_fence};
-use missionlink_partitions::launcher::{FccProcess, PARTITIONS};
+use missionlink_partitions::config::Violation;
+use missionlink_partitions::isolation::status_shows_fence;
+use missionlink_partitions::launcher::FccProcess;
 
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(30);
@@ -73,7 +75,7 @@ fn every_partition_is_fenced_and_only_voting_monitoring_holds_inet_sockets() {
     assert!(rig.config.isolation.enabled, "on by default");
     let mut fcc = rig.start("fcc");
     rig.ready(&mut fcc);
-    for partition in PARTITIONS {
+    for partition in Partition::BINARIES {
         let pid = assert_fenced(&fcc, partition);
         let inet = inet_sockets(pid);
         if partition == "voting-monitoring" {
@@ -84,7 +86,7 @@ fn every_partition_is_fenced_and_only_voting_monitoring_holds_inet_sockets() {
     }
     // Said once per partition at start, with what was applied.
     let text = fcc.log_text();
-    for partition in PARTITIONS {
+    for partition in Partition::BINARIES {
         let lines = text
             .lines()
             .filter(|l| {
@@ -102,7 +104,7 @@ fn each_partition_killed_comes_back_fenced_and_the_fcc_still_works() {
     rig.ready(&mut fcc);
     let mut link = rig.gcs(&mut fcc);
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
-    for (i, partition) in PARTITIONS.into_iter().enumerate() {
+    for (i, partition) in Partition::BINARIES.into_iter().enumerate() {
         signal_partition(&fcc, partition, rustix::process::Signal::KILL);
         wait_for_starts(&fcc, partition, 2, LIMIT);
         rig.ready(&mut fcc);
@@ -221,7 +223,7 @@ fn a_partition_that_tries_what_it_must_never_do_is_refused_or_killed() {
 #[test]
 fn started_as_root_a_partition_drops_to_its_configured_user() {
     let mut rig = Rig::new("isolation-user");
-    rig.config.isolation.guidance_stub.user = Some("nobody".to_owned());
+    rig.config.isolation.partitions[Partition::Guidance].user = Some("nobody".to_owned());
     let output = run_probe(&rig, "guidance-stub", "whoami");
     if rustix::process::geteuid().is_root() {
         let nobody = missionlink_partitions::isolation::lookup_user("nobody").unwrap();

@@ -36,12 +36,7 @@ const DEFAULT_TRIALS: usize = 48;
 /// The default seed.
 const SEED: u64 = 1515;
 /// The FCC's partitions, any of which may die.
-const PARTITIONS: [&str; 4] = [
-    "voting-monitoring",
-    "mission-data-handling",
-    "system-automation",
-    "guidance-stub",
-];
+const PARTITIONS: [&str; 4] = missionlink_interfaces::contracts::Partition::BINARIES;
 /// Attempts at finding out what the FCC holds after a trial: a partition that died may still
 /// be restarting, and on a lossy link a question may go unanswered twice.
 const ATTEMPTS: usize = 10;

@@ -194,7 +194,7 @@ fn the_python_guidance_replaces_the_stub_and_from_to_next_reaches_the_gcs() {
     missionlink_partitions::ipc::quiet_iceoryx2_log();
     // A Rust subscriber reads the Python publications with the Rust payload types (iceoryx2
     // refuses to open a service whose type name, size or alignment differ).
-    let watch = Ipc::<ipc::Service>::open("python-watch", &rig.config.ipc.service_prefix).unwrap();
+    let watch = Ipc::<ipc::Service>::open("python-watch", &rig.config.ipc).unwrap();
     let heartbeats = watch
         .subscriber::<HeartbeatPayload>(FccService::Heartbeat(Partition::Guidance))
         .unwrap();

@@ -14,8 +14,9 @@ use std::os::unix::fs::PermissionsExt;
 use std::time::{Duration, Instant};
 
 use common::*;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_partitions::config::{Signing, SigningPolicy};
-use missionlink_partitions::launcher::{FccProcess, PARTITIONS};
+use missionlink_partitions::launcher::FccProcess;
 use missionlink_partitions::state;
 
 /// Bound of every wait (a failure bound, never a timing assertion).
@@ -89,7 +90,7 @@ fn a_partition_that_keeps_dying_is_given_up_after_its_start_limit() {
     // The real partitions, but a guidance that dies as soon as it starts.
     let bins = rig.dir.join("bin");
     std::fs::create_dir_all(&bins).unwrap();
-    for name in PARTITIONS.iter().chain(&["fcc"]) {
+    for name in Partition::BINARIES.iter().chain(&["fcc"]) {
         let target = bins.join(name);
         if *name == "guidance-stub" {
             std::fs::write(&target, "#!/bin/sh\nexit 1\n").unwrap();
@@ -226,7 +227,7 @@ fn a_bridge_that_refuses_its_configuration_leaves_the_fcc_degraded_not_up() {
     // The real partitions, and a bridge that refuses its configuration as the real one does.
     let bins = rig.dir.join("bin");
     std::fs::create_dir_all(&bins).unwrap();
-    for name in PARTITIONS.iter().chain(&["fcc"]) {
+    for name in Partition::BINARIES.iter().chain(&["fcc"]) {
         std::os::unix::fs::symlink(bin_dir().join(name), bins.join(name)).unwrap();
     }
     let bridge = bins.join(missionlink_partitions::bridge_config::BINARY);
@@ -244,7 +245,9 @@ fn a_bridge_that_refuses_its_configuration_leaves_the_fcc_degraded_not_up() {
     let state_dir = rig.config.ipc.state_dir();
     let start = Instant::now();
     while lines_with(&fcc.log_text(), &given_up) == 0
-        || !PARTITIONS.iter().all(|p| state::is_ready(&state_dir, p))
+        || !Partition::BINARIES
+            .iter()
+            .all(|p| state::is_ready(&state_dir, p))
     {
         assert!(
             start.elapsed() < LIMIT,

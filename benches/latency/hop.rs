@@ -143,7 +143,11 @@ pub(super) struct Iox2End<Out: Stamped, In: Stamped> {
 impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
     fn open(run: &Run, node_name: &str, out: FccService, input: FccService, event: bool) -> Self {
         let prefix = format!("missionlink-latency-{}", run.id);
-        let ipc = Ipc::<S>::open(node_name, &prefix).expect("iceoryx2 node");
+        let ipc = Ipc::<S>::open(
+            node_name,
+            &missionlink_partitions::config::Ipc::with_prefix(&prefix),
+        )
+        .expect("iceoryx2 node");
         Self {
             publisher: ipc.publisher(out).expect("publisher"),
             subscriber: ipc.subscriber(input).expect("subscriber"),
@@ -201,7 +205,7 @@ impl<Out: Stamped, In: Stamped> Iox2End<Out, In> {
                 Instant::now() < deadline,
                 "nothing for {TIMEOUT:?}: peer gone"
             );
-            control.wait(waitset, false, TIMEOUT).expect("wait");
+            runtime::wait_in_waitset(&control.requests, waitset, false, TIMEOUT).expect("wait");
         }
     }
 }
@@ -279,7 +283,7 @@ pub(super) fn partition_config(run: &Run) -> Config {
     let mut config = Config::default();
     config.ipc.service_prefix = format!("missionlink-latency-{}", run.id);
     if let Some(idle) = run.transport.idle() {
-        config.ipc.idle = IdlePerPartition::all(idle);
+        config.ipc.idle = PerPartition::all(idle);
     }
     config
 }
@@ -292,7 +296,7 @@ pub(super) const LOOP_TIMEOUT: Duration = Duration::from_secs(1);
 /// answered on the downlink service (at the sparse pace, after the pause).
 pub(super) fn partition_sender<F: Stamped>(run: &Run) {
     let config = partition_config(run);
-    let ipc = Ipc::<S>::open("latency-sender", &config.ipc.service_prefix).expect("node");
+    let ipc = Ipc::<S>::open("latency-sender", &config.ipc).expect("node");
     let publisher = ipc.publisher::<F>(FccService::Uplink).expect("publisher");
     let replies = ipc
         .subscriber::<Frame64>(FccService::Downlink)
@@ -302,20 +306,13 @@ pub(super) fn partition_sender<F: Stamped>(run: &Run) {
     let mut sent = 0;
     let mut outstanding: Option<(u64, Instant)> = None;
     let mut next = Instant::now();
-    let wake = Wake {
-        on: &[replies.listener()],
-        pending: &[&replies],
-        every: None,
-        sockets: false,
-        first_timeout: Duration::ZERO,
-    };
+    let inputs = Inputs::new(Duration::ZERO).subscriber(&replies);
     runtime::run_loop::<S>(
-        voting_monitoring::NAME,
         Partition::VotingMonitoring,
         &ipc,
         &config,
         &control,
-        wake,
+        inputs,
         |_| {
             replies.take_all(|reply| {
                 let (stamp, _) = outstanding.take().expect("a reply to a frame sent");
@@ -333,7 +330,7 @@ pub(super) fn partition_sender<F: Stamped>(run: &Run) {
                 return Ok(LOOP_TIMEOUT);
             }
             if sent == run.total() {
-                control.stop();
+                control.requests.stop();
                 return Ok(Duration::ZERO);
             }
             let now = Instant::now();
@@ -359,7 +356,7 @@ pub(super) fn partition_sender<F: Stamped>(run: &Run) {
 /// answering each on the downlink service.
 pub(super) fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
     let config = partition_config(run);
-    let ipc = Ipc::<S>::open("latency-receiver", &config.ipc.service_prefix).expect("node");
+    let ipc = Ipc::<S>::open("latency-receiver", &config.ipc).expect("node");
     let frames = ipc.subscriber::<F>(FccService::Uplink).expect("subscriber");
     let publisher = ipc
         .publisher::<Frame64>(FccService::Downlink)
@@ -370,21 +367,14 @@ pub(super) fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
     let mut reply = Frame64::zeroed();
     let mut received = 0;
     let mut last = Instant::now();
-    let wake = Wake {
-        on: &[frames.listener()],
-        pending: &[&frames],
-        every: None,
-        sockets: false,
-        first_timeout: LOOP_TIMEOUT,
-    };
+    let inputs = Inputs::new(LOOP_TIMEOUT).subscriber(&frames);
     announce_ready("");
     runtime::run_loop::<S>(
-        mission_data_handling::NAME,
         Partition::MissionDataHandling,
         &ipc,
         &config,
         &control,
-        wake,
+        inputs,
         |_| {
             let taken = frames.take_all(|sample| {
                 let now = monotonic_ns();
@@ -405,7 +395,7 @@ pub(super) fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
                 );
             }
             if received == run.total() {
-                control.stop();
+                control.requests.stop();
             }
             Ok(LOOP_TIMEOUT)
         },

@@ -139,12 +139,11 @@ use missionlink_interfaces::contracts::Partition;
 use missionlink_interfaces::contracts::{FccService, WaypointListPayload};
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
 use missionlink_partitions::config::{
-    Config, DEFAULT_SPIN_US, FifoPriority, Idle, IdleMode, IdlePerPartition, RealtimeSettings,
+    Config, DEFAULT_SPIN_US, FifoPriority, Idle, IdleMode, PerPartition, RealtimeSettings,
 };
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::realtime::{self, Scheduling};
-use missionlink_partitions::runtime::{self, Control, Wake};
-use missionlink_partitions::{mission_data_handling, voting_monitoring};
+use missionlink_partitions::runtime::{self, Control, Inputs};
 use missionlink_platform::clock::monotonic_ns;
 use serde_json::{Value, json};
 

@@ -271,9 +271,9 @@ pub fn run(config: &Config, control: &Control) -> Result<(), BridgeError> {
     drop(credentials);
     // Zenoh's runtime starts its threads when the session opens: fenced from here on, they
     // all inherit the fence (Landlock acts on the calling thread and those it starts).
-    control.fence().map_err(|e| match e {
+    control.fence.apply().map_err(|e| match e {
         PartitionError::Isolation(e) => BridgeError::Isolation(e),
-        // `Control::fence` fails with `Isolation` only; anything else is said as it is.
+        // `Fencing::apply` fails with `Isolation` only; anything else is said as it is.
         other => BridgeError::Thread(format!("fencing: {other}")),
     })?;
     let id = bridge_id();
@@ -320,7 +320,7 @@ pub fn run(config: &Config, control: &Control) -> Result<(), BridgeError> {
         }
     };
     let outgoing = run_outgoing(&session, config, &out, id, &own, control);
-    control.stop();
+    control.requests.stop();
     let incoming = incoming
         .join()
         .map_err(|_| BridgeError::Thread("panicked".to_owned()))?;
@@ -372,7 +372,7 @@ fn run_outgoing(
     control: &Control,
 ) -> Result<Vec<(FccService, Counters)>, BridgeError> {
     let bridge = &config.bridge;
-    let ipc = Ipc::<ipc::Service>::open("bridge-out", &config.ipc.service_prefix)?;
+    let ipc = Ipc::<ipc::Service>::open("bridge-out", &config.ipc)?;
     let subscribers = services
         .iter()
         .map(|&service| ports::outgoing(&ipc, service))
@@ -424,8 +424,8 @@ fn run_outgoing(
         .attach_interval(TICK)
         .map_err(|e| BridgeError::WaitSet(format!("{e:?}")))?;
     let mut header = Vec::with_capacity(header::FIXED_LEN + 64);
-    control.set_ready();
-    while !control.stop_requested() {
+    control.ready.set();
+    while !control.requests.stop_requested() {
         waitset
             .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, TICK)
             .map_err(|e| BridgeError::WaitSet(format!("{e:?}")))?;
@@ -557,7 +557,7 @@ fn run_incoming(
     control: &Control,
 ) -> Result<Vec<(FccService, Counters)>, BridgeError> {
     let bridge = &config.bridge;
-    let ipc = Ipc::<ipc::Service>::open("bridge-in", &config.ipc.service_prefix)?;
+    let ipc = Ipc::<ipc::Service>::open("bridge-in", &config.ipc)?;
     let mut ports = services
         .iter()
         .map(|&service| {
@@ -612,7 +612,7 @@ fn run_incoming(
     };
     drop(tx);
     query_current(session, bridge, &mut ports, id);
-    while !control.stop_requested() {
+    while !control.requests.stop_requested() {
         match rx.recv_timeout(TICK) {
             Ok(Message::Sample(i, payload, attachment)) => {
                 if let Some(p) = ports.get_mut(i) {
@@ -680,13 +680,13 @@ pub fn main(args: &FccArgs) -> std::process::ExitCode {
     };
     let control = Control::new()
         .announcing_ready(config.ipc.state_dir(), NAME)
-        .fencing(Fence::of(NAME, &config), parent);
-    if let Err(e) = control.handle_signals() {
+        .fencing(Fence::bridge(&config), parent);
+    if let Err(e) = control.requests.from_signals() {
         tracing::error!(%e, "bridge failed");
         return std::process::ExitCode::FAILURE;
     }
     let result = run(&config, &control);
-    control.forget_ready();
+    control.ready.forget();
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(
@@ -877,7 +877,11 @@ mod tests {
     fn the_outgoing_side_knows_its_own_publishers_samples() {
         missionlink_partitions::ipc::quiet_iceoryx2_log();
         let prefix = format!("bridge-own-test-{}", std::process::id());
-        let ipc = Ipc::<ipc::Service>::open("bridge-own-test", &prefix).unwrap();
+        let ipc = Ipc::<ipc::Service>::open(
+            "bridge-own-test",
+            &missionlink_partitions::config::Ipc::with_prefix(&prefix),
+        )
+        .unwrap();
         let service = FccService::Heartbeat(missionlink_interfaces::contracts::Partition::Guidance);
         let out = ports::outgoing(&ipc, service).unwrap();
         let own = ports::incoming(&ipc, service).unwrap();

@@ -351,7 +351,11 @@ mod tests {
         // went in, every one of them, for the payload of every service.
         missionlink_partitions::ipc::quiet_iceoryx2_log();
         let prefix = format!("bridge-raw-test-{}", std::process::id());
-        let ipc = Ipc::<ipc::Service>::open("bridge-raw-test", &prefix).unwrap();
+        let ipc = Ipc::<ipc::Service>::open(
+            "bridge-raw-test",
+            &missionlink_partitions::config::Ipc::with_prefix(&prefix),
+        )
+        .unwrap();
         for service in FccService::ALL {
             let sent = with_payload!(service, T => sample_bytes::<T>());
             assert_eq!(sent.len(), contract_of(service).size, "{service}");

@@ -82,10 +82,24 @@ pub enum FccService {
     Heartbeat(Partition),
 }
 
-/// The partitions of the FCC by their role, whatever binary (or language) fills it: the
-/// heartbeat service a partition beats on is named after its role (`fcc/health/guidance` for
-/// the Rust guidance stub and for a guidance written in Python alike).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// A partition of the FCC: the one name of a partition everywhere (the launcher, the
+/// configuration's per-partition sections, the fence, the heartbeat services, and the C and
+/// Python contracts, which spell the same names). It has two names, because a role and the
+/// process that fills it are not the same thing in the rig (docs/design.md "Contracts between
+/// partitions": a partition is replaced by starting another process that opens the same
+/// services):
+///
+/// - [`Partition::role`]: the role, whatever binary or language fills it; the services named
+///   after a partition (`fcc/health/<role>`) carry it, so a guidance written in Python beats on
+///   `fcc/health/guidance` as the Rust guidance stub does;
+/// - [`Partition::binary`]: the Rust process of this workspace that fills the role: its binary,
+///   its iceoryx2 node, its readiness announcement, its latency summary, what users type
+///   (`fcc --without guidance-stub`) and the key of its configuration sections
+///   (`[ipc.idle.guidance-stub]`).
+///
+/// And [`Partition::allowed`]: what its fence lets it do beyond every partition's loop
+/// (docs/design.md "Isolation").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Partition {
     /// Voting and monitoring of the two links.
     VotingMonitoring,
@@ -97,6 +111,18 @@ pub enum Partition {
     Guidance,
 }
 
+/// What a partition's fence allows beyond what every partition's loop needs (docs/design.md
+/// "Isolation": only voting-monitoring touches the network; none execs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Allowed {
+    /// It owns the UDP links: it may create inet sockets, and its loop waits for its sockets
+    /// as well as for its iceoryx2 inputs.
+    pub links: bool,
+    /// It writes the state directory: mission data handling its lists, voting-monitoring the
+    /// ports it bound. Every partition writes its readiness announcement.
+    pub state: bool,
+}
+
 impl Partition {
     /// Every partition, in start order.
     pub const ALL: [Partition; 4] = [
@@ -106,8 +132,15 @@ impl Partition {
         Self::Guidance,
     ];
 
-    /// The role's name, the last part of its heartbeat service's path.
-    pub const fn name(self) -> &'static str {
+    /// Every partition's binary ([`Partition::binary`]), in start order.
+    pub const BINARIES: [&'static str; 4] = {
+        let [a, b, c, d] = Self::ALL;
+        [a.binary(), b.binary(), c.binary(), d.binary()]
+    };
+
+    /// The role's name, the last part of the path of the services named after a partition
+    /// (`fcc/health/<role>`).
+    pub const fn role(self) -> &'static str {
         match self {
             Self::VotingMonitoring => "voting-monitoring",
             Self::MissionDataHandling => "mission-data-handling",
@@ -115,11 +148,44 @@ impl Partition {
             Self::Guidance => "guidance",
         }
     }
+
+    /// The name of the Rust binary that fills the role (its node, its readiness, its
+    /// configuration sections; what `fcc --without` takes).
+    pub const fn binary(self) -> &'static str {
+        match self {
+            Self::Guidance => "guidance-stub",
+            other => other.role(),
+        }
+    }
+
+    /// The partition whose binary is `name`.
+    pub fn from_binary(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|p| p.binary() == name)
+    }
+
+    /// What its fence allows.
+    pub const fn allowed(self) -> Allowed {
+        match self {
+            Self::VotingMonitoring => Allowed {
+                links: true,
+                state: true,
+            },
+            Self::MissionDataHandling => Allowed {
+                links: false,
+                state: true,
+            },
+            Self::SystemAutomation | Self::Guidance => Allowed {
+                links: false,
+                state: false,
+            },
+        }
+    }
 }
 
+/// The role's name (as the services named after the partition spell it).
 impl fmt::Display for Partition {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.write_str(self.role())
     }
 }
 
@@ -169,6 +235,7 @@ impl FccService {
             Self::AutomationState => "fcc/automation/state",
             Self::GuidanceProgress => "fcc/guidance/progress",
             Self::AutomationCommand => "fcc/automation/command",
+            // `fcc/health/<role>` (`Partition::role`; a test checks the two agree).
             Self::Heartbeat(Partition::VotingMonitoring) => "fcc/health/voting-monitoring",
             Self::Heartbeat(Partition::MissionDataHandling) => "fcc/health/mission-data-handling",
             Self::Heartbeat(Partition::SystemAutomation) => "fcc/health/system-automation",
@@ -1002,6 +1069,26 @@ impl GuidanceProgressPayload {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One name per partition and role: the heartbeat's path is the role's, the binaries are
+    /// found by their names, and only the link partition may create inet sockets.
+    #[test]
+    fn a_partition_names_its_heartbeat_and_its_binary() {
+        for p in Partition::ALL {
+            assert_eq!(
+                FccService::Heartbeat(p).path(),
+                format!("fcc/health/{}", p.role())
+            );
+            assert_eq!(Partition::from_binary(p.binary()), Some(p));
+        }
+        assert_eq!(Partition::Guidance.binary(), "guidance-stub");
+        assert_eq!(Partition::from_binary("guidance"), None);
+        let links: Vec<_> = Partition::ALL
+            .into_iter()
+            .filter(|p| p.allowed().links)
+            .collect();
+        assert_eq!(links, [Partition::VotingMonitoring]);
+    }
 
     #[test]
     fn service_names_carry_the_prefix() {

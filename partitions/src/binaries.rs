@@ -5,16 +5,19 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::launcher;
+use missionlink_interfaces::contracts::Partition;
 
 /// The workspace's root package (the demo, the cross-process tests and benches).
 const ROOT_PACKAGE: &str = "missionlink";
 
+/// The launcher's binary (`launcher`).
+pub const LAUNCHER: &str = "fcc";
+
 /// The binaries the FCC needs: the launcher and the partitions it starts
-/// ([`launcher::PARTITIONS`], the one list of them).
+/// (`Partition::ALL`, by `Partition::binary`).
 pub const FCC_BINARIES: [&str; 5] = {
-    let [a, b, c, d] = launcher::PARTITIONS;
-    [launcher::NAME, a, b, c, d]
+    let [a, b, c, d] = Partition::ALL;
+    [LAUNCHER, a.binary(), b.binary(), c.binary(), d.binary()]
 };
 
 /// The directory of the binaries of this build: the caller's own directory, or for a test

@@ -67,7 +67,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use missionlink_interfaces::contracts::{DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX};
+use missionlink_interfaces::contracts::{
+    DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX, Partition,
+};
 use missionlink_interfaces::wire::Timestamp;
 pub use missionlink_platform::config::{
     CONFIG_FILE_ENV, CONFIG_TOML_ENV, ConfigError, Ids, LinkArgs, LinkConfig, Links, PREFIX_ENV,
@@ -76,6 +78,8 @@ pub use missionlink_platform::config::{
 use missionlink_services::guidance::GuidanceConfig;
 use missionlink_services::mission_data_handling::FccConfig;
 use serde::{Deserialize, Serialize};
+
+pub use crate::per_partition::{PartitionDefault, PerPartition};
 
 /// Shared memory between the partitions.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -89,7 +93,7 @@ pub struct Ipc {
     /// `<temp>/missionlink-state/<prefix>`).
     pub state_dir: Option<PathBuf>,
     /// How each partition waits when its inputs are empty (`[ipc.idle.<partition>]`).
-    pub idle: IdlePerPartition,
+    pub idle: PerPartition<Idle>,
 }
 
 impl Default for Ipc {
@@ -98,7 +102,7 @@ impl Default for Ipc {
             service_prefix: DEFAULT_SERVICE_PREFIX.to_owned(),
             poll: false,
             state_dir: None,
-            idle: IdlePerPartition::default(),
+            idle: PerPartition::default(),
         }
     }
 }
@@ -129,7 +133,7 @@ pub enum IdleMode {
 
 /// The idle strategy of one partition (`[ipc.idle.<partition>]`); a field left out takes the
 /// value of [`Idle::default`] (`block`, no spin). The defaults of the partitions
-/// ([`IdlePerPartition::default`]) were chosen by measurement on the 2-vCPU development machine
+/// ([`PartitionDefault`] of `Idle`) were chosen by measurement on the 2-vCPU development machine
 /// (docs/wait-path.md) and by what a replaced partition needs:
 ///
 /// - voting-monitoring: `backoff`, 200 µs of spinning. It waits for the UDP links as well, so it
@@ -191,57 +195,26 @@ impl Idle {
     }
 }
 
-/// The idle strategy of each partition (`[ipc.idle.voting-monitoring]` and so on); the
-/// defaults are those of [`Idle`]'s documentation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields, rename_all = "kebab-case")]
-pub struct IdlePerPartition {
-    /// voting-monitoring.
-    pub voting_monitoring: Idle,
-    /// mission-data-handling.
-    pub mission_data_handling: Idle,
-    /// system-automation.
-    pub system_automation: Idle,
-    /// guidance-stub.
-    pub guidance_stub: Idle,
-}
-
-impl Default for IdlePerPartition {
-    fn default() -> Self {
-        Self {
-            voting_monitoring: Idle::VOTING_MONITORING,
-            mission_data_handling: Idle::default(),
-            system_automation: Idle::default(),
-            guidance_stub: Idle::default(),
-        }
-    }
-}
-
-impl IdlePerPartition {
-    /// The strategy of the partition named `partition` (its binary's name); the default for a
-    /// name that is not one of the four (a loop of a test or a bench).
-    pub fn of(&self, partition: &str) -> Idle {
+/// The defaults of [`Idle`]'s documentation: voting-monitoring spins, the others sleep at once.
+impl PartitionDefault for Idle {
+    fn default_for(partition: Partition) -> Self {
         match partition {
-            crate::voting_monitoring::NAME => self.voting_monitoring,
-            crate::mission_data_handling::NAME => self.mission_data_handling,
-            crate::system_automation::NAME => self.system_automation,
-            crate::guidance_stub::NAME => self.guidance_stub,
-            _ => Idle::default(),
-        }
-    }
-
-    /// The same strategy for every partition.
-    pub fn all(idle: Idle) -> Self {
-        Self {
-            voting_monitoring: idle,
-            mission_data_handling: idle,
-            system_automation: idle,
-            guidance_stub: idle,
+            Partition::VotingMonitoring => Self::VOTING_MONITORING,
+            _ => Self::BLOCK,
         }
     }
 }
 
 impl Ipc {
+    /// The defaults with the service prefix `prefix` (a process of a test or a tool that opens
+    /// the services of an FCC it did not configure).
+    pub fn with_prefix(prefix: &str) -> Self {
+        Self {
+            service_prefix: prefix.to_owned(),
+            ..Self::default()
+        }
+    }
+
     /// The state directory.
     pub fn state_dir(&self) -> PathBuf {
         self.state_dir
@@ -304,7 +277,7 @@ pub struct Launcher {
     pub start_limit_burst: u32,
     /// The window of `start_limit_burst` (systemd's `StartLimitIntervalSec`).
     pub start_limit_interval_ms: u64,
-    /// Partitions (binary names, `launcher::PARTITIONS`) the launcher does not start: their
+    /// Partitions (binary names, `Partition::binary`) the launcher does not start: their
     /// role is filled by another process, whose heartbeat it still watches.
     pub without: Vec<String>,
 }
@@ -376,10 +349,11 @@ pub struct Config {
     pub health: Health,
     /// Link signing.
     pub signing: Signing,
-    /// Real-time settings per partition.
-    pub realtime: Realtime,
+    /// Real-time settings per partition (`[realtime.<partition>]`, applied by each partition to
+    /// itself at start, `realtime::apply`; none by default).
+    pub realtime: PerPartition<RealtimeSettings>,
     /// How each partition fences itself (`isolation`).
-    pub isolation: crate::isolation::Isolation,
+    pub isolation: Isolation,
     /// The bridge to another host (off by default; docs/two-hosts.md).
     pub bridge: crate::bridge_config::Bridge,
     /// Periodic downlink of mission data handling.
@@ -488,32 +462,60 @@ pub fn hand_to(command: &mut std::process::Command, config: &Config) -> Result<(
     Ok(())
 }
 
-/// The real-time settings of the partitions, one table each (`[realtime.voting-monitoring]` and
-/// so on), applied by each partition to itself at start (`realtime::apply`). None by default:
-/// every partition runs as any other process.
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields, rename_all = "kebab-case")]
-pub struct Realtime {
-    /// voting-monitoring.
-    pub voting_monitoring: RealtimeSettings,
-    /// mission-data-handling.
-    pub mission_data_handling: RealtimeSettings,
-    /// system-automation.
-    pub system_automation: RealtimeSettings,
-    /// guidance-stub.
-    pub guidance_stub: RealtimeSettings,
+/// What the kernel does with a system call outside a partition's allow-list (`[isolation]
+/// on_violation`, applied by `isolation`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Violation {
+    /// Kill the process (`SECCOMP_RET_KILL_PROCESS`): the launcher sees SIGSYS, reports the
+    /// partition by name and restarts it under its back-off and start limit. A partition that
+    /// tries what it must never do is not trusted to go on.
+    #[default]
+    Kill,
+    /// Fail the call with EPERM: the partition goes on and handles the error (for finding a
+    /// missing system call in a rig without losing the partition).
+    Errno,
 }
 
-impl Realtime {
-    /// The settings of the partition named `partition` (its binary's name); `None` for a name
-    /// that is not one of the four.
-    pub fn of(&self, partition: &str) -> Option<&RealtimeSettings> {
-        match partition {
-            crate::voting_monitoring::NAME => Some(&self.voting_monitoring),
-            crate::mission_data_handling::NAME => Some(&self.mission_data_handling),
-            crate::system_automation::NAME => Some(&self.system_automation),
-            crate::guidance_stub::NAME => Some(&self.guidance_stub),
-            _ => None,
+/// The isolation of one partition (`[isolation.<partition>]`).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PartitionIsolation {
+    /// The user (a name of `/etc/passwd`, or a number) the partition drops to when it was
+    /// started as root; `None`: it keeps the user it was started as.
+    pub user: Option<String>,
+}
+
+/// No user to drop to unless the file names one.
+impl PartitionDefault for PartitionIsolation {
+    fn default_for(_: Partition) -> Self {
+        Self::default()
+    }
+}
+
+/// `[isolation]`: each partition's fence (`isolation`), on by default.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Isolation {
+    /// Fence every partition (no new privileges, Landlock, seccomp, the user).
+    pub enabled: bool,
+    /// What a forbidden system call does.
+    pub on_violation: Violation,
+    /// `[isolation.<partition>]`, beside the two settings above (a key that is neither they nor
+    /// a partition nor `bridge` is refused by the table).
+    #[serde(flatten)]
+    pub partitions: PerPartition<PartitionIsolation>,
+    /// The bridge (`[bridge]`), fenced as a partition.
+    pub bridge: PartitionIsolation,
+}
+
+impl Default for Isolation {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            on_violation: Violation::Kill,
+            partitions: PerPartition::default(),
+            bridge: PartitionIsolation::default(),
         }
     }
 }
@@ -530,6 +532,13 @@ pub struct RealtimeSettings {
     /// Lock all memory, current and future (`mlockall(MCL_CURRENT | MCL_FUTURE)`), so that no
     /// page fault to swap or to a dropped file page stalls the loop.
     pub lock_memory: bool,
+}
+
+/// None for every partition: each runs as any other process.
+impl PartitionDefault for RealtimeSettings {
+    fn default_for(_: Partition) -> Self {
+        Self::default()
+    }
 }
 
 impl RealtimeSettings {
@@ -637,18 +646,21 @@ mod tests {
             Path::new("f"),
         )
         .unwrap();
-        assert_eq!(c.ipc.idle.of("voting-monitoring").mode, IdleMode::Block);
-        let guidance = c.ipc.idle.of("guidance-stub");
+        assert_eq!(
+            c.ipc.idle[Partition::VotingMonitoring].mode,
+            IdleMode::Block
+        );
+        let guidance = c.ipc.idle[Partition::Guidance];
         assert_eq!(guidance.mode, IdleMode::Backoff);
         assert_eq!(guidance.spin(), Duration::from_micros(50));
         assert_eq!(guidance.yield_for(), Duration::from_micros(20));
-        let mdh = c.ipc.idle.of("mission-data-handling");
+        let mdh = c.ipc.idle[Partition::MissionDataHandling];
         assert_eq!(mdh, Idle::default());
         assert_eq!(mdh.mode, IdleMode::Block);
         assert_eq!(mdh.spin_us, 0);
         let defaults = Config::default();
         assert_eq!(
-            defaults.ipc.idle.of("voting-monitoring"),
+            defaults.ipc.idle[Partition::VotingMonitoring],
             Idle::VOTING_MONITORING
         );
         assert_eq!(Idle::VOTING_MONITORING.spin_us, DEFAULT_SPIN_US);
@@ -837,14 +849,12 @@ mod tests {
     #[test]
     fn the_realtime_section_is_per_partition_and_empty_by_default() {
         let defaults = Config::default();
-        for name in crate::launcher::PARTITIONS {
-            let settings = defaults.realtime.of(name).unwrap();
-            assert!(!settings.any(), "{name}: no real-time settings by default");
+        for (p, settings) in defaults.realtime.iter() {
+            assert!(!settings.any(), "{p}: no real-time settings by default");
         }
-        assert_eq!(defaults.realtime.of("fcc"), None);
         // --print-config shows the section, one table per partition.
         let text = defaults.to_toml().unwrap();
-        for name in crate::launcher::PARTITIONS {
+        for name in Partition::BINARIES {
             assert!(text.contains(&format!("[realtime.{name}]")), "{text}");
         }
         let c = Config::parse(
@@ -853,15 +863,15 @@ mod tests {
             Path::new("f"),
         )
         .unwrap();
-        let voting = c.realtime.of(crate::voting_monitoring::NAME).unwrap();
+        let voting = &c.realtime[Partition::VotingMonitoring];
         assert_eq!(voting.cpus, [1]);
         assert_eq!(voting.fifo_priority.map(FifoPriority::get), Some(50));
         assert!(voting.lock_memory);
-        let guidance = c.realtime.of(crate::guidance_stub::NAME).unwrap();
+        let guidance = &c.realtime[Partition::Guidance];
         assert_eq!(guidance.cpus, [0, 1]);
         assert_eq!(guidance.fifo_priority, None);
         assert!(!guidance.lock_memory);
-        assert!(!c.realtime.mission_data_handling.any());
+        assert!(!c.realtime[Partition::MissionDataHandling].any());
         // The hand-over to the partitions carries it.
         assert_eq!(
             Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),

@@ -18,6 +18,12 @@
 //! before (a test, the launcher, a WaitSet elsewhere may sleep on them); the steps drain them.
 //! A publisher that does not ring (another language's guidance in the rig) is seen at the
 //! partition's next deadline, within its timer period.
+//!
+//! The doorbell costs nothing where it is not used: [`waits`] is the one rule that says which
+//! partitions wait on their doorbells under a configuration (none by default: `config::Idle`),
+//! and the runtime (which doorbell a loop waits on) and `ipc::Ipc::open` (which doorbells its
+//! publishers ring) both ask it. A process under a configuration where no partition waits on one
+//! opens no doorbell service, and its publishers ring nothing.
 
 use core::fmt::Debug;
 use std::sync::{Arc, Condvar, Mutex};
@@ -35,7 +41,21 @@ use iceoryx2_cal::{
 };
 use missionlink_interfaces::contracts::{FccService, Partition};
 
-use crate::ipc::IpcError;
+use crate::config::{self, IdleMode, PerPartition};
+
+/// Something iceoryx2 refused about a doorbell, with what was being done.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct DoorbellError(pub String);
+
+/// Whether `partition` waits on its doorbell under `ipc` (`[ipc]`): its idle mode is
+/// [`IdleMode::Doorbell`], it does not poll, and it waits for no socket (a socket only the
+/// WaitSet can wait for: the partition that owns the links, `Partition::allowed`, sleeps in the
+/// WaitSet as with `backoff`). The one rule for the loop that waits and the publishers that
+/// ring.
+pub fn waits(ipc: &config::Ipc, partition: Partition) -> bool {
+    ipc.idle[partition].mode == IdleMode::Doorbell && !ipc.poll && !partition.allowed().links
+}
 
 /// `ipc::Service` with iceoryx2-cal's semaphore event, its ports thread-safe as those of
 /// `ipc_threadsafe::Service` (the timer thread rings through a notifier of its own): the service
@@ -95,8 +115,8 @@ const MAX_RINGERS: usize = 64;
 /// not cleaned up yet (a ring visits every listener slot).
 const MAX_LISTENERS: usize = 2;
 
-fn err(what: impl std::fmt::Display, e: impl Debug) -> IpcError {
-    IpcError(format!("{what}: {e:?}"))
+fn err(what: impl std::fmt::Display, e: impl Debug) -> DoorbellError {
+    DoorbellError(format!("{what}: {e:?}"))
 }
 
 /// The doorbell event services of one process.
@@ -104,12 +124,28 @@ fn err(what: impl std::fmt::Display, e: impl Debug) -> IpcError {
 pub struct Doorbells {
     node: Node<DoorbellService>,
     prefix: String,
+    /// The partitions that wait on their doorbells ([`waits`]): only theirs are rung.
+    waiting: PerPartition<bool>,
 }
 
 impl Doorbells {
-    /// A node of the doorbell service type for the process `name`; removes what dead nodes of
-    /// this type left behind.
-    pub fn open(name: &str, prefix: &str) -> Result<Self, IpcError> {
+    /// The doorbells of the process `name` under `ipc`: `None` when no partition waits on its
+    /// doorbell ([`waits`]), so that nothing is opened and nothing rung.
+    pub fn of(name: &str, ipc: &config::Ipc) -> Result<Option<Self>, DoorbellError> {
+        let waiting = PerPartition::from_fn(|p| waits(ipc, p));
+        if waiting.iter().all(|(_, w)| !w) {
+            return Ok(None);
+        }
+        Self::open(name, &ipc.service_prefix, waiting).map(Some)
+    }
+
+    /// A node of the doorbell service type for the process `name`, ringing the doorbells of the
+    /// partitions `waiting` says; removes what dead nodes of this type left behind.
+    pub fn open(
+        name: &str,
+        prefix: &str,
+        waiting: PerPartition<bool>,
+    ) -> Result<Self, DoorbellError> {
         let node_name: NodeName = name.try_into().map_err(|e| err("node name", e))?;
         let node = NodeBuilder::new()
             .name(&node_name)
@@ -119,18 +155,19 @@ impl Doorbells {
         Ok(Self {
             node,
             prefix: prefix.to_owned(),
+            waiting,
         })
     }
 
     fn event(
         &self,
         role: Partition,
-    ) -> Result<iceoryx2::service::port_factory::event::PortFactory<DoorbellService>, IpcError>
+    ) -> Result<iceoryx2::service::port_factory::event::PortFactory<DoorbellService>, DoorbellError>
     {
         let name = format!(
             "{}/doorbell/{}",
             self.prefix.trim_end_matches('/'),
-            role.name()
+            role.role()
         );
         let service: ServiceName = name
             .as_str()
@@ -148,10 +185,11 @@ impl Doorbells {
             .map_err(|e| err(format_args!("opening the doorbell of {role:?}"), e))
     }
 
-    /// The ringers of the doorbells of `service`'s consumers.
-    pub fn ringers(&self, service: FccService) -> Result<Ringers, IpcError> {
+    /// The ringers of the doorbells of `service`'s consumers that wait on theirs.
+    pub fn ringers(&self, service: FccService) -> Result<Ringers, DoorbellError> {
         let notifiers = consumers(service)
             .iter()
+            .filter(|role| self.waiting[**role])
             .map(|role| {
                 self.event(*role)?
                     .notifier_builder()
@@ -163,7 +201,7 @@ impl Doorbells {
     }
 
     /// The doorbell of `role`, to wait on, with its timer thread.
-    pub fn doorbell(&self, role: Partition) -> Result<Doorbell, IpcError> {
+    pub fn doorbell(&self, role: Partition) -> Result<Doorbell, DoorbellError> {
         let event = self.event(role)?;
         let listener = event
             .listener_builder()
@@ -187,15 +225,16 @@ impl Doorbells {
     }
 }
 
-/// What rings the doorbells of one service's consumers.
-#[derive(Debug)]
+/// What rings the doorbells of one service's consumers (those that wait on theirs); none
+/// where no consumer waits on one (the default), which costs nothing per send.
+#[derive(Debug, Default)]
 pub struct Ringers {
     notifiers: Vec<Notifier<DoorbellService>>,
 }
 
 impl Ringers {
     /// Rings every consumer's doorbell (a `sem_post` per listening consumer).
-    pub fn ring(&self) -> Result<(), IpcError> {
+    pub fn ring(&self) -> Result<(), DoorbellError> {
         for notifier in &self.notifiers {
             notifier
                 .notify()
@@ -264,7 +303,7 @@ pub struct Doorbell {
 impl Doorbell {
     /// Sleeps until a publisher or the timer rings, the timer at `timeout` from now. Consumes
     /// every pending ring.
-    pub fn wait(&self, timeout: Duration) -> Result<(), IpcError> {
+    pub fn wait(&self, timeout: Duration) -> Result<(), DoorbellError> {
         let deadline = Instant::now() + timeout;
         if let Ok(mut state) = self.timer.state.lock() {
             // The timer thread is woken only for a deadline earlier by more than TIMER_SLACK
@@ -309,7 +348,7 @@ mod tests {
     #[test]
     fn a_publisher_of_a_consumed_service_rings_and_the_timer_rings_at_the_deadline() {
         let prefix = format!("doorbell-test-{}", std::process::id());
-        let bells = Doorbells::open("doorbell-test", &prefix).unwrap();
+        let bells = Doorbells::open("doorbell-test", &prefix, PerPartition::all(true)).unwrap();
         let doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
         let uplink = bells.ringers(FccService::Uplink).unwrap();
         let downlink = bells.ringers(FccService::Downlink).unwrap();
@@ -347,6 +386,46 @@ mod tests {
         assert!(
             waited >= Duration::from_millis(29) && waited < Duration::from_millis(500),
             "{waited:?}"
+        );
+    }
+
+    /// The default configuration uses no doorbell: no process opens one or rings one.
+    #[test]
+    fn only_a_partition_configured_for_the_doorbell_waits_on_it() {
+        let mut ipc = config::Ipc::default();
+        assert!(Partition::ALL.iter().all(|p| !waits(&ipc, *p)));
+        assert!(Doorbells::of("doorbell-none", &ipc).unwrap().is_none());
+        ipc.idle = PerPartition::all(config::Idle {
+            mode: IdleMode::Doorbell,
+            ..config::Idle::BLOCK
+        });
+        // The link partition waits for its sockets in the WaitSet.
+        assert!(!waits(&ipc, Partition::VotingMonitoring));
+        assert!(waits(&ipc, Partition::MissionDataHandling));
+        ipc.poll = true;
+        assert!(Partition::ALL.iter().all(|p| !waits(&ipc, *p)));
+    }
+
+    /// A publisher rings only the doorbells of consumers that wait on them.
+    #[test]
+    fn ringers_ring_only_the_consumers_that_wait() {
+        let prefix = format!("doorbell-test-some-{}", std::process::id());
+        let waiting = PerPartition::from_fn(|p| p == Partition::Guidance);
+        let bells = Doorbells::open("doorbell-test-some", &prefix, waiting).unwrap();
+        assert_eq!(
+            bells
+                .ringers(FccService::WaypointList)
+                .unwrap()
+                .notifiers
+                .len(),
+            1
+        );
+        assert!(
+            bells
+                .ringers(FccService::Uplink)
+                .unwrap()
+                .notifiers
+                .is_empty()
         );
     }
 

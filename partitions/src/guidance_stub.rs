@@ -16,14 +16,12 @@ use missionlink_services::guidance::Guidance;
 
 use crate::config::Config;
 use crate::ipc::{Ipc, ListPairing};
-use crate::runtime::{self, Control, PartitionError, Wake};
+use crate::runtime::{self, Control, Inputs, PartitionError};
 use missionlink_platform::clock::DriverClock;
 
-/// The partition's name (binary, node, summary).
-pub const NAME: &str = "guidance-stub";
-
-/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
-pub const ROLE: Partition = Partition::Guidance;
+/// The partition it is (its binary, node and summary are named `Partition::binary`, its
+/// heartbeat `fcc/health/<role>`).
+pub const PARTITION: Partition = Partition::Guidance;
 
 /// Progress is published on every change and at least this often.
 const REPUBLISH: Duration = Duration::from_secs(1);
@@ -40,7 +38,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
     let lists = ipc.active_lists()?;
     let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
     let progress = ipc.publisher::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
@@ -54,18 +52,11 @@ where
     let mut pairing = ListPairing::new();
     let mut last_published: Option<GuidanceProgressPayload> = None;
     let mut last_sent = std::time::Instant::now();
-    let wake = Wake {
-        on: &[
-            lists.waypoints.listener(),
-            lists.areas.listener(),
-            automation.listener(),
-        ],
-        pending: &[&lists.waypoints, &lists.areas, &automation],
-        sockets: false,
-        every: Some(interval),
-        first_timeout: interval,
-    };
-    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
+    let inputs = Inputs::new(interval)
+        .every(interval)
+        .lists(&lists)
+        .subscriber(&automation);
+    let report = runtime::run_loop::<S>(PARTITION, &ipc, config, control, inputs, |report| {
         automation.drain_notifications();
         // Only whole pairs of one activation, both set before the next step: guidance never
         // flies the new waypoint list inside the old areas or the reverse.

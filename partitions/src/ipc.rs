@@ -17,12 +17,19 @@ use missionlink_interfaces::contracts::{
     AreaListPayload, FccService, Partition, WaypointListPayload, same_activation,
 };
 
-use crate::doorbell::{Doorbell, Doorbells, Ringers};
+use crate::config;
+use crate::doorbell::{Doorbell, DoorbellError, Doorbells, Ringers};
 
 /// Something iceoryx2 refused, with what was being done.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{0}")]
 pub struct IpcError(pub String);
+
+impl From<DoorbellError> for IpcError {
+    fn from(e: DoorbellError) -> Self {
+        Self(e.0)
+    }
+}
 
 fn err(what: impl std::fmt::Display, e: impl Debug) -> IpcError {
     IpcError(format!("{what}: {e:?}"))
@@ -39,14 +46,18 @@ pub fn quiet_iceoryx2_log() {
 pub struct Ipc<S: Service> {
     node: Node<S>,
     prefix: String,
-    /// The node of the partitions' doorbells (`doorbell`): every publisher rings its
-    /// consumers' doorbells.
-    doorbells: Doorbells,
+    /// The node of the partitions' doorbells (`doorbell`), where the configuration has a
+    /// partition wait on its doorbell: every publisher rings the doorbells of its consumers that
+    /// wait on them. `None` (the default configuration): no doorbell service is opened and no
+    /// send rings one.
+    doorbells: Option<Doorbells>,
 }
 
 impl<S: Service> Ipc<S> {
-    /// Creates the node `name` and removes what dead nodes left behind.
-    pub fn open(name: &str, prefix: &str) -> Result<Self, IpcError> {
+    /// Creates the node `name` under `ipc` (`[ipc]`: the service prefix, and which partitions
+    /// wait on their doorbells, `doorbell::waits`) and removes what dead nodes left behind.
+    pub fn open(name: &str, ipc: &config::Ipc) -> Result<Self, IpcError> {
+        let prefix = ipc.service_prefix.as_str();
         let node_name: NodeName = name.try_into().map_err(|e| err("node name", e))?;
         let node = NodeBuilder::new()
             .name(&node_name)
@@ -63,13 +74,19 @@ impl<S: Service> Ipc<S> {
         Ok(Self {
             node,
             prefix: prefix.to_owned(),
-            doorbells: Doorbells::open(name, prefix)?,
+            doorbells: Doorbells::of(name, ipc)?,
         })
     }
 
-    /// The doorbell of `role`, for that partition's loop to wait on (`doorbell`).
+    /// The doorbell of `role`, for that partition's loop to wait on (`doorbell`); an error when
+    /// the configuration this was opened with has no partition wait on its doorbell.
     pub fn doorbell(&self, role: Partition) -> Result<Doorbell, IpcError> {
-        self.doorbells.doorbell(role)
+        match &self.doorbells {
+            Some(doorbells) => Ok(doorbells.doorbell(role)?),
+            None => Err(IpcError(format!(
+                "the doorbell of {role}: the configuration has no partition wait on one"
+            ))),
+        }
     }
 
     /// The node.
@@ -145,7 +162,12 @@ impl<S: Service> Ipc<S> {
         Ok(Publisher {
             service,
             publisher,
-            ringers: self.doorbells.ringers(service)?,
+            ringers: self
+                .doorbells
+                .as_ref()
+                .map(|d| d.ringers(service))
+                .transpose()?
+                .unwrap_or_default(),
             notifier,
         })
     }
@@ -328,8 +350,9 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
 
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
-    /// doorbells of the partitions that consume the service (`doorbell::consumers`), then
-    /// notifies the service's own event: what every partition does.
+    /// doorbells of the partitions that consume the service (`doorbell::consumers`) and wait on
+    /// them (none by default), then notifies the service's own event: what every partition
+    /// does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
         self.ringers.ring()?;
@@ -494,7 +517,8 @@ mod tests {
     #[test]
     fn a_late_subscriber_receives_the_active_waypoint_list() {
         let prefix = format!("ipc-test-{}", std::process::id());
-        let ipc = Ipc::<local::Service>::open("ipc-test", &prefix).unwrap();
+        let ipc =
+            Ipc::<local::Service>::open("ipc-test", &config::Ipc::with_prefix(&prefix)).unwrap();
         let publisher = ipc
             .publisher::<WaypointListPayload>(FccService::WaypointList)
             .unwrap();
@@ -638,7 +662,8 @@ mod tests {
     #[test]
     fn active_lists_release_a_pair_only_once_both_lists_of_an_activation_arrived() {
         let prefix = format!("ipc-test-pair-{}", std::process::id());
-        let ipc = Ipc::<local::Service>::open("ipc-test-pair", &prefix).unwrap();
+        let ipc = Ipc::<local::Service>::open("ipc-test-pair", &config::Ipc::with_prefix(&prefix))
+            .unwrap();
         let w = ipc
             .publisher::<WaypointListPayload>(FccService::WaypointList)
             .unwrap();
@@ -673,7 +698,8 @@ mod tests {
     #[test]
     fn a_subscriber_that_never_reads_does_not_block_the_frame_queue() {
         let prefix = format!("ipc-test-full-{}", std::process::id());
-        let ipc = Ipc::<local::Service>::open("ipc-test-full", &prefix).unwrap();
+        let ipc = Ipc::<local::Service>::open("ipc-test-full", &config::Ipc::with_prefix(&prefix))
+            .unwrap();
         let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
         let stalled = ipc.subscriber::<FramePayload>(FccService::Uplink).unwrap();
         uplink.update_connections();

@@ -56,92 +56,10 @@ use seccompiler::{
     BpfProgram, SeccompAction, SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompFilter,
     SeccompRule, TargetArch,
 };
-use serde::{Deserialize, Serialize};
 
-use crate::config::Config;
+use missionlink_interfaces::contracts::Partition;
 
-/// What the kernel does with a system call outside a partition's allow-list.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Violation {
-    /// Kill the process (`SECCOMP_RET_KILL_PROCESS`): the launcher sees SIGSYS, reports the
-    /// partition by name and restarts it under its back-off and start limit. A partition that
-    /// tries what it must never do is not trusted to go on.
-    #[default]
-    Kill,
-    /// Fail the call with EPERM: the partition goes on and handles the error (for finding a
-    /// missing system call in a rig without losing the partition).
-    Errno,
-}
-
-/// The isolation of one partition (`[isolation.<partition>]`).
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct PartitionIsolation {
-    /// The user (a name of `/etc/passwd`, or a number) the partition drops to when it was
-    /// started as root; `None`: it keeps the user it was started as.
-    pub user: Option<String>,
-}
-
-/// `[isolation]`: on by default.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Isolation {
-    /// Fence every partition (no new privileges, Landlock, seccomp, the user).
-    pub enabled: bool,
-    /// What a forbidden system call does.
-    pub on_violation: Violation,
-    /// voting-monitoring.
-    #[serde(rename = "voting-monitoring")]
-    pub voting_monitoring: PartitionIsolation,
-    /// mission-data-handling.
-    #[serde(rename = "mission-data-handling")]
-    pub mission_data_handling: PartitionIsolation,
-    /// system-automation.
-    #[serde(rename = "system-automation")]
-    pub system_automation: PartitionIsolation,
-    /// guidance-stub.
-    #[serde(rename = "guidance-stub")]
-    pub guidance_stub: PartitionIsolation,
-    /// The bridge (`[bridge]`), fenced as a partition.
-    pub bridge: PartitionIsolation,
-}
-
-impl Default for Isolation {
-    fn default() -> Self {
-        Self {
-            enabled: true,
-            on_violation: Violation::Kill,
-            voting_monitoring: PartitionIsolation::default(),
-            mission_data_handling: PartitionIsolation::default(),
-            system_automation: PartitionIsolation::default(),
-            guidance_stub: PartitionIsolation::default(),
-            bridge: PartitionIsolation::default(),
-        }
-    }
-}
-
-impl Isolation {
-    /// The settings of the partition named `partition` (or of the bridge); `None` for another
-    /// name.
-    pub fn of(&self, partition: &str) -> Option<&PartitionIsolation> {
-        if partition == crate::bridge_config::BINARY {
-            return Some(&self.bridge);
-        }
-        // In the launcher's order of the partitions.
-        let index = crate::launcher::PARTITIONS
-            .iter()
-            .position(|p| *p == partition)?;
-        [
-            &self.voting_monitoring,
-            &self.mission_data_handling,
-            &self.system_automation,
-            &self.guidance_stub,
-        ]
-        .get(index)
-        .copied()
-    }
-}
+use crate::config::{Config, PartitionIsolation, Violation};
 
 /// Why a partition could not fence itself as configured.
 #[derive(Debug, thiserror::Error)]
@@ -219,10 +137,10 @@ pub fn check_config(config: &Config) -> Result<(), IsolationError> {
         .bridge
         .enabled
         .then_some(crate::bridge_config::BINARY);
-    for name in crate::launcher::PARTITIONS.into_iter().chain(bridge) {
-        if let Some(user) = config.isolation.of(name).and_then(|p| p.user.as_deref()) {
-            lookup_user(user)?;
-        }
+    let bridge = bridge.map(|_| &config.isolation.bridge);
+    let partitions = config.isolation.partitions.iter().map(|(_, p)| p);
+    for user in partitions.chain(bridge).filter_map(|p| p.user.as_deref()) {
+        lookup_user(user)?;
     }
     Ok(())
 }
@@ -292,45 +210,67 @@ pub fn iceoryx2_root() -> PathBuf {
 pub const SHARED_MEMORY_DIR: &str = "/dev/shm";
 
 impl Fence {
-    /// The fence of the partition `name` (or of the bridge, `bridge_config::BINARY`) under
-    /// `config`; `None` when isolation is off.
-    pub fn of(name: &str, config: &Config) -> Option<Self> {
+    /// The fence of `partition` under `config` (what [`Partition::allowed`] allows it);
+    /// `None` when isolation is off.
+    pub fn of(partition: Partition, config: &Config) -> Option<Self> {
+        let allowed = partition.allowed();
+        Self::new(
+            partition.binary(),
+            Profile::Partition {
+                inet: allowed.links,
+            },
+            &config.isolation.partitions[partition],
+            allowed.state,
+            crate::bridge_config::Ports::default(),
+            config,
+        )
+    }
+
+    /// The fence of the bridge (`bridge_config::BINARY`) under `config`; `None` when isolation
+    /// is off.
+    pub fn bridge(config: &Config) -> Option<Self> {
+        // The bridge checked its endpoints before it fences itself (exit status 2 otherwise);
+        // a port that cannot be read is then not allowed, and Zenoh's bind or connect fails.
+        let ports = config.bridge.endpoints().unwrap_or_default();
+        Self::new(
+            crate::bridge_config::BINARY,
+            Profile::Bridge,
+            &config.isolation.bridge,
+            false,
+            ports,
+            config,
+        )
+    }
+
+    /// A fence of the process `name` with `profile`, dropping to the user of `settings`,
+    /// writing the state directory with `state`, binding and connecting TCP on `ports`.
+    fn new(
+        name: &str,
+        profile: Profile,
+        settings: &PartitionIsolation,
+        state: bool,
+        ports: crate::bridge_config::Ports,
+        config: &Config,
+    ) -> Option<Self> {
         if !config.isolation.enabled {
             return None;
         }
-        let state = config.ipc.state_dir();
+        let state_dir = config.ipc.state_dir();
         let mut writable = vec![
             PathBuf::from(SHARED_MEMORY_DIR),
             iceoryx2_root(),
-            crate::state::ready_dir(&state),
+            crate::state::ready_dir(&state_dir),
         ];
-        // Mission data handling owns the lists; voting-monitoring announces its bound ports
-        // (state::save_links) beside them. The others write no state.
-        if name == crate::mission_data_handling::NAME || name == crate::voting_monitoring::NAME {
-            writable.push(state);
+        if state {
+            writable.push(state_dir);
         }
         if let Some(dir) = &config.latency.summary_dir {
             writable.push(dir.clone());
         }
-        let bridge = name == crate::bridge_config::BINARY;
-        let profile = if bridge {
-            Profile::Bridge
-        } else {
-            Profile::Partition {
-                inet: name == crate::voting_monitoring::NAME,
-            }
-        };
-        // The bridge checked its endpoints before it fences itself (exit status 2 otherwise);
-        // a port that cannot be read is then not allowed, and Zenoh's bind or connect fails.
-        let ports = if bridge {
-            config.bridge.endpoints().unwrap_or_default()
-        } else {
-            crate::bridge_config::Ports::default()
-        };
         Some(Self {
             name: name.to_owned(),
             profile,
-            user: config.isolation.of(name).and_then(|p| p.user.clone()),
+            user: settings.user.clone(),
             on_violation: config.isolation.on_violation,
             writable,
             ports,
@@ -830,10 +770,13 @@ mod tests {
         .unwrap();
         assert_eq!(c.isolation.on_violation, Violation::Errno);
         assert_eq!(
-            c.isolation.of("guidance-stub").unwrap().user.as_deref(),
+            c.isolation.partitions[Partition::Guidance].user.as_deref(),
             Some("nobody")
         );
-        assert_eq!(c.isolation.of("voting-monitoring").unwrap().user, None);
+        assert_eq!(
+            c.isolation.partitions[Partition::VotingMonitoring].user,
+            None
+        );
         assert_eq!(
             Config::parse(&c.to_toml().unwrap(), Path::new("y")).unwrap(),
             c
@@ -905,8 +848,8 @@ mod tests {
     fn the_writable_directories_are_the_partitions_own() {
         let mut config = Config::default();
         config.ipc.state_dir = Some(PathBuf::from("/var/lib/missionlink"));
-        let mdh = Fence::of("mission-data-handling", &config).unwrap();
-        let sa = Fence::of("system-automation", &config).unwrap();
+        let mdh = Fence::of(Partition::MissionDataHandling, &config).unwrap();
+        let sa = Fence::of(Partition::SystemAutomation, &config).unwrap();
         let lists = Path::new("/var/lib/missionlink/active-lists.frames");
         assert!(may_write(&mdh, lists));
         assert!(!may_write(&sa, lists), "{:?}", writable_dirs(&sa));
@@ -916,7 +859,7 @@ mod tests {
         ));
         assert!(may_write(&sa, Path::new("/dev/shm/iox2_x")));
         config.isolation.enabled = false;
-        assert!(Fence::of("system-automation", &config).is_none());
+        assert!(Fence::of(Partition::SystemAutomation, &config).is_none());
     }
 
     #[test]
@@ -927,7 +870,7 @@ mod tests {
         config.bridge.credentials = Some(PathBuf::from("/etc/missionlink/bridge"));
         config.bridge.listen = vec!["tls/169.254.77.1:7447".to_owned()];
         config.bridge.connect = vec!["tls/169.254.77.2:7448".to_owned()];
-        let bridge = Fence::of(crate::bridge_config::BINARY, &config).unwrap();
+        let bridge = Fence::bridge(&config).unwrap();
         assert_eq!(bridge.profile, Profile::Bridge);
         assert_eq!(
             (
@@ -951,7 +894,7 @@ mod tests {
             Path::new("/etc/missionlink/bridge/ca.pem")
         ));
         // A partition binds and connects no TCP port.
-        let vm = Fence::of("voting-monitoring", &config).unwrap();
+        let vm = Fence::of(Partition::VotingMonitoring, &config).unwrap();
         assert_eq!(vm.ports, crate::bridge_config::Ports::default());
         assert_eq!(vm.profile, Profile::Partition { inet: true });
         // `[isolation.bridge] user`, and the launcher checks that user when the bridge is on.
@@ -961,7 +904,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(
-            c.isolation.of("bridge").unwrap().user.as_deref(),
+            c.isolation.bridge.user.as_deref(),
             Some("no-such-user-here")
         );
         assert!(matches!(
@@ -969,7 +912,7 @@ mod tests {
             Err(IsolationError::NoSuchUser(_))
         ));
         config.isolation.enabled = false;
-        assert!(Fence::of(crate::bridge_config::BINARY, &config).is_none());
+        assert!(Fence::bridge(&config).is_none());
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //!
 //! The launcher starts the four partitions as child processes with one configuration (the
 //! resolved settings, handed over in the environment: no file a `kill -9` could leave behind),
-//! and on SIGINT, SIGTERM or [`Control::stop`] stops them all: SIGTERM first, SIGKILL for one
+//! and on SIGINT, SIGTERM or a stop request ([`Control`]) stops them all: SIGTERM first, SIGKILL for one
 //! that has not ended within the grace period, guidance first and the links last.
 //!
 //! Before it starts any partition the launcher checks what each needs of the configuration (a
@@ -42,20 +42,12 @@ use crate::health::Watch;
 use crate::ipc::Ipc;
 use crate::runtime::{CONFIG_EXIT_CODE, Control, PartitionError, config_error};
 use crate::state::{self, BoundLinks};
-use crate::{guidance_stub, mission_data_handling, system_automation, voting_monitoring};
+use crate::voting_monitoring;
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::udp::{LinkError, LocalEnds};
 
-/// The partitions, in start order.
-pub const PARTITIONS: [&str; 4] = [
-    voting_monitoring::NAME,
-    mission_data_handling::NAME,
-    system_automation::NAME,
-    guidance_stub::NAME,
-];
-
 /// The launcher's name (binary).
-pub const NAME: &str = "fcc";
+pub const NAME: &str = crate::binaries::LAUNCHER;
 
 /// How long a partition may take to end after SIGTERM.
 const GRACE: Duration = Duration::from_secs(5);
@@ -64,43 +56,29 @@ const SUPERVISION_PERIOD: Duration = Duration::from_millis(20);
 /// The flag that makes a partition end with its parent (see `runtime::partition_main`).
 const EXIT_WITH_PARENT: &str = "--exit-with-parent";
 
-/// The role of the partition binary `name` (one of [`PARTITIONS`]).
-fn role(name: &str) -> Option<Partition> {
-    match name {
-        voting_monitoring::NAME => Some(voting_monitoring::ROLE),
-        mission_data_handling::NAME => Some(mission_data_handling::ROLE),
-        system_automation::NAME => Some(system_automation::ROLE),
-        guidance_stub::NAME => Some(guidance_stub::ROLE),
-        _ => None,
-    }
-}
-
-/// The partitions of `config` the launcher leaves out (`[launcher] without`), each checked
-/// against [`PARTITIONS`].
-pub fn left_out(config: &Config) -> Result<Vec<&'static str>, String> {
+/// The partitions of `config` the launcher leaves out (`[launcher] without`, by their binary
+/// names).
+pub fn left_out(config: &Config) -> Result<Vec<Partition>, String> {
     config
         .launcher
         .without
         .iter()
         .map(|name| {
-            PARTITIONS
-                .iter()
-                .find(|p| **p == name.as_str())
-                .copied()
-                .ok_or_else(|| {
-                    format!(
-                        "[launcher] without: no partition {name:?} (the partitions: {})",
-                        PARTITIONS.join(", ")
-                    )
-                })
+            Partition::from_binary(name).ok_or_else(|| {
+                format!(
+                    "[launcher] without: no partition {name:?} (the partitions: {})",
+                    Partition::BINARIES.join(", ")
+                )
+            })
         })
         .collect()
 }
 
 /// One partition under supervision.
 struct Supervised {
+    partition: Partition,
+    /// Its binary's name.
     name: &'static str,
-    role: Partition,
     /// Started by the launcher (else left out: another process fills the role).
     started_here: bool,
     child: Option<Child>,
@@ -217,14 +195,14 @@ impl StartLimit {
 }
 
 /// Checks what each partition the launcher starts needs of `config`, before any is started.
-fn check_partitions(config: &Config, without: &[&str]) -> Result<(), PartitionError> {
-    if !without.contains(&voting_monitoring::NAME) {
+fn check_partitions(config: &Config, without: &[Partition]) -> Result<(), PartitionError> {
+    if !without.contains(&Partition::VotingMonitoring) {
         voting_monitoring::check_config(config).map_err(|e| {
             let why = match e {
                 PartitionError::Config(why) => why,
                 other => other.to_string(),
             };
-            PartitionError::Config(format!("{}: {why}", voting_monitoring::NAME))
+            PartitionError::Config(format!("{}: {why}", Partition::VotingMonitoring.binary()))
         })?;
     }
     crate::isolation::check_config(config).map_err(|e| PartitionError::Config(e.to_string()))?;
@@ -232,20 +210,19 @@ fn check_partitions(config: &Config, without: &[&str]) -> Result<(), PartitionEr
 }
 
 /// Supervises the partitions of `bin_dir` under `config` until `control` (or SIGINT/SIGTERM,
-/// with [`Control::handle_signals`]) stops it.
+/// with `Requests::from_signals`) stops it.
 pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), PartitionError> {
     let restart_delay = Duration::from_millis(config.launcher.restart_delay_ms);
     let limits = StartLimit::of(config);
     let without = left_out(config).map_err(PartitionError::Config)?;
     check_partitions(config, &without)?;
-    let mut partitions = PARTITIONS
-        .iter()
-        .map(|&name| {
-            let started_here = !without.contains(&name);
-            Ok(Supervised {
-                name,
-                role: role(name)
-                    .ok_or_else(|| PartitionError::Config(format!("no role for {name}")))?,
+    let mut partitions = Partition::ALL
+        .into_iter()
+        .map(|partition| {
+            let started_here = !without.contains(&partition);
+            Supervised {
+                partition,
+                name: partition.binary(),
                 started_here,
                 child: None,
                 restart_at: started_here.then(Instant::now),
@@ -254,9 +231,9 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 given_up: false,
                 liveness: Liveness::new(config.health.period()),
                 heard: false,
-            })
+            }
         })
-        .collect::<Result<Vec<_>, PartitionError>>()?;
+        .collect::<Vec<_>>();
     tracing::info!(
         prefix = %config.ipc.service_prefix,
         direct = %config.links.fcc_direct,
@@ -265,12 +242,12 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
         without = ?without,
         "starting the FCC partitions"
     );
-    let ipc = Ipc::<ipc::Service>::open(NAME, &config.ipc.service_prefix)?;
+    let ipc = Ipc::<ipc::Service>::open(NAME, &config.ipc)?;
     let health = Watch::open(&ipc, &Partition::ALL)?;
     let clock = DriverClock::start();
     // Announcements of an earlier instance in the same directory say nothing about this one.
     let state_dir = config.ipc.state_dir();
-    for name in PARTITIONS.iter().chain([&NAME]) {
+    for name in Partition::BINARIES.iter().chain([&NAME]) {
         if let Err(e) = state::forget_ready(&state_dir, name) {
             tracing::warn!(%e, dir = %state_dir.display(), name, "cannot clear an old announcement");
         }
@@ -280,11 +257,11 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
     let mut all_up = false;
     // A partition was given up: the FCC stays announced down.
     let mut degraded = false;
-    control.set_ready();
-    while !control.stop_requested() {
+    control.ready.set();
+    while !control.requests.stop_requested() {
         let now = clock.now();
         health.receive(|role, beat| {
-            for p in partitions.iter_mut().filter(|p| p.role == role) {
+            for p in partitions.iter_mut().filter(|p| p.partition == role) {
                 if p.liveness.handle_beat(now, beat) && !p.started_here && !p.heard {
                     p.heard = true;
                     tracing::info!(partition = %role, pid = beat.pid, "alive (not started by the launcher)");
@@ -307,7 +284,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                     None if !p.started_here => {
                         p.heard = false;
                         tracing::warn!(
-                            partition = %p.role,
+                            partition = %p.partition,
                             %silence,
                             "not alive (not started by the launcher, so not restarted)"
                         );
@@ -538,7 +515,8 @@ pub fn main(
     };
     let control = Control::new();
     let result = control
-        .handle_signals()
+        .requests
+        .from_signals()
         .and_then(|()| run(&config, &bin_dir, &control));
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -609,7 +587,7 @@ impl FccProcess {
     pub fn command(bin_dir: &Path, binary: &str, config: &Config) -> io::Result<Command> {
         let state_dir = config.ipc.state_dir();
         state::forget_ready(&state_dir, binary)?;
-        if binary == NAME || binary == voting_monitoring::NAME {
+        if binary == NAME || binary == Partition::VotingMonitoring.binary() {
             state::forget_links(&state_dir)?;
         }
         let mut command = Command::new(bin_dir.join(binary));
@@ -724,13 +702,12 @@ mod tests {
         let mut config = Config::default();
         assert!(left_out(&config).unwrap().is_empty());
         config.launcher.without = vec!["guidance-stub".to_owned()];
-        assert_eq!(left_out(&config).unwrap(), ["guidance-stub"]);
+        assert_eq!(left_out(&config).unwrap(), [Partition::Guidance]);
         config.launcher.without.push("guidance".to_owned());
         let e = left_out(&config).unwrap_err();
         assert!(
             e.contains("no partition \"guidance\"") && e.contains("guidance-stub"),
             "{e}"
         );
-        assert!(PARTITIONS.iter().all(|p| role(p).is_some()));
     }
 }

@@ -19,6 +19,7 @@ pub mod isolation;
 pub mod latency;
 pub mod launcher;
 pub mod mission_data_handling;
+pub mod per_partition;
 pub mod realtime;
 pub mod runtime;
 pub mod state;

@@ -28,15 +28,13 @@ use crate::config::Config;
 use crate::health::Watch;
 use crate::ipc::{Ipc, Publisher};
 use crate::latency::Recorder;
-use crate::runtime::{self, Control, PartitionError, Wake};
+use crate::runtime::{self, Control, Inputs, PartitionError};
 use crate::state;
 use missionlink_platform::clock::{DriverClock, monotonic_ns};
 
-/// The partition's name (binary, node, summary).
-pub const NAME: &str = "mission-data-handling";
-
-/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
-pub const ROLE: Partition = Partition::MissionDataHandling;
+/// The partition it is (its binary, node and summary are named `Partition::binary`, its
+/// heartbeat `fcc/health/<role>`).
+pub const PARTITION: Partition = Partition::MissionDataHandling;
 
 /// How often late subscribers are connected to the list histories.
 const CONNECT_INTERVAL: Duration = Duration::from_millis(100);
@@ -47,7 +45,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
     let uplink = ipc.subscriber::<FramePayload>(FccService::Uplink)?;
     let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
@@ -123,18 +121,12 @@ where
     // Whether system automation was alive at the last step: logged when it changes, from its
     // first beat on (before it, at start, it is refused in silence).
     let mut automation_seen: Option<bool> = None;
-    let wake = Wake {
-        on: &[
-            uplink.listener(),
-            automation.listener(),
-            progress.listener(),
-        ],
-        pending: &[&uplink, &automation, &progress],
-        sockets: false,
-        every: Some(CONNECT_INTERVAL),
-        first_timeout: CONNECT_INTERVAL,
-    };
-    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
+    let inputs = Inputs::new(CONNECT_INTERVAL)
+        .every(CONNECT_INTERVAL)
+        .subscriber(&uplink)
+        .subscriber(&automation)
+        .subscriber(&progress);
+    let report = runtime::run_loop::<S>(PARTITION, &ipc, config, control, inputs, |report| {
         if let Some(state) = automation.latest() {
             core.set_automation_state(&state);
         }

@@ -21,14 +21,12 @@ use crate::config::Config;
 use crate::health::Watch;
 use crate::ipc::{Ipc, ListPairing};
 use crate::latency::Recorder;
-use crate::runtime::{self, Control, PartitionError, Wake};
+use crate::runtime::{self, Control, Inputs, PartitionError};
 use missionlink_platform::clock::{DriverClock, monotonic_ns};
 
-/// The partition's name (binary, node, summary).
-pub const NAME: &str = "system-automation";
-
-/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
-pub const ROLE: Partition = Partition::SystemAutomation;
+/// The partition it is (its binary, node and summary are named `Partition::binary`, its
+/// heartbeat `fcc/health/<role>`).
+pub const PARTITION: Partition = Partition::SystemAutomation;
 
 /// How often late subscribers are connected to the state's history.
 const CONNECT_INTERVAL: Duration = Duration::from_millis(100);
@@ -39,7 +37,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
     let lists = ipc.active_lists()?;
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
     let commands = ipc.subscriber::<AutomationCommandPayload>(FccService::AutomationCommand)?;
@@ -53,24 +51,17 @@ where
     let mut command_latency = Recorder::new("command: accepted to carried out");
     let mut pairing = ListPairing::new();
 
-    let wake = Wake {
-        on: &[
-            lists.waypoints.listener(),
-            lists.areas.listener(),
-            progress.listener(),
-            commands.listener(),
-            health
-                .subscriber(Partition::Guidance)
-                .ok_or_else(|| PartitionError::Config("no watch of guidance".to_owned()))?
-                .listener(),
-        ],
-        // Not guidance's heartbeat: it is not urgent and comes every period.
-        pending: &[&lists.waypoints, &lists.areas, &progress, &commands],
-        sockets: false,
-        every: Some(CONNECT_INTERVAL),
-        first_timeout: CONNECT_INTERVAL,
-    };
-    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
+    let guidance_beats = health
+        .subscriber(Partition::Guidance)
+        .ok_or_else(|| PartitionError::Config("no watch of guidance".to_owned()))?;
+    let inputs = Inputs::new(CONNECT_INTERVAL)
+        .every(CONNECT_INTERVAL)
+        .lists(&lists)
+        .subscriber(&progress)
+        .subscriber(&commands)
+        // Not spun for: guidance's heartbeat is not urgent and comes every period.
+        .waking(guidance_beats);
+    let report = runtime::run_loop::<S>(PARTITION, &ipc, config, control, inputs, |report| {
         progress.drain_notifications();
         commands.drain_notifications();
         // Only whole pairs of one activation: a command is never checked against the new

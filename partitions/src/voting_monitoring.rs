@@ -21,7 +21,7 @@ use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
 use crate::config::{Config, SigningPolicy};
 use crate::ipc::Ipc;
 use crate::latency::Recorder;
-use crate::runtime::{self, Control, PartitionError, Wake};
+use crate::runtime::{self, Control, Inputs, PartitionError};
 use crate::state::{self, BoundLinks};
 use missionlink_platform::clock::{DriverClock, monotonic_ns};
 use missionlink_platform::keys::LinkSigning;
@@ -30,11 +30,9 @@ use missionlink_platform::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER
 // Every datagram one receive hands over is a candidate of the vote: none is read and dropped.
 const _: () = assert!(MAX_READS_PER_RECEIVE <= VOTING_STEP_MESSAGES);
 
-/// The partition's name (binary, node, summary).
-pub const NAME: &str = "voting-monitoring";
-
-/// The role it fills: its heartbeat is `fcc/health/{ROLE}`.
-pub const ROLE: Partition = Partition::VotingMonitoring;
+/// The partition it is (its binary, node and summary are named `Partition::binary`, its
+/// heartbeat `fcc/health/<role>`).
+pub const PARTITION: Partition = Partition::VotingMonitoring;
 
 /// The longest sleep without data (nothing else is due).
 const IDLE_WAIT: Duration = Duration::from_secs(1);
@@ -111,7 +109,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(NAME, &config.ipc.service_prefix)?;
+    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
     let uplink = ipc.publisher::<FramePayload>(FccService::Uplink)?;
     let downlink = ipc.subscriber::<FramePayload>(FccService::Downlink)?;
     let signing =
@@ -149,15 +147,8 @@ where
     let mut slots = vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE];
     let mut step: heapless::Vec<(Link, usize, u64), MAX_READS_PER_RECEIVE> = heapless::Vec::new();
     let mut buf = [0u8; MAX_DATAGRAM];
-    let [direct_fd, lte_fd] = crate::wait_fd::attachments(&links)?;
-    let wake = Wake {
-        on: &[&direct_fd, &lte_fd, downlink.listener()],
-        pending: &[&links, &downlink],
-        sockets: true,
-        every: None,
-        first_timeout: IDLE_WAIT,
-    };
-    let report = runtime::run_loop::<S>(NAME, ROLE, &ipc, config, control, wake, |report| {
+    let inputs = Inputs::new(IDLE_WAIT).links(&links)?.subscriber(&downlink);
+    let report = runtime::run_loop::<S>(PARTITION, &ipc, config, control, inputs, |report| {
         // The answers first: they are the turnaround's path.
         downlink.take_all(|frame| {
             downlink_hop.record_between(frame.published_ns, monotonic_ns());

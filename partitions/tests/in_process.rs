@@ -61,7 +61,7 @@ impl Running {
         let control = Control::new();
         let (c, config) = (control.clone(), config.clone());
         let thread = std::thread::spawn(move || run(&config, &c));
-        assert!(control.wait_ready(LIMIT), "the partition did not start");
+        assert!(control.ready.wait(LIMIT), "the partition did not start");
         Self {
             control,
             thread: Some(thread),
@@ -70,7 +70,7 @@ impl Running {
 
     /// Stops the loop and checks that it ended without an error.
     fn stop(mut self) {
-        self.control.stop();
+        self.control.requests.stop();
         if let Some(thread) = self.thread.take() {
             thread.join().unwrap().unwrap();
         }
@@ -79,7 +79,7 @@ impl Running {
 
 impl Drop for Running {
     fn drop(&mut self) {
-        self.control.stop();
+        self.control.requests.stop();
     }
 }
 
@@ -109,9 +109,13 @@ fn all_within<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'sta
         if !all.is_empty() || Instant::now() >= end {
             return all;
         }
-        control
-            .wait(&waitset, false, Duration::from_millis(20))
-            .unwrap();
+        runtime::wait_in_waitset(
+            &control.requests,
+            &waitset,
+            false,
+            Duration::from_millis(20),
+        )
+        .unwrap();
     }
 }
 
@@ -134,9 +138,13 @@ fn within<T: std::fmt::Debug + Copy + iceoryx2::prelude::ZeroCopySend + 'static,
         if found.is_some() || Instant::now() >= end {
             return found;
         }
-        control
-            .wait(&waitset, false, Duration::from_millis(20))
-            .unwrap();
+        runtime::wait_in_waitset(
+            &control.requests,
+            &waitset,
+            false,
+            Duration::from_millis(20),
+        )
+        .unwrap();
     }
 }
 
@@ -162,7 +170,7 @@ fn valid() -> ValidatedPlan {
 fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_the_downlink() {
     let (config, _dir) = config("mdh");
     let partition = Running::start(mission_data_handling::run::<S>, &config);
-    let ipc = Ipc::<S>::open("gcs-side", &config.ipc.service_prefix).unwrap();
+    let ipc = Ipc::<S>::open("gcs-side", &config.ipc).unwrap();
     let uplink: Publisher<S, FramePayload> = ipc.publisher(FccService::Uplink).unwrap();
     let downlink: Subscriber<S, FramePayload> = ipc.subscriber(FccService::Downlink).unwrap();
     let waypoints: Subscriber<S, WaypointListPayload> =
@@ -247,7 +255,7 @@ fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_
     config.links.fcc_direct = "127.0.0.1:0".parse().unwrap();
     config.links.fcc_lte = "127.0.0.1:0".parse().unwrap();
 
-    let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
+    let ipc = Ipc::<S>::open("neighbours", &config.ipc).unwrap();
     let uplink: Subscriber<S, FramePayload> = ipc.subscriber(FccService::Uplink).unwrap();
     let downlink: Publisher<S, FramePayload> = ipc.publisher(FccService::Downlink).unwrap();
     let partition = Running::start(voting_monitoring::run::<S>, &config);
@@ -304,7 +312,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
     // One beat keeps guidance alive through the test, however slowly the machine runs it: the
     // state changes counted below are the commands' alone.
     config.health.period_ms = 10_000;
-    let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
+    let ipc = Ipc::<S>::open("neighbours", &config.ipc).unwrap();
     let state: Subscriber<S, AutomationStatePayload> =
         ipc.subscriber(FccService::AutomationState).unwrap();
     let waypoints: Publisher<S, WaypointListPayload> =
@@ -400,7 +408,7 @@ fn system_automation_executes_only_when_its_rules_allow_and_follows_guidance() {
 fn guidance_stub_flies_the_list_and_publishes_its_progress() {
     let (mut config, _dir) = config("guidance");
     config.guidance.time_scale = 50.0;
-    let ipc = Ipc::<S>::open("neighbours", &config.ipc.service_prefix).unwrap();
+    let ipc = Ipc::<S>::open("neighbours", &config.ipc).unwrap();
     let waypoints: Publisher<S, WaypointListPayload> =
         ipc.publisher(FccService::WaypointList).unwrap();
     let areas: Publisher<S, AreaListPayload> = ipc.publisher(FccService::AreaList).unwrap();

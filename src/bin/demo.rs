@@ -287,7 +287,7 @@ fn run(args: &Args) -> Result<(), String> {
     }
     fcc.links(STARTUP)
         .ok_or("the FCC did not announce its links")?
-        .apply(&mut config);
+        .apply(&mut config.links);
     println!(
         "FCC: 4 partitions, iceoryx2 prefix {:?}; links: direct {}, LTE {}; time scale {}x\n",
         config.ipc.service_prefix, config.links.fcc_direct, config.links.fcc_lte, args.time_scale

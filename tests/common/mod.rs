@@ -120,7 +120,7 @@ impl Rig {
         let links = fcc
             .links(Duration::from_secs(20))
             .unwrap_or_else(|| panic!("no links announced:\n{}", fcc.log_text()));
-        links.apply(&mut self.config);
+        links.apply(&mut self.config.links);
     }
 
     /// The GCS over the rig's GCS ends, talking to the ports `fcc` announced (once per rig).

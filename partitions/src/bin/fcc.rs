@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
+use missionlink_interfaces::contracts::Partition;
 use missionlink_partitions::config::FccArgs;
 use missionlink_partitions::launcher;
 
@@ -23,7 +24,7 @@ struct Args {
     print_config: bool,
     /// Do not start this partition: another process (a HIL rig's, one in another language)
     /// fills its role. Repeatable; adds to `[launcher] without`.
-    #[arg(long, value_name = "PARTITION", value_parser = clap::builder::PossibleValuesParser::new(launcher::PARTITIONS))]
+    #[arg(long, value_name = "PARTITION", value_parser = clap::builder::PossibleValuesParser::new(Partition::BINARIES))]
     without: Vec<String>,
 }
 

@@ -23,10 +23,11 @@ pub struct BoundLinks {
 }
 
 impl BoundLinks {
-    /// Points `config`'s FCC ends at these (for the GCS that talks to this FCC).
-    pub fn apply(&self, config: &mut crate::config::Config) {
-        config.links.fcc_direct = self.fcc_direct;
-        config.links.fcc_lte = self.fcc_lte;
+    /// Points the FCC ends of `links` (a configuration's `[links]`) at these (for the GCS that
+    /// talks to this FCC).
+    pub fn apply(&self, links: &mut missionlink_platform::config::Links) {
+        links.fcc_direct = self.fcc_direct;
+        links.fcc_lte = self.fcc_lte;
     }
 }
 
