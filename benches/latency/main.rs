@@ -21,7 +21,7 @@
 //!    (`missionlink_partitions::ipc` on `ipc::Service`, the services and QoS of
 //!    `fcc/link/uplink` and `fcc/link/downlink`): the sender copies the frame into a loaned
 //!    sample, sends it and notifies the event service of the same name (`Publisher::send`); the
-//!    receiver sleeps in the partitions' `WaitSet` (`runtime::waitset`, `Control::wait`) on the
+//!    receiver sleeps in the partitions' `WaitSet` (`runtime::waitset`, `runtime::wait_in_waitset`) on the
 //!    listener and takes the sample as they do (`Subscriber::take_all`: zero-copy, it reads the
 //!    stamp in place).
 //! 2. `iox2-poll`: the same ports, publishing without the notification (`Publisher::publish`);
@@ -37,12 +37,15 @@
 //!    data handling taking the frames as it does (`take_all`) and answering on the downlink
 //!    service; each waits as its partition's default idle strategy says (`config::Idle`:
 //!    voting-monitoring spins 200 µs, then sleeps in the WaitSet; mission data handling sleeps
-//!    on its doorbell at once).
+//!    in the WaitSet at once).
 //! 7. `partition-block`, `partition-backoff`, `partition-doorbell`: the same with each idle
 //!    strategy (`config::IdleMode`): `block` (sleep in the WaitSet at once: the wait path
 //!    before the idle strategies, the same as `iox2-event` through `run_loop`), `backoff`
 //!    (spin for voting-monitoring's default budget, then the WaitSet) and `doorbell` without a
-//!    spin (sleep at once on the partition's semaphore doorbell, `doorbell`), on both sides.
+//!    spin (sleep at once on the partition's semaphore doorbell, `doorbell`), on both sides
+//!    but for the doorbell on the sender's: as voting-monitoring it waits for its sockets too,
+//!    so it sleeps in the WaitSet (`doorbell::waits`) and mission data handling's answer does
+//!    not ring a doorbell; the hop measured, the uplink into the receiver, is the doorbell's.
 //! 8. `iox2-own-pubsub`: iceoryx2's publish-subscribe ping-pong as its own benchmark sets it
 //!    up (`benchmarks/publish-subscribe` of its repository): a service per direction, history
 //!    0, subscriber buffer 1, one publisher and one subscriber, both sides busy-waiting on

@@ -108,7 +108,7 @@ impl Default for Ipc {
 }
 
 /// What a partition does when its inputs are empty, before the next frame, event or deadline
-/// (`runtime::Control::wait_idle`).
+/// (`runtime::run_loop`; the doorbell where `doorbell::waits` says so).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum IdleMode {

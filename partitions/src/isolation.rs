@@ -170,7 +170,7 @@ impl Profile {
 }
 
 /// The fence of one partition, built from the configuration before the loop opens anything and
-/// applied once by [`Fence::apply`] (from `runtime::Control::fence`).
+/// applied once by [`Fence::apply`] (from `runtime::Fencing::apply`).
 #[derive(Debug, Clone)]
 pub struct Fence {
     name: String,

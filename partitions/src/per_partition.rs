@@ -19,28 +19,29 @@ pub trait PartitionDefault {
     fn default_for(partition: Partition) -> Self;
 }
 
-/// One `T` per partition, in the order of `Partition::ALL`.
+/// One `T` per partition.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PerPartition<T>([T; 4]);
-
-const fn slot(p: Partition) -> usize {
-    match p {
-        Partition::VotingMonitoring => 0,
-        Partition::MissionDataHandling => 1,
-        Partition::SystemAutomation => 2,
-        Partition::Guidance => 3,
-    }
+pub struct PerPartition<T> {
+    voting_monitoring: T,
+    mission_data_handling: T,
+    system_automation: T,
+    guidance: T,
 }
 
 impl<T> PerPartition<T> {
     /// The value `f` gives each partition.
     pub fn from_fn(mut f: impl FnMut(Partition) -> T) -> Self {
-        Self(Partition::ALL.map(&mut f))
+        Self {
+            voting_monitoring: f(Partition::VotingMonitoring),
+            mission_data_handling: f(Partition::MissionDataHandling),
+            system_automation: f(Partition::SystemAutomation),
+            guidance: f(Partition::Guidance),
+        }
     }
 
     /// Each partition with its value, in start order.
     pub fn iter(&self) -> impl Iterator<Item = (Partition, &T)> {
-        Partition::ALL.into_iter().zip(self.0.iter())
+        Partition::ALL.into_iter().map(move |p| (p, &self[p]))
     }
 }
 
@@ -55,14 +56,23 @@ impl<T> Index<Partition> for PerPartition<T> {
     type Output = T;
 
     fn index(&self, p: Partition) -> &T {
-        // In bounds: `slot` maps the four partitions onto the four slots.
-        &self.0[slot(p)]
+        match p {
+            Partition::VotingMonitoring => &self.voting_monitoring,
+            Partition::MissionDataHandling => &self.mission_data_handling,
+            Partition::SystemAutomation => &self.system_automation,
+            Partition::Guidance => &self.guidance,
+        }
     }
 }
 
 impl<T> IndexMut<Partition> for PerPartition<T> {
     fn index_mut(&mut self, p: Partition) -> &mut T {
-        &mut self.0[slot(p)]
+        match p {
+            Partition::VotingMonitoring => &mut self.voting_monitoring,
+            Partition::MissionDataHandling => &mut self.mission_data_handling,
+            Partition::SystemAutomation => &mut self.system_automation,
+            Partition::Guidance => &mut self.guidance,
+        }
     }
 }
 
@@ -150,10 +160,13 @@ mod tests {
     }
 
     #[test]
-    fn the_slots_follow_the_start_order() {
-        for (i, p) in Partition::ALL.into_iter().enumerate() {
-            assert_eq!(slot(p), i);
+    fn each_partition_has_its_own_value() {
+        let table = PerPartition::from_fn(Partition::binary);
+        for p in Partition::ALL {
+            assert_eq!(table[p], p.binary());
         }
+        let order: Vec<_> = table.iter().map(|(p, _)| p).collect();
+        assert_eq!(order, Partition::ALL);
     }
 
     #[test]

@@ -277,7 +277,7 @@ enum Waiter<'w, S: Service> {
     /// Look at the inputs in a loop first, then sleep on the partition's doorbell (`doorbell`).
     /// The WaitSet's interval does not fire there: the loop keeps its own (`tick`).
     Doorbell {
-        doorbell: Doorbell,
+        doorbell: Box<Doorbell>,
         idle: Idle,
         tick: Option<(Duration, Instant)>,
     },
@@ -550,7 +550,7 @@ pub fn run_loop<S: Service>(
     let idle = config.ipc.idle[partition];
     let mut waiter = if crate::doorbell::waits(&config.ipc, partition) && !inputs.has_sockets() {
         Waiter::Doorbell {
-            doorbell: ipc.doorbell(partition)?,
+            doorbell: Box::new(ipc.doorbell(partition)?),
             idle,
             tick: inputs.every.map(|every| (every, Instant::now() + every)),
         }
