@@ -92,11 +92,48 @@ SERVICE_AUTOMATION_STATE = Service("fcc/automation/state", _STATE)
 SERVICE_GUIDANCE_PROGRESS = Service("fcc/guidance/progress", _STATE)
 #: #50000 commands accepted by mission data handling (AutomationCommandPayload), a queue.
 SERVICE_AUTOMATION_COMMAND = Service("fcc/automation/command", _QUEUE)
+
+class Partition(NamedTuple):
+    """A partition of the FCC (Partition): its role, which the services named after a partition
+    carry (fcc/health/<role>, whatever fills the role: a partition in Python beats on its role's
+    service), the Rust binary that fills it (what `fcc --without` takes to leave it out for a
+    replacement), and what its fence allows beyond every partition's loop.
+    """
+
+    role: str
+    binary: str
+    #: It owns the UDP links (inet sockets).
+    links: bool
+    #: It writes the state directory.
+    state: bool
+
+
+PARTITION_VOTING_MONITORING = Partition("voting-monitoring", "voting-monitoring", True, True)
+PARTITION_MISSION_DATA_HANDLING = Partition(
+    "mission-data-handling", "mission-data-handling", False, True
+)
+PARTITION_SYSTEM_AUTOMATION = Partition("system-automation", "system-automation", False, False)
+PARTITION_GUIDANCE = Partition("guidance", "guidance-stub", False, False)
+
+#: Every partition, in start order.
+PARTITIONS = (
+    PARTITION_VOTING_MONITORING,
+    PARTITION_MISSION_DATA_HANDLING,
+    PARTITION_SYSTEM_AUTOMATION,
+    PARTITION_GUIDANCE,
+)
+
 #: Heartbeats (HeartbeatPayload), one service per partition role, history 1.
-SERVICE_HEALTH_VOTING_MONITORING = Service("fcc/health/voting-monitoring", _STATE)
-SERVICE_HEALTH_MISSION_DATA_HANDLING = Service("fcc/health/mission-data-handling", _STATE)
-SERVICE_HEALTH_SYSTEM_AUTOMATION = Service("fcc/health/system-automation", _STATE)
-SERVICE_HEALTH_GUIDANCE = Service("fcc/health/guidance", _STATE)
+SERVICE_HEALTH_VOTING_MONITORING = Service(
+    "fcc/health/" + PARTITION_VOTING_MONITORING.role, _STATE
+)
+SERVICE_HEALTH_MISSION_DATA_HANDLING = Service(
+    "fcc/health/" + PARTITION_MISSION_DATA_HANDLING.role, _STATE
+)
+SERVICE_HEALTH_SYSTEM_AUTOMATION = Service(
+    "fcc/health/" + PARTITION_SYSTEM_AUTOMATION.role, _STATE
+)
+SERVICE_HEALTH_GUIDANCE = Service("fcc/health/" + PARTITION_GUIDANCE.role, _STATE)
 
 #: Every service.
 SERVICES = (

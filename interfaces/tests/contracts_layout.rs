@@ -42,8 +42,8 @@ use missionlink_interfaces::capacity::{
 use missionlink_interfaces::contracts::{
     ABSENT, AreaAltitudes, AreaListPayload, AutomationCommandPayload, AutomationStatePayload,
     CONTRACT_VERSION, CircleArea, DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX, FccService,
-    FlightPhase, FramePayload, GuidanceProgressPayload, HeartbeatPayload, Link, PolygonArea,
-    WaypointEntry, WaypointListPayload,
+    FlightPhase, FramePayload, GuidanceProgressPayload, HeartbeatPayload, Link, Partition,
+    PolygonArea, WaypointEntry, WaypointListPayload,
 };
 use missionlink_interfaces::wire::{
     Altitude, AltitudeType, Angle, ExecuteCommand, GeoPoint, LegType, MAX_FRAME_LEN, SafetyOffset,
@@ -438,6 +438,23 @@ fn rust_constants() -> Vec<(&'static str, Value)> {
     ]
 }
 
+/// The key of a partition in C and Python (`Guidance` -> `GUIDANCE`).
+fn partition_key(p: Partition) -> String {
+    upper_snake(&format!("{p:?}"))
+}
+
+fn partition_fact(p: Partition) -> String {
+    let allowed = p.allowed();
+    format!(
+        "partition {} role {} binary {} links {} state {}",
+        partition_key(p),
+        p.role(),
+        p.binary(),
+        u8::from(allowed.links),
+        u8::from(allowed.state)
+    )
+}
+
 fn service_fact(service: FccService) -> String {
     let q = service.qos();
     format!(
@@ -478,6 +495,9 @@ fn rust_facts(layouts: &[Layout]) -> BTreeSet<String> {
     }
     for service in FccService::ALL {
         facts.insert(service_fact(service));
+    }
+    for p in Partition::ALL {
+        facts.insert(partition_fact(p));
     }
     for (name, values) in rust_enums() {
         for (variant, v) in values {
@@ -652,6 +672,11 @@ fn expected_c_names(layouts: &[Layout]) -> BTreeSet<String> {
             names.insert(format!("MISSIONLINK_{}_{variant}", upper_snake(name)));
         }
     }
+    for p in Partition::ALL {
+        for what in ["ROLE", "BINARY", "LINKS", "STATE"] {
+            names.insert(format!("MISSIONLINK_PARTITION_{}_{what}", partition_key(p)));
+        }
+    }
     for l in layouts.iter().filter(|l| l.type_name.is_some()) {
         names.insert(format!("MISSIONLINK_{}_TYPE_NAME", upper_snake(l.name)));
     }
@@ -722,6 +747,14 @@ fn c_program(header: &CHeader, layouts: &[Layout]) -> String {
              {m}_SUBSCRIBER_MAX_BUFFER_SIZE, {m}_MAX_PUBLISHERS, {m}_MAX_SUBSCRIBERS, \
              {m}_SAFE_OVERFLOW);\n",
             c_str(&service_key(service))
+        ));
+    }
+    for partition in Partition::ALL {
+        let m = format!("MISSIONLINK_PARTITION_{}", partition_key(partition));
+        p.push_str(&format!(
+            "    printf(\"partition %s role %s binary %s links %d state %d\\n\", {}, {m}_ROLE, \
+             {m}_BINARY, {m}_LINKS, {m}_STATE);\n",
+            c_str(&partition_key(partition))
         ));
     }
     for (name, values) in rust_enums() {
@@ -996,8 +1029,15 @@ for name, value in vars(m).items():
         print("service %s path %s history %d buffer %d publishers %d subscribers %d safe_overflow %d"
               % (name[len("SERVICE_"):], value.path, q.history_size, q.subscriber_max_buffer_size,
                  q.max_publishers, q.max_subscribers, int(q.safe_overflow)))
+    elif isinstance(value, m.Partition):
+        if not name.startswith("PARTITION_"):
+            print("a Partition not named PARTITION_*: %s" % name)
+        print("partition %s role %s binary %s links %d state %d"
+              % (name[len("PARTITION_"):], value.role, value.binary, int(value.links), int(value.state)))
     elif name.isupper() and isinstance(value, (int, str)) and not isinstance(value, (bool, enum.Enum)):
         print("const %s %s" % (name, value))
+if [p for n, p in vars(m).items() if n.startswith("PARTITION_")] != list(m.PARTITIONS):
+    print("PARTITIONS lists other partitions than the PARTITION_* names, or in another order")
 if sorted(services) != sorted(m.SERVICES):
     print("SERVICES lists other services than the SERVICE_* names")
 structures = [c for c in vars(m).values() if inspect.isclass(c) and issubclass(c, ctypes.Structure) and ours(c)]
