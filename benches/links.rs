@@ -36,9 +36,9 @@ use std::time::{Duration, Instant};
 
 use missionlink::link_emulator::Profile;
 use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_interfaces::wire::TransferWindow;
-use missionlink_services::ground_station::{MissionPlan, Sequence};
-use missionlink_services::testkit;
+use missionlink_protocol::testkit;
 
 /// Stop-and-wait and the default window, unless `--windows` names others.
 const WINDOWS: [u8; 2] = [1, 32];

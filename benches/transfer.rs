@@ -45,10 +45,10 @@ mod common;
 use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
+use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::{Idle, IdleMode, IdlePerPartition};
-use missionlink_services::ground_station::{MissionPlan, Sequence};
-use missionlink_services::testkit;
+use missionlink_protocol::testkit;
 
 const DEFAULT_RUNS: usize = 30;
 const WARM_UP_RUNS: usize = 2;

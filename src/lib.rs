@@ -6,4 +6,3 @@
 pub mod link_emulator;
 
 pub use missionlink_interfaces as interfaces;
-pub use missionlink_services as services;

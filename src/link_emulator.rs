@@ -24,7 +24,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-pub use missionlink_services::testkit::channel::{Burst, Channel, ChannelStats, Impairments};
+pub use missionlink_linksim::channel::{Burst, Channel, ChannelStats, Impairments};
 
 /// The named links of the tests and benchmarks (`tests/emulated_links.rs`, `tests/link_faults.rs`,
 /// BENCHMARKS.md section 6).

@@ -22,10 +22,10 @@ use std::time::Duration;
 use common::ground::Ground;
 use common::*;
 use iceoryx2::prelude::{CallbackProgression, ipc};
+use missionlink_ground::ground_station::ValidatedPlan;
 use missionlink_interfaces::contracts::{AreaListPayload, WaypointListPayload};
 use missionlink_partitions::ipc::{Ipc, ListPairing};
 use missionlink_partitions::runtime;
-use missionlink_services::ground_station::ValidatedPlan;
 
 /// Activations of the two staged missions, alternately.
 const ACTIVATIONS: usize = 50;

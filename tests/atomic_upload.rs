@@ -18,10 +18,10 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_interfaces::wire::Message;
-use missionlink_services::ground_station::{MissionPlan, Sequence};
-use missionlink_services::testkit::Rng;
-use missionlink_services::transfer::staged::MissionId;
+use missionlink_linksim::Rng;
+use missionlink_protocol::transfer::staged::MissionId;
 
 /// Upload runs cut at a random message.
 const RUNS: usize = 40;

@@ -11,12 +11,12 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use iceoryx2::prelude::ipc;
+use missionlink_ground::ground_station::outcome::UploadOutcome;
+use missionlink_ground::ground_station::{GcsError, Phase, Sequence};
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
-use missionlink_services::ground_station::outcome::UploadOutcome;
-use missionlink_services::ground_station::{GcsError, Phase, Sequence};
 
 fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
     a.generation == b.generation
@@ -426,7 +426,7 @@ fn execute_is_refused_when_the_way_from_the_take_off_point_crosses_a_no_fly_zone
 fn after_an_edition_1_peers_clear_the_fcc_holds_no_mission() {
     use common::ground::Ground;
     use missionlink_partitions::config::{Signing, SigningPolicy};
-    use missionlink_services::transfer::sender::mission_command;
+    use missionlink_protocol::transfer::sender::mission_command;
     use wire::{ExecuteCommand, Message, MissionExecuteCommand, MissionPlanMode, Reason};
 
     let mut rig = Rig::new("edition-1-clear");

@@ -4,7 +4,7 @@
 //! the GCS hears the reason (`WrongState`); and when the launcher gives up system automation
 //! (its start limit), the FCC is degraded: mission data handling hears its heartbeat fall
 //! silent and refuses execute. The limit itself (2.5 periods, found within 3) is
-//! tested in simulated time in `missionlink_services::health`; here the real processes, whose
+//! tested in simulated time in `missionlink_flight::health`; here the real processes, whose
 //! timing on a loaded machine is printed, never asserted.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -15,10 +15,10 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::*;
+use missionlink_ground::ground_station::GcsError;
+use missionlink_ground::ground_station::GcsEvent;
 use missionlink_interfaces::wire;
 use missionlink_partitions::launcher::PARTITIONS;
-use missionlink_services::ground_station::GcsError;
-use missionlink_services::ground_station::GcsEvent;
 use rustix::process::Signal;
 
 const LIMIT: Duration = Duration::from_secs(30);

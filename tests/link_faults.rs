@@ -27,9 +27,10 @@ use std::time::{Duration, Instant};
 use common::*;
 use missionlink::link_emulator::{Flow, Impairments};
 use missionlink_gcs::gcs_link::{Direction, Finished};
-use missionlink_services::ground_station::outcome::Held;
-use missionlink_services::ground_station::{GcsError, MissionPlan, Sequence, ValidatedPlan};
-use missionlink_services::testkit::{Rng, area_buffer, eleven_areas, generated_plan};
+use missionlink_ground::ground_station::outcome::Held;
+use missionlink_ground::ground_station::{GcsError, MissionPlan, Sequence, ValidatedPlan};
+use missionlink_linksim::Rng;
+use missionlink_protocol::testkit::{area_buffer, eleven_areas, generated_plan};
 
 /// Trials in an ordinary test run: bounded so that CI spends well under two minutes here.
 const DEFAULT_TRIALS: usize = 48;

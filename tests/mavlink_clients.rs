@@ -21,7 +21,7 @@ use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
 use missionlink_gcs::mavlink::plan::PlanContext;
 use missionlink_gcs::mavlink::vehicle::{Vehicle, VehicleConfig};
 use missionlink_gcs::qgc::ImportOptions;
-use missionlink_services::safety_gateway::SafetyGateway;
+use missionlink_ground::safety_gateway::SafetyGateway;
 
 fn script(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -2,7 +2,7 @@
 //! stub) sends #101 from guidance's progress, through voting-monitoring's UDP links and the
 //! seccomp filter of mission data handling, and the real GCS link receives it while demo mission
 //! 1 (TROL to CCP) flies. The rate itself is tested in simulated time
-//! (`missionlink_services::position`, `services/tests/mission_pair.rs`); here what the GCS sees:
+//! (`missionlink_flight::position`, `services/ground/tests/sans_io/mission_pair.rs`); here what the GCS sees:
 //! the aircraft on the ground at TROL, then positions on the way to CCP with the course towards
 //! it, FROM-TO-NEXT among them, and the aircraft at CCP at the end; with each position what
 //! guidance knows of its vertical speed and attitude (ICD §4 #101): nothing of the heading
@@ -17,9 +17,9 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::*;
+use missionlink_ground::ground_station::{GcsError, GcsEvent};
 use missionlink_interfaces::wire::{self, GeoPoint, InertialStates};
-use missionlink_services::geofence::earth::{bearing_deg, distance_m};
-use missionlink_services::ground_station::{GcsError, GcsEvent};
+use missionlink_protocol::geofence::earth::{bearing_deg, distance_m};
 
 const LIMIT: Duration = Duration::from_secs(60);
 

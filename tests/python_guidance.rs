@@ -6,7 +6,7 @@
 //!   the real GCS over UDP: FROM-TO-NEXT reaches the GCS through mission data handling, from
 //!   progress the Python process published; the launcher hears its heartbeat, and a Rust
 //!   subscriber reads its heartbeat and progress with the Rust payload types.
-//! - **Same kinematics**: the Python model and `services::guidance` fly demo missions 1 and 2
+//! - **Same kinematics**: the Python model and `missionlink_flight::guidance` fly demo missions 1 and 2
 //!   (and mission 2 with return to home and with land-at, a route through mission 2's
 //!   no-fly-zones and out of its fly-zone, and mission 2 planned for and flown in a 12 m/s wind,
 //!   ICD §7 "Turns in wind") from the same lists, each in its own process but in simulated
@@ -31,6 +31,8 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use iceoryx2::prelude::ipc;
+use missionlink_flight::guidance::{Guidance, GuidanceConfig};
+use missionlink_ground::ground_station::GcsError;
 use missionlink_interfaces::contracts::{
     AreaAltitudes, AreaListPayload, AutomationStatePayload, CircleArea, FccService, FlightPhase,
     GuidanceProgressPayload, HeartbeatPayload, Partition, PolygonArea, WaypointEntry,
@@ -39,10 +41,8 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{self, GeoPoint, Speed};
 use missionlink_partitions::ipc::Ipc;
 use missionlink_partitions::launcher::FccProcess;
-use missionlink_services::geofence::earth::{Site, distance_m};
-use missionlink_services::ground_station::GcsError;
-use missionlink_services::guidance::{Guidance, GuidanceConfig};
-use missionlink_services::link::time::Instant as SimInstant;
+use missionlink_protocol::geofence::earth::{Site, distance_m};
+use missionlink_protocol::link::time::Instant as SimInstant;
 use serde_json::{Value, json};
 
 /// Bound of every wait (a failure bound, never a timing assertion).
@@ -406,7 +406,7 @@ fn automate(
     (changed, landed)
 }
 
-/// The flight with `services::guidance`, one record per step.
+/// The flight with `missionlink_flight::guidance`, one record per step.
 fn fly_rust(s: &Scenario) -> Vec<Record> {
     let mut g = Guidance::new(GuidanceConfig {
         start_latitude_deg: s.start.0,

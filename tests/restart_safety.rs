@@ -1,4 +1,4 @@
-//! Restart safety (`services/src/mission_data_handling/mod.rs`): an upload of demo mission 2 over
+//! Restart safety (`services/flight/src/mission_data_handling/mod.rs`): an upload of demo mission 2 over
 //! mission 1, with mission data handling killed (`kill -9`) right after the FCC's k-th message of
 //! the upload, for every k of the sequence (the report before the upload, the clear, every
 //! waypoint, the transmit, the area upload, the last answer). Afterwards the active lists are the
@@ -6,7 +6,7 @@
 //!
 //! The launcher restarts the partition; it resumes with the lists it recorded before answering
 //! and refuses the rest of an upload it did not see from the start (the restart record of
-//! `services::mission_data_handling`).
+//! `missionlink_flight::mission_data_handling`).
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -17,10 +17,10 @@ use std::time::Duration;
 
 use common::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
-use missionlink_services::ground_station::GcsError;
-use missionlink_services::ground_station::outcome::{Held, UploadReport};
-use missionlink_services::transfer::integrity;
-use missionlink_services::transfer::staged::MissionId;
+use missionlink_ground::ground_station::GcsError;
+use missionlink_ground::ground_station::outcome::{Held, UploadReport};
+use missionlink_protocol::transfer::integrity;
+use missionlink_protocol::transfer::staged::MissionId;
 
 #[test]
 fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_the_gcs_says_which()

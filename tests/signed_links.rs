@@ -18,7 +18,7 @@ use missionlink_interfaces::wire::{
 };
 use missionlink_partitions::config::{Signing, SigningPolicy};
 use missionlink_platform::keys;
-use missionlink_services::link::signing::{LinkKey, SignatureCause, Signer};
+use missionlink_protocol::link::signing::{LinkKey, SignatureCause, Signer};
 
 /// A new key file with `key_id` in the rig's directory.
 fn key_file(rig: &Rig, name: &str, key_id: u8) -> PathBuf {

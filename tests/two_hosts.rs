@@ -43,13 +43,13 @@ use std::time::{Duration, Instant};
 
 use common::netns::{ADDR_A, Hosts};
 use common::*;
+use missionlink_ground::ground_station::GcsError;
 use missionlink_interfaces::wire;
 use missionlink_partitions::binaries;
 use missionlink_partitions::bridge_config::{Authentication, Bridge, Mode};
 use missionlink_partitions::config::Config;
 use missionlink_partitions::isolation::status_shows_fence;
 use missionlink_partitions::launcher::FccProcess;
-use missionlink_services::ground_station::GcsError;
 
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(60);

@@ -24,7 +24,7 @@ use missionlink_gcs::inspect::encode_json;
 use missionlink_gcs::pcap::PcapWriter;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, MessageType};
-use missionlink_services::link::signing::{LinkKey, Signer};
+use missionlink_protocol::link::signing::{LinkKey, Signer};
 use serde::Serialize;
 use serde_json::Value;
 

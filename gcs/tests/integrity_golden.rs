@@ -1,5 +1,5 @@
 //! ICD §11 golden values: the canonical forms and CRC-32 checksums of the demo missions and
-//! their areas (and of mission 2 planned in wind), as `services/tests/data/integrity_reference.py` computes them from the ICD text
+//! their areas (and of mission 2 planned in wind), as `services/protocol/tests/data/integrity_reference.py` computes them from the ICD text
 //! alone (a third party can rerun it), against services' `transfer::integrity` on the same
 //! mission files read by the gcs.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
@@ -10,11 +10,11 @@ use std::path::Path;
 
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_interfaces::wire::Speed;
-use missionlink_services::transfer::integrity::{
+use missionlink_protocol::transfer::integrity::{
     areas_checksum, mission_checksum, write_areas, write_mission,
 };
 
-const GOLDEN: &str = include_str!("../../services/tests/data/integrity_golden.txt");
+const GOLDEN: &str = include_str!("../../services/protocol/tests/data/integrity_golden.txt");
 
 fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()

@@ -11,6 +11,10 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::local;
+use missionlink_ground::ground_station::{
+    GcsConfig, GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
+};
+use missionlink_ground::testkit;
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FlightPhase,
     FramePayload, GuidanceProgressPayload, HeartbeatPayload, Link, Partition, WaypointListPayload,
@@ -25,11 +29,7 @@ use missionlink_partitions::{
     guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
 };
 use missionlink_platform::clock::DriverClock;
-use missionlink_services::ground_station::{
-    GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
-};
-use missionlink_services::testkit;
-use missionlink_services::transfer::sender::mission_command;
+use missionlink_protocol::transfer::sender::mission_command;
 
 type S = local::Service;
 type Loop = fn(&Config, &Control) -> Result<(), PartitionError>;
@@ -171,7 +171,11 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
 
     // The GCS logic plays the ground, its frames carried over the uplink service.
     let clock = DriverClock::start();
-    let mut gcs = GroundStation::new(config.link().gcs_core(clock.utc_at_zero()), WithoutGateway);
+    let gcs_config = GcsConfig {
+        endpoint: config.link().ids.gcs_endpoint(clock.utc_at_zero()),
+        ..testkit::gcs_config()
+    };
+    let mut gcs = GroundStation::new(gcs_config, WithoutGateway);
     gcs.upload(clock.now(), &plan(), true).unwrap();
     let mut buf = [0u8; MAX_FRAME_LEN];
     let mut answers = 0;

@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+use missionlink_ground::ground_station::ValidatedPlan;
 use missionlink_interfaces::wire::{
     AckType, AreaListStatus, AreaTransferMode, AreaTransmissionCommand, ExecuteCommand,
     MAX_FRAME_LEN, Message, MissionExecuteCommand, MissionPlanMode, Reason, Text, Timestamp,
@@ -13,9 +14,8 @@ use missionlink_partitions::config::Config;
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::LinkPair;
-use missionlink_services::ground_station::ValidatedPlan;
-use missionlink_services::link::endpoint::{Endpoint, Inbound};
-use missionlink_services::transfer::sender::mission_command;
+use missionlink_protocol::link::endpoint::{Endpoint, Inbound};
+use missionlink_protocol::transfer::sender::mission_command;
 
 /// The ground, played message by message over the rig's links.
 pub struct Ground {
@@ -30,7 +30,7 @@ impl Ground {
         let signing = LinkSigning::load(&config.signing).unwrap();
         let links = links.with_signer(signing.signer);
         let clock = DriverClock::start();
-        let core = config.link().gcs_core(clock.utc_at_zero());
+        let core = missionlink_gcs::gcs_link::gcs_core(&config.link(), clock.utc_at_zero());
         // Answers come on both links; the direct one is read, with a timeout.
         let direct = links.sockets()[0];
         direct.set_nonblocking(false).unwrap();

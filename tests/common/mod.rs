@@ -12,14 +12,14 @@ use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink};
 use missionlink_gcs::mission_file::MissionFile;
+use missionlink_ground::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 use missionlink_interfaces::wire::{Message, MissionPlanMode, MissionReport};
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
 use missionlink_partitions::launcher::{self, FccProcess};
 use missionlink_platform::udp::{LinkPair, LocalEnds};
-use missionlink_services::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
-use missionlink_services::transfer::sender::mission_command;
+use missionlink_protocol::transfer::sender::mission_command;
 
 pub type Link = GcsLink<WithoutGateway>;
 pub type Error = GcsError<core::convert::Infallible>;
@@ -339,7 +339,7 @@ pub fn active_checksums(link: &mut Link) -> (Option<u32>, Option<u32>) {
 
 /// The checksums of `plan`'s lists (mission, areas), as the FCC computes them (ICD §11).
 pub fn plan_checksums(plan: &ValidatedPlan) -> (Option<u32>, Option<u32>) {
-    use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
+    use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
     (
         Some(mission_checksum(&plan.mission).value()),
         Some(areas_checksum(&plan.areas).value()),
@@ -418,9 +418,9 @@ pub fn python_guidance_command(config: &Config) -> std::process::Command {
 /// Keeps the waypoint numbers (0 for none) of a #4001 the GCS received.
 pub fn record<R>(
     seen: &mut Vec<(u16, u16, u16)>,
-    event: &missionlink_services::ground_station::GcsEvent<R>,
+    event: &missionlink_ground::ground_station::GcsEvent<R>,
 ) {
-    if let missionlink_services::ground_station::GcsEvent::FromToNext(f) = event {
+    if let missionlink_ground::ground_station::GcsEvent::FromToNext(f) = event {
         seen.push((
             f.from.waypoint_number.unwrap_or(0),
             f.to.waypoint_number.unwrap_or(0),
