@@ -239,7 +239,7 @@ fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_
  {
     let (mut config, _dir) = config("vm");
     // The voting of unsigned frames, as from a GCS that cannot sign, written in the
-    // configuration as a deployment would have to (the signed links: tests/signed_links.rs).
+    // configuration as a deployment would have to (the signed links: tests/system/signed_links.rs).
     config.signing.policy = SigningPolicy::Off;
     let gcs_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
     let gcs_lte = UdpSocket::bind("127.0.0.1:0").unwrap();

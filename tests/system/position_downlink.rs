@@ -8,15 +8,10 @@
 //! guidance knows of its vertical speed and attitude (ICD §4 #101): nothing of the heading
 //! before it moved, level on the ground, on the way the nose towards CCP (no wind), wings level
 //! on the straight leg, climbing from the take-off height to CCP's altitude.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::time::{Duration, Instant};
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_ground::ground_station::{GcsError, GcsEvent};
 use missionlink_interfaces::wire::{self, GeoPoint, InertialStates};
 use missionlink_protocol::geofence::earth::{bearing_deg, distance_m};

@@ -1,17 +1,12 @@
 //! Signed links (ICD §9) through the real binaries: the FCC's voting-monitoring requires the
 //! key, the operator's GCS holds it, and a stranger on the network who knows the IDs, the ports
 //! and the message formats cannot clear or replace the mission.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::net::{SocketAddr, UdpSocket};
 use std::path::PathBuf;
 use std::time::{SystemTime, UNIX_EPOCH};
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_interfaces::contracts::Link as LinkId;
 use missionlink_interfaces::wire::{
     self, Envelope, MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, Timestamp,

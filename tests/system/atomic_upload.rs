@@ -8,15 +8,10 @@
 //! "Dies" is the crash of the GCS process: it sends, answers and retries nothing more, and a new
 //! GCS starts on the same ports ([`GcsLink::into_links`]), asks the report, deletes the staged
 //! copies the dead one left, and uploads the old mission again for the next run.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::time::Duration;
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_interfaces::wire::Message;

@@ -1,4 +1,4 @@
-//! Two hosts on one machine for tests/two_hosts.rs and benches/bridge.rs: two network
+//! Two hosts on one machine for tests/system/two_hosts.rs and benches/bridge.rs: two network
 //! namespaces joined by a veth pair, with the link-local pair 169.254.77.1 (host A) and
 //! 169.254.77.2 (host B) on it and nothing else, made with iproute2's `ip` and removed when the
 //! guard is dropped (also when the test fails). Needs root.
@@ -47,7 +47,7 @@ impl Hosts {
     pub fn new(tag: &str) -> Self {
         assert!(
             rustix::process::geteuid().is_root(),
-            "tests/two_hosts.rs needs root (network namespaces and a veth pair): run it as root, as CI's .ci/run does"
+            "tests/system/two_hosts.rs needs root (network namespaces and a veth pair): run it as root, as CI's .ci/run does"
         );
         let id = std::process::id();
         let hosts = Self {

@@ -4,16 +4,11 @@
 //! and given up after its start limit, said once by name, while the others keep running and the
 //! FCC is no longer announced up. And voting-monitoring warns at every start while the links
 //! are not authenticated.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::os::unix::fs::PermissionsExt;
 use std::time::{Duration, Instant};
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_partitions::config::{Signing, SigningPolicy};
 use missionlink_partitions::launcher::{FccProcess, PARTITIONS};
 use missionlink_partitions::state;

@@ -6,11 +6,6 @@
 //! directories, run a program) is refused or killed by the kernel, and the launcher names it.
 //! The misbehaving partition is `examples/isolation_probe.rs`, a test-only program that fences
 //! itself as a named partition does.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::collections::BTreeSet;
 use std::os::unix::process::ExitStatusExt;
@@ -18,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_partitions::config;
 use missionlink_partitions::isolation::{Violation, status_shows_fence};
 use missionlink_partitions::launcher::{FccProcess, PARTITIONS};

@@ -31,18 +31,13 @@
 //!
 //! Network namespaces need root: run as root (CI's `.ci/run` does). Without root each test fails
 //! at once with one line saying so.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::netns::{ADDR_A, Hosts};
-use common::*;
+use missionlink::harness::netns::{ADDR_A, Hosts};
+use missionlink::harness::*;
 use missionlink_ground::ground_station::GcsError;
 use missionlink_interfaces::wire;
 use missionlink_partitions::binaries;

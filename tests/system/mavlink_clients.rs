@@ -3,11 +3,6 @@
 //! system chooses, and a Python client in a child process (`tests/clients/`, packages from
 //! partitions/python/requirements.txt, installed by tools/test). The client's checks are its
 //! own; this test passes when it exits with status 0, and prints what it said.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -15,7 +10,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_gcs::gcs_link::GcsLink;
 use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
 use missionlink_gcs::mavlink::plan::PlanContext;

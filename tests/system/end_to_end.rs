@@ -1,16 +1,11 @@
 //! End to end through the real binaries: the FCC partitions as separate processes sharing
 //! iceoryx2 services, the GCS over the two UDP links. Every test has its own service prefix,
 //! ports and state directory (tests/common), so they run in parallel.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::time::{Duration, Instant};
 
-use common::*;
 use iceoryx2::prelude::ipc;
+use missionlink::harness::*;
 use missionlink_ground::ground_station::outcome::UploadOutcome;
 use missionlink_ground::ground_station::{GcsError, Phase, Sequence};
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
@@ -111,7 +106,7 @@ fn guidance_receives_exactly_the_assembled_lists_even_when_started_late() {
 fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_what_was_active() {
     let mut rig = Rig::new("kill9");
     // One attempt: this test is about the abort; a second one would complete the upload on the
-    // restarted partition (tests/link_faults.rs).
+    // restarted partition (tests/system/link_faults.rs).
     rig.config.timing.upload_attempts = 1;
     let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
@@ -424,7 +419,7 @@ fn execute_is_refused_when_the_way_from_the_take_off_point_crosses_a_no_fly_zone
 /// (`WrongState`, ICD §5.7) until a mission is uploaded again.
 #[test]
 fn after_an_edition_1_peers_clear_the_fcc_holds_no_mission() {
-    use common::ground::Ground;
+    use missionlink::harness::ground::Ground;
     use missionlink_partitions::config::{Signing, SigningPolicy};
     use missionlink_protocol::transfer::sender::mission_command;
     use wire::{ExecuteCommand, Message, MissionExecuteCommand, MissionPlanMode, Reason};

@@ -6,15 +6,10 @@
 //! silent and refuses execute. The limit itself (2.5 periods, found within 3) is
 //! tested in simulated time in `missionlink_flight::health`; here the real processes, whose
 //! timing on a loaded machine is printed, never asserted.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::time::{Duration, Instant};
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_ground::ground_station::GcsError;
 use missionlink_ground::ground_station::GcsEvent;
 use missionlink_interfaces::wire;

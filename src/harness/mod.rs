@@ -1,10 +1,26 @@
-//! Running the real binaries: an FCC (the launcher and its partitions) under a prefix, ports
-//! and state directory of its own, so tests run in parallel; and the GCS over UDP in the test.
-//! The GCS binds its ends itself (port 0) and the FCC's voting-monitoring binds and announces
-//! its own: every port is chosen by the process that binds it.
-#![allow(dead_code)]
+//! The harness of the cross-process tests (`tests/system/`) and the benches: running the real
+//! binaries, an FCC (the launcher and its partitions) under a prefix, ports and state directory
+//! of its own, so tests run in parallel; and the GCS over UDP in the test. The GCS binds its
+//! ends itself (port 0) and the FCC's voting-monitoring binds and announces its own: every port
+//! is chosen by the process that binds it.
+//!
+//! - [`ground`]: the ground played message by message, for tests of the FCC's answers;
+//! - [`netns`]: two hosts on one machine (network namespaces and a veth pair);
+//! - [`log_axis`]: the benches' SVG plots.
+//!
+//! Test code: a setup that fails is a broken test or bench, not outside input, so this module
+//! unwraps and panics where the product crates may not.
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    missing_docs,
+    reason = "the harness of tests and benches: a setup that fails is a broken test"
+)]
 
 pub mod ground;
+pub mod log_axis;
 pub mod netns;
 
 use std::path::{Path, PathBuf};
@@ -71,7 +87,7 @@ impl Rig {
         config.guidance.time_scale = 50.0;
         config.launcher.restart_delay_ms = 100;
         // Tests kill partitions many times in a row (restart_safety, link_faults): no growing
-        // pause and no start limit there (tests/supervision.rs sets its own).
+        // pause and no start limit there (tests/system/supervision.rs sets its own).
         config.launcher.restart_delay_max_ms = 100;
         config.launcher.start_limit_burst = 1000;
         Self {
@@ -182,10 +198,10 @@ impl Rig {
     /// GCS to its gcs-facing ones. The rig's configuration (timeouts, say) is set before.
     pub fn start_through(
         &mut self,
-        flows: [missionlink::link_emulator::Impairments; 4],
+        flows: [crate::link_emulator::Impairments; 4],
         seed: u64,
-    ) -> (Process, Link, missionlink::link_emulator::Emulator) {
-        use missionlink::link_emulator::{Emulator, EmulatorConfig};
+    ) -> (Process, Link, crate::link_emulator::Emulator) {
+        use crate::link_emulator::{Emulator, EmulatorConfig};
         let emulator = Emulator::start(EmulatorConfig {
             gcs: self.gcs_addrs(),
             flows,

@@ -1,15 +1,10 @@
 //! The real GCS and the real FCC through the link emulator (`missionlink::link_emulator`):
 //! windowed transfers (ICD §10) over an LTE link with its delay, jitter and loss on both links,
 //! and over one link when the other is cut.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::time::Instant;
 
-use common::*;
+use missionlink::harness::*;
 use missionlink::link_emulator::{Emulator, Flow, Profile};
 
 const SEED: u64 = 15;

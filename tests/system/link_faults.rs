@@ -12,19 +12,14 @@
 //! one of 100 waypoints with 11 areas, so every trial changes the active lists.
 //!
 //! The test runs [`DEFAULT_TRIALS`] trials, some 30 s. The soak runs more:
-//! `MISSIONLINK_FAULT_TRIALS=300 cargo test --release --test link_faults -- --nocapture`
+//! `MISSIONLINK_FAULT_TRIALS=300 cargo test --release --test system link_faults:: -- --nocapture`
 //! (`MISSIONLINK_FAULT_SEED` changes the seed); it prints what happened in every trial and a
 //! summary.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use common::*;
+use missionlink::harness::*;
 use missionlink::link_emulator::{Flow, Impairments};
 use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_ground::ground_station::outcome::Held;

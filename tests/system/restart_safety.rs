@@ -7,15 +7,10 @@
 //! The launcher restarts the partition; it resumes with the lists it recorded before answering
 //! and refuses the rest of an upload it did not see from the start (the restart record of
 //! `missionlink_flight::mission_data_handling`).
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::time::Duration;
 
-use common::*;
+use missionlink::harness::*;
 use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_ground::ground_station::GcsError;
 use missionlink_ground::ground_station::outcome::{Held, UploadReport};

@@ -7,21 +7,16 @@
 //! activations is printed, not asserted: it depends on timing, and shows what the pairing
 //! prevented.
 //!
-//! The ground is played message by message (`common::ground`): the GCS logic's staging
+//! The ground is played message by message (`harness::ground`): the GCS logic's staging
 //! commands are not what is under test.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
 
-use common::ground::Ground;
-use common::*;
 use iceoryx2::prelude::{CallbackProgression, ipc};
+use missionlink::harness::ground::Ground;
+use missionlink::harness::*;
 use missionlink_ground::ground_station::ValidatedPlan;
 use missionlink_interfaces::contracts::{AreaListPayload, WaypointListPayload};
 use missionlink_partitions::ipc::{Ipc, ListPairing};

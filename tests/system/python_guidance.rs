@@ -17,20 +17,15 @@
 //!   both time-scaled through the FCC would not be.
 //!
 //! Both need a Python 3 with the packages of partitions/python/requirements.txt: the one
-//! `tools/test` sets up in `target/venv` (`common::python`); without them they fail and say how
+//! `tools/test` sets up in `target/venv` (`harness::python`); without them they fail and say how
 //! to get them, never skip.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::*;
 use iceoryx2::prelude::ipc;
+use missionlink::harness::*;
 use missionlink_flight::guidance::{Guidance, GuidanceConfig};
 use missionlink_ground::ground_station::GcsError;
 use missionlink_interfaces::contracts::{
