@@ -11,7 +11,7 @@ line each: name, the canonical bytes in hex, the checksum in hex:
 
     python3 services/protocol/tests/data/integrity_reference.py > services/protocol/tests/data/integrity_golden.txt
 
-The Rust test services/ground/tests/sans_io/integrity_golden.rs compares both with services' transfer::integrity.
+The Rust test gcs/tests/cli/integrity_golden.rs compares both with missionlink_protocol::transfer::integrity.
 """
 
 import sys

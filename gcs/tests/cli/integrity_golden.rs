@@ -2,9 +2,6 @@
 //! their areas (and of mission 2 planned in wind), as `services/protocol/tests/data/integrity_reference.py` computes them from the ICD text
 //! alone (a third party can rerun it), against services' `transfer::integrity` on the same
 //! mission files read by the gcs.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::path::Path;
 
@@ -14,7 +11,7 @@ use missionlink_protocol::transfer::integrity::{
     areas_checksum, mission_checksum, write_areas, write_mission,
 };
 
-const GOLDEN: &str = include_str!("../../services/protocol/tests/data/integrity_golden.txt");
+const GOLDEN: &str = include_str!("../../../services/protocol/tests/data/integrity_golden.txt");
 
 fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()

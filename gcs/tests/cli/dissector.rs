@@ -8,11 +8,6 @@
 //!
 //! tshark must be installed (CI installs it: `.ci/run`); without it these tests fail, they do
 //! not skip.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod support;
 
 use std::collections::BTreeMap;
 use std::net::SocketAddr;
@@ -29,12 +24,12 @@ use serde::Serialize;
 use serde_json::Value;
 
 fn dissector() -> PathBuf {
-    support::repo_dir().join("tools/wireshark/missionlink.lua")
+    crate::support::repo_dir().join("tools/wireshark/missionlink.lua")
 }
 
 /// The committed capture of the demo (`cargo run --release -- --pcap ...`).
 fn demo_capture() -> PathBuf {
-    support::repo_dir().join("tools/wireshark/demo.pcap")
+    crate::support::repo_dir().join("tools/wireshark/demo.pcap")
 }
 
 /// Fails the test with what to do: CI installs tshark, so its absence is a failure, not a skip.
@@ -66,7 +61,7 @@ fn tshark(args: &[&str]) -> String {
 
 /// `gcs inspect --json` of one datagram: the messages it prints and whether it accepted all.
 fn inspect(datagram: &[u8]) -> (Vec<Value>, Output) {
-    let out = support::gcs_with_input(
+    let out = crate::support::gcs_with_input(
         &["inspect", "--json"],
         &format!("{}\n", hex::encode(datagram)),
     );

@@ -14,7 +14,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-#[path = "icd_document/describe.rs"]
 mod describe;
 
 use std::path::{Path, PathBuf};

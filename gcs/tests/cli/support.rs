@@ -1,6 +1,5 @@
 //! Running the real `gcs` binary in the tests: arguments and stdin in, exit status and output
 //! out; and the paths and text the tests of the `gcs` tool share.
-#![allow(dead_code)]
 
 use std::io::Write;
 use std::net::UdpSocket;

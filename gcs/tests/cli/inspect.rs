@@ -1,14 +1,9 @@
 //! The frame inspector as an engineer runs it: the real `gcs` binary, arguments and stdin, exit
 //! status and output.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
-
-mod support;
 
 use std::process::Output;
 
-use support::gcs_with_input;
+use crate::support::gcs_with_input;
 
 /// The #13002 of docs/gcs.md ("The frame inspector"): waypoint 1 of demo mission 1 (CCP), written
 /// by hand from the ICD.

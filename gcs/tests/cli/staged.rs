@@ -1,12 +1,8 @@
 //! The staged-mission commands of `gcs` (ICD §8) as the operator meets their arguments: a bad
 //! Mission ID is refused with the rule it breaks before anything is sent, and every command
 //! documents its exit statuses.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
 
-mod support;
-use support::{SilentFcc, gcs, repo, text};
+use crate::support::{SilentFcc, gcs, repo, text};
 
 #[test]
 fn a_bad_mission_id_is_refused_before_anything_is_sent() {

@@ -1,14 +1,10 @@
 //! The safety gateway as the operator meets it: `gcs validate`, `gcs upload` refusing an
 //! infeasible mission without sending anything, `gcs map`, `gcs convert`, and missions from
 //! QGroundControl.
-// A test stops at its first failure: it may unwrap, expect, panic and index.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
-#![allow(clippy::panic, clippy::indexing_slicing)]
 
 use std::path::{Path, PathBuf};
 
-mod support;
-use support::{SilentFcc, gcs, repo, scratch, text, text_of};
+use crate::support::{SilentFcc, gcs, repo, scratch, text, text_of};
 
 /// Demo mission 2 with waypoint 2 (W1) moved into the circular no-fly-zone, written into `dir`.
 fn broken_mission(dir: &Path) -> PathBuf {
