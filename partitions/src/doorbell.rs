@@ -233,6 +233,11 @@ pub struct Ringers {
 }
 
 impl Ringers {
+    /// Whether there is no doorbell to ring.
+    pub fn is_empty(&self) -> bool {
+        self.notifiers.is_empty()
+    }
+
     /// Rings every consumer's doorbell (a `sem_post` per listening consumer).
     pub fn ring(&self) -> Result<(), DoorbellError> {
         for notifier in &self.notifiers {

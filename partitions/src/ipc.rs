@@ -544,6 +544,19 @@ mod tests {
         assert_eq!(numbers, [(1, 2), (2, 0)]);
     }
 
+    /// Under the defaults no partition waits on its doorbell: a process opens no doorbell node
+    /// and its publishers ring nothing.
+    #[test]
+    fn the_default_configuration_opens_no_doorbell() {
+        let prefix = format!("ipc-test-quiet-{}", std::process::id());
+        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &config::Ipc::with_prefix(&prefix))
+            .unwrap();
+        assert!(ipc.doorbells.is_none());
+        assert!(ipc.doorbell(Partition::MissionDataHandling).is_err());
+        let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
+        assert!(uplink.ringers.is_empty());
+    }
+
     fn waypoints(activation: u64, count: u16) -> WaypointListPayload {
         WaypointListPayload {
             generation: activation,

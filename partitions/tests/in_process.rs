@@ -22,11 +22,11 @@ use missionlink_interfaces::contracts::{
 use missionlink_interfaces::wire::{
     AreaType, ExecuteCommand, LegType, MAX_FRAME_LEN, MissionPlanMode,
 };
-use missionlink_partitions::config::{Config, SigningPolicy};
+use missionlink_partitions::config::{Config, Idle, IdleMode, PerPartition, SigningPolicy};
 use missionlink_partitions::ipc::{Ipc, Publisher, Subscriber};
 use missionlink_partitions::runtime::{self, Control, PartitionError};
 use missionlink_partitions::{
-    guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
+    doorbell, guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
 };
 use missionlink_platform::clock::DriverClock;
 use missionlink_protocol::transfer::sender::mission_command;
@@ -169,7 +169,27 @@ fn valid() -> ValidatedPlan {
 #[test]
 fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_the_downlink() {
     let (config, _dir) = config("mdh");
-    let partition = Running::start(mission_data_handling::run::<S>, &config);
+    upload_through_mission_data_handling(&config);
+}
+
+/// The same on the doorbell (`IdleMode::Doorbell`, every partition): mission data handling
+/// sleeps on its doorbell, which the test's publisher, under the same configuration, rings.
+#[test]
+fn mission_data_handling_on_its_doorbell_is_woken_by_the_publishers_that_ring_it() {
+    let (mut config, _dir) = config("mdh-doorbell");
+    config.ipc.idle = PerPartition::all(Idle {
+        mode: IdleMode::Doorbell,
+        ..Idle::BLOCK
+    });
+    assert!(doorbell::waits(&config.ipc, Partition::MissionDataHandling));
+    upload_through_mission_data_handling(&config);
+}
+
+/// Uploads a mission through mission data handling running under `config`, the GCS logic
+/// playing the ground over the uplink and downlink services, and checks the lists it publishes
+/// and keeps.
+fn upload_through_mission_data_handling(config: &Config) {
+    let partition = Running::start(mission_data_handling::run::<S>, config);
     let ipc = Ipc::<S>::open("gcs-side", &config.ipc).unwrap();
     let uplink: Publisher<S, FramePayload> = ipc.publisher(FccService::Uplink).unwrap();
     let downlink: Subscriber<S, FramePayload> = ipc.subscriber(FccService::Downlink).unwrap();
