@@ -7,7 +7,8 @@
 //!   attachment: the contract's type name, size and version, checked on arrival. A mismatch is
 //!   refused, counted and logged once per service, never published.
 //! - A sample from Zenoh is published with the service's own publisher, which notifies the
-//!   service's event (and rings the partitions' doorbells), so a sleeping subscriber wakes.
+//!   service's event (and rings the doorbells of the partitions the configuration has wait on
+//!   them, `doorbell::waits`), so a sleeping subscriber wakes.
 //! - History-1 services (lists, automation state, progress): the sending bridge keeps the last
 //!   sample of each and answers Zenoh queries with it (a queryable per key); the receiving
 //!   bridge queries at start and whenever another bridge's liveliness token appears (a start,
