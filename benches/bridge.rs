@@ -26,13 +26,13 @@ use std::time::{Duration, Instant};
 use harness::netns::{ADDR_A, ADDR_B, Hosts};
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::ipc;
+use missionlink::harness::binaries;
+use missionlink::harness::fcc::FccProcess;
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::contracts::{FccService, FramePayload, Link, WaypointListPayload};
-use missionlink_partitions::binaries;
 use missionlink_partitions::bridge_config::{Authentication, Bridge};
 use missionlink_partitions::config::Config;
 use missionlink_partitions::ipc::Ipc;
-use missionlink_partitions::launcher::FccProcess;
 
 const DEFAULT_SAMPLES: usize = 2000;
 const WARMUP: usize = 100;

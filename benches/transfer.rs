@@ -43,10 +43,10 @@ use missionlink::harness;
 
 use std::time::{Duration, Instant};
 
+use missionlink::harness::binaries;
 use missionlink_gcs::gcs_link::Direction;
 use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_interfaces::contracts::Partition;
-use missionlink_partitions::binaries;
 use missionlink_partitions::config::{Idle, IdleMode, PerPartition};
 use missionlink_protocol::testkit;
 

@@ -4,7 +4,8 @@
 //! link no ground logic, no ground tooling and no harness; the gcs tool links no FCC logic and no
 //! iceoryx2; and neither turns on a crate's test fixtures (the feature `testkit`). Read from
 //! `cargo tree`, the dependency graph cargo builds from (normal edges only: what a release
-//! binary contains).
+//! binary contains). And no product crate runs cargo: building binaries is the harness's
+//! (`src/harness/binaries.rs`).
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -119,4 +120,48 @@ fn the_shared_crates_link_neither_side() {
             ],
         );
     }
+}
+
+/// Every `.rs` file under `dir`.
+fn sources(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            out.extend(sources(&path));
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+    out
+}
+
+#[test]
+fn no_product_crate_runs_cargo() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let product = [
+        "interfaces/src",
+        "services/protocol/src",
+        "services/flight/src",
+        "services/ground/src",
+        "platform/src",
+        "partitions/src",
+        "gcs/src",
+        "bridge/src",
+    ];
+    let running_cargo: Vec<String> = product
+        .iter()
+        .flat_map(|dir| sources(&root.join(dir)))
+        .filter(|file| {
+            let text = std::fs::read_to_string(file).unwrap();
+            text.contains("env::var(\"CARGO\")")
+                || text.contains("env!(\"CARGO\")")
+                || text.contains("Command::new(\"cargo\")")
+        })
+        .map(|file| file.display().to_string())
+        .collect();
+    assert!(
+        running_cargo.is_empty(),
+        "product code that runs cargo (harness code belongs in src/harness): {running_cargo:?}"
+    );
 }

@@ -8,7 +8,6 @@
 //! (`voting_monitoring::run::<S>` and so on): the binaries run it on `ipc::Service`, the tests
 //! in one process on `local::Service`, and a [`runtime::Control`] stops it from another thread.
 
-pub mod binaries;
 pub mod bridge_config;
 pub mod config;
 pub mod doorbell;

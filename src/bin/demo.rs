@@ -18,6 +18,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
+use missionlink::harness::binaries;
+use missionlink::harness::fcc::{FccProcess, local_config};
 use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink, Logged};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_gcs::pcap::PcapWriter;
@@ -26,9 +28,8 @@ use missionlink_ground::ground_station::outcome::UploadOutcome;
 use missionlink_ground::ground_station::{GcsError, GcsEvent, MissionPlan};
 use missionlink_ground::safety_gateway::{Report, SafetyGateway};
 use missionlink_interfaces::wire::{ExecuteCommand, Message, Reason};
-use missionlink_partitions::binaries;
 use missionlink_partitions::latency;
-use missionlink_partitions::launcher::{self, FccProcess};
+use missionlink_partitions::launcher;
 use missionlink_platform::udp::LocalEnds;
 use missionlink_protocol::transfer::integrity;
 use missionlink_protocol::transfer::staged::MissionId;
@@ -266,8 +267,7 @@ fn run(args: &Args) -> Result<(), String> {
     // announces them: every port is chosen by the process that binds it.
     let gcs_ends = LocalEnds::bind_loopback().map_err(|e| e.to_string())?;
     let prefix = format!("demo-{}", std::process::id());
-    let mut config =
-        launcher::local_config(&run_dir, prefix, &gcs_ends).map_err(|e| e.to_string())?;
+    let mut config = local_config(&run_dir, prefix, &gcs_ends).map_err(|e| e.to_string())?;
     config.guidance.time_scale = args.time_scale;
     // The links are signed (ICD §9) with the key `local_config` made for this run: every frame
     // on both links, both ways, and each side requires it (the default policy).

@@ -4,6 +4,8 @@
 //! ends itself (port 0) and the FCC's voting-monitoring binds and announces its own: every port
 //! is chosen by the process that binds it.
 //!
+//! - [`binaries`]: where the FCC's binaries are, built with cargo when missing;
+//! - [`fcc`]: an FCC binary as a child process ([`fcc::FccProcess`], [`fcc::local_config`]);
 //! - [`ground`]: the ground played message by message, for tests of the FCC's answers;
 //! - [`netns`]: two hosts on one machine (network namespaces and a veth pair);
 //! - [`log_axis`]: the benches' SVG plots.
@@ -19,6 +21,8 @@
     reason = "the harness of tests and benches: a setup that fails is a broken test"
 )]
 
+pub mod binaries;
+pub mod fcc;
 pub mod ground;
 pub mod log_axis;
 pub mod netns;
@@ -26,14 +30,13 @@ pub mod netns;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use fcc::{FccProcess, local_config};
 use missionlink_gcs::gcs_link::{Direction, Finished, GcsLink};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_ground::ground_station::{GcsError, MissionPlan, ValidatedPlan, WithoutGateway};
 use missionlink_interfaces::wire::{Message, MissionPlanMode, MissionReport};
-use missionlink_partitions::binaries;
 use missionlink_partitions::config::Config;
 use missionlink_partitions::latency::Summary;
-use missionlink_partitions::launcher::{self, FccProcess};
 use missionlink_platform::udp::{LinkPair, LocalEnds};
 use missionlink_protocol::transfer::sender::mission_command;
 
@@ -83,7 +86,7 @@ impl Rig {
         std::fs::create_dir_all(&dir).unwrap();
         let gcs_ends = LocalEnds::bind_loopback().unwrap();
         let prefix = format!("test-{test}-{}", std::process::id());
-        let mut config = launcher::local_config(&dir, prefix, &gcs_ends).unwrap();
+        let mut config = local_config(&dir, prefix, &gcs_ends).unwrap();
         config.guidance.time_scale = 50.0;
         config.launcher.restart_delay_ms = 100;
         // Tests kill partitions many times in a row (restart_safety, link_faults): no growing

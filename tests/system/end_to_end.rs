@@ -5,13 +5,13 @@
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::ipc;
+use missionlink::harness::fcc::FccProcess;
 use missionlink::harness::*;
 use missionlink_ground::ground_station::outcome::UploadOutcome;
 use missionlink_ground::ground_station::{GcsError, Phase, Sequence};
 use missionlink_interfaces::contracts::{AreaListPayload, FccService, WaypointListPayload};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN};
 use missionlink_partitions::ipc::Ipc;
-use missionlink_partitions::launcher::FccProcess;
 
 fn same_waypoints(a: &WaypointListPayload, b: &WaypointListPayload) -> bool {
     a.generation == b.generation

@@ -13,12 +13,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
+use missionlink::harness::fcc::FccProcess;
 use missionlink::harness::*;
 use missionlink_interfaces::contracts::Partition;
 use missionlink_partitions::config;
 use missionlink_partitions::config::Violation;
 use missionlink_partitions::isolation::status_shows_fence;
-use missionlink_partitions::launcher::FccProcess;
 
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(30);
@@ -129,7 +129,7 @@ fn each_partition_killed_comes_back_fenced_and_the_fcc_still_works() {
 /// package alone, not for the workspace as the test build does, and so compile iceoryx2 and the
 /// rest a second time.
 fn probe() -> PathBuf {
-    let dir = missionlink_partitions::binaries::build_dir().unwrap();
+    let dir = missionlink::harness::binaries::build_dir().unwrap();
     let probe = dir.join("examples").join("isolation_probe");
     if !probe.is_file() {
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());

@@ -25,6 +25,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::ipc;
+use missionlink::harness::fcc::FccProcess;
 use missionlink::harness::*;
 use missionlink_flight::guidance::{Guidance, GuidanceConfig};
 use missionlink_ground::ground_station::GcsError;
@@ -35,7 +36,6 @@ use missionlink_interfaces::contracts::{
 };
 use missionlink_interfaces::wire::{self, GeoPoint, Speed};
 use missionlink_partitions::ipc::Ipc;
-use missionlink_partitions::launcher::FccProcess;
 use missionlink_protocol::geofence::earth::{Site, distance_m};
 use missionlink_protocol::link::time::Instant as SimInstant;
 use serde_json::{Value, json};

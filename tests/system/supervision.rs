@@ -8,10 +8,10 @@
 use std::os::unix::fs::PermissionsExt;
 use std::time::{Duration, Instant};
 
+use missionlink::harness::fcc::FccProcess;
 use missionlink::harness::*;
 use missionlink_interfaces::contracts::Partition;
 use missionlink_partitions::config::{Signing, SigningPolicy};
-use missionlink_partitions::launcher::FccProcess;
 use missionlink_partitions::state;
 
 /// Bound of every wait (a failure bound, never a timing assertion).

@@ -36,15 +36,15 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use missionlink::harness::binaries;
+use missionlink::harness::fcc::FccProcess;
 use missionlink::harness::netns::{ADDR_A, Hosts};
 use missionlink::harness::*;
 use missionlink_ground::ground_station::GcsError;
 use missionlink_interfaces::wire;
-use missionlink_partitions::binaries;
 use missionlink_partitions::bridge_config::{Authentication, Bridge, Mode};
 use missionlink_partitions::config::Config;
 use missionlink_partitions::isolation::status_shows_fence;
-use missionlink_partitions::launcher::FccProcess;
 
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(60);

@@ -1,23 +1,28 @@
-//! Where the partition binaries are, for the launcher, the demo and the cross-process tests.
+//! Where the partition binaries are, for the demo and the cross-process tests and benches.
 //! `cargo run --bin demo` builds only the demo; on a fresh clone the partitions it starts are not
-//! built yet, so this builds them with the cargo that built the caller (same profile).
+//! built yet, so this builds them with the cargo that built the caller (same profile). Harness
+//! code: no product crate runs cargo.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use missionlink_interfaces::contracts::Partition;
+use missionlink_partitions::{bridge_config, launcher};
 
 /// The workspace's root package (the demo, the cross-process tests and benches).
 const ROOT_PACKAGE: &str = "missionlink";
-
-/// The launcher's binary (`launcher`).
-pub const LAUNCHER: &str = "fcc";
 
 /// The binaries the FCC needs: the launcher and the partitions it starts
 /// (`Partition::ALL`, by `Partition::binary`).
 pub const FCC_BINARIES: [&str; 5] = {
     let [a, b, c, d] = Partition::ALL;
-    [LAUNCHER, a.binary(), b.binary(), c.binary(), d.binary()]
+    [
+        launcher::NAME,
+        a.binary(),
+        b.binary(),
+        c.binary(),
+        d.binary(),
+    ]
 };
 
 /// The directory of the binaries of this build: the caller's own directory, or for a test
@@ -59,17 +64,12 @@ pub fn ensure(dir: &Path, names: &[&str], build: Build) -> Result<PathBuf, Strin
     ensure_of(dir, names, "missionlink-partitions", build)
 }
 
-/// `dir` holding the bridge binary ([`crate::bridge_config::BINARY`]), built with cargo first
+/// `dir` holding the bridge binary ([`bridge_config::BINARY`]), built with cargo first
 /// as [`ensure`] does. It is a package of its own (`missionlink-bridge`, with Zenoh), which
 /// nothing else depends on: only a configuration with `[bridge]` or a test that uses it builds
 /// it, never the demo.
 pub fn ensure_bridge(dir: &Path, build: Build) -> Result<PathBuf, String> {
-    ensure_of(
-        dir,
-        &[crate::bridge_config::BINARY],
-        "missionlink-bridge",
-        build,
-    )
+    ensure_of(dir, &[bridge_config::BINARY], "missionlink-bridge", build)
 }
 
 fn ensure_of(dir: &Path, names: &[&str], package: &str, build: Build) -> Result<PathBuf, String> {
