@@ -349,6 +349,7 @@ const MAPPED: &[&str] = &[
     "partitions/src",
     "gcs/src",
     "bridge/src",
+    "clib/src",
     "fuzz-targets",
     "src",
 ];
@@ -406,6 +407,7 @@ fn the_module_map_names_every_module() {
         "partitions",
         "gcs",
         "bridge",
+        "clib",
     ];
     for member in members {
         if !map.contains(&format!("**`{member}/`**")) {
