@@ -44,7 +44,15 @@ const LIMIT: Duration = Duration::from_secs(60);
 
 /// The libraries the Rust standard library of the static library needs from the system
 /// (`cargo rustc -p missionlink-c --crate-type staticlib -- --print native-static-libs`).
-const NATIVE_LIBS: [&str; 7] = ["-lgcc_s", "-lutil", "-lrt", "-lpthread", "-lm", "-ldl", "-lc"];
+const NATIVE_LIBS: [&str; 7] = [
+    "-lgcc_s",
+    "-lutil",
+    "-lrt",
+    "-lpthread",
+    "-lm",
+    "-ldl",
+    "-lc",
+];
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -62,7 +70,15 @@ fn static_library() -> PathBuf {
             // dependencies resolve their features as for the tests, and are not built twice.
             let mut command = Command::new(cargo);
             command
-                .args(["build", "-q", "-p", "missionlink-c", "-p", "missionlink", "--lib"])
+                .args([
+                    "build",
+                    "-q",
+                    "-p",
+                    "missionlink-c",
+                    "-p",
+                    "missionlink",
+                    "--lib",
+                ])
                 .arg("--manifest-path")
                 .arg(repo().join("Cargo.toml"));
             if !cfg!(debug_assertions) {
@@ -221,7 +237,11 @@ impl Drop for CGuidance {
 
 /// Execute, asked again (bounded) while refused with `WrongState` (guidance not heard yet, or
 /// no position from it yet); the number of refusals.
-fn execute_when_ready(link: &mut Link, seen: &mut Vec<(u16, u16, u16)>, log: &dyn Fn() -> String) -> usize {
+fn execute_when_ready(
+    link: &mut Link,
+    seen: &mut Vec<(u16, u16, u16)>,
+    log: &dyn Fn() -> String,
+) -> usize {
     let start = Instant::now();
     let mut refusals = 0;
     loop {
@@ -310,7 +330,8 @@ fn c_partition_guidance_flies_demo_mission_2_with_the_real_fcc_and_gcs_like_the_
         LIMIT,
     );
     assert!(
-        !fcc.log_text().contains("started partition=\"guidance-stub\""),
+        !fcc.log_text()
+            .contains("started partition=\"guidance-stub\""),
         "{}",
         fcc.log_text()
     );
@@ -328,7 +349,10 @@ fn c_partition_guidance_flies_demo_mission_2_with_the_real_fcc_and_gcs_like_the_
     assert_eq!(beat.pid, pid);
     assert_eq!(beat.period_ns, rig.config.health.period_ms * 1_000_000);
     let idle = eventually(LIMIT, || progress.latest()).expect("progress from the C guidance");
-    assert!(idle.on_ground && idle.from_to_next() == (0, 0, 0), "{idle:?}");
+    assert!(
+        idle.on_ground && idle.from_to_next() == (0, 0, 0),
+        "{idle:?}"
+    );
     let g = rig.config.guidance;
     assert_eq!(
         (idle.latitude_deg, idle.longitude_deg),
@@ -341,7 +365,13 @@ fn c_partition_guidance_flies_demo_mission_2_with_the_real_fcc_and_gcs_like_the_
     upload(&mut link, &plan("mission-2.toml"))
         .unwrap_or_else(|e| panic!("upload: {e}\n{}", fcc.log_text()));
     let mut seen: Vec<(u16, u16, u16)> = Vec::new();
-    let logs = || format!("{}\n--- guidance-c ---\n{}", fcc.log_text(), guidance.log_text());
+    let logs = || {
+        format!(
+            "{}\n--- guidance-c ---\n{}",
+            fcc.log_text(),
+            guidance.log_text()
+        )
+    };
     let refusals = execute_when_ready(&mut link, &mut seen, &logs);
     let landed = link.run_until(LIMIT, |event| {
         record(&mut seen, event);
@@ -354,7 +384,12 @@ fn c_partition_guidance_flies_demo_mission_2_with_the_real_fcc_and_gcs_like_the_
         .copied()
         .skip_while(|t| *t == (0, 0, 0))
         .collect();
-    assert_eq!(flown, expected, "C (left), the Rust stub (right)\n{}", logs());
+    assert_eq!(
+        flown,
+        expected,
+        "C (left), the Rust stub (right)\n{}",
+        logs()
+    );
     // Landed at ROLE2, the list flown named.
     let at_role2 = |p: &GuidanceProgressPayload| {
         p.on_ground
@@ -388,8 +423,20 @@ fn c_partition_header_compiles_as_c11_and_cpp17_and_a_cpp_program_uses_the_libra
     .unwrap();
     let cpp = dir.join("includes.cpp");
     std::fs::copy(&c, &cpp).unwrap();
-    compile("cc", &["-std=c11", "-Wpedantic", "-fsyntax-only"], &[c], None, false);
-    compile("c++", &["-std=c++17", "-Wpedantic", "-fsyntax-only"], &[cpp], None, false);
+    compile(
+        "cc",
+        &["-std=c11", "-Wpedantic", "-fsyntax-only"],
+        &[c],
+        None,
+        false,
+    );
+    compile(
+        "c++",
+        &["-std=c++17", "-Wpedantic", "-fsyntax-only"],
+        &[cpp],
+        None,
+        false,
+    );
 
     let program = dir.join("uses-the-header");
     compile(
