@@ -80,7 +80,10 @@ fn static_library() -> PathBuf {
                     "--lib",
                 ])
                 .arg("--manifest-path")
-                .arg(repo().join("Cargo.toml"));
+                .arg(repo().join("Cargo.toml"))
+                // Into the target directory of this test binary, whatever the environment says.
+                .arg("--target-dir")
+                .arg(dir.parent().expect("the target directory"));
             if !cfg!(debug_assertions) {
                 command.arg("--release");
             }
