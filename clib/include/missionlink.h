@@ -124,6 +124,10 @@ int32_t missionlink_heartbeat(missionlink_partition *partition, uint64_t *next_d
 /* sizeof the payload struct of service, 0 for an unknown service. */
 size_t missionlink_payload_size(int32_t service);
 
+/* The path of service under the prefix ("fcc/guidance/progress", as the contracts header's
+ * MISSIONLINK_SERVICE_*_PATH), a static string; NULL for an unknown service. */
+const char *missionlink_service_path(int32_t service);
+
 /* The name of a status ("MISSIONLINK_ERROR_WRONG_SIZE"), a static string. */
 const char *missionlink_status_name(int32_t status);
 

@@ -373,6 +373,16 @@ pub extern "C" fn missionlink_payload_size(service: i32) -> usize {
     ports::service(service).map_or(0, ports::payload_size)
 }
 
+/// The path of `service` under the prefix ("fcc/guidance/progress", the header's
+/// `MISSIONLINK_SERVICE_*_PATH`), a static string; NULL for an unknown service.
+#[unsafe(no_mangle)]
+pub extern "C" fn missionlink_service_path(service: i32) -> *const c_char {
+    usize::try_from(service)
+        .ok()
+        .and_then(|i| ports::PATHS.get(i))
+        .map_or(core::ptr::null(), |path| path.as_ptr())
+}
+
 /// The name of a status code ("MISSIONLINK_ERROR_WRONG_SIZE"), a static string;
 /// "MISSIONLINK_UNKNOWN_STATUS" for a code no function returns.
 #[unsafe(no_mangle)]

@@ -6,6 +6,7 @@
 //! with the QoS of the contracts, notifies its event service and rings the doorbells of its
 //! consumers, as the Rust partitions do.
 
+use core::ffi::CStr;
 use core::fmt::Debug;
 
 use iceoryx2::prelude::{ZeroCopySend, ipc};
@@ -20,6 +21,22 @@ use crate::status::{Failure, Status};
 
 /// The services in the order of `missionlink_service` (its values are the indices).
 pub const SERVICES: [FccService; 11] = FccService::ALL;
+
+/// The services' paths under the prefix as C strings, in the order of [`SERVICES`] (for
+/// `missionlink_service_path`; a test checks them against `FccService::path`).
+pub const PATHS: [&CStr; SERVICES.len()] = [
+    c"fcc/link/uplink",
+    c"fcc/link/downlink",
+    c"fcc/mission/waypoint-list",
+    c"fcc/mission/area-list",
+    c"fcc/automation/state",
+    c"fcc/guidance/progress",
+    c"fcc/automation/command",
+    c"fcc/health/voting-monitoring",
+    c"fcc/health/mission-data-handling",
+    c"fcc/health/system-automation",
+    c"fcc/health/guidance",
+];
 
 /// The roles in the order of `missionlink_role` (its values are the indices).
 pub const ROLES: [Partition; 4] = Partition::ALL;
@@ -210,6 +227,13 @@ mod tests {
         assert_eq!(service(-1).unwrap_err().status, Status::InvalidArgument);
         assert_eq!(role(3).unwrap(), Partition::Guidance);
         assert_eq!(role(4).unwrap_err().status, Status::InvalidArgument);
+    }
+
+    #[test]
+    fn the_c_paths_are_the_contracts_paths() {
+        for (service, path) in SERVICES.iter().zip(PATHS) {
+            assert_eq!(path.to_str().unwrap(), service.path());
+        }
     }
 
     #[test]

@@ -1,6 +1,6 @@
-// A C++17 program using missionlink.h: two partitions under the prefix given as the argument,
-// one publishing progress, the other waking on it and taking it; every payload size the library
-// knows is the struct's sizeof. Prints what it took; exits 0 when all is as expected
+// A C++17 program using missionlink.h: every service number of the header is the library's (its
+// payload's sizeof, its path), and every status (its name); then two partitions under the prefix
+// given as the argument, one publishing progress, the other waking on it and taking it. Prints what it took; exits 0 when all is as expected
 // (tests/c_partition.rs builds and runs it).
 #include <cstdio>
 #include <cstring>
@@ -26,29 +26,65 @@ int main(int argc, char **argv) {
         std::fprintf(stderr, "usage: %s SERVICE_PREFIX\n", argv[0]);
         return 2;
     }
+    // Each service number of this header is the library's: its payload's sizeof and its path.
     const struct {
         missionlink_service service;
         size_t size;
-    } sizes[] = {
-        {MISSIONLINK_SERVICE_ID_LINK_UPLINK, sizeof(FramePayload)},
-        {MISSIONLINK_SERVICE_ID_LINK_DOWNLINK, sizeof(FramePayload)},
-        {MISSIONLINK_SERVICE_ID_MISSION_WAYPOINT_LIST, sizeof(WaypointListPayload)},
-        {MISSIONLINK_SERVICE_ID_MISSION_AREA_LIST, sizeof(AreaListPayload)},
-        {MISSIONLINK_SERVICE_ID_AUTOMATION_STATE, sizeof(AutomationStatePayload)},
-        {MISSIONLINK_SERVICE_ID_GUIDANCE_PROGRESS, sizeof(GuidanceProgressPayload)},
-        {MISSIONLINK_SERVICE_ID_AUTOMATION_COMMAND, sizeof(AutomationCommandPayload)},
-        {MISSIONLINK_SERVICE_ID_HEALTH_VOTING_MONITORING, sizeof(HeartbeatPayload)},
-        {MISSIONLINK_SERVICE_ID_HEALTH_MISSION_DATA_HANDLING, sizeof(HeartbeatPayload)},
-        {MISSIONLINK_SERVICE_ID_HEALTH_SYSTEM_AUTOMATION, sizeof(HeartbeatPayload)},
-        {MISSIONLINK_SERVICE_ID_HEALTH_GUIDANCE, sizeof(HeartbeatPayload)},
+        const char *path;
+    } services[] = {
+        {MISSIONLINK_SERVICE_ID_LINK_UPLINK, sizeof(FramePayload),
+         MISSIONLINK_SERVICE_LINK_UPLINK_PATH},
+        {MISSIONLINK_SERVICE_ID_LINK_DOWNLINK, sizeof(FramePayload),
+         MISSIONLINK_SERVICE_LINK_DOWNLINK_PATH},
+        {MISSIONLINK_SERVICE_ID_MISSION_WAYPOINT_LIST, sizeof(WaypointListPayload),
+         MISSIONLINK_SERVICE_MISSION_WAYPOINT_LIST_PATH},
+        {MISSIONLINK_SERVICE_ID_MISSION_AREA_LIST, sizeof(AreaListPayload),
+         MISSIONLINK_SERVICE_MISSION_AREA_LIST_PATH},
+        {MISSIONLINK_SERVICE_ID_AUTOMATION_STATE, sizeof(AutomationStatePayload),
+         MISSIONLINK_SERVICE_AUTOMATION_STATE_PATH},
+        {MISSIONLINK_SERVICE_ID_GUIDANCE_PROGRESS, sizeof(GuidanceProgressPayload),
+         MISSIONLINK_SERVICE_GUIDANCE_PROGRESS_PATH},
+        {MISSIONLINK_SERVICE_ID_AUTOMATION_COMMAND, sizeof(AutomationCommandPayload),
+         MISSIONLINK_SERVICE_AUTOMATION_COMMAND_PATH},
+        {MISSIONLINK_SERVICE_ID_HEALTH_VOTING_MONITORING, sizeof(HeartbeatPayload),
+         MISSIONLINK_SERVICE_HEALTH_VOTING_MONITORING_PATH},
+        {MISSIONLINK_SERVICE_ID_HEALTH_MISSION_DATA_HANDLING, sizeof(HeartbeatPayload),
+         MISSIONLINK_SERVICE_HEALTH_MISSION_DATA_HANDLING_PATH},
+        {MISSIONLINK_SERVICE_ID_HEALTH_SYSTEM_AUTOMATION, sizeof(HeartbeatPayload),
+         MISSIONLINK_SERVICE_HEALTH_SYSTEM_AUTOMATION_PATH},
+        {MISSIONLINK_SERVICE_ID_HEALTH_GUIDANCE, sizeof(HeartbeatPayload),
+         MISSIONLINK_SERVICE_HEALTH_GUIDANCE_PATH},
     };
-    for (const auto &s : sizes) {
-        if (missionlink_payload_size(s.service) != s.size) {
-            std::fprintf(stderr, "service %d: the library's size %zu, sizeof %zu\n",
-                         static_cast<int>(s.service), missionlink_payload_size(s.service), s.size);
+    for (const auto &s : services) {
+        const char *path = missionlink_service_path(s.service);
+        if (missionlink_payload_size(s.service) != s.size || path == nullptr ||
+            std::strcmp(path, s.path) != 0) {
+            std::fprintf(stderr, "service %d: the library's size %zu and path %s, header's %zu %s\n",
+                         static_cast<int>(s.service), missionlink_payload_size(s.service),
+                         path ? path : "(null)", s.size, s.path);
             return 1;
         }
     }
+    if (missionlink_service_path(11) != nullptr) {
+        std::fprintf(stderr, "a path for service 11\n");
+        return 1;
+    }
+    // Each status of this header is the library's: the library names it as the header spells it.
+#define SAME_NAME(status)                                                                      \
+    if (std::strcmp(missionlink_status_name(status), #status) != 0) {                          \
+        std::fprintf(stderr, "%s is named %s\n", #status, missionlink_status_name(status));    \
+        return 1;                                                                              \
+    }
+    SAME_NAME(MISSIONLINK_OK)
+    SAME_NAME(MISSIONLINK_NO_SAMPLE)
+    SAME_NAME(MISSIONLINK_ERROR_NULL_POINTER)
+    SAME_NAME(MISSIONLINK_ERROR_WRONG_SIZE)
+    SAME_NAME(MISSIONLINK_ERROR_INVALID_ARGUMENT)
+    SAME_NAME(MISSIONLINK_ERROR_INVALID_PAYLOAD)
+    SAME_NAME(MISSIONLINK_ERROR_NOT_OPEN)
+    SAME_NAME(MISSIONLINK_ERROR_IPC)
+    SAME_NAME(MISSIONLINK_ERROR_INTERNAL)
+#undef SAME_NAME
 
     missionlink_partition *guidance = nullptr;
     missionlink_partition *automation = nullptr;
