@@ -2,8 +2,8 @@
 //! the bridge there, Zenoh over TCP on a veth pair, the bridge on host B, to a partition on host
 //! B, one way; beside a plain UDP datagram over the same veth, in the same run. Two sizes: a
 //! 548 B frame (`fcc/link/uplink`) and the 8 KiB waypoint list (`fcc/mission/waypoint-list`).
-//! Hosts A and B are two network namespaces made for the run (tests/common/netns.rs, the same
-//! as tests/two_hosts.rs); both share this machine's clock, so one CLOCK_MONOTONIC stamp in the
+//! Hosts A and B are two network namespaces made for the run (src/harness/netns.rs, the same
+//! as tests/system/two_hosts.rs); both share this machine's clock, so one CLOCK_MONOTONIC stamp in the
 //! payload gives the one-way time. One sample is in flight at a time; the receiver polls (the
 //! wake-up of a sleeping receiver is measured in benches/latency.rs, not here). Needs root.
 //!
@@ -17,14 +17,13 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+use missionlink::harness;
 
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use common::netns::{ADDR_A, ADDR_B, Hosts};
+use harness::netns::{ADDR_A, ADDR_B, Hosts};
 use hdrhistogram::Histogram;
 use iceoryx2::prelude::ipc;
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
@@ -143,7 +142,7 @@ fn main() {
     let hosts = Hosts::new("bn");
     let dir = std::env::temp_dir().join(format!("missionlink-bench-bridge-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let bin = common::bin_dir();
+    let bin = harness::bin_dir();
     binaries::ensure_bridge(&bin, binaries::Build::UnderCargo).unwrap();
 
     let services = ["fcc/link/uplink", "fcc/mission/waypoint-list"]

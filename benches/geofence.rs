@@ -23,26 +23,26 @@
 //! fly-by, so the check constructs and checks a turn at each (`geofence::turn`). Criterion gives means; before
 //! them, the bench prints p50, p99, p99.9 and max of single runs of `end_to_end` and `check`
 //! ([`RUNS`] runs each, after [`WARMUP`]), timed one by one (a run takes milliseconds, far above
-//! the clock's cost). Zero allocations: `services/tests/geofence_no_allocation.rs`. Run with
+//! the clock's cost). Zero allocations: `services/flight/tests/geofence_no_allocation.rs`. Run with
 //! `cargo bench --bench geofence`.
 // A test stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-use missionlink_services::geofence::flown_route;
+use missionlink_protocol::geofence::flown_route;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
 use hdrhistogram::Histogram;
+use missionlink_flight::automation::fcc_turns;
+use missionlink_flight::onboard::{self, Violation};
+use missionlink_ground::safety_gateway::{SafetyGateway, ViolationCode};
 use missionlink_interfaces::contracts::{AreaListPayload, WaypointListPayload};
 use missionlink_interfaces::wire::{GeoPoint, Speed};
-use missionlink_services::automation::fcc_turns;
-use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::onboard::{self, Violation};
-use missionlink_services::geofence::zone::Fence;
-use missionlink_services::safety_gateway::{SafetyGateway, ViolationCode};
-use missionlink_services::testkit::{
+use missionlink_protocol::geofence::earth::Site;
+use missionlink_protocol::geofence::zone::Fence;
+use missionlink_protocol::testkit::{
     geofence_worst_case, geofence_worst_case_plan, geofence_worst_case_rf,
 };
 

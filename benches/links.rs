@@ -27,18 +27,16 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-#[path = "../tests/common/mod.rs"]
-mod common;
-#[path = "support/log_axis.rs"]
-mod log_axis;
+use missionlink::harness;
+use missionlink::harness::log_axis;
 
 use std::time::{Duration, Instant};
 
 use missionlink::link_emulator::Profile;
 use missionlink_gcs::gcs_link::{Direction, Finished};
+use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_interfaces::wire::TransferWindow;
-use missionlink_services::ground_station::{MissionPlan, Sequence};
-use missionlink_services::testkit;
+use missionlink_protocol::testkit;
 
 /// Stop-and-wait and the default window, unless `--windows` names others.
 const WINDOWS: [u8; 2] = [1, 32];
@@ -90,11 +88,11 @@ fn cases(sizes: &[u16]) -> Vec<Case> {
         .map(|&n| match n {
             1 => Case {
                 name: "mission-1".to_owned(),
-                plan: common::plan("mission-1.toml"),
+                plan: harness::plan("mission-1.toml"),
             },
             2 => Case {
                 name: "mission-2".to_owned(),
-                plan: common::plan("mission-2.toml"),
+                plan: harness::plan("mission-2.toml"),
             },
             n => Case {
                 name: format!("generated-{n}"),
@@ -112,7 +110,7 @@ fn measure(
     runs: usize,
     seed: u64,
 ) -> Vec<Row> {
-    let mut rig = common::Rig::new(&format!("bench-links-{}", profile.name()));
+    let mut rig = harness::Rig::new(&format!("bench-links-{}", profile.name()));
     let ack = match profile {
         Profile::Satcom => 1500,
         _ => 500,
@@ -128,7 +126,7 @@ fn measure(
         // Every measured upload changes both lists: before it the FCC holds another demo
         // mission. Uploaded over the lists it equals, a failed transfer would leave them as
         // they were and still count as complete.
-        let base = common::plan(if case.name == "mission-1" {
+        let base = harness::plan(if case.name == "mission-1" {
             "mission-2.toml"
         } else {
             "mission-1.toml"
@@ -160,7 +158,7 @@ fn measure(
                     let up = link
                         .station()
                         .upload_validated(now, base.clone(), Sequence::Paper { clear: true })
-                        .and_then(|()| common::finish(&mut link));
+                        .and_then(|()| harness::finish(&mut link));
                     if matches!(&up, Ok(Finished::Uploaded(r)) if r.is_complete()) {
                         based = true;
                         break;
@@ -176,7 +174,7 @@ fn measure(
                 let up = link
                     .station()
                     .upload_validated(now, valid.clone(), Sequence::Paper { clear: true })
-                    .and_then(|()| common::finish(&mut link));
+                    .and_then(|()| harness::finish(&mut link));
                 let took = start.elapsed();
                 match up {
                     Ok(Finished::Uploaded(r)) if r.is_complete() => {
@@ -207,7 +205,7 @@ fn measure(
                 let down = link
                     .station()
                     .download(now)
-                    .and_then(|()| common::finish(&mut link));
+                    .and_then(|()| harness::finish(&mut link));
                 let took = start.elapsed();
                 match down {
                     Ok(Finished::Downloaded(plan)) if *plan == valid => {

@@ -23,20 +23,20 @@ use std::hint::black_box;
 use std::time::{Duration, Instant as WallClock};
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
+use missionlink_flight::mission_data_handling::MissionDataHandling;
+use missionlink_flight::testkit::{self, Transmit, UTC_AT_ZERO_MS, ts, uplink};
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{
     self, AckType, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset,
     UaPositionWaypoint,
 };
-use missionlink_services::link::endpoint::OUTBOX_CAPACITY;
-use missionlink_services::link::sampling::{MessageSampler, Sample};
-use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit::{self, Transmit, UTC_AT_ZERO_MS, ts, uplink};
-use missionlink_services::transfer::areas::AreaBuffer;
-use missionlink_services::transfer::mission::MissionBuffer;
-use missionlink_services::transfer::sender::mission_command;
+use missionlink_protocol::link::endpoint::OUTBOX_CAPACITY;
+use missionlink_protocol::link::sampling::{MessageSampler, Sample};
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::transfer::areas::AreaBuffer;
+use missionlink_protocol::transfer::mission::MissionBuffer;
+use missionlink_protocol::transfer::sender::mission_command;
 
 const WAYPOINTS: u16 = MAX_WAYPOINTS as u16;
 
@@ -204,7 +204,7 @@ fn frame_benches(c: &mut Criterion) {
 /// shuffled order.
 fn mission_buffer() -> MissionBuffer {
     let mut messages = testkit::zigzag(WAYPOINTS);
-    testkit::Rng::new(0x9E37_79B9_7F4A_7C15).shuffle(&mut messages);
+    missionlink_linksim::Rng::new(0x9E37_79B9_7F4A_7C15).shuffle(&mut messages);
     testkit::mission_buffer(&messages)
 }
 

@@ -17,10 +17,10 @@ use missionlink_interfaces::wire::{
     self, AckType, Envelope, Frame, MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, Message,
     MessageAcknowledgement, Timestamp,
 };
-use missionlink_services::link::signing::{self, Keyring, LinkKey, Policy, SignatureCheck, Signer};
-use missionlink_services::link::time::Instant;
-use missionlink_services::testkit::{RawFrame, UTC_AT_ZERO_MS, full_polygon, utc_at_zero};
-use missionlink_services::voting::Voter;
+use missionlink_protocol::link::signing::{self, Keyring, LinkKey, Policy, SignatureCheck, Signer};
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::testkit::{RawFrame, UTC_AT_ZERO_MS, full_polygon, utc_at_zero};
+use missionlink_protocol::voting::Voter;
 
 const BATCH: usize = 8;
 const SAMPLES: usize = 20_000;

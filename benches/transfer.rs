@@ -39,16 +39,15 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+use missionlink::harness;
 
 use std::time::{Duration, Instant};
 
 use missionlink_gcs::gcs_link::Direction;
+use missionlink_ground::ground_station::{MissionPlan, Sequence};
 use missionlink_partitions::binaries;
 use missionlink_partitions::config::{Idle, IdleMode, IdlePerPartition};
-use missionlink_services::ground_station::{MissionPlan, Sequence};
-use missionlink_services::testkit;
+use missionlink_protocol::testkit;
 
 const DEFAULT_RUNS: usize = 30;
 const WARM_UP_RUNS: usize = 2;
@@ -120,7 +119,7 @@ fn measure(
     if cases.is_empty() {
         return (Vec::new(), None);
     }
-    let mut rig = common::Rig::new(name);
+    let mut rig = harness::Rig::new(name);
     rig.config.ipc.idle = idle_override();
     rig.config.isolation.enabled = fenced();
     if let Some((latitude, longitude)) = start {
@@ -143,7 +142,7 @@ fn measure(
         "system-automation",
         "guidance-stub",
     ] {
-        common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
+        harness::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
     }
     let mut link = rig.gcs(&mut fcc);
     link.enable_log();
@@ -179,7 +178,7 @@ fn measure(
                 let outcome = link
                     .station()
                     .upload_with(now, &result.case.plan, sequence)
-                    .and_then(|()| common::finish(&mut link));
+                    .and_then(|()| harness::finish(&mut link));
                 let elapsed = start.elapsed();
                 match outcome {
                     Ok(missionlink_gcs::gcs_link::Finished::Uploaded(report))
@@ -295,16 +294,16 @@ fn cpu_shares(pids: &[(&str, i32)], during: impl FnOnce()) -> (Vec<f64>, f64) {
 /// sequence) for at least `busy`, from /proc. Prints a table and writes
 /// `target/transfer/cpu_shares.json` in bench mode.
 fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
-    let mut rig = common::Rig::new("bench-cpu-shares");
+    let mut rig = harness::Rig::new("bench-cpu-shares");
     rig.config.ipc.idle = idle_override();
     let idle_strategy = idle_label(&rig.config.ipc.idle);
     let mut fcc = rig.start("fcc");
     for partition in PARTITIONS {
-        common::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
+        harness::wait_for_log(&fcc, &format!("{partition} up"), Duration::from_secs(30));
     }
     let pids: Vec<(&str, i32)> = PARTITIONS
         .iter()
-        .map(|p| (*p, common::partition_pid(&fcc, p)))
+        .map(|p| (*p, harness::partition_pid(&fcc, p)))
         .collect();
     let mut link = rig.gcs(&mut fcc);
     // Settle: the start's work (the first beats, late joiners) is not idle.
@@ -320,7 +319,7 @@ fn cpu_shares_main(idle: Duration, busy: Duration, bench_mode: bool) {
             let outcome = link
                 .station()
                 .upload_with(now, &case.plan, Sequence::Paper { clear: true })
-                .and_then(|()| common::finish(&mut link));
+                .and_then(|()| harness::finish(&mut link));
             match outcome {
                 Ok(missionlink_gcs::gcs_link::Finished::Uploaded(report))
                     if report.failure.is_none() => {}
@@ -443,7 +442,7 @@ fn main() {
                 name: "mission-1".to_owned(),
                 waypoints: 1,
                 areas: 1,
-                plan: common::plan("mission-1.toml"),
+                plan: harness::plan("mission-1.toml"),
             },
             vec![paper, Sequence::Atomic],
         ),
@@ -486,7 +485,7 @@ fn main() {
                 name: "mission-1 signed".to_owned(),
                 waypoints: 1,
                 areas: 1,
-                plan: common::plan("mission-1.toml"),
+                plan: harness::plan("mission-1.toml"),
             },
             vec![paper],
         ),

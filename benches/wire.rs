@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, Message};
-use missionlink_services::testkit::{full_polygon, full_waypoint};
+use missionlink_protocol::testkit::{full_polygon, full_waypoint};
 
 fn bench_message(c: &mut Criterion, name: &str, message: &Message) {
     let envelope = Envelope::new(0x0A00_0001, 0x0B00_0001).with_ack(true);

@@ -11,7 +11,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, Message};
-use missionlink_services::testkit::{full_polygon, full_waypoint};
+use missionlink_protocol::testkit::{full_polygon, full_waypoint};
 
 const BATCH: u32 = 32;
 const SAMPLES: usize = 50_000;

@@ -26,18 +26,19 @@
 
 use std::hint::black_box;
 
+use missionlink_flight::automation::fcc_turns;
+use missionlink_flight::mission_data_handling::MissionDataHandling;
+use missionlink_flight::onboard;
+use missionlink_flight::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
 use missionlink_interfaces::capacity::MAX_WAYPOINTS;
 use missionlink_interfaces::wire::{
     self, LegType, MAX_FRAME_LEN, Message, MissionPlanMode, SafetyOffset, Speed, UaPositionWaypoint,
 };
-use missionlink_services::automation::fcc_turns;
-use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::zone::Fence;
-use missionlink_services::geofence::{flown_route, onboard};
-use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit::{self, UTC_AT_ZERO_MS, ts, uplink};
-use missionlink_services::transfer::sender::mission_command;
+use missionlink_protocol::geofence::earth::Site;
+use missionlink_protocol::geofence::flown_route;
+use missionlink_protocol::geofence::zone::Fence;
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::transfer::sender::mission_command;
 
 fn main() {
     let mut args = std::env::args().skip(1);

@@ -1,4 +1,4 @@
-//! A test-only partition for tests/isolation.rs, never deployed: it fences itself exactly as
+//! A test-only partition for tests/system/isolation.rs, never deployed: it fences itself exactly as
 //! the partition named by `MISSIONLINK_PROBE_AS` (default guidance-stub) does under the
 //! configuration handed to it (`MISSIONLINK_CONFIG_TOML`, as the launcher hands it to every
 //! partition), then tries one thing that partition must never do, named by

@@ -24,9 +24,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-pub use missionlink_services::testkit::channel::{Burst, Channel, ChannelStats, Impairments};
+pub use missionlink_linksim::channel::{Burst, Channel, ChannelStats, Impairments};
 
-/// The named links of the tests and benchmarks (`tests/emulated_links.rs`, `tests/link_faults.rs`,
+/// The named links of the tests and benchmarks (`tests/system/emulated_links.rs`, `tests/system/link_faults.rs`,
 /// BENCHMARKS.md section 6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Profile {

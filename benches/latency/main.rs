@@ -117,8 +117,7 @@
     reason = "the shared-memory floor maps a file and views two of its cache lines as atomics"
 )]
 
-#[path = "../support/log_axis.rs"]
-mod log_axis;
+use missionlink::harness::log_axis;
 
 // The hop over each transport, the report, the load cases.
 mod hop;

@@ -1,7 +1,7 @@
 //! The report: the tables on stdout, the ratios the goals name, the JSON and the SVG plot in
 //! `target/latency/`.
 //!
-//! The plot is drawn by hand on the shared log axis of `benches/support/log_axis.rs` rather than
+//! The plot is drawn by hand on the shared log axis of `src/harness/log_axis.rs` rather than
 //! with the `plotters` crate: see that module for the decision.
 
 use super::*;

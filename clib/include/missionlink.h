@@ -19,7 +19,7 @@
  *
  * Kept by hand with clib/src/lib.rs (the functions), clib/src/status.rs (the codes) and
  * clib/src/ports.rs (the service and role numbers: the order of FccService::ALL and
- * Partition::ALL); tests/c_partition.rs compiles it as C11 and C++17 with -Wall -Wextra -Werror
+ * Partition::ALL); tests/system/c_partition.rs compiles it as C11 and C++17 with -Wall -Wextra -Werror
  * and runs programs against the library.
  */
 #ifndef MISSIONLINK_H

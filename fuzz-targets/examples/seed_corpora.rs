@@ -21,18 +21,18 @@
 
 use std::path::{Path, PathBuf};
 
+use missionlink_flight::mission_data_handling::MissionDataHandling;
 use missionlink_fuzz::input::{MessageBody, record};
 use missionlink_fuzz::{fcc, gcs, signature, voting};
 use missionlink_gcs::mission_file::MissionFile;
 use missionlink_gcs::{geojson, qgc};
-use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
-use missionlink_services::ground_station::{
+use missionlink_ground::ground_station::{
     GroundStation, MissionPlan, Sequence, ValidatedPlan, WithoutGateway,
 };
-use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit;
-use missionlink_services::transfer::staged::MissionId;
+use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::testkit;
+use missionlink_protocol::transfer::staged::MissionId;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -84,7 +84,7 @@ struct Exchange {
 
 impl Exchange {
     fn new() -> Self {
-        let mut fcc = MissionDataHandling::new(testkit::fcc_config());
+        let mut fcc = MissionDataHandling::new(missionlink_flight::testkit::fcc_config());
         // As the FCC target starts: on the ground at TROL.
         fcc.handle_progress(
             Instant::ZERO,
@@ -99,7 +99,7 @@ impl Exchange {
         let mut buf = [0u8; MAX_FRAME_LEN];
         while fcc.poll_transmit(&mut buf).is_some() {}
         Self {
-            gcs: GroundStation::new(testkit::gcs_config(), WithoutGateway),
+            gcs: GroundStation::new(missionlink_ground::testkit::gcs_config(), WithoutGateway),
             fcc,
             now: Instant::from_millis(1),
             log: Vec::new(),

@@ -1,5 +1,5 @@
 //! Target `fuzz_fcc`: mission data handling (the FCC's frame handler, paper §3.1) fed sequences
-//! of frames, answers and clock steps, sans-IO in simulated time as `services/tests` drive it.
+//! of frames, answers and clock steps, sans-IO in simulated time as the tests of `services/ground/tests/sans_io` drive it.
 //!
 //! The input is a sequence of [records](crate::input); the tag modulo 7 says what a record does:
 //!
@@ -27,15 +27,15 @@
 
 use core::time::Duration;
 
+use missionlink_flight::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
+use missionlink_flight::testkit;
 use missionlink_interfaces::contracts::{AutomationStatePayload, GuidanceProgressPayload};
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
-use missionlink_services::testkit;
-use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
-use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
-use missionlink_services::transfer::mission::{Mission, MissionBuffer};
-use missionlink_services::transfer::staged::StagedMissions;
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::transfer::areas::{AreaBuffer, AreaList};
+use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
+use missionlink_protocol::transfer::mission::{Mission, MissionBuffer};
+use missionlink_protocol::transfer::staged::StagedMissions;
 
 use crate::input::u16_at;
 use crate::session::{self, Core, Session};
@@ -73,7 +73,7 @@ struct Rig {
     /// The FCC, the GCS endpoint (the peer), the clock, the FCC's last request.
     core: Core,
     /// Whether the driver holds the record "a mission upload is open" (restart safety, see
-    /// `services/src/mission_data_handling/`).
+    /// `services/flight/src/mission_data_handling/`).
     upload_open: bool,
     progress: u64,
 }

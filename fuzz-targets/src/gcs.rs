@@ -30,17 +30,17 @@ use core::time::Duration;
 use std::collections::VecDeque;
 use std::sync::OnceLock;
 
+use missionlink_ground::ground_station::{
+    GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
+};
+use missionlink_ground::testkit;
 use missionlink_interfaces::contracts::{
     AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
 };
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
 use missionlink_interfaces::wire::{ExecuteCommand, MAX_FRAME_LEN, TransferWindow};
-use missionlink_services::ground_station::{
-    GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
-};
-use missionlink_services::link::time::Instant;
-use missionlink_services::testkit;
-use missionlink_services::transfer::staged::MissionId;
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::transfer::staged::MissionId;
 
 use crate::fcc::{check_areas, check_mission};
 use crate::session::{self, Core, Session};

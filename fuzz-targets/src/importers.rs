@@ -18,8 +18,8 @@ use core::fmt::Write;
 use missionlink_gcs::geojson;
 use missionlink_gcs::mission_file::{MissionFile, MissionFileError};
 use missionlink_gcs::qgc::{self, ImportOptions, Unsupported};
-use missionlink_services::ground_station::{MissionPlan, ValidatedPlan};
-use missionlink_services::safety_gateway::SafetyGateway;
+use missionlink_ground::ground_station::{MissionPlan, ValidatedPlan};
+use missionlink_ground::safety_gateway::SafetyGateway;
 
 /// Entry point of `fuzz_qgc_plan`: a QGroundControl `.plan` file, whole and as a geofence only.
 pub fn qgc_plan(input: &[u8]) {
@@ -52,7 +52,7 @@ pub fn geojson(input: &[u8]) {
         match geojson::import_areas(&text, unsupported) {
             Ok((areas, d)) => {
                 dropped(&d, unsupported);
-                let mut plan = missionlink_services::testkit::mission_2();
+                let mut plan = missionlink_protocol::testkit::mission_2();
                 plan.areas = areas;
                 checked(&plan);
             }

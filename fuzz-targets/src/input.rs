@@ -15,7 +15,7 @@
 //! takes as new, so the frame handlers see it).
 
 use missionlink_interfaces::wire::{self, ChecksumWidth, Message, MessageProperties, Reason};
-use missionlink_services::testkit::RawFrame;
+use missionlink_protocol::testkit::RawFrame;
 
 /// Bytes of a record's header: the tag and the length.
 pub const RECORD_HEADER_LEN: usize = 3;

@@ -6,11 +6,11 @@
 
 use core::time::Duration;
 
+use missionlink_flight::mission_data_handling::MissionDataHandling;
+use missionlink_flight::testkit::{self, Transmit};
 use missionlink_interfaces::wire::{self, Envelope, MAX_FRAME_LEN, Message};
-use missionlink_services::link::endpoint::Endpoint;
-use missionlink_services::link::time::Instant;
-use missionlink_services::mission_data_handling::MissionDataHandling;
-use missionlink_services::testkit::{self, Transmit};
+use missionlink_protocol::link::endpoint::Endpoint;
+use missionlink_protocol::link::time::Instant;
 
 use crate::fcc::Lists;
 use crate::input::{MessageBody, answer_outcome, records, u16_at, wrap};

@@ -36,12 +36,12 @@ use std::collections::HashSet;
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
 use missionlink_interfaces::wire::{self, Timestamp};
-use missionlink_services::link::signing::{
+use missionlink_protocol::link::signing::{
     Authenticity, Keyring, Policy, REPLAY_MEMORY, REPLAY_WINDOW, SignatureCause, SignatureCheck,
     check_signature,
 };
-use missionlink_services::link::time::{Instant, UtcClock};
-use missionlink_services::testkit;
+use missionlink_protocol::link::time::{Instant, UtcClock};
+use missionlink_protocol::testkit;
 
 use crate::input::{MessageBody, records, u16_at};
 use crate::voting::{check, keys, policy, signed, stamped_frame};

@@ -35,10 +35,10 @@ use missionlink_interfaces::defaults::{FCC_ID, GCS_ID, TRANSFER_TIMEOUT};
 use missionlink_interfaces::wire::{
     self, Envelope, Frame, MAX_FRAME_LEN, MAX_SIGNED_FRAME_LEN, Message, Timestamp,
 };
-use missionlink_services::link::signing::{Keyring, LinkKey, Policy, SignatureCheck, Signer};
-use missionlink_services::link::time::{Instant, UtcClock};
-use missionlink_services::testkit;
-use missionlink_services::voting::{Voter, VotingStats};
+use missionlink_protocol::link::signing::{Keyring, LinkKey, Policy, SignatureCheck, Signer};
+use missionlink_protocol::link::time::{Instant, UtcClock};
+use missionlink_protocol::testkit;
+use missionlink_protocol::voting::{Voter, VotingStats};
 
 use crate::input::{MessageBody, records, u16_at, wrap};
 

@@ -1,25 +1,37 @@
-//! The GCS end of the two links: the sans-IO GCS logic (`services::ground_station::GroundStation`) driven
+//! The GCS end of the two links: the sans-IO GCS logic (`missionlink_ground::ground_station::GroundStation`) driven
 //! over UDP, every uplink frame sent on both links, the downlink voted with the same voting code
 //! the FCC uses (paper §2.4). Optionally logs every message with its time, direction and
 //! acknowledgement, as the paper's Figure 15 shows a transfer.
 
 use std::time::Duration;
 
+use missionlink_ground::ground_station::outcome::UploadReport;
+use missionlink_ground::ground_station::{
+    GcsConfig, GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
+};
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::MissionReport;
-use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
-use missionlink_services::ground_station::outcome::UploadReport;
-use missionlink_services::ground_station::{
-    GcsError, GcsEvent, GroundStation, SafetyGateway, ValidatedPlan,
-};
-use missionlink_services::link::time::Instant;
-use missionlink_services::voting::Voter;
+use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message, Timestamp};
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::voting::Voter;
 
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::config::LinkConfig;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
-use missionlink_services::link::signing::{Policy, Signer};
+use missionlink_protocol::link::signing::{Policy, Signer};
+
+/// The GCS logic that talks to the FCC `config` describes (its IDs and timeouts), its instant
+/// zero at `utc_at_zero`: for the GCS link and the tests that play the ground.
+pub fn gcs_core(config: &LinkConfig, utc_at_zero: Timestamp) -> GcsConfig {
+    GcsConfig {
+        endpoint: config.ids.gcs_endpoint(utc_at_zero),
+        ack_timeout: config.timing.ack_timeout(),
+        transfer_timeout: config.timing.transfer_timeout(),
+        transfer_window: config.timing.transfer_window(),
+        upload_attempts: config.timing.upload_attempts.max(1),
+    }
+}
 
 /// How far ahead of the last stamp used [`GcsLink::with_stamp_lease`] reserves.
 const STAMP_LEASE: Duration = Duration::from_secs(1);
@@ -110,7 +122,7 @@ impl<G: SafetyGateway> GcsLink<G> {
         let signing = LinkSigning::load(&config.signing).map_err(|e| LinkError(e.to_string()))?;
         let clock = DriverClock::start();
         let station = Box::new(GroundStation::new(
-            config.gcs_core(clock.utc_at_zero()),
+            gcs_core(config, clock.utc_at_zero()),
             gateway,
         ));
         tracing::debug!(signing = %signing.summary(), "link signing (ICD §9)");
@@ -414,8 +426,8 @@ mod tests {
     use super::*;
     use std::net::UdpSocket;
 
+    use missionlink_ground::ground_station::WithoutGateway;
     use missionlink_interfaces::wire::{AckType, Envelope, MessageAcknowledgement, Timestamp};
-    use missionlink_services::ground_station::WithoutGateway;
 
     /// A #17000 from the FCC stamped `ms`: every one a message of its own to the voter.
     fn ack(config: &LinkConfig, ms: u64) -> Vec<u8> {

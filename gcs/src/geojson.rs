@@ -78,7 +78,7 @@ use missionlink_interfaces::capacity::{MAX_AREAS, MAX_NO_FLY_ZONES, MAX_POLYGON_
 use missionlink_interfaces::wire::{
     AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, PolygonVertices, Timestamp,
 };
-use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
+use missionlink_protocol::transfer::areas::{AreaBuffer, AreaList};
 use serde_json::{Map, Value, json};
 
 pub use crate::import::Unsupported;
@@ -379,7 +379,7 @@ mod tests {
     use super::*;
     use crate::mission_file::MissionFile;
     use missionlink_interfaces::wire::SafetyOffset;
-    use missionlink_services::geofence::earth;
+    use missionlink_protocol::geofence::earth;
 
     use crate::mission_file::tests::MISSION_2;
 

@@ -28,7 +28,7 @@ use missionlink_interfaces::wire::{
     self, ChecksumWidth, DecodeError, Envelope, Frame, IDD_VERSION, MAX_FRAME_LEN, Message,
     MessageType,
 };
-use missionlink_services::link::signing::{self, Keyring, SignatureCause};
+use missionlink_protocol::link::signing::{self, Keyring, SignatureCause};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -414,7 +414,7 @@ mod tests {
     #[test]
     fn a_signed_frame_shows_its_trailer_and_whether_it_verifies() {
         use missionlink_interfaces::contracts::Link;
-        use missionlink_services::link::signing::{LinkKey, Signer};
+        use missionlink_protocol::link::signing::{LinkKey, Signer};
         let frame = parse_hex(DOCUMENTED_13002).unwrap();
         let key = LinkKey::new(3, &[9; 32]);
         let mut signed = [0u8; wire::MAX_SIGNED_FRAME_LEN];

@@ -1,7 +1,7 @@
 //! The ground segment of missionlink: everything the GCS needs and the FCC never links.
 //!
 //! - [`gcs_link`]: the GCS link driver, the sans-IO GCS logic
-//!   ([`missionlink_services::ground_station`]) over the two UDP links.
+//!   ([`missionlink_ground::ground_station`]) over the two UDP links.
 //! - [`mission_file`]: the TOML mission file; [`qgc`]: QGroundControl `.plan` import and
 //!   export; [`geojson`]: areas as GeoJSON; [`import`]: the error and the rules all three
 //!   importers share (and `json_path`, the JSON walker of the two JSON formats).

@@ -1,5 +1,5 @@
 //! The aircraft profile and the environment of the safety gateway as TOML files: every key
-//! optional, the demo eVTOL's values (`services::safety_gateway::AircraftProfile::default`) where
+//! optional, the demo eVTOL's values (`missionlink_ground::safety_gateway::AircraftProfile::default`) where
 //! a key is absent. Units are in the key names.
 //!
 //! ```toml
@@ -34,7 +34,7 @@
 
 use std::path::Path;
 
-use missionlink_services::safety_gateway::{AircraftProfile, Environment};
+use missionlink_ground::safety_gateway::{AircraftProfile, Environment};
 use serde::{Deserialize, Serialize};
 
 use missionlink_platform::config::line_column;

@@ -1,10 +1,10 @@
 //! The values of mission files, one way for every format (TOML mission file, QGroundControl
 //! `.plan`, GeoJSON): numbers read into wire fields with the file path of each error, numbers
 //! written back as the shortest decimal that gives the same wire value, and a circle given by
-//! its radius placed on the one Earth model ([`missionlink_services::geofence::earth`]).
+//! its radius placed on the one Earth model ([`missionlink_protocol::geofence::earth`]).
 
 use missionlink_interfaces::wire::{Altitude, Angle, GeoPoint};
-use missionlink_services::geofence::earth;
+use missionlink_protocol::geofence::earth;
 
 use crate::geoid;
 use crate::mission_file::MissionFileError;

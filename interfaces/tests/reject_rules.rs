@@ -21,7 +21,7 @@ use missionlink_interfaces::wire::{
     WaypointState, WindowOrChecksum,
 };
 
-use missionlink_services::testkit::{self, RawFrame};
+use missionlink_protocol::testkit::{self, RawFrame};
 
 // ---------------------------------------------------------------------------------------------
 // Frames by hand (ICD §2)

@@ -751,7 +751,7 @@ fn pv_bytes(t: MessageType) -> usize {
 
 /// Wraps message data in a sound wrapper (ICD §2, 4-byte byte-sum checksum), built by hand.
 fn wrap(message_type: u16, data: &[u8]) -> Vec<u8> {
-    missionlink_services::testkit::RawFrame::uplink(message_type).build(data)
+    missionlink_protocol::testkit::RawFrame::uplink(message_type).build(data)
 }
 
 /// Runs every decoding entry point over `bytes`; only a panic fails.

@@ -12,7 +12,7 @@
  * (missionlink_contracts.h, GuidanceProgressPayload). It beats on fcc/health/guidance from its
  * loop and sleeps on its doorbell until an input arrives or its next step is due.
  *
- * The route logic is the Rust model's (services/src/guidance/route.rs): FROM 0 and TO the first
+ * The route logic is the Rust model's (services/flight/src/guidance/route.rs): FROM 0 and TO the first
  * waypoint at take-off, each waypoint reached makes it FROM and the one after it TO; NEXT is
  * the waypoint after TO; return to home (route_reversed, on bidirectional lists) flies the route
  * backwards from TO; land-at ends it at that waypoint when still ahead; a new list in the air
@@ -197,7 +197,7 @@ static void zone_status(const struct guidance *g, bool *inside_fly_zone, uint16_
     }
 }
 
-/* --- the route (services/src/guidance/route.rs) ------------------------------------------ */
+/* --- the route (services/flight/src/guidance/route.rs) ------------------------------------------ */
 
 static int waypoint_count(const struct guidance *g) {
     return g->list.count < MISSIONLINK_MAX_WAYPOINTS ? g->list.count : MISSIONLINK_MAX_WAYPOINTS;

@@ -6,8 +6,8 @@ language iceoryx2 serves, that opens the same services with the same payload typ
 
 It subscribes to the active waypoint and area lists (taken only as a pair of one activation,
 as `ipc::ListPairing` takes them) and to the automation state, flies the list with the
-point-mass model of services/src/guidance/ (ported below: same phases, sub-steps, legs
-tracked along their geodesics, radius-to-fix arcs, the turns of services/src/geofence/turn.rs
+point-mass model of services/flight/src/guidance/ (ported below: same phases, sub-steps, legs
+tracked along their geodesics, radius-to-fix arcs, the turns of services/protocol/src/geofence/turn.rs
 (fly-by arcs, fly-over intercepts), return to home and land-at, on the same WGS-84 geodesics),
 time-scaled for demos, and publishes FROM / TO / NEXT, the position, the heading, bank,
 pitch and climb rate (as the Rust model computes them) on `fcc/guidance/progress`, notifying
@@ -83,7 +83,7 @@ from missionlink_contracts import (
 log = logging.getLogger("missionlink_guidance")
 
 # ---------------------------------------------------------------------------------------------
-# The Earth model: WGS-84 geodesics, as services/src/geofence/earth.rs (Karney's algorithms; the
+# The Earth model: WGS-84 geodesics, as services/protocol/src/geofence/earth.rs (Karney's algorithms; the
 # Rust side uses geographiclib-rs, a port of this same library). Points are (latitude,
 # longitude) in degrees.
 # ---------------------------------------------------------------------------------------------
@@ -115,7 +115,7 @@ def point(p: contracts.GeoPoint) -> Point:
 
 
 # ---------------------------------------------------------------------------------------------
-# The guidance model (services/src/guidance/; its module documentation describes the model).
+# The guidance model (services/flight/src/guidance/; its module documentation describes the model).
 # ---------------------------------------------------------------------------------------------
 
 #: Longest sub-step of the integration, simulated seconds.
@@ -135,7 +135,7 @@ GRAVITY_MPS2 = 9.806_65
 
 @dataclass(frozen=True)
 class GuidanceConfig:
-    """Settings of the guidance model (the defaults of services::guidance::GuidanceConfig)."""
+    """Settings of the guidance model (the defaults of missionlink_flight::guidance::GuidanceConfig)."""
 
     start_latitude_deg: float = 48.26
     start_longitude_deg: float = 11.66
@@ -248,7 +248,7 @@ def inverse(a: Point, b: Point) -> tuple[float, float, float]:
 
 
 # ---------------------------------------------------------------------------------------------
-# Paths and turns: services/src/geofence/turn.rs, the one construction of the turn at a
+# Paths and turns: services/protocol/src/geofence/turn.rs, the one construction of the turn at a
 # waypoint that guidance flies and the geofence checks (its module documentation describes it).
 # ---------------------------------------------------------------------------------------------
 
@@ -634,7 +634,7 @@ def _to_go(arc: ArcGeometry, az: float) -> float:
 @dataclass
 class Route:
     """Where the aircraft is on the route; indices are into the list's waypoints (see
-    services/src/guidance/route.rs `Route`)."""
+    services/flight/src/guidance/route.rs `Route`)."""
 
     started: bool = False
     reversed: bool = False
@@ -724,7 +724,7 @@ def _on_ground_state() -> AutomationStatePayload:
 
 class Guidance:
     """The guidance model: flies the waypoint list through the flight phases of system
-    automation (a port of services::guidance::Guidance; sans-IO like it: the driver hands it
+    automation (a port of missionlink_flight::guidance::Guidance; sans-IO like it: the driver hands it
     the lists and the automation state and calls `step` with the time)."""
 
     def __init__(self, config: GuidanceConfig):
@@ -1142,7 +1142,7 @@ class Guidance:
 
     def advance(self, path: Path, here: Point, distance: float, v: float) -> None:
         """Moves `distance` metres (less than what is left) along `path` from `here` (the
-        look-ahead law on a geodesic, polar coordinates on an arc: services/src/guidance/tracking.rs
+        look-ahead law on a geodesic, polar coordinates on an arc: services/flight/src/guidance/tracking.rs
         `advance`); `v` is the airspeed, which sizes the look-ahead."""
         if isinstance(path, GeodesicPath):
             length, course, _ = inverse(path.from_, path.to)

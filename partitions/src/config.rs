@@ -67,14 +67,14 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use missionlink_flight::guidance::GuidanceConfig;
+use missionlink_flight::mission_data_handling::FccConfig;
 use missionlink_interfaces::contracts::{DEFAULT_HEARTBEAT_PERIOD, DEFAULT_SERVICE_PREFIX};
 use missionlink_interfaces::wire::Timestamp;
 pub use missionlink_platform::config::{
     CONFIG_FILE_ENV, CONFIG_TOML_ENV, ConfigError, Ids, LinkArgs, LinkConfig, Links, PREFIX_ENV,
     Signing, SigningPolicy, Timing,
 };
-use missionlink_services::guidance::GuidanceConfig;
-use missionlink_services::mission_data_handling::FccConfig;
 use serde::{Deserialize, Serialize};
 
 /// Shared memory between the partitions.
@@ -327,7 +327,7 @@ impl Default for Launcher {
 #[serde(default, deny_unknown_fields)]
 pub struct Health {
     /// Every partition beats this often; one silent for 2.5 periods counts as hung
-    /// (`missionlink_services::health`). At least 1.
+    /// (`missionlink_flight::health`). At least 1.
     pub period_ms: u64,
     /// A partition started must send its first beat within this.
     pub start_timeout_ms: u64,

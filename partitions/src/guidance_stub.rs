@@ -1,5 +1,5 @@
 //! Guidance stub: the FCC partition that stands in for flight guidance in the rig, a thin
-//! driver around `services::guidance::Guidance`. It flies the active waypoint and area lists
+//! driver around `missionlink_flight::guidance::Guidance`. It flies the active waypoint and area lists
 //! (taken only as a pair of one activation, `ipc::ListPairing`) with a simple kinematic model
 //! when system automation says so, time-scaled for demos, and publishes FROM / TO / NEXT and the
 //! position on `fcc/guidance/progress`. It reports when the position leaves the fly-zone or
@@ -9,10 +9,10 @@ use std::time::Duration;
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
+use missionlink_flight::guidance::Guidance;
 use missionlink_interfaces::contracts::{
     AutomationStatePayload, FccService, GuidanceProgressPayload, Partition,
 };
-use missionlink_services::guidance::Guidance;
 
 use crate::config::Config;
 use crate::ipc::{Ipc, ListPairing};

@@ -1,7 +1,7 @@
 //! The partitions' side of health (docs/design.md "Health"): the [`Heartbeat`] every partition's
 //! event loop sends on its fixed period (`runtime::run_loop`), and the [`Watch`] of heartbeats
 //! the launcher and system automation read. The rule that decides "silent" is
-//! `missionlink_services::health::Liveness`; this module only moves the beats.
+//! `missionlink_flight::health::Liveness`; this module only moves the beats.
 
 use std::time::Duration;
 

@@ -482,7 +482,7 @@ type Conditions = Vec<(u8, SeccompCmpOp, u64)>;
 /// arguments), grouped by why. A partition's were found by running every partition under
 /// `strace -ff` through the demo, kill -9 and restarts of peers, and reading what iceoryx2 0.10
 /// does then; the bridge's by running two bridges under `strace -ff` through a connection,
-/// refused strangers and shutdown, and held by tests/two_hosts.rs (the flights, a cut of the
+/// refused strangers and shutdown, and held by tests/system/two_hosts.rs (the flights, a cut of the
 /// link and its return, under `on_violation = "kill"`); docs/deployment.md "Isolation" lists
 /// the groups.
 pub fn allowed_syscalls(profile: Profile) -> BTreeMap<i64, Vec<Conditions>> {

@@ -34,8 +34,8 @@ use std::process::{Child, Command, ExitCode, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::ipc;
+use missionlink_flight::health::Liveness;
 use missionlink_interfaces::contracts::Partition;
-use missionlink_services::health::Liveness;
 
 use crate::config::{self, Config, FccArgs};
 use crate::health::Watch;

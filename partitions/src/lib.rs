@@ -1,6 +1,6 @@
 //! The FCC of missionlink: the drivers of the four partitions and the fcc launcher. They move
 //! bytes between sockets, iceoryx2 and the sans-IO services and inject the time; the logic lives
-//! in `missionlink-services`. No ground tooling is linked here (that is `missionlink-gcs`); what
+//! in `missionlink-flight` over `missionlink-protocol`. No ground tooling or ground logic is linked here (that is `missionlink-gcs`); what
 //! both sides share (the link configuration, the UDP pair, keys, clock, logging) is
 //! `missionlink-platform`'s.
 //!

@@ -1,5 +1,5 @@
 //! Mission data handling: the FCC partition of paper §3.1, a thin driver around
-//! `services::mission_data_handling::MissionDataHandling`. It consumes voted uplink frames, the
+//! `missionlink_flight::mission_data_handling::MissionDataHandling`. It consumes voted uplink frames, the
 //! automation state and guidance progress; it publishes the frames the core transmits on the
 //! downlink, the active waypoint and area lists (history 1: late joiners get them) and accepted
 //! #50000 commands. Whenever either list changes it saves and publishes both, under the one
@@ -15,14 +15,14 @@ use std::time::Duration;
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
+use missionlink_flight::health::Liveness;
+use missionlink_flight::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FramePayload,
     GuidanceProgressPayload, Link, Partition, WaypointListPayload,
 };
 use missionlink_interfaces::wire::MAX_FRAME_LEN;
-use missionlink_services::health::Liveness;
-use missionlink_services::mission_data_handling::{FccEvent, MissionDataHandling, Resumed};
-use missionlink_services::transfer::staged::StagedMissions;
+use missionlink_protocol::transfer::staged::StagedMissions;
 
 use crate::config::Config;
 use crate::health::Watch;

@@ -1,5 +1,5 @@
 //! System automation: the FCC partition of paper §2.5, a thin driver around
-//! `services::automation::SystemAutomation`. It follows the active lists (taken only as a pair
+//! `missionlink_flight::automation::SystemAutomation`. It follows the active lists (taken only as a pair
 //! of one activation, `ipc::ListPairing`), guidance's progress and guidance's heartbeat
 //! (guidance alive or not, docs/design.md "Health"), carries out the #50000 commands mission data
 //! handling accepted, and publishes the flight phase and which functions
@@ -10,12 +10,12 @@ use std::time::Duration;
 
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
+use missionlink_flight::automation::SystemAutomation;
 use missionlink_interfaces::contracts::{
     AutomationCommandPayload, AutomationStatePayload, FccService, GuidanceProgressPayload,
     Partition,
 };
-use missionlink_services::automation::SystemAutomation;
-use missionlink_services::link::time::Instant;
+use missionlink_protocol::link::time::Instant;
 
 use crate::config::Config;
 use crate::health::Watch;

@@ -16,7 +16,7 @@ use std::time::Duration;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{FccService, FramePayload, Link, Partition};
-use missionlink_services::voting::{VOTING_STEP_MESSAGES, Voter};
+use missionlink_protocol::voting::{VOTING_STEP_MESSAGES, Voter};
 
 use crate::config::{Config, SigningPolicy};
 use crate::ipc::Ipc;

@@ -11,6 +11,10 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::local;
+use missionlink_ground::ground_station::{
+    GcsConfig, GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
+};
+use missionlink_ground::testkit;
 use missionlink_interfaces::contracts::{
     AreaListPayload, AutomationCommandPayload, AutomationStatePayload, FccService, FlightPhase,
     FramePayload, GuidanceProgressPayload, HeartbeatPayload, Link, Partition, WaypointListPayload,
@@ -25,11 +29,7 @@ use missionlink_partitions::{
     guidance_stub, mission_data_handling, state, system_automation, voting_monitoring,
 };
 use missionlink_platform::clock::DriverClock;
-use missionlink_services::ground_station::{
-    GcsEvent, GroundStation, MissionPlan, ValidatedPlan, WithoutGateway,
-};
-use missionlink_services::testkit;
-use missionlink_services::transfer::sender::mission_command;
+use missionlink_protocol::transfer::sender::mission_command;
 
 type S = local::Service;
 type Loop = fn(&Config, &Control) -> Result<(), PartitionError>;
@@ -171,7 +171,11 @@ fn mission_data_handling_fed_uplink_frames_publishes_the_lists_and_answers_on_th
 
     // The GCS logic plays the ground, its frames carried over the uplink service.
     let clock = DriverClock::start();
-    let mut gcs = GroundStation::new(config.link().gcs_core(clock.utc_at_zero()), WithoutGateway);
+    let gcs_config = GcsConfig {
+        endpoint: config.link().ids.gcs_endpoint(clock.utc_at_zero()),
+        ..testkit::gcs_config()
+    };
+    let mut gcs = GroundStation::new(gcs_config, WithoutGateway);
     gcs.upload(clock.now(), &plan(), true).unwrap();
     let mut buf = [0u8; MAX_FRAME_LEN];
     let mut answers = 0;
@@ -235,7 +239,7 @@ fn voting_monitoring_votes_udp_onto_the_uplink_sends_the_downlink_on_both_links_
  {
     let (mut config, _dir) = config("vm");
     // The voting of unsigned frames, as from a GCS that cannot sign, written in the
-    // configuration as a deployment would have to (the signed links: tests/signed_links.rs).
+    // configuration as a deployment would have to (the signed links: tests/system/signed_links.rs).
     config.signing.policy = SigningPolicy::Off;
     let gcs_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
     let gcs_lte = UdpSocket::bind("127.0.0.1:0").unwrap();

@@ -5,7 +5,7 @@
 use std::time::SystemTime;
 
 use missionlink_interfaces::wire::Timestamp;
-use missionlink_services::link::time::Instant;
+use missionlink_protocol::link::time::Instant;
 
 /// CLOCK_MONOTONIC in nanoseconds: comparable between the partitions of one host.
 pub fn monotonic_ns() -> u64 {

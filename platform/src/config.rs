@@ -37,8 +37,7 @@ use std::time::Duration;
 use clap::Args;
 use missionlink_interfaces::defaults;
 use missionlink_interfaces::wire::{Timestamp, TransferWindow};
-use missionlink_services::ground_station::GcsConfig;
-use missionlink_services::link::endpoint::EndpointConfig;
+use missionlink_protocol::link::endpoint::EndpointConfig;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -160,7 +159,7 @@ impl Timing {
 }
 
 /// What a receiver does with signature trailers (ICD §9); see
-/// [`missionlink_services::link::signing::Policy`].
+/// [`missionlink_protocol::link::signing::Policy`].
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum SigningPolicy {
@@ -175,7 +174,7 @@ pub enum SigningPolicy {
     Require,
 }
 
-impl From<SigningPolicy> for missionlink_services::link::signing::Policy {
+impl From<SigningPolicy> for missionlink_protocol::link::signing::Policy {
     fn from(p: SigningPolicy) -> Self {
         match p {
             SigningPolicy::Off => Self::Off,
@@ -257,18 +256,6 @@ impl LinkConfig {
         let mut c: Self = args.load()?;
         args.apply_link(&mut c.ids, &mut c.links, &mut c.timing, &mut c.signing);
         Ok(c)
-    }
-
-    /// The GCS logic that talks to this FCC (its IDs and timeouts), its instant zero at
-    /// `utc_at_zero`: for the GCS link and the tests that play the ground.
-    pub fn gcs_core(&self, utc_at_zero: Timestamp) -> GcsConfig {
-        GcsConfig {
-            endpoint: self.ids.gcs_endpoint(utc_at_zero),
-            ack_timeout: self.timing.ack_timeout(),
-            transfer_timeout: self.timing.transfer_timeout(),
-            transfer_window: self.timing.transfer_window(),
-            upload_attempts: self.timing.upload_attempts.max(1),
-        }
     }
 }
 

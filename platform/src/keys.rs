@@ -18,10 +18,10 @@ use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
 use missionlink_interfaces::wire::Timestamp;
-use missionlink_services::link::signing::{
+use missionlink_protocol::link::signing::{
     KEY_LEN, Keyring, KeyringError, LinkKey, Policy, SignatureCheck, Signer,
 };
-use missionlink_services::link::time::Instant;
+use missionlink_protocol::link::time::Instant;
 use serde::Deserialize;
 
 use crate::config::Signing;

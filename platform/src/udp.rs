@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::MAX_SIGNED_FRAME_LEN;
-use missionlink_services::link::signing::Signer;
+use missionlink_protocol::link::signing::Signer;
 
 use crate::clock::monotonic_ns;
 

@@ -1,4 +1,4 @@
-"""MAVProxy (its PyPI package, unmodified) against `gcs mavlink` (tests/mavlink_clients.rs
+"""MAVProxy (its PyPI package, unmodified) against `gcs mavlink` (tests/system/mavlink_clients.rs
 starts both), driven as a person types at its prompt.
 
 MAVProxy runs with its own system and component IDs (255, 230 by default) and takes a mission

@@ -1,5 +1,5 @@
 """MAVSDK (its PyPI package, the C library bundled) against `gcs mavlink`
-(tests/mavlink_clients.rs starts both).
+(tests/system/mavlink_clients.rs starts both).
 
 Connects, uploads a mission with MissionRaw (a take-off and two waypoints) and its geofence (the
 demo fly-zone as an inclusion polygon), starts it, and watches the mission progress and the

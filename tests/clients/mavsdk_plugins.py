@@ -1,5 +1,5 @@
 """MAVSDK-Python's Mission, Geofence, Telemetry and Action plugins (its PyPI package, the C
-library bundled, unmodified) against `gcs mavlink` (tests/mavlink_clients.rs starts both), as
+library bundled, unmodified) against `gcs mavlink` (tests/system/mavlink_clients.rs starts both), as
 a script writer uses them.
 
 1. Telemetry: the flight mode by name, the home (HOME_POSITION), the landed state.

@@ -1,4 +1,4 @@
-"""pymavlink against `gcs mavlink` (tests/mavlink_clients.rs starts both).
+"""pymavlink against `gcs mavlink` (tests/system/mavlink_clients.rs starts both).
 
 Uploads a mission (a take-off and two waypoints) with a fence (an inclusion polygon and an
 exclusion circle) in QGroundControl's order (mission, then fence, then rally points, each after

@@ -1,6 +1,6 @@
 /* A C program passing the library null pointers, wrong lengths, unknown services and a payload
  * that is no valid value: each call must return its error code (printed by name), never crash.
- * Exits 0 when every code is the expected one (tests/c_partition.rs runs it). */
+ * Exits 0 when every code is the expected one (tests/system/c_partition.rs runs it). */
 #include <stdio.h>
 #include <string.h>
 

@@ -1,7 +1,7 @@
 // A C++17 program using missionlink.h: every service number of the header is the library's (its
 // payload's sizeof, its path), and every status (its name); then two partitions under the prefix
 // given as the argument, one publishing progress, the other waking on it and taking it. Prints what it took; exits 0 when all is as expected
-// (tests/c_partition.rs builds and runs it).
+// (tests/system/c_partition.rs builds and runs it).
 #include <cstdio>
 #include <cstring>
 

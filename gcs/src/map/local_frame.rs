@@ -1,13 +1,13 @@
 //! The map's drawing projection: an equirectangular projection about a reference point with the
 //! radii of curvature there of the WGS-84 ellipsoid of the one Earth model
-//! (`missionlink_services::geofence::earth`; east-west scale error about tan(lat0) x |dlat|: under
+//! (`missionlink_protocol::geofence::earth`; east-west scale error about tan(lat0) x |dlat|: under
 //! 0.03 % over the demo area), north up.
 //!
 //! It only puts on the screen what the geofence computed: the map draws the sites along the
 //! geofence's geodesics, arcs and circles (`Track::sites`) through it, and no check, distance or
 //! crossing is decided in it; so it lives with the map, not with the geofence.
 
-use missionlink_services::geofence::earth::{WGS84_A_M, WGS84_E2};
+use missionlink_protocol::geofence::earth::{WGS84_A_M, WGS84_E2};
 
 /// A point of the frame: metres east (x) and north (y) of the reference point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,7 +76,7 @@ impl LocalFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_services::geofence::earth::Site;
+    use missionlink_protocol::geofence::earth::Site;
 
     /// On the same ellipsoid as the geofence, the frame scales latitude as the meridian arc.
     #[test]

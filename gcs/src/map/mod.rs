@@ -8,7 +8,7 @@
 //! (track-to-fix as geodesics, radius-to-fix as arcs around their RF centre in their turn
 //! direction, each with a direction arrow); the turns at the waypoints as guidance flies them
 //! and the gateway checks them (orange: the fly-by arc tangent to both legs, the fly-over's
-//! turn, intercept and turn onto the next leg; `services::geofence::turn`, at the gateway's
+//! turn, intercept and turn onto the next leg; `missionlink_protocol::geofence::turn`, at the gateway's
 //! bank and in its wind, forward from the take-off position; in wind also the same turn in calm
 //! air, dashed, and the band between the two shaded: what the wind adds to the turn, ICD §7
 //! "Turns in wind"); the RF centres as small crosses with
@@ -45,14 +45,14 @@
 use std::fmt::Write as _;
 
 use local_frame::LocalFrame;
+use missionlink_ground::ground_station::ValidatedPlan;
+use missionlink_ground::safety_gateway::SafetyGateway;
 use missionlink_interfaces::wire::{AreaShape, GeoPoint, SpecificData, TurnDirection};
-use missionlink_services::geofence::earth::Site;
-use missionlink_services::geofence::flown_route::{self, RouteElement, RouteView, RouteWaypoint};
-use missionlink_services::geofence::path::{Path, Track};
-use missionlink_services::geofence::turn::TurnKind;
-use missionlink_services::geofence::zone::{Fence, Zone, ZoneKind};
-use missionlink_services::ground_station::ValidatedPlan;
-use missionlink_services::safety_gateway::SafetyGateway;
+use missionlink_protocol::geofence::earth::Site;
+use missionlink_protocol::geofence::flown_route::{self, RouteElement, RouteView, RouteWaypoint};
+use missionlink_protocol::geofence::path::{Path, Track};
+use missionlink_protocol::geofence::turn::TurnKind;
+use missionlink_protocol::geofence::zone::{Fence, Zone, ZoneKind};
 
 /// A mark the map draws in red: a violation the safety gateway reported (its code, a label, and
 /// where).

@@ -4,9 +4,9 @@ use super::local_frame::Coord;
 use super::*;
 use crate::mission_file::MissionFile;
 use crate::mission_file::tests::{MISSION_1, MISSION_2, validated};
-use missionlink_services::geofence::earth;
-use missionlink_services::geofence::path::ArcLeg;
-use missionlink_services::safety_gateway::{AircraftProfile, Environment};
+use missionlink_ground::safety_gateway::{AircraftProfile, Environment};
+use missionlink_protocol::geofence::earth;
+use missionlink_protocol::geofence::path::ArcLeg;
 
 fn example_markers() -> Vec<Marker> {
     vec![

@@ -14,10 +14,10 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use missionlink_services::ground_station::{GcsError, GcsEvent, SafetyGateway, Sequence};
+use missionlink_ground::ground_station::{GcsError, GcsEvent, SafetyGateway, Sequence};
 
 use super::vehicle::{Vehicle, VehicleEvent};
-use missionlink_services::transfer::integrity::{areas_checksum, mission_checksum};
+use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
 
 use super::memory::Memory;
 use super::plan::{List, from_plan};
@@ -178,7 +178,7 @@ fn read_fcc_lists<G: SafetyGateway>(link: &mut GcsLink<G>, vehicle: &mut Vehicle
 /// (ICD §11), or why not, in the operator's words.
 fn commit<G: SafetyGateway>(
     link: &mut GcsLink<G>,
-    plan: &missionlink_services::ground_station::MissionPlan,
+    plan: &missionlink_ground::ground_station::MissionPlan,
 ) -> Result<(u32, u32), String> {
     link.station().validate(plan).map_err(|e| e.to_string())?;
     let now = link.now();

@@ -11,7 +11,7 @@
 
 use core::fmt;
 
-use missionlink_services::ground_station::ValidatedPlan;
+use missionlink_ground::ground_station::ValidatedPlan;
 use serde_json::{Value, json};
 
 use crate::import::{Dropped, MissionFileError};
@@ -536,9 +536,9 @@ mod tests {
     #[test]
     fn a_fence_exports_back_to_the_same_items() {
         let import = to_plan(&mission(), &fence(), &context()).unwrap();
-        let valid = missionlink_services::ground_station::GroundStation::new(
-            missionlink_services::testkit::gcs_config(),
-            missionlink_services::ground_station::WithoutGateway,
+        let valid = missionlink_ground::ground_station::GroundStation::new(
+            missionlink_ground::testkit::gcs_config(),
+            missionlink_ground::ground_station::WithoutGateway,
         )
         .validate(&import.plan)
         .unwrap();

@@ -69,9 +69,9 @@ use mavlink::dialects::common::{
 };
 use mavlink::{MavHeader, MavlinkReader, MavlinkVersion};
 use missionlink_interfaces::wire::{AltitudeType, FromToNext, InertialStates};
-use missionlink_services::geofence::earth::Site;
-use missionlink_services::link::time::Instant;
-use missionlink_services::link::timer::TimerTable;
+use missionlink_protocol::geofence::earth::Site;
+use missionlink_protocol::link::time::Instant;
+use missionlink_protocol::link::timer::TimerTable;
 use num_traits::FromPrimitive;
 
 use super::home::{Home, amsl_m};
@@ -158,7 +158,7 @@ struct Clearing {
     refused: Option<String>,
 }
 
-missionlink_services::timers! {
+missionlink_protocol::timers! {
     /// The timers of the vehicle.
     pub enum VehicleTimer {
         /// The next HEARTBEAT.

@@ -4,15 +4,15 @@
 use core::fmt;
 use std::path::Path;
 
+use missionlink_ground::ground_station::{MissionPlan, ValidatedPlan};
 use missionlink_interfaces::capacity::{MAX_AREAS, MAX_POLYGON_VERTICES, MAX_WAYPOINTS};
 use missionlink_interfaces::wire::{
     AltitudeType, AreaPolygonLoopSegment, AreaShape, AreaType, GeoPoint, LegType, LocationType,
     PolygonVertices, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp,
     TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_services::ground_station::{MissionPlan, ValidatedPlan};
-use missionlink_services::transfer::areas::AreaBuffer;
-use missionlink_services::transfer::mission::{MissionBuffer, WaypointRecord};
+use missionlink_protocol::transfer::areas::AreaBuffer;
+use missionlink_protocol::transfer::mission::{MissionBuffer, WaypointRecord};
 use serde::{Deserialize, Deserializer, Serialize};
 use toml::value::Datetime;
 

@@ -1,9 +1,9 @@
 //! Tests of the mission file: the demo missions, every field's errors, the round trips.
 
 use super::*;
+use missionlink_ground::ground_station::InvalidPlan;
 use missionlink_interfaces::wire::{Angle, Reason};
-use missionlink_services::geofence::earth;
-use missionlink_services::ground_station::InvalidPlan;
+use missionlink_protocol::geofence::earth;
 
 pub(crate) const MISSION_1: &str = include_str!("../../../missions/mission-1.toml");
 pub(crate) const MISSION_2: &str = include_str!("../../../missions/mission-2.toml");

@@ -102,6 +102,7 @@
 //! fields (arrival time, activity ID, limits) are not written. Area IDs are not kept: QGC
 //! holds polygons and circles in two lists, and an import numbers them as above.
 
+use missionlink_ground::ground_station::{MissionPlan, ValidatedPlan};
 use missionlink_interfaces::capacity::{
     MAX_AREAS, MAX_NO_FLY_ZONES, MAX_POLYGON_VERTICES, MAX_WAYPOINTS,
 };
@@ -110,9 +111,8 @@ use missionlink_interfaces::wire::{
     PolygonVertices, SafetyOffset, SpecificData, Speed, SpeedType, Timestamp, TurnType,
     UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_services::ground_station::{MissionPlan, ValidatedPlan};
-use missionlink_services::transfer::areas::AreaBuffer;
-use missionlink_services::transfer::mission::MissionBuffer;
+use missionlink_protocol::transfer::areas::AreaBuffer;
+use missionlink_protocol::transfer::mission::MissionBuffer;
 use serde_json::{Value, json};
 
 use crate::mission_file::MissionFileError;

@@ -1,8 +1,8 @@
 //! Tests of the `.plan` import and export, on real QGroundControl files and the demo missions.
 
 use super::*;
-use missionlink_services::geofence::earth;
-use missionlink_services::transfer::mission::Mission;
+use missionlink_protocol::geofence::earth;
+use missionlink_protocol::transfer::mission::Mission;
 
 use crate::mission_file::tests::{MISSION_2, validated};
 

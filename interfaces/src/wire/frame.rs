@@ -8,7 +8,7 @@
 //! A frame whose Message Properties bit 5 is set is *signed* (ICD §9): a 16-byte
 //! [`SignatureTrailer`] follows its checksum in the same datagram. The walker hands the trailer
 //! over with the frame ([`Frame::trailer`]) and goes on after it; whether it verifies is the
-//! receiver's business (`services::link::signing`), since it needs keys.
+//! receiver's business (`missionlink_protocol::link::signing`), since it needs keys.
 
 use zerocopy::byteorder::big_endian::{U16, U32};
 use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout, Unaligned};

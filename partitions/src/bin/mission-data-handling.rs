@@ -1,5 +1,5 @@
 //! `mission-data-handling`: the FCC partition of paper §3.1, a thin driver around
-//! `services::mission_data_handling::MissionDataHandling`. It consumes voted uplink frames, the automation state
+//! `missionlink_flight::mission_data_handling::MissionDataHandling`. It consumes voted uplink frames, the automation state
 //! and guidance progress; it publishes downlink frames, the active waypoint and area lists
 //! (history 1: late joiners get them) and accepted #50000 commands. After a restart it resumes
 //! with the lists it published last, so guidance never sees them change.

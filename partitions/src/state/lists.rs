@@ -14,7 +14,7 @@
 //!
 //! A mission upload that is open is recorded too (`mission-upload.open`, empty): a partition
 //! restarted in the middle of one must not take the rest of it as an edit of the active list
-//! (`services::mission_data_handling`, "A restart never assembles a transfer it did not see from
+//! (`missionlink_flight::mission_data_handling`, "A restart never assembles a transfer it did not see from
 //! the start").
 
 use std::io;
@@ -24,10 +24,10 @@ use missionlink_interfaces::wire::{
     self, AreaTransferMode, AreaTransmissionCommand, Envelope, MAX_FRAME_LEN, Message,
     MissionPlanMode, Timestamp,
 };
-use missionlink_services::transfer::areas::{AreaBuffer, AreaList};
-use missionlink_services::transfer::mission::{Mission, MissionBuffer};
-use missionlink_services::transfer::sender::mission_command;
-use missionlink_services::transfer::staged::MissionId;
+use missionlink_protocol::transfer::areas::{AreaBuffer, AreaList};
+use missionlink_protocol::transfer::mission::{Mission, MissionBuffer};
+use missionlink_protocol::transfer::sender::mission_command;
+use missionlink_protocol::transfer::staged::MissionId;
 
 use super::{remove_if_present, sync_dir, write_atomically};
 
@@ -355,7 +355,7 @@ pub fn load_mission_upload_open(dir: &Path) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use missionlink_services::testkit;
+    use missionlink_protocol::testkit;
 
     /// Demo mission 1 and demo mission 2, each as (waypoint list, area list).
     fn missions() -> [(Mission, AreaList); 2] {

@@ -23,21 +23,21 @@ use missionlink_gcs::inspect::{
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
 use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
+use missionlink_ground::ground_station::outcome::{UploadOutcome, UploadReport};
+use missionlink_ground::ground_station::{
+    GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan, plan_in_wind,
+};
+use missionlink_ground::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
 use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
 use missionlink_platform::config::{LinkArgs, LinkConfig, parse_id};
 use missionlink_platform::keys;
 use missionlink_platform::udp::LinkPair;
-use missionlink_services::ground_station::outcome::{UploadOutcome, UploadReport};
-use missionlink_services::ground_station::{
-    GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan, plan_in_wind,
-};
-use missionlink_services::link::signing::Keyring;
-use missionlink_services::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
-use missionlink_services::transfer::areas::AreaList;
-use missionlink_services::transfer::integrity;
-use missionlink_services::transfer::mission::Mission;
-use missionlink_services::transfer::sender::Target;
-use missionlink_services::transfer::staged::MissionId;
+use missionlink_protocol::link::signing::Keyring;
+use missionlink_protocol::transfer::areas::AreaList;
+use missionlink_protocol::transfer::integrity;
+use missionlink_protocol::transfer::mission::Mission;
+use missionlink_protocol::transfer::sender::Target;
+use missionlink_protocol::transfer::staged::MissionId;
 
 mod cli;
 
