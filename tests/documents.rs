@@ -352,6 +352,7 @@ const MAPPED: &[&str] = &[
     "partitions/src",
     "gcs/src",
     "bridge/src",
+    "clib/src",
     "fuzz-targets",
     "src",
 ];

@@ -3,6 +3,7 @@
 //! datagram sockets, the shared-memory floor), and the ping-pong measurement they all share.
 
 use super::*;
+use missionlink_interfaces::contracts::{FramePayload, Link};
 
 /// The sender: stamps and sends a frame, waits for its reply, repeats (at the sparse pace,
 /// sleeping until the next frame is due).
@@ -355,16 +356,19 @@ pub(super) fn partition_sender<F: Stamped>(run: &Run) {
 /// the frames of the uplink service as it does (`take_all`, the stamp read in place) and
 /// answering each on the downlink service.
 pub(super) fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
+    partition_receiver_replying::<F, Frame64>(run)
+}
+
+/// [`partition_receiver`] with the frames of type `F` answered by a reply of type `R`.
+fn partition_receiver_replying<F: Stamped, R: Stamped>(run: &Run) -> Histogram<u64> {
     let config = partition_config(run);
     let ipc = Ipc::<S>::open("latency-receiver", &config.ipc).expect("node");
     let frames = ipc.subscriber::<F>(FccService::Uplink).expect("subscriber");
-    let publisher = ipc
-        .publisher::<Frame64>(FccService::Downlink)
-        .expect("publisher");
+    let publisher = ipc.publisher::<R>(FccService::Downlink).expect("publisher");
     let control = Control::new();
     let mut histogram =
         Histogram::<u64>::new_with_bounds(1, 60_000_000_000, 3).expect("valid histogram bounds");
-    let mut reply = Frame64::zeroed();
+    let mut reply = R::zeroed();
     let mut received = 0;
     let mut last = Instant::now();
     let inputs = Inputs::new(LOOP_TIMEOUT).subscriber(&frames);
@@ -402,6 +406,109 @@ pub(super) fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
     )
     .expect("the receiver's loop");
     histogram
+}
+
+// ---------------------------------------------------------------------------------------------
+// A sender in C on the C library (`partition-foreign-sparse`)
+// ---------------------------------------------------------------------------------------------
+
+/// The contract's frame, as the C sender publishes it: the stamp is `origin_ns`.
+impl Stamped for FramePayload {
+    fn zeroed() -> Self {
+        FramePayload::new(Link::Direct, &[0; MAX_FRAME_LEN], 0)
+            .expect("a frame of the largest size")
+    }
+
+    fn stamp(&self) -> u64 {
+        self.origin_ns
+    }
+
+    fn set_stamp(&mut self, ns: u64) {
+        self.origin_ns = ns;
+    }
+}
+
+/// The libraries the Rust standard library of the static library needs from the system
+/// (`cargo rustc -p missionlink-c --crate-type staticlib -- --print native-static-libs`).
+const NATIVE_LIBS: [&str; 7] = [
+    "-lgcc_s",
+    "-lutil",
+    "-lrt",
+    "-lpthread",
+    "-lm",
+    "-ldl",
+    "-lc",
+];
+
+/// benches/latency/foreign_sender.c built with `cc` against `libmissionlink_c.a` of the bench's
+/// own profile and target directory (brought up to date by cargo first); once per process,
+/// before the receiver starts (which gives up after [`TIMEOUT`] without a frame).
+pub(super) fn foreign_sender_program() -> PathBuf {
+    static PROGRAM: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    PROGRAM.get_or_init(build_foreign_sender).clone()
+}
+
+fn build_foreign_sender() -> PathBuf {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = missionlink::harness::binaries::build_dir().expect("the build directory");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
+    let profile = if cfg!(debug_assertions) {
+        "dev"
+    } else {
+        "bench"
+    };
+    // With the root package beside it, as the tests build it: the shared dependencies resolve
+    // their features as for the bench, and are not built twice.
+    let status = Command::new(cargo)
+        .args(["build", "-q", "--profile", profile])
+        .args(["-p", "missionlink-c", "-p", "missionlink", "--lib"])
+        .arg("--manifest-path")
+        .arg(repo.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(dir.parent().expect("the target directory"))
+        .status()
+        .expect("cargo runs");
+    assert!(status.success(), "cargo build -p missionlink-c: {status}");
+    let program = dir.join("latency-foreign-sender");
+    let output = Command::new("cc")
+        .args(["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"])
+        .arg("-I")
+        .arg(repo.join("interfaces/c"))
+        .arg("-I")
+        .arg(repo.join("clib/include"))
+        .arg(repo.join("benches/latency/foreign_sender.c"))
+        .arg(dir.join("libmissionlink_c.a"))
+        .args(NATIVE_LIBS)
+        .arg("-o")
+        .arg(&program)
+        .output()
+        .expect("cc runs");
+    assert!(
+        output.status.success(),
+        "cc foreign_sender.c:\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    program
+}
+
+/// The sending end in C: the C sender, pinned as this process is (it inherits the affinity),
+/// sends the run's frames at its pace and ends.
+pub(super) fn foreign_sender(run: &Run) {
+    let program = foreign_sender_program();
+    let pace = run.transport.pace().unwrap_or(Duration::ZERO);
+    let status = Command::new(program)
+        .arg(partition_config(run).ipc.service_prefix)
+        .arg(run.total().to_string())
+        .arg(pace.as_nanos().to_string())
+        .status()
+        .expect("start the C sender");
+    assert!(status.success(), "the C sender failed: {status}");
+}
+
+/// The receiving end of the C sender's frames: mission data handling's loop, as for
+/// `partition-sparse`, taking the contract's `FramePayload` and answering with one.
+pub(super) fn foreign_receiver(run: &Run) -> Histogram<u64> {
+    partition_receiver_replying::<FramePayload, FramePayload>(run)
 }
 
 // ---------------------------------------------------------------------------------------------

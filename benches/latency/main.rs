@@ -55,6 +55,14 @@
 //!    previous one was answered (as uplink frames arrive from a GCS), longer than any spin
 //!    budget, so every frame meets a receiver asleep: the cold wake-up. They record a tenth of
 //!    `--frames` (and warm up with a tenth of `--warmup`).
+//! 10. `partition-foreign-sparse`: `partition-sparse` with the sender in C, a partition on
+//!     missionlink's C library (`clib/`, docs/hil.md) in voting-monitoring's role
+//!     (benches/latency/foreign_sender.c, built with `cc` against the static library of the
+//!     bench's profile): it publishes the contract's `FramePayload` on the uplink service (the
+//!     stamp in `origin_ns`) and sleeps on its doorbell for the reply; the receiver is mission
+//!     data handling's loop with its default idle strategy, as in `partition-sparse`. Only at
+//!     the STANAG frame's size. The sender's columns (preemptions, CPU) are the bench
+//!     process's, which only waits for the C process: the C process's CPU counts as others'.
 //!
 //! `--only T,T,...` runs only the named transports, `--sizes N,N` only the named payload sizes
 //! (for example `--only partition,uds --sizes 548`). After each table the ratios of p50 that
@@ -192,11 +200,12 @@ enum Transport {
     PartitionBackoffSparse,
     PartitionDoorbellSparse,
     UdsSparse,
+    PartitionForeignSparse,
 }
 
 impl Transport {
     /// In the order of the tables; the first is the reference of the ratios.
-    const ALL: [Transport; 15] = [
+    const ALL: [Transport; 16] = [
         Self::Iox2Event,
         Self::Partition,
         Self::PartitionBlock,
@@ -212,6 +221,7 @@ impl Transport {
         Self::PartitionBackoffSparse,
         Self::PartitionDoorbellSparse,
         Self::UdsSparse,
+        Self::PartitionForeignSparse,
     ];
 
     /// The name on the command line and in the JSON.
@@ -232,6 +242,7 @@ impl Transport {
             Self::PartitionBackoffSparse => "partition-backoff-sparse",
             Self::PartitionDoorbellSparse => "partition-doorbell-sparse",
             Self::UdsSparse => "uds-sparse",
+            Self::PartitionForeignSparse => "partition-foreign-sparse",
         }
     }
 
@@ -253,6 +264,7 @@ impl Transport {
             Self::PartitionBackoffSparse => "partition, backoff, sparse",
             Self::PartitionDoorbellSparse => "partition, doorbell, sparse",
             Self::UdsSparse => "Unix datagram, sparse",
+            Self::PartitionForeignSparse => "C publisher, sparse",
         }
     }
 
@@ -266,6 +278,7 @@ impl Transport {
                 | Self::PartitionBackoffSparse
                 | Self::PartitionDoorbellSparse
                 | Self::UdsSparse
+                | Self::PartitionForeignSparse
         )
         .then_some(SPARSE_PACE)
     }
@@ -313,12 +326,13 @@ impl Transport {
             Self::Uds | Self::UdsSparse => Hop::Uds,
             Self::Udp => Hop::Udp,
             Self::ShmFloor => Hop::Shm,
+            Self::PartitionForeignSparse => Hop::Foreign,
         }
     }
 }
 
 /// The code in `hop.rs` that carries a transport's frames, for the sender and the receiver.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Hop {
     /// iceoryx2 publish-subscribe through the partitions' IPC, woken by an event or polling.
     Iox2 { event: bool },
@@ -330,6 +344,8 @@ enum Hop {
     Udp,
     /// The shared cache line.
     Shm,
+    /// A sender in C on the C library (`clib/`), the receiver the partitions' loop.
+    Foreign,
 }
 
 /// The payload sizes with their description.
@@ -491,6 +507,7 @@ fn receiver_main(run: &Run, cpu: Option<usize>) {
         Hop::Uds => uds_receiver(run),
         Hop::Udp => udp_receiver(run),
         Hop::Shm => shm_receiver(run),
+        Hop::Foreign => foreign_receiver(run),
     };
     let usage = Usage::now().since(start);
     let h = &histogram;
@@ -523,6 +540,9 @@ impl Drop for ChildGuard {
 
 /// One measurement: starts the receiver, sends, collects the receiver's result.
 fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
+    if run.transport.hop() == Hop::Foreign {
+        foreign_sender_program();
+    }
     let mut command = Command::new(std::env::current_exe().expect("own executable"));
     command.args(run.args()).stdout(Stdio::piped());
     if let Some(cpu) = receiver_cpu {
@@ -553,6 +573,7 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
         Hop::Uds => uds_sender(run),
         Hop::Udp => udp_sender(run, &info),
         Hop::Shm => shm_sender(run),
+        Hop::Foreign => foreign_sender(run),
     }
     let sender = Usage::now().since(start);
     let machine_end = machine_ticks();
@@ -703,6 +724,10 @@ fn main() {
             continue;
         }
         for transport in Transport::ALL.into_iter().filter(wanted) {
+            // The C sender publishes the contract's FramePayload: a STANAG frame, one size.
+            if transport.hop() == Hop::Foreign && size != MAX_FRAME_LEN {
+                continue;
+            }
             // At the sparse pace a frame takes a millisecond: a tenth of the frames.
             let (frames, warmup) = match transport.pace() {
                 Some(_) => ((frames / SPARSE_DIVISOR).max(1), warmup / SPARSE_DIVISOR),

@@ -52,6 +52,10 @@ pub(super) fn goal_ratios(results: &[&Value]) -> Vec<(String, f64, f64)> {
         (Transport::PartitionBlockSparse, Transport::UdsSparse),
         (Transport::PartitionBackoffSparse, Transport::UdsSparse),
         (Transport::PartitionDoorbellSparse, Transport::UdsSparse),
+        (
+            Transport::PartitionForeignSparse,
+            Transport::PartitionSparse,
+        ),
         (Transport::Iox2Poll, Transport::Iox2OwnPubsub),
     ]
     .into_iter()

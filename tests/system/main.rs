@@ -10,6 +10,7 @@
 
 mod atomic_activation;
 mod atomic_upload;
+mod c_partition;
 mod demo;
 mod emulated_links;
 mod end_to_end;
