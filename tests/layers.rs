@@ -148,6 +148,7 @@ fn no_product_crate_runs_cargo() {
         "partitions/src",
         "gcs/src",
         "bridge/src",
+        "clib/src",
     ];
     let running_cargo: Vec<String> = product
         .iter()

@@ -26,7 +26,7 @@ use core::ffi::{c_char, c_void};
 use std::time::Duration;
 
 use iceoryx2::prelude::ipc;
-use iceoryx2::prelude::{CallbackProgression, WaitSetBuilder};
+use iceoryx2::prelude::{CallbackProgression, SignalHandlingMode, WaitSetBuilder};
 use missionlink_interfaces::contracts::{DEFAULT_HEARTBEAT_PERIOD, FccService, Partition};
 use missionlink_partitions::config;
 use missionlink_partitions::health::Heartbeat;
@@ -143,7 +143,12 @@ impl CPartition {
         if timeout.is_zero() || self.subscribers.iter().flatten().any(|s| s.has_samples()) {
             return Ok(());
         }
+        // The C program owns its signals: iceoryx2's handling of termination requests would
+        // replace its SIGTERM and SIGINT handlers with iceoryx2's own, and the program's loop
+        // would never see its flag. Without it, a signal ends the wait (EINTR) and the program
+        // looks at its flag.
         let waitset = WaitSetBuilder::new()
+            .signal_handling_mode(SignalHandlingMode::Disabled)
             .create::<ipc::Service>()
             .map_err(|e| Failure::new(Status::Ipc, format!("WaitSet: {e:?}")))?;
         let mut guards = Vec::with_capacity(SERVICES.len());
