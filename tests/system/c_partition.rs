@@ -1,6 +1,6 @@
 //! A partition in C through missionlink's C library (clib/, docs/hil.md):
 //!
-//! - **End to end**: the guidance in C (partitions/c/guidance.c), built here with the system's C
+//! - **End to end**: the guidance in C (clib/partitions/guidance.c), built here with the system's C
 //!   compiler (`cc`) against the static library Cargo built, started in place of the Rust stub
 //!   (`fcc --without guidance-stub`), flies demo mission 2 uploaded and executed by the real GCS
 //!   over UDP; FROM-TO-NEXT at the GCS is the Rust stub's sequence (the Rust model flown in
@@ -139,7 +139,7 @@ fn c_guidance() -> PathBuf {
             compile(
                 "cc",
                 &["-std=c11", "-O1"],
-                &[repo().join("partitions/c/guidance.c")],
+                &[repo().join("clib/partitions/guidance.c")],
                 Some(&out),
                 true,
             );

@@ -24,7 +24,7 @@
  *
  * Usage (the FCC started without its stub: fcc --without guidance-stub):
  *
- *     cc -std=c11 -O2 -I interfaces/c -I clib/include partitions/c/guidance.c \
+ *     cc -std=c11 -O2 -I interfaces/c -I clib/include clib/partitions/guidance.c \
  *         target/release/libmissionlink_c.a -lm -lpthread -ldl -o guidance-c
  *     ./guidance-c --service-prefix missionlink --time-scale 20
  *
