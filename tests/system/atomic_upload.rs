@@ -57,7 +57,13 @@ fn delete_staged(link: &mut Link) {
 
 #[test]
 fn a_gcs_that_dies_during_an_atomic_upload_leaves_the_old_lists_whole_until_it_activated() {
-    let (rig, _fcc, mut link) = Rig::with_gcs("atomic-upload-kill");
+    let mut rig = Rig::new("atomic-upload-kill");
+    // The subject is which lists survive the GCS, not the link's timing: over a thousand
+    // exchanges, a GCS that gives up after 500 ms and one retry (ICD §1's default) fails the
+    // test whenever a loaded machine starves the FCC for a second; 2 s per answer does not.
+    rig.config.timing.ack_timeout_ms = 2_000;
+    let mut fcc = rig.start_fcc();
+    let mut link = rig.gcs(&mut fcc);
     link.enable_log();
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
     let old = plan_checksums(&link.station().validate(&mission_1).unwrap());

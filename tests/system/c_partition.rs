@@ -53,44 +53,17 @@ fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `libmissionlink_c.a` of this build (the test binary's profile), brought up to date by the
-/// cargo that built the test: once per test process.
+/// `libmissionlink_c.a` of this build: the root package's dev-dependency on the C library makes
+/// cargo build it, with the test binary's profile and features, before any test runs (so no
+/// test builds it while others run).
 fn static_library() -> PathBuf {
-    static LIBRARY: OnceLock<PathBuf> = OnceLock::new();
-    LIBRARY
-        .get_or_init(|| {
-            let dir = binaries::build_dir().expect("the build directory");
-            let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-            // With the root package beside it, as binaries.rs builds the partitions: the shared
-            // dependencies resolve their features as for the tests, and are not built twice.
-            let mut command = Command::new(cargo);
-            command
-                .args([
-                    "build",
-                    "-q",
-                    "-p",
-                    "missionlink-c",
-                    "-p",
-                    "missionlink",
-                    "--lib",
-                ])
-                .arg("--manifest-path")
-                .arg(repo().join("Cargo.toml"))
-                // Into the target directory of this test binary, whatever the environment says.
-                .arg("--target-dir")
-                .arg(dir.parent().expect("the target directory"));
-            if !cfg!(debug_assertions) {
-                command.arg("--release");
-            }
-            let status = command.status().expect("cargo runs");
-            let library = dir.join("libmissionlink_c.a");
-            assert!(
-                status.success() && library.is_file(),
-                "cargo build -p missionlink-c: {status}; {library:?} missing"
-            );
-            library
-        })
-        .clone()
+    let dir = binaries::build_dir().expect("the build directory");
+    let library = dir.join("deps/libmissionlink_c.a");
+    assert!(
+        library.is_file(),
+        "{library:?} missing: the tests' build makes it (missionlink-c, a dev-dependency)"
+    );
+    library
 }
 
 /// A scratch directory of this test's own.
