@@ -428,20 +428,8 @@ impl Stamped for FramePayload {
     }
 }
 
-/// The libraries the Rust standard library of the static library needs from the system
-/// (`cargo rustc -p missionlink-c --crate-type staticlib -- --print native-static-libs`).
-const NATIVE_LIBS: [&str; 7] = [
-    "-lgcc_s",
-    "-lutil",
-    "-lrt",
-    "-lpthread",
-    "-lm",
-    "-ldl",
-    "-lc",
-];
-
 /// benches/latency/foreign_sender.c built with `cc` against `libmissionlink_c.a` of the bench's
-/// own profile and target directory (brought up to date by cargo first); once per process,
+/// own build (`harness::binaries::c_static_library`); once per process,
 /// before the receiver starts (which gives up after [`TIMEOUT`] without a frame).
 pub(super) fn foreign_sender_program() -> PathBuf {
     static PROGRAM: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
@@ -451,24 +439,6 @@ pub(super) fn foreign_sender_program() -> PathBuf {
 fn build_foreign_sender() -> PathBuf {
     let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = missionlink::harness::binaries::build_dir().expect("the build directory");
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-    let profile = if cfg!(debug_assertions) {
-        "dev"
-    } else {
-        "bench"
-    };
-    // With the root package beside it, as the tests build it: the shared dependencies resolve
-    // their features as for the bench, and are not built twice.
-    let status = Command::new(cargo)
-        .args(["build", "-q", "--profile", profile])
-        .args(["-p", "missionlink-c", "-p", "missionlink", "--lib"])
-        .arg("--manifest-path")
-        .arg(repo.join("Cargo.toml"))
-        .arg("--target-dir")
-        .arg(dir.parent().expect("the target directory"))
-        .status()
-        .expect("cargo runs");
-    assert!(status.success(), "cargo build -p missionlink-c: {status}");
     let program = dir.join("latency-foreign-sender");
     let output = Command::new("cc")
         .args(["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"])
@@ -477,8 +447,8 @@ fn build_foreign_sender() -> PathBuf {
         .arg("-I")
         .arg(repo.join("clib/include"))
         .arg(repo.join("benches/latency/foreign_sender.c"))
-        .arg(dir.join("libmissionlink_c.a"))
-        .args(NATIVE_LIBS)
+        .arg(missionlink::harness::binaries::c_static_library().expect("the C library"))
+        .args(missionlink::harness::binaries::C_NATIVE_LIBS)
         .arg("-o")
         .arg(&program)
         .output()

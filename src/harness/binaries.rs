@@ -112,3 +112,33 @@ fn ensure_of(dir: &Path, names: &[&str], package: &str, build: Build) -> Result<
     }
     Ok(dir.to_path_buf())
 }
+
+/// The libraries the Rust standard library inside the C library's static library needs from the
+/// system, to link a C program with it
+/// (`cargo rustc -p missionlink-c --crate-type staticlib -- --print native-static-libs`).
+pub const C_NATIVE_LIBS: [&str; 7] = [
+    "-lgcc_s",
+    "-lutil",
+    "-lrt",
+    "-lpthread",
+    "-lm",
+    "-ldl",
+    "-lc",
+];
+
+/// `libmissionlink_c.a` of this build (the test's or bench's profile and features): the root
+/// package's dev-dependency on the C library (`clib/`) makes cargo build it before any test or
+/// bench runs, so none builds it while others run.
+pub fn c_static_library() -> Result<PathBuf, String> {
+    let dir = build_dir().ok_or("cannot find the build directory")?;
+    let library = dir.join("deps/libmissionlink_c.a");
+    if library.is_file() {
+        Ok(library)
+    } else {
+        Err(format!(
+            "{} missing: the tests' and benches' build makes it (missionlink-c, a \
+             dev-dependency of the root package)",
+            library.display()
+        ))
+    }
+}

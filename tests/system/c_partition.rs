@@ -37,33 +37,8 @@ use missionlink_protocol::link::time::Instant as SimInstant;
 /// Bound of every wait (a failure bound, never a timing assertion).
 const LIMIT: Duration = Duration::from_secs(60);
 
-/// The libraries the Rust standard library of the static library needs from the system
-/// (`cargo rustc -p missionlink-c --crate-type staticlib -- --print native-static-libs`).
-const NATIVE_LIBS: [&str; 7] = [
-    "-lgcc_s",
-    "-lutil",
-    "-lrt",
-    "-lpthread",
-    "-lm",
-    "-ldl",
-    "-lc",
-];
-
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// `libmissionlink_c.a` of this build: the root package's dev-dependency on the C library makes
-/// cargo build it, with the test binary's profile and features, before any test runs (so no
-/// test builds it while others run).
-fn static_library() -> PathBuf {
-    let dir = binaries::build_dir().expect("the build directory");
-    let library = dir.join("deps/libmissionlink_c.a");
-    assert!(
-        library.is_file(),
-        "{library:?} missing: the tests' build makes it (missionlink-c, a dev-dependency)"
-    );
-    library
 }
 
 /// A scratch directory of this test's own.
@@ -90,7 +65,9 @@ fn compile(compiler: &str, args: &[&str], sources: &[PathBuf], out: Option<&Path
         command.arg("-o").arg(out);
     }
     if link {
-        command.arg(static_library()).args(NATIVE_LIBS);
+        command
+            .arg(binaries::c_static_library().unwrap())
+            .args(binaries::C_NATIVE_LIBS);
     }
     let output = command
         .output()
