@@ -27,4 +27,5 @@ pub mod pcap;
 pub mod profile;
 pub mod qgc;
 pub mod report_table;
+pub mod service;
 mod values;
