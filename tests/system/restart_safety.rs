@@ -20,7 +20,17 @@ use missionlink_protocol::transfer::staged::MissionId;
 #[test]
 fn killing_mission_data_handling_after_any_message_leaves_old_or_new_lists_and_the_gcs_says_which()
 {
-    let (_rig, fcc, mut link) = Rig::with_gcs("restart-every-k");
+    let mut rig = Rig::new("restart-every-k");
+    // The subject is which lists survive a kill, not the link's timing nor the watchdog's: on a
+    // machine loaded enough to starve the FCC (the whole suite on two cores), a GCS that gives
+    // up after 500 ms and one retry failed the upload that sets each round up, and a partition
+    // silent for 250 ms (2.5 heartbeats of 100 ms) was killed as hung by the launcher, a second
+    // restart in the middle of that upload. 2 s per answer and a 1 s watchdog leave the kills
+    // of this test the only ones.
+    rig.config.timing.ack_timeout_ms = 2_000;
+    rig.config.health.period_ms = 400;
+    let mut fcc = rig.start_fcc();
+    let mut link = rig.gcs(&mut fcc);
     link.enable_log();
     let (mission_1, mission_2) = (plan("mission-1.toml"), plan("mission-2.toml"));
     let old = link.station().validate(&mission_1).unwrap();
