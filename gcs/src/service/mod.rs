@@ -2,3 +2,4 @@
 //! vehicle of a fleet, keeps each vehicle's state, and serves the `gcs` commands as its clients.
 
 pub mod fleet;
+pub mod request;

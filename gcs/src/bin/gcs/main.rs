@@ -16,19 +16,21 @@ use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use missionlink_gcs::gcs_link::{Finished, GcsLink};
+use missionlink_gcs::gcs_link::GcsLink;
 use missionlink_gcs::inspect::{
     Inspected, MessageJson, encode_json, inspect_datagram, parse_hex, render_text,
 };
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
 use missionlink_gcs::pcap::PcapWriter;
+use missionlink_gcs::service::request::{self, Answer, Request};
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
-use missionlink_ground::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_ground::ground_station::{
-    GcsError, GcsEvent, MissionPlan, Sequence, ValidatedPlan, plan_in_wind,
+    self as ground_station, GcsEvent, MissionPlan, ValidatedPlan, plan_in_wind,
 };
 use missionlink_ground::safety_gateway::{EnergyEstimate, SafetyGateway, Violation};
-use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, MissionReport, SafetyOffset};
+use missionlink_interfaces::wire::{
+    ExecuteCommand, GeoPoint, Message, MissionReport, SafetyOffset,
+};
 use missionlink_platform::config::{LinkArgs, LinkConfig, parse_id};
 use missionlink_platform::keys;
 use missionlink_platform::udp::LinkPair;
@@ -36,7 +38,6 @@ use missionlink_protocol::link::signing::Keyring;
 use missionlink_protocol::transfer::areas::AreaList;
 use missionlink_protocol::transfer::integrity;
 use missionlink_protocol::transfer::mission::Mission;
-use missionlink_protocol::transfer::sender::Target;
 use missionlink_protocol::transfer::staged::MissionId;
 
 mod cli;
@@ -74,9 +75,9 @@ impl StateArgs {
         Some(state_base(self.state_dir.clone())?.join("missions"))
     }
 
-    /// The missions in the cache whose file name is their checksum (a file that does not read
-    /// or whose content has another checksum is ignored).
-    fn known(&self) -> Vec<Mission> {
+    /// The missions in the cache whose file name is their checksum, as mission files (a file
+    /// that does not read or whose content has another checksum is left out).
+    fn known(&self) -> Vec<String> {
         let Some(dir) = self.missions_dir() else {
             return Vec::new();
         };
@@ -88,9 +89,10 @@ impl StateArgs {
             .filter_map(|e| {
                 let path = e.path();
                 let name = path.file_stem()?.to_str()?.to_owned();
-                let plan = MissionFile::read(&path).and_then(|f| f.to_plan()).ok()?;
+                let text = std::fs::read_to_string(&path).ok()?;
+                let plan = MissionFile::parse(&text).and_then(|f| f.to_plan()).ok()?;
                 let mission = plan.assemble().ok()?.mission;
-                (integrity::mission_checksum(&mission).to_string() == name).then_some(mission)
+                (integrity::mission_checksum(&mission).to_string() == name).then_some(text)
             })
             .collect()
     }
@@ -364,6 +366,16 @@ impl From<String> for Failure {
     }
 }
 
+impl From<request::Failure> for Failure {
+    fn from(f: request::Failure) -> Self {
+        Self {
+            status: f.status,
+            message: f.message,
+            refused: Vec::new(),
+        }
+    }
+}
+
 impl From<&str> for Failure {
     fn from(message: &str) -> Self {
         message.to_owned().into()
@@ -493,55 +505,6 @@ fn violation_json(v: &Violation) -> serde_json::Value {
         "limit": v.limit,
         "position": v.position.map(|(lat, lon)| [lat, lon]),
     })
-}
-
-/// Runs the link until the request ends; prints progress on a terminal.
-fn finish(link: &mut Link) -> Result<Finished, Failure> {
-    let progress = io::stderr().is_terminal();
-    let outcome = link.finish(|event| {
-        if let (true, GcsEvent::Progress { phase, sent, total }) = (progress, event) {
-            eprint!("\r{phase}: {sent}/{total} messages   ");
-        }
-    });
-    if progress {
-        eprintln!();
-    }
-    let unheard = link.unheard();
-    outcome
-        .map_err(|e| match e {
-            GcsError::Upload(report) => Failure {
-                status: upload_status(report.outcome()),
-                message: report.to_string(),
-                refused: Vec::new(),
-            },
-            // Nothing was staged: the lists are as they were.
-            capacity @ GcsError::Capacity { .. } => Failure {
-                status: upload_status(UploadOutcome::PreviousActive),
-                message: capacity.to_string(),
-                refused: Vec::new(),
-            },
-            other => other.to_string().into(),
-        })
-        .map_err(|mut failure| {
-            if let Some(why) = unheard {
-                failure.message = format!("{}\n{why}", failure.message);
-            }
-            failure
-        })
-}
-
-/// The exit status of `gcs upload` for each outcome (see the command's help).
-fn upload_status(outcome: UploadOutcome) -> u8 {
-    match outcome {
-        UploadOutcome::Complete
-        | UploadOutcome::CompleteAfterLostAnswer
-        | UploadOutcome::AlreadyActive => 0,
-        UploadOutcome::PreviousActive => 3,
-        UploadOutcome::Mixed => 4,
-        UploadOutcome::Unknown => 5,
-        UploadOutcome::Foreign => 6,
-        UploadOutcome::NoMission => 7,
-    }
 }
 
 /// The FCC's report (ICD §8) as a table, one line per entry.
@@ -677,50 +640,59 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
     }
 }
 
-/// `gcs upload` and `gcs stage`: validates, then uploads (or edits) `file` into `target`, prints
-/// the outcome and keeps the mission in the state directory once it is there.
+/// `gcs upload` and `gcs stage`: validates, then uploads (or edits) `file` into `target`
+/// (`stage`: a staged mission's ID), prints the outcome and keeps the mission in the state
+/// directory once it is there.
 fn send_plan(
     config: &LinkConfig,
     file: &Path,
-    target: Target,
-    sequence: Sequence,
+    stage: Option<MissionId>,
+    paper_sequence: bool,
     edit: bool,
     state: &StateArgs,
     safety: &SafetyArgs,
 ) -> Result<(), Failure> {
     let gateway = safety.gateway()?;
     let plan = read_plan(file, safety)?.plan;
-    let mut link = open(config, gateway)?;
-    let nothing_sent = |e| format!("{}: {e}; nothing was sent", file.display());
-    let validated = link.station().validate(&plan).map_err(nothing_sent)?;
-    // What the FCC holds once it is there (the planning wind of the validation included).
-    let sent = validated.clone();
-    // Read after the validation: the first message's ack timer starts when it is sent.
-    let now = link.now();
-    let station = link.station();
-    let requested = match (edit, target) {
-        (true, _) => station.edit_validated(now, validated, target, sequence, state.known()),
-        (false, Target::Active) => station.upload_validated(now, validated, sequence),
-        (false, Target::Staged(id)) => station.stage_validated(now, id, validated),
-    };
-    requested.map_err(nothing_sent)?;
-    let finished = finish(&mut link);
-    if let Ok(Finished::Uploaded(report)) = &finished {
+    // Validated here, so that an infeasible plan is refused before anything is asked of the
+    // links; the one who carries the request out validates it again (module `request`).
+    let validated = ground_station::validate(&gateway, &plan)
+        .map_err(|e| format!("{}: {e}; nothing was sent", file.display()))?;
+    let request = Request::Upload(Box::new(request::Upload {
+        file: file.display().to_string(),
+        mission: MissionFile::from_plan(&validated, plan.take_off_position).to_toml(),
+        stage: stage.map(|id| id.as_str().to_owned()),
+        paper_sequence,
+        edit,
+        known: if edit { state.known() } else { Vec::new() },
+        profile: gateway.profile.into(),
+        environment: gateway.environment.into(),
+    }));
+    if let Answer::Uploaded { report, edit } = exchange(config, request)? {
         println!("{report}");
-        print_messages(report);
-        state.remember(&sent);
+        if let Some((sent, full)) = edit {
+            println!("sent {sent} messages (a full upload: {full})");
+        }
+        state.remember(&validated);
     }
-    finished.map(|_| ())
+    Ok(())
 }
 
-/// "sent N messages (a full upload: M)" for an edit.
-fn print_messages(report: &UploadReport) {
-    if report.edit.is_some() {
-        println!(
-            "sent {} messages (a full upload: {})",
-            report.messages.sent, report.messages.full
-        );
+/// Carries `request` out (module `request`) and gives its answer; prints progress on a
+/// terminal.
+fn exchange(config: &LinkConfig, request: Request) -> Result<Answer, Failure> {
+    let terminal = io::stderr().is_terminal();
+    let mut progress = |p: request::Progress| {
+        if terminal {
+            eprint!("\r{}: {}/{} messages   ", p.phase, p.sent, p.total);
+        }
+    };
+    let mut link = open(config, SafetyGateway::default())?;
+    let answer = request::carry_out(&mut link, request, &mut progress, &mut |_| {});
+    if terminal {
+        eprintln!();
     }
+    Ok(answer?)
 }
 
 fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure> {
@@ -732,54 +704,24 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             paper_sequence,
             state,
             safety,
-        } => {
-            let sequence = if paper_sequence {
-                Sequence::Paper { clear: true }
-            } else {
-                Sequence::Atomic
-            };
-            send_plan(
-                config,
-                &file,
-                Target::Active,
-                sequence,
-                edit,
-                &state,
-                &safety,
-            )
-        }
+        } => send_plan(config, &file, None, paper_sequence, edit, &state, &safety),
         Command::Stage {
             file,
             id,
             edit,
             state,
             safety,
-        } => send_plan(
-            config,
-            &file,
-            Target::Staged(id),
-            Sequence::Atomic,
-            edit,
-            &state,
-            &safety,
-        ),
-        Command::Activate { id } | Command::Delete { id } => {
-            let mut link = open(config, SafetyGateway::default())?;
-            let now = link.now();
-            let activate = matches!(command, Command::Activate { .. });
-            let station = link.station();
-            if activate {
-                station.activate(now, id)
-            } else {
-                station.delete(now, id)
-            }
-            .map_err(|e| e.to_string())?;
-            finish(&mut link)?;
-            if activate {
-                println!("staged mission {id:?} is active (mission and areas in one step)");
-            } else {
-                println!("staged mission {id:?} deleted");
-            }
+        } => send_plan(config, &file, Some(id), false, edit, &state, &safety),
+        Command::Activate { id } => {
+            let id_text = id.as_str().to_owned();
+            exchange(config, Request::Activate { id: id_text })?;
+            println!("staged mission {id:?} is active (mission and areas in one step)");
+            Ok(())
+        }
+        Command::Delete { id } => {
+            let id_text = id.as_str().to_owned();
+            exchange(config, Request::Delete { id: id_text })?;
+            println!("staged mission {id:?} deleted");
             Ok(())
         }
         Command::Map {
@@ -863,14 +805,17 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             Ok(())
         }
         Command::Download { output, id } => {
-            let mut link = open(config, SafetyGateway::default())?;
-            let now = link.now();
-            link.station()
-                .download_of(now, id)
-                .map_err(|e| e.to_string())?;
-            let plan = finish(&mut link)?
-                .into_plan()
-                .ok_or("the download ended without lists")?;
+            let request = Request::Download {
+                id: id.map(|id| id.as_str().to_owned()),
+            };
+            let Answer::Downloaded { mission } = exchange(config, request)? else {
+                return Err("the download ended without lists".into());
+            };
+            let plan = MissionFile::parse(&mission)
+                .and_then(|f| f.to_plan())
+                .map_err(|e| e.to_string())
+                .and_then(|p| p.assemble().map_err(|e| e.to_string()))
+                .map_err(|e| format!("the downloaded lists: {e}"))?;
             match id {
                 Some(id) => println!("downloaded staged mission {id:?}: {plan}"),
                 None => println!("downloaded {plan}"),
@@ -883,8 +828,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             if let Some(path) = output {
                 // The FCC does not hold the take-off position: the file has none (its header
                 // says so), and it must be added before the file is uploaded again.
-                std::fs::write(&path, MissionFile::from_plan(&plan, None).to_toml())
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                std::fs::write(&path, mission).map_err(|e| format!("{}: {e}", path.display()))?;
                 println!(
                     "written to {} (without a take-off position: the FCC does not hold it)",
                     path.display()
@@ -893,37 +837,38 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             Ok(())
         }
         Command::Missions => {
-            let mut link = open(config, SafetyGateway::default())?;
-            let now = link.now();
-            link.station().report(now).map_err(|e| e.to_string())?;
-            let Finished::Reported(entries) = finish(&mut link)? else {
-                return Err("the FCC sent no report".to_owned().into());
+            let Answer::Reported { entries } = exchange(config, Request::Report)? else {
+                return Err("the FCC sent no report".into());
             };
+            let entries: Vec<MissionReport> = entries
+                .into_iter()
+                .filter_map(|m| match m {
+                    Message::MissionReport(r) => Some(r),
+                    _ => None,
+                })
+                .collect();
             print_report(&entries);
             Ok(())
         }
         Command::Clear => {
-            let mut link = open(config, SafetyGateway::default())?;
-            let now = link.now();
-            link.station()
-                .clear_mission(now)
-                .map_err(|e| e.to_string())?;
-            finish(&mut link)?;
+            exchange(config, Request::ClearMission)?;
             println!("mission cleared");
             Ok(())
         }
         Command::ClearAreas | Command::Execute | Command::Rth | Command::Land => {
-            let mut link = open(config, SafetyGateway::default())?;
-            let now = link.now();
-            let station = link.station();
-            match command {
-                Command::ClearAreas => station.clear_areas(now),
-                Command::Execute => station.execute(now, ExecuteCommand::Execute),
-                Command::Rth => station.execute(now, ExecuteCommand::ReturnToHome),
-                _ => station.execute(now, ExecuteCommand::Land),
-            }
-            .map_err(|e| e.to_string())?;
-            finish(&mut link)?;
+            let request = match command {
+                Command::ClearAreas => Request::ClearAreas,
+                Command::Execute => Request::Execute {
+                    command: ExecuteCommand::Execute,
+                },
+                Command::Rth => Request::Execute {
+                    command: ExecuteCommand::ReturnToHome,
+                },
+                _ => Request::Execute {
+                    command: ExecuteCommand::Land,
+                },
+            };
+            exchange(config, request)?;
             println!("accepted by the FCC");
             Ok(())
         }

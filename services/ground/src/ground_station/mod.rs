@@ -107,6 +107,35 @@ pub fn plan_in_wind<G: SafetyGateway>(gateway: &G, mission: &mut Mission) {
         .filter(|w| w.raw() != 0);
 }
 
+/// The validation: assembles both lists with the FCC's assembly (ICD §7) and runs `gateway`,
+/// the route planned in its wind ([`plan_in_wind`]). The ground service validates with the
+/// gateway of each request, so this is not only the GCS logic's.
+///
+/// An area list that fails the ICD §7 assembly still goes through the gateway, unchecked, so
+/// that its defects come back as violations naming the area; the ICD reason is the answer
+/// only when the gateway finds nothing.
+pub fn validate<G: SafetyGateway>(
+    gateway: &G,
+    plan: &MissionPlan,
+) -> Result<ValidatedPlan, GcsError<G::Report>> {
+    let mut lists = plan.lists_to_check().map_err(|e| match e {
+        InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
+        InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
+    })?;
+    plan_in_wind(gateway, &mut lists.mission);
+    gateway
+        .check(&lists.mission, &lists.areas, plan.take_off_position)
+        .map_err(GcsError::Gateway)?;
+    match lists.invalid {
+        Some(InvalidPlan::Mission(r)) => Err(GcsError::InvalidMission(r)),
+        Some(InvalidPlan::Areas(r)) => Err(GcsError::InvalidAreas(r)),
+        None => Ok(ValidatedPlan {
+            mission: lists.mission,
+            areas: lists.areas,
+        }),
+    }
+}
+
 /// No gateway configured: the lists pass with the checks of ICD §7 alone.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct WithoutGateway;
@@ -341,29 +370,9 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// The validation request: assembles both lists with the FCC's assembly (ICD §7) and runs
-    /// the safety gateway.
-    ///
-    /// An area list that fails the ICD §7 assembly still goes through the gateway, unchecked, so
-    /// that its defects come back as violations naming the area; the ICD reason is the answer
-    /// only when the gateway finds nothing.
+    /// The validation request: [`validate`] with this GCS's gateway.
     pub fn validate(&self, plan: &MissionPlan) -> Result<ValidatedPlan, GcsError<G::Report>> {
-        let mut lists = plan.lists_to_check().map_err(|e| match e {
-            InvalidPlan::Mission(r) => GcsError::InvalidMission(r),
-            InvalidPlan::Areas(r) => GcsError::InvalidAreas(r),
-        })?;
-        plan_in_wind(&self.gateway, &mut lists.mission);
-        self.gateway
-            .check(&lists.mission, &lists.areas, plan.take_off_position)
-            .map_err(GcsError::Gateway)?;
-        match lists.invalid {
-            Some(InvalidPlan::Mission(r)) => Err(GcsError::InvalidMission(r)),
-            Some(InvalidPlan::Areas(r)) => Err(GcsError::InvalidAreas(r)),
-            None => Ok(ValidatedPlan {
-                mission: lists.mission,
-                areas: lists.areas,
-            }),
-        }
+        validate(&self.gateway, plan)
     }
 
     /// The upload request by the paper's sequence ([`Sequence::Paper`], after a clear when
