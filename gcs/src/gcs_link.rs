@@ -79,6 +79,15 @@ pub struct Logged {
     pub message: Message,
 }
 
+/// What one link brought from the FCC's side, for the ground service's status.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LinkActivity {
+    /// Datagrams received.
+    pub datagrams: u64,
+    /// When the last one came.
+    pub last: Option<std::time::Instant>,
+}
+
 /// The GCS over UDP.
 #[derive(Debug)]
 pub struct GcsLink<G: SafetyGateway> {
@@ -97,6 +106,8 @@ pub struct GcsLink<G: SafetyGateway> {
     slots: Vec<[u8; MAX_DATAGRAM]>,
     /// The file that reserves time stamps across processes, and how far it reserves.
     stamp_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
+    /// What each link (direct, LTE) brought: datagrams and when the last one came.
+    activity: [LinkActivity; 2],
     /// Every message sent and every voted message received, when logging is on, but the
     /// periodic position downlink (#101).
     pub log: Vec<Logged>,
@@ -153,6 +164,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             started: std::time::Instant::now(),
             slots: vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE],
             stamp_lease: None,
+            activity: [LinkActivity::default(); 2],
             log: Vec::new(),
             logging: false,
         })
@@ -230,6 +242,19 @@ impl<G: SafetyGateway> GcsLink<G> {
                  unsigned frames (ICD §9)"
             )
         })
+    }
+
+    /// Where this GCS receives the direct link and the LTE link (the ports bound, when port 0
+    /// was asked for); the unspecified address when the system cannot say.
+    pub fn local_addrs(&self) -> [std::net::SocketAddr; 2] {
+        self.links
+            .local_addrs()
+            .unwrap_or([std::net::SocketAddr::from(([0, 0, 0, 0], 0)); 2])
+    }
+
+    /// What the direct link and the LTE link brought, in that order.
+    pub fn activity(&self) -> [LinkActivity; 2] {
+        self.activity
     }
 
     /// The voter of the downlink (its counters, the signature check's among them).
@@ -346,6 +371,16 @@ impl<G: SafetyGateway> GcsLink<G> {
             }
         });
         let now = self.clock.now();
+        let arrived = std::time::Instant::now();
+        for (link, _) in &lens {
+            // A datagram comes on one socket; `Both` names no socket.
+            let activity = match link {
+                Link::Lte => &mut self.activity[1],
+                Link::Direct | Link::Both => &mut self.activity[0],
+            };
+            activity.datagrams += 1;
+            activity.last = Some(arrived);
+        }
         if !lens.is_empty() {
             let mut arrivals: heapless::Vec<(Link, &[u8]), MAX_READS_PER_RECEIVE> =
                 heapless::Vec::new();

@@ -72,6 +72,12 @@ pub fn ensure_bridge(dir: &Path, build: Build) -> Result<PathBuf, String> {
     ensure_of(dir, &[bridge_config::BINARY], "missionlink-bridge", build)
 }
 
+/// `dir` holding the ground tool `gcs`, built with cargo first as [`ensure`] does (the ground
+/// service's tests run it as an operator does).
+pub fn ensure_gcs(dir: &Path, build: Build) -> Result<PathBuf, String> {
+    ensure_of(dir, &["gcs"], "missionlink-gcs", build)
+}
+
 fn ensure_of(dir: &Path, names: &[&str], package: &str, build: Build) -> Result<PathBuf, String> {
     let absent = missing(dir, names);
     let under_cargo = build == Build::UnderCargo && std::env::var_os("CARGO").is_some();

@@ -26,6 +26,7 @@ pub mod fcc;
 pub mod ground;
 pub mod log_axis;
 pub mod netns;
+pub mod service;
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -180,6 +181,13 @@ impl Rig {
         let ends = self.gcs_ends.take().expect("one GCS per rig");
         ends.connect(self.config.links.fcc_direct, self.config.links.fcc_lte)
             .unwrap()
+    }
+
+    /// Releases the rig's GCS ends and gives where they were bound (direct, LTE), for a ground
+    /// service to bind them: the FCC sends there.
+    pub fn release_gcs_ends(&mut self) -> [std::net::SocketAddr; 2] {
+        let ends = self.gcs_ends.take().expect("one GCS per rig");
+        ends.addrs().unwrap()
     }
 
     /// The summaries the partitions wrote at shutdown.

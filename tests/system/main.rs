@@ -14,6 +14,7 @@ mod c_partition;
 mod demo;
 mod emulated_links;
 mod end_to_end;
+mod ground_service;
 mod health;
 mod isolation;
 mod link_faults;

@@ -13,6 +13,24 @@ pub(crate) struct Cli {
     /// the real addresses and ports): open it in Wireshark with tools/wireshark/missionlink.lua.
     #[arg(long, global = true, value_name = "FILE")]
     pub(crate) pcap: Option<PathBuf>,
+    /// The vehicle, by its name in the fleet (needed when the fleet holds several). Through
+    /// the ground service when one runs; alone, from the fleet file of `--fleet`.
+    #[arg(long, global = true, value_name = "NAME")]
+    pub(crate) vehicle: Option<String>,
+    /// The fleet file (TOML, see docs/gcs.md): for `gcs serve`, and for a command that runs
+    /// alone for a vehicle of the fleet.
+    #[arg(long, global = true, value_name = "FILE", env = "MISSIONLINK_FLEET")]
+    pub(crate) fleet: Option<PathBuf>,
+    /// The ground service's socket (default: $XDG_RUNTIME_DIR/missionlink/gcs.sock, else
+    /// gcs.sock in the state directory). When a service runs there, every link command asks
+    /// it; when none does, the command opens the links itself.
+    #[arg(
+        long,
+        global = true,
+        value_name = "PATH",
+        env = "MISSIONLINK_GCS_SOCKET"
+    )]
+    pub(crate) service_socket: Option<PathBuf>,
     #[command(subcommand)]
     pub(crate) command: Command,
 }
@@ -203,6 +221,33 @@ pub(crate) enum Command {
         /// Stop after this many seconds (default: until interrupted).
         #[arg(long, value_name = "S")]
         seconds: Option<u64>,
+    },
+    /// Run the ground service: own the links of every vehicle of the fleet (`--fleet`, else the
+    /// one vehicle of the link flags and file), keep each vehicle's state, and serve the other
+    /// gcs commands, which then ask it instead of opening the links themselves. Runs until
+    /// SIGINT or SIGTERM. See docs/gcs.md.
+    #[command(after_help = "Exit status:\n  \
+        0  stopped by SIGINT or SIGTERM\n  \
+        1  a link cannot be opened (a port in use, an unusable key), or a service already runs \
+           on the socket\n  \
+        2  an unusable fleet file or configuration")]
+    Serve {
+        #[command(flatten)]
+        state: StateArgs,
+    },
+    /// One row per vehicle of the ground service: each link's last frame and loss, the
+    /// position and its age, FROM-TO-NEXT, the active lists' checksums and whether they are
+    /// the ones this ground uploaded last, the staged missions, what is heard of the FCC.
+    #[command(after_help = "Exit status:\n  \
+        0  printed\n  \
+        1  no ground service runs")]
+    Status {
+        /// Print it again every this many seconds, until interrupted.
+        #[arg(long, value_name = "S")]
+        watch: Option<f64>,
+        /// The rows as one JSON array.
+        #[arg(long)]
+        json: bool,
     },
     /// Present the vehicle to MAVLink 2 clients (QGroundControl, MAVSDK, pymavlink) over UDP:
     /// heartbeat, position and mission progress from the downlink, the mission protocol for

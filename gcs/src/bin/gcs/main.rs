@@ -22,7 +22,10 @@ use missionlink_gcs::inspect::{
 };
 use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError};
 use missionlink_gcs::pcap::PcapWriter;
+use missionlink_gcs::service::client::{self, Call, Connection, Reply, What};
+use missionlink_gcs::service::fleet::{Fleet, SOLE_VEHICLE};
 use missionlink_gcs::service::request::{self, Answer, Request};
+use missionlink_gcs::service::{ServeOptions, stamp_lease, state_base, status};
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_ground::ground_station::{
     self as ground_station, GcsEvent, MissionPlan, ValidatedPlan, plan_in_wind,
@@ -43,19 +46,6 @@ use missionlink_protocol::transfer::staged::MissionId;
 mod cli;
 
 use cli::{Cli, Command};
-
-/// The state directory: `dir`, else $XDG_STATE_HOME/missionlink, else
-/// $HOME/.local/state/missionlink.
-fn state_base(dir: Option<PathBuf>) -> Option<PathBuf> {
-    dir.or_else(|| {
-        std::env::var_os("XDG_STATE_HOME")
-            .filter(|v| !v.is_empty())
-            .map(|v| PathBuf::from(v).join("missionlink"))
-            .or_else(|| {
-                std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/state/missionlink"))
-            })
-    })
-}
 
 /// Missions kept in the state directory.
 const CACHE_KEEP: usize = 16;
@@ -238,7 +228,7 @@ fn open(config: &LinkConfig, gateway: SafetyGateway) -> Result<Link, String> {
     match state_base(None) {
         Some(dir) => {
             std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-            link.with_stamp_lease(&dir.join("time-stamps"))
+            link.with_stamp_lease(&stamp_lease(&dir, config.ids.fcc))
                 .map_err(|e| e.to_string())
         }
         None => Ok(link),
@@ -644,7 +634,7 @@ fn validate(file: &Path, json: bool, safety: &SafetyArgs) -> Result<(), Failure>
 /// (`stage`: a staged mission's ID), prints the outcome and keeps the mission in the state
 /// directory once it is there.
 fn send_plan(
-    config: &LinkConfig,
+    ground: &Ground,
     file: &Path,
     stage: Option<MissionId>,
     paper_sequence: bool,
@@ -668,7 +658,7 @@ fn send_plan(
         profile: gateway.profile.into(),
         environment: gateway.environment.into(),
     }));
-    if let Answer::Uploaded { report, edit } = exchange(config, request)? {
+    if let Answer::Uploaded { report, edit } = ground.exchange(request)? {
         println!("{report}");
         if let Some((sent, full)) = edit {
             println!("sent {sent} messages (a full upload: {full})");
@@ -678,24 +668,92 @@ fn send_plan(
     Ok(())
 }
 
-/// Carries `request` out (module `request`) and gives its answer; prints progress on a
-/// terminal.
-fn exchange(config: &LinkConfig, request: Request) -> Result<Answer, Failure> {
-    let terminal = io::stderr().is_terminal();
-    let mut progress = |p: request::Progress| {
-        if terminal {
-            eprint!("\r{}: {}/{} messages   ", p.phase, p.sent, p.total);
-        }
-    };
-    let mut link = open(config, SafetyGateway::default())?;
-    let answer = request::carry_out(&mut link, request, &mut progress, &mut |_| {});
-    if terminal {
-        eprintln!();
-    }
-    Ok(answer?)
+/// Where a command's requests go: to the ground service when one runs, else over the links the
+/// command opens itself (the link flags and file, or `--vehicle` of `--fleet`).
+struct Ground {
+    args: LinkArgs,
+    vehicle: Option<String>,
+    fleet: Option<PathBuf>,
+    socket: Option<PathBuf>,
 }
 
-fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure> {
+impl Ground {
+    /// The configuration of the links a command alone opens.
+    fn config(&self) -> Result<LinkConfig, Failure> {
+        let config = LinkConfig::resolve(&self.args).map_err(|e| Failure::input(e.to_string()))?;
+        match (&self.fleet, self.vehicle.as_deref()) {
+            (Some(file), vehicle) => {
+                let fleet = Fleet::read(file).map_err(|e| Failure::input(e.to_string()))?;
+                let vehicle = fleet
+                    .vehicle(vehicle)
+                    .map_err(|e| Failure::input(e.to_string()))?;
+                Ok(vehicle.link.clone())
+            }
+            (None, None) => Ok(config),
+            (None, Some(name)) if name == SOLE_VEHICLE => Ok(config),
+            (None, Some(name)) => Err(Failure::input(format!(
+                "--vehicle {name}: no ground service runs and no fleet file names it (give \
+                 --fleet, or start the service: gcs serve)"
+            ))),
+        }
+    }
+
+    /// The running service, if one runs (an error when its socket is there but nobody answers).
+    fn service(&self) -> Result<Option<Connection>, Failure> {
+        match client::socket_path(self.socket.as_deref()) {
+            Some(path) => Ok(Connection::open(&path)?),
+            None => Ok(None),
+        }
+    }
+
+    /// Carries `request` out (module `request`), through the service or alone, and gives its
+    /// answer; prints progress on a terminal.
+    fn exchange(&self, request: Request) -> Result<Answer, Failure> {
+        let terminal = io::stderr().is_terminal();
+        let mut progress = |p: request::Progress| {
+            if terminal {
+                eprint!("\r{}: {}/{} messages   ", p.phase, p.sent, p.total);
+            }
+        };
+        let answer = match self.service()? {
+            Some(service) => {
+                // What the FCC holds after an upload the service did not finish is unknown.
+                let lost = if matches!(request, Request::Upload(_)) {
+                    5
+                } else {
+                    1
+                };
+                let call = Call {
+                    vehicle: self.vehicle.clone(),
+                    what: What::Request(request),
+                };
+                let reply = service.call(&call, lost, |reply| {
+                    if let Some(Reply::Progress(p)) = reply {
+                        progress(p.clone());
+                    }
+                    true
+                })?;
+                match reply {
+                    Some(Reply::Finished(answer)) => Ok(answer),
+                    Some(Reply::Failed(failure)) => Err(failure),
+                    _ => Err(request::Failure::other(
+                        "the ground service answered out of turn",
+                    )),
+                }
+            }
+            None => {
+                let mut link = open(&self.config()?, SafetyGateway::default())?;
+                request::carry_out(&mut link, request, &mut progress, &mut |_| {})
+            }
+        };
+        if terminal {
+            eprintln!();
+        }
+        Ok(answer?)
+    }
+}
+
+fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
     match command {
         Command::Validate { file, json, safety } => validate(&file, json, &safety),
         Command::Upload {
@@ -704,23 +762,23 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             paper_sequence,
             state,
             safety,
-        } => send_plan(config, &file, None, paper_sequence, edit, &state, &safety),
+        } => send_plan(ground, &file, None, paper_sequence, edit, &state, &safety),
         Command::Stage {
             file,
             id,
             edit,
             state,
             safety,
-        } => send_plan(config, &file, Some(id), false, edit, &state, &safety),
+        } => send_plan(ground, &file, Some(id), false, edit, &state, &safety),
         Command::Activate { id } => {
             let id_text = id.as_str().to_owned();
-            exchange(config, Request::Activate { id: id_text })?;
+            ground.exchange(Request::Activate { id: id_text })?;
             println!("staged mission {id:?} is active (mission and areas in one step)");
             Ok(())
         }
         Command::Delete { id } => {
             let id_text = id.as_str().to_owned();
-            exchange(config, Request::Delete { id: id_text })?;
+            ground.exchange(Request::Delete { id: id_text })?;
             println!("staged mission {id:?} deleted");
             Ok(())
         }
@@ -808,7 +866,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             let request = Request::Download {
                 id: id.map(|id| id.as_str().to_owned()),
             };
-            let Answer::Downloaded { mission } = exchange(config, request)? else {
+            let Answer::Downloaded { mission } = ground.exchange(request)? else {
                 return Err("the download ended without lists".into());
             };
             let plan = MissionFile::parse(&mission)
@@ -837,7 +895,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             Ok(())
         }
         Command::Missions => {
-            let Answer::Reported { entries } = exchange(config, Request::Report)? else {
+            let Answer::Reported { entries } = ground.exchange(Request::Report)? else {
                 return Err("the FCC sent no report".into());
             };
             let entries: Vec<MissionReport> = entries
@@ -851,7 +909,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             Ok(())
         }
         Command::Clear => {
-            exchange(config, Request::ClearMission)?;
+            ground.exchange(Request::ClearMission)?;
             println!("mission cleared");
             Ok(())
         }
@@ -868,12 +926,15 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
                     command: ExecuteCommand::Land,
                 },
             };
-            exchange(config, request)?;
+            ground.exchange(request)?;
             println!("accepted by the FCC");
             Ok(())
         }
         Command::Monitor { seconds } => {
-            let mut link = open(config, SafetyGateway::default())?;
+            if let Some(service) = ground.service()? {
+                return monitor_through(service, ground.vehicle.clone(), seconds);
+            }
+            let mut link = open(&ground.config()?, SafetyGateway::default())?;
             let limit = seconds.map_or(Duration::MAX, Duration::from_secs);
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
             for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
@@ -906,7 +967,7 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             use missionlink_gcs::mavlink::plan::PlanContext;
             use missionlink_gcs::mavlink::vehicle::{Vehicle, VehicleConfig};
             let gateway = safety.gateway()?;
-            let mut link = open(config, gateway)?;
+            let mut link = open(&ground.config()?, gateway)?;
             let mut socket = MavlinkSocket::bind(bind, to)
                 .map_err(|e| format!("cannot bind the MAVLink socket {bind}: {e}"))?;
             if let Some(path) = &tlog {
@@ -947,7 +1008,131 @@ fn mission_command(config: &LinkConfig, command: Command) -> Result<(), Failure>
             .map_err(|e| e.to_string())?;
             Ok(())
         }
+        Command::Serve { state } => serve(ground, &state),
+        Command::Status { watch, json } => status(ground, watch, json),
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),
+    }
+}
+
+/// SIGINT and SIGTERM set the flag this returns.
+fn stop_on_signals() -> Arc<std::sync::atomic::AtomicBool> {
+    let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        let _ = signal_hook::flag::register(signal, Arc::clone(&stop));
+    }
+    stop
+}
+
+/// `gcs serve`: the ground service until SIGINT or SIGTERM.
+fn serve(ground: &Ground, state: &StateArgs) -> Result<(), Failure> {
+    let fleet = match &ground.fleet {
+        Some(file) => Fleet::read(file).map_err(|e| Failure::input(e.to_string()))?,
+        None => Fleet::of_one(
+            LinkConfig::resolve(&ground.args).map_err(|e| Failure::input(e.to_string()))?,
+        ),
+    };
+    let socket = client::socket_path(ground.socket.as_deref())
+        .ok_or("no place for the service's socket: give --service-socket")?;
+    let state_dir = state_base(state.state_dir.clone());
+    let options = ServeOptions {
+        socket: socket.clone(),
+        state_dir,
+        capture: CAPTURE.get().cloned(),
+    };
+    let stop = stop_on_signals();
+    missionlink_gcs::service::serve(&fleet, &options, &stop, |bound| {
+        println!(
+            "ground service for {} vehicle{} on {}",
+            bound.len(),
+            if bound.len() == 1 { "" } else { "s" },
+            socket.display()
+        );
+        for b in bound {
+            println!(
+                "vehicle {} ({:#010X}): direct {}, LTE {}",
+                b.name, b.vehicle_id, b.direct, b.lte
+            );
+        }
+        let _ = io::stdout().flush();
+    })
+    .map_err(|e| Failure::from(e.to_string()))?;
+    println!("ground service stopped");
+    Ok(())
+}
+
+/// `gcs status`: the service's rows, once or every `watch` seconds.
+fn status(ground: &Ground, watch: Option<f64>, json: bool) -> Result<(), Failure> {
+    let stop = stop_on_signals();
+    loop {
+        let Some(service) = ground.service()? else {
+            return Err(format!(
+                "no ground service runs (socket {}): start one with gcs serve",
+                client::socket_path(ground.socket.as_deref())
+                    .map_or_else(|| "none".to_owned(), |p| p.display().to_string())
+            )
+            .into());
+        };
+        let call = Call {
+            vehicle: None,
+            what: What::Status,
+        };
+        match service.call(&call, 1, |_| true)? {
+            Some(Reply::Status(rows)) if json => {
+                println!(
+                    "{}",
+                    serde_json::to_string(&rows).map_err(|e| e.to_string())?
+                );
+            }
+            Some(Reply::Status(rows)) => print!("{}", status::render(&rows)),
+            Some(Reply::Failed(f)) => return Err(f.into()),
+            _ => return Err("the ground service answered out of turn".into()),
+        }
+        let _ = io::stdout().flush();
+        let Some(every) = watch.filter(|s| *s > 0.0) else {
+            return Ok(());
+        };
+        let until = std::time::Instant::now() + Duration::from_secs_f64(every);
+        while std::time::Instant::now() < until {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                return Ok(());
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        println!();
+    }
+}
+
+/// `gcs monitor` through the service: the vehicle's FROM-TO-NEXT and position now, then every
+/// report, for `seconds` or until interrupted.
+fn monitor_through(
+    service: Connection,
+    vehicle: Option<String>,
+    seconds: Option<u64>,
+) -> Result<(), Failure> {
+    let limit = seconds.map_or(Duration::MAX, Duration::from_secs);
+    let stop = stop_on_signals();
+    let start = std::time::Instant::now();
+    let mut monitor = missionlink_gcs::monitor::Monitor::new();
+    service
+        .set_read_timeout(Some(Duration::from_millis(200)))
+        .map_err(|e| e.to_string())?;
+    let call = Call {
+        vehicle,
+        what: What::Monitor,
+    };
+    let ended = service.call(&call, 1, |reply| {
+        if let Some(Reply::Event(message)) = reply {
+            match message.as_ref() {
+                Message::FromToNext(f) => println!("{}", monitor.from_to_next(f)),
+                Message::InertialStates(p) => println!("{}", monitor.position(p)),
+                _ => {}
+            }
+        }
+        start.elapsed() < limit && !stop.load(std::sync::atomic::Ordering::Relaxed)
+    })?;
+    match ended {
+        Some(Reply::Failed(f)) => Err(f.into()),
+        _ => Ok(()),
     }
 }
 
@@ -990,14 +1175,13 @@ fn run(cli: Cli) -> ExitCode {
         cli.command,
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. }
     ) {
-        let config = match LinkConfig::resolve(&cli.config) {
-            Ok(c) => c,
-            Err(e) => {
-                eprintln!("gcs: {e}");
-                return ExitCode::from(2);
-            }
+        let ground = Ground {
+            args: cli.config,
+            vehicle: cli.vehicle,
+            fleet: cli.fleet,
+            socket: cli.service_socket,
         };
-        return match mission_command(&config, cli.command) {
+        return match mission_command(&ground, cli.command) {
             Ok(()) => ExitCode::SUCCESS,
             Err(f) => {
                 eprintln!("gcs: {}", f.message);

@@ -1,0 +1,172 @@
+//! The ground service (`gcs serve`) as an operator runs it, for the tests of the ground side:
+//! the `gcs` binary of this build started on a fleet file, with a socket and a state directory
+//! of the test's own, and `gcs` commands run against it as an operator types them.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::Duration;
+
+use super::binaries::{Build, build_dir, ensure_gcs};
+use super::{Rig, eventually};
+
+/// The `gcs` binary of this build.
+pub fn gcs_binary() -> PathBuf {
+    let dir = build_dir().expect("the build directory");
+    ensure_gcs(&dir, Build::IfMissing).unwrap().join("gcs")
+}
+
+/// A vehicle of a fleet file: its name and the rig whose FCC it is.
+pub struct FleetVehicle<'a> {
+    pub name: &'a str,
+    pub rig: &'a mut Rig,
+}
+
+/// The fleet file of `vehicles`, each rig's FCC with its links learnt (`Rig::learn_links`) and
+/// its GCS ends released for the service to bind.
+pub fn fleet_file(vehicles: &mut [FleetVehicle<'_>]) -> String {
+    let cucs = vehicles.first().map_or(0, |v| v.rig.config.ids.gcs);
+    let mut text = format!("cucs_id = {cucs:#010X}\n");
+    for (i, v) in vehicles.iter_mut().enumerate() {
+        let [direct, lte] = v.rig.release_gcs_ends();
+        let config = &v.rig.config;
+        text.push_str(&format!(
+            "\n[[vehicle]]\nname = \"{}\"\nvehicle_id = {:#010X}\nmavlink_system_id = {}\n\
+             direct = {{ ground = \"{direct}\", fcc = \"{}\" }}\n\
+             lte = {{ ground = \"{lte}\", fcc = \"{}\" }}\nkey_files = [\"{}\"]\n",
+            v.name,
+            config.ids.fcc,
+            i + 1,
+            config.links.fcc_direct,
+            config.links.fcc_lte,
+            v.rig.dir.join("link.key").display(),
+        ));
+    }
+    text
+}
+
+/// A running ground service; stopped with SIGTERM when dropped.
+pub struct GroundService {
+    child: Child,
+    /// Its socket.
+    pub socket: PathBuf,
+    /// Its state directory.
+    pub state_dir: PathBuf,
+    fleet: PathBuf,
+    log: PathBuf,
+}
+
+impl GroundService {
+    /// Starts `gcs serve` on the fleet file `fleet` (written to `dir`), its socket, state and
+    /// log in `dir`, and waits until it serves.
+    pub fn start(dir: &Path, fleet: &str) -> Self {
+        Self::start_with_state(
+            dir,
+            fleet,
+            &dir.join("ground-state"),
+            &dir.join("run").join("gcs.sock"),
+        )
+    }
+
+    /// As [`GroundService::start`], with the state directory and the socket given.
+    pub fn start_with_state(dir: &Path, fleet: &str, state_dir: &Path, socket: &Path) -> Self {
+        let path = dir.join("fleet.toml");
+        std::fs::write(&path, fleet).unwrap();
+        Self::start_on(
+            path,
+            socket.to_owned(),
+            state_dir.to_owned(),
+            dir.join("gcs-serve.log"),
+        )
+    }
+
+    fn start_on(fleet: PathBuf, socket: PathBuf, state_dir: PathBuf, log: PathBuf) -> Self {
+        let mut child = Command::new(gcs_binary())
+            .arg("--fleet")
+            .arg(&fleet)
+            .arg("--service-socket")
+            .arg(&socket)
+            .arg("serve")
+            .arg("--state-dir")
+            .arg(&state_dir)
+            .env("RUST_LOG", "info")
+            .stdout(Stdio::piped())
+            .stderr(std::fs::File::create(&log).unwrap())
+            .spawn()
+            .unwrap();
+        // Serving once it said so: every vehicle's links bound, the socket listening.
+        let stdout = child.stdout.take().unwrap();
+        let mut lines = BufReader::new(stdout).lines();
+        let first = lines.next().and_then(Result::ok).unwrap_or_default();
+        assert!(
+            first.starts_with("ground service for"),
+            "gcs serve did not start: {first:?}\n{}",
+            std::fs::read_to_string(&log).unwrap_or_default()
+        );
+        // The rest of its output is not read: drained, so that it never blocks on a full pipe.
+        std::thread::spawn(move || lines.for_each(drop));
+        Self {
+            child,
+            socket,
+            state_dir,
+            fleet,
+            log,
+        }
+    }
+
+    /// `gcs ARGS` run against the service, as an operator runs it.
+    pub fn gcs(&self, args: &[&str]) -> Output {
+        Command::new(gcs_binary())
+            .args(args)
+            .env("MISSIONLINK_GCS_SOCKET", &self.socket)
+            .env("XDG_STATE_HOME", self.state_dir.join("client"))
+            .env_remove("MISSIONLINK_FLEET")
+            .output()
+            .unwrap()
+    }
+
+    /// Kills the service as a crash would (its socket file stays behind).
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    /// Starts the service again as it was (same fleet, socket and state directory).
+    pub fn restart(&mut self) {
+        self.stop();
+        let next = Self::start_on(
+            self.fleet.clone(),
+            self.socket.clone(),
+            self.state_dir.clone(),
+            self.log.with_extension("2.log"),
+        );
+        *self = next;
+    }
+
+    /// Its log (stderr).
+    pub fn log_text(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+
+    fn stop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            let pid = rustix::process::Pid::from_raw(self.child.id() as i32);
+            if let Some(pid) = pid {
+                let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
+            }
+            let stopped = eventually(Duration::from_secs(5), || {
+                self.child.try_wait().ok().flatten()
+            });
+            if stopped.is_none() {
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+            }
+        }
+    }
+}
+
+impl Drop for GroundService {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}

@@ -1,0 +1,287 @@
+//! The ground service (`gcs serve`, docs/gcs.md) with real FCCs, the `gcs` commands run as an
+//! operator types them: two vehicles served side by side, the same output through the service
+//! as alone, the monitor's state at once, and a service killed and started again.
+
+use std::process::Output;
+use std::time::Duration;
+
+use missionlink::harness::service::{FleetVehicle, GroundService, fleet_file, gcs_binary};
+use missionlink::harness::*;
+
+fn mission(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("missions")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[track_caller]
+fn ok(output: &Output) -> String {
+    assert!(
+        output.status.success(),
+        "exit {:?}\nstdout:\n{}\nstderr:\n{}",
+        output.status.code(),
+        text(&output.stdout),
+        text(&output.stderr)
+    );
+    text(&output.stdout)
+}
+
+/// The checksums `gcs download` printed: "checksums (ICD §11): mission X, areas Y".
+fn downloaded_checksums(stdout: &str) -> String {
+    stdout
+        .lines()
+        .find(|l| l.starts_with("checksums (ICD §11)"))
+        .unwrap_or_else(|| panic!("no checksums in {stdout}"))
+        .to_owned()
+}
+
+/// The checksums `gcs validate` gives for a mission file.
+fn planned_checksums(file: &str) -> String {
+    let out = std::process::Command::new(gcs_binary())
+        .args(["validate", &mission(file)])
+        .output()
+        .unwrap();
+    let line = ok(&out)
+        .lines()
+        .find_map(|l| {
+            l.trim()
+                .strip_prefix("checksums (ICD §11): ")
+                .map(str::to_owned)
+        })
+        .unwrap();
+    format!("checksums (ICD §11): {line}")
+}
+
+/// Two FCCs (Vehicle IDs 1 and 2) with their links learnt, and the service for both.
+fn two_vehicles(test: &str) -> (Rig, Rig, Process, Process, GroundService) {
+    let mut a = Rig::new(&format!("{test}-a"));
+    let mut b = Rig::new(&format!("{test}-b"));
+    b.config.ids.fcc = 0x0B00_0002;
+    let mut fcc_a = a.start_fcc();
+    let mut fcc_b = b.start_fcc();
+    a.learn_links(&mut fcc_a);
+    b.learn_links(&mut fcc_b);
+    let fleet = fleet_file(&mut [
+        FleetVehicle {
+            name: "alpha",
+            rig: &mut a,
+        },
+        FleetVehicle {
+            name: "bravo",
+            rig: &mut b,
+        },
+    ]);
+    let service = GroundService::start(&a.dir, &fleet);
+    (a, b, fcc_a, fcc_b, service)
+}
+
+#[test]
+fn ground_service_serves_two_fccs_side_by_side() {
+    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles("service-two");
+
+    // Both uploads at once, each to its vehicle.
+    let upload = |vehicle: &'static str, file: &'static str| {
+        let mut command = std::process::Command::new(gcs_binary());
+        command
+            .args(["--vehicle", vehicle, "upload", &mission(file)])
+            .env("MISSIONLINK_GCS_SOCKET", &service.socket)
+            .env("XDG_STATE_HOME", service.state_dir.join("client"))
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped());
+        command.spawn().unwrap()
+    };
+    let (alpha, bravo) = (
+        upload("alpha", "mission-2.toml"),
+        upload("bravo", "mission-1.toml"),
+    );
+    let (alpha, bravo) = (
+        alpha.wait_with_output().unwrap(),
+        bravo.wait_with_output().unwrap(),
+    );
+    ok(&alpha);
+    ok(&bravo);
+
+    // Each holds its own mission.
+    let down_a = ok(&service.gcs(&["--vehicle", "alpha", "download"]));
+    let down_b = ok(&service.gcs(&["--vehicle", "bravo", "download"]));
+    assert_eq!(
+        downloaded_checksums(&down_a),
+        planned_checksums("mission-2.toml")
+    );
+    assert_eq!(
+        downloaded_checksums(&down_b),
+        planned_checksums("mission-1.toml")
+    );
+
+    // A fleet of two needs the vehicle named.
+    let unnamed = service.gcs(&["download"]);
+    assert_eq!(unnamed.status.code(), Some(2), "{}", text(&unnamed.stderr));
+    assert!(
+        text(&unnamed.stderr).contains("name one with --vehicle (alpha, bravo)"),
+        "{}",
+        text(&unnamed.stderr)
+    );
+
+    // The status: a row each, the active lists the ones planned, heard on both links.
+    let status = ok(&service.gcs(&["status"]));
+    let row = |name: &str| {
+        status
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no row {name}:\n{status}"))
+            .to_owned()
+    };
+    for name in ["alpha", "bravo"] {
+        let row = row(name);
+        assert!(row.contains(" planned"), "{row}");
+        assert!(!row.contains("never heard"), "{row}");
+        assert!(!row.contains("FCC silent"), "{row}");
+    }
+    assert!(row("alpha").contains("0x0B000001"), "{status}");
+    assert!(row("bravo").contains("0x0B000002"), "{status}");
+}
+
+#[test]
+fn ground_service_monitor_shows_from_to_next_and_position_at_once() {
+    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles("service-monitor");
+    ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-2.toml")]));
+    ok(&service.gcs(&["--vehicle", "alpha", "execute"]));
+    // The service heard FROM-TO-NEXT while no command ran: a monitor started now shows it
+    // first, before any change, and the position beside it.
+    let flying = eventually(Duration::from_secs(20), || {
+        let status = ok(&service.gcs(&["status"]));
+        status
+            .lines()
+            .any(|l| l.starts_with("alpha") && l.contains(" -> ") && !l.contains("not yet"))
+            .then_some(())
+    });
+    assert!(
+        flying.is_some(),
+        "alpha never reported FROM-TO-NEXT and position"
+    );
+    let out = ok(&service.gcs(&["--vehicle", "alpha", "monitor", "--seconds", "1"]));
+    let mut lines = out.lines();
+    let first = lines.next().unwrap_or_default();
+    assert!(
+        first.contains("FROM"),
+        "the first line is not FROM-TO-NEXT: {out}"
+    );
+    let second = lines.next().unwrap_or_default();
+    assert!(
+        second.starts_with("position ") && !second.contains("not yet reported"),
+        "{out}"
+    );
+    // Bravo was not flown: its monitor has nothing to show at once but its position.
+    let out = ok(&service.gcs(&["--vehicle", "bravo", "monitor", "--seconds", "1"]));
+    assert!(
+        out.lines().all(|l| l.starts_with("position ")),
+        "bravo flew nothing: {out}"
+    );
+}
+
+/// What an operator sees of one command: exit status, stdout, and stderr without the log
+/// lines (`tracing`, each after its time: the log of the work is the service's then).
+fn seen(output: &Output) -> (Option<i32>, String, String) {
+    let stderr: Vec<String> = text(&output.stderr)
+        .lines()
+        .filter(|l| !l.starts_with("20"))
+        .map(str::to_owned)
+        .collect();
+    (
+        output.status.code(),
+        text(&output.stdout),
+        stderr.join("\n"),
+    )
+}
+
+#[test]
+fn ground_service_commands_print_the_same_through_the_service_as_alone() {
+    let mut rig = Rig::new("service-same");
+    let mut fcc = rig.start_fcc();
+    rig.learn_links(&mut fcc);
+    let fleet = fleet_file(&mut [FleetVehicle {
+        name: "solo",
+        rig: &mut rig,
+    }]);
+    let fleet_path = rig.dir.join("solo-fleet.toml");
+    std::fs::write(&fleet_path, &fleet).unwrap();
+    // One state directory for the commands alone and the service: they share the missions
+    // uploaded last and the time stamps, as on an operator's machine.
+    let state_home = rig.dir.join("xdg-state");
+    let socket = rig.dir.join("run").join("gcs.sock");
+    let (m1, m2) = (mission("mission-1.toml"), mission("mission-2.toml"));
+    let sequence: Vec<Vec<&str>> = vec![
+        vec!["missions"],
+        vec!["upload", &m1],
+        vec!["missions"],
+        vec!["download"],
+        vec!["activate", "NO-SUCH"],
+        vec!["stage", "--id", "S1", &m2],
+        vec!["missions"],
+        vec!["download", "--id", "S1"],
+        vec!["delete", "S1"],
+        vec!["upload", "--edit", &m2],
+        vec!["clear"],
+        vec!["clear-areas"],
+        vec!["missions"],
+    ];
+    let run = |args: &[&str]| {
+        std::process::Command::new(gcs_binary())
+            .arg("--fleet")
+            .arg(&fleet_path)
+            .arg("--service-socket")
+            .arg(&socket)
+            .args(args)
+            .env("XDG_STATE_HOME", &state_home)
+            .output()
+            .unwrap()
+    };
+    let alone: Vec<_> = sequence.iter().map(|args| seen(&run(args))).collect();
+    // The sequence ends as it began: no lists. Now through the service.
+    let service =
+        GroundService::start_with_state(&rig.dir, &fleet, &state_home.join("missionlink"), &socket);
+    let through: Vec<_> = sequence.iter().map(|args| seen(&run(args))).collect();
+    for ((args, alone), through) in sequence.iter().zip(&alone).zip(&through) {
+        assert_eq!(alone, through, "gcs {}", args.join(" "));
+    }
+    // Not a sequence of failures: it did what it says.
+    assert_eq!(alone[1].0, Some(0), "{:?}", alone[1]);
+    assert_eq!(alone[4].0, Some(1), "{:?}", alone[4]);
+    assert!(alone[9].1.contains("sent "), "{:?}", alone[9]);
+    drop(service);
+}
+
+#[test]
+fn ground_service_killed_gives_clients_a_clear_error_and_resumes_what_it_kept() {
+    let (_a, _b, _fcc_a, _fcc_b, mut service) = two_vehicles("service-kill");
+    ok(&service.gcs(&["--vehicle", "bravo", "upload", &mission("mission-1.toml")]));
+    service.kill();
+    let down = service.gcs(&["--vehicle", "bravo", "download"]);
+    assert_eq!(down.status.code(), Some(1));
+    assert!(
+        text(&down.stderr).contains("no service answers on it"),
+        "{}",
+        text(&down.stderr)
+    );
+    service.restart();
+    // The lists it uploaded last are still known as planned.
+    let planned = eventually(Duration::from_secs(10), || {
+        let status = ok(&service.gcs(&["status"]));
+        status
+            .lines()
+            .any(|l| l.starts_with("bravo") && l.contains(" planned"))
+            .then_some(())
+    });
+    assert!(planned.is_some(), "{}", service.log_text());
+    let down = ok(&service.gcs(&["--vehicle", "bravo", "download"]));
+    assert_eq!(
+        downloaded_checksums(&down),
+        planned_checksums("mission-1.toml")
+    );
+}
