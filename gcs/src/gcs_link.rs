@@ -278,6 +278,11 @@ impl<G: SafetyGateway> GcsLink<G> {
         &mut self.station
     }
 
+    /// The clock of the GCS logic (for a state machine beside it that must keep the same time).
+    pub fn clock(&self) -> DriverClock {
+        self.clock
+    }
+
     /// Now, for requests to the GCS logic.
     pub fn now(&self) -> Instant {
         self.clock.now()
@@ -416,6 +421,18 @@ impl<G: SafetyGateway> GcsLink<G> {
         &mut self,
         mut on_event: impl FnMut(&GcsEvent<G::Report>),
     ) -> Result<Finished, GcsError<G::Report>> {
+        self.finish_ticking(|event| {
+            if let Some(event) = event {
+                on_event(event);
+            }
+        })
+    }
+
+    /// [`GcsLink::finish`], with `on` also called with `None` after every pump of the links.
+    pub fn finish_ticking(
+        &mut self,
+        mut on: impl FnMut(Option<&GcsEvent<G::Report>>),
+    ) -> Result<Finished, GcsError<G::Report>> {
         loop {
             while let Some(event) = self.station.poll_event() {
                 match event {
@@ -426,13 +443,14 @@ impl<G: SafetyGateway> GcsLink<G> {
                         return Ok(Finished::Reported(entries.into_iter().collect()));
                     }
                     GcsEvent::Failed(e) => return Err(e),
-                    other => on_event(&other),
+                    other => on(Some(&other)),
                 }
             }
             if self.station.is_standby() {
                 return Ok(Finished::Done);
             }
             self.pump(Duration::from_millis(20));
+            on(None);
         }
     }
 

@@ -54,22 +54,33 @@ pub struct GroundService {
     pub state_dir: PathBuf,
     fleet: PathBuf,
     log: PathBuf,
+    args: Vec<String>,
+    /// What it printed as it started: a line for the service, one per vehicle, one for the
+    /// MAVLink side if it has one.
+    pub banner: Vec<String>,
 }
 
 impl GroundService {
-    /// Starts `gcs serve` on the fleet file `fleet` (written to `dir`), its socket, state and
-    /// log in `dir`, and waits until it serves.
-    pub fn start(dir: &Path, fleet: &str) -> Self {
+    /// Starts `gcs serve ARGS` on the fleet file `fleet` (written to `dir`), its socket, state
+    /// and log in `dir`, and waits until it serves.
+    pub fn start(dir: &Path, fleet: &str, args: &[&str]) -> Self {
         Self::start_with_state(
             dir,
             fleet,
             &dir.join("ground-state"),
             &dir.join("run").join("gcs.sock"),
+            args,
         )
     }
 
     /// As [`GroundService::start`], with the state directory and the socket given.
-    pub fn start_with_state(dir: &Path, fleet: &str, state_dir: &Path, socket: &Path) -> Self {
+    pub fn start_with_state(
+        dir: &Path,
+        fleet: &str,
+        state_dir: &Path,
+        socket: &Path,
+        args: &[&str],
+    ) -> Self {
         let path = dir.join("fleet.toml");
         std::fs::write(&path, fleet).unwrap();
         Self::start_on(
@@ -77,10 +88,17 @@ impl GroundService {
             socket.to_owned(),
             state_dir.to_owned(),
             dir.join("gcs-serve.log"),
+            args.iter().map(|a| (*a).to_owned()).collect(),
         )
     }
 
-    fn start_on(fleet: PathBuf, socket: PathBuf, state_dir: PathBuf, log: PathBuf) -> Self {
+    fn start_on(
+        fleet: PathBuf,
+        socket: PathBuf,
+        state_dir: PathBuf,
+        log: PathBuf,
+        args: Vec<String>,
+    ) -> Self {
         let mut child = Command::new(gcs_binary())
             .arg("--fleet")
             .arg(&fleet)
@@ -89,6 +107,7 @@ impl GroundService {
             .arg("serve")
             .arg("--state-dir")
             .arg(&state_dir)
+            .args(&args)
             .env("RUST_LOG", "info")
             .stdout(Stdio::piped())
             .stderr(std::fs::File::create(&log).unwrap())
@@ -97,12 +116,21 @@ impl GroundService {
         // Serving once it said so: every vehicle's links bound, the socket listening.
         let stdout = child.stdout.take().unwrap();
         let mut lines = BufReader::new(stdout).lines();
-        let first = lines.next().and_then(Result::ok).unwrap_or_default();
-        assert!(
-            first.starts_with("ground service for"),
-            "gcs serve did not start: {first:?}\n{}",
-            std::fs::read_to_string(&log).unwrap_or_default()
-        );
+        let mut next = || lines.next().and_then(Result::ok).unwrap_or_default();
+        let first = next();
+        let vehicles: usize = first
+            .strip_prefix("ground service for ")
+            .and_then(|rest| rest.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| {
+                panic!(
+                    "gcs serve did not start: {first:?}\n{}",
+                    std::fs::read_to_string(&log).unwrap_or_default()
+                )
+            });
+        let mut banner = vec![first];
+        let more = vehicles + usize::from(args.iter().any(|a| a == "--mavlink"));
+        banner.extend((0..more).map(|_| next()));
         // The rest of its output is not read: drained, so that it never blocks on a full pipe.
         std::thread::spawn(move || lines.for_each(drop));
         Self {
@@ -111,7 +139,17 @@ impl GroundService {
             state_dir,
             fleet,
             log,
+            args,
+            banner,
         }
+    }
+
+    /// The port of its MAVLink side, from its banner.
+    pub fn mavlink_port(&self) -> Option<u16> {
+        self.banner.iter().find_map(|l| {
+            let addr = l.strip_prefix("MAVLink vehicles on ")?.split(',').next()?;
+            addr.parse::<std::net::SocketAddr>().ok().map(|a| a.port())
+        })
     }
 
     /// `gcs ARGS` run against the service, as an operator runs it.
@@ -139,6 +177,7 @@ impl GroundService {
             self.socket.clone(),
             self.state_dir.clone(),
             self.log.with_extension("2.log"),
+            self.args.clone(),
         );
         *self = next;
     }

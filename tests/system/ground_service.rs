@@ -58,8 +58,9 @@ fn planned_checksums(file: &str) -> String {
     format!("checksums (ICD §11): {line}")
 }
 
-/// Two FCCs (Vehicle IDs 1 and 2) with their links learnt, and the service for both.
-fn two_vehicles(test: &str) -> (Rig, Rig, Process, Process, GroundService) {
+/// Two FCCs (Vehicle IDs 1 and 2) with their links learnt, and the service for both, started
+/// with `args`.
+fn two_vehicles(test: &str, args: &[&str]) -> (Rig, Rig, Process, Process, GroundService) {
     let mut a = Rig::new(&format!("{test}-a"));
     let mut b = Rig::new(&format!("{test}-b"));
     b.config.ids.fcc = 0x0B00_0002;
@@ -77,13 +78,13 @@ fn two_vehicles(test: &str) -> (Rig, Rig, Process, Process, GroundService) {
             rig: &mut b,
         },
     ]);
-    let service = GroundService::start(&a.dir, &fleet);
+    let service = GroundService::start(&a.dir, &fleet, args);
     (a, b, fcc_a, fcc_b, service)
 }
 
 #[test]
 fn ground_service_serves_two_fccs_side_by_side() {
-    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles("service-two");
+    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles("service-two", &[]);
 
     // Both uploads at once, each to its vehicle.
     let upload = |vehicle: &'static str, file: &'static str| {
@@ -149,7 +150,7 @@ fn ground_service_serves_two_fccs_side_by_side() {
 
 #[test]
 fn ground_service_monitor_shows_from_to_next_and_position_at_once() {
-    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles("service-monitor");
+    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles("service-monitor", &[]);
     ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-2.toml")]));
     ok(&service.gcs(&["--vehicle", "alpha", "execute"]));
     // The service heard FROM-TO-NEXT while no command ran: a monitor started now shows it
@@ -244,8 +245,13 @@ fn ground_service_commands_print_the_same_through_the_service_as_alone() {
     };
     let alone: Vec<_> = sequence.iter().map(|args| seen(&run(args))).collect();
     // The sequence ends as it began: no lists. Now through the service.
-    let service =
-        GroundService::start_with_state(&rig.dir, &fleet, &state_home.join("missionlink"), &socket);
+    let service = GroundService::start_with_state(
+        &rig.dir,
+        &fleet,
+        &state_home.join("missionlink"),
+        &socket,
+        &[],
+    );
     let through: Vec<_> = sequence.iter().map(|args| seen(&run(args))).collect();
     for ((args, alone), through) in sequence.iter().zip(&alone).zip(&through) {
         assert_eq!(alone, through, "gcs {}", args.join(" "));
@@ -259,7 +265,7 @@ fn ground_service_commands_print_the_same_through_the_service_as_alone() {
 
 #[test]
 fn ground_service_killed_gives_clients_a_clear_error_and_resumes_what_it_kept() {
-    let (_a, _b, _fcc_a, _fcc_b, mut service) = two_vehicles("service-kill");
+    let (_a, _b, _fcc_a, _fcc_b, mut service) = two_vehicles("service-kill", &[]);
     ok(&service.gcs(&["--vehicle", "bravo", "upload", &mission("mission-1.toml")]));
     service.kill();
     let down = service.gcs(&["--vehicle", "bravo", "download"]);
@@ -284,4 +290,48 @@ fn ground_service_killed_gives_clients_a_clear_error_and_resumes_what_it_kept() 
         downloaded_checksums(&down),
         planned_checksums("mission-1.toml")
     );
+}
+
+#[test]
+fn ground_service_mavlink_client_and_gcs_commands_side_by_side() {
+    // QGroundControl is not listening in a test: the vehicles answer the client that talks.
+    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles(
+        "service-mavlink",
+        &[
+            "--mavlink",
+            "--mavlink-bind",
+            "127.0.0.1:0",
+            "--mavlink-to",
+            "127.0.0.1:9",
+        ],
+    );
+    let port = service.mavlink_port().expect("the MAVLink side's port");
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/pymavlink_fleet.py");
+    // pymavlink uploads to bravo (system 2) while gcs uploads to alpha.
+    let client = std::process::Command::new(python())
+        .arg(script)
+        .args([port.to_string().as_str(), "2", "1", "2"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("{:?}: {e}; run the tests with tools/test", python()));
+    ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-2.toml")]));
+    ok(&service.gcs(&["status"]));
+    let out = client.wait_with_output().unwrap();
+    println!("{}", text(&out.stdout));
+    assert!(
+        out.status.success(),
+        "pymavlink:\n{}\n{}\n{}",
+        text(&out.stdout),
+        text(&out.stderr),
+        service.log_text()
+    );
+    let down_a = ok(&service.gcs(&["--vehicle", "alpha", "download"]));
+    assert_eq!(
+        downloaded_checksums(&down_a),
+        planned_checksums("mission-2.toml")
+    );
+    let down_b = ok(&service.gcs(&["--vehicle", "bravo", "download"]));
+    assert!(down_b.contains("2 waypoints"), "{down_b}");
 }

@@ -13,9 +13,7 @@ use std::time::Duration;
 use missionlink::harness::*;
 use missionlink_gcs::gcs_link::GcsLink;
 use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
-use missionlink_gcs::mavlink::plan::PlanContext;
 use missionlink_gcs::mavlink::vehicle::{Vehicle, VehicleConfig};
-use missionlink_gcs::qgc::ImportOptions;
 use missionlink_ground::safety_gateway::SafetyGateway;
 
 fn script(name: &str) -> PathBuf {
@@ -60,19 +58,13 @@ impl Session {
     /// `script` with `args` against it until the script exits; its output, after asserting it
     /// passed.
     fn serve(&mut self, script_name: &str, args: &[&str]) -> String {
-        let mut vehicle = Vehicle::new(VehicleConfig {
-            heartbeat: Duration::from_secs(1),
-            item_timeout: Duration::from_millis(1500),
-            item_retries: 3,
-            fence_wait: Duration::from_secs(3),
-            plan: PlanContext {
-                cruise_speed_mps: 25.0,
-                home: None,
-                import: ImportOptions::default(),
-            },
-        });
+        let mut vehicle = Vehicle::new(VehicleConfig::standard(
+            missionlink_gcs::mavlink::vehicle::SYSTEM_ID,
+            Duration::from_secs(3),
+            25.0,
+        ));
         // QGroundControl is not listening in a test: the vehicle answers the client that talks.
-        let mut socket = MavlinkSocket::bind(
+        let socket = MavlinkSocket::bind(
             "127.0.0.1:0".parse().unwrap(),
             "127.0.0.1:9".parse().unwrap(),
         )
@@ -99,14 +91,7 @@ impl Session {
         };
         let memory = self.memory();
         driver::read_lists(&mut self.link, &mut vehicle, Some(&memory));
-        driver::run(
-            &mut self.link,
-            &mut vehicle,
-            &mut socket,
-            Some(&memory),
-            &stop,
-        )
-        .unwrap();
+        driver::run(&mut self.link, &mut vehicle, &socket, Some(&memory), &stop).unwrap();
         let out = waiter.join().unwrap();
         let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
         let stderr = String::from_utf8_lossy(&out.stderr);

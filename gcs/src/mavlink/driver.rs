@@ -11,6 +11,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write as _};
 use std::net::{SocketAddr, UdpSocket};
 use std::path::Path;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
@@ -27,15 +28,17 @@ use crate::qgc::ExportOptions;
 /// Largest MAVLink 2 datagram (280 bytes a frame; a datagram may hold several).
 const DATAGRAM: usize = 2048;
 
-/// The MAVLink side's socket: bound where the operator says, sending to `to`.
+/// The MAVLink side's socket: bound where the operator says, sending to `to` and to the client
+/// that spoke last. Shared by reference: the ground service's vehicles send on one endpoint
+/// from their threads while one thread receives.
 #[derive(Debug)]
 pub struct MavlinkSocket {
     socket: UdpSocket,
     to: SocketAddr,
     /// The client that spoke last.
-    peer: Option<SocketAddr>,
+    peer: Mutex<Option<SocketAddr>>,
     /// The session's capture, if asked for.
-    tlog: Option<BufWriter<File>>,
+    tlog: Mutex<Option<BufWriter<File>>>,
 }
 
 impl MavlinkSocket {
@@ -45,8 +48,8 @@ impl MavlinkSocket {
         Ok(Self {
             socket,
             to,
-            peer: None,
-            tlog: None,
+            peer: Mutex::new(None),
+            tlog: Mutex::new(None),
         })
     }
 
@@ -54,9 +57,12 @@ impl MavlinkSocket {
     /// telemetry log as QGroundControl and MAVProxy write them (`.tlog`: each message after its
     /// time, microseconds since 1970 as 8 bytes big-endian), which pymavlink reads (the
     /// pymavlink test reads its session's capture back with it).
-    pub fn with_tlog(mut self, path: &Path) -> std::io::Result<Self> {
-        self.tlog = Some(BufWriter::new(File::create(path)?));
-        Ok(self)
+    pub fn with_tlog(self, path: &Path) -> std::io::Result<Self> {
+        let tlog = BufWriter::new(File::create(path)?);
+        Ok(Self {
+            tlog: Mutex::new(Some(tlog)),
+            ..self
+        })
     }
 
     /// The bound address.
@@ -64,9 +70,16 @@ impl MavlinkSocket {
         self.socket.local_addr()
     }
 
-    fn send(&mut self, datagram: &[u8]) {
+    /// Where it sends.
+    pub fn to(&self) -> SocketAddr {
+        self.to
+    }
+
+    /// Sends `datagram` to `to` and to the client that spoke last, if another.
+    pub fn send(&self, datagram: &[u8]) {
         self.capture(datagram);
-        let mut targets = [Some(self.to), self.peer.filter(|p| *p != self.to)];
+        let peer = self.peer.lock().map_or(None, |p| *p);
+        let mut targets = [Some(self.to), peer.filter(|p| *p != self.to)];
         for target in targets.iter_mut().flatten() {
             if let Err(e) = self.socket.send_to(datagram, *target) {
                 tracing::debug!(%e, %target, "MAVLink datagram not sent");
@@ -74,10 +87,40 @@ impl MavlinkSocket {
         }
     }
 
+    /// Waits at most `wait` for a client's datagram; its length in `buf` (the sender becomes
+    /// the client that spoke last), `None` when none came.
+    pub fn receive(&self, buf: &mut [u8], wait: Duration) -> std::io::Result<Option<usize>> {
+        self.socket
+            .set_read_timeout(Some(wait.max(Duration::from_millis(1))))?;
+        match self.socket.recv_from(buf) {
+            Ok((len, from)) => {
+                if let Ok(mut peer) = self.peer.lock() {
+                    *peer = Some(from);
+                }
+                if let Some(d) = buf.get(..len) {
+                    self.capture(d);
+                }
+                Ok(Some(len))
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) =>
+            {
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// Each message of `datagram` into the capture, if one is kept. A write that fails ends
     /// the capture, said once.
-    fn capture(&mut self, datagram: &[u8]) {
-        let Some(tlog) = &mut self.tlog else {
+    fn capture(&self, datagram: &[u8]) {
+        let Ok(mut guard) = self.tlog.lock() else {
+            return;
+        };
+        let Some(tlog) = guard.as_mut() else {
             return;
         };
         let micros = SystemTime::now()
@@ -91,7 +134,7 @@ impl MavlinkSocket {
         }
         if let Err(e) = written.and_then(|()| tlog.flush()) {
             tracing::warn!(%e, "the MAVLink capture ends: it cannot be written");
-            self.tlog = None;
+            *guard = None;
         }
     }
 }
@@ -231,94 +274,109 @@ fn execute<G: SafetyGateway>(link: &mut GcsLink<G>) -> Result<(), String> {
 pub fn run<G: SafetyGateway>(
     link: &mut GcsLink<G>,
     vehicle: &mut Vehicle,
-    socket: &mut MavlinkSocket,
+    socket: &MavlinkSocket,
     memory: Option<&Path>,
     stop: &AtomicBool,
 ) -> std::io::Result<()> {
     vehicle.start(link.now());
-    let mut buf = [0u8; DATAGRAM];
     while !stop.load(Ordering::Relaxed) {
-        let now = link.now();
-        if vehicle.poll_timeout().is_some_and(|t| t <= now) {
-            vehicle.handle_timeout(now);
-        }
-        while let Some(event) = vehicle.poll_event() {
-            match event {
-                VehicleEvent::Commit { plan } => {
-                    let outcome = commit(link, &plan.plan);
-                    match &outcome {
-                        Ok((mission_id, fence_id)) => vehicle.set_ids(*mission_id, *fence_id),
-                        Err(why) => {
-                            tracing::warn!(%why, "the MAVLink client's plan was not committed");
-                        }
-                    }
-                    vehicle.committed(outcome.map(|_| ()));
-                }
-                VehicleEvent::Execute => vehicle.executed(execute(link)),
-                VehicleEvent::Clear { list } => {
-                    let outcome = clear(link, list);
-                    if let Err(why) = &outcome {
-                        tracing::warn!(%why, %list, "the MAVLink client's clear was refused");
-                    }
-                    vehicle.cleared(list, outcome);
-                }
-            }
-        }
-        if let (Some(path), Some(m)) = (memory, vehicle.memory()) {
-            remember(path, &m);
-        }
-        let stats = link.voter().stats();
-        let rejected = stats.rejected_frames.total()
-            + stats.rejected_signatures.total()
-            + stats.unreadable_messages;
-        let [direct, lte] = stats.forwarded;
-        let all = direct + lte + stats.duplicates + stats.stale + stats.overflow + rejected;
-        vehicle.set_link_counts(all, rejected);
-        while let Some(len) = vehicle.poll_transmit(&mut buf) {
-            if let Some(datagram) = buf.get(..len) {
-                socket.send(datagram);
-            }
-        }
+        carry_out_events(link, vehicle, memory);
+        tick(link.now(), vehicle, socket);
         // The downlink: positions and FROM-TO-NEXT.
-        let mut positions = Vec::new();
-        let mut from_to_next = Vec::new();
+        let mut downlink = Vec::new();
         link.run_until(Duration::from_millis(5), |event| {
-            match event {
-                GcsEvent::Position(p) => positions.push(*p),
-                GcsEvent::FromToNext(f) => from_to_next.push(*f),
-                _ => {}
+            if matches!(event, GcsEvent::Position(_) | GcsEvent::FromToNext(_)) {
+                downlink.push(event.clone());
             }
             false
         });
         let now = link.now();
-        for f in &from_to_next {
-            vehicle.handle_from_to_next(f);
-        }
-        for p in &positions {
-            vehicle.handle_position(now, p);
+        for event in &downlink {
+            hear(now, vehicle, event);
         }
         // The clients: wait at most until the vehicle's next deadline.
         let wait = vehicle
             .poll_timeout()
             .map_or(Duration::from_millis(20), |t| t.saturating_since(now))
             .clamp(Duration::from_millis(1), Duration::from_millis(20));
-        socket.socket.set_read_timeout(Some(wait))?;
         let mut datagram = [0u8; DATAGRAM];
-        match socket.socket.recv_from(&mut datagram) {
-            Ok((len, from)) => {
-                socket.peer = Some(from);
-                if let Some(d) = datagram.get(..len) {
-                    socket.capture(d);
-                    vehicle.handle_datagram(link.now(), d);
-                }
-            }
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                ) => {}
-            Err(e) => return Err(e),
+        if let Some(len) = socket.receive(&mut datagram, wait)?
+            && let Some(d) = datagram.get(..len)
+        {
+            vehicle.handle_datagram(link.now(), d);
         }
     }
     Ok(())
+}
+
+/// What the vehicle asked of the GCS link (a commit, execute, a clear), carried out and
+/// reported back; what it must remember written to `memory`; the links' counts handed over.
+pub fn carry_out_events<G: SafetyGateway>(
+    link: &mut GcsLink<G>,
+    vehicle: &mut Vehicle,
+    memory: Option<&Path>,
+) {
+    while let Some(event) = vehicle.poll_event() {
+        match event {
+            VehicleEvent::Commit { plan } => {
+                let outcome = commit(link, &plan.plan);
+                match &outcome {
+                    Ok((mission_id, fence_id)) => vehicle.set_ids(*mission_id, *fence_id),
+                    Err(why) => {
+                        tracing::warn!(%why, "the MAVLink client's plan was not committed");
+                    }
+                }
+                vehicle.committed(outcome.map(|_| ()));
+            }
+            VehicleEvent::Execute => vehicle.executed(execute(link)),
+            VehicleEvent::Clear { list } => {
+                let outcome = clear(link, list);
+                if let Err(why) = &outcome {
+                    tracing::warn!(%why, %list, "the MAVLink client's clear was refused");
+                }
+                vehicle.cleared(list, outcome);
+            }
+        }
+    }
+    if let (Some(path), Some(m)) = (memory, vehicle.memory()) {
+        remember(path, &m);
+    }
+    let stats = link.voter().stats();
+    let rejected = stats.rejected_frames.total()
+        + stats.rejected_signatures.total()
+        + stats.unreadable_messages;
+    let [direct, lte] = stats.forwarded;
+    let all = direct + lte + stats.duplicates + stats.stale + stats.overflow + rejected;
+    vehicle.set_link_counts(all, rejected);
+}
+
+/// The vehicle's deadlines that passed at `now`, and every datagram it has to send, sent: what
+/// keeps its heartbeat going while the GCS link is busy with a request.
+pub fn tick(
+    now: missionlink_protocol::link::time::Instant,
+    vehicle: &mut Vehicle,
+    socket: &MavlinkSocket,
+) {
+    if vehicle.poll_timeout().is_some_and(|t| t <= now) {
+        vehicle.handle_timeout(now);
+    }
+    let mut buf = [0u8; DATAGRAM];
+    while let Some(len) = vehicle.poll_transmit(&mut buf) {
+        if let Some(datagram) = buf.get(..len) {
+            socket.send(datagram);
+        }
+    }
+}
+
+/// A downlink report for the vehicle: a position (#101) or FROM-TO-NEXT (#4001).
+pub fn hear<R>(
+    now: missionlink_protocol::link::time::Instant,
+    vehicle: &mut Vehicle,
+    event: &GcsEvent<R>,
+) {
+    match event {
+        GcsEvent::Position(p) => vehicle.handle_position(now, p),
+        GcsEvent::FromToNext(f) => vehicle.handle_from_to_next(f),
+        _ => {}
+    }
 }

@@ -79,7 +79,8 @@ use super::memory::Memory;
 use super::plan::{Item, List, PlanContext, to_plan};
 use crate::qgc::QgcImport;
 
-/// The vehicle's system ID.
+/// The system ID of the one vehicle of `gcs mavlink` (the ground service gives each vehicle of a
+/// fleet its own, [`VehicleConfig::system_id`]).
 pub const SYSTEM_ID: u8 = 1;
 /// MAV_COMP_ID_AUTOPILOT1.
 pub const COMPONENT_ID: u8 = 1;
@@ -114,6 +115,8 @@ pub const STATUSTEXT_MAX: usize = 1000;
 /// Settings of the vehicle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VehicleConfig {
+    /// The vehicle's MAVLink system ID, 1..=255.
+    pub system_id: u8,
     /// HEARTBEAT period (MAVLink: 1 Hz).
     pub heartbeat: Duration,
     /// How long an upload waits for the item it requested before it asks again (MAVLink's
@@ -125,6 +128,27 @@ pub struct VehicleConfig {
     pub fence_wait: Duration,
     /// What the `.plan` import needs that MAVLink items do not say.
     pub plan: PlanContext,
+}
+
+impl VehicleConfig {
+    /// The vehicle `gcs mavlink` and the ground service present: system `system_id`, MAVLink's
+    /// 1 Hz heartbeat, an item asked for again after 1.5 s and up to 3 times, the mission
+    /// waiting `fence_wait` for its fence, waypoints before any speed change at
+    /// `cruise_speed_mps`.
+    pub fn standard(system_id: u8, fence_wait: Duration, cruise_speed_mps: f64) -> Self {
+        Self {
+            system_id,
+            heartbeat: Duration::from_secs(1),
+            item_timeout: Duration::from_millis(1500),
+            item_retries: 3,
+            fence_wait,
+            plan: PlanContext {
+                cruise_speed_mps,
+                home: None,
+                import: crate::qgc::ImportOptions::default(),
+            },
+        }
+    }
 }
 
 /// What the driver must carry out on the GCS link, then report back.
@@ -191,10 +215,28 @@ fn mm(metres: f64) -> i32 {
     (metres * 1000.0).round() as i32
 }
 
-/// Whether a message addressed to `system` and `component` is for this vehicle: its own IDs,
-/// or 0 (MAVLink's broadcast).
-fn for_us(system: u8, component: u8) -> bool {
-    (system == 0 || system == SYSTEM_ID) && (component == 0 || component == COMPONENT_ID)
+/// The system and component a client's message is addressed to, for the messages that name
+/// one (MAVLink's routing rules): commands, parameter requests and the mission protocol.
+#[allow(
+    deprecated,
+    reason = "MISSION_REQUEST and MISSION_SET_CURRENT are superseded; older clients still send them"
+)]
+pub fn target(message: &MavMessage) -> Option<(u8, u8)> {
+    match message {
+        MavMessage::COMMAND_LONG(c) => Some((c.target_system, c.target_component)),
+        MavMessage::COMMAND_INT(c) => Some((c.target_system, c.target_component)),
+        MavMessage::PARAM_REQUEST_LIST(r) => Some((r.target_system, r.target_component)),
+        MavMessage::PARAM_REQUEST_READ(r) => Some((r.target_system, r.target_component)),
+        MavMessage::MISSION_REQUEST_LIST(r) => Some((r.target_system, r.target_component)),
+        MavMessage::MISSION_REQUEST(r) => Some((r.target_system, r.target_component)),
+        MavMessage::MISSION_REQUEST_INT(r) => Some((r.target_system, r.target_component)),
+        MavMessage::MISSION_COUNT(c) => Some((c.target_system, c.target_component)),
+        MavMessage::MISSION_ITEM_INT(i) => Some((i.target_system, i.target_component)),
+        MavMessage::MISSION_CLEAR_ALL(c) => Some((c.target_system, c.target_component)),
+        MavMessage::MISSION_SET_CURRENT(c) => Some((c.target_system, c.target_component)),
+        MavMessage::MISSION_ACK(a) => Some((a.target_system, a.target_component)),
+        _ => None,
+    }
 }
 
 /// An upload from the client in progress.
@@ -375,14 +417,12 @@ impl Vehicle {
 
     /// One datagram from the client, at `now`: every MAVLink message in it.
     pub fn handle_datagram(&mut self, now: Instant, datagram: &[u8]) {
-        let mut reader = MavlinkReader::new(datagram);
-        let mut any = false;
-        while let Ok((header, message)) = reader.read_any_message::<MavMessage>() {
-            any = true;
-            self.handle(now, header, &message);
-        }
-        if !any {
+        let messages = read_datagram(datagram);
+        if messages.is_empty() {
             self.unreadable += 1;
+        }
+        for (header, message) in &messages {
+            self.handle(now, *header, message);
         }
     }
 
@@ -402,23 +442,12 @@ impl Vehicle {
             component: header.component_id,
         };
         // The message's own target, for those that have one: traffic for another system or
-        // component is not ours to answer (MAVLink's routing rules).
-        let target = match message {
-            MavMessage::COMMAND_LONG(c) => Some((c.target_system, c.target_component)),
-            MavMessage::COMMAND_INT(c) => Some((c.target_system, c.target_component)),
-            MavMessage::PARAM_REQUEST_LIST(r) => Some((r.target_system, r.target_component)),
-            MavMessage::PARAM_REQUEST_READ(r) => Some((r.target_system, r.target_component)),
-            MavMessage::MISSION_REQUEST_LIST(r) => Some((r.target_system, r.target_component)),
-            MavMessage::MISSION_REQUEST_INT(r) => Some((r.target_system, r.target_component)),
-            MavMessage::MISSION_REQUEST(r) => Some((r.target_system, r.target_component)),
-            MavMessage::MISSION_COUNT(c) => Some((c.target_system, c.target_component)),
-            MavMessage::MISSION_ITEM_INT(i) => Some((i.target_system, i.target_component)),
-            MavMessage::MISSION_CLEAR_ALL(c) => Some((c.target_system, c.target_component)),
-            MavMessage::MISSION_SET_CURRENT(c) => Some((c.target_system, c.target_component)),
-            MavMessage::MISSION_ACK(a) => Some((a.target_system, a.target_component)),
-            _ => None,
+        // component is not ours to answer (MAVLink's routing rules); 0 is everyone's.
+        let system_id = self.config.system_id;
+        let for_us = |(system, component): (u8, u8)| {
+            (system == 0 || system == system_id) && (component == 0 || component == COMPONENT_ID)
         };
-        if target.is_some_and(|(s, c)| !for_us(s, c)) {
+        if target(message).is_some_and(|t| !for_us(t)) {
             self.elsewhere += 1;
             return;
         }
@@ -1346,7 +1375,7 @@ impl Vehicle {
     pub fn poll_transmit(&mut self, buf: &mut [u8]) -> Option<usize> {
         let message = self.outbox.pop_front()?;
         let header = MavHeader {
-            system_id: u32::from(SYSTEM_ID),
+            system_id: u32::from(self.config.system_id),
             component_id: COMPONENT_ID,
             sequence: self.sequence,
         };
@@ -1364,6 +1393,17 @@ impl Vehicle {
     pub fn busy(&self) -> bool {
         self.committing.is_some() || self.executing || self.clearing.is_some()
     }
+}
+
+/// The MAVLink messages (1 or 2) of a client's datagram with their headers, up to the first that
+/// does not read.
+pub fn read_datagram(datagram: &[u8]) -> Vec<(MavHeader, MavMessage)> {
+    let mut reader = MavlinkReader::new(datagram);
+    let mut out = Vec::new();
+    while let Ok(m) = reader.read_any_message::<MavMessage>() {
+        out.push(m);
+    }
+    out
 }
 
 /// Decodes a datagram the vehicle sent (tests, and a driver that logs).

@@ -18,7 +18,7 @@ pub mod request;
 mod server;
 pub mod status;
 
-pub use server::{Bound, ServeError, ServeOptions, serve};
+pub use server::{Bound, MavlinkOptions, ServeError, ServeOptions, serve};
 
 /// The state directory: `dir`, else `$XDG_STATE_HOME/missionlink`, else
 /// `$HOME/.local/state/missionlink`.

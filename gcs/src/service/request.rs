@@ -148,19 +148,30 @@ pub type Link = GcsLink<SafetyGateway>;
 /// An event of the GCS logic on that link.
 pub type Event = GcsEvent<<SafetyGateway as Gateway>::Report>;
 
-/// Carries `request` out on `link` until it ends; every progress of a transfer goes to
-/// `progress` and every other event of the GCS logic to `other` (the service's state of the
-/// vehicle hears the downlink while a request runs).
+/// What hears a request while it runs.
+pub trait Listener {
+    /// A transfer's progress, for a terminal.
+    fn progress(&mut self, _progress: Progress) {}
+    /// Any other event of the GCS logic (the downlink's reports among them).
+    fn event(&mut self, _event: &Event) {}
+    /// The link was pumped once (every 20 ms at most): time for what must not wait for the
+    /// request to end (the ground service's MAVLink heartbeat, its monitors).
+    fn tick(&mut self) {}
+}
+
+/// A listener that hears nothing.
+impl Listener for () {}
+
+/// Carries `request` out on `link` until it ends, `listener` hearing it run.
 pub fn carry_out(
     link: &mut Link,
     request: Request,
-    progress: &mut dyn FnMut(Progress),
-    other: &mut dyn FnMut(&Event),
+    listener: &mut dyn Listener,
 ) -> Result<Answer, Failure> {
     let now = link.now();
     let station = link.station();
     let started = match &request {
-        Request::Upload(upload) => return carry_out_upload(link, upload, progress, other),
+        Request::Upload(upload) => return carry_out_upload(link, upload, listener),
         Request::Activate { id } => station.activate(now, mission_id(id)?),
         Request::Delete { id } => station.delete(now, mission_id(id)?),
         Request::Download { id } => {
@@ -173,7 +184,7 @@ pub fn carry_out(
         Request::Execute { command } => station.execute(now, *command),
     };
     started.map_err(|e| Failure::other(e.to_string()))?;
-    match finish(link, progress, other)? {
+    match finish(link, listener)? {
         Finished::Downloaded(plan) => Ok(Answer::Downloaded {
             mission: MissionFile::from_plan(&plan, None).to_toml(),
         }),
@@ -214,8 +225,7 @@ fn plan_of(text: &str, what: &str) -> Result<MissionPlan, Failure> {
 fn carry_out_upload(
     link: &mut Link,
     upload: &Upload,
-    progress: &mut dyn FnMut(Progress),
-    other: &mut dyn FnMut(&Event),
+    listener: &mut dyn Listener,
 ) -> Result<Answer, Failure> {
     let plan = plan_of(&upload.mission, &upload.file)?;
     let gateway = SafetyGateway::new(upload.profile.into(), upload.environment.into());
@@ -247,25 +257,22 @@ fn carry_out_upload(
         (false, Target::Staged(id)) => station.stage_validated(now, id, validated),
     };
     requested.map_err(|e| nothing_sent(&e))?;
-    match finish(link, progress, other)? {
+    match finish(link, listener)? {
         Finished::Uploaded(report) => Ok(uploaded(&report)),
         _ => Ok(Answer::Done),
     }
 }
 
 /// Runs the link until the request ends; a failure with the exit status of its command.
-fn finish(
-    link: &mut Link,
-    progress: &mut dyn FnMut(Progress),
-    other: &mut dyn FnMut(&Event),
-) -> Result<Finished, Failure> {
-    let outcome = link.finish(|event| match event {
-        GcsEvent::Progress { phase, sent, total } => progress(Progress {
+fn finish(link: &mut Link, listener: &mut dyn Listener) -> Result<Finished, Failure> {
+    let outcome = link.finish_ticking(|event| match event {
+        Some(GcsEvent::Progress { phase, sent, total }) => listener.progress(Progress {
             phase: phase.to_string(),
             sent: *sent,
             total: *total,
         }),
-        other_event => other(other_event),
+        Some(other_event) => listener.event(other_event),
+        None => listener.tick(),
     });
     let unheard = link.unheard();
     outcome.map_err(|e| {

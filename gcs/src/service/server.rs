@@ -9,6 +9,7 @@
 //! this ground uploaded last, the time stamps it used) is kept per vehicle in the state
 //! directory.
 
+use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Write};
 use std::net::SocketAddr;
 use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
@@ -27,11 +28,16 @@ use missionlink_protocol::transfer::integrity;
 
 use super::client::{Call, Reply, What};
 use super::fleet::{Fleet, Vehicle};
-use super::request::{self, Answer, Event, Failure, Link, Request};
+use super::request::{self, Answer, Event, Failure, Link, Listener, Progress, Request};
 use super::status::{Snapshot, VehicleStatus};
 use crate::gcs_link::GcsLink;
+use crate::mavlink::driver::{self, MavlinkSocket};
+use crate::mavlink::vehicle::{self as mav, Vehicle as MavVehicle, VehicleConfig};
 use crate::mission_file::MissionFile;
 use crate::pcap::PcapWriter;
+use mavlink::MavHeader;
+use mavlink::dialects::common::MavMessage;
+use missionlink_platform::clock::DriverClock;
 
 /// How the service runs.
 #[derive(Debug, Clone)]
@@ -42,6 +48,24 @@ pub struct ServeOptions {
     pub state_dir: Option<PathBuf>,
     /// Every datagram of every link into this capture, if given.
     pub capture: Option<Arc<PcapWriter>>,
+    /// The safety gateway of what the MAVLink side commits (a command's request brings its
+    /// own).
+    pub gateway: SafetyGateway,
+    /// The MAVLink side, if asked for.
+    pub mavlink: Option<MavlinkOptions>,
+}
+
+/// The MAVLink side of the service: every vehicle of the fleet on one endpoint, each its own
+/// system ID (the fleet file's), so that QGroundControl shows every vehicle and a client's
+/// traffic reaches the vehicle it addresses.
+#[derive(Debug, Clone)]
+pub struct MavlinkOptions {
+    /// The endpoint, bound.
+    pub socket: Arc<MavlinkSocket>,
+    /// Speed of waypoints before any DO_CHANGE_SPEED item, m/s.
+    pub cruise_speed_mps: f64,
+    /// How long an accepted mission waits for a fence upload before it is committed.
+    pub fence_wait: Duration,
 }
 
 /// A vehicle's links as bound.
@@ -130,6 +154,7 @@ pub fn serve(
     }
     let mut bound = Vec::new();
     let mut routes = Vec::new();
+    let mut mavlink_routes = Vec::new();
     let mut threads = Vec::new();
     for (vehicle, link) in fleet.vehicles.iter().zip(links) {
         let [direct, lte] = link.local_addrs();
@@ -142,9 +167,23 @@ pub fn serve(
         let (jobs, queue) = channel();
         let shared = Arc::new(Mutex::new(Snapshot::default()));
         let dir = vehicle_dir(options, &vehicle.name);
+        let clock = link.clock();
+        let mav = options.mavlink.as_ref().map(|m| MavSide {
+            vehicle: MavVehicle::new(VehicleConfig::standard(
+                vehicle.mavlink_system_id,
+                m.fence_wait,
+                m.cruise_speed_mps,
+            )),
+            socket: m.socket.clone(),
+            memory: dir.as_ref().map(|d| d.join("mavlink-memory")),
+        });
+        if mav.is_some() {
+            mavlink_routes.push((vehicle.mavlink_system_id, jobs.clone()));
+        }
         let mut worker = Worker {
             link,
             queue,
+            deferred: VecDeque::new(),
             shared: shared.clone(),
             state: VehicleState {
                 snapshot: Snapshot {
@@ -152,6 +191,8 @@ pub fn serve(
                     ..Snapshot::default()
                 },
                 monitors: Vec::new(),
+                mav,
+                clock,
             },
             dir,
         };
@@ -171,6 +212,18 @@ pub fn serve(
             jobs,
             shared,
         });
+    }
+    if let Some(m) = &options.mavlink {
+        let socket = m.socket.clone();
+        let stop = stop.clone();
+        let thread = std::thread::Builder::new()
+            .name("mavlink".to_owned())
+            .spawn(move || route_mavlink(&socket, &mavlink_routes, &stop))
+            .map_err(|e| ServeError::Links {
+                name: "MAVLink".to_owned(),
+                error: e.to_string(),
+            })?;
+        threads.push(thread);
     }
     ready(&bound);
     let routes = Arc::new(Routes {
@@ -261,10 +314,78 @@ struct Routes {
     routes: Vec<Route>,
 }
 
-/// A call handed to a vehicle's thread, with the client to answer.
+/// A call handed to a vehicle's thread, with the client to answer, or a MAVLink client's
+/// message for its vehicle.
 enum Job {
     Request(Request, UnixStream),
     Monitor(UnixStream),
+    Mavlink(Box<(MavHeader, MavMessage)>),
+}
+
+/// Receives the MAVLink clients' datagrams until `stop` and hands each message to the vehicle
+/// it addresses (its target system); a message for every system (target 0, or none: a
+/// client's HEARTBEAT) goes to every vehicle, but the mission protocol and commands addressed
+/// to system 0 in a fleet of several, which would change every vehicle's lists at once: those
+/// are counted and dropped. A message for a system the fleet does not hold is counted.
+fn route_mavlink(socket: &MavlinkSocket, routes: &[(u8, Sender<Job>)], stop: &AtomicBool) {
+    let mut buf = [0u8; 2048];
+    let (mut elsewhere, mut to_all_refused, mut unreadable) = (0u64, 0u64, 0u64);
+    while !stop.load(Ordering::Relaxed) {
+        let len = match socket.receive(&mut buf, Duration::from_millis(200)) {
+            Ok(Some(len)) => len,
+            Ok(None) => continue,
+            Err(e) => {
+                tracing::warn!(%e, "the MAVLink socket failed; the MAVLink side stops");
+                return;
+            }
+        };
+        let messages = mav::read_datagram(buf.get(..len).unwrap_or_default());
+        if messages.is_empty() {
+            unreadable += 1;
+        }
+        for (header, message) in messages {
+            match mav::target(&message).map(|(system, _)| system) {
+                Some(0) if routes.len() > 1 => {
+                    to_all_refused += 1;
+                    if to_all_refused == 1 {
+                        tracing::warn!(
+                            "a MAVLink client addressed a command or the mission protocol to \
+                             every system (0): refused in a fleet, counted from now on"
+                        );
+                    }
+                }
+                Some(0) | None => {
+                    for (_, jobs) in routes {
+                        let _ = jobs.send(Job::Mavlink(Box::new((header, message.clone()))));
+                    }
+                }
+                Some(system) => match routes.iter().find(|(id, _)| *id == system) {
+                    Some((_, jobs)) => {
+                        let _ = jobs.send(Job::Mavlink(Box::new((header, message))));
+                    }
+                    None => {
+                        elsewhere += 1;
+                        if elsewhere == 1 {
+                            tracing::warn!(
+                                system,
+                                "a MAVLink client addressed a system the fleet does not hold: \
+                                 ignored, counted from now on"
+                            );
+                        }
+                    }
+                },
+            }
+        }
+    }
+    if elsewhere + to_all_refused + unreadable > 0 {
+        tracing::info!(
+            elsewhere,
+            to_all_refused,
+            unreadable,
+            "the MAVLink side stopped: messages for systems the fleet does not hold, to every \
+             system refused, datagrams that did not read"
+        );
+    }
 }
 
 /// Accepts clients until `stop`; each call is read on a thread of its own, so a slow client
@@ -374,12 +495,21 @@ fn route(stream: UnixStream, routes: &Routes) {
         What::Status => return,
     };
     if let Err(unsent) = route.jobs.send(job) {
-        let (Job::Request(_, mut stream) | Job::Monitor(mut stream)) = unsent.0;
-        send(
-            &mut stream,
-            &Reply::Failed(Failure::other("the service is stopping")),
-        );
+        if let Job::Request(_, mut stream) | Job::Monitor(mut stream) = unsent.0 {
+            send(
+                &mut stream,
+                &Reply::Failed(Failure::other("the service is stopping")),
+            );
+        }
     }
+}
+
+/// The vehicle's MAVLink side: its sans-IO vehicle, the shared endpoint, and the file of what
+/// it remembers across restarts.
+struct MavSide {
+    vehicle: MavVehicle,
+    socket: Arc<MavlinkSocket>,
+    memory: Option<PathBuf>,
 }
 
 /// What a vehicle's thread keeps beside its link.
@@ -387,11 +517,14 @@ struct VehicleState {
     snapshot: Snapshot,
     /// The clients monitoring the vehicle.
     monitors: Vec<UnixStream>,
+    mav: Option<MavSide>,
+    /// The clock of the link's GCS logic, for the MAVLink side's time.
+    clock: DriverClock,
 }
 
 impl VehicleState {
     /// An event of the GCS logic heard while no request or a request runs: the downlink's
-    /// reports go to the snapshot and to every monitor.
+    /// reports go to the snapshot, to every monitor and to the MAVLink side.
     fn heard(&mut self, event: &Event) {
         let message = match event {
             GcsEvent::Position(p) => {
@@ -404,14 +537,85 @@ impl VehicleState {
             }
             _ => return,
         };
+        if let Some(m) = &mut self.mav {
+            driver::hear(self.clock.now(), &mut m.vehicle, event);
+            driver::tick(self.clock.now(), &mut m.vehicle, &m.socket);
+        }
         let reply = Reply::Event(Box::new(message));
         self.monitors.retain_mut(|m| send(m, &reply));
+    }
+
+    /// A monitor joins: the vehicle's FROM-TO-NEXT and position now, then every report.
+    fn monitor(&mut self, mut stream: UnixStream) {
+        let s = &self.snapshot;
+        let now: Vec<Message> = s
+            .from_to_next
+            .map(Message::from)
+            .into_iter()
+            .chain(s.position.map(|(p, _)| Message::from(p)))
+            .collect();
+        if now
+            .into_iter()
+            .all(|m| send(&mut stream, &Reply::Event(Box::new(m))))
+        {
+            self.monitors.push(stream);
+        }
+    }
+
+    /// A MAVLink client's message for the vehicle.
+    fn mavlink(&mut self, header: MavHeader, message: &MavMessage) {
+        if let Some(m) = &mut self.mav {
+            m.vehicle.handle(self.clock.now(), header, message);
+            driver::tick(self.clock.now(), &mut m.vehicle, &m.socket);
+        }
+    }
+
+    /// The MAVLink side's deadlines and datagrams.
+    fn tick(&mut self) {
+        if let Some(m) = &mut self.mav {
+            driver::tick(self.clock.now(), &mut m.vehicle, &m.socket);
+        }
+    }
+}
+
+/// What hears a request run in a vehicle's thread: the client's progress, the downlink, and the
+/// vehicle's queue, whose monitors and MAVLink messages are served at once while calls that
+/// need the link wait their turn.
+struct Running<'a> {
+    client: Option<&'a mut UnixStream>,
+    state: &'a mut VehicleState,
+    queue: &'a Receiver<Job>,
+    deferred: &'a mut VecDeque<Job>,
+}
+
+impl Listener for Running<'_> {
+    fn progress(&mut self, progress: Progress) {
+        if let Some(client) = self.client.as_deref_mut() {
+            let _ = send(client, &Reply::Progress(progress));
+        }
+    }
+
+    fn event(&mut self, event: &Event) {
+        self.state.heard(event);
+    }
+
+    fn tick(&mut self) {
+        while let Ok(job) = self.queue.try_recv() {
+            match job {
+                Job::Monitor(stream) => self.state.monitor(stream),
+                Job::Mavlink(m) => self.state.mavlink(m.0, &m.1),
+                request @ Job::Request(..) => self.deferred.push_back(request),
+            }
+        }
+        self.state.tick();
     }
 }
 
 struct Worker {
     link: Link,
     queue: Receiver<Job>,
+    /// Calls that came while a request ran, in their order.
+    deferred: VecDeque<Job>,
     shared: Arc<Mutex<Snapshot>>,
     state: VehicleState,
     dir: Option<PathBuf>,
@@ -420,17 +624,30 @@ struct Worker {
 impl Worker {
     fn run(&mut self, stop: &AtomicBool) {
         self.refresh_report();
+        if let Some(m) = &mut self.state.mav {
+            driver::read_lists(&mut self.link, &mut m.vehicle, m.memory.as_deref());
+            m.vehicle.start(self.link.now());
+        }
         while !stop.load(Ordering::Relaxed) {
             self.link.pump(PUMP);
             while let Some(event) = self.link.station().poll_event() {
                 self.state.heard(&event);
             }
-            while let Ok(job) = self.queue.try_recv() {
+            while let Some(job) = self
+                .deferred
+                .pop_front()
+                .or_else(|| self.queue.try_recv().ok())
+            {
                 match job {
                     Job::Request(request, stream) => self.request(request, stream),
-                    Job::Monitor(stream) => self.monitor(stream),
+                    Job::Monitor(stream) => self.state.monitor(stream),
+                    Job::Mavlink(m) => self.state.mavlink(m.0, &m.1),
                 }
             }
+            if let Some(m) = &mut self.state.mav {
+                driver::carry_out_events(&mut self.link, &mut m.vehicle, m.memory.as_deref());
+            }
+            self.state.tick();
             self.publish();
         }
     }
@@ -446,20 +663,26 @@ impl Worker {
         }
     }
 
-    fn monitor(&mut self, mut stream: UnixStream) {
-        let s = &self.state.snapshot;
-        let now: Vec<Message> = s
-            .from_to_next
-            .map(Message::from)
-            .into_iter()
-            .chain(s.position.map(|(p, _)| Message::from(p)))
-            .collect();
-        if now
-            .into_iter()
-            .all(|m| send(&mut stream, &Reply::Event(Box::new(m))))
-        {
-            self.state.monitors.push(stream);
-        }
+    /// Carries `request` out, `client` hearing its progress (none: the service's own).
+    fn carry_out(
+        &mut self,
+        request: Request,
+        client: Option<&mut UnixStream>,
+    ) -> Result<Answer, Failure> {
+        let Self {
+            link,
+            state,
+            queue,
+            deferred,
+            ..
+        } = self;
+        let mut running = Running {
+            client,
+            state,
+            queue,
+            deferred,
+        };
+        request::carry_out(link, request, &mut running)
     }
 
     fn request(&mut self, request: Request, mut stream: UnixStream) {
@@ -468,14 +691,9 @@ impl Worker {
             _ => None,
         };
         let changes = !matches!(request, Request::Report | Request::Download { .. });
-        let name = request_name(&request);
-        self.state.snapshot.busy = Some(name.to_owned());
+        self.state.snapshot.busy = Some(request_name(&request).to_owned());
         self.publish();
-        let Self { link, state, .. } = self;
-        let mut progress = |p| {
-            let _ = send(&mut stream, &Reply::Progress(p));
-        };
-        let outcome = request::carry_out(link, request, &mut progress, &mut |e| state.heard(e));
+        let outcome = self.carry_out(request, Some(&mut stream));
         if let Ok(Answer::Reported { entries }) = &outcome {
             self.state.snapshot.report = Some(reports(entries));
             self.state.snapshot.report_failed = None;
@@ -502,18 +720,15 @@ impl Worker {
 
     /// Asks the FCC for its report (ICD §8) for the status.
     fn refresh_report(&mut self) {
-        let Self { link, state, .. } = self;
-        let outcome =
-            request::carry_out(link, Request::Report, &mut |_| {}, &mut |e| state.heard(e));
-        match outcome {
+        match self.carry_out(Request::Report, None) {
             Ok(Answer::Reported { entries }) => {
-                state.snapshot.report = Some(reports(&entries));
-                state.snapshot.report_failed = None;
+                self.state.snapshot.report = Some(reports(&entries));
+                self.state.snapshot.report_failed = None;
             }
             Ok(_) => {}
             Err(f) => {
-                state.snapshot.report = None;
-                state.snapshot.report_failed =
+                self.state.snapshot.report = None;
+                self.state.snapshot.report_failed =
                     Some(f.message.lines().next().unwrap_or_default().to_owned());
             }
         }

@@ -234,6 +234,30 @@ pub(crate) enum Command {
     Serve {
         #[command(flatten)]
         state: StateArgs,
+        /// The safety gateway of the MAVLink side's commits (a command brings its own).
+        #[command(flatten)]
+        safety: SafetyArgs,
+        /// Present every vehicle to MAVLink 2 clients (QGroundControl, MAVSDK, pymavlink) on one
+        /// UDP endpoint, each as its fleet's MAVLink system ID, as `gcs mavlink` presents one.
+        #[arg(long)]
+        mavlink: bool,
+        /// Where the MAVLink side sends (QGroundControl listens on 14550); a client that talks
+        /// to it is answered too.
+        #[arg(long, default_value = "127.0.0.1:14550", value_name = "HOST:PORT")]
+        mavlink_to: std::net::SocketAddr,
+        /// The MAVLink side's own UDP address (port 0: the system chooses; printed at start).
+        #[arg(long, default_value = "0.0.0.0:0", value_name = "HOST:PORT")]
+        mavlink_bind: std::net::SocketAddr,
+        /// Speed of waypoints before any DO_CHANGE_SPEED item, m/s.
+        #[arg(long, default_value_t = 25.0, value_name = "M/S")]
+        cruise_speed: f64,
+        /// How long an accepted mission waits for a fence upload before it is committed with
+        /// the areas held, milliseconds.
+        #[arg(long, default_value_t = 3000, value_name = "MS")]
+        fence_wait_ms: u64,
+        /// Capture every MAVLink message sent and received into FILE (`.tlog`).
+        #[arg(long, value_name = "FILE")]
+        tlog: Option<std::path::PathBuf>,
     },
     /// One row per vehicle of the ground service: each link's last frame and loss, the
     /// position and its age, FROM-TO-NEXT, the active lists' checksums and whether they are

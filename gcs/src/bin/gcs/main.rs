@@ -24,7 +24,7 @@ use missionlink_gcs::mission_file::{self, Dropped, MissionFile, MissionFileError
 use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::service::client::{self, Call, Connection, Reply, What};
 use missionlink_gcs::service::fleet::{Fleet, SOLE_VEHICLE};
-use missionlink_gcs::service::request::{self, Answer, Request};
+use missionlink_gcs::service::request::{self, Answer, Listener as _, Request};
 use missionlink_gcs::service::{ServeOptions, stamp_lease, state_base, status};
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_ground::ground_station::{
@@ -709,12 +709,7 @@ impl Ground {
     /// Carries `request` out (module `request`), through the service or alone, and gives its
     /// answer; prints progress on a terminal.
     fn exchange(&self, request: Request) -> Result<Answer, Failure> {
-        let terminal = io::stderr().is_terminal();
-        let mut progress = |p: request::Progress| {
-            if terminal {
-                eprint!("\r{}: {}/{} messages   ", p.phase, p.sent, p.total);
-            }
-        };
+        let mut terminal = Terminal(io::stderr().is_terminal());
         let answer = match self.service()? {
             Some(service) => {
                 // What the FCC holds after an upload the service did not finish is unknown.
@@ -729,7 +724,7 @@ impl Ground {
                 };
                 let reply = service.call(&call, lost, |reply| {
                     if let Some(Reply::Progress(p)) = reply {
-                        progress(p.clone());
+                        terminal.progress(p.clone());
                     }
                     true
                 })?;
@@ -743,13 +738,24 @@ impl Ground {
             }
             None => {
                 let mut link = open(&self.config()?, SafetyGateway::default())?;
-                request::carry_out(&mut link, request, &mut progress, &mut |_| {})
+                request::carry_out(&mut link, request, &mut terminal)
             }
         };
-        if terminal {
+        if terminal.0 {
             eprintln!();
         }
         Ok(answer?)
+    }
+}
+
+/// A request's progress on the terminal, when stderr is one.
+struct Terminal(bool);
+
+impl request::Listener for Terminal {
+    fn progress(&mut self, p: request::Progress) {
+        if self.0 {
+            eprint!("\r{}: {}/{} messages   ", p.phase, p.sent, p.total);
+        }
     }
 }
 
@@ -964,8 +970,14 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
             state,
         } => {
             use missionlink_gcs::mavlink::driver::{self, MavlinkSocket};
-            use missionlink_gcs::mavlink::plan::PlanContext;
             use missionlink_gcs::mavlink::vehicle::{Vehicle, VehicleConfig};
+            if ground.service()?.is_some() {
+                return Err(
+                    "a ground service runs and owns the links: its MAVLink side is gcs \
+                            serve --mavlink (see docs/gcs.md)"
+                        .into(),
+                );
+            }
             let gateway = safety.gateway()?;
             let mut link = open(&ground.config()?, gateway)?;
             let mut socket = MavlinkSocket::bind(bind, to)
@@ -980,17 +992,11 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
                 Some(dir.join("mavlink-memory"))
             });
             let local = socket.local_addr().map_err(|e| e.to_string())?;
-            let mut vehicle = Vehicle::new(VehicleConfig {
-                heartbeat: Duration::from_secs(1),
-                item_timeout: Duration::from_millis(1500),
-                item_retries: 3,
-                fence_wait: Duration::from_millis(fence_wait_ms),
-                plan: PlanContext {
-                    cruise_speed_mps: cruise_speed,
-                    home: None,
-                    import: qgc::ImportOptions::default(),
-                },
-            });
+            let mut vehicle = Vehicle::new(VehicleConfig::standard(
+                missionlink_gcs::mavlink::vehicle::SYSTEM_ID,
+                Duration::from_millis(fence_wait_ms),
+                cruise_speed,
+            ));
             driver::read_lists(&mut link, &mut vehicle, memory.as_deref());
             println!("MAVLink vehicle on {local}, sending to {to}");
             let _ = io::stdout().flush();
@@ -998,17 +1004,29 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
             for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
                 let _ = signal_hook::flag::register(signal, std::sync::Arc::clone(&stop));
             }
-            driver::run(
-                &mut link,
-                &mut vehicle,
-                &mut socket,
-                memory.as_deref(),
-                &stop,
-            )
-            .map_err(|e| e.to_string())?;
+            driver::run(&mut link, &mut vehicle, &socket, memory.as_deref(), &stop)
+                .map_err(|e| e.to_string())?;
             Ok(())
         }
-        Command::Serve { state } => serve(ground, &state),
+        Command::Serve {
+            state,
+            safety,
+            mavlink,
+            mavlink_to,
+            mavlink_bind,
+            cruise_speed,
+            fence_wait_ms,
+            tlog,
+        } => {
+            let mavlink = mavlink.then_some(ServeMavlink {
+                to: mavlink_to,
+                bind: mavlink_bind,
+                cruise_speed,
+                fence_wait: Duration::from_millis(fence_wait_ms),
+                tlog,
+            });
+            serve(ground, &state, &safety, mavlink)
+        }
         Command::Status { watch, json } => status(ground, watch, json),
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),
     }
@@ -1023,8 +1041,24 @@ fn stop_on_signals() -> Arc<std::sync::atomic::AtomicBool> {
     stop
 }
 
+/// The MAVLink side of `gcs serve`, as its flags give it.
+struct ServeMavlink {
+    to: std::net::SocketAddr,
+    bind: std::net::SocketAddr,
+    cruise_speed: f64,
+    fence_wait: Duration,
+    tlog: Option<PathBuf>,
+}
+
 /// `gcs serve`: the ground service until SIGINT or SIGTERM.
-fn serve(ground: &Ground, state: &StateArgs) -> Result<(), Failure> {
+fn serve(
+    ground: &Ground,
+    state: &StateArgs,
+    safety: &SafetyArgs,
+    mavlink: Option<ServeMavlink>,
+) -> Result<(), Failure> {
+    use missionlink_gcs::mavlink::driver::MavlinkSocket;
+    use missionlink_gcs::service::MavlinkOptions;
     let fleet = match &ground.fleet {
         Some(file) => Fleet::read(file).map_err(|e| Failure::input(e.to_string()))?,
         None => Fleet::of_one(
@@ -1033,11 +1067,43 @@ fn serve(ground: &Ground, state: &StateArgs) -> Result<(), Failure> {
     };
     let socket = client::socket_path(ground.socket.as_deref())
         .ok_or("no place for the service's socket: give --service-socket")?;
-    let state_dir = state_base(state.state_dir.clone());
+    let mavlink = match mavlink {
+        None => None,
+        Some(m) => {
+            let mut endpoint = MavlinkSocket::bind(m.bind, m.to)
+                .map_err(|e| format!("cannot bind the MAVLink socket {}: {e}", m.bind))?;
+            if let Some(path) = &m.tlog {
+                endpoint = endpoint
+                    .with_tlog(path)
+                    .map_err(|e| format!("cannot write the capture {}: {e}", path.display()))?;
+            }
+            Some(MavlinkOptions {
+                socket: Arc::new(endpoint),
+                cruise_speed_mps: m.cruise_speed,
+                fence_wait: m.fence_wait,
+            })
+        }
+    };
+    let mavlink_line = match &mavlink {
+        Some(m) => Some(format!(
+            "MAVLink vehicles on {}, sending to {}: {}",
+            m.socket.local_addr().map_err(|e| e.to_string())?,
+            m.socket.to(),
+            fleet
+                .vehicles
+                .iter()
+                .map(|v| format!("system {} {}", v.mavlink_system_id, v.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        None => None,
+    };
     let options = ServeOptions {
         socket: socket.clone(),
-        state_dir,
+        state_dir: state_base(state.state_dir.clone()),
         capture: CAPTURE.get().cloned(),
+        gateway: safety.gateway()?,
+        mavlink,
     };
     let stop = stop_on_signals();
     missionlink_gcs::service::serve(&fleet, &options, &stop, |bound| {
@@ -1052,6 +1118,9 @@ fn serve(ground: &Ground, state: &StateArgs) -> Result<(), Failure> {
                 "vehicle {} ({:#010X}): direct {}, LTE {}",
                 b.name, b.vehicle_id, b.direct, b.lte
             );
+        }
+        if let Some(line) = &mavlink_line {
+            println!("{line}");
         }
         let _ = io::stdout().flush();
     })

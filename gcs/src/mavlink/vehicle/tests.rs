@@ -14,6 +14,7 @@ fn at(ms: u64) -> Instant {
 
 fn config() -> VehicleConfig {
     VehicleConfig {
+        system_id: SYSTEM_ID,
         heartbeat: Duration::from_secs(1),
         item_timeout: Duration::from_millis(1500),
         item_retries: 3,
