@@ -403,9 +403,11 @@ fn run(args: &Args) -> Result<(), String> {
     fcc.stop().map_err(|e| e.to_string())?;
     let voted = link.voter();
     println!(
-        "  link signing on the ground: {} downlink frames verified, {} rejected",
+        "  link signing on the ground: {} downlink frames verified, {} rejected, {} sent \
+         before the ground started (dropped, no attack)",
         voted.signatures().stats().verified,
-        voted.stats().rejected_signatures.total()
+        voted.stats().rejected_signatures.total(),
+        voted.stats().before_start
     );
     println!(
         "  {:<22} {:<45} {:>6} {:>9} {:>9} {:>9} {:>9}",

@@ -43,7 +43,7 @@ use missionlink_interfaces::wire::{self, Frame, FrameError, Timestamp};
 
 use crate::link::rejects::{ByCause, Cause, FrameCause, LogLimiter};
 use crate::link::sampling::{MessageSampler, Sample};
-use crate::link::signing::{Authenticity, SignatureCause, SignatureCheck};
+use crate::link::signing::{Authenticity, NotAdmitted, SignatureCause, SignatureCheck};
 use crate::link::time::Instant;
 
 /// Messages one step considers at most; the rest of the step is dropped and counted as
@@ -54,7 +54,7 @@ pub const VOTING_STEP_MESSAGES: usize = 64;
 
 /// What the voter did since it was created. Every message of every datagram lands in exactly
 /// one of: `forwarded`, `duplicates`, `stale`, `rejected_frames` (by cause),
-/// `rejected_signatures` (by cause), `unreadable_messages`, `overflow`.
+/// `rejected_signatures` (by cause), `before_start`, `unreadable_messages`, `overflow`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct VotingStats {
     /// Messages forwarded, per link: `[direct, LTE]` (a message that breaks a rule of ICD §3 or
@@ -71,6 +71,10 @@ pub struct VotingStats {
     /// Frames that fail the signature check of ICD §9, by cause: dropped like a frame with a
     /// bad checksum.
     pub rejected_signatures: ByCause<SignatureCause, 4>,
+    /// Signed frames stamped before this receiver started (ICD §9 "Replay"): sent while it
+    /// was down or starting, dropped since a lost memory cannot prove them new, and no sign of
+    /// an attack, so not among the rejections.
+    pub before_start: u64,
     /// Messages whose time stamp cannot be read (or whose type the ICD does not define):
     /// dropped, since sampling cannot identify them and no acknowledgement can refer to them.
     pub unreadable_messages: u64,
@@ -95,6 +99,7 @@ impl VotingStats {
         .chain([("rejected_signatures", self.rejected_signatures.total())])
         .chain(self.rejected_signatures.counters())
         .chain([
+            ("before_start", self.before_start),
             ("unreadable_messages", self.unreadable_messages),
             ("overflow", self.overflow),
         ])
@@ -365,9 +370,17 @@ impl Voter {
             let admitted =
                 self.signatures
                     .admit(now, link, frame.source_id(), frame.message_type(), stamp);
-            if let Err(cause) = admitted {
-                self.reject_signature(now, link, cause, frame.message_type());
-                return None;
+            match admitted {
+                Ok(()) => {}
+                Err(NotAdmitted::Replay) => {
+                    let cause = SignatureCause::Replay;
+                    self.reject_signature(now, link, cause, frame.message_type());
+                    return None;
+                }
+                Err(NotAdmitted::BeforeStart) => {
+                    self.stats.before_start += 1;
+                    return None;
+                }
             }
         }
         let Some(time_stamp) = stamp else {
@@ -762,6 +775,7 @@ mod tests {
                 ("signature_unknown_key", 0),
                 ("signature_bad", 0),
                 ("signature_replay", 0),
+                ("before_start", 0),
                 ("unreadable_messages", 0),
                 ("overflow", 0),
             ]

@@ -333,6 +333,28 @@ struct ReplayMemory {
     /// receiver's start (what a lost memory held cannot be taken back: this choice counts a
     /// memory lost in a restart as full at that moment).
     lowest: Timestamp,
+    /// The receiver's start: a stamp below it is refused as [`NotAdmitted::BeforeStart`], sent
+    /// while the receiver was down or starting, not as a replay.
+    start: Timestamp,
+}
+
+/// Why the replay check drops a frame whose signature verified.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NotAdmitted {
+    /// Outside the window, seen before, or below what the memory still proves new
+    /// ([`SignatureCause::Replay`]).
+    Replay,
+    /// Stamped before this receiver started, within the window: its peer sent it while the
+    /// receiver was down or starting (positions queued in the socket before the ground opened
+    /// its links, say). What a lost memory held cannot be taken back, so it is dropped as a
+    /// replay would be, but it is no sign of one: counted apart, not as a rejection.
+    BeforeStart,
+}
+
+impl From<NotAdmitted> for SignatureCause {
+    fn from(_: NotAdmitted) -> Self {
+        Self::Replay
+    }
 }
 
 impl ReplayMemory {
@@ -341,16 +363,22 @@ impl ReplayMemory {
             seen: FnvIndexSet::new(),
             order: Deque::new(),
             lowest,
+            start: lowest,
         }
     }
 
-    fn admit(&mut self, utc: Timestamp, identity: Identity) -> Result<(), SignatureCause> {
+    fn admit(&mut self, utc: Timestamp, identity: Identity) -> Result<(), NotAdmitted> {
         let stamp = identity.2.millis();
         let now = utc.millis();
         let window = REPLAY_WINDOW.as_millis() as u64;
-        if stamp.abs_diff(now) > window || identity.2 < self.lowest || self.seen.contains(&identity)
-        {
-            return Err(SignatureCause::Replay);
+        if stamp.abs_diff(now) > window {
+            return Err(NotAdmitted::Replay);
+        }
+        if identity.2 < self.start {
+            return Err(NotAdmitted::BeforeStart);
+        }
+        if identity.2 < self.lowest || self.seen.contains(&identity) {
+            return Err(NotAdmitted::Replay);
         }
         // Identities whose stamps the window refuses now need no memory.
         let expired = now.saturating_sub(window);
@@ -469,10 +497,10 @@ impl SignatureCheck {
         source: u32,
         message_type: u16,
         time_stamp: Option<Timestamp>,
-    ) -> Result<(), SignatureCause> {
-        let time_stamp = time_stamp.ok_or(SignatureCause::Replay)?;
+    ) -> Result<(), NotAdmitted> {
+        let time_stamp = time_stamp.ok_or(NotAdmitted::Replay)?;
         // Without a memory (policy `off`) nothing can be shown to be fresh: fail closed.
-        let [direct, lte] = self.memories.as_mut().ok_or(SignatureCause::Replay)?;
+        let [direct, lte] = self.memories.as_mut().ok_or(NotAdmitted::Replay)?;
         let memory = match link {
             Link::Direct => direct,
             Link::Lte | Link::Both => lte,
@@ -785,10 +813,13 @@ mod tests {
         assert!(memory.order.is_full());
         // One more: the oldest (stamp 0) is forgotten, and with it everything up to it.
         memory.admit(utc, id(REPLAY_MEMORY as u64)).unwrap();
-        assert_eq!(memory.admit(utc, id(0)), Err(SignatureCause::Replay));
+        assert_eq!(memory.admit(utc, id(0)), Err(NotAdmitted::Replay));
+        // Below the start: sent before the receiver started, not a replay.
+        let before = (GCS_ID, 13002u16, Timestamp::from_millis(T0 - 1).unwrap());
+        assert_eq!(memory.admit(utc, before), Err(NotAdmitted::BeforeStart));
         assert_eq!(memory.seen.len(), REPLAY_MEMORY);
         // Still-held identities are still refused; new ones pass.
-        assert_eq!(memory.admit(utc, id(7)), Err(SignatureCause::Replay));
+        assert_eq!(memory.admit(utc, id(7)), Err(NotAdmitted::Replay));
         assert!(memory.admit(utc, id(REPLAY_MEMORY as u64 + 1)).is_ok());
     }
 
