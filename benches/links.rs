@@ -1,16 +1,19 @@
 //! Transfers over emulated links (BENCHMARKS.md section 6): the real FCC (the `fcc` launcher and
 //! its partitions) and the real GCS link, through the user-space link emulator
-//! (`missionlink::link_emulator`) with a named profile on both links, both ways. Each case is
-//! uploaded (the paper's sequence, clear first) over another demo mission, so that both lists
-//! change, and downloaded, stop-and-wait (window 1, ICD §5)
-//! against windowed (window 32, ICD §10), in the same run. Reports per profile, case and window:
-//! the median and p99 of the upload and the download, the completion rate, the ratio of the
-//! windowed median to stop-and-wait's, and the ratio to n x RTT (messages up times the
-//! profile's round trip, what any stop-and-wait protocol needs).
+//! (`missionlink::link_emulator`) with a named profile on both links, both ways (`lan`, `lte`,
+//! `satcom`, `satcom-narrow`, `bad`; the rates of `lte`, `satcom` and `satcom-narrow` limit
+//! what the links carry). Each case is uploaded (the paper's sequence, clear first) over
+//! another demo mission, so that both lists change, and downloaded, stop-and-wait (window 1,
+//! ICD §5) against windowed (window 32, ICD §10), in the same run. Reports per profile, case
+//! and window: the median and p99 of the upload and the download, the completion rate, the
+//! ratio of the windowed median to stop-and-wait's, the ratio to n x RTT (messages up times the
+//! profile's round trip, what any stop-and-wait protocol needs), and beside each median the
+//! link's floor and the ratio of the median to it.
 //!
 //! ```sh
 //! cargo bench --bench links                                   # every profile, 10 runs
 //! cargo bench --bench links -- --profiles lte,satcom --runs 5 --cases 1,256
+//! cargo bench --bench links -- --profiles satcom-narrow --cases 1 --windows 1,32
 //! cargo bench --bench links -- --profiles bad --cases 2 --windows 32 --runs 200 --attempts 1,2
 //! ```
 //!
@@ -18,10 +21,39 @@
 //! upload_attempts`, default 2): `1,2` measures one attempt against the default in one run.
 //!
 //! Cases: 1 and 2 are demo missions 1 and 2, any other number a generated mission of that many
-//! waypoints with 11 areas of 60 vertices.
+//! waypoints with 11 areas of 60 vertices. Without `--cases`, 1, 10, 100 and 256, but on
+//! `satcom-narrow` mission 1 alone: at 2.4 kbit/s the generated missions' areas take minutes a
+//! transfer.
 //!
-//! The ack timeout is set per profile above its round trip (ICD §1 lets every peer change it):
-//! 500 ms (lan, lte, bad), 1500 ms (satcom). Results: `target/links/results.json`, and the plot
+//! **The floor** of a transfer is the least time the link allows any protocol that needs the
+//! same round trips and sends the same bytes: (round trips) x (the profile's round trip) +
+//! (bytes) / (rate). It is a lower bound because the way that waits (the one the round trips
+//! are counted on) sits idle for a round trip each time, besides the time its bytes take. Each
+//! term is counted from what the transfer sent, read off the emulator across it, not from a
+//! table:
+//! - the round trips are the emulator's count (`Emulator::round_trips`, the rule of
+//!   `missionlink_linksim::round_trips`): a datagram up belongs to the round after the latest
+//!   answer delivered before it was sent, an answer to the latest round its sender received.
+//!   The rule reads times, not contents, so where the round trip is shorter than the time the
+//!   GCS takes to send a window (lan) it counts high and the floor means nothing;
+//! - the round trip is the profile's without serialisation (both one-way delays and the mean
+//!   jitters);
+//! - bytes / rate is, over the four flows, the longest time one flow's bytes (every datagram
+//!   the emulator was offered on it during the transfer, resends included) take at that flow's
+//!   rate: the two ways and the two links serialise side by side. A flow without a rate adds
+//!   nothing.
+//!
+//! The floor is computed per run; a row shows the median of its runs' floors, and "/ floor" is
+//! the median time over that. The FCC's position downlink (#101, ICD §5.8) is off in this
+//! bench, so that what the links carry during a transfer is the transfer's: traffic of its
+//! own would fill the idle round trips and, counted in the bytes, lift the floor above what
+//! the transfer needs.
+//!
+//! The ack timeout is set per profile above its round trip and the queue a window can build
+//! (ICD §1 lets every peer change it): the larger of 500 ms and 2.5 round trips, plus the time
+//! the largest window measured takes at the profile's slowest rate in frames of the largest
+//! signed size (564 bytes): 500 ms on lan and bad, 528 ms on lte, 3756 ms on satcom, 63 910 ms
+//! on satcom-narrow with windows up to 32. Results: `target/links/results.json`, and the plot
 //! of the upload medians `target/links/links.svg` (committed as `docs/links.svg`).
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -32,10 +64,10 @@ use missionlink::harness::log_axis;
 
 use std::time::{Duration, Instant};
 
-use missionlink::link_emulator::Profile;
+use missionlink::link_emulator::{Emulator, Profile};
 use missionlink_gcs::gcs_link::{Direction, Finished};
 use missionlink_ground::ground_station::{MissionPlan, Sequence};
-use missionlink_interfaces::wire::TransferWindow;
+use missionlink_interfaces::wire::{MAX_SIGNED_FRAME_LEN, TransferWindow};
 use missionlink_protocol::testkit;
 
 /// Stop-and-wait and the default window, unless `--windows` names others.
@@ -58,8 +90,66 @@ struct Row {
     messages_up: usize,
     upload_ms: Vec<f64>,
     download_ms: Vec<f64>,
+    /// What each completed upload carried, beside its time.
+    upload_carried: Vec<Carried>,
+    /// What each complete download carried.
+    download_carried: Vec<Carried>,
     runs: usize,
     failures: Vec<String>,
+}
+
+/// What one transfer did on the links: the emulator's counters across it.
+#[derive(Debug, Clone, Copy)]
+struct Carried {
+    round_trips: u64,
+    /// Bytes offered per flow, in `Flow::ALL` order.
+    bytes: [u64; 4],
+}
+
+/// The emulator's counters now, to take a transfer's as the difference across it.
+fn counters(emulator: &Emulator) -> Carried {
+    Carried {
+        round_trips: emulator.round_trips(),
+        bytes: emulator.stats().map(|s| s.bytes),
+    }
+}
+
+impl Carried {
+    /// What was carried since `before`.
+    fn since(self, before: Self) -> Self {
+        Self {
+            round_trips: self.round_trips - before.round_trips,
+            bytes: std::array::from_fn(|i| self.bytes[i] - before.bytes[i]),
+        }
+    }
+
+    /// The link's floor for it (the bench's doc): round trips x round trip + the longest time
+    /// one flow's bytes take at its rate.
+    fn floor(self, profile: Profile) -> Duration {
+        let serialisation = profile
+            .flows()
+            .iter()
+            .zip(self.bytes)
+            .filter_map(|(flow, bytes)| flow.bandwidth.map(|b| b.serialisation(bytes)))
+            .max()
+            .unwrap_or_default();
+        profile.round_trip() * self.round_trips as u32 + serialisation
+    }
+}
+
+/// The median of the floors of `carried` on `profile`, in ms.
+fn median_floor(profile: Profile, carried: &[Carried]) -> f64 {
+    let floors: Vec<f64> = carried
+        .iter()
+        .map(|c| c.floor(profile).as_secs_f64() * 1e3)
+        .collect();
+    percentile(&sorted(&floors), 0.5)
+}
+
+/// The median of the round trips of `carried`.
+fn median_round_trips(carried: &[Carried]) -> f64 {
+    let counts: Vec<f64> = carried.iter().map(|c| c.round_trips as f64).collect();
+    percentile(&sorted(&counts), 0.5)
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {
@@ -76,10 +166,24 @@ fn sorted(v: &[f64]) -> Vec<f64> {
     s
 }
 
-/// The profile's round trip: twice the one-way delay and the mean jitter.
+/// The profile's round trip without serialisation: both one-way delays and the mean jitters.
 fn rtt(profile: Profile) -> Duration {
-    let i = profile.impairments();
-    2 * (i.delay + i.jitter / 2)
+    profile.round_trip()
+}
+
+/// The ack timeout on `profile` for windows up to `window` (the bench's doc): above the round
+/// trip, and above the wait of the last frame of a full window of the largest frames behind
+/// the others in the queue of the slowest rate.
+fn ack_timeout(profile: Profile, window: u8) -> Duration {
+    let above_round_trip = Duration::from_millis(500).max(rtt(profile) * 5 / 2);
+    let queue = profile
+        .flows()
+        .iter()
+        .filter_map(|flow| flow.bandwidth)
+        .map(|b| b.serialisation(u64::from(window) * MAX_SIGNED_FRAME_LEN as u64))
+        .max()
+        .unwrap_or_default();
+    above_round_trip + queue
 }
 
 fn cases(sizes: &[u16]) -> Vec<Case> {
@@ -111,13 +215,16 @@ fn measure(
     seed: u64,
 ) -> Vec<Row> {
     let mut rig = harness::Rig::new(&format!("bench-links-{}", profile.name()));
-    let ack = match profile {
-        Profile::Satcom => 1500,
-        _ => 500,
-    };
+    let widest = windows.iter().copied().max().unwrap_or(1);
+    let ack = ack_timeout(profile, widest).as_millis() as u64;
     rig.config.timing.ack_timeout_ms = ack;
     rig.config.timing.transfer_timeout_ms = 3 * ack + 2 * rtt(profile).as_millis() as u64;
-    let (mut fcc, mut link, emulator) = rig.start_through([profile.impairments(); 4], seed);
+    // The links carry the transfers alone, so that the bytes the floor counts are theirs: the
+    // position downlink (#101 at 2 Hz, ICD §5.8) would fill the downlink's idle time between
+    // answers, some 40 % of it at 2.4 kbit/s, and be counted as if it were on the transfer's path.
+    rig.config.downlink.position_rate_hz = 0.0;
+    eprintln!("{}: ack timeout {ack} ms", profile.name());
+    let (mut fcc, mut link, emulator) = rig.start_through(profile.flows(), seed);
     link.enable_log();
 
     let mut rows = Vec::new();
@@ -148,6 +255,8 @@ fn measure(
                 messages_up: 0,
                 upload_ms: Vec::new(),
                 download_ms: Vec::new(),
+                upload_carried: Vec::new(),
+                download_carried: Vec::new(),
                 runs,
                 failures: Vec::new(),
             };
@@ -169,6 +278,7 @@ fn measure(
                     "run {run}: the other mission did not go up in 5 uploads"
                 );
                 link.log.clear();
+                let before = counters(&emulator);
                 let now = link.now();
                 let start = Instant::now();
                 let up = link
@@ -176,9 +286,11 @@ fn measure(
                     .upload_validated(now, valid.clone(), Sequence::Paper { clear: true })
                     .and_then(|()| harness::finish(&mut link));
                 let took = start.elapsed();
+                let carried = counters(&emulator).since(before);
                 match up {
                     Ok(Finished::Uploaded(r)) if r.is_complete() => {
                         row.upload_ms.push(took.as_secs_f64() * 1e3);
+                        row.upload_carried.push(carried);
                         if let Some((phase, e)) = r.failure {
                             row.failures.push(format!(
                                 "run {run} upload: complete, confirmed by the report after {phase}: {e}"
@@ -200,6 +312,7 @@ fn measure(
                     }
                     other => row.failures.push(format!("run {run} upload: {other:?}")),
                 }
+                let before = counters(&emulator);
                 let now = link.now();
                 let start = Instant::now();
                 let down = link
@@ -207,9 +320,11 @@ fn measure(
                     .download(now)
                     .and_then(|()| harness::finish(&mut link));
                 let took = start.elapsed();
+                let carried = counters(&emulator).since(before);
                 match down {
                     Ok(Finished::Downloaded(plan)) if *plan == valid => {
-                        row.download_ms.push(took.as_secs_f64() * 1e3)
+                        row.download_ms.push(took.as_secs_f64() * 1e3);
+                        row.download_carried.push(carried);
                     }
                     other => row.failures.push(format!("run {run} download: {other:?}")),
                 }
@@ -250,7 +365,7 @@ fn main() {
     let profiles: Vec<Profile> = arg(&args, "--profiles")
         .map(|v| {
             v.split(',')
-                .map(|p| Profile::named(p).expect("lan, lte, satcom or bad"))
+                .map(|p| Profile::named(p).expect("lan, lte, satcom, satcom-narrow or bad"))
                 .collect()
         })
         .unwrap_or_else(|| {
@@ -260,20 +375,18 @@ fn main() {
                 vec![Profile::Lte]
             }
         });
-    let sizes: Vec<u16> = arg(&args, "--cases")
-        .map(|v| {
-            v.split(',')
-                .map(|n| n.parse().expect("--cases 1,10,100,256"))
-                .collect()
-        })
-        .unwrap_or_else(|| {
-            if bench {
-                vec![1, 10, 100, 256]
-            } else {
-                vec![1]
-            }
-        });
-    let cases = cases(&sizes);
+    let sizes: Option<Vec<u16>> = arg(&args, "--cases").map(|v| {
+        v.split(',')
+            .map(|n| n.parse().expect("--cases 1,10,100,256"))
+            .collect()
+    });
+    // Without --cases: every size, but mission 1 alone where the rate makes the others take
+    // minutes a transfer.
+    let sizes_on = |profile: Profile| match &sizes {
+        Some(sizes) => sizes.clone(),
+        None if bench && profile != Profile::SatcomNarrow => vec![1, 10, 100, 256],
+        None => vec![1],
+    };
     let windows: Vec<u8> = arg(&args, "--windows")
         .map(|v| {
             v.split(',')
@@ -293,7 +406,7 @@ fn main() {
     for (i, profile) in profiles.iter().enumerate() {
         rows.extend(measure(
             *profile,
-            &cases,
+            &cases(&sizes_on(*profile)),
             &windows,
             &attempts,
             runs,
@@ -302,7 +415,7 @@ fn main() {
     }
 
     println!(
-        "\n{:<7} {:<14} {:>3} {:>3} {:>5} {:>10} {:>10} {:>10} {:>10} {:>9} {:>9} {:>5} {:>8} {:>9}",
+        "\n{:<13} {:<14} {:>3} {:>3} {:>5} {:>10} {:>10} {:>4} {:>10} {:>7} {:>10} {:>10} {:>4} {:>10} {:>7} {:>9} {:>9} {:>5} {:>8} {:>9}",
         "profile",
         "case",
         "W",
@@ -310,8 +423,14 @@ fn main() {
         "msgs",
         "up p50 ms",
         "up p99 ms",
+        "up rt",
+        "floor ms",
+        "/ floor",
         "dn p50 ms",
         "dn p99 ms",
+        "dn rt",
+        "floor ms",
+        "/ floor",
         "up ok",
         "down ok",
         "later",
@@ -334,8 +453,11 @@ fn main() {
             .map(|r| percentile(&sorted(&r.upload_ms), 0.5))
             .unwrap_or(f64::NAN);
         let n_rtt = row.messages_up as f64 * rtt(row.profile).as_secs_f64() * 1e3;
+        let down50 = percentile(&down, 0.5);
+        let up_floor = median_floor(row.profile, &row.upload_carried);
+        let down_floor = median_floor(row.profile, &row.download_carried);
         println!(
-            "{:<7} {:<14} {:>3} {:>3} {:>5} {:>10.1} {:>10.1} {:>10.1} {:>10.1} {:>4}/{:<4} {:>4}/{:<4} {:>5} {:>8.2} {:>9.2}",
+            "{:<13} {:<14} {:>3} {:>3} {:>5} {:>10.1} {:>10.1} {:>4.0} {:>10.1} {:>7.2} {:>10.1} {:>10.1} {:>4.0} {:>10.1} {:>7.2} {:>4}/{:<4} {:>4}/{:<4} {:>5} {:>8.2} {:>9.2}",
             row.profile.name(),
             row.case,
             row.window,
@@ -343,8 +465,14 @@ fn main() {
             row.messages_up,
             up50,
             percentile(&up, 0.99),
-            percentile(&down, 0.5),
+            median_round_trips(&row.upload_carried),
+            up_floor,
+            up50 / up_floor,
+            down50,
             percentile(&down, 0.99),
+            median_round_trips(&row.download_carried),
+            down_floor,
+            down50 / down_floor,
             row.upload_ms.len(),
             row.runs,
             row.download_ms.len(),
@@ -370,6 +498,12 @@ fn main() {
             "download_ms": row.download_ms,
             "failures": row.failures,
             "rtt_ms": rtt(row.profile).as_secs_f64() * 1e3,
+            "upload_round_trips": row.upload_carried.iter().map(|c| c.round_trips).collect::<Vec<_>>(),
+            "upload_bytes_per_flow": row.upload_carried.iter().map(|c| c.bytes).collect::<Vec<_>>(),
+            "upload_floor_ms": row.upload_carried.iter().map(|c| c.floor(row.profile).as_secs_f64() * 1e3).collect::<Vec<_>>(),
+            "download_round_trips": row.download_carried.iter().map(|c| c.round_trips).collect::<Vec<_>>(),
+            "download_bytes_per_flow": row.download_carried.iter().map(|c| c.bytes).collect::<Vec<_>>(),
+            "download_floor_ms": row.download_carried.iter().map(|c| c.floor(row.profile).as_secs_f64() * 1e3).collect::<Vec<_>>(),
         }));
     }
     if bench {

@@ -1,11 +1,14 @@
 //! The links as a test or a rig meets them, in user space (the kernel here has no netem): the
 //! one fault model of a link ([`channel`]: delay, jitter, loss, bursts, duplication, reordering,
-//! corruption, a cut) and the seeded randomness it draws from ([`Rng`]), so that a run repeats.
+//! corruption, a bandwidth and its queue, a cut), the seeded randomness it draws from ([`Rng`]),
+//! so that a run repeats, and the count of the round trips a conversation over the links took
+//! ([`round_trips`]), so that a bench can set a transfer's time beside the link's floor.
 //! The simulated pair of the sans-IO tests (in simulated time) and the link emulator of the
 //! demo, the cross-process tests and the benches (in real time) both draw from it. Harness
 //! code: no flight or ground binary links it.
 
 pub mod channel;
+pub mod round_trips;
 
 /// A small, fast, seeded RNG (xorshift64*): the same seed gives the same run.
 #[derive(Debug, Clone)]

@@ -12,7 +12,7 @@ const SEED: u64 = 15;
 /// An FCC and a GCS talking through an emulator with `profile` on every flow.
 fn through(test: &str, profile: Profile) -> (Rig, Process, Link, Emulator) {
     let mut rig = Rig::new(test);
-    let (fcc, link, emulator) = rig.start_through([profile.impairments(); 4], SEED);
+    let (fcc, link, emulator) = rig.start_through(profile.flows(), SEED);
     (rig, fcc, link, emulator)
 }
 
@@ -35,9 +35,8 @@ fn an_upload_and_a_download_over_lte_on_both_links() {
 #[test]
 fn with_the_direct_link_cut_the_lte_link_carries_everything() {
     let (_rig, mut fcc, mut link, emulator) = through("emulated-cut", Profile::Lte);
-    for flow in [Flow::UpDirect, Flow::DownDirect] {
-        emulator.set(flow, Profile::Lte.impairments().cut());
-    }
+    emulator.set(Flow::UpDirect, Profile::Lte.up().cut());
+    emulator.set(Flow::DownDirect, Profile::Lte.down().cut());
     let plan = plan("mission-2.toml");
     let valid = link.station().validate(&plan).unwrap();
     upload(&mut link, &plan).unwrap();
