@@ -421,17 +421,18 @@ impl<G: SafetyGateway> GcsLink<G> {
         &mut self,
         mut on_event: impl FnMut(&GcsEvent<G::Report>),
     ) -> Result<Finished, GcsError<G::Report>> {
-        self.finish_ticking(|event| {
+        self.finish_ticking(|event, _| {
             if let Some(event) = event {
                 on_event(event);
             }
         })
     }
 
-    /// [`GcsLink::finish`], with `on` also called with `None` after every pump of the links.
+    /// [`GcsLink::finish`], with `on` also called with `None` and the GCS logic after every pump
+    /// of the links (for what must follow the request as it runs: the copies it stages).
     pub fn finish_ticking(
         &mut self,
-        mut on: impl FnMut(Option<&GcsEvent<G::Report>>),
+        mut on: impl FnMut(Option<&GcsEvent<G::Report>>, &GroundStation<G>),
     ) -> Result<Finished, GcsError<G::Report>> {
         loop {
             while let Some(event) = self.station.poll_event() {
@@ -443,14 +444,14 @@ impl<G: SafetyGateway> GcsLink<G> {
                         return Ok(Finished::Reported(entries.into_iter().collect()));
                     }
                     GcsEvent::Failed(e) => return Err(e),
-                    other => on(Some(&other)),
+                    other => on(Some(&other), &self.station),
                 }
             }
             if self.station.is_standby() {
                 return Ok(Finished::Done);
             }
             self.pump(Duration::from_millis(20));
-            on(None);
+            on(None, &self.station);
         }
     }
 

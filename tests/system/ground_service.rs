@@ -335,3 +335,92 @@ fn ground_service_mavlink_client_and_gcs_commands_side_by_side() {
     let down_b = ok(&service.gcs(&["--vehicle", "bravo", "download"]));
     assert!(down_b.contains("2 waypoints"), "{down_b}");
 }
+
+#[test]
+fn ground_service_killed_during_an_atomic_upload_leaves_lists_whole_and_no_staged_copy() {
+    let (_a, _b, _fcc_a, _fcc_b, mut service) = two_vehicles("service-kill-staging", &[]);
+    ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-1.toml")]));
+    let leftover = ["--vehicle", "alpha", "stage", "--id", "LEFTOVER-1"];
+    ok(&service.gcs(&[&leftover[..], &[mission("mission-2.toml").as_str()]].concat()));
+    let copies = service
+        .state_dir
+        .join("vehicles")
+        .join("alpha")
+        .join("copies-to-delete");
+    // Killed while the upload's staged copy may be on the FCC: from the moment the service
+    // kept its ID until its delete is answered (the file is empty again then). An upload over
+    // loopback may end between two looks: then it is tried again.
+    let mut killed = false;
+    for file in ["mission-2.toml", "mission-1.toml"].iter().cycle().take(10) {
+        let client = std::process::Command::new(gcs_binary())
+            .args(["--vehicle", "alpha", "upload", &mission(file)])
+            .env("MISSIONLINK_GCS_SOCKET", &service.socket)
+            .env("XDG_STATE_HOME", service.state_dir.join("client"))
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut client = client;
+        while client.try_wait().unwrap().is_none() {
+            let kept = std::fs::read_to_string(&copies).unwrap_or_default();
+            if !kept.trim().is_empty() {
+                service.kill();
+                killed = true;
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let out = client.wait_with_output().unwrap();
+        if killed {
+            // The client was told the truth: the service ended before the upload did.
+            assert_eq!(out.status.code(), Some(5), "{}", text(&out.stderr));
+            assert!(
+                text(&out.stderr).contains("ended before the request did"),
+                "{}",
+                text(&out.stderr)
+            );
+            break;
+        }
+        ok(&out);
+    }
+    assert!(killed, "no upload was caught with its staged copy kept");
+    // A copy whose delete a run never saw answered, kept as the service keeps them: one on
+    // the FCC for certain (the kill above may come before the FCC stored the upload's copy).
+    let mut kept = std::fs::read_to_string(&copies).unwrap_or_default();
+    kept.push_str("LEFTOVER-1\n");
+    std::fs::write(&copies, kept).unwrap();
+    service.restart();
+    // The copy the killed run may have left on the FCC is deleted as the service starts.
+    let clean = eventually(Duration::from_secs(20), || {
+        let status = ok(&service.gcs(&["status"]));
+        let row = status.lines().find(|l| l.starts_with("alpha"))?.to_owned();
+        (row.contains("none staged") && !row.contains("busy") && !row.contains("no report"))
+            .then_some(row)
+    });
+    assert!(
+        clean.is_some(),
+        "{}\n{}",
+        ok(&service.gcs(&["status"])),
+        service.log_text()
+    );
+    assert!(
+        service
+            .log_text()
+            .contains("a staged copy a previous run left is deleted"),
+        "{}",
+        service.log_text()
+    );
+    assert_eq!(
+        std::fs::read_to_string(&copies).unwrap_or_default().trim(),
+        "",
+        "no copy left to delete"
+    );
+    // The active lists are whole: the old ones or the new ones.
+    let down = downloaded_checksums(&ok(&service.gcs(&["--vehicle", "alpha", "download"])));
+    assert!(
+        down == planned_checksums("mission-1.toml") || down == planned_checksums("mission-2.toml"),
+        "{down}"
+    );
+    // And the next upload completes.
+    ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-2.toml")]));
+}

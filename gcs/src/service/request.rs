@@ -10,7 +10,8 @@
 
 use missionlink_ground::ground_station::outcome::{UploadOutcome, UploadReport};
 use missionlink_ground::ground_station::{
-    GcsError, GcsEvent, MissionPlan, SafetyGateway as Gateway, Sequence, ValidatedPlan, validate,
+    GcsError, GcsEvent, GroundStation, MissionPlan, SafetyGateway as Gateway, Sequence,
+    ValidatedPlan, validate,
 };
 use missionlink_ground::safety_gateway::SafetyGateway;
 use missionlink_interfaces::wire::{ExecuteCommand, Message};
@@ -155,8 +156,9 @@ pub trait Listener {
     /// Any other event of the GCS logic (the downlink's reports among them).
     fn event(&mut self, _event: &Event) {}
     /// The link was pumped once (every 20 ms at most): time for what must not wait for the
-    /// request to end (the ground service's MAVLink heartbeat, its monitors).
-    fn tick(&mut self) {}
+    /// request to end (the ground service's MAVLink heartbeat, its monitors, the staged copies
+    /// it keeps on disk); `station` is the GCS logic as it runs the request.
+    fn tick(&mut self, _station: &GroundStation<SafetyGateway>) {}
 }
 
 /// A listener that hears nothing.
@@ -265,14 +267,14 @@ fn carry_out_upload(
 
 /// Runs the link until the request ends; a failure with the exit status of its command.
 fn finish(link: &mut Link, listener: &mut dyn Listener) -> Result<Finished, Failure> {
-    let outcome = link.finish_ticking(|event| match event {
+    let outcome = link.finish_ticking(|event, station| match event {
         Some(GcsEvent::Progress { phase, sent, total }) => listener.progress(Progress {
             phase: phase.to_string(),
             sent: *sent,
             total: *total,
         }),
         Some(other_event) => listener.event(other_event),
-        None => listener.tick(),
+        None => listener.tick(station),
     });
     let unheard = link.unheard();
     outcome.map_err(|e| {

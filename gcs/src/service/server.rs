@@ -20,11 +20,12 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use missionlink_ground::ground_station::GcsEvent;
+use missionlink_ground::ground_station::{GcsEvent, GroundStation};
 use missionlink_ground::safety_gateway::SafetyGateway;
 use missionlink_interfaces::wire::{Checksum, Message};
 use missionlink_platform::udp::LinkPair;
 use missionlink_protocol::transfer::integrity;
+use missionlink_protocol::transfer::staged::MissionId;
 
 use super::client::{Call, Reply, What};
 use super::fleet::{Fleet, Vehicle};
@@ -188,11 +189,15 @@ pub fn serve(
             state: VehicleState {
                 snapshot: Snapshot {
                     planned: dir.as_deref().and_then(read_planned),
+                    // Until the FCC's report is asked and the copies a previous run left are
+                    // deleted.
+                    busy: Some("starting".to_owned()),
                     ..Snapshot::default()
                 },
                 monitors: Vec::new(),
                 mav,
                 clock,
+                copies: Copies::new(dir.as_deref()),
             },
             dir,
         };
@@ -520,6 +525,59 @@ struct VehicleState {
     mav: Option<MavSide>,
     /// The clock of the link's GCS logic, for the MAVLink side's time.
     clock: DriverClock,
+    /// The staged copies this ground must delete, as kept on disk.
+    copies: Copies,
+}
+
+/// The staged copies of this ground's atomic uploads that the FCC may hold and nobody else
+/// will delete (`GroundStation::copies_to_delete`), kept in the vehicle's state directory as
+/// they change, one Mission ID a line: the service killed in the middle of an upload deletes
+/// them when it starts again.
+struct Copies {
+    kept: Vec<MissionId>,
+    path: Option<PathBuf>,
+}
+
+impl Copies {
+    const FILE: &'static str = "copies-to-delete";
+
+    /// The copies a previous run kept in `dir`.
+    fn new(dir: Option<&Path>) -> Self {
+        let path = dir.map(|d| d.join(Self::FILE));
+        let text = path
+            .as_ref()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .unwrap_or_default();
+        Self {
+            kept: text
+                .lines()
+                .filter(|l| !l.is_empty())
+                .filter_map(|l| MissionId::new(l).ok())
+                .collect(),
+            path,
+        }
+    }
+
+    /// What a previous run kept.
+    fn read(&self) -> Vec<MissionId> {
+        self.kept.clone()
+    }
+
+    /// Keeps `ids` on disk when they changed (a temporary file renamed over the old one).
+    fn keep(&mut self, ids: Vec<MissionId>) {
+        if ids == self.kept {
+            return;
+        }
+        if let Some(path) = &self.path {
+            let text: String = ids.iter().map(|id| format!("{}\n", id.as_str())).collect();
+            let tmp = path.with_extension("tmp");
+            let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+            if let Err(e) = written {
+                tracing::warn!(path = %path.display(), %e, "the staged copies to delete are not kept");
+            }
+        }
+        self.kept = ids;
+    }
 }
 
 impl VehicleState {
@@ -599,7 +657,8 @@ impl Listener for Running<'_> {
         self.state.heard(event);
     }
 
-    fn tick(&mut self) {
+    fn tick(&mut self, station: &GroundStation<SafetyGateway>) {
+        self.state.copies.keep(station.copies_to_delete());
         while let Ok(job) = self.queue.try_recv() {
             match job {
                 Job::Monitor(stream) => self.state.monitor(stream),
@@ -623,11 +682,16 @@ struct Worker {
 
 impl Worker {
     fn run(&mut self, stop: &AtomicBool) {
+        let left = self.state.copies.read();
+        self.link.station().set_copies_to_delete(&left);
+        self.publish();
         self.refresh_report();
+        self.delete_copies_left();
         if let Some(m) = &mut self.state.mav {
             driver::read_lists(&mut self.link, &mut m.vehicle, m.memory.as_deref());
             m.vehicle.start(self.link.now());
         }
+        self.state.snapshot.busy = None;
         while !stop.load(Ordering::Relaxed) {
             self.link.pump(PUMP);
             while let Some(event) = self.link.station().poll_event() {
@@ -652,8 +716,41 @@ impl Worker {
         }
     }
 
+    /// Deletes the staged copies a previous run left (those the FCC's report lists); those
+    /// whose delete fails are kept for the next upload to delete.
+    fn delete_copies_left(&mut self) {
+        let left = self.state.copies.read();
+        let listed: Vec<MissionId> = left
+            .into_iter()
+            .filter(|id| self.state.snapshot.staged_ids().any(|s| s == id.as_str()))
+            .collect();
+        let mut failed = Vec::new();
+        let attempted = !listed.is_empty();
+        for id in listed {
+            let request = Request::Delete {
+                id: id.as_str().to_owned(),
+            };
+            match self.carry_out(request, None) {
+                Ok(_) => {
+                    tracing::info!(copy = %id.as_str(), "a staged copy a previous run left is deleted")
+                }
+                Err(f) => {
+                    tracing::warn!(copy = %id.as_str(), why = %f.message, "a staged copy a previous run left is not deleted: the next upload tries again");
+                    failed.push(id);
+                }
+            }
+        }
+        self.link.station().set_copies_to_delete(&failed);
+        self.state.copies.keep(failed);
+        if attempted {
+            self.refresh_report();
+        }
+    }
+
     /// Hands the current state to the acceptor's status.
     fn publish(&mut self) {
+        let copies = self.link.station().copies_to_delete();
+        self.state.copies.keep(copies);
         let s = &mut self.state.snapshot;
         s.links = self.link.activity();
         let stats = self.link.voter().stats();

@@ -79,6 +79,15 @@ pub struct LinkStatus {
 }
 
 impl Snapshot {
+    /// The staged missions' IDs of the last report.
+    pub fn staged_ids(&self) -> impl Iterator<Item = &str> {
+        self.report
+            .iter()
+            .flatten()
+            .skip(1)
+            .filter_map(|e| e.mission_id.as_ref().map(|id| id.as_str()))
+    }
+
     /// The row of vehicle `name` (`vehicle_id`) at `now`.
     pub fn status(&self, name: &str, vehicle_id: u32, now: Instant) -> VehicleStatus {
         let age = |t: Instant| now.saturating_duration_since(t).as_millis() as u64;
@@ -115,13 +124,7 @@ impl Snapshot {
                 }
                 _ => None,
             },
-            staged: self
-                .report
-                .iter()
-                .flatten()
-                .skip(1)
-                .filter_map(|e| e.mission_id.map(|id| id.as_str().to_owned()))
-                .collect(),
+            staged: self.staged_ids().map(str::to_owned).collect(),
             report_failed: self.report_failed.clone(),
             busy: self.busy.clone(),
         }

@@ -314,6 +314,30 @@ impl<G: SafetyGateway> GroundStation<G> {
         Ok(())
     }
 
+    /// The staged copies of this GCS's atomic uploads the FCC may hold and nobody else will
+    /// delete: those whose delete failed or went unanswered, and the copy of the upload in
+    /// progress from the moment it is chosen until its delete is answered. A ground that keeps
+    /// them across its own restart ([`GroundStation::set_copies_to_delete`]) leaves none
+    /// behind when it dies in the middle of an upload.
+    pub fn copies_to_delete(&self) -> Vec<MissionId> {
+        let mut ids = self.copies_left.clone();
+        if let Some(job) = &self.upload
+            && let Some(id) = job.temp
+            && job.temp_staged != Some(false)
+            && !ids.contains(&id)
+        {
+            ids.push(id);
+        }
+        ids
+    }
+
+    /// The copies left to delete are `ids` (a previous run's, [`GroundStation::copies_to_delete`];
+    /// or what remains once the caller deleted some): the next upload toward edition 2 deletes
+    /// those its report still lists.
+    pub fn set_copies_to_delete(&mut self, ids: &[MissionId]) {
+        self.copies_left = ids.to_vec();
+    }
+
     /// Begins attempt `attempt` of `request`, `sent` messages sent by the attempts before.
     fn begin_attempt(&mut self, now: Instant, request: Box<Request>, attempt: u8, sent: usize) {
         let super::ValidatedPlan { mission, areas } = request.plan.clone();
