@@ -56,7 +56,7 @@ use missionlink_interfaces::contracts::{CONTRACT_VERSION, FccService};
 use missionlink_partitions::bridge_config::{Authentication, Bridge, BridgeConfigError, Mode};
 use missionlink_partitions::config::{Config, ConfigError, FccArgs};
 use missionlink_partitions::ipc::{Ipc, IpcError};
-use missionlink_partitions::isolation::{Fence, IsolationError};
+use missionlink_partitions::isolation::IsolationError;
 use missionlink_partitions::runtime::{CONFIG_EXIT_CODE, Control, PartitionError};
 use zenoh::Wait;
 use zenoh::sample::SampleKind;
@@ -681,7 +681,10 @@ pub fn main(args: &FccArgs) -> std::process::ExitCode {
     };
     let control = Control::new()
         .announcing_ready(config.ipc.state_dir(), NAME)
-        .fencing(Fence::bridge(&config), parent);
+        .fencing(
+            missionlink_partitions::isolation::bridge_fence(&config),
+            parent,
+        );
     if let Err(e) = control.requests.from_signals() {
         tracing::error!(%e, "bridge failed");
         return std::process::ExitCode::FAILURE;

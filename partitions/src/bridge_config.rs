@@ -148,13 +148,7 @@ pub fn service(path: &str) -> Result<FccService, BridgeConfigError> {
 }
 
 /// The TCP ports of the bridge's endpoints: what its Landlock rules let it bind and connect to.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct Ports {
-    /// The ports of the `listen` endpoints.
-    pub listen: Vec<u16>,
-    /// The ports of the `connect` endpoints.
-    pub connect: Vec<u16>,
-}
+pub use missionlink_platform::fence::TcpPorts as Ports;
 
 /// The protocol (`tls`, `tcp`) and port of a Zenoh endpoint
 /// `<protocol>/<address>:<port>[?<metadata>][#<config>]`.

@@ -463,19 +463,8 @@ pub fn hand_to(command: &mut std::process::Command, config: &Config) -> Result<(
 }
 
 /// What the kernel does with a system call outside a partition's allow-list (`[isolation]
-/// on_violation`, applied by `isolation`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Violation {
-    /// Kill the process (`SECCOMP_RET_KILL_PROCESS`): the launcher sees SIGSYS, reports the
-    /// partition by name and restarts it under its back-off and start limit. A partition that
-    /// tries what it must never do is not trusted to go on.
-    #[default]
-    Kill,
-    /// Fail the call with EPERM: the partition goes on and handles the error (for finding a
-    /// missing system call in a rig without losing the partition).
-    Errno,
-}
+/// on_violation`): the fence's own type.
+pub use missionlink_platform::fence::Violation;
 
 /// The isolation of one partition (`[isolation.<partition>]`).
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -693,7 +693,7 @@ pub fn partition_main(
     crate::realtime::apply_and_log(name, &config.realtime[partition]);
     let control = Control::new()
         .announcing_ready(config.ipc.state_dir(), name)
-        .fencing(Fence::of(partition, &config), parent);
+        .fencing(crate::isolation::fence_of(partition, &config), parent);
     if let Err(e) = control.requests.from_signals() {
         tracing::error!(%e, "{name} failed");
         return std::process::ExitCode::FAILURE;

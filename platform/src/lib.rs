@@ -11,6 +11,7 @@
 
 pub mod clock;
 pub mod config;
+pub mod fence;
 pub mod keys;
 pub mod udp;
 
