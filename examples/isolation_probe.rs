@@ -19,7 +19,7 @@
 use std::process::ExitCode;
 
 use missionlink_partitions::config::{Config, FccArgs};
-use missionlink_partitions::isolation::Fence;
+use missionlink_partitions::isolation::fence_of;
 
 fn main() -> ExitCode {
     missionlink_platform::init_logging();
@@ -36,7 +36,7 @@ fn main() -> ExitCode {
     let attempt = std::env::var("MISSIONLINK_PROBE_TRY").expect("MISSIONLINK_PROBE_TRY");
     let partition = missionlink_interfaces::contracts::Partition::from_binary(&role)
         .unwrap_or_else(|| panic!("no partition {role:?}"));
-    let fence = Fence::of(partition, &config).expect("isolation is on");
+    let fence = fence_of(partition, &config).expect("isolation is on");
     fence.apply().expect("fenced");
     println!("fenced as {role}");
     let answer = match attempt.as_str() {

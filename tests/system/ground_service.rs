@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use missionlink::harness::service::{FleetVehicle, GroundService, fleet_file, gcs_binary};
 use missionlink::harness::*;
+use missionlink_platform::fence::status_shows_fence;
 
 fn mission(name: &str) -> String {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -146,6 +147,16 @@ fn ground_service_serves_two_fccs_side_by_side() {
     }
     assert!(row("alpha").contains("0x0B000001"), "{status}");
     assert!(row("bravo").contains("0x0B000002"), "{status}");
+
+    // All of it served from behind its fence: no new privileges and the seccomp allow-list on
+    // every thread, Landlock as far as the kernel goes (logged).
+    let proc_status = std::fs::read_to_string(format!("/proc/{}/status", service.pid())).unwrap();
+    assert!(status_shows_fence(&proc_status), "{proc_status}");
+    assert!(
+        service.log_text().contains("isolation applied"),
+        "{}",
+        service.log_text()
+    );
 }
 
 #[test]

@@ -39,6 +39,7 @@ use crate::pcap::PcapWriter;
 use mavlink::MavHeader;
 use mavlink::dialects::common::MavMessage;
 use missionlink_platform::clock::DriverClock;
+use missionlink_platform::fence::{Fence, IsolationError, Profile, TcpPorts, Violation};
 
 /// How the service runs.
 #[derive(Debug, Clone)]
@@ -54,6 +55,30 @@ pub struct ServeOptions {
     pub gateway: SafetyGateway,
     /// The MAVLink side, if asked for.
     pub mavlink: Option<MavlinkOptions>,
+    /// The fence the service puts around itself once its links and socket are open
+    /// (`missionlink_platform::fence`, [`service_fence`]); `None`: none.
+    pub fence: Option<Fence>,
+}
+
+/// The fence of the ground service: it writes beneath its state directory and its socket's
+/// directory alone (the captures it writes are open already), executes nothing, binds and
+/// connects no TCP port, and makes only the calls of [`Profile::GroundService`].
+pub fn service_fence(socket: &Path, state_dir: Option<&Path>) -> Fence {
+    let writable = socket
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .into_iter()
+        .chain(state_dir)
+        .map(Path::to_owned)
+        .collect();
+    Fence::new(
+        "gcs serve",
+        Profile::GroundService,
+        None,
+        Violation::Kill,
+        writable,
+        TcpPorts::default(),
+    )
 }
 
 /// The MAVLink side of the service: every vehicle of the fleet on one endpoint, each its own
@@ -104,6 +129,9 @@ pub enum ServeError {
         /// Why.
         error: std::io::Error,
     },
+    /// The fence could not be put up (the service starts with all of it or not at all).
+    #[error("the fence: {0}")]
+    Fence(#[from] IsolationError),
     /// A vehicle's links cannot be opened (a port in use, an unusable key).
     #[error("vehicle {name:?}: {error}")]
     Links {
@@ -155,6 +183,7 @@ pub fn serve(
     }
     let mut bound = Vec::new();
     let mut routes = Vec::new();
+    let mut workers = Vec::new();
     let mut mavlink_routes = Vec::new();
     let mut threads = Vec::new();
     for (vehicle, link) in fleet.vehicles.iter().zip(links) {
@@ -181,7 +210,7 @@ pub fn serve(
         if mav.is_some() {
             mavlink_routes.push((vehicle.mavlink_system_id, jobs.clone()));
         }
-        let mut worker = Worker {
+        let worker = Worker {
             link,
             queue,
             deferred: VecDeque::new(),
@@ -201,22 +230,33 @@ pub fn serve(
             },
             dir,
         };
-        let stop = stop.clone();
-        let thread = std::thread::Builder::new()
-            .name(format!("vehicle {}", vehicle.name))
-            .stack_size(VEHICLE_STACK)
-            .spawn(move || worker.run(&stop))
-            .map_err(|e| ServeError::Links {
-                name: vehicle.name.clone(),
-                error: e.to_string(),
-            })?;
-        threads.push(thread);
+        workers.push((vehicle.name.clone(), worker));
         routes.push(Route {
             name: vehicle.name.clone(),
             vehicle_id: vehicle.link.ids.fcc,
             jobs,
             shared,
         });
+    }
+    // Everything is open: the fence goes up while this is the process's one thread, and every
+    // thread started below inherits it.
+    if let Some(fence) = &options.fence {
+        fence.apply().map_err(|e| {
+            let _ = std::fs::remove_file(&options.socket);
+            ServeError::Fence(e)
+        })?;
+    }
+    for (name, mut worker) in workers {
+        let stop = stop.clone();
+        let thread = std::thread::Builder::new()
+            .name(format!("vehicle {name}"))
+            .stack_size(VEHICLE_STACK)
+            .spawn(move || worker.run(&stop))
+            .map_err(|e| ServeError::Links {
+                name,
+                error: e.to_string(),
+            })?;
+        threads.push(thread);
     }
     if let Some(m) = &options.mavlink {
         let socket = m.socket.clone();

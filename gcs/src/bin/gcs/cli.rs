@@ -258,6 +258,12 @@ pub(crate) enum Command {
         /// Capture every MAVLink message sent and received into FILE (`.tlog`).
         #[arg(long, value_name = "FILE")]
         tlog: Option<std::path::PathBuf>,
+        /// Serve without the fence the service puts around itself once its links and socket
+        /// are open (no new privileges, Landlock: writing beneath its state and socket
+        /// directories alone, seccomp: the calls it needs alone). For finding a fault; say why
+        /// in the deployment.
+        #[arg(long)]
+        no_isolation: bool,
     },
     /// One row per vehicle of the ground service: each link's last frame and loss, the
     /// position and its age, FROM-TO-NEXT, the active lists' checksums and whether they are

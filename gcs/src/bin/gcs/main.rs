@@ -1017,6 +1017,7 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
             cruise_speed,
             fence_wait_ms,
             tlog,
+            no_isolation,
         } => {
             let mavlink = mavlink.then_some(ServeMavlink {
                 to: mavlink_to,
@@ -1025,7 +1026,7 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
                 fence_wait: Duration::from_millis(fence_wait_ms),
                 tlog,
             });
-            serve(ground, &state, &safety, mavlink)
+            serve(ground, &state, &safety, mavlink, !no_isolation)
         }
         Command::Status { watch, json } => status(ground, watch, json),
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),
@@ -1056,6 +1057,7 @@ fn serve(
     state: &StateArgs,
     safety: &SafetyArgs,
     mavlink: Option<ServeMavlink>,
+    isolation: bool,
 ) -> Result<(), Failure> {
     use missionlink_gcs::mavlink::driver::MavlinkSocket;
     use missionlink_gcs::service::MavlinkOptions;
@@ -1098,12 +1100,16 @@ fn serve(
         )),
         None => None,
     };
+    let state_dir = state_base(state.state_dir.clone());
+    let fence =
+        isolation.then(|| missionlink_gcs::service::service_fence(&socket, state_dir.as_deref()));
     let options = ServeOptions {
         socket: socket.clone(),
-        state_dir: state_base(state.state_dir.clone()),
+        state_dir,
         capture: CAPTURE.get().cloned(),
         gateway: safety.gateway()?,
         mavlink,
+        fence,
     };
     let stop = stop_on_signals();
     missionlink_gcs::service::serve(&fleet, &options, &stop, |bound| {
@@ -1214,6 +1220,12 @@ const COMMAND_STACK: usize = 64 << 20;
 fn main() -> ExitCode {
     missionlink_platform::init_logging();
     let cli = Cli::parse();
+    // The service fences itself while it is the process's one thread (its threads inherit the
+    // fence): it runs on this thread, whose stack it does not outgrow (its vehicles' threads
+    // get the large stacks).
+    if matches!(cli.command, Command::Serve { .. }) {
+        return run(cli);
+    }
     let command = std::thread::Builder::new()
         .name("gcs".to_owned())
         .stack_size(COMMAND_STACK)
