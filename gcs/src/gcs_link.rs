@@ -35,6 +35,9 @@ pub fn gcs_core(config: &LinkConfig, utc_at_zero: Timestamp) -> GcsConfig {
 
 /// How far ahead of the last stamp used [`GcsLink::with_stamp_lease`] reserves.
 const STAMP_LEASE: Duration = Duration::from_secs(1);
+/// How far ahead of the highest stamp admitted [`GcsLink::with_replay_lease`] keeps its floor;
+/// renewed when less than half of it is left.
+const REPLAY_LEASE: Duration = Duration::from_secs(5);
 
 /// How a request ended well.
 #[derive(Debug, Clone, PartialEq)]
@@ -106,6 +109,8 @@ pub struct GcsLink<G: SafetyGateway> {
     slots: Vec<[u8; MAX_DATAGRAM]>,
     /// The file that reserves time stamps across processes, and how far it reserves.
     stamp_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
+    /// The file that keeps the replay window's floor across processes, and the floor it holds.
+    replay_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
     /// What each link (direct, LTE) brought: datagrams and when the last one came.
     activity: [LinkActivity; 2],
     /// Every message sent and every voted message received, when logging is on, but the
@@ -164,6 +169,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             started: std::time::Instant::now(),
             slots: vec![[0u8; MAX_DATAGRAM]; MAX_READS_PER_RECEIVE],
             stamp_lease: None,
+            replay_lease: None,
             activity: [LinkActivity::default(); 2],
             log: Vec::new(),
             logging: false,
@@ -187,6 +193,54 @@ impl<G: SafetyGateway> GcsLink<G> {
         self.stamp_lease = Some((file.to_owned(), start));
         self.reserve_stamps(start)?;
         Ok(self)
+    }
+
+    /// Keeps the downlink's replay window (ICD §9 "Replay") across processes in `file`: a stamp
+    /// at or above every FCC stamp this GCS admitted, renewed ahead of them. A GCS started
+    /// again reads it, refuses what is at or below it as sent before its start, and takes what
+    /// the FCC sent after it as new, though it was sent before this start (the signature
+    /// check's [`resume_after`](missionlink_protocol::link::signing::SignatureCheck::resume_after)).
+    /// A file that cannot be read counts as none (the window starts at this start); one that
+    /// cannot be written is warned about.
+    pub fn with_replay_lease(mut self, file: &std::path::Path) -> Self {
+        let floor = std::fs::read_to_string(file)
+            .ok()
+            .and_then(|t| t.trim().parse::<u64>().ok())
+            .and_then(wire::Timestamp::from_millis);
+        if let Some(floor) = floor {
+            self.voter.signatures_mut().resume_after(floor);
+        }
+        self.replay_lease = Some((file.to_owned(), floor.unwrap_or_default()));
+        self
+    }
+
+    /// Renews the replay lease when the highest stamp admitted comes within half a lease of it.
+    fn renew_replay_lease(&mut self) {
+        let Some((file, lease)) = self.replay_lease.as_mut() else {
+            return;
+        };
+        let Some(highest) = self.voter.signatures().admitted_up_to() else {
+            return;
+        };
+        let half = REPLAY_LEASE.as_millis() as u64 / 2;
+        if highest.millis().saturating_add(half) < lease.millis() {
+            return;
+        }
+        let ahead = highest
+            .millis()
+            .saturating_add(REPLAY_LEASE.as_millis() as u64);
+        let tmp = file.with_extension("tmp");
+        let written =
+            std::fs::write(&tmp, format!("{ahead}\n")).and_then(|()| std::fs::rename(&tmp, &*file));
+        match written {
+            Ok(()) => *lease = wire::Timestamp::from_millis(ahead).unwrap_or(highest),
+            Err(e) => tracing::warn!(
+                file = %file.display(),
+                %e,
+                "cannot keep the replay window: a GCS started next refuses what the FCC sent \
+                 before it as sent before its start"
+            ),
+        }
     }
 
     /// Moves the reservation to one second past `stamp` and writes it (a temporary file renamed
@@ -403,6 +457,7 @@ impl<G: SafetyGateway> GcsLink<G> {
             });
             // The arrivals borrow the slots; recording needs all of `self`.
             drop(arrivals);
+            self.renew_replay_lease();
             for m in received {
                 self.record(Direction::Down, m);
             }
@@ -500,6 +555,66 @@ mod tests {
         )
         .unwrap();
         buf[..len].to_vec()
+    }
+
+    /// A GCS that kept its replay window (a floor 20 s back) takes an FCC frame stamped after
+    /// the floor as new, though the FCC sent it before this GCS started, and counts one at or
+    /// below the floor as sent before its start; it renews the lease past what it admitted.
+    #[test]
+    fn a_kept_replay_window_admits_what_came_after_its_floor() {
+        use missionlink_platform::keys;
+        use missionlink_protocol::link::signing::Signer;
+        let dir = tempfile::Builder::new()
+            .prefix("replay-lease-")
+            .tempdir()
+            .unwrap();
+        let key_file = dir.path().join("link.key");
+        keys::generate_key_files(&[&key_file], 1).unwrap();
+        let signer = Signer::new(keys::read_key_file(&key_file).unwrap());
+        let fcc_direct = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let fcc_lte = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let mut config = LinkConfig::default();
+        config.links.gcs_direct = "127.0.0.1:0".parse().unwrap();
+        config.links.gcs_lte = "127.0.0.1:0".parse().unwrap();
+        config.links.fcc_direct = fcc_direct.local_addr().unwrap();
+        config.links.fcc_lte = fcc_lte.local_addr().unwrap();
+        config.signing.key_files = vec![key_file];
+        let now = DriverClock::start().utc_at_zero().millis();
+        let lease = dir.path().join("replay-window");
+        std::fs::write(&lease, format!("{}\n", now - 20_000)).unwrap();
+        let mut link = GcsLink::open(&config, WithoutGateway)
+            .unwrap()
+            .with_replay_lease(&lease);
+        let [gcs_direct, _] = link.links.sockets().map(|s| s.local_addr().unwrap());
+        let send = |ms: u64| {
+            let mut out = [0u8; wire::MAX_SIGNED_FRAME_LEN];
+            let len = signer
+                .sign(Link::Direct, &ack(&config, ms), &mut out)
+                .unwrap();
+            fcc_direct.send_to(&out[..len], gcs_direct).unwrap();
+        };
+        send(now - 10_000);
+        send(now - 30_000);
+        for _ in 0..100 {
+            let stats = link.voter.stats();
+            if stats.forwarded[0] + stats.before_start >= 2 {
+                break;
+            }
+            link.pump(Duration::from_millis(20));
+        }
+        let stats = link.voter.stats();
+        assert_eq!(stats.forwarded, [1, 0], "the frame after the floor is new");
+        assert_eq!(
+            stats.before_start, 1,
+            "the one below it may have been admitted"
+        );
+        assert_eq!(stats.rejected_signatures.total(), 0);
+        let renewed: u64 = std::fs::read_to_string(&lease)
+            .unwrap()
+            .trim()
+            .parse()
+            .unwrap();
+        assert_eq!(renewed, now - 10_000 + REPLAY_LEASE.as_millis() as u64);
     }
 
     /// A burst of more datagrams than the pump once had slots for (8) all reach the voter and

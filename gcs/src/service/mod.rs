@@ -39,3 +39,9 @@ pub fn state_base(dir: Option<PathBuf>) -> Option<PathBuf> {
 pub fn stamp_lease(dir: &Path, fcc: u32) -> PathBuf {
     dir.join(format!("time-stamps-{fcc:08X}"))
 }
+
+/// The file in the state directory `dir` that keeps the replay window of the downlink of the FCC
+/// of Vehicle ID `fcc` (`GcsLink::with_replay_lease`), shared as [`stamp_lease`] is.
+pub fn replay_lease(dir: &Path, fcc: u32) -> PathBuf {
+    dir.join(format!("replay-window-{fcc:08X}"))
+}

@@ -341,6 +341,7 @@ fn open_link(vehicle: &Vehicle, options: &ServeOptions) -> Result<Link, String> 
     match &options.state_dir {
         Some(dir) => link
             .with_stamp_lease(&super::stamp_lease(dir, config.ids.fcc))
+            .map(|l| l.with_replay_lease(&super::replay_lease(dir, config.ids.fcc)))
             .map_err(|e| e.to_string()),
         None => Ok(link),
     }

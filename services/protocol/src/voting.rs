@@ -207,6 +207,11 @@ impl Voter {
         &self.signatures
     }
 
+    /// The signature check, to resume its replay window ([`SignatureCheck::resume_after`]).
+    pub fn signatures_mut(&mut self) -> &mut SignatureCheck {
+        &mut self.signatures
+    }
+
     /// Votes one step: `arrivals` are the datagrams received since the last step, each with its
     /// link. Calls `forward(link, datagram, frame_bytes)` for every message to pass on, in
     /// forwarding order (`datagram` = its datagram's index in `arrivals`, `frame_bytes` = the

@@ -25,7 +25,7 @@ use missionlink_gcs::pcap::PcapWriter;
 use missionlink_gcs::service::client::{self, Call, Connection, Reply, What};
 use missionlink_gcs::service::fleet::{Fleet, SOLE_VEHICLE};
 use missionlink_gcs::service::request::{self, Answer, Listener as _, Request};
-use missionlink_gcs::service::{ServeOptions, stamp_lease, state_base, status};
+use missionlink_gcs::service::{ServeOptions, replay_lease, stamp_lease, state_base, status};
 use missionlink_gcs::{geojson, map, profile, qgc, report_table};
 use missionlink_ground::ground_station::{
     self as ground_station, GcsEvent, MissionPlan, ValidatedPlan, plan_in_wind,
@@ -229,6 +229,7 @@ fn open(config: &LinkConfig, gateway: SafetyGateway) -> Result<Link, String> {
         Some(dir) => {
             std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
             link.with_stamp_lease(&stamp_lease(&dir, config.ids.fcc))
+                .map(|l| l.with_replay_lease(&replay_lease(&dir, config.ids.fcc)))
                 .map_err(|e| e.to_string())
         }
         None => Ok(link),

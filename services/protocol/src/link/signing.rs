@@ -422,6 +422,9 @@ pub struct SignatureCheck {
     /// None under policy `off`, which never checks a replay.
     memories: Option<[Box<ReplayMemory>; 2]>,
     stats: SignatureStats,
+    /// The highest stamp admitted on either link, for a receiver that keeps its replay window
+    /// across restarts ([`SignatureCheck::resume_after`]).
+    highest: Option<Timestamp>,
 }
 
 impl SignatureCheck {
@@ -441,7 +444,26 @@ impl SignatureCheck {
                 ]
             }),
             stats: SignatureStats::default(),
+            highest: None,
         }
+    }
+
+    /// A receiver that kept, across its restart, a stamp at or above every stamp it admitted
+    /// before (`floor`, a lease it renewed ahead of [`SignatureCheck::admitted_up_to`]):
+    /// stamps at or below it are refused as sent before the start, and stamps above it are
+    /// new, whatever the time of this start, so that what its peer sent while it restarted
+    /// counts. Call it before the first frame.
+    pub fn resume_after(&mut self, floor: Timestamp) {
+        let next = Timestamp::from_millis(floor.millis().saturating_add(1)).unwrap_or(floor);
+        for memory in self.memories.iter_mut().flatten() {
+            memory.lowest = next;
+            memory.start = next;
+        }
+    }
+
+    /// The highest stamp admitted so far, on either link.
+    pub fn admitted_up_to(&self) -> Option<Timestamp> {
+        self.highest
     }
 
     /// Policy `off`: nothing is checked (edition 1).
@@ -506,6 +528,7 @@ impl SignatureCheck {
             Link::Lte | Link::Both => lte,
         };
         memory.admit(self.clock.utc(now), (source, message_type, time_stamp))?;
+        self.highest = self.highest.max(Some(time_stamp));
         self.stats.verified += 1;
         Ok(())
     }
@@ -821,6 +844,41 @@ mod tests {
         // Still-held identities are still refused; new ones pass.
         assert_eq!(memory.admit(utc, id(7)), Err(NotAdmitted::Replay));
         assert!(memory.admit(utc, id(REPLAY_MEMORY as u64 + 1)).is_ok());
+    }
+
+    #[test]
+    fn a_resumed_window_admits_what_came_after_its_floor_and_nothing_at_or_below() {
+        let key = LinkKey::new(1, &SECRET);
+        // Started at 40 s, having kept a floor of 10 s from the run before.
+        let mut check = SignatureCheck::new(
+            Policy::Require,
+            keyring(&[(1, SECRET)]),
+            Timestamp::from_millis(T0).unwrap(),
+            Instant::from_millis(40_000),
+        );
+        check.resume_after(Timestamp::from_millis(T0 + 10_000).unwrap());
+        let at = |ms: u64| sign(&key, Link::Direct, &frame_at(T0 + ms));
+        let now = Instant::from_millis(40_000);
+        // Sent while it was down: new.
+        assert!(receive(&mut check, now, Link::Direct, &at(20_000)).is_ok());
+        // At or below the floor: perhaps admitted by the run before.
+        let bytes = at(10_000);
+        let frame = Frame::new_checked(&bytes).unwrap();
+        let stamp = frame.message().ok().map(|m| m.time_stamp());
+        assert_eq!(
+            check.admit(
+                now,
+                Link::Direct,
+                frame.source_id(),
+                frame.message_type(),
+                stamp
+            ),
+            Err(NotAdmitted::BeforeStart)
+        );
+        assert_eq!(
+            check.admitted_up_to(),
+            Some(Timestamp::from_millis(T0 + 20_000).unwrap())
+        );
     }
 
     #[test]
