@@ -435,3 +435,47 @@ fn ground_service_killed_during_an_atomic_upload_leaves_lists_whole_and_no_stage
     // And the next upload completes.
     ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-2.toml")]));
 }
+
+#[test]
+fn ground_service_uploads_to_several_vehicles_at_once_each_outcome_its_own() {
+    let (_a, _b, _fcc_a, fcc_b, service) = two_vehicles("service-fleet-upload", &[]);
+    let both = ok(&service.gcs(&[
+        "--vehicle",
+        "alpha,bravo",
+        "upload",
+        &mission("mission-2.toml"),
+    ]));
+    for name in ["alpha", "bravo"] {
+        assert!(
+            both.lines()
+                .any(|l| l.starts_with(&format!("{name}: upload complete"))),
+            "{both}"
+        );
+    }
+    // Bravo's FCC stops: alpha's upload completes all the same, bravo's outcome is its own.
+    drop(fcc_b);
+    let out = service.gcs(&[
+        "--vehicle",
+        "alpha,bravo",
+        "upload",
+        &mission("mission-1.toml"),
+    ]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("alpha: upload complete")),
+        "{stdout}\n{stderr}"
+    );
+    assert!(stderr.contains("gcs: bravo: "), "{stderr}");
+    assert!(
+        stderr.contains("1 of 2 vehicles did not complete"),
+        "{stderr}"
+    );
+    assert_ne!(out.status.code(), Some(0));
+    let down = ok(&service.gcs(&["--vehicle", "alpha", "download"]));
+    assert_eq!(
+        downloaded_checksums(&down),
+        planned_checksums("mission-1.toml")
+    );
+}

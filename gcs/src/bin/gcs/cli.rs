@@ -14,7 +14,9 @@ pub(crate) struct Cli {
     #[arg(long, global = true, value_name = "FILE")]
     pub(crate) pcap: Option<PathBuf>,
     /// The vehicle, by its name in the fleet (needed when the fleet holds several). Through
-    /// the ground service when one runs; alone, from the fleet file of `--fleet`.
+    /// the ground service when one runs; alone, from the fleet file of `--fleet`. `upload` and
+    /// `stage` take several, `a,b,c`: the plan goes to each at once, each vehicle's outcome
+    /// printed after its name, the exit status the highest of theirs.
     #[arg(long, global = true, value_name = "NAME")]
     pub(crate) vehicle: Option<String>,
     /// The fleet file (TOML, see docs/gcs.md): for `gcs serve`, and for a command that runs

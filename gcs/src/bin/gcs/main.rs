@@ -659,6 +659,10 @@ fn send_plan(
         profile: gateway.profile.into(),
         environment: gateway.environment.into(),
     }));
+    let vehicles = ground.vehicles();
+    if vehicles.len() > 1 {
+        return send_to_fleet(ground, &vehicles, &request, &validated, state);
+    }
     if let Answer::Uploaded { report, edit } = ground.exchange(request)? {
         println!("{report}");
         if let Some((sent, full)) = edit {
@@ -669,16 +673,100 @@ fn send_plan(
     Ok(())
 }
 
+/// `gcs upload --vehicle a,b,c` (and `stage`): the request to every vehicle at once, each on
+/// its own link, each vehicle's outcome printed on its own lines after its name, in the order
+/// given. The exit status is the highest of the vehicles' (0 when every one completed).
+fn send_to_fleet(
+    ground: &Ground,
+    vehicles: &[String],
+    request: &Request,
+    validated: &ValidatedPlan,
+    state: &StateArgs,
+) -> Result<(), Failure> {
+    let outcomes: Vec<Result<Answer, Failure>> = std::thread::scope(|scope| {
+        let running: Vec<_> = vehicles
+            .iter()
+            .map(|name| {
+                let one = Ground {
+                    vehicle: Some(name.clone()),
+                    progress: false,
+                    ..ground.clone()
+                };
+                let request = request.clone();
+                std::thread::Builder::new()
+                    .name(format!("gcs {name}"))
+                    .stack_size(COMMAND_STACK)
+                    .spawn_scoped(scope, move || one.exchange(request))
+            })
+            .collect();
+        running
+            .into_iter()
+            .map(|spawned| match spawned.map(|thread| thread.join()) {
+                Ok(Ok(outcome)) => outcome,
+                Ok(Err(_)) => Err(Failure::from("the request's thread failed")),
+                Err(e) => Err(Failure::from(format!("cannot start the request: {e}"))),
+            })
+            .collect()
+    });
+    let mut status = 0;
+    let mut failed = 0;
+    for (name, outcome) in vehicles.iter().zip(outcomes) {
+        match outcome {
+            Ok(Answer::Uploaded { report, edit }) => {
+                println!("{name}: {report}");
+                if let Some((sent, full)) = edit {
+                    println!("{name}: sent {sent} messages (a full upload: {full})");
+                }
+            }
+            Ok(_) => println!("{name}: done"),
+            Err(f) => {
+                failed += 1;
+                status = status.max(f.status);
+                for line in f.message.lines() {
+                    eprintln!("gcs: {name}: {line}");
+                }
+            }
+        }
+    }
+    if failed < vehicles.len() {
+        state.remember(validated);
+    }
+    match failed {
+        0 => Ok(()),
+        n => Err(Failure {
+            status,
+            message: format!("{n} of {} vehicles did not complete", vehicles.len()),
+            refused: Vec::new(),
+        }),
+    }
+}
+
 /// Where a command's requests go: to the ground service when one runs, else over the links the
 /// command opens itself (the link flags and file, or `--vehicle` of `--fleet`).
+#[derive(Clone)]
 struct Ground {
     args: LinkArgs,
     vehicle: Option<String>,
     fleet: Option<PathBuf>,
     socket: Option<PathBuf>,
+    /// Progress of a transfer on a terminal (not when several run at once).
+    progress: bool,
 }
 
 impl Ground {
+    /// The vehicles `--vehicle a,b,c` names, when it names several (else none: the one).
+    fn vehicles(&self) -> Vec<String> {
+        match &self.vehicle {
+            Some(list) if list.contains(',') => list
+                .split(',')
+                .map(str::trim)
+                .filter(|n| !n.is_empty())
+                .map(str::to_owned)
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// The configuration of the links a command alone opens.
     fn config(&self) -> Result<LinkConfig, Failure> {
         let config = LinkConfig::resolve(&self.args).map_err(|e| Failure::input(e.to_string()))?;
@@ -710,7 +798,7 @@ impl Ground {
     /// Carries `request` out (module `request`), through the service or alone, and gives its
     /// answer; prints progress on a terminal.
     fn exchange(&self, request: Request) -> Result<Answer, Failure> {
-        let mut terminal = Terminal(io::stderr().is_terminal());
+        let mut terminal = Terminal(self.progress && io::stderr().is_terminal());
         let answer = match self.service()? {
             Some(service) => {
                 // What the FCC holds after an upload the service did not finish is unknown.
@@ -1262,6 +1350,7 @@ fn run(cli: Cli) -> ExitCode {
             vehicle: cli.vehicle,
             fleet: cli.fleet,
             socket: cli.service_socket,
+            progress: true,
         };
         return match mission_command(&ground, cli.command) {
             Ok(()) => ExitCode::SUCCESS,
