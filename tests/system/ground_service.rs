@@ -479,3 +479,43 @@ fn ground_service_uploads_to_several_vehicles_at_once_each_outcome_its_own() {
         planned_checksums("mission-1.toml")
     );
 }
+
+#[test]
+fn ground_service_mavsdk_sees_every_system_and_uploads_to_one() {
+    let (_a, _b, _fcc_a, _fcc_b, service) = two_vehicles(
+        "service-mavsdk",
+        &[
+            "--mavlink",
+            "--mavlink-bind",
+            "127.0.0.1:0",
+            "--mavlink-to",
+            "127.0.0.1:9",
+        ],
+    );
+    let port = service.mavlink_port().expect("the MAVLink side's port");
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/mavsdk_fleet.py");
+    let out = std::process::Command::new(python())
+        .arg(script)
+        .args([port.to_string().as_str(), "1", "1", "2"])
+        .output()
+        .unwrap_or_else(|e| panic!("{:?}: {e}; run the tests with tools/test", python()));
+    println!("{}", text(&out.stdout));
+    assert!(
+        out.status.success(),
+        "MAVSDK:\n{}\n{}\n{}",
+        text(&out.stdout),
+        text(&out.stderr),
+        service.log_text()
+    );
+    assert!(
+        text(&out.stdout).contains("systems: [1, 2]"),
+        "{}",
+        text(&out.stdout)
+    );
+    // Alpha (system 1) holds what MAVSDK uploaded; bravo is untouched.
+    let down_a = ok(&service.gcs(&["--vehicle", "alpha", "download"]));
+    assert!(down_a.contains("2 waypoints"), "{down_a}");
+    let down_b = service.gcs(&["--vehicle", "bravo", "download"]);
+    assert_ne!(down_b.status.code(), Some(0), "{}", text(&down_b.stdout));
+}
