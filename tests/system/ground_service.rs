@@ -519,3 +519,124 @@ fn ground_service_mavsdk_sees_every_system_and_uploads_to_one() {
     let down_b = service.gcs(&["--vehicle", "bravo", "download"]);
     assert_ne!(down_b.status.code(), Some(0), "{}", text(&down_b.stdout));
 }
+
+/// An FCC for `rig` behind a link emulator of `profile`: the fleet file then names the
+/// emulator's ground-facing ports as the FCC's (`fleet_file` reads them from the rig).
+fn behind_emulator(
+    rig: &mut Rig,
+    profile: missionlink::link_emulator::Profile,
+    seed: u64,
+) -> (Process, missionlink::link_emulator::Emulator) {
+    use missionlink::link_emulator::{Emulator, EmulatorConfig};
+    let emulator =
+        Emulator::start(EmulatorConfig::profile(rig.gcs_addrs(), profile, seed)).unwrap();
+    let [direct, lte] = emulator.fcc_facing();
+    rig.config.links.gcs_direct = direct;
+    rig.config.links.gcs_lte = lte;
+    let mut fcc = rig.start_fcc();
+    rig.learn_links(&mut fcc);
+    emulator.set_fcc([rig.config.links.fcc_direct, rig.config.links.fcc_lte]);
+    let [direct, lte] = emulator.gcs_facing();
+    rig.config.links.fcc_direct = direct;
+    rig.config.links.fcc_lte = lte;
+    (fcc, emulator)
+}
+
+#[test]
+fn ground_service_uploads_at_once_over_lossy_links_and_each_outcome_is_true() {
+    use missionlink::link_emulator::Profile;
+    let mut a = Rig::new("service-lossy-a");
+    let mut b = Rig::new("service-lossy-b");
+    b.config.ids.fcc = 0x0B00_0002;
+    let (_fcc_a, _emulator_a) = behind_emulator(&mut a, Profile::Lte, 7);
+    let (_fcc_b, _emulator_b) = behind_emulator(&mut b, Profile::Bad, 11);
+    let fleet = fleet_file(&mut [
+        FleetVehicle {
+            name: "alpha",
+            rig: &mut a,
+        },
+        FleetVehicle {
+            name: "bravo",
+            rig: &mut b,
+        },
+    ]);
+    let service = GroundService::start(&a.dir, &fleet, &[]);
+    let out = service.gcs(&[
+        "--vehicle",
+        "alpha,bravo",
+        "upload",
+        &mission("mission-2.toml"),
+    ]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    // Over LTE (1 % loss on each link) the upload completes.
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("alpha: upload complete")),
+        "{stdout}\n{stderr}"
+    );
+    let down = ok(&service.gcs(&["--vehicle", "alpha", "download"]));
+    assert_eq!(
+        downloaded_checksums(&down),
+        planned_checksums("mission-2.toml")
+    );
+    // Over the bad link (10 % loss in bursts, reordering) bravo's outcome is its own and true:
+    // complete, or a failure that names what the FCC holds, which a download confirms.
+    let bravo_done = stdout
+        .lines()
+        .any(|l| l.starts_with("bravo: upload complete"));
+    let down = service.gcs(&["--vehicle", "bravo", "download"]);
+    if bravo_done {
+        assert_eq!(
+            downloaded_checksums(&ok(&down)),
+            planned_checksums("mission-2.toml")
+        );
+    } else {
+        assert!(stderr.contains("gcs: bravo: "), "{stdout}\n{stderr}");
+        assert!(
+            stderr.contains("previous")
+                || stderr.contains("unknown")
+                || stderr.contains("no mission"),
+            "{stderr}"
+        );
+    }
+}
+
+#[test]
+fn ground_service_refuses_a_fleet_file_with_a_duplicate_where_it_stands() {
+    let dir = tempfile_dir("service-duplicate");
+    let fleet = "cucs_id = 0x0A000001\n\n\
+                 [[vehicle]]\nname = \"alpha\"\nvehicle_id = 0x0B000001\n\
+                 direct = { ground = \"127.0.0.1:0\", fcc = \"127.0.0.1:6001\" }\n\
+                 lte = { ground = \"127.0.0.1:0\", fcc = \"127.0.0.1:6002\" }\n\n\
+                 [[vehicle]]\nname = \"bravo\"\nvehicle_id = 0x0B000001\n\
+                 direct = { ground = \"127.0.0.1:0\", fcc = \"127.0.0.1:6003\" }\n\
+                 lte = { ground = \"127.0.0.1:0\", fcc = \"127.0.0.1:6004\" }\n";
+    let path = dir.join("fleet.toml");
+    std::fs::write(&path, fleet).unwrap();
+    let out = std::process::Command::new(gcs_binary())
+        .arg("--fleet")
+        .arg(&path)
+        .arg("--service-socket")
+        .arg(dir.join("gcs.sock"))
+        .arg("serve")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr)
+            .contains("fleet.toml:11:14: Vehicle ID 0x0B000001 is vehicle \"alpha\"'s already"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!dir.join("gcs.sock").exists(), "nothing was served");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A directory of this test's own.
+fn tempfile_dir(test: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("missionlink-test-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
