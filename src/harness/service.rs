@@ -26,7 +26,9 @@ pub struct FleetVehicle<'a> {
 /// its GCS ends released for the service to bind.
 pub fn fleet_file(vehicles: &mut [FleetVehicle<'_>]) -> String {
     let cucs = vehicles.first().map_or(0, |v| v.rig.config.ids.gcs);
-    let mut text = format!("cucs_id = {cucs:#010X}\n");
+    // The tests fly the demo missions on every vehicle at once: no separation check but where
+    // a test is about it.
+    let mut text = format!("cucs_id = {cucs:#010X}\n\n[fleet]\nseparation_m = 0.0\n");
     for (i, v) in vehicles.iter_mut().enumerate() {
         let [direct, lte] = v.rig.release_gcs_ends();
         let config = &v.rig.config;

@@ -10,6 +10,10 @@
 //! [timing]                              # optional, as in the link configuration
 //! ack_timeout_ms = 500
 //!
+//! [fleet]                               # optional: the separation checked before upload
+//! separation_m = 500.0                  # horizontally, metres (0: no check)
+//! vertical_separation_m = 150.0         # unless the altitudes differ this much
+//!
 //! [[vehicle]]
 //! name = "alpha"                        # what `gcs ... --vehicle` names
 //! vehicle_id = 0x0B000001
@@ -52,6 +56,34 @@ pub struct Vehicle {
 pub struct Fleet {
     /// The vehicles.
     pub vehicles: Vec<Vehicle>,
+    /// The separation a vehicle's mission keeps from the others' active missions.
+    pub separation: Separation,
+}
+
+/// `[fleet]`: how far apart the paths of the fleet's vehicles must stay, checked before a
+/// mission goes to a vehicle against the active missions of the others (the safety gateway's
+/// separation check). `separation_m = 0` turns the check off.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Separation {
+    /// Horizontal separation, metres: the least distance between two paths wherever their
+    /// altitudes are closer than [`Separation::vertical_separation_m`].
+    pub separation_m: f64,
+    /// Vertical separation, metres: paths whose altitudes differ by this much or more may
+    /// cross.
+    pub vertical_separation_m: f64,
+}
+
+impl Default for Separation {
+    /// 500 m horizontally, 150 m (about 500 ft, the vertical minimum of manned traffic below
+    /// the flight levels) vertically: conservative for the demo eVTOL's turns and the
+    /// positions of two aircraft that report at 2 Hz.
+    fn default() -> Self {
+        Self {
+            separation_m: 500.0,
+            vertical_separation_m: 150.0,
+        }
+    }
 }
 
 /// The name of the vehicle of a fleet of one made from the link configuration.
@@ -67,6 +99,7 @@ impl Fleet {
                 mavlink_system_id: 1,
                 link: config,
             }],
+            separation: Separation::default(),
         }
     }
 
@@ -202,7 +235,19 @@ impl Fleet {
                 ),
             });
         }
-        Ok(Self { vehicles })
+        let separation = file.fleet;
+        if !(separation.separation_m >= 0.0 && separation.vertical_separation_m >= 0.0)
+            || !separation.separation_m.is_finite()
+            || !separation.vertical_separation_m.is_finite()
+        {
+            return Err(FleetError::BadSeparation {
+                path: path.to_owned(),
+            });
+        }
+        Ok(Self {
+            vehicles,
+            separation,
+        })
     }
 
     /// The vehicle `name` names; `None` names the only one of a fleet of one.
@@ -270,6 +315,12 @@ pub enum FleetError {
         /// The file.
         path: PathBuf,
     },
+    /// A separation below 0 or not a number.
+    #[error("{}: [fleet] separation_m and vertical_separation_m are metres, 0 or more", path.display())]
+    BadSeparation {
+        /// The file.
+        path: PathBuf,
+    },
     /// More than 255 vehicles without MAVLink system IDs to tell them apart.
     #[error("{}: more than 255 vehicles: MAVLink has no system ID for the rest", path.display())]
     TooMany {
@@ -326,6 +377,8 @@ struct FleetFile {
     cucs_id: u32,
     #[serde(default)]
     timing: Timing,
+    #[serde(default)]
+    fleet: Separation,
     #[serde(default)]
     vehicle: Vec<VehicleEntry>,
 }
@@ -412,6 +465,13 @@ signing = "off"
         );
         assert_eq!(bravo.link.signing.policy, SigningPolicy::Off);
         assert_eq!(bravo.link.timing, Timing::default());
+        assert_eq!(fleet.separation, Separation::default());
+        let off = parse(&TWO.replace("cucs_id = 0x0A000009\n", "cucs_id = 0x0A000009\n[fleet]\nseparation_m = 0.0\n"))
+            .unwrap();
+        assert_eq!(off.separation.separation_m, 0.0);
+        let e = parse(&TWO.replace("cucs_id = 0x0A000009\n", "cucs_id = 0x0A000009\n[fleet]\nseparation_m = -1.0\n"))
+            .unwrap_err();
+        assert!(e.to_string().contains("metres, 0 or more"), "{e}");
         assert_eq!(fleet.vehicle(Some("bravo")).unwrap().name, "bravo");
         let e = fleet.vehicle(None).unwrap_err();
         assert_eq!(
