@@ -45,6 +45,15 @@ impl Plane {
     /// the corners of two vehicles' paths. `None` where that line misses the ellipsoid (`c`
     /// farther than the Earth's radius from the origin) or `c` is not finite.
     pub fn lift(&self, c: Coord) -> Option<Site> {
+        let p = self.lift_ecef(c)?;
+        // On the surface the geodetic latitude is exactly atan(z / ((1 − e²)·√(x² + y²))).
+        let lat = p[2].atan2((1.0 - WGS84_E2) * p[0].hypot(p[1])).to_degrees();
+        let lon = p[1].atan2(p[0]).to_degrees();
+        (lat.is_finite() && lon.is_finite()).then_some(Site { lat, lon, ecef: p })
+    }
+
+    /// [`Plane::lift`]'s site as its Earth-centred, Earth-fixed coordinates alone, metres.
+    pub fn lift_ecef(&self, c: Coord) -> Option<[f64; 3]> {
         let q = [
             self.origin[0] + c.x * self.east[0] + c.y * self.north[0],
             self.origin[1] + c.x * self.east[1] + c.y * self.north[1],
@@ -65,10 +74,7 @@ impl Plane {
         let half = -0.5 * (b + b.signum() * disc.sqrt());
         let t = if half == 0.0 { 0.0 } else { cc / half };
         let p = [q[0] + t * u[0], q[1] + t * u[1], q[2] + t * u[2]];
-        // On the surface the geodetic latitude is exactly atan(z / ((1 − e²)·√(x² + y²))).
-        let lat = p[2].atan2((1.0 - WGS84_E2) * p[0].hypot(p[1])).to_degrees();
-        let lon = p[1].atan2(p[0]).to_degrees();
-        (lat.is_finite() && lon.is_finite()).then_some(Site { lat, lon, ecef: p })
+        p.iter().all(|x| x.is_finite()).then_some(p)
     }
 
     /// Where `site` lands in the plane.
