@@ -35,8 +35,9 @@ impl<G: SafetyGateway> Transmit for GroundStation<G> {
 /// Where the first survey sector of [`survey_fleet`] starts (its south-west corner), degrees.
 pub const SURVEY_ORIGIN: (f64, f64) = (48.0, 11.0);
 /// A survey sector's extent, degrees of latitude and longitude (about 4.4 km by 4.5 km); the
-/// sectors lie side by side on a grid four sectors wide, each pattern 0.004° (some 300 m) short
-/// of the sector's east edge and 0.006° (some 670 m) of its north edge.
+/// sectors lie side by side on a grid four sectors wide. Each pattern keeps 0.004° of longitude
+/// (some 300 m) from the next sector's in its row, and 0.008° of latitude (some 890 m, some
+/// 600 m less the turns flown beyond the waypoints) from the next row's.
 pub const SURVEY_SECTOR: (f64, f64) = (0.04, 0.06);
 
 /// Mission `k` of [`survey_fleet`]: `waypoints` track-to-fix waypoints (2 <= `waypoints` <=
@@ -68,7 +69,7 @@ pub fn survey(k: usize, waypoints: u16) -> Mission {
 }
 
 /// `vehicles` survey missions of `waypoints` waypoints each ([`survey`]), sector by sector:
-/// neighbours in a row of the grid fly within some 300 m of each other, rows keep some 670 m
+/// neighbours in a row of the grid fly within some 300 m of each other, rows keep some 600 m
 /// apart. 16 × 256 is the fleet the separation check is sized for.
 pub fn survey_fleet(vehicles: usize, waypoints: u16) -> Vec<Mission> {
     (0..vehicles).map(|k| survey(k, waypoints)).collect()
