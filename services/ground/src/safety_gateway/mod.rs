@@ -66,6 +66,12 @@
 //!   guidance flies and whose onboard check checks the same turns. The direction is not used for
 //!   the turns (the bank it takes is within the limit whatever it is) but is for the energy.
 //! - **Environment** (`ENV-*`): wind speed and temperature inside the profile's limits.
+//! - **Fleet separation** (`FLEET-SEP`, [`separation`]): a mission for one vehicle against the
+//!   active missions of the fleet's other vehicles, every path flown (legs and turns as above,
+//!   in the same wind) at least the fleet's separation from every path of theirs wherever
+//!   their altitudes are closer than its vertical separation; time-independent, and so
+//!   conservative. A check of its own ([`separation::conflicts`]): it needs the other
+//!   vehicles' missions, which [`SafetyGateway::violations`] is not given.
 //!
 //! # Geometry
 //!
@@ -96,7 +102,8 @@ use missionlink_protocol::geofence::zone::Fence;
 use missionlink_protocol::transfer::areas::AreaList;
 use missionlink_protocol::transfer::mission::{Mission, WaypointRecord};
 
-// The five check groups of the module documentation, each with the code it alone uses.
+// The check groups of the module documentation, each with the code it alone uses; fleet
+// separation is public, since it is called on its own with the fleet's missions.
 mod area;
 mod energy;
 mod environment;
@@ -104,6 +111,7 @@ mod geography;
 mod profile;
 mod report;
 mod route;
+pub mod separation;
 
 pub use profile::{AircraftProfile, Environment};
 pub use report::{Element, EnergyEstimate, Report, Violation, ViolationCode};

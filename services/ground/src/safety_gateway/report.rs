@@ -104,6 +104,10 @@ pub enum ViolationCode {
     Wind,
     /// `ENV-TEMP`: temperature outside the limits.
     Temperature,
+    /// `FLEET-SEP`: a path of the mission comes closer to a path of another vehicle's active
+    /// mission than the fleet's separation, horizontally and vertically
+    /// ([`super::separation`]).
+    Separation,
 }
 
 impl ViolationCode {
@@ -140,6 +144,7 @@ impl ViolationCode {
             Self::EnergyReturn => "ENERGY-RETURN",
             Self::Wind => "ENV-WIND",
             Self::Temperature => "ENV-TEMP",
+            Self::Separation => "FLEET-SEP",
         }
     }
 }

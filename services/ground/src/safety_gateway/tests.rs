@@ -635,6 +635,7 @@ fn safety_gateway_codes_are_distinct() {
         V::EnergyReturn,
         V::Wind,
         V::Temperature,
+        V::Separation,
     ];
     let codes: std::collections::HashSet<&str> = all.iter().map(|c| c.code()).collect();
     assert_eq!(codes.len(), all.len());

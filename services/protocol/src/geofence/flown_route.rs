@@ -23,7 +23,7 @@ use super::path::{ArcLeg, Path};
 use super::turn::{Turn, TurnKind, turn};
 
 /// What a path of the route is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RouteElement {
     /// The vertical climb at the take-off point.
     Climb,

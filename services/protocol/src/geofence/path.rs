@@ -266,6 +266,17 @@ impl Track {
             .direct(c.x.atan2(c.y).to_degrees(), c.x.hypot(c.y))
     }
 
+    /// The patches in the order flown, each as its tangent plane and the path's corners in it
+    /// (a geodesic piece: its two ends; an arc: its corners, the chords between them within
+    /// [`ARC_SAG_M`] of it; a point: the origin), for measuring the track against another
+    /// one outside the geofence (the fleet separation check of the safety gateway): a corner
+    /// goes back onto the ellipsoid with [`Plane::lift`].
+    pub fn planes(&self) -> impl Iterator<Item = (&Plane, &[Coord])> + '_ {
+        self.patches
+            .iter()
+            .map(|patch| (&patch.plane, self.corners_of(patch)))
+    }
+
     /// The site at `c`, a point in the plane of the `patch`-th patch.
     pub fn site(&self, patch: usize, c: Coord) -> Option<Site> {
         self.patches.get(patch).map(|p| Self::site_at(p, c))

@@ -55,7 +55,7 @@ const MIN_STRAIGHT_M: f64 = 0.001;
 const MIN_LEG_M: f64 = 0.01;
 
 /// How a turn is flown.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum TurnKind {
     /// No turn (straight on, or a leg without direction): the legs meet at the waypoint.
     Straight,
