@@ -185,6 +185,7 @@ fn accounted(stats: &VotingStats) -> u64 {
         + stats.stale
         + stats.rejected_frames.total()
         + stats.rejected_signatures.total()
+        + stats.before_start
         + stats.unreadable_messages
         + stats.overflow
 }

@@ -36,8 +36,10 @@ pub fn gcs_core(config: &LinkConfig, utc_at_zero: Timestamp) -> GcsConfig {
 /// How far ahead of the last stamp used [`GcsLink::with_stamp_lease`] reserves.
 const STAMP_LEASE: Duration = Duration::from_secs(1);
 /// How far ahead of the highest stamp admitted [`GcsLink::with_replay_lease`] keeps its floor;
-/// renewed when less than half of it is left.
-const REPLAY_LEASE: Duration = Duration::from_secs(5);
+/// renewed when less than half of it is left (at most some 8 writes a second while the FCC's
+/// stamps advance). A GCS started within this of the last one waits until its clock passes
+/// the floor before it sends, so that the FCC's answers to it come after the floor.
+const REPLAY_LEASE: Duration = Duration::from_millis(250);
 
 /// How a request ended well.
 #[derive(Debug, Clone, PartialEq)]
@@ -209,6 +211,15 @@ impl<G: SafetyGateway> GcsLink<G> {
             .and_then(wire::Timestamp::from_millis);
         if let Some(floor) = floor {
             self.voter.signatures_mut().resume_after(floor);
+            // The FCC's answers to this GCS must come after the floor to be taken: a GCS
+            // started right after another waits the rest of the lease (the FCC's clock agrees
+            // with this one's within what ICD §9 asks).
+            let now = DriverClock::start().utc_at_zero();
+            // Past the floor: one millisecond beyond it.
+            let wait = (floor.millis() + 1)
+                .saturating_sub(now.millis())
+                .min(REPLAY_LEASE.as_millis() as u64 + 1);
+            std::thread::sleep(Duration::from_millis(wait));
         }
         self.replay_lease = Some((file.to_owned(), floor.unwrap_or_default()));
         self
@@ -615,6 +626,13 @@ mod tests {
             .parse()
             .unwrap();
         assert_eq!(renewed, now - 10_000 + REPLAY_LEASE.as_millis() as u64);
+        // A GCS started within the lease of the last one waits until its clock passes it.
+        let floor = DriverClock::start().utc_at_zero().millis() + 200;
+        std::fs::write(&lease, format!("{floor}\n")).unwrap();
+        let _next = GcsLink::open(&config, WithoutGateway)
+            .unwrap()
+            .with_replay_lease(&lease);
+        assert!(DriverClock::start().utc_at_zero().millis() > floor);
     }
 
     /// A burst of more datagrams than the pump once had slots for (8) all reach the voter and

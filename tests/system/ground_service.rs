@@ -640,3 +640,62 @@ fn tempfile_dir(test: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+#[test]
+fn ground_service_refuses_a_mission_that_comes_too_close_to_another_vehicles() {
+    let mut a = Rig::new("service-separation-a");
+    let mut b = Rig::new("service-separation-b");
+    b.config.ids.fcc = 0x0B00_0002;
+    let mut fcc_a = a.start_fcc();
+    let mut fcc_b = b.start_fcc();
+    a.learn_links(&mut fcc_a);
+    b.learn_links(&mut fcc_b);
+    let fleet = fleet_file(&mut [
+        FleetVehicle {
+            name: "alpha",
+            rig: &mut a,
+        },
+        FleetVehicle {
+            name: "bravo",
+            rig: &mut b,
+        },
+    ]);
+    // The defaults of [fleet]: 500 m apart wherever the altitudes are within 150 m.
+    let fleet = fleet.replace("[fleet]\nseparation_m = 0.0\n", "");
+    let mut service = GroundService::start(&a.dir, &fleet, &[]);
+    ok(&service.gcs(&["--vehicle", "alpha", "upload", &mission("mission-2.toml")]));
+    // The same route for bravo: refused, every conflict named, nothing sent.
+    let refused = |service: &GroundService| {
+        let out = service.gcs(&["--vehicle", "bravo", "upload", &mission("mission-2.toml")]);
+        assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+        let stderr = text(&out.stderr);
+        assert!(
+            stderr.contains(
+                "separation conflicts with the fleet's active missions; nothing was sent"
+            ),
+            "{stderr}"
+        );
+        assert!(
+            stderr.contains("FLEET-SEP") && stderr.contains("of alpha"),
+            "{stderr}"
+        );
+        let down = service.gcs(&["--vehicle", "bravo", "download"]);
+        assert_ne!(down.status.code(), Some(0), "bravo holds nothing");
+    };
+    refused(&service);
+    // Started again, the service learns alpha's mission from its FCC and refuses as before.
+    service.kill();
+    service.restart();
+    let learnt = eventually(Duration::from_secs(20), || {
+        let status = ok(&service.gcs(&["status"]));
+        status
+            .lines()
+            .any(|l| l.starts_with("alpha") && !l.contains("busy"))
+            .then_some(())
+    });
+    assert!(learnt.is_some(), "{}", service.log_text());
+    refused(&service);
+    // Alpha's mission cleared, bravo's goes: the service follows what each FCC holds.
+    ok(&service.gcs(&["--vehicle", "alpha", "clear"]));
+    ok(&service.gcs(&["--vehicle", "bravo", "upload", &mission("mission-2.toml")]));
+}

@@ -346,7 +346,13 @@ pub fn carry_out_events<G: SafetyGateway>(
         + stats.rejected_signatures.total()
         + stats.unreadable_messages;
     let [direct, lte] = stats.forwarded;
-    let all = direct + lte + stats.duplicates + stats.stale + stats.overflow + rejected;
+    let all = direct
+        + lte
+        + stats.duplicates
+        + stats.stale
+        + stats.before_start
+        + stats.overflow
+        + rejected;
     vehicle.set_link_counts(all, rejected);
 }
 

@@ -236,10 +236,8 @@ impl Fleet {
             });
         }
         let separation = file.fleet;
-        if !(separation.separation_m >= 0.0 && separation.vertical_separation_m >= 0.0)
-            || !separation.separation_m.is_finite()
-            || !separation.vertical_separation_m.is_finite()
-        {
+        let metres = |m: f64| m.is_finite() && m >= 0.0;
+        if !metres(separation.separation_m) || !metres(separation.vertical_separation_m) {
             return Err(FleetError::BadSeparation {
                 path: path.to_owned(),
             });
@@ -466,11 +464,17 @@ signing = "off"
         assert_eq!(bravo.link.signing.policy, SigningPolicy::Off);
         assert_eq!(bravo.link.timing, Timing::default());
         assert_eq!(fleet.separation, Separation::default());
-        let off = parse(&TWO.replace("cucs_id = 0x0A000009\n", "cucs_id = 0x0A000009\n[fleet]\nseparation_m = 0.0\n"))
-            .unwrap();
+        let off = parse(&TWO.replace(
+            "cucs_id = 0x0A000009\n",
+            "cucs_id = 0x0A000009\n[fleet]\nseparation_m = 0.0\n",
+        ))
+        .unwrap();
         assert_eq!(off.separation.separation_m, 0.0);
-        let e = parse(&TWO.replace("cucs_id = 0x0A000009\n", "cucs_id = 0x0A000009\n[fleet]\nseparation_m = -1.0\n"))
-            .unwrap_err();
+        let e = parse(&TWO.replace(
+            "cucs_id = 0x0A000009\n",
+            "cucs_id = 0x0A000009\n[fleet]\nseparation_m = -1.0\n",
+        ))
+        .unwrap_err();
         assert!(e.to_string().contains("metres, 0 or more"), "{e}");
         assert_eq!(fleet.vehicle(Some("bravo")).unwrap().name, "bravo");
         let e = fleet.vehicle(None).unwrap_err();

@@ -9,7 +9,7 @@
 //! this ground uploaded last, the time stamps it used) is kept per vehicle in the state
 //! directory.
 
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
 use std::io::{BufRead, BufReader, Write};
 use std::net::SocketAddr;
 use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
@@ -22,9 +22,10 @@ use std::time::{Duration, Instant};
 
 use missionlink_ground::ground_station::{GcsEvent, GroundStation};
 use missionlink_ground::safety_gateway::SafetyGateway;
-use missionlink_interfaces::wire::{Checksum, Message};
+use missionlink_interfaces::wire::{Checksum, GeoPoint, Message};
 use missionlink_platform::udp::LinkPair;
 use missionlink_protocol::transfer::integrity;
+use missionlink_protocol::transfer::mission::Mission;
 use missionlink_protocol::transfer::staged::MissionId;
 
 use super::client::{Call, Reply, What};
@@ -184,6 +185,7 @@ pub fn serve(
     let mut bound = Vec::new();
     let mut routes = Vec::new();
     let mut workers = Vec::new();
+    let fleet_missions = Arc::new(FleetMissions::default());
     let mut mavlink_routes = Vec::new();
     let mut threads = Vec::new();
     for (vehicle, link) in fleet.vehicles.iter().zip(links) {
@@ -211,6 +213,9 @@ pub fn serve(
             mavlink_routes.push((vehicle.mavlink_system_id, jobs.clone()));
         }
         let worker = Worker {
+            name: vehicle.name.clone(),
+            fleet: fleet_missions.clone(),
+            separation: fleet.separation,
             link,
             queue,
             deferred: VecDeque::new(),
@@ -345,6 +350,62 @@ fn open_link(vehicle: &Vehicle, options: &ServeOptions) -> Result<Link, String> 
             .map_err(|e| e.to_string()),
         None => Ok(link),
     }
+}
+
+/// The active mission of each vehicle of the fleet, as each vehicle's thread learns it (its own
+/// uploads, else a download when the FCC's report shows another): what a mission for one
+/// vehicle is checked against before it goes (the safety gateway's separation check,
+/// `[fleet] separation_m`).
+#[derive(Debug, Default)]
+struct FleetMissions(Mutex<HashMap<String, Active>>);
+
+/// A vehicle's active mission, by the checksum the FCC reports (ICD §11).
+#[derive(Debug, Clone)]
+struct Active {
+    checksum: Checksum,
+    mission: Arc<Mission>,
+    /// Where it took off, when this ground uploaded it (the FCC does not hold it).
+    take_off: Option<GeoPoint>,
+}
+
+impl FleetMissions {
+    fn checksum(&self, vehicle: &str) -> Option<Checksum> {
+        self.0.lock().ok()?.get(vehicle).map(|a| a.checksum)
+    }
+
+    fn set(&self, vehicle: &str, active: Option<Active>) {
+        if let Ok(mut map) = self.0.lock() {
+            match active {
+                Some(a) => map.insert(vehicle.to_owned(), a),
+                None => map.remove(vehicle),
+            };
+        }
+    }
+
+    /// Every vehicle's but `vehicle`'s.
+    fn others(&self, vehicle: &str) -> Vec<(String, Active)> {
+        self.0.lock().map_or_else(
+            |_| Vec::new(),
+            |map| {
+                map.iter()
+                    .filter(|(name, _)| name.as_str() != vehicle)
+                    .map(|(name, a)| (name.clone(), a.clone()))
+                    .collect()
+            },
+        )
+    }
+}
+
+/// The active mission of a mission file's text (the lists as the command validated them) and
+/// its take-off position.
+fn active_of(mission: &str) -> Option<Active> {
+    let plan = MissionFile::parse(mission).ok()?.to_plan().ok()?;
+    let lists = plan.assemble().ok()?;
+    Some(Active {
+        checksum: integrity::mission_checksum(&lists.mission),
+        mission: Arc::new(lists.mission),
+        take_off: plan.take_off_position,
+    })
 }
 
 /// A vehicle as the acceptor reaches it.
@@ -712,6 +773,12 @@ impl Listener for Running<'_> {
 }
 
 struct Worker {
+    /// The vehicle's name in the fleet.
+    name: String,
+    /// The fleet's active missions, shared by every vehicle's thread.
+    fleet: Arc<FleetMissions>,
+    /// The separation kept from them.
+    separation: super::fleet::Separation,
     link: Link,
     queue: Receiver<Job>,
     /// Calls that came while a request ran, in their order.
@@ -755,6 +822,95 @@ impl Worker {
             self.state.tick();
             self.publish();
         }
+    }
+
+    /// The FCC's active mission has checksum `active` (`None`: it holds none): downloaded when
+    /// the fleet's record of it is another.
+    fn learn_active(&mut self, active: Option<Checksum>) {
+        if self.separation.separation_m <= 0.0 {
+            return;
+        }
+        let Some(checksum) = active else {
+            self.fleet.set(&self.name, None);
+            return;
+        };
+        if self.fleet.checksum(&self.name) == Some(checksum) {
+            return;
+        }
+        match self.carry_out(Request::Download { id: None }, None) {
+            Ok(Answer::Downloaded { mission }) => {
+                let learnt = active_of(&mission).filter(|a| a.checksum == checksum);
+                if learnt.is_none() {
+                    tracing::warn!(vehicle = %self.name, "the active mission downloaded is not the one reported: the separation check does not know it");
+                }
+                self.fleet.set(&self.name, learnt);
+            }
+            _ => {
+                tracing::warn!(vehicle = %self.name, "the active mission could not be downloaded: the separation check does not know it");
+                self.fleet.set(&self.name, None);
+            }
+        }
+    }
+
+    /// The safety gateway's separation check (`[fleet] separation_m`): the plan of `upload`,
+    /// as it flies in the upload's wind, against the active missions of the other vehicles.
+    /// Refused with every conflict; a plan that does not validate is left to the request,
+    /// which refuses it with the gateway's words.
+    fn keeps_separation(&self, upload: &super::request::Upload) -> Result<(), Failure> {
+        use missionlink_ground::safety_gateway::separation::{self, Flight, Separation};
+        let Self { separation, .. } = *self;
+        if separation.separation_m <= 0.0 {
+            return Ok(());
+        }
+        let gateway = SafetyGateway::new(upload.profile.into(), upload.environment.into());
+        let Some(plan) = MissionFile::parse(&upload.mission)
+            .ok()
+            .and_then(|f| f.to_plan().ok())
+        else {
+            return Ok(());
+        };
+        let Ok(lists) = missionlink_ground::ground_station::validate(&gateway, &plan) else {
+            return Ok(());
+        };
+        let others = self.fleet.others(&self.name);
+        let flights: Vec<Flight<'_>> = others
+            .iter()
+            .map(|(name, a)| Flight {
+                vehicle: name,
+                mission: &a.mission,
+                take_off: a.take_off,
+            })
+            .collect();
+        let own = Flight {
+            vehicle: &self.name,
+            mission: &lists.mission,
+            take_off: plan.take_off_position,
+        };
+        let limits = Separation {
+            horizontal_m: separation.separation_m,
+            // 0: altitudes never separate two paths.
+            vertical_m: separation.vertical_separation_m.max(f64::MIN_POSITIVE),
+        };
+        let found = separation::conflicts(&gateway, own, &flights, limits).map_err(|e| {
+            Failure::other(format!(
+                "{}: the separation check: {e}; nothing was sent",
+                upload.file
+            ))
+        })?;
+        if found.is_empty() {
+            return Ok(());
+        }
+        let mut message = format!(
+            "{}: infeasible: {} separation conflict{} with the fleet's active missions; nothing \
+             was sent",
+            upload.file,
+            found.len(),
+            if found.len() == 1 { "" } else { "s" }
+        );
+        for conflict in &found {
+            message.push_str(&format!("\n  {}", conflict.violation()));
+        }
+        Err(Failure::other(message))
     }
 
     /// Deletes the staged copies a previous run left (those the FCC's report lists); those
@@ -824,8 +980,18 @@ impl Worker {
     }
 
     fn request(&mut self, request: Request, mut stream: UnixStream) {
+        if let Request::Upload(upload) = &request
+            && let Err(refused) = self.keeps_separation(upload)
+        {
+            let _ = send(&mut stream, &Reply::Failed(refused));
+            return;
+        }
         let planned = match &request {
             Request::Upload(u) if u.stage.is_none() => checksums(&u.mission),
+            _ => None,
+        };
+        let uploaded = match &request {
+            Request::Upload(u) if u.stage.is_none() => active_of(&u.mission),
             _ => None,
         };
         let changes = !matches!(request, Request::Report | Request::Download { .. });
@@ -835,6 +1001,9 @@ impl Worker {
         if let Ok(Answer::Reported { entries }) = &outcome {
             self.state.snapshot.report = Some(reports(entries));
             self.state.snapshot.report_failed = None;
+        }
+        if let (Ok(Answer::Uploaded { .. }), Some(active)) = (&outcome, uploaded) {
+            self.fleet.set(&self.name, Some(active));
         }
         if let (Ok(Answer::Uploaded { .. }), Some(planned)) = (&outcome, planned) {
             self.state.snapshot.planned = Some(planned);
@@ -856,12 +1025,16 @@ impl Worker {
         self.publish();
     }
 
-    /// Asks the FCC for its report (ICD §8) for the status.
+    /// Asks the FCC for its report (ICD §8) for the status, and learns its active mission for
+    /// the fleet's separation check when the report shows one this ground does not know.
     fn refresh_report(&mut self) {
         match self.carry_out(Request::Report, None) {
             Ok(Answer::Reported { entries }) => {
-                self.state.snapshot.report = Some(reports(&entries));
+                let reports = reports(&entries);
+                let active = reports.first().and_then(|e| e.mission_checksum);
+                self.state.snapshot.report = Some(reports);
                 self.state.snapshot.report_failed = None;
+                self.learn_active(active);
             }
             Ok(_) => {}
             Err(f) => {
