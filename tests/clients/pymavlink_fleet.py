@@ -8,8 +8,12 @@ fence, rally points, each after the previous MISSION_ACK), every message address
 system, and downloads the mission back from it. A mission upload addressed to every system (0)
 must be refused by a fleet: no MISSION_REQUEST answers it.
 
-Usage: python3 pymavlink_fleet.py PORT TARGET_SYSTEM SYSTEM... Exit status 0 when every check
-passes; each check that fails is printed.
+With `--refused` first, the upload must be refused instead: the fence's MISSION_ACK an error
+and a STATUSTEXT naming the separation conflict (the service checks a plan against the other
+vehicles' active missions).
+
+Usage: python3 pymavlink_fleet.py [--refused] PORT TARGET_SYSTEM SYSTEM... Exit status 0 when
+every check passes; each check that fails is printed.
 """
 
 import os
@@ -32,8 +36,12 @@ def fail(why):
 
 
 def main():
-    port, target = int(sys.argv[1]), int(sys.argv[2])
-    systems = {int(s) for s in sys.argv[3:]}
+    args = sys.argv[1:]
+    refused = args[:1] == ["--refused"]
+    if refused:
+        args = args[1:]
+    port, target = int(args[0]), int(args[1])
+    systems = {int(s) for s in args[2:]}
     m = mavutil.mavlink_connection(
         f"udpout:127.0.0.1:{port}", source_system=255, source_component=190
     )
@@ -50,6 +58,8 @@ def main():
             fail(f"HEARTBEATs from {sorted(seen)}, not from every one of {sorted(systems)}")
     print(f"heartbeats from systems {sorted(seen)}", flush=True)
 
+    texts = []
+
     def recv(types):
         while True:
             msg = m.recv_match(type=types + ["STATUSTEXT"], blocking=True, timeout=TIMEOUT)
@@ -57,6 +67,8 @@ def main():
                 fail(f"no {types}")
             if msg.get_type() == "STATUSTEXT":
                 print(f"STATUSTEXT from {msg.get_srcSystem()}: {msg.text}", flush=True)
+                if msg.get_srcSystem() == target:
+                    texts.append(msg.text)
                 continue
             if msg.get_srcSystem() != target:
                 continue
@@ -89,6 +101,17 @@ def main():
     corners = [(48.255, 11.635), (48.255, 11.69), (48.285, 11.69), (48.285, 11.635)]
     fence = [(POLYGON_INCLUSION, GLOBAL, 4.0, lat, lon, 0.0) for lat, lon in corners]
     fence.append((CIRCLE_EXCLUSION, GLOBAL, 200.0, 48.268, 11.675, 0.0))
+    if refused:
+        result = upload(MISSION, mission)
+        if result == 0:
+            result = upload(FENCE, fence)
+        if result == 0:
+            fail(f"system {target} accepted a plan that breaks the fleet's separation")
+        said = "".join(texts)
+        if "separation" not in said:
+            fail(f"no STATUSTEXT names the separation conflict: {texts}")
+        print(f"refused by system {target}: MISSION_ACK {result}: {said}", flush=True)
+        return
     for kind, items, name in [(MISSION, mission, "mission"), (FENCE, fence, "fence"),
                               (RALLY, [], "rally points")]:
         result = upload(kind, items)

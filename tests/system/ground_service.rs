@@ -695,6 +695,36 @@ fn ground_service_refuses_a_mission_that_comes_too_close_to_another_vehicles() {
     });
     assert!(learnt.is_some(), "{}", service.log_text());
     refused(&service);
+    // Nor through the MAVLink side: its commit passes the same check.
+    drop(service);
+    let service = GroundService::start(
+        &a.dir,
+        &fleet,
+        &[
+            "--mavlink",
+            "--mavlink-bind",
+            "127.0.0.1:0",
+            "--mavlink-to",
+            "127.0.0.1:9",
+        ],
+    );
+    let port = service.mavlink_port().expect("the MAVLink side's port");
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/pymavlink_fleet.py");
+    let out = std::process::Command::new(python())
+        .arg(script)
+        .args(["--refused", port.to_string().as_str(), "2", "1", "2"])
+        .output()
+        .unwrap_or_else(|e| panic!("{:?}: {e}; run the tests with tools/test", python()));
+    assert!(
+        out.status.success(),
+        "pymavlink:\n{}\n{}\n{}",
+        text(&out.stdout),
+        text(&out.stderr),
+        service.log_text()
+    );
+    let down = service.gcs(&["--vehicle", "bravo", "download"]);
+    assert_ne!(down.status.code(), Some(0), "bravo holds nothing");
     // Alpha's mission cleared, bravo's goes: the service follows what each FCC holds.
     ok(&service.gcs(&["--vehicle", "alpha", "clear"]));
     ok(&service.gcs(&["--vehicle", "bravo", "upload", &mission("mission-2.toml")]));

@@ -15,7 +15,9 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use missionlink_ground::ground_station::{GcsError, GcsEvent, SafetyGateway, Sequence};
+use missionlink_ground::ground_station::{
+    GcsError, GcsEvent, MissionPlan, SafetyGateway, Sequence,
+};
 
 use super::vehicle::{Vehicle, VehicleEvent};
 use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
@@ -221,9 +223,11 @@ fn read_fcc_lists<G: SafetyGateway>(link: &mut GcsLink<G>, vehicle: &mut Vehicle
 /// (ICD §11), or why not, in the operator's words.
 fn commit<G: SafetyGateway>(
     link: &mut GcsLink<G>,
-    plan: &missionlink_ground::ground_station::MissionPlan,
+    plan: &MissionPlan,
+    check: &mut dyn FnMut(&MissionPlan) -> Result<(), String>,
 ) -> Result<(u32, u32), String> {
     link.station().validate(plan).map_err(|e| e.to_string())?;
+    check(plan)?;
     let now = link.now();
     link.station()
         .upload_with(now, plan, Sequence::Atomic)
@@ -280,7 +284,7 @@ pub fn run<G: SafetyGateway>(
 ) -> std::io::Result<()> {
     vehicle.start(link.now());
     while !stop.load(Ordering::Relaxed) {
-        carry_out_events(link, vehicle, memory);
+        carry_out_events(link, vehicle, memory, &mut |_| Ok(()));
         tick(link.now(), vehicle, socket);
         // The downlink: positions and FROM-TO-NEXT.
         let mut downlink = Vec::new();
@@ -310,16 +314,21 @@ pub fn run<G: SafetyGateway>(
 }
 
 /// What the vehicle asked of the GCS link (a commit, execute, a clear), carried out and
-/// reported back; what it must remember written to `memory`; the links' counts handed over.
+/// reported back; what it must remember written to `memory`; the links' counts handed over. A
+/// plan to commit passes the safety gateway, then `check` (the ground service's separation
+/// from the fleet), before it goes. Whether a list may have changed on the FCC.
 pub fn carry_out_events<G: SafetyGateway>(
     link: &mut GcsLink<G>,
     vehicle: &mut Vehicle,
     memory: Option<&Path>,
-) {
+    check: &mut dyn FnMut(&MissionPlan) -> Result<(), String>,
+) -> bool {
+    let mut changed = false;
     while let Some(event) = vehicle.poll_event() {
         match event {
             VehicleEvent::Commit { plan } => {
-                let outcome = commit(link, &plan.plan);
+                changed = true;
+                let outcome = commit(link, &plan.plan, check);
                 match &outcome {
                     Ok((mission_id, fence_id)) => vehicle.set_ids(*mission_id, *fence_id),
                     Err(why) => {
@@ -330,6 +339,7 @@ pub fn carry_out_events<G: SafetyGateway>(
             }
             VehicleEvent::Execute => vehicle.executed(execute(link)),
             VehicleEvent::Clear { list } => {
+                changed = true;
                 let outcome = clear(link, list);
                 if let Err(why) = &outcome {
                     tracing::warn!(%why, %list, "the MAVLink client's clear was refused");
@@ -354,6 +364,7 @@ pub fn carry_out_events<G: SafetyGateway>(
         + stats.overflow
         + rejected;
     vehicle.set_link_counts(all, rejected);
+    changed
 }
 
 /// The vehicle's deadlines that passed at `now`, and every datagram it has to send, sent: what

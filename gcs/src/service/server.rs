@@ -20,7 +20,7 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use missionlink_ground::ground_station::{GcsEvent, GroundStation};
+use missionlink_ground::ground_station::{GcsEvent, GroundStation, MissionPlan};
 use missionlink_ground::safety_gateway::SafetyGateway;
 use missionlink_interfaces::wire::{Checksum, GeoPoint, Message};
 use missionlink_platform::udp::LinkPair;
@@ -216,6 +216,7 @@ pub fn serve(
             name: vehicle.name.clone(),
             fleet: fleet_missions.clone(),
             separation: fleet.separation,
+            gateway: options.gateway,
             link,
             queue,
             deferred: VecDeque::new(),
@@ -406,6 +407,59 @@ fn active_of(mission: &str) -> Option<Active> {
         mission: Arc::new(lists.mission),
         take_off: plan.take_off_position,
     })
+}
+
+/// The safety gateway's separation check (`[fleet] separation_m`): `plan` for `vehicle`, as
+/// it flies with `gateway`, against the active missions of the fleet's other vehicles; every
+/// conflict, or why the check cannot run. A plan that does not validate passes here: the
+/// gateway refuses it where it is sent.
+fn keeps_separation(
+    fleet: &FleetMissions,
+    vehicle: &str,
+    separation: super::fleet::Separation,
+    gateway: &SafetyGateway,
+    plan: &MissionPlan,
+) -> Result<(), String> {
+    use missionlink_ground::safety_gateway::separation::{self, Flight, Separation};
+    if separation.separation_m <= 0.0 {
+        return Ok(());
+    }
+    let Ok(lists) = missionlink_ground::ground_station::validate(gateway, plan) else {
+        return Ok(());
+    };
+    let others = fleet.others(vehicle);
+    let flights: Vec<Flight<'_>> = others
+        .iter()
+        .map(|(name, a)| Flight {
+            vehicle: name,
+            mission: &a.mission,
+            take_off: a.take_off,
+        })
+        .collect();
+    let own = Flight {
+        vehicle,
+        mission: &lists.mission,
+        take_off: plan.take_off_position,
+    };
+    let limits = Separation {
+        horizontal_m: separation.separation_m,
+        // 0: altitudes never separate two paths.
+        vertical_m: separation.vertical_separation_m.max(f64::MIN_POSITIVE),
+    };
+    let found = separation::conflicts(gateway, own, &flights, limits)
+        .map_err(|e| format!("the separation check: {e}"))?;
+    if found.is_empty() {
+        return Ok(());
+    }
+    let mut message = format!(
+        "infeasible: {} separation conflict{} with the fleet's active missions",
+        found.len(),
+        if found.len() == 1 { "" } else { "s" }
+    );
+    for conflict in &found {
+        message.push_str(&format!("\n  {}", conflict.violation()));
+    }
+    Err(message)
 }
 
 /// A vehicle as the acceptor reaches it.
@@ -779,6 +833,8 @@ struct Worker {
     fleet: Arc<FleetMissions>,
     /// The separation kept from them.
     separation: super::fleet::Separation,
+    /// The safety gateway of what the MAVLink side commits.
+    gateway: SafetyGateway,
     link: Link,
     queue: Receiver<Job>,
     /// Calls that came while a request ran, in their order.
@@ -817,7 +873,17 @@ impl Worker {
                 }
             }
             if let Some(m) = &mut self.state.mav {
-                driver::carry_out_events(&mut self.link, &mut m.vehicle, m.memory.as_deref());
+                let (fleet, name, separation, gateway) =
+                    (&self.fleet, &self.name, self.separation, &self.gateway);
+                let changed = driver::carry_out_events(
+                    &mut self.link,
+                    &mut m.vehicle,
+                    m.memory.as_deref(),
+                    &mut |plan| keeps_separation(fleet, name, separation, gateway, plan),
+                );
+                if changed {
+                    self.refresh_report();
+                }
             }
             self.state.tick();
             self.publish();
@@ -852,65 +918,26 @@ impl Worker {
         }
     }
 
-    /// The safety gateway's separation check (`[fleet] separation_m`): the plan of `upload`,
-    /// as it flies in the upload's wind, against the active missions of the other vehicles.
-    /// Refused with every conflict; a plan that does not validate is left to the request,
-    /// which refuses it with the gateway's words.
+    /// The safety gateway's separation check (`[fleet] separation_m`) of the plan of `upload`,
+    /// as it flies in the upload's wind. A plan that does not read is left to the request,
+    /// which refuses it in the gateway's words.
     fn keeps_separation(&self, upload: &super::request::Upload) -> Result<(), Failure> {
-        use missionlink_ground::safety_gateway::separation::{self, Flight, Separation};
-        let Self { separation, .. } = *self;
-        if separation.separation_m <= 0.0 {
-            return Ok(());
-        }
-        let gateway = SafetyGateway::new(upload.profile.into(), upload.environment.into());
         let Some(plan) = MissionFile::parse(&upload.mission)
             .ok()
             .and_then(|f| f.to_plan().ok())
         else {
             return Ok(());
         };
-        let Ok(lists) = missionlink_ground::ground_station::validate(&gateway, &plan) else {
-            return Ok(());
-        };
-        let others = self.fleet.others(&self.name);
-        let flights: Vec<Flight<'_>> = others
-            .iter()
-            .map(|(name, a)| Flight {
-                vehicle: name,
-                mission: &a.mission,
-                take_off: a.take_off,
-            })
-            .collect();
-        let own = Flight {
-            vehicle: &self.name,
-            mission: &lists.mission,
-            take_off: plan.take_off_position,
-        };
-        let limits = Separation {
-            horizontal_m: separation.separation_m,
-            // 0: altitudes never separate two paths.
-            vertical_m: separation.vertical_separation_m.max(f64::MIN_POSITIVE),
-        };
-        let found = separation::conflicts(&gateway, own, &flights, limits).map_err(|e| {
-            Failure::other(format!(
-                "{}: the separation check: {e}; nothing was sent",
-                upload.file
-            ))
-        })?;
-        if found.is_empty() {
-            return Ok(());
-        }
-        let mut message = format!(
-            "{}: infeasible: {} separation conflict{} with the fleet's active missions; nothing \
-             was sent",
-            upload.file,
-            found.len(),
-            if found.len() == 1 { "" } else { "s" }
-        );
-        for conflict in &found {
-            message.push_str(&format!("\n  {}", conflict.violation()));
-        }
-        Err(Failure::other(message))
+        let gateway = SafetyGateway::new(upload.profile.into(), upload.environment.into());
+        keeps_separation(&self.fleet, &self.name, self.separation, &gateway, &plan).map_err(|why| {
+            let (first, rest) = why.split_once('\n').unwrap_or((&why, ""));
+            let rest = if rest.is_empty() {
+                String::new()
+            } else {
+                format!("\n{rest}")
+            };
+            Failure::other(format!("{}: {first}; nothing was sent{rest}", upload.file))
+        })
     }
 
     /// Deletes the staged copies a previous run left (those the FCC's report lists); those
