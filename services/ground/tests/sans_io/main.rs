@@ -20,6 +20,7 @@ mod mission_pair;
 mod no_allocation;
 mod reject_reasons;
 mod retry_timing;
+mod round_trips;
 mod signing;
 mod staged;
 mod staged_gcs;

@@ -36,6 +36,7 @@ pub use missionlink_flight::testkit::fcc_config;
 pub use missionlink_ground::testkit::*;
 pub use missionlink_linksim::Rng;
 pub use missionlink_linksim::channel::{Channel, Impairments};
+pub use missionlink_linksim::round_trips::{RoundTrips, Way};
 
 /// Datagrams a driver reads per link per step (`missionlink_platform::udp::MAX_READS_PER_WAKE`).
 const READS_PER_LINK: usize = 32;
@@ -90,6 +91,8 @@ struct InFlight {
     order: u64,
     link: Link,
     bytes: Vec<u8>,
+    /// The round of the conversation it belongs to (`linksim/src/round_trips.rs`).
+    round: u64,
 }
 
 /// The pair.
@@ -116,6 +119,9 @@ pub struct Pair {
     pub wire: Vec<(Direction, Link, Vec<u8>)>,
     pub gcs_events: Vec<GcsEvent<core::convert::Infallible>>,
     pub fcc_events: Vec<FccEvent>,
+    /// The round trips between the GCS (the asking end) and the FCC, counted from the times of
+    /// the datagrams as the link emulator counts them (`linksim/src/round_trips.rs`).
+    pub round_trips: RoundTrips,
 }
 
 impl Pair {
@@ -139,6 +145,7 @@ impl Pair {
             wire: Vec::new(),
             gcs_events: Vec::new(),
             fcc_events: Vec::new(),
+            round_trips: RoundTrips::new(),
         }
     }
 
@@ -173,6 +180,7 @@ impl Pair {
             order: self.order,
             link,
             bytes: bytes.to_vec(),
+            round: self.round_trips.sent(Way::Up),
         });
     }
 
@@ -228,6 +236,10 @@ impl Pair {
             (Direction::Down, Link::Direct) => 2,
             (Direction::Down, _) => 3,
         };
+        let round = self.round_trips.sent(match direction {
+            Direction::Up => Way::Up,
+            Direction::Down => Way::Down,
+        });
         let channel = &mut self.channels[index];
         channel.impairments = faults;
         for (after, bytes) in channel.transmit(bytes) {
@@ -237,6 +249,7 @@ impl Pair {
                 order: self.order,
                 link,
                 bytes,
+                round,
             };
             match direction {
                 Direction::Up => self.to_fcc.push(f),
@@ -272,14 +285,19 @@ impl Pair {
         due
     }
 
-    /// Votes the frames of `queue` due at `now` (paper §2.4) and hands each winner to `handle`.
+    /// Votes the frames of `queue` due at `now` (paper §2.4) and hands each winner to `handle`;
+    /// each datagram's arrival counts for the round trips (`way`).
     fn deliver(
         queue: &mut Vec<InFlight>,
         voter: &mut Voter,
         now: Instant,
+        (rounds, way): (&mut RoundTrips, Way),
         mut handle: impl FnMut(&[u8]),
     ) {
         let due = Self::take_due(queue, now);
+        for f in &due {
+            rounds.arrived(way, f.round);
+        }
         // As the drivers read them: at most `READS_PER_LINK` datagrams per link per step (the
         // partitions' `MAX_READS_PER_WAKE`), the rest in the next step.
         let mut rest: Vec<&InFlight> = due.iter().collect();
@@ -307,13 +325,26 @@ impl Pair {
         let now = self.now;
 
         let fcc = &mut self.fcc;
-        Self::deliver(&mut self.to_fcc, &mut self.fcc_voter, now, |frame| {
-            let _ = fcc.handle_frame(now, frame);
-        });
+        let rounds = &mut self.round_trips;
+        Self::deliver(
+            &mut self.to_fcc,
+            &mut self.fcc_voter,
+            now,
+            (rounds, Way::Up),
+            |frame| {
+                let _ = fcc.handle_frame(now, frame);
+            },
+        );
         let gcs = &mut self.gcs;
-        Self::deliver(&mut self.to_gcs, &mut self.gcs_voter, now, |frame| {
-            let _ = gcs.handle_frame(now, frame);
-        });
+        Self::deliver(
+            &mut self.to_gcs,
+            &mut self.gcs_voter,
+            now,
+            (&mut self.round_trips, Way::Down),
+            |frame| {
+                let _ = gcs.handle_frame(now, frame);
+            },
+        );
 
         if self.fcc.poll_timeout().is_some_and(|t| t <= now) {
             self.fcc.handle_timeout(now);

@@ -1,0 +1,104 @@
+//! What a whole upload costs in round trips, counted over the simulated links with a fixed delay
+//! by the link emulator's own rule (`linksim/src/round_trips.rs`): the figures ICD §10 is about.
+//! Each upload is measured after another one, as the links bench measures it (the FCC's lists
+//! both change), toward an edition-2 FCC with the default window of 32.
+
+use std::time::Duration;
+
+use crate::support::*;
+use missionlink_ground::ground_station::{
+    GcsConfig, GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
+};
+use missionlink_interfaces::wire::TransferWindow;
+
+/// One way on each link: a round trip is 200 ms of simulated time.
+const ONE_WAY: u64 = 100;
+
+/// A pair 100 ms apart on both links, nothing lost, its GCS with a window of `window`.
+fn pair(window: u8) -> Pair {
+    let mut pair = Pair::new(7);
+    let config = GcsConfig {
+        transfer_window: TransferWindow::new(window).unwrap(),
+        ..gcs_config()
+    };
+    pair.gcs = GroundStation::new(config, WithoutGateway);
+    // Navigation reports the aircraft on the ground at TROL: the onboard geofence check of an
+    // activation (ICD §8) starts from there.
+    pair.fcc.set_automation_state(&on_ground());
+    pair.fcc.handle_progress(pair.now, &on_ground_at(TROL));
+    for f in pair.uplink.iter_mut().chain(pair.downlink.iter_mut()) {
+        *f = faulty(0.0, 0.0, (ONE_WAY, ONE_WAY));
+    }
+    pair
+}
+
+/// Uploads `plan` by `sequence`; the round trips it took and whether it completed.
+fn upload(pair: &mut Pair, plan: &MissionPlan, sequence: Sequence) -> (u64, bool) {
+    let before = pair.round_trips.completed();
+    let now = pair.now;
+    pair.gcs.upload_with(now, plan, sequence).unwrap();
+    pair.run_until_standby(Duration::from_secs(600));
+    let events = pair.take_gcs_events();
+    let done = matches!(events.last(), Some(GcsEvent::Uploaded(r)) if r.is_complete());
+    if !done {
+        println!("{:?}", events.last());
+    }
+    (pair.round_trips.completed() - before, done)
+}
+
+/// The round trips of uploading `plan` after another mission, by `sequence`.
+fn measured(plan: &MissionPlan, sequence: Sequence, window: u8) -> u64 {
+    let mut p = pair(window);
+    let (_, done) = upload(&mut p, &mission_2(), sequence);
+    assert!(done, "the upload before");
+    // The aircraft stands where the plan takes off: the onboard check of the activation.
+    let at = plan.take_off_position.unwrap();
+    p.fcc.handle_progress(
+        p.now,
+        &on_ground_at((at.latitude.degrees(), at.longitude.degrees())),
+    );
+    let (rounds, done) = upload(&mut p, plan, sequence);
+    assert!(done, "the upload measured");
+    let valid = p.gcs.validate(plan).unwrap();
+    assert_eq!(p.fcc.active_mission(), Some(&valid.mission));
+    assert_eq!(p.fcc.active_areas(), Some(&valid.areas));
+    rounds
+}
+
+/// The round trips of each upload, counted: (case, sequence, window, round trips).
+///
+/// - Window 1 is stop-and-wait: one round trip per message, the report's included.
+/// - Window 32: the report, each opener and closer one round trip each (the paper's sequence:
+///   report, clear, transmit, area opener, area closer; the atomic upload: report, mode 10,
+///   mode 8, area opener, area closer, activation, delete), and the data messages a round trip
+///   per window of 32 (mission 1: 1 and 1; 256 waypoints: 258 and 11, 9 and 1 windows).
+const EXPECTED: [(&str, &str, u8, u64); 8] = [
+    ("mission 1", "paper", 1, 9),
+    ("mission 1", "paper", 32, 7),
+    ("mission 1", "atomic", 1, 11),
+    ("mission 1", "atomic", 32, 9),
+    ("256 waypoints, 11 areas", "paper", 1, 274),
+    ("256 waypoints, 11 areas", "paper", 32, 15),
+    ("256 waypoints, 11 areas", "atomic", 1, 276),
+    ("256 waypoints, 11 areas", "atomic", 32, 17),
+];
+
+#[test]
+fn round_trips_of_a_whole_upload() {
+    let mut counted = Vec::new();
+    for (name, how, window, _) in EXPECTED {
+        let plan = match name {
+            "mission 1" => mission_1(),
+            // 256 waypoints and 11 areas that pass the onboard check of the activation.
+            _ => geofence_worst_case_plan(),
+        };
+        let sequence = match how {
+            "paper" => Sequence::Paper { clear: true },
+            _ => Sequence::Atomic,
+        };
+        let rounds = measured(&plan, sequence, window);
+        println!("{name}, {how}, window {window}: {rounds} round trips");
+        counted.push((name, how, window, rounds));
+    }
+    assert_eq!(counted, EXPECTED);
+}
