@@ -145,7 +145,8 @@ impl MissionDataHandling {
         let busy = self.area_download.is_some() || self.area_upload.in_transfer();
         match (list, busy) {
             (Some(list), false) => {
-                self.closers.forget();
+                // An opener of an area transfer (ICD §11: the area closer's memory ends).
+                self.closers.accepted(message);
                 // Edition-2 fields only to an edition-2 request (ICD §10.2).
                 let checksum = request
                     .transfer_window()

@@ -654,7 +654,7 @@ impl Composite<FccTimer, 7> for MissionDataHandling {
             Message::MessageAcknowledgement(_) => self.download_answer(now, message),
             Message::MissionTransferCommand(c) => match c.mode {
                 MissionPlanMode::ClearMission => {
-                    let outcome = self.clear_mission(now);
+                    let outcome = self.clear_mission(now, message.time_stamp());
                     if outcome.is_ok() {
                         // A new upload: the one cut by a restart is over.
                         self.interrupted_until = None;
@@ -675,7 +675,7 @@ impl Composite<FccTimer, 7> for MissionDataHandling {
                 MissionPlanMode::ReportMissions => self.start_report(now, message, ack),
                 MissionPlanMode::StageMission => self.closer(now, message, ack),
                 MissionPlanMode::LoadWaypointBuffer => {
-                    let outcome = self.load_buffer(now, c.mission_id);
+                    let outcome = self.load_buffer(now, c.mission_id, message.time_stamp());
                     self.answer_transfer(now, message, ack, outcome);
                 }
                 MissionPlanMode::DeleteStagedMission => {

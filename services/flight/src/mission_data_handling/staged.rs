@@ -39,8 +39,15 @@ impl MissionDataHandling {
     /// the active one (empty Mission ID), or empty (no such list), and an upload that edits it
     /// opens. Allowed while trajectory generation is active (nothing active changes); refused
     /// during a mission download as the clear is (`Busy`). Like the clear, it opens a new
-    /// upload, so an upload cut by a restart is over.
-    pub(super) fn load_buffer(&mut self, now: Instant, id: Option<Text<20>>) -> Result<(), Reason> {
+    /// upload, so an upload cut by a restart is over. Stamped `stamp`, it leaves what the data
+    /// sent behind it stored when they overtook it, and one stamped before an opener this upload
+    /// applied changes nothing (`WrongState`, ICD §10.3).
+    pub(super) fn load_buffer(
+        &mut self,
+        now: Instant,
+        id: Option<Text<20>>,
+        stamp: Timestamp,
+    ) -> Result<(), Reason> {
         if self.mission_download.is_some() {
             return Err(Reason::Busy);
         }
@@ -51,7 +58,7 @@ impl MissionDataHandling {
             let id = staged_id(Some(id))?;
             self.staged.get(&id).and_then(|e| e.mission.as_ref())
         };
-        self.mission_upload.load(now, base);
+        self.mission_upload.load(now, base, stamp)?;
         self.interrupted_until = None;
         Ok(())
     }

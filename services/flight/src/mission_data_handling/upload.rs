@@ -31,7 +31,8 @@ impl MissionDataHandling {
     }
 
     /// Answers `message` (an opener or a data message of a transfer) with `outcome`; an
-    /// accepted one ends the memory of the last closer (ICD §11).
+    /// accepted one ends the memory of the last closer of its kind (ICD §11): an area opener
+    /// sent behind the mission closer leaves the mission closer's (ICD §10.3).
     pub(super) fn answer_transfer(
         &mut self,
         now: Instant,
@@ -40,7 +41,7 @@ impl MissionDataHandling {
         outcome: Result<(), Reason>,
     ) {
         if outcome.is_ok() {
-            self.closers.forget();
+            self.closers.accepted(message);
         }
         self.endpoint.answer(now, message, ack, outcome);
     }
@@ -105,7 +106,10 @@ impl MissionDataHandling {
         }
     }
 
-    pub(super) fn clear_mission(&mut self, now: Instant) -> Result<(), Reason> {
+    /// #13000 mode 1 stamped `stamp` (ICD §5.1 step 1). Overtaken on the link by the data
+    /// sent behind it, it leaves what they stored (ICD §10.3); one stamped before an opener this
+    /// upload applied is late and changes nothing (`WrongState`).
+    pub(super) fn clear_mission(&mut self, now: Instant, stamp: Timestamp) -> Result<(), Reason> {
         if self.automation.trajectory_generation_active {
             return Err(Reason::GuidanceActive);
         }
@@ -114,7 +118,7 @@ impl MissionDataHandling {
         }
         // Paper §3.1: the clear deletes the waypoint buffer and the waypoint list (ICD §5.1
         // step 1); guidance sees the empty list as one activation.
-        self.mission_upload.clear(now);
+        self.mission_upload.clear(now, stamp)?;
         if self.active_mission.is_some() {
             self.activate(Activation::Mission(None));
             self.closers.forget();

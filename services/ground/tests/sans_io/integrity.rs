@@ -417,25 +417,42 @@ fn a_retried_closer_gets_the_same_refusal() {
     assert_eq!(rig.events(), []);
 }
 
-/// ICD §11: the FCC remembers the last closer only. A closer answered after it replaces it,
-/// and the retry of the earlier one is judged afresh (here: no area transfer open).
+/// ICD §11: the FCC remembers the last closer of each kind of list. The area upload after the
+/// mission's (its opener and data) leaves the mission closer's memory, so that the GCS may send
+/// the area opener behind the mission closer (ICD §10.3): both retries get their answers again
+/// and nothing changes. (Before the memory was kept per kind, the mission closer's retry was
+/// judged afresh here and the area closer's refused `WrongState`.)
 #[test]
-fn only_the_last_closer_is_remembered() {
+fn the_last_closer_of_each_kind_is_remembered() {
     let mut rig = FccRig::new().with_mission_2();
     let valid = validated(&mission_2());
     rig.events();
-    // The last closer was the areas'; the mission's retry is judged afresh (an edit that
-    // assembles the active mission again: accepted, nothing changes) and remembered instead.
     assert_eq!(
         transfer_ack(&rig.send(transmit(&valid.mission, None))),
         Ok(())
     );
     assert_eq!(
         area_status(&rig.send(area_closer(&valid.areas, None))),
-        (0, Err(Reason::WrongState))
+        (valid.areas.areas.len() as u8, Ok(()))
     );
     assert_eq!(rig.fcc.generations(), (1, 1));
     assert_eq!(rig.events(), []);
+    // A mission opener ends the mission closer's memory only (mode 10 with an ID that holds
+    // nothing: it empties the buffer and changes no list, which would end both).
+    rig.accepted(mission_command(
+        MissionPlanMode::LoadWaypointBuffer,
+        None,
+        Text::new("no-such-mission").ok(),
+    ));
+    assert_eq!(
+        area_status(&rig.send(area_closer(&valid.areas, None))),
+        (valid.areas.areas.len() as u8, Ok(()))
+    );
+    assert_eq!(
+        transfer_ack(&rig.send(transmit(&valid.mission, None))),
+        Err(Reason::CountMismatch),
+        "judged afresh: the buffer is empty"
+    );
 }
 
 /// ICD §11: accepting a data message or an opener ends the memory; the same closer is then

@@ -6,10 +6,13 @@
 //!
 //! The closer's content is what identifies it (ICD §11: message type, mode, Mission ID, Waypoint
 //! Number or Area Loop Count, checksum or none); its time stamp is not, since a retry carries a
-//! new one (ICD §3). The memory holds until the receiver accepts an opener or a data message of
-//! any transfer (ICD §10.2); its owner also forgets it when an active list changes by another
-//! way (this project's choice: a clear of the areas, for instance, makes "valid and active" of
-//! the last area closer untrue, and a retry must then be judged afresh).
+//! new one (ICD §3). There is one memory per kind of list, missions (#13000 closers) and areas
+//! (#2011 closers): each holds until the receiver accepts an opener or a data message of a
+//! transfer of its kind (ICD §10.2), so that the GCS may send the area opener behind the mission
+//! closer (ICD §10.3) and still get the closer's answer again. Its owner also forgets both when
+//! an active list changes by another way (this project's choice: a clear of the areas, for
+//! instance, makes "valid and active" of the last area closer untrue, and a retry must then be
+//! judged afresh).
 
 use missionlink_interfaces::wire::{Checksum, Message, MessageType, Reason, Text};
 
@@ -77,33 +80,58 @@ pub enum ClosingAnswer {
     },
 }
 
-/// The last closer answered and its answer.
+/// Which kind of list a transfer carries, for the memory of its closers: missions (#13000,
+/// #13001, #13002, #13006) or areas (#2011, #2012).
+fn kind(message_type: MessageType) -> Option<usize> {
+    match message_type {
+        MessageType::MissionTransferCommand
+        | MessageType::UaRoute
+        | MessageType::UaPositionWaypoint
+        | MessageType::VehicleSpecificWaypoint => Some(0),
+        MessageType::AreaTransmissionCommand | MessageType::AreaPolygonLoopSegment => Some(1),
+        _ => None,
+    }
+}
+
+/// The last closer answered of each kind of list, and its answer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct CloserMemory {
-    last: Option<(Closer, ClosingAnswer)>,
+    /// `[missions, areas]`.
+    last: [Option<(Closer, ClosingAnswer)>; 2],
 }
 
 impl CloserMemory {
     /// Nothing remembered.
     pub const fn new() -> Self {
-        Self { last: None }
+        Self { last: [None; 2] }
     }
 
-    /// The answer to give again when `closer` is the closer answered last.
+    /// The answer to give again when `closer` is the closer of its kind answered last.
     pub fn repeat(&self, closer: &Closer) -> Option<ClosingAnswer> {
-        self.last
+        kind(closer.message_type)
+            .and_then(|k| self.last.get(k).copied().flatten())
             .filter(|(last, _)| last == closer)
             .map(|(_, answer)| answer)
     }
 
     /// `closer` was answered with `answer`.
     pub fn remember(&mut self, closer: Closer, answer: ClosingAnswer) {
-        self.last = Some((closer, answer));
+        if let Some(slot) = kind(closer.message_type).and_then(|k| self.last.get_mut(k)) {
+            *slot = Some((closer, answer));
+        }
     }
 
-    /// An opener or a data message was accepted, or an active list changed otherwise.
+    /// `message`, an opener or a data message, was accepted: the closer of its kind is
+    /// forgotten (an opener or data message of the other kind leaves it, ICD §11).
+    pub fn accepted(&mut self, message: &Message) {
+        if let Some(slot) = kind(message.message_type()).and_then(|k| self.last.get_mut(k)) {
+            *slot = None;
+        }
+    }
+
+    /// An active list changed otherwise: both are forgotten.
     pub fn forget(&mut self) {
-        self.last = None;
+        self.last = [None; 2];
     }
 }
 
@@ -156,5 +184,30 @@ mod tests {
         assert_eq!(memory.repeat(&other), None);
         memory.forget();
         assert_eq!(memory.repeat(&closer), None);
+    }
+
+    /// ICD §10.3, §11: the area opener sent behind the mission closer leaves the mission
+    /// closer's memory; a mission message ends it; each kind keeps its own.
+    #[test]
+    fn each_kind_of_list_has_its_own_memory() {
+        let mut memory = CloserMemory::new();
+        let mission = Closer::of(&transmit(3)).unwrap();
+        let areas = Closer::of(&area_request(AreaTransferMode::UploadComplete, None)).unwrap();
+        let valid = ClosingAnswer::Acknowledgement(Ok(()));
+        let area_valid = ClosingAnswer::AreaStatus {
+            loop_count: 1,
+            outcome: Ok(()),
+        };
+        memory.remember(mission, valid);
+        memory.remember(areas, area_valid);
+        memory.accepted(&area_request(AreaTransferMode::InitiateUpload, None));
+        assert_eq!(memory.repeat(&mission), Some(valid));
+        assert_eq!(memory.repeat(&areas), None);
+        memory.remember(areas, area_valid);
+        memory.accepted(&mission_command(MissionPlanMode::ClearMission, None, None));
+        assert_eq!(memory.repeat(&mission), None);
+        assert_eq!(memory.repeat(&areas), Some(area_valid));
+        memory.forget();
+        assert_eq!(memory.repeat(&areas), None);
     }
 }

@@ -119,6 +119,37 @@ impl Mission {
     }
 }
 
+/// One entry of the waypoint buffer: what a message of a mission upload stores, and a later one
+/// of the same entry overwrites (ICD §5.1 step 3, §10.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Entry {
+    /// The take-off height (#13006 type 1).
+    TakeOff,
+    /// The route (#13001).
+    Route,
+    /// A waypoint (#13002), by Waypoint Number.
+    Waypoint(u16),
+    /// A radius-to-fix centre (#13006 type 2), by the number of its waypoint.
+    RfCentre(u16),
+}
+
+impl Entry {
+    /// The entry `message` stores, if it is mission data.
+    pub fn of(message: &Message) -> Option<Self> {
+        match message {
+            Message::UaPositionWaypoint(w) => Some(Self::Waypoint(w.waypoint_number)),
+            Message::VehicleSpecificWaypoint(v) => match v.data {
+                SpecificData::TakeOffHeight { .. } => Some(Self::TakeOff),
+                SpecificData::RfCentre {
+                    waypoint_number, ..
+                } => Some(Self::RfCentre(waypoint_number)),
+            },
+            Message::UaRoute(_) => Some(Self::Route),
+            _ => None,
+        }
+    }
+}
+
 /// The waypoint buffer: what a mission upload has stored so far, in any order (ICD §5.1 step
 /// 3). A waypoint number sent again overwrites (an edit). Capacity: [`MAX_WAYPOINTS`] waypoints
 /// (a power of two, as the index maps need).
@@ -162,6 +193,16 @@ impl MissionBuffer {
             && self.take_off.is_none()
             && self.route.is_none()
             && self.rf_centres.is_empty()
+    }
+
+    /// The message stored at `entry`, time stamp zero.
+    pub fn entry(&self, entry: Entry) -> Option<Message> {
+        match entry {
+            Entry::TakeOff => self.take_off.map(Message::from),
+            Entry::Route => self.route.map(Message::from),
+            Entry::Waypoint(n) => self.waypoints.get(&n).copied().map(Message::from),
+            Entry::RfCentre(n) => self.rf_centres.get(&n).copied().map(Message::from),
+        }
     }
 
     /// Stores a #13006, #13002 or #13001. A new waypoint beyond the capacity is refused
