@@ -24,18 +24,19 @@ use core::time::Duration;
 
 use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
 use missionlink_interfaces::wire::{
-    AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, AreaTransmissionStatus,
-    Checksum, ExecuteCommand, Message, MissionExecuteCommand, MissionPlanMode, MissionReport,
-    MissionTransferCommand, MissionUploadDownloadStatus, Reason, Text, Timestamp, TransferStatus,
-    TransferWindow, WindowOrChecksum,
+    self, AreaDownloadStatus, AreaTransferMode, AreaTransmissionCommand, AreaTransmissionStatus,
+    Checksum, Envelope, ExecuteCommand, MAX_FRAME_LEN, Message, MissionExecuteCommand,
+    MissionPlanMode, MissionReport, MissionTransferCommand, MissionUploadDownloadStatus, Reason,
+    TRAILER_LEN, Text, Timestamp, TransferStatus, TransferWindow, WindowOrChecksum,
 };
 
 use crate::link::endpoint::Endpoint;
-use crate::link::retry::{Exchange, ExchangeError, Outcome};
+use crate::link::retry::{AttemptFailure, Exchange, ExchangeError, Outcome};
 use crate::link::time::Instant;
 use crate::transfer::areas::AreaList;
 use crate::transfer::mission::Mission;
 use crate::transfer::staged::MissionId;
+use crate::transfer::window::Window;
 
 /// Which lists a transfer writes or reads (ICD §8): the active lists, or a staged mission.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -453,8 +454,35 @@ pub enum SenderEvent {
     Failed(ExchangeError),
 }
 
-/// Data messages in flight at most (ICD §10.2: receivers of edition 2 accept up to 32).
-pub const MAX_WINDOW: usize = 32;
+pub use crate::transfer::window::MAX_WINDOW;
+
+/// Messages of a transfer in flight at most: a window of data messages and the opener they
+/// were sent behind (ICD §10.3).
+const IN_FLIGHT: usize = MAX_WINDOW + 1;
+
+/// How a sender paces what it sends beside its window (ICD §10.2, §10.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Pacing {
+    /// ICD §10.3: the data messages go right behind the opener, without waiting for its
+    /// answer. Otherwise (ICD §10.2, and always toward edition 1) they wait for it.
+    pub pipelined: bool,
+    /// ICD §10.3: the transfer is sent behind the closer (or the last message) of the one
+    /// before it, whose answer is outstanding: its own closer waits for
+    /// [`TransferSender::release`], and a message of it refused meanwhile waits for it too.
+    pub behind: bool,
+}
+
+/// Where the opener of the script is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Opening {
+    /// The script has none: its data messages may go from the start (a download, the report).
+    Absent,
+    /// Sent, not yet accepted; `retried`: its first attempt failed, and its data messages wait
+    /// for it (ICD §10.3).
+    Pending { retried: bool },
+    /// Accepted.
+    Accepted,
+}
 
 /// One message of the script in flight.
 #[derive(Debug, Clone, Copy)]
@@ -462,22 +490,38 @@ struct InFlight {
     /// Its index in the script (to send it again, and to tell data messages from the rest).
     index: usize,
     exchange: Exchange,
+    /// When its first attempt went: a round trip, if that attempt is the one accepted.
+    sent_at: Instant,
+    /// Whether it was sent a second time (its answer then says nothing of the round trip,
+    /// since it cannot tell which attempt it answers).
+    retried: bool,
+    /// Refused while what it was sent behind was unanswered (ICD §10.3): its retry waits for
+    /// that answer.
+    parked: bool,
+    /// Its frame's bytes, signature trailer included (the window's rule 3); 0 when the window
+    /// does not count bytes.
+    bytes: u64,
 }
 
-/// A transfer in progress: the opener and the closer stop-and-wait, up to `window` data
+/// A transfer in progress: the opener and the closer stop-and-wait, up to the window's data
 /// messages in flight between them, each with its own ack timeout and one retry (ICD §5,
 /// §10.2). The closer goes out only when every data message was accepted. Window 1 is
-/// edition 1, message for message.
+/// edition 1, message for message. [`Pacing`] sends the data behind an unanswered opener and
+/// the transfer behind the one before it (ICD §10.3).
 #[derive(Debug, Clone)]
 pub struct TransferSender {
     script: Script,
     /// The next message of the script to send.
     next: usize,
-    /// Messages of the script answered with an acceptance.
+    /// Messages of the script answered with an acceptance (and not to be sent again).
     answered: usize,
-    window: usize,
-    in_flight: heapless::Vec<InFlight, MAX_WINDOW>,
+    /// First attempts sent, messages sent again after their opener failed included.
+    sent: usize,
+    window: Window,
+    in_flight: heapless::Vec<InFlight, IN_FLIGHT>,
     ack_timeout: Duration,
+    pacing: Pacing,
+    opener: Opening,
 }
 
 impl TransferSender {
@@ -501,46 +545,113 @@ impl TransferSender {
         endpoint: &mut Endpoint,
         now: Instant,
     ) -> Self {
+        Self::start_with(
+            script,
+            Window::fixed(window),
+            Pacing::default(),
+            ack_timeout,
+            endpoint,
+            now,
+        )
+    }
+
+    /// Starts sending `script` at `now` with `window` (sized to the link, ICD §10.4) and
+    /// `pacing` (ICD §10.3).
+    pub fn start_with(
+        script: Script,
+        window: Window,
+        pacing: Pacing,
+        ack_timeout: Duration,
+        endpoint: &mut Endpoint,
+        now: Instant,
+    ) -> Self {
+        let opener = if script.data_messages().start > 0 {
+            Opening::Pending { retried: false }
+        } else {
+            Opening::Absent
+        };
         let mut sender = Self {
             script,
             next: 0,
             answered: 0,
-            window: window.clamp(1, MAX_WINDOW),
+            sent: 0,
+            window,
             in_flight: heapless::Vec::new(),
             ack_timeout,
+            pacing,
+            opener,
         };
         sender.fill(endpoint, now);
         sender
     }
 
-    /// Sends what may go now: data messages while the window has room and no opener waits;
-    /// an opener or a closer only when nothing is in flight, and then nothing after it until
-    /// it is answered.
+    /// Whether the data messages may go now: the opener was accepted, or it is pipelined
+    /// behind (ICD §10.3) and its first attempt has not failed.
+    fn data_may_go(&self) -> bool {
+        match self.opener {
+            Opening::Absent | Opening::Accepted => true,
+            Opening::Pending { retried } => self.pacing.pipelined && !retried,
+        }
+    }
+
+    fn data_in_flight(&self) -> (usize, u64) {
+        let data = self.script.data_messages();
+        self.in_flight
+            .iter()
+            .filter(|f| data.contains(&f.index))
+            .fold((0, 0), |(n, bytes), f| (n + 1, bytes + f.bytes))
+    }
+
+    /// Sends what may go now (ICD §10.2, §10.3): data messages while the window has room and
+    /// their opener allows them; an opener or a closer only when nothing is in flight, and then
+    /// nothing after it until it is answered, but for the data a pipelined opener is followed
+    /// by; the closer of a transfer sent behind another not before [`TransferSender::release`].
     fn fill(&mut self, endpoint: &mut Endpoint, now: Instant) {
         let data = self.script.data_messages();
+        let last = self.script.len().saturating_sub(1);
         while self.next < self.script.len() {
-            let is_data = data.contains(&self.next);
+            let index = self.next;
+            let is_data = data.contains(&index);
+            let (in_flight, bytes_in_flight) = self.data_in_flight();
             let room = if is_data {
-                self.in_flight.len() < self.window
-                    && self.in_flight.iter().all(|f| data.contains(&f.index))
+                self.data_may_go()
+                    && in_flight < self.window.messages()
+                    && self
+                        .in_flight
+                        .iter()
+                        .all(|f| data.contains(&f.index) || f.index < data.start)
             } else {
-                self.in_flight.is_empty()
+                self.in_flight.is_empty() && !(index == last && index > 0 && self.pacing.behind)
             };
             if !room {
                 break;
             }
-            let Some(message) = self.script.message(self.next) else {
+            let Some(message) = self.script.message(index) else {
                 break;
             };
+            let bytes = if is_data && self.window.bytes().is_some() {
+                frame_bytes(&message)
+            } else {
+                0
+            };
+            if is_data && !self.window.admits(in_flight, bytes_in_flight, bytes) {
+                break;
+            }
             let mut exchange = Exchange::new(self.ack_timeout);
             exchange.send(endpoint, now, message);
-            // `room` checked the capacity (window <= MAX_WINDOW).
+            // `room` checked the capacity (a window of at most MAX_WINDOW and the opener).
             let _ = self.in_flight.push(InFlight {
-                index: self.next,
+                index,
                 exchange,
+                sent_at: now,
+                retried: false,
+                parked: false,
+                bytes,
             });
             self.next += 1;
-            if !is_data {
+            self.sent += 1;
+            let pipelined_opener = index == 0 && self.pacing.pipelined && !data.is_empty();
+            if !is_data && !pipelined_opener {
                 break;
             }
         }
@@ -551,19 +662,59 @@ impl TransferSender {
         &self.script
     }
 
-    /// The window of data messages in flight.
-    pub fn window(&self) -> usize {
-        self.window
+    /// The window (ICD §10.4): what it measured of the link, for the owner to carry to the next
+    /// transfer.
+    pub fn window(&self) -> &Window {
+        &self.window
     }
 
-    /// Messages of the script sent so far: first attempts (a retry is the same message again).
+    /// Messages of the script sent so far: first attempts (a retry is the same message again;
+    /// data messages sent again after their opener failed count again, ICD §10.3).
     pub fn sent(&self) -> usize {
-        self.next
+        self.sent
     }
 
     /// (messages answered, messages in the script).
     pub fn progress(&self) -> (usize, usize) {
         (self.answered, self.script.len())
+    }
+
+    /// Whether everything but the last message (the closer, or a request) was answered and
+    /// the last one is sent and unanswered: the owner may send its next transfer behind it
+    /// (ICD §10.3).
+    pub fn awaits_only_its_last(&self) -> bool {
+        let last = self.script.len().saturating_sub(1);
+        self.next == self.script.len()
+            && matches!(self.in_flight.as_slice(), [only] if only.index == last && !only.parked)
+    }
+
+    /// The transfer this one was sent behind was accepted to its end (ICD §10.3): its closer
+    /// may go, and what was refused meanwhile is sent again.
+    pub fn release(&mut self, endpoint: &mut Endpoint, now: Instant) {
+        self.pacing.behind = false;
+        self.unpark(endpoint, now);
+        self.fill(endpoint, now);
+    }
+
+    /// Sends again (their one retry) the parked messages that may go now: any but a data
+    /// message whose opener is still unanswered, once nothing is sent behind another transfer.
+    fn unpark(&mut self, endpoint: &mut Endpoint, now: Instant) {
+        if self.pacing.behind {
+            return;
+        }
+        let data = self.script.data_messages();
+        let data_go = matches!(self.opener, Opening::Absent | Opening::Accepted);
+        for f in self.in_flight.iter_mut() {
+            if f.parked && (data_go || !data.contains(&f.index)) {
+                f.parked = false;
+                f.retried = true;
+                match self.script.message(f.index) {
+                    Some(message) => f.exchange.resend(endpoint, now, message),
+                    // The script gave this message before; it cannot fail to now.
+                    None => f.exchange.cancel(),
+                }
+            }
+        }
     }
 
     /// When [`TransferSender::handle_timeout`] must be called: the earliest ack timeout in
@@ -592,20 +743,18 @@ impl TransferSender {
 
     /// The ack timeouts due at `now`: retries, or the failure of the transfer.
     pub fn handle_timeout(&mut self, endpoint: &mut Endpoint, now: Instant) -> Option<SenderEvent> {
-        let mut slot = 0;
-        while slot < self.in_flight.len() {
-            let outcome = self
+        // One due timer at a time: handling one may drop others (an opener that failed drops
+        // its data, ICD §10.3); each handled timer is stopped or set later, so this ends.
+        loop {
+            let (slot, outcome) = self
                 .in_flight
-                .get_mut(slot)
-                .and_then(|f| f.exchange.handle_timeout(now));
-            if let Some(outcome) = outcome {
-                if let Some(event) = self.after(endpoint, now, slot, outcome) {
-                    return Some(event);
-                }
+                .iter_mut()
+                .enumerate()
+                .find_map(|(i, f)| f.exchange.handle_timeout(now).map(|o| (i, o)))?;
+            if let Some(event) = self.after(endpoint, now, slot, outcome) {
+                return Some(event);
             }
-            slot += 1;
         }
-        None
     }
 
     fn after(
@@ -615,12 +764,24 @@ impl TransferSender {
         slot: usize,
         outcome: Outcome,
     ) -> Option<SenderEvent> {
+        let data = self.script.data_messages();
+        let f = *self.in_flight.get(slot)?;
+        let is_data = data.contains(&f.index);
+        let is_opener = f.index == 0 && matches!(self.opener, Opening::Pending { .. });
         match outcome {
             Outcome::Accepted(answer) => {
-                if slot < self.in_flight.len() {
-                    self.in_flight.swap_remove(slot);
+                self.in_flight.remove(slot);
+                if !f.retried {
+                    self.window.measured(f.sent_at, now);
+                }
+                if is_data {
+                    self.window.accepted();
                 }
                 self.answered += 1;
+                if is_opener {
+                    self.opener = Opening::Accepted;
+                    self.unpark(endpoint, now);
+                }
                 self.fill(endpoint, now);
                 if self.next >= self.script.len() && self.in_flight.is_empty() {
                     Some(SenderEvent::Completed(answer))
@@ -629,12 +790,29 @@ impl TransferSender {
                     Some(SenderEvent::Progress { sent, total })
                 }
             }
-            Outcome::Retry(_) => {
-                if let Some(f) = self.in_flight.get_mut(slot) {
-                    match self.script.message(f.index) {
-                        Some(message) => f.exchange.resend(endpoint, now, message),
-                        // The script gave this message before; it cannot fail to now.
-                        None => f.exchange.cancel(),
+            Outcome::Retry(failure) => {
+                if is_data && failure == AttemptFailure::Timeout {
+                    self.window.lost(f.sent_at, now);
+                }
+                if is_opener && self.pacing.pipelined {
+                    self.restart(slot);
+                }
+                let refused = matches!(failure, AttemptFailure::Rejected(_));
+                // ICD §10.3: refused while what it was sent behind is unanswered, it may only
+                // have overtaken that on the link; its retry waits for that answer.
+                let behind_opener =
+                    is_data && !matches!(self.opener, Opening::Accepted | Opening::Absent);
+                let waits = refused && (self.pacing.behind || behind_opener);
+                if let Some(f) = self.in_flight.iter_mut().find(|g| g.index == f.index) {
+                    if waits {
+                        f.parked = true;
+                    } else {
+                        f.retried = true;
+                        match self.script.message(f.index) {
+                            Some(message) => f.exchange.resend(endpoint, now, message),
+                            // The script gave this message before; it cannot fail to now.
+                            None => f.exchange.cancel(),
+                        }
                     }
                 }
                 None
@@ -644,6 +822,20 @@ impl TransferSender {
                 Some(SenderEvent::Failed(error))
             }
         }
+    }
+
+    /// ICD §10.3: the first attempt of a pipelined opener failed (no answer, or refused). The
+    /// data messages sent behind it may have been stored where the opener's retry will reset
+    /// them, or refused: they are dropped (an answer to one of them now matches nothing) and
+    /// sent again from the first, each with a new time stamp, after the retry is accepted.
+    fn restart(&mut self, opener_slot: usize) {
+        let Some(opener) = self.in_flight.get(opener_slot).map(|f| f.index) else {
+            return;
+        };
+        self.in_flight.retain(|f| f.index == opener);
+        self.next = opener + 1;
+        self.answered = 0;
+        self.opener = Opening::Pending { retried: true };
     }
 
     /// Abandons the transfer and tells the peer, once, without waiting for an answer.
@@ -658,6 +850,14 @@ impl TransferSender {
     pub fn cancel(&mut self) {
         self.in_flight.clear();
     }
+}
+
+/// The bytes `message` takes on the link: its frame and the signature trailer (ICD §2, §9),
+/// which a link may or may not carry; the larger, so that the window never counts short.
+fn frame_bytes(message: &Message) -> u64 {
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let frame = wire::encode(&Envelope::new(0, 0), message, &mut buf).unwrap_or(MAX_FRAME_LEN);
+    (frame + TRAILER_LEN) as u64
 }
 
 #[cfg(test)]
@@ -750,5 +950,284 @@ mod tests {
             Message::MissionExecuteCommand(c)
                 if c.command == ExecuteCommand::ActivateStaged && c.mission_id == Some(id.text())
         ));
+    }
+
+    // ---- Pacing (ICD §10.3) and the window (ICD §10.4) ----
+
+    use crate::testkit::{Transmit, endpoint, generated_plan};
+    use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
+    use missionlink_interfaces::wire::{AckType, MessageAcknowledgement};
+
+    const ACK_TIMEOUT: Duration = Duration::from_millis(500);
+
+    fn at(ms: u64) -> Instant {
+        Instant::from_millis(ms)
+    }
+
+    fn gcs() -> Endpoint {
+        Endpoint::new(endpoint(GCS_ID, FCC_ID))
+    }
+
+    /// The FCC's #17000 to `m`.
+    fn ack(m: &Message, outcome: Result<(), Reason>) -> Message {
+        let (ack_type, reason) = match outcome {
+            Ok(()) => (AckType::Completed, Reason::None),
+            Err(r) => (AckType::Rejected, r),
+        };
+        MessageAcknowledgement {
+            time_stamp: Timestamp::default(),
+            original_time_stamp: m.time_stamp(),
+            original_message_type: m.message_type() as u16,
+            ack_type,
+            reject_reason: Some(reason),
+        }
+        .into()
+    }
+
+    fn sent(e: &mut Endpoint) -> Vec<Message> {
+        e.messages()
+    }
+
+    fn names(messages: &[Message]) -> Vec<String> {
+        messages.iter().map(describe).collect()
+    }
+
+    /// Mission 1 after a clear: the clear, take-off height, waypoint 1, route, transmit.
+    fn upload() -> Script {
+        let plan = mission_1().assemble().unwrap_or_else(|e| panic!("{e}"));
+        Script::MissionUpload {
+            mission: plan.mission,
+            opener: Opener::Clear,
+            selection: None,
+            target: Target::Active,
+            checksum: None,
+        }
+    }
+
+    const PIPELINED: Pacing = Pacing {
+        pipelined: true,
+        behind: false,
+    };
+
+    #[test]
+    fn stop_and_wait_keeps_the_data_behind_the_opener_s_answer() {
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            upload(),
+            Window::fixed(32),
+            Pacing::default(),
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let clear = sent(&mut e);
+        assert_eq!(names(&clear), ["13000 mode 1 -"]);
+        s.handle_answer(&mut e, at(10), &ack(&clear[0], Ok(())));
+        assert_eq!(names(&sent(&mut e)), ["13006", "13002", "13001"]);
+    }
+
+    #[test]
+    fn a_pipelined_opener_goes_with_the_first_window_and_the_closer_waits_for_all() {
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            upload(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        assert_eq!(names(&out), ["13000 mode 1 -", "13006", "13002", "13001"]);
+        // The data are answered before the opener: the closer still waits for it.
+        for m in &out[1..] {
+            assert!(matches!(
+                s.handle_answer(&mut e, at(10), &ack(m, Ok(()))),
+                Some(SenderEvent::Progress { .. })
+            ));
+        }
+        assert!(sent(&mut e).is_empty());
+        s.handle_answer(&mut e, at(11), &ack(&out[0], Ok(())));
+        let closer = sent(&mut e);
+        assert_eq!(names(&closer), ["13000 mode 2 MEDEVAC-1"]);
+        assert!(s.awaits_only_its_last());
+        assert!(matches!(
+            s.handle_answer(&mut e, at(20), &ack(&closer[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
+        assert_eq!(s.sent(), 5);
+        // The shortest round trip: the closer's, 11 ms to 20 ms.
+        assert_eq!(s.window().min_rtt(), Some(Duration::from_millis(9)));
+    }
+
+    /// ICD §10.3: the opener's answer lost (or the opener): it goes again alone, then every
+    /// data message again with a new time stamp, answered or not.
+    #[test]
+    fn an_opener_that_fails_once_goes_again_alone_and_its_data_after_it() {
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            upload(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let first = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&first[1], Ok(())));
+        assert_eq!(s.handle_timeout(&mut e, at(500)), None);
+        let retry = sent(&mut e);
+        assert_eq!(names(&retry), ["13000 mode 1 -"], "alone");
+        assert!(retry[0].time_stamp() > first[3].time_stamp());
+        assert_eq!(s.progress(), (0, 5));
+        // A late answer to a data message of the first round matches nothing.
+        assert_eq!(
+            s.handle_answer(&mut e, at(510), &ack(&first[2], Ok(()))),
+            None
+        );
+        s.handle_answer(&mut e, at(520), &ack(&retry[0], Ok(())));
+        let again = sent(&mut e);
+        assert_eq!(names(&again), ["13006", "13002", "13001"]);
+        assert!(again.iter().all(|m| m.time_stamp() > retry[0].time_stamp()));
+        for m in &again {
+            s.handle_answer(&mut e, at(530), &ack(m, Ok(())));
+        }
+        let closer = sent(&mut e);
+        assert!(matches!(
+            s.handle_answer(&mut e, at(540), &ack(&closer[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
+        assert_eq!(s.sent(), 8, "clear, 3 data twice, transmit");
+        // The opener's retry says nothing of the round trip; the data did.
+        assert_eq!(s.window().min_rtt(), Some(Duration::from_millis(10)));
+    }
+
+    /// ICD §10.3: a data message refused while its opener is unanswered may have overtaken it:
+    /// its retry waits for the opener's acceptance.
+    #[test]
+    fn data_refused_before_the_opener_s_answer_go_again_after_it() {
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            upload(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        assert_eq!(
+            s.handle_answer(&mut e, at(10), &ack(&out[2], Err(Reason::WrongState))),
+            None
+        );
+        assert!(sent(&mut e).is_empty(), "parked, no timer");
+        assert_eq!(s.poll_timeout(), Some(at(500)));
+        s.handle_answer(&mut e, at(11), &ack(&out[0], Ok(())));
+        let retry = sent(&mut e);
+        assert_eq!(names(&retry), ["13002"]);
+        // Its one retry: refused again, the transfer fails.
+        s.handle_answer(&mut e, at(12), &ack(&out[1], Ok(())));
+        s.handle_answer(&mut e, at(12), &ack(&out[3], Ok(())));
+        assert!(matches!(
+            s.handle_answer(&mut e, at(20), &ack(&retry[0], Err(Reason::WrongState))),
+            Some(SenderEvent::Failed(_))
+        ));
+    }
+
+    /// ICD §10.3: a transfer sent behind the last message of the one before: its closer waits
+    /// for the release, and what is refused meanwhile waits too.
+    #[test]
+    fn a_transfer_sent_behind_another_waits_for_its_release() {
+        let plan = mission_1().assemble().unwrap_or_else(|e| panic!("{e}"));
+        let areas = || Script::AreaUpload {
+            list: plan.areas.clone(),
+            target: Target::Active,
+            checksum: None,
+        };
+        let behind = Pacing {
+            pipelined: true,
+            behind: true,
+        };
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            areas(),
+            Window::fixed(32),
+            behind,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        assert_eq!(names(&out), ["2011 mode 1 -", "2012"]);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        s.handle_answer(&mut e, at(10), &ack(&out[1], Ok(())));
+        assert!(sent(&mut e).is_empty(), "the closer is held");
+        s.release(&mut e, at(20));
+        assert_eq!(names(&sent(&mut e)), ["2011 mode 2 -"]);
+
+        // The opener refused meanwhile: parked with its data dropped; released, it goes again.
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            areas(),
+            Window::fixed(32),
+            behind,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Err(Reason::Busy)));
+        assert!(sent(&mut e).is_empty());
+        assert_eq!(s.poll_timeout(), None, "nothing waits for a timer");
+        s.release(&mut e, at(20));
+        let retry = sent(&mut e);
+        assert_eq!(names(&retry), ["2011 mode 1 -"]);
+        s.handle_answer(&mut e, at(30), &ack(&retry[0], Ok(())));
+        assert_eq!(names(&sent(&mut e)), ["2012"]);
+    }
+
+    /// ICD §10.4 rule 3: what the link carries in a round trip, at 2.4 kbit/s and 1.5 s.
+    #[test]
+    fn the_window_keeps_what_the_link_carries_in_a_round_trip() {
+        let plan = generated_plan(20)
+            .assemble()
+            .unwrap_or_else(|e| panic!("{e}"));
+        let script = Script::MissionUpload {
+            mission: plan.mission,
+            opener: Opener::None,
+            selection: None,
+            target: Target::Active,
+            checksum: None,
+        };
+        let frames: Vec<u64> = (0..4)
+            .filter_map(|i| script.message(i))
+            .map(|m| frame_bytes(&m))
+            .collect();
+        // Take-off height 48 bytes, each waypoint 65 (the 16 of the signature included).
+        assert_eq!(frames, [48, 65, 65, 65]);
+        let mut window = Window::adaptive(32, Some(2_400));
+        window.measured(at(0), at(1500));
+        assert_eq!(window.bytes(), Some(450));
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            script,
+            window,
+            Pacing::default(),
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        // 48 + 6 x 65 = 438 bytes; a seventh waypoint would make 503.
+        assert_eq!(
+            names(&out),
+            [
+                "13006", "13002", "13002", "13002", "13002", "13002", "13002"
+            ]
+        );
+        s.handle_answer(&mut e, at(1500), &ack(&out[0], Ok(())));
+        assert!(sent(&mut e).is_empty(), "65 bytes more would make 455");
+        s.handle_answer(&mut e, at(1500), &ack(&out[1], Ok(())));
+        assert_eq!(names(&sent(&mut e)), ["13002"], "5 x 65 + 65 = 390");
     }
 }
