@@ -81,6 +81,6 @@ mod tests {
 
     #[test]
     fn every_timer_enum_of_the_crate_has_one_slot_per_timer() {
-        check_timer_slots::<crate::ground_station::GcsTimer, 4>();
+        check_timer_slots::<crate::ground_station::GcsTimer, 5>();
     }
 }

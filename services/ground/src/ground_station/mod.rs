@@ -51,10 +51,11 @@ use missionlink_protocol::transfer::receiver::{
     AreaReceiver, MissionReceiver, Received, ReportReceiver,
 };
 use missionlink_protocol::transfer::sender::{
-    Script, SenderEvent, Target, TransferSender, activate_staged, area_download_request,
+    Pacing, Script, SenderEvent, Target, TransferSender, activate_staged, area_download_request,
     area_request, delete_staged, mission_command, mission_download_request,
 };
 use missionlink_protocol::transfer::staged::MissionId;
+use missionlink_protocol::transfer::window::Window;
 
 pub mod edit;
 mod error;
@@ -236,6 +237,8 @@ missionlink_protocol::timers! {
     pub enum GcsTimer {
         /// The ack timeout of the message in flight (ICD §1: 500 ms).
         Sender,
+        /// The ack timeouts of the step sent behind the one in progress (ICD §10.3).
+        Behind,
         /// The transfer timeout of the mission download (ICD §1: 3 s).
         MissionDownload,
         /// The transfer timeout of the area download.
@@ -284,6 +287,25 @@ enum State {
     Commanding,
 }
 
+/// A step of an upload sent behind the one in progress, whose last message is unanswered
+/// (ICD §10.3): the area upload behind the mission closer, the activation behind the area
+/// closer.
+#[derive(Debug)]
+struct Behind {
+    phase: Phase,
+    sender: TransferSender,
+    /// How it ended, when it ended before the step it was sent behind.
+    ended: Option<SenderEvent>,
+}
+
+/// The FCC's report as the GCS holds it (ICD §10.3).
+#[derive(Debug, Clone)]
+struct HeldReport {
+    entries: Vec<MissionReport>,
+    /// When it was received or brought up to date.
+    at: Instant,
+}
+
 /// The GCS logic.
 #[derive(Debug)]
 pub struct GroundStation<G: SafetyGateway> {
@@ -292,6 +314,14 @@ pub struct GroundStation<G: SafetyGateway> {
     gateway: G,
     state: State,
     sender: Option<TransferSender>,
+    /// The step of an upload sent behind the one in progress (ICD §10.3).
+    behind: Option<Behind>,
+    /// The window of the link (ICD §10.4): what the senders measured, carried from one
+    /// transfer to the next.
+    window: Window,
+    /// The FCC's report as the GCS knows it now (ICD §10.3): received, or brought up to date
+    /// by an upload that completed since.
+    held_report: Option<HeldReport>,
     upload: Option<Box<UploadJob>>,
     edition: Option<Edition>,
     /// When the FCC was last heard (a frame that passed preprocessing).
@@ -321,6 +351,9 @@ impl<G: SafetyGateway> GroundStation<G> {
             gateway,
             state: State::Standby,
             sender: None,
+            behind: None,
+            window: Window::adaptive(usize::from(config.transfer_window.get()), None),
+            held_report: None,
             upload: None,
             edition: None,
             last_heard: None,
@@ -346,9 +379,38 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.config.upload_attempts = attempts.max(1);
     }
 
-    /// The window of the transfers started from now on (ICD §10.2; toward an edition-2 FCC).
+    /// The window of the transfers started from now on (ICD §10.2; toward an edition-2 FCC):
+    /// the most the window sized to the link may reach (ICD §10.4).
     pub fn set_transfer_window(&mut self, window: TransferWindow) {
         self.config.transfer_window = window;
+    }
+
+    /// The link's rate toward the FCC in bit/s, when known (`None`: not known): the window
+    /// then keeps in flight at most what the link carries in a round trip (ICD §10.4).
+    pub fn set_link_rate(&mut self, rate_bps: Option<u64>) {
+        self.window.set_rate(rate_bps);
+    }
+
+    /// The window of the link as the senders measured it (ICD §10.4).
+    pub fn link_window(&self) -> &Window {
+        &self.window
+    }
+
+    /// Whether the GCS sends without waiting where ICD §10.3 allows it: toward an edition-2
+    /// FCC with a window above 1 (a window of 1 keeps every message stop-and-wait, and every
+    /// upload starting with the report).
+    fn pipelining(&self) -> bool {
+        self.edition == Some(Edition::Two) && self.config.transfer_window.get() > 1
+    }
+
+    /// The FCC's report the GCS holds, if it is fresh (ICD §10.3): received or brought up to
+    /// date within the transfer timeout, with the FCC heard within it.
+    fn fresh_report(&self, now: Instant) -> Option<Vec<MissionReport>> {
+        self.held_report
+            .as_ref()
+            .filter(|h| now.saturating_since(h.at) < self.config.transfer_timeout)
+            .filter(|_| self.edition_known(now))
+            .map(|h| h.entries.clone())
     }
 
     /// Time stamps from now on are strictly greater than `floor`
@@ -434,6 +496,11 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     fn start_report(&mut self, now: Instant, purpose: Purpose) {
+        if matches!(purpose, Purpose::Discovery(_)) && !self.edition_known(now) {
+            // Silent for the transfer timeout, or never heard: the path may have changed, and
+            // the window measures it afresh (ICD §10.4).
+            self.window.forget_path();
+        }
         self.report.abandon();
         let request = mission_command(MissionPlanMode::ReportMissions, None, None);
         self.start(now, State::Reporting(purpose), Script::Request(request));
@@ -470,6 +537,8 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// waypoint list (ICD §5.1 step 1). The FCC refuses it while trajectory generation is active.
     pub fn clear_mission(&mut self, now: Instant) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
+        // The lists change: the report held is no longer what the FCC holds.
+        self.held_report = None;
         self.start(
             now,
             State::Commanding,
@@ -526,35 +595,132 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// A single command and its answer.
     fn command(&mut self, now: Instant, message: Message) -> Result<(), GcsError<G::Report>> {
         self.ensure_standby()?;
+        // A command may change the lists (a clear, an activation, a delete): the report held
+        // is no longer known to be what the FCC holds.
+        self.held_report = None;
         self.start(now, State::Commanding, Script::Request(message));
         Ok(())
     }
 
-    /// The sender's messages count toward the upload in progress; the sender goes.
+    /// The sender's messages count toward the upload in progress; what its window measured is
+    /// kept for the next transfer (ICD §10.4); the sender goes.
     fn account_sender(&mut self) {
-        if let Some(sender) = self.sender.take()
-            && let Some(job) = self.upload.as_mut()
-        {
-            job.sent += sender.sent();
+        if let Some(sender) = self.sender.take() {
+            self.keep_window(&sender);
+            if let Some(job) = self.upload.as_mut() {
+                job.sent += sender.sent();
+            }
+        }
+    }
+
+    /// Keeps what `sender`'s window measured of the link (ICD §10.4).
+    fn keep_window(&mut self, sender: &TransferSender) {
+        let mut window = *sender.window();
+        window.absorb(&self.window);
+        self.window = window;
+    }
+
+    /// Drops the step sent behind the one in progress (ICD §10.3), telling the FCC where it is a
+    /// transfer (an area upload: #2011 mode 5); its messages count toward the upload.
+    fn drop_behind(&mut self, now: Instant) {
+        let Some(mut behind) = self.behind.take() else {
+            return;
+        };
+        if behind.ended.is_none() {
+            behind.sender.abandon(&mut self.endpoint, now, Reason::None);
+        }
+        self.keep_window(&behind.sender);
+        if let Some(job) = self.upload.as_mut() {
+            job.sent += behind.sender.sent();
+        }
+    }
+
+    /// An event of the step sent behind (ICD §10.3): progress is shown; its end waits for the
+    /// end of the step it was sent behind.
+    fn behind_event(&mut self, event: SenderEvent) {
+        let Some(behind) = self.behind.as_mut() else {
+            return;
+        };
+        match event {
+            SenderEvent::Progress { sent, total } => self.events.push_back(GcsEvent::Progress {
+                phase: behind.phase,
+                sent,
+                total,
+            }),
+            ended => behind.ended = Some(ended),
         }
     }
 
     fn start(&mut self, now: Instant, state: State, script: Script) {
         self.account_sender();
         self.state = state;
-        // ICD §10.2: a window above 1 only toward an edition-2 FCC; the scripts without data
-        // messages send one at a time whatever the window.
-        let window = match self.edition {
-            Some(Edition::Two) => self.config.transfer_window.get(),
-            _ => TransferWindow::MIN,
+        let pacing = Pacing {
+            pipelined: self.pipelining(),
+            behind: false,
         };
-        self.sender = Some(TransferSender::start_windowed(
+        let window = self.sender_window();
+        self.sender = Some(TransferSender::start_with(
             script,
-            usize::from(window),
+            window,
+            pacing,
             self.config.ack_timeout,
             &mut self.endpoint,
             now,
         ));
+    }
+
+    /// The window a sender starts with (ICD §10.2, §10.4): the link's, agreed at the configured
+    /// window toward an edition-2 FCC, at 1 toward edition 1; the scripts without data messages
+    /// send one at a time whatever the window.
+    fn sender_window(&mut self) -> Window {
+        let agreed = match self.edition {
+            Some(Edition::Two) => self.config.transfer_window.get(),
+            _ => TransferWindow::MIN,
+        };
+        self.window.set_max(usize::from(agreed));
+        self.window
+    }
+
+    /// Starts `script`, the upload step `phase`, behind the step in progress, whose last message
+    /// is unanswered (ICD §10.3).
+    fn start_behind(&mut self, now: Instant, phase: Phase, script: Script) {
+        let pacing = Pacing {
+            pipelined: true,
+            behind: true,
+        };
+        let window = self.sender_window();
+        let sender = TransferSender::start_with(
+            script,
+            window,
+            pacing,
+            self.config.ack_timeout,
+            &mut self.endpoint,
+            now,
+        );
+        self.behind = Some(Behind {
+            phase,
+            sender,
+            ended: None,
+        });
+    }
+
+    /// The step sent behind becomes the step in progress: the one before it was accepted to its
+    /// end (ICD §10.3). Its closer may go; its end, if it came already, is handled now.
+    fn promote_behind(&mut self, now: Instant, behind: Behind) {
+        let Behind {
+            phase,
+            mut sender,
+            ended,
+        } = behind;
+        self.account_sender();
+        self.state = State::Uploading(phase);
+        sender.release(&mut self.endpoint, now);
+        self.sender = Some(sender);
+        match ended {
+            Some(event) => self.sender_event(now, event),
+            // Released, its closer may have gone at once: the next step may go behind it.
+            None => self.send_next_behind(now),
+        }
     }
 
     fn finish(&mut self, event: GcsEvent<G::Report>) {
@@ -565,7 +731,10 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// Back to standby, every request's state dropped.
     fn reset(&mut self) {
         self.state = State::Standby;
-        self.sender = None;
+        if let Some(sender) = self.sender.take() {
+            self.keep_window(&sender);
+        }
+        self.behind = None;
         self.upload = None;
         self.download_target = Target::Active;
         self.staged_command = None;
@@ -706,6 +875,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             SenderEvent::Progress { sent, total } => {
                 self.events
                     .push_back(GcsEvent::Progress { phase, sent, total });
+                self.send_next_behind(now);
             }
             SenderEvent::Failed(error) => match self.state {
                 // The FCC may have carried out what it did not answer: ask (ICD §11).
@@ -805,6 +975,10 @@ impl<G: SafetyGateway> GroundStation<G> {
         let Some(entries) = self.report.take() else {
             return;
         };
+        self.held_report = Some(HeldReport {
+            entries: entries.to_vec(),
+            at: now,
+        });
         match purpose {
             Purpose::Discovery(Then::Upload) => {
                 self.upload_discovered(&entries);
@@ -890,7 +1064,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 }
 
-impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
+impl<G: SafetyGateway> Composite<GcsTimer, 5> for GroundStation<G> {
     fn endpoint(&mut self) -> &mut Endpoint {
         &mut self.endpoint
     }
@@ -898,6 +1072,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
     fn deadline(&self, timer: GcsTimer) -> Option<Instant> {
         match timer {
             GcsTimer::Sender => self.sender.as_ref().and_then(TransferSender::poll_timeout),
+            GcsTimer::Behind => self.behind.as_ref().and_then(|b| b.sender.poll_timeout()),
             GcsTimer::MissionDownload => self.mission_download.poll_timeout(),
             GcsTimer::AreaDownload => self.area_download.poll_timeout(),
             GcsTimer::Report => self.report.poll_timeout(),
@@ -913,6 +1088,16 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
                     .and_then(|s| s.handle_timeout(&mut self.endpoint, now))
                 {
                     self.sender_event(now, event);
+                }
+                None
+            }
+            GcsTimer::Behind => {
+                if let Some(event) = self
+                    .behind
+                    .as_mut()
+                    .and_then(|b| b.sender.handle_timeout(&mut self.endpoint, now))
+                {
+                    self.behind_event(event);
                 }
                 None
             }
@@ -943,6 +1128,15 @@ impl<G: SafetyGateway> Composite<GcsTimer, 4> for GroundStation<G> {
             {
                 return;
             }
+        }
+        // An answer to the step sent behind (ICD §10.3)?
+        if let Some(event) = self
+            .behind
+            .as_mut()
+            .and_then(|b| b.sender.handle_answer(&mut self.endpoint, now, message))
+        {
+            self.behind_event(event);
+            return;
         }
         match message {
             Message::FromToNext(ftn) => {

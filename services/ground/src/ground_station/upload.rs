@@ -38,7 +38,7 @@
 //! ([`UploadReport::warning`]), not a failed upload.
 
 use missionlink_interfaces::capacity::MAX_STAGED_MISSIONS;
-use missionlink_interfaces::wire::{Checksum, MissionReport, Text};
+use missionlink_interfaces::wire::{Checksum, GeofenceCheck, MissionReport, Text};
 
 use super::edit::{FullUpload, difference};
 use super::outcome::{
@@ -52,7 +52,7 @@ use missionlink_protocol::transfer::areas::AreaList;
 use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_protocol::transfer::mission::Mission;
 use missionlink_protocol::transfer::sender::{
-    Opener, Script, Target, activate_staged, delete_staged,
+    Opener, Script, Target, TransferSender, activate_staged, delete_staged,
 };
 use missionlink_protocol::transfer::staged::MissionId;
 
@@ -119,6 +119,11 @@ pub(super) struct UploadJob {
     temp_staged: Option<bool>,
     /// Copies earlier uploads left that the report lists: deleted after the upload's own.
     leftovers: Vec<MissionId>,
+    /// Whether the report gave copies to delete: the upload then does not bring the report
+    /// up to date (ICD §10.3), as which of them went is not followed.
+    had_leftovers: bool,
+    /// Whether this attempt asked for the report (ICD §10.3: not when it held a fresh one).
+    asked_report: bool,
     /// The staged copy whose delete is in progress.
     deleting: Option<MissionId>,
     /// The mission step: its opener and selection; `None`: the mission is not sent.
@@ -359,6 +364,8 @@ impl<G: SafetyGateway> GroundStation<G> {
             temp: None,
             temp_staged: Some(false),
             leftovers: Vec::new(),
+            had_leftovers: false,
+            asked_report: false,
             deleting: None,
             mission_step: None,
             send_areas: true,
@@ -373,11 +380,21 @@ impl<G: SafetyGateway> GroundStation<G> {
             attempt,
             request,
         }));
-        // Toward edition 2 the report goes first every time: it is what is held before, for
-        // the plan and for the truth after a failure (ICD §11).
+        // Toward edition 2 the report goes first: it is what is held before, for the plan and
+        // for the truth after a failure (ICD §11); pipelining, a fresh one the GCS holds will
+        // do (ICD §10.3). The upload changes the lists: the one held is used up.
+        let fresh = self.pipelining().then(|| self.fresh_report(now)).flatten();
+        self.held_report = None;
         if self.edition_known(now) && self.edition == Some(Edition::One) {
             self.plan_upload(now);
+        } else if let Some(entries) = fresh {
+            tracing::info!("the report held is fresh: the upload goes without asking for it");
+            self.upload_discovered(&entries);
+            self.plan_upload(now);
         } else {
+            if let Some(job) = self.upload.as_mut() {
+                job.asked_report = true;
+            }
             self.start_report(now, super::Purpose::Discovery(Then::Upload));
         }
     }
@@ -436,6 +453,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.copies_left
             .retain(|id| entry_of(entries, Target::Staged(*id)).is_some());
         job.leftovers = self.copies_left.clone();
+        job.had_leftovers = !job.leftovers.is_empty();
     }
 
     /// Plans the steps once the edition (and toward edition 2 the report) is known, and starts
@@ -576,12 +594,12 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// Starts the first step after `after` that the plan holds; ends the upload after the last.
-    pub(super) fn next_step(&mut self, now: Instant, after: Option<Phase>) {
-        let edition_2 = self.edition == Some(Edition::Two);
-        let Some(job) = self.upload.as_mut() else {
-            return;
-        };
+    /// The first step after `after` that the plan holds, and its script.
+    fn following(
+        job: &UploadJob,
+        after: Option<Phase>,
+        edition_2: bool,
+    ) -> Option<(Phase, Script)> {
         let order = [
             Phase::MissionUpload,
             Phase::AreaUpload,
@@ -592,7 +610,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             .and_then(|p| order.iter().position(|o| *o == p))
             .map_or(0, |i| i + 1);
         let target = Self::closer_target(job);
-        for phase in order.iter().skip(start) {
+        order.into_iter().skip(start).find_map(|phase| {
             let script = match phase {
                 Phase::MissionUpload => {
                     job.mission_step
@@ -611,27 +629,100 @@ impl<G: SafetyGateway> GroundStation<G> {
                     checksum: edition_2.then_some(job.checksums.1),
                 }),
                 Phase::Activation => job.temp.map(|id| Script::Request(activate_staged(id))),
-                Phase::Deletion => {
-                    job.deleting = job.temp.filter(|_| job.temp_staged != Some(false));
-                    job.deleting.map(|id| Script::Request(delete_staged(id)))
-                }
+                Phase::Deletion => job
+                    .temp
+                    .filter(|_| job.temp_staged != Some(false))
+                    .map(|id| Script::Request(delete_staged(id))),
                 _ => None,
             };
-            if let Some(script) = script {
-                match phase {
-                    Phase::MissionUpload | Phase::AreaUpload if job.temp.is_some() => {
-                        job.temp_staged = job.temp_staged.filter(|s| *s);
-                    }
-                    Phase::Activation => job.activation_sent = true,
-                    _ => {}
-                }
-                self.start(now, State::Uploading(*phase), script);
-                return;
+            script.map(|s| (phase, s))
+        })
+    }
+
+    /// What starting `phase` means for the job.
+    fn starting(job: &mut UploadJob, phase: Phase) {
+        match phase {
+            Phase::MissionUpload | Phase::AreaUpload if job.temp.is_some() => {
+                job.temp_staged = job.temp_staged.filter(|s| *s);
+            }
+            Phase::Activation => job.activation_sent = true,
+            Phase::Deletion => {
+                job.deleting = job.temp.filter(|_| job.temp_staged != Some(false));
+            }
+            _ => {}
+        }
+    }
+
+    /// Starts the first step after `after` that the plan holds; ends the upload after the last.
+    /// A step sent behind `after` already (ICD §10.3) goes on instead.
+    pub(super) fn next_step(&mut self, now: Instant, after: Option<Phase>) {
+        let edition_2 = self.edition == Some(Edition::Two);
+        let Some(job) = self.upload.as_mut() else {
+            return;
+        };
+        let next = Self::following(job, after, edition_2);
+        if let Some(behind) = self.behind.take() {
+            if next
+                .as_ref()
+                .is_some_and(|(phase, _)| *phase == behind.phase)
+            {
+                return self.promote_behind(now, behind);
+            }
+            // Not the step that follows (it cannot be: only the next step is sent behind).
+            self.behind = Some(behind);
+            self.drop_behind(now);
+        }
+        let Some(job) = self.upload.as_mut() else {
+            return;
+        };
+        match next {
+            Some((phase, script)) => {
+                Self::starting(job, phase);
+                self.start(now, State::Uploading(phase), script);
+            }
+            None => {
+                let (m, a) = job.checksums;
+                let confirmation = job.confirmation;
+                self.end_upload(now, ListOutcome::new(m), ListOutcome::new(a), confirmation);
             }
         }
-        let (m, a) = job.checksums;
-        let confirmation = job.confirmation;
-        self.end_upload(now, ListOutcome::new(m), ListOutcome::new(a), confirmation);
+    }
+
+    /// ICD §10.3: when the step in progress has only its last message unanswered (the closer),
+    /// the next step goes behind it if it is the area upload or the activation: its closer (the
+    /// area closer) waits for the step before to be accepted, and the activation goes only
+    /// after both closers were sent, the mission's accepted. The delete of the staged copy never
+    /// goes behind the activation: arriving first, it would make the activation fail.
+    pub(super) fn send_next_behind(&mut self, now: Instant) {
+        if !self.pipelining() || self.behind.is_some() {
+            return;
+        }
+        let State::Uploading(phase) = self.state else {
+            return;
+        };
+        if !self
+            .sender
+            .as_ref()
+            .is_some_and(TransferSender::awaits_only_its_last)
+        {
+            return;
+        }
+        let edition_2 = self.edition == Some(Edition::Two);
+        let Some(job) = self.upload.as_mut() else {
+            return;
+        };
+        let Some((next, script)) = Self::following(job, Some(phase), edition_2) else {
+            return;
+        };
+        let allowed = matches!(
+            (phase, next),
+            (Phase::MissionUpload, Phase::AreaUpload) | (Phase::AreaUpload, Phase::Activation)
+        );
+        if !allowed {
+            return;
+        }
+        Self::starting(job, next);
+        self.start_behind(now, next, script);
     }
 
     /// A step's script was answered to its end.
@@ -663,6 +754,12 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// A step failed. The delete of the staged copy only warns; any other step makes the GCS
     /// ask what the FCC holds (ICD §11).
     pub(super) fn step_failed(&mut self, now: Instant, phase: Phase, error: ExchangeError) {
+        if self.upload.is_none() {
+            return;
+        }
+        // ICD §10.3: what was sent behind the step that failed is dropped (an area upload is
+        // cancelled); the FCC is then asked what it holds.
+        self.drop_behind(now);
         let Some(job) = self.upload.as_mut() else {
             return;
         };
@@ -717,6 +814,16 @@ impl<G: SafetyGateway> GroundStation<G> {
         if let Some(t) = temp.filter(|_| staged_under_temp) {
             job.temp_staged = Some(t != (None, None));
         }
+        // ICD §10.3: the activation sent behind the area closer was carried out when the new
+        // lists are active; the upload goes on after it, not with it again.
+        let phase = match phase {
+            Some(Phase::AreaUpload)
+                if go_on && job.activation_sent && target == (Some(new.0), Some(new.1)) =>
+            {
+                Some(Phase::Activation)
+            }
+            other => other,
+        };
         if let Some(p) = phase.filter(|_| go_on) {
             let refused = job.failure.as_ref().and_then(|(_, e)| e.reason());
             match refused {
@@ -899,6 +1006,8 @@ impl<G: SafetyGateway> GroundStation<G> {
         report.messages.sent = job.sent;
         report.warning = job.warning;
         report.attempts = job.attempt;
+        self.held_report =
+            report_after(&job, &report).map(|entries| super::HeldReport { entries, at: now });
         if report.is_complete() {
             tracing::info!(%report, "upload ended");
             self.finish(super::GcsEvent::Uploaded(report));
@@ -959,11 +1068,60 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 }
 
+/// The report as the FCC gives it after `job` ended with `report` (ICD §10.3), for the next
+/// upload: the report this upload began with, the target's entry (the active lists, or the
+/// staged mission) holding the lists uploaded. Only after an upload that completed toward
+/// edition 2 with nothing left unknown (no staged copy left behind, no earlier copies deleted);
+/// otherwise `None`, and the next upload asks. The geofence check of the entry is not known
+/// ("not run"): the GCS plans with the counts, checksums and Mission IDs only.
+fn report_after(job: &UploadJob, report: &UploadReport) -> Option<Vec<MissionReport>> {
+    if !report.is_complete()
+        || report.warning.is_some()
+        || job.had_leftovers
+        || job.before.is_none()
+    {
+        return None;
+    }
+    let target = match job.kind {
+        Kind::Stage(id) => Target::Staged(id),
+        _ => Target::Active,
+    };
+    let id = target.mission_id_field();
+    let entry = MissionReport {
+        time_stamp: Default::default(),
+        report_index: 0,
+        report_count: 0,
+        mission_id: Some(id),
+        waypoint_count: job.mission.waypoints.len() as u16,
+        area_count: job.areas.areas.len() as u8,
+        geofence_check: GeofenceCheck::NotRun,
+        reason: None,
+        mission_checksum: Some(job.checksums.0),
+        area_checksum: Some(job.checksums.1),
+    };
+    let mut entries = job.entries.clone();
+    let name = |e: &MissionReport| e.mission_id.unwrap_or_default();
+    match entries.iter_mut().find(|e| name(e).as_str() == id.as_str()) {
+        Some(held) => *held = entry,
+        None => {
+            // The active lists first, then the staged missions in ascending byte order (ICD §8).
+            let at = entries.partition_point(|e| name(e).as_str() < id.as_str());
+            entries.insert(at, entry);
+        }
+    }
+    let count = u8::try_from(entries.len()).ok()?;
+    for (index, e) in (1..).zip(entries.iter_mut()) {
+        e.report_index = index;
+        e.report_count = count;
+    }
+    Some(entries)
+}
+
 /// The messages a full upload of the job's lists by its kind would have sent: the report
 /// request, the opener, the mission's messages and closer, the areas with their opener and
 /// closer, and for an atomic upload toward edition 2 the activation and the delete.
 fn full_upload_messages(job: &UploadJob, edition_2: bool) -> usize {
-    let report = usize::from(edition_2);
+    let report = usize::from(edition_2 && job.asked_report);
     let atomic = match job.kind {
         Kind::Atomic if edition_2 => 2,
         _ => 0,

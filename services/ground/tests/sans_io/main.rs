@@ -18,6 +18,7 @@ mod flown_path;
 mod integrity;
 mod mission_pair;
 mod no_allocation;
+mod pipelined;
 mod reject_reasons;
 mod retry_timing;
 mod round_trips;

@@ -171,6 +171,12 @@ impl Pair {
         &self.fcc_voter
     }
 
+    /// What became of the datagrams of each channel: [up direct, up LTE, down direct, down
+    /// LTE].
+    pub fn channel_stats(&self) -> [missionlink_linksim::channel::ChannelStats; 4] {
+        core::array::from_fn(|i| self.channels[i].stats())
+    }
+
     /// Puts `bytes` on `link` toward the FCC as they are (a foreign sender, a replay), arriving
     /// after `latency`.
     pub fn inject_uplink(&mut self, link: Link, bytes: &[u8], latency: Duration) {
@@ -242,7 +248,9 @@ impl Pair {
         });
         let channel = &mut self.channels[index];
         channel.impairments = faults;
-        for (after, bytes) in channel.transmit(bytes) {
+        // The time of the send: a link with a rate queues the frames behind each other.
+        let sent_at = self.now.saturating_since(Instant::ZERO);
+        for (after, bytes) in channel.transmit_at(sent_at, bytes) {
             self.order += 1;
             let f = InFlight {
                 deliver_at: self.now + after,

@@ -696,8 +696,10 @@ impl TransferSender {
         self.fill(endpoint, now);
     }
 
-    /// Sends again (their one retry) the parked messages that may go now: any but a data
-    /// message whose opener is still unanswered, once nothing is sent behind another transfer.
+    /// Sends again the parked messages that may go now: any but a data message whose opener is
+    /// still unanswered, once nothing is sent behind another transfer. Each goes as a new
+    /// message with its own retry (ICD §10.3): the refusal answered a message that overtook
+    /// what it depends on, and says nothing of the message itself.
     fn unpark(&mut self, endpoint: &mut Endpoint, now: Instant) {
         if self.pacing.behind {
             return;
@@ -706,13 +708,17 @@ impl TransferSender {
         let data_go = matches!(self.opener, Opening::Absent | Opening::Accepted);
         for f in self.in_flight.iter_mut() {
             if f.parked && (data_go || !data.contains(&f.index)) {
-                f.parked = false;
-                f.retried = true;
-                match self.script.message(f.index) {
-                    Some(message) => f.exchange.resend(endpoint, now, message),
+                let Some(message) = self.script.message(f.index) else {
                     // The script gave this message before; it cannot fail to now.
-                    None => f.exchange.cancel(),
-                }
+                    f.exchange.cancel();
+                    continue;
+                };
+                f.parked = false;
+                f.retried = false;
+                f.sent_at = now;
+                f.exchange = Exchange::new(self.ack_timeout);
+                f.exchange.send(endpoint, now, message);
+                self.sent += 1;
             }
         }
     }
@@ -1123,15 +1129,22 @@ mod tests {
         assert!(sent(&mut e).is_empty(), "parked, no timer");
         assert_eq!(s.poll_timeout(), Some(at(500)));
         s.handle_answer(&mut e, at(11), &ack(&out[0], Ok(())));
-        let retry = sent(&mut e);
-        assert_eq!(names(&retry), ["13002"]);
-        // Its one retry: refused again, the transfer fails.
+        let again = sent(&mut e);
+        assert_eq!(names(&again), ["13002"]);
+        // Sent as a new message: the refusal did not count, it keeps its one retry.
         s.handle_answer(&mut e, at(12), &ack(&out[1], Ok(())));
         s.handle_answer(&mut e, at(12), &ack(&out[3], Ok(())));
+        assert_eq!(
+            s.handle_answer(&mut e, at(20), &ack(&again[0], Err(Reason::WrongState))),
+            None
+        );
+        let retry = sent(&mut e);
+        assert_eq!(names(&retry), ["13002"]);
         assert!(matches!(
-            s.handle_answer(&mut e, at(20), &ack(&retry[0], Err(Reason::WrongState))),
+            s.handle_answer(&mut e, at(30), &ack(&retry[0], Err(Reason::WrongState))),
             Some(SenderEvent::Failed(_))
         ));
+        assert_eq!(s.sent(), 5, "clear, 3 data, the one parked again");
     }
 
     /// ICD §10.3: a transfer sent behind the last message of the one before: its closer waits

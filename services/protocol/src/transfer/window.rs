@@ -81,10 +81,10 @@ impl Window {
         window
     }
 
-    /// The window agreed for the next transfer (rule 1): `cwnd` never above it.
+    /// The window agreed for the next transfer (rule 1). What rule 2 found stays: a transfer
+    /// without data messages (a request, agreed at 1) says nothing of the link.
     pub fn set_max(&mut self, max: usize) {
         self.max = clamp(max);
-        self.cwnd = self.cwnd.min(self.max);
         if !self.adaptive {
             self.cwnd = self.max;
         }
@@ -111,8 +111,12 @@ impl Window {
     }
 
     /// Data messages that may be unanswered now (rules 1 and 2).
-    pub const fn messages(&self) -> usize {
-        if self.adaptive { self.cwnd } else { self.max }
+    pub fn messages(&self) -> usize {
+        if self.adaptive {
+            self.cwnd.min(self.max)
+        } else {
+            self.max
+        }
     }
 
     /// The bytes the link carries in the shortest round trip measured (rule 3); `None` when it
@@ -155,7 +159,7 @@ impl Window {
         self.acked += 1;
         if self.acked >= self.cwnd {
             self.acked = 0;
-            self.cwnd = (self.cwnd + 1).min(self.max);
+            self.cwnd = (self.cwnd + 1).min(self.max.max(self.cwnd));
         }
     }
 
@@ -165,7 +169,7 @@ impl Window {
         if !self.adaptive || self.halved_at.is_some_and(|at| sent_at < at) {
             return;
         }
-        self.cwnd = (self.cwnd / 2).max(1);
+        self.cwnd = (self.messages() / 2).max(1);
         self.acked = 0;
         self.halved_at = Some(now);
     }
@@ -254,10 +258,14 @@ mod tests {
             w.lost(at(2000 + ms * 1000), at(2500 + ms * 1000));
         }
         assert_eq!(w.messages(), 1);
-        // A smaller window agreed for the next transfer caps it.
+        // A smaller window agreed for the next transfer caps it; a request's window of 1 does
+        // not shrink it for the transfer after.
         let mut w = Window::adaptive(32, None);
         w.set_max(4);
         assert_eq!(w.messages(), 4);
+        w.set_max(1);
+        w.set_max(32);
+        assert_eq!(w.messages(), 32);
     }
 
     #[test]
