@@ -246,6 +246,10 @@ fn measure(
             link.station()
                 .set_transfer_window(TransferWindow::new(window).unwrap());
             link.station().set_upload_attempts(attempts);
+            // The GCS knows the uplink's rate: its window keeps in flight what the link
+            // carries in a round trip (ICD §10.4).
+            link.station()
+                .set_link_rate(profile.up().bandwidth.map(|b| b.bits_per_second()));
             let mut row = Row {
                 profile,
                 case: case.name.clone(),

@@ -41,11 +41,18 @@
 //! **A newer opener ends what is left open.** A transfer opener from the GCS ends the download of
 //! the same kind whose request it is stamped after, and the upload of the same kind whose newest
 //! message it is stamped after: the GCS is done with them (this project's choice where the ICD
-//! is silent; see `end_transfers_before`).
+//! is silent; see `end_transfers_before`). One stamped before a message of the upload was
+//! overtaken on the link and does not end it (ICD §10.3).
 //!
-//! **Closers are idempotent (ICD §11).** The last closer answered and its answer are remembered
-//! ([`CloserMemory`]): its retry, until an opener or a data message is accepted, gets the same
-//! answer and changes nothing, so a lost "valid and active" never turns into a reported failure.
+//! **Closers are idempotent (ICD §11).** The last closer answered of each kind of list and its
+//! answer are remembered ([`CloserMemory`]): its retry, until an opener or a data message of its
+//! kind is accepted, gets the same answer and changes nothing, so a lost "valid and active" never
+//! turns into a reported failure, also when the GCS sent the area opener behind the mission
+//! closer (ICD §10.3).
+//!
+//! **Uploads in stamp order (ICD §10.3).** The receivers apply an upload's messages in the order
+//! of their time stamps ([`MissionReceiver`]): an opener overtaken on the link by the data sent
+//! behind it leaves what they stored, and a late copy of an opener changes nothing.
 //!
 //! **A restart never assembles a transfer it did not see from the start.** A mission
 //! upload has no opener when it is an edit (ICD §5.1 step 1 is optional), so a restarted

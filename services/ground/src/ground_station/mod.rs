@@ -12,6 +12,12 @@
 //! **Editions and the truth (ICD §10.1, §11).** Before it uploads or downloads, the GCS asks the
 //! FCC for its report (#13000 mode 7) once per session: an edition-2 FCC answers with the active
 //! lists' checksums (what is active *before*), an edition-1 FCC refuses (`Unsupported`, final).
+//! Toward edition 2 an upload asks again, unless the GCS holds a fresh report (ICD §10.3).
+//!
+//! **Fewer round trips (ICD §10.3, §10.4).** Toward an edition-2 FCC with a window above 1 the
+//! GCS sends the data behind their opener and the next step of an upload behind the closer of the
+//! one before ([`Pacing`]), and sizes the window to the link ([`Window`]: one for the link,
+//! carried from transfer to transfer, the rate set by [`GroundStation::set_link_rate`]).
 //! Toward edition 2 the closers carry the checksums of the lists meant and download requests ask
 //! for them back. When an upload fails, the GCS asks again what is active (the report, or a
 //! download from an edition-1 FCC) and says for each list whether it is the new one or the
@@ -158,7 +164,9 @@ pub struct GcsConfig {
     /// How long a download waits for the FCC before it is abandoned (ICD §1: 3 s).
     pub transfer_timeout: Duration,
     /// Data messages in flight toward an edition-2 FCC (ICD §10.2): the uploads' window and
-    /// the one download requests ask for. Toward edition 1 it is always 1.
+    /// the one download requests ask for. Toward edition 1 it is always 1. The uploads keep at
+    /// or below it by the window sized to the link (ICD §10.4); above 1 the GCS sends what ICD
+    /// §10.3 allows without waiting.
     pub transfer_window: TransferWindow,
     /// How often an upload is attempted in all, at least 1: a failed attempt that left the
     /// lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is

@@ -1,8 +1,10 @@
 //! The upload requests of the GCS logic and the steps they take (ICD §5.1, §5.3, §8, §11).
 //!
 //! Every upload starts with the FCC's report (ICD §8, §10.1): the edition, what is active, which
-//! missions are staged and their checksums. Then the GCS plans its steps and sends them one after
-//! the other:
+//! missions are staged and their checksums; pipelining (ICD §10.3: toward edition 2 with a
+//! window above 1), the report the GCS holds when it is fresh instead. Then the GCS plans its
+//! steps and sends them one after the other, pipelining the area upload behind the mission
+//! closer and the activation behind the area closer (`send_next_behind`):
 //!
 //! | request | toward edition 2 | toward edition 1 |
 //! |---|---|---|

@@ -1,7 +1,9 @@
 //! The sender of a transfer, one implementation for both directions (paper §3.2, inverted use;
 //! ICD §5.6): the GCS uploads with it what the FCC downloads with it. A transfer is a script of
-//! messages sent one at a time, each after the answer to the one before (ICD §5), through the
-//! one timeout-and-retry mechanism of [`crate::link::retry`].
+//! messages sent one at a time, each after the answer to the one before (ICD §5), but for its
+//! data messages, up to the window's in flight ([`Window`], ICD §10.2, §10.4), and, paced for
+//! ICD §10.3 ([`Pacing`]), for the data behind an unanswered opener and the transfer behind the
+//! one before; each through the one timeout-and-retry mechanism of [`crate::link::retry`].
 //!
 //! | script | sent by | messages (ICD) |
 //! |---|---|---|
