@@ -20,7 +20,8 @@
 //! [timing]
 //! ack_timeout_ms = 500
 //! transfer_timeout_ms = 3000
-//! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10)
+//! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10);
+//!                                 # 1: every message stop-and-wait (no §10.3)
 //! upload_attempts = 2             # a GCS upload that failed with the lists as they were, again
 //!
 //! [signing]                       # link signing, ICD §9 (see `keys`)
@@ -122,6 +123,8 @@ pub struct Timing {
     pub transfer_timeout_ms: u64,
     /// Data messages the GCS keeps in flight toward an edition-2 FCC, 1..=32 (ICD §10.2): its
     /// uploads' window and the one its download requests ask for. Toward edition 1 it is 1.
+    /// Above 1 the GCS also sends what ICD §10.3 allows without waiting, and sizes its window
+    /// to the link at or below this (ICD §10.4); 1 keeps every message stop-and-wait.
     pub transfer_window: u8,
     /// How often the GCS attempts an upload in all, at least 1: an attempt that failed with
     /// the lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is

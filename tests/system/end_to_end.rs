@@ -108,6 +108,10 @@ fn kill_9_of_mission_data_handling_mid_upload_aborts_restarts_and_keeps_what_was
     // One attempt: this test is about the abort; a second one would complete the upload on the
     // restarted partition (tests/system/link_faults.rs).
     rig.config.timing.upload_attempts = 1;
+    // Stop and wait: the kill below comes after the fourth message up, which then means that
+    // the clear was answered. With a window above 1 the clear and the data go together (ICD
+    // §10.3), and the kill may come before the clear arrived (the previous lists then stay).
+    rig.config.timing.transfer_window = 1;
     let mut fcc = rig.start_fcc();
     let mut link = rig.gcs(&mut fcc);
     let config = rig.config.clone();
