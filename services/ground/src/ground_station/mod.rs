@@ -692,6 +692,11 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// Starts `script`, the upload step `phase`, behind the step in progress, whose last message
     /// is unanswered (ICD §10.3).
     fn start_behind(&mut self, now: Instant, phase: Phase, script: Script) {
+        // It starts from what the step in progress measured of the link (ICD §10.4).
+        if let Some(sender) = self.sender.take() {
+            self.keep_window(&sender);
+            self.sender = Some(sender);
+        }
         let pacing = Pacing {
             pipelined: true,
             behind: true,
