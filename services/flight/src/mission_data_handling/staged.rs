@@ -99,8 +99,9 @@ impl MissionDataHandling {
         )?;
         let (mission, areas) = (mission.clone(), areas.clone());
         self.activate(Activation::Staged { id, mission, areas });
-        // The last closer's "valid and active" is no longer true (see `CloserMemory`).
-        self.closers.forget();
+        // The last closer's "valid and active" is no longer true (see `CloserMemory`); a staged
+        // closer's answer still is: the GCS may have sent this activation behind it (ICD §10.3).
+        self.closers.activated();
         Ok(())
     }
 }

@@ -8,7 +8,7 @@
 //! |---|---|
 //! | what goes behind what; the report held | `the_atomic_upload_sends_each_step_behind_the_one_before`, `the_paper_sequence_sends_the_areas_behind_the_transmit` |
 //! | the opener lost, its answer lost, the first data lost, the area opener lost | `a_lost_opener_or_answer_sends_the_opener_alone_then_its_data_again`, `a_lost_data_message_is_retried_alone`, `area_data_refused_before_their_opener_go_again_after_it` |
-//! | the closer's answer lost, once and twice | `a_lost_answer_to_the_closer_is_given_again_behind_the_area_opener`, `a_closer_whose_answers_are_lost_is_confirmed_by_the_report`, `an_activation_sent_behind_a_closer_whose_answers_are_lost_is_not_sent_again` |
+//! | the closer's answer lost, once and twice | `a_lost_answer_to_the_closer_is_given_again_behind_the_area_opener`, `a_lost_answer_to_the_area_closer_is_given_again_after_the_activation_behind_it`, `a_closer_whose_answers_are_lost_is_confirmed_by_the_report`, `an_activation_sent_behind_a_closer_whose_answers_are_lost_is_not_sent_again` |
 //! | a refused opener | `a_refused_opener_leaves_the_lists_and_the_data_sent_behind_it_are_dropped` |
 //! | the FCC in stamp order | `the_fcc_keeps_the_data_that_overtook_their_opener`, `a_late_copy_of_an_opener_changes_nothing` |
 //! | loss, duplication, reordering over many seeds | `pipelined_uploads_under_faults_end_with_the_exact_lists_or_the_previous_ones` |
@@ -370,6 +370,28 @@ fn a_closer_whose_answers_are_lost_is_confirmed_by_the_report() {
         requests.iter().filter(|r| *r == "2011 mode 1").count(),
         2,
         "{requests:?}"
+    );
+}
+
+/// The answer to the area closer lost once, the activation sent behind it carried out: the
+/// closer's retry is answered from the FCC's memory, which an activation leaves for a staged
+/// closer (ICD §11), and the upload completes without a failure.
+#[test]
+fn a_lost_answer_to_the_area_closer_is_given_again_after_the_activation_behind_it() {
+    let mut s = station(FccRig::new().with_mission_2());
+    upload(&mut s, &mission_2(), Sequence::Atomic);
+    s.lose = lose_nth(Direction::Down, 1, |m| {
+        matches!(m, Message::AreaStatusAlert(_))
+    });
+    let from = s.sent.len();
+    let r = upload(&mut s, &mission_1(), Sequence::Atomic);
+    assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
+    assert_eq!(r.failure, None);
+    assert!(holds(&s, &mission_1()));
+    let requests = s.requests(from);
+    assert_eq!(
+        requests[requests.len() - 4..],
+        ["2011 mode 7", "50000", "2011 mode 7", "13000 mode 6"]
     );
 }
 

@@ -133,6 +133,26 @@ impl CloserMemory {
     pub fn forget(&mut self) {
         self.last = [None; 2];
     }
+
+    /// A staged mission was activated (ICD §8): the closers of the active lists (#13000 mode 2,
+    /// #2011 mode 2) are forgotten, their "valid and active" no longer true; a staged closer's
+    /// (mode 8, mode 7) stays, as the list it stored is still staged. So the area closer whose
+    /// answer was lost still gets it when the activation the GCS sent behind it (ICD §10.3) was
+    /// carried out first.
+    pub fn activated(&mut self) {
+        use missionlink_interfaces::wire::{AreaTransferMode, MissionPlanMode};
+        for slot in &mut self.last {
+            let staged = slot.is_some_and(|(closer, _)| {
+                closer.mode == MissionPlanMode::StageMission as u8
+                    && closer.message_type == MessageType::MissionTransferCommand
+                    || closer.mode == AreaTransferMode::UploadCompleteStaged as u8
+                        && closer.message_type == MessageType::AreaTransmissionCommand
+            });
+            if !staged {
+                *slot = None;
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -209,5 +229,37 @@ mod tests {
         assert_eq!(memory.repeat(&areas), Some(area_valid));
         memory.forget();
         assert_eq!(memory.repeat(&areas), None);
+    }
+
+    /// An activation ends the memory of the active lists' closers, not of the staged ones.
+    #[test]
+    fn an_activation_leaves_the_staged_closers() {
+        let id = Some(Text::new("next").unwrap());
+        let staged_mission =
+            Closer::of(&mission_command(MissionPlanMode::StageMission, Some(3), id)).unwrap();
+        let mut staged_areas = area_request(AreaTransferMode::UploadCompleteStaged, None);
+        if let Message::AreaTransmissionCommand(c) = &mut staged_areas {
+            c.mission_id = id;
+        }
+        let staged_areas = Closer::of(&staged_areas).unwrap();
+        let valid = ClosingAnswer::Acknowledgement(Ok(()));
+        let area_valid = ClosingAnswer::AreaStatus {
+            loop_count: 1,
+            outcome: Ok(()),
+        };
+        let mut memory = CloserMemory::new();
+        memory.remember(staged_mission, valid);
+        memory.remember(staged_areas, area_valid);
+        memory.activated();
+        assert_eq!(memory.repeat(&staged_mission), Some(valid));
+        assert_eq!(memory.repeat(&staged_areas), Some(area_valid));
+        let active = Closer::of(&transmit(3)).unwrap();
+        let active_areas =
+            Closer::of(&area_request(AreaTransferMode::UploadComplete, None)).unwrap();
+        memory.remember(active, valid);
+        memory.remember(active_areas, area_valid);
+        memory.activated();
+        assert_eq!(memory.repeat(&active), None);
+        assert_eq!(memory.repeat(&active_areas), None);
     }
 }
