@@ -93,8 +93,13 @@ fn claim(outcome: &Result<Finished, Error>, trial: usize) -> Option<bool> {
     mission.or(areas)
 }
 
-/// Asks until the FCC answers: a report, then a download of the active lists.
-fn what_is_active(link: &mut Link, trial: usize) -> ((Option<u32>, Option<u32>), ValidatedPlan) {
+/// What the FCC holds active (its checksums and lists) and how many staged missions it holds:
+/// a report, then a download of the active lists, each asked again until the FCC answers over
+/// the impaired links (one report may well be lost on both).
+fn what_is_active(
+    link: &mut Link,
+    trial: usize,
+) -> ((Option<u32>, Option<u32>), ValidatedPlan, usize) {
     for _ in 0..ATTEMPTS {
         let now = link.now();
         link.station().report(now).unwrap();
@@ -112,7 +117,7 @@ fn what_is_active(link: &mut Link, trial: usize) -> ((Option<u32>, Option<u32>),
         );
         for _ in 0..ATTEMPTS {
             match download(link) {
-                Ok(lists) => return (checksums, lists),
+                Ok(lists) => return (checksums, lists, entries.len() - 1),
                 Err(e) => eprintln!("trial {trial}: no download: {e}"),
             }
         }
@@ -217,7 +222,7 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
         );
         let said_new = claim(&outcome, trial);
 
-        let (checksums, lists) = what_is_active(&mut link, trial);
+        let (checksums, lists, staged) = what_is_active(&mut link, trial);
         let is_new = if checksums == sums[next] {
             true
         } else if checksums == sums[active] {
@@ -243,7 +248,6 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
                 if is_new { "new" } else { "previous" }
             );
         }
-        let staged = report(&mut link).len() - 1;
         let made = match &outcome {
             Ok(Finished::Uploaded(report)) => report.attempts,
             Err(GcsError::Upload(report)) => report.attempts,
@@ -294,7 +298,7 @@ fn faulty_links_and_a_dying_partition_leave_the_uploaded_lists_or_the_previous_o
         emulator.set(flow, CLEAN);
     }
     let next = (active + 1) % plans.len();
-    let (_, _) = what_is_active(&mut link, trials);
+    let _ = what_is_active(&mut link, trials);
     let now = link.now();
     link.station()
         .upload_with(now, &plans[next], Sequence::Atomic)
