@@ -54,7 +54,7 @@
 //! the largest window measured takes at the profile's slowest rate in frames of the largest
 //! signed size (564 bytes): 500 ms on lan and bad, 528 ms on lte, 3756 ms on satcom, 63 910 ms
 //! on satcom-narrow with windows up to 32. Results: `target/links/results.json`, and the plot
-//! of the upload medians `target/links/links.svg` (committed as `docs/links.svg`).
+//! of the upload medians `target/links/links.svg`.
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
