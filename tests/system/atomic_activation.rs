@@ -113,6 +113,10 @@ fn watch(
 #[test]
 fn alternate_activations_of_two_staged_missions_hand_out_only_whole_pairs() {
     let mut rig = Rig::new("atomic-activation");
+    // The subject is which lists are handed out together, not the FCC's answer time: each
+    // activation writes the lists to disk before it is answered, and on a machine busy writing
+    // (the whole suite, its builds) one took longer than two ack timeouts of 500 ms in CI.
+    rig.config.timing.ack_timeout_ms = 2_000;
     let mut fcc = rig.start_fcc();
     let links = rig.gcs_links(&mut fcc);
     let mut ground = Ground::new(&rig.config, links);
