@@ -22,29 +22,58 @@ pub struct FleetVehicle<'a> {
     pub rig: &'a mut Rig,
 }
 
-/// The fleet file of `vehicles`, each rig's FCC with its links learnt (`Rig::learn_links`) and
-/// its GCS ends released for the service to bind.
-pub fn fleet_file(vehicles: &mut [FleetVehicle<'_>]) -> String {
-    let cucs = vehicles.first().map_or(0, |v| v.rig.config.ids.gcs);
-    // The tests fly the demo missions on every vehicle at once: no separation check but where
-    // a test is about it.
+/// One vehicle of a fleet file: its name, Vehicle ID, where the ground binds its direct and LTE
+/// ends, where the FCC receives, and the link key both hold.
+pub struct FleetEntry {
+    pub name: String,
+    pub vehicle_id: u32,
+    pub ground: [std::net::SocketAddr; 2],
+    pub fcc: [std::net::SocketAddr; 2],
+    pub key_file: PathBuf,
+}
+
+/// The fleet file of CUCS `cucs` with `entries`, MAVLink system IDs 1, 2, ... in their order,
+/// and no separation check (the tests and benches fly the demo missions on every vehicle at
+/// once; a test about separation removes the `[fleet]` line).
+pub fn fleet_text(cucs: u32, entries: &[FleetEntry]) -> String {
     let mut text = format!("cucs_id = {cucs:#010X}\n\n[fleet]\nseparation_m = 0.0\n");
-    for (i, v) in vehicles.iter_mut().enumerate() {
-        let [direct, lte] = v.rig.release_gcs_ends();
-        let config = &v.rig.config;
+    for (i, e) in entries.iter().enumerate() {
         text.push_str(&format!(
             "\n[[vehicle]]\nname = \"{}\"\nvehicle_id = {:#010X}\nmavlink_system_id = {}\n\
-             direct = {{ ground = \"{direct}\", fcc = \"{}\" }}\n\
-             lte = {{ ground = \"{lte}\", fcc = \"{}\" }}\nkey_files = [\"{}\"]\n",
-            v.name,
-            config.ids.fcc,
+             direct = {{ ground = \"{}\", fcc = \"{}\" }}\n\
+             lte = {{ ground = \"{}\", fcc = \"{}\" }}\nkey_files = [\"{}\"]\n",
+            e.name,
+            e.vehicle_id,
             i + 1,
-            config.links.fcc_direct,
-            config.links.fcc_lte,
-            v.rig.dir.join("link.key").display(),
+            e.ground[0],
+            e.fcc[0],
+            e.ground[1],
+            e.fcc[1],
+            e.key_file.display(),
         ));
     }
     text
+}
+
+/// The fleet file of `vehicles` ([`fleet_text`]), each rig's FCC with its links learnt
+/// (`Rig::learn_links`) and its GCS ends released for the service to bind.
+pub fn fleet_file(vehicles: &mut [FleetVehicle<'_>]) -> String {
+    let cucs = vehicles.first().map_or(0, |v| v.rig.config.ids.gcs);
+    let entries: Vec<FleetEntry> = vehicles
+        .iter_mut()
+        .map(|v| {
+            let ground = v.rig.release_gcs_ends();
+            let config = &v.rig.config;
+            FleetEntry {
+                name: v.name.to_owned(),
+                vehicle_id: config.ids.fcc,
+                ground,
+                fcc: [config.links.fcc_direct, config.links.fcc_lte],
+                key_file: v.rig.dir.join("link.key"),
+            }
+        })
+        .collect();
+    fleet_text(cucs, &entries)
 }
 
 /// A running ground service; stopped with SIGTERM when dropped.

@@ -551,26 +551,36 @@ fn ground_service_mavsdk_sees_every_system_and_uploads_to_one() {
     assert_ne!(down_b.status.code(), Some(0), "{}", text(&down_b.stdout));
 }
 
-/// An FCC for `rig` behind a link emulator of `profile`: the fleet file then names the
-/// emulator's ground-facing ports as the FCC's (`fleet_file` reads them from the rig).
+/// An FCC for `rig` behind a link emulator with `flows` (a profile's, say): the fleet file then
+/// names the emulator's ground-facing ports as the FCC's (`fleet_file` reads them from the
+/// rig). Gives the FCC, the emulator and the FCC's own ends (to start it again on them).
 fn behind_emulator(
     rig: &mut Rig,
-    profile: missionlink::link_emulator::Profile,
+    flows: [missionlink_linksim::channel::Impairments; 4],
     seed: u64,
-) -> (Process, missionlink::link_emulator::Emulator) {
+) -> (
+    Process,
+    missionlink::link_emulator::Emulator,
+    [std::net::SocketAddr; 2],
+) {
     use missionlink::link_emulator::{Emulator, EmulatorConfig};
-    let emulator =
-        Emulator::start(EmulatorConfig::profile(rig.gcs_addrs(), profile, seed)).unwrap();
+    let emulator = Emulator::start(EmulatorConfig {
+        gcs: rig.gcs_addrs(),
+        flows,
+        seed,
+    })
+    .unwrap();
     let [direct, lte] = emulator.fcc_facing();
     rig.config.links.gcs_direct = direct;
     rig.config.links.gcs_lte = lte;
     let mut fcc = rig.start_fcc();
     rig.learn_links(&mut fcc);
-    emulator.set_fcc([rig.config.links.fcc_direct, rig.config.links.fcc_lte]);
+    let own = [rig.config.links.fcc_direct, rig.config.links.fcc_lte];
+    emulator.set_fcc(own);
     let [direct, lte] = emulator.gcs_facing();
     rig.config.links.fcc_direct = direct;
     rig.config.links.fcc_lte = lte;
-    (fcc, emulator)
+    (fcc, emulator, own)
 }
 
 #[test]
@@ -579,8 +589,8 @@ fn ground_service_uploads_at_once_over_lossy_links_and_each_outcome_is_true() {
     let mut a = Rig::new("service-lossy-a");
     let mut b = Rig::new("service-lossy-b");
     b.config.ids.fcc = 0x0B00_0002;
-    let (_fcc_a, _emulator_a) = behind_emulator(&mut a, Profile::Lte, 7);
-    let (_fcc_b, _emulator_b) = behind_emulator(&mut b, Profile::Bad, 11);
+    let (_fcc_a, _emulator_a, _) = behind_emulator(&mut a, Profile::Lte.flows(), 7);
+    let (_fcc_b, _emulator_b, _) = behind_emulator(&mut b, Profile::Bad.flows(), 11);
     let fleet = fleet_file(&mut [
         FleetVehicle {
             name: "alpha",
@@ -759,4 +769,130 @@ fn ground_service_refuses_a_mission_that_comes_too_close_to_another_vehicles() {
     // Alpha's mission cleared, bravo's goes: the service follows what each FCC holds.
     ok(&service.gcs(&["--vehicle", "alpha", "clear"]));
     ok(&service.gcs(&["--vehicle", "bravo", "upload", &mission("mission-2.toml")]));
+}
+
+/// The status row of `name`.
+fn status_row(service: &GroundService, name: &str) -> String {
+    let status = ok(&service.gcs(&["status"]));
+    status
+        .lines()
+        .find(|l| l.starts_with(name))
+        .unwrap_or_else(|| panic!("no row {name}:\n{status}"))
+        .to_owned()
+}
+
+#[test]
+fn ground_service_fcc_killed_during_uploads_to_all_the_others_complete_and_it_comes_back() {
+    // Three FCCs, each behind 100 ms each way (no loss), so that an upload lasts round trips
+    // long enough to kill one FCC in the middle of it.
+    let delayed = [missionlink_linksim::channel::Impairments {
+        delay: Duration::from_millis(100),
+        ..missionlink_linksim::channel::Impairments::NONE
+    }; 4];
+    let names = ["alpha", "bravo", "charlie"];
+    let mut rigs: Vec<Rig> = names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let mut rig = Rig::new(&format!("service-killed-fcc-{name}"));
+            rig.config.ids.fcc = 0x0B00_0001 + i as u32;
+            rig
+        })
+        .collect();
+    let mut running: Vec<_> = rigs
+        .iter_mut()
+        .zip(0u64..)
+        .map(|(rig, seed)| behind_emulator(rig, delayed, seed))
+        .collect();
+    let fleet = {
+        let mut vehicles: Vec<FleetVehicle<'_>> = names
+            .iter()
+            .zip(rigs.iter_mut())
+            .map(|(name, rig)| FleetVehicle { name, rig })
+            .collect();
+        fleet_file(&mut vehicles)
+    };
+    let service = GroundService::start(&rigs[0].dir, &fleet, &[]);
+    let all = names.join(",");
+    ok(&service.gcs(&["--vehicle", &all, "upload", &mission("mission-1.toml")]));
+
+    // Mission 2 to all three; bravo's FCC is killed (SIGKILL, launcher and partitions at once,
+    // as a crash of its computer) while all three uploads run.
+    let upload = std::process::Command::new(gcs_binary())
+        .args(["--vehicle", &all, "upload", &mission("mission-2.toml")])
+        .env("MISSIONLINK_GCS_SOCKET", &service.socket)
+        .env("XDG_STATE_HOME", service.state_dir.join("client"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let all_busy = eventually(Duration::from_secs(10), || {
+        let status = ok(&service.gcs(&["status", "--json"]));
+        let rows: Vec<serde_json::Value> = serde_json::from_str(&status).unwrap();
+        rows.iter()
+            .all(|r| r["busy"].as_str() == Some("upload"))
+            .then_some(())
+    });
+    assert!(all_busy.is_some(), "the uploads did not run at once");
+    let bravo = &mut running[1].0;
+    let partitions: Vec<i32> = missionlink::harness::binaries::FCC_BINARIES[1..]
+        .iter()
+        .map(|p| partition_pid(bravo, p))
+        .collect();
+    for pid in std::iter::once(bravo.id() as i32).chain(partitions) {
+        if let Some(pid) = rustix::process::Pid::from_raw(pid) {
+            let _ = rustix::process::kill_process(pid, rustix::process::Signal::KILL);
+        }
+    }
+    let _ = bravo.kill();
+
+    let out = upload.wait_with_output().unwrap();
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    for name in ["alpha", "charlie"] {
+        assert!(
+            stdout
+                .lines()
+                .any(|l| l.starts_with(&format!("{name}: upload complete"))),
+            "{stdout}\n{stderr}"
+        );
+        let down = ok(&service.gcs(&["--vehicle", name, "download"]));
+        assert_eq!(
+            downloaded_checksums(&down),
+            planned_checksums("mission-2.toml")
+        );
+    }
+    assert!(stderr.contains("gcs: bravo: "), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("1 of 3 vehicles did not complete"),
+        "{stderr}"
+    );
+    assert_ne!(out.status.code(), Some(0));
+
+    // The status shows bravo lost...
+    let lost = eventually(Duration::from_secs(10), || {
+        status_row(&service, "bravo")
+            .contains("FCC silent on both links")
+            .then_some(())
+    });
+    assert!(lost.is_some(), "{}", status_row(&service, "bravo"));
+    assert!(!status_row(&service, "alpha").contains("silent"));
+
+    // ... and back once its FCC runs again on its ports, with lists whole: mission 1 or 2.
+    let own = running[1].2;
+    let rig = &mut rigs[1];
+    let behind = [rig.config.links.fcc_direct, rig.config.links.fcc_lte];
+    [rig.config.links.fcc_direct, rig.config.links.fcc_lte] = own;
+    let _bravo_again = rig.start_fcc();
+    [rig.config.links.fcc_direct, rig.config.links.fcc_lte] = behind;
+    let back = eventually(Duration::from_secs(20), || {
+        let row = status_row(&service, "bravo");
+        (!row.contains("silent") && !row.contains("position not")).then_some(row)
+    });
+    assert!(back.is_some(), "{}", status_row(&service, "bravo"));
+    let down = ok(&service.gcs(&["--vehicle", "bravo", "download"]));
+    let held = downloaded_checksums(&down);
+    assert!(
+        held == planned_checksums("mission-1.toml") || held == planned_checksums("mission-2.toml"),
+        "{held}"
+    );
 }

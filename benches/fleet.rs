@@ -1,0 +1,786 @@
+//! One ground service for a fleet (BENCHMARKS.md section 8, docs/fleet.md): `gcs serve` with its
+//! MAVLink side on N vehicles, each with its own links, every vehicle sending its position at
+//! 2 Hz (ICD §5.8), the bench the MAVLink client that hears every GLOBAL_POSITION_INT.
+//!
+//! The vehicles are real FCCs (the `fcc` launcher and its partitions, each its own process
+//! group of processes, prefix, ports and state) or FCCs simulated in this process: a thread per
+//! vehicle with the FCC's own voting (paper §2.4), signing (ICD §9) and mission data handling
+//! (`MissionDataHandling`, the sans-IO machine of the partition) over two UDP sockets, guidance
+//! replaced by a position that moves 1 m every 100 ms. A simulated FCC has no shared memory
+//! between partitions, so 250 of them (MAVLink's limit of system IDs) fit this 2-core machine
+//! beside the service; what the service does per vehicle is the same.
+//!
+//! Reported per fleet:
+//! - **upload**: wall time of `gcs upload --vehicle v001` (one vehicle, the others idle) and of
+//!   `gcs upload --vehicle v001,...,vNNN` (all at once, through the service), demo missions 1
+//!   and 2 in turn so that both lists change every time; medians of `--runs` and their ratio;
+//! - **CPU**: the service's CPU time over `--idle-s` seconds of positions and heartbeats, no
+//!   request running, as a share of one core (`/proc/<pid>/stat` utime + stime);
+//! - **memory**: the service's resident set (`VmRSS`) after the uploads and the idle window, per
+//!   vehicle, and the increment per vehicle over the fleet of one of the same kind measured in
+//!   the same run;
+//! - **position latency** (simulated fleets): from the simulated FCC's send of a #101 (the frame
+//!   on the link, just before its `sendto`) to the GLOBAL_POSITION_INT the service makes of it
+//!   on the bench's MAVLink socket, matched by system ID and latitude; p50, p99, p99.9 and max
+//!   over the idle window. A real FCC's send time is not seen from here;
+//! - **positions**: GLOBAL_POSITION_INT per second per vehicle over the idle window, least and
+//!   most (2 Hz each when every vehicle is heard).
+//!
+//! ```sh
+//! cargo bench --bench fleet                                     # real 1,4,16; simulated 1,16,250
+//! cargo bench --bench fleet -- --real 1,4 --simulated 1,250 --runs 3 --idle-s 20
+//! cargo bench --bench fleet -- --soak-s 3600 --real 16          # the hour: no growth
+//! ```
+//!
+//! `--soak-s S` runs one real fleet (the largest of `--real`) for S seconds instead: positions
+//! at 2 Hz, an upload to every vehicle every 10 s, and every minute the service's resident set,
+//! open file descriptors, threads and CPU share since the minute before; then the growth from
+//! the first minute to the last and every upload's outcome.
+// A benchmark stops at its first failure: it may unwrap, expect, panic and index.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::indexing_slicing)]
+
+use std::collections::HashMap;
+use std::net::{SocketAddr, UdpSocket};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use mavlink::dialects::common::MavMessage;
+use missionlink::harness::service::{FleetEntry, GroundService, fleet_text};
+use missionlink::harness::{Process, Rig, eventually};
+use missionlink_flight::mission_data_handling::MissionDataHandling;
+use missionlink_gcs::mavlink::vehicle::read_datagram;
+use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
+use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
+use missionlink_partitions::config::Config;
+use missionlink_platform::clock::DriverClock;
+use missionlink_platform::keys::LinkSigning;
+use missionlink_platform::udp::{LinkPair, MAX_DATAGRAM};
+use missionlink_protocol::voting::Voter;
+
+/// How often an upload goes to every vehicle in the soak.
+const SOAK_UPLOAD_EVERY: Duration = Duration::from_secs(10);
+/// How often the soak samples the service.
+const SOAK_SAMPLE_EVERY: Duration = Duration::from_secs(60);
+/// How far a simulated vehicle moves between its guidance updates: 1e-5 degrees of latitude
+/// (about 1 m), so that every #101 carries a latitude of its own.
+const STEP_DEG: f64 = 1e-5;
+/// How often a simulated vehicle's guidance updates its position.
+const GUIDANCE_PERIOD: Duration = Duration::from_millis(100);
+
+fn arg<'a>(args: &'a [String], name: &str) -> Option<&'a str> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .map(String::as_str)
+}
+
+fn list(args: &[String], name: &str, default: &[usize]) -> Vec<usize> {
+    arg(args, name).map_or_else(
+        || default.to_vec(),
+        |v| {
+            v.split(',')
+                .filter(|s| !s.is_empty())
+                .map(|n| n.parse().expect("a list of numbers: 1,4,16"))
+                .collect()
+        },
+    )
+}
+
+fn mission(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("missions")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn vehicle_name(i: usize) -> String {
+    format!("v{:03}", i + 1)
+}
+
+// ---- The service, as /proc shows it ----
+
+/// CPU time of process `pid` so far (user + system, all threads).
+fn cpu_time(pid: u32) -> Duration {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // The fields after the command's closing parenthesis: utime and stime are the 12th and
+    // 13th of them (fields 14 and 15 of proc(5)).
+    let rest = &stat[stat.rfind(')').unwrap() + 2..];
+    let fields: Vec<&str> = rest.split(' ').collect();
+    let ticks: u64 = fields[11].parse::<u64>().unwrap() + fields[12].parse::<u64>().unwrap();
+    // In USER_HZ, which Linux fixes at 100 for what it shows user space.
+    Duration::from_secs_f64(ticks as f64 / 100.0)
+}
+
+/// A `kB` field of `/proc/<pid>/status` (VmRSS, VmHWM), in bytes.
+fn status_kb(pid: u32, field: &str) -> u64 {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix(field))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+        .map(|kb| kb * 1024)
+        .unwrap()
+}
+
+fn open_fds(pid: u32) -> usize {
+    std::fs::read_dir(format!("/proc/{pid}/fd"))
+        .unwrap()
+        .count()
+}
+
+fn threads(pid: u32) -> usize {
+    std::fs::read_dir(format!("/proc/{pid}/task"))
+        .unwrap()
+        .count()
+}
+
+// ---- The MAVLink client ----
+
+/// When each simulated FCC sent each #101, by (system ID, latitude in 1e-7 degrees).
+type SentPositions = Arc<Mutex<HashMap<(u8, i32), Instant>>>;
+
+/// The bench's MAVLink socket: counts GLOBAL_POSITION_INT per system and, for the positions a
+/// simulated FCC recorded, the latency from its send.
+struct MavlinkClient {
+    addr: SocketAddr,
+    stop: Arc<AtomicBool>,
+    heard: Arc<Mutex<Heard>>,
+    thread: Option<JoinHandle<()>>,
+}
+
+#[derive(Default)]
+struct Heard {
+    /// GLOBAL_POSITION_INT per system ID.
+    positions: HashMap<u8, u64>,
+    /// Latencies measured, nanoseconds.
+    latencies_ns: Vec<u64>,
+    /// Whether latencies are recorded now.
+    recording: bool,
+}
+
+impl MavlinkClient {
+    fn start(sent: SentPositions) -> Self {
+        let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
+        socket
+            .set_read_timeout(Some(Duration::from_millis(100)))
+            .unwrap();
+        let addr = socket.local_addr().unwrap();
+        let stop = Arc::new(AtomicBool::new(false));
+        let heard = Arc::new(Mutex::new(Heard::default()));
+        let thread = {
+            let (stop, heard) = (stop.clone(), heard.clone());
+            std::thread::spawn(move || {
+                let mut buf = [0u8; 2048];
+                while !stop.load(Ordering::Relaxed) {
+                    let Ok(len) = socket.recv(&mut buf) else {
+                        continue;
+                    };
+                    let at = Instant::now();
+                    for (header, message) in read_datagram(&buf[..len]) {
+                        let MavMessage::GLOBAL_POSITION_INT(p) = message else {
+                            continue;
+                        };
+                        let Ok(system) = u8::try_from(header.system_id) else {
+                            continue;
+                        };
+                        let mut heard = heard.lock().unwrap();
+                        *heard.positions.entry(system).or_default() += 1;
+                        if !heard.recording {
+                            continue;
+                        }
+                        let sent_at = {
+                            let mut sent = sent.lock().unwrap();
+                            [p.lat, p.lat - 1, p.lat + 1]
+                                .iter()
+                                .find_map(|lat| sent.remove(&(system, *lat)))
+                        };
+                        if let Some(sent_at) = sent_at {
+                            heard
+                                .latencies_ns
+                                .push(at.duration_since(sent_at).as_nanos() as u64);
+                        }
+                    }
+                }
+            })
+        };
+        Self {
+            addr,
+            stop,
+            heard,
+            thread: Some(thread),
+        }
+    }
+
+    /// Waits until every system of 1..=n was heard, or panics after `limit`.
+    fn wait_for_all(&self, n: usize, limit: Duration) {
+        let all = eventually(limit, || {
+            let heard = self.heard.lock().unwrap();
+            (1..=n as u8)
+                .all(|s| heard.positions.contains_key(&s))
+                .then_some(())
+        });
+        if all.is_none() {
+            let heard = self.heard.lock().unwrap();
+            panic!(
+                "not every vehicle heard on the MAVLink side within {limit:?}: {} of {n}",
+                heard.positions.len()
+            );
+        }
+    }
+
+    /// Starts a window: counts from zero, latencies recorded.
+    fn begin(&self) {
+        let mut heard = self.heard.lock().unwrap();
+        heard.positions.clear();
+        heard.latencies_ns.clear();
+        heard.recording = true;
+    }
+
+    /// Ends the window: positions per system, latencies.
+    fn end(&self) -> (HashMap<u8, u64>, Vec<u64>) {
+        let mut heard = self.heard.lock().unwrap();
+        heard.recording = false;
+        (
+            std::mem::take(&mut heard.positions),
+            std::mem::take(&mut heard.latencies_ns),
+        )
+    }
+}
+
+impl Drop for MavlinkClient {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+// ---- Simulated FCCs ----
+
+/// FCCs simulated in this process, a thread each.
+struct SimulatedFleet {
+    stop: Arc<AtomicBool>,
+    threads: Vec<JoinHandle<()>>,
+}
+
+impl SimulatedFleet {
+    /// `n` vehicles, their fleet entries (key file `key`), sending their positions' send times
+    /// to `sent`.
+    fn start(n: usize, dir: &Path, sent: &SentPositions) -> (Self, Vec<FleetEntry>) {
+        let key = dir.join("link.key");
+        missionlink_platform::keys::generate_key_file(&key, 1).unwrap();
+        let stop = Arc::new(AtomicBool::new(false));
+        let mut entries = Vec::new();
+        let mut threads = Vec::new();
+        for i in 0..n {
+            let mut config = Config::default();
+            config.ids.fcc = 0x0B00_0001 + i as u32;
+            config.signing.key_files = vec![key.clone()];
+            // The service's ends, bound here and released for it to bind (as a rig's).
+            let ground = missionlink_platform::udp::LocalEnds::bind_loopback()
+                .unwrap()
+                .addrs()
+                .unwrap();
+            let direct = UdpSocket::bind("127.0.0.1:0").unwrap();
+            let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
+            let fcc = [direct.local_addr().unwrap(), lte.local_addr().unwrap()];
+            entries.push(FleetEntry {
+                name: vehicle_name(i),
+                vehicle_id: config.ids.fcc,
+                ground,
+                fcc,
+                key_file: key.clone(),
+            });
+            let links = LinkPair::from_sockets(direct, lte, ground[0], ground[1]).unwrap();
+            let (stop, sent) = (stop.clone(), sent.clone());
+            let system = (i + 1) as u8;
+            threads.push(
+                std::thread::Builder::new()
+                    .name(format!("fcc-{}", i + 1))
+                    .spawn(move || simulated_fcc(&config, links, system, &stop, &sent))
+                    .unwrap(),
+            );
+        }
+        (Self { stop, threads }, entries)
+    }
+}
+
+impl Drop for SimulatedFleet {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+/// One simulated FCC: voting-monitoring and mission data handling of one partition each in
+/// the real FCC, here one loop; the position moves north [`STEP_DEG`] every
+/// [`GUIDANCE_PERIOD`].
+fn simulated_fcc(
+    config: &Config,
+    links: LinkPair,
+    system: u8,
+    stop: &AtomicBool,
+    sent: &SentPositions,
+) {
+    let signing = LinkSigning::load(&config.signing).unwrap();
+    let links = links.with_signer(signing.signer.clone());
+    let clock = DriverClock::start();
+    let mut voter = Voter::new(
+        config.ids.fcc,
+        config.ids.gcs,
+        config.timing.transfer_timeout(),
+    )
+    .with_signatures(signing.check(clock.utc_at_zero(), clock.now()));
+    let mut core = Box::new(MissionDataHandling::new(
+        config.fcc_core(clock.utc_at_zero()),
+    ));
+    let mut progress = GuidanceProgressPayload::IDLE;
+    progress.latitude_deg = 47.0 + f64::from(system) * 0.01;
+    progress.longitude_deg = 11.0;
+    progress.altitude_m = 500.0;
+    progress.ground_speed_mps = 10.0;
+    progress.on_ground = false;
+    let mut next_guidance = clock.now();
+    let mut frame = [0u8; MAX_FRAME_LEN];
+    let mut buf = [0u8; MAX_DATAGRAM];
+    let mut received: Vec<(Link, Vec<u8>)> = Vec::new();
+    while !stop.load(Ordering::Relaxed) {
+        let now = clock.now();
+        if now >= next_guidance {
+            progress.sequence += 1;
+            progress.time_ns = missionlink_platform::clock::monotonic_ns();
+            progress.latitude_deg += STEP_DEG;
+            core.handle_progress(now, &progress);
+            next_guidance = now + GUIDANCE_PERIOD;
+        }
+        if core.poll_timeout().is_some_and(|t| t <= now) {
+            core.handle_timeout(now);
+        }
+        while let Some(Ok(len)) = core.poll_transmit(&mut frame) {
+            let bytes = &frame[..len];
+            if let Ok((_, Message::InertialStates(p))) = wire::decode(bytes)
+                && let Some(lat) = p.latitude
+            {
+                let lat = (lat.degrees() * 1e7).round() as i32;
+                sent.lock().unwrap().insert((system, lat), Instant::now());
+            }
+            links.send_both(bytes);
+        }
+        while core.poll_event().is_some() {}
+        let wake = core
+            .poll_timeout()
+            .map_or(next_guidance, |t| t.min(next_guidance));
+        let wait = wake
+            .saturating_since(clock.now())
+            .min(Duration::from_millis(100));
+        let [direct, lte] = links.sockets();
+        let mut fds = [
+            rustix::event::PollFd::new(direct, rustix::event::PollFlags::IN),
+            rustix::event::PollFd::new(lte, rustix::event::PollFlags::IN),
+        ];
+        let timeout = rustix::event::Timespec::try_from(wait).unwrap();
+        let _ = rustix::event::poll(&mut fds, Some(&timeout));
+        received.clear();
+        links.receive(&mut buf, |link, datagram, _| {
+            received.push((link, datagram.to_vec()));
+        });
+        if !received.is_empty() {
+            let now = clock.now();
+            let arrivals: Vec<(Link, &[u8])> =
+                received.iter().map(|(l, d)| (*l, d.as_slice())).collect();
+            voter.vote_step(now, &arrivals, |_, _, bytes| {
+                let _ = core.handle_frame(now, bytes);
+            });
+        }
+    }
+}
+
+// ---- Real FCCs ----
+
+/// `n` real FCCs, each with a rig of its own; their fleet entries.
+fn real_fleet(n: usize) -> (Vec<Rig>, Vec<Process>, Vec<FleetEntry>) {
+    let mut rigs = Vec::new();
+    let mut fccs = Vec::new();
+    let mut entries = Vec::new();
+    for i in 0..n {
+        let mut rig = Rig::new(&format!("fleet-bench-{}", i + 1));
+        rig.config.ids.fcc = 0x0B00_0001 + i as u32;
+        // Guidance in real time: positions as an aircraft flies them.
+        rig.config.guidance.time_scale = 1.0;
+        let mut fcc = rig.start_fcc();
+        rig.learn_links(&mut fcc);
+        entries.push(FleetEntry {
+            name: vehicle_name(i),
+            vehicle_id: rig.config.ids.fcc,
+            ground: rig.release_gcs_ends(),
+            fcc: [rig.config.links.fcc_direct, rig.config.links.fcc_lte],
+            key_file: rig.dir.join("link.key"),
+        });
+        rigs.push(rig);
+        fccs.push(fcc);
+    }
+    (rigs, fccs, entries)
+}
+
+// ---- The measurements ----
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Real,
+    Simulated,
+}
+
+impl Kind {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Real => "real",
+            Self::Simulated => "simulated",
+        }
+    }
+}
+
+struct Row {
+    kind: Kind,
+    n: usize,
+    one_ms: Vec<f64>,
+    all_ms: Vec<f64>,
+    failed: usize,
+    cpu_percent: f64,
+    rss: u64,
+    positions_per_s: (f64, f64),
+    latency_ns: Vec<u64>,
+}
+
+fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v[v.len() / 2]
+}
+
+fn percentile(sorted: &[u64], p: f64) -> u64 {
+    if sorted.is_empty() {
+        return 0;
+    }
+    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+/// `gcs upload` of `file` to `vehicles` through `service`: wall time, and whether every
+/// vehicle completed.
+fn upload(service: &GroundService, vehicles: &str, file: &str) -> (Duration, bool) {
+    let start = Instant::now();
+    let out = service.gcs(&["--vehicle", vehicles, "upload", &mission(file)]);
+    let took = start.elapsed();
+    if !out.status.success() {
+        eprintln!(
+            "upload to {vehicles} did not complete:\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    (took, out.status.success())
+}
+
+/// The service on `entries` with its MAVLink side toward `client`.
+fn service(dir: &Path, entries: &[FleetEntry], client: &MavlinkClient) -> GroundService {
+    let fleet = fleet_text(Config::default().ids.gcs, entries);
+    let to = client.addr.to_string();
+    GroundService::start(
+        dir,
+        &fleet,
+        &[
+            "--mavlink",
+            "--mavlink-bind",
+            "127.0.0.1:0",
+            "--mavlink-to",
+            &to,
+        ],
+    )
+}
+
+fn measure(kind: Kind, n: usize, runs: usize, idle: Duration) -> Row {
+    eprintln!("{} fleet of {n}: starting", kind.name());
+    let dir = std::env::temp_dir().join(format!(
+        "missionlink-bench-fleet-{}-{n}-{}",
+        kind.name(),
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let sent: SentPositions = Arc::default();
+    let client = MavlinkClient::start(sent.clone());
+    let (_rigs, _fccs, _simulated, entries) = match kind {
+        Kind::Real => {
+            let (rigs, fccs, entries) = real_fleet(n);
+            (rigs, fccs, None, entries)
+        }
+        Kind::Simulated => {
+            let (fleet, entries) = SimulatedFleet::start(n, &dir, &sent);
+            (Vec::new(), Vec::new(), Some(fleet), entries)
+        }
+    };
+    let service = service(&dir, &entries, &client);
+    client.wait_for_all(n, Duration::from_secs(60));
+
+    let all: Vec<String> = (0..n).map(vehicle_name).collect();
+    let all = all.join(",");
+    let mut one_ms = Vec::new();
+    let mut all_ms = Vec::new();
+    let mut failed = 0;
+    // Both lists change at every upload: missions 1 and 2 in turn.
+    let files = ["mission-2.toml", "mission-1.toml"];
+    let mut turn = 0;
+    for _ in 0..runs {
+        for (vehicles, times) in [(vehicle_name(0), &mut one_ms), (all.clone(), &mut all_ms)] {
+            // One vehicle alone; first every vehicle with the mission the next upload replaces.
+            if vehicles != all || turn == 0 {
+                let (_, done) = upload(&service, &all, files[turn % 2]);
+                failed += usize::from(!done);
+                turn += 1;
+            }
+            let (took, done) = upload(&service, &vehicles, files[turn % 2]);
+            failed += usize::from(!done);
+            turn += 1;
+            times.push(took.as_secs_f64() * 1e3);
+        }
+    }
+
+    // Idle: positions and heartbeats only.
+    std::thread::sleep(Duration::from_secs(2));
+    let pid = service.pid();
+    client.begin();
+    let cpu_before = cpu_time(pid);
+    let start = Instant::now();
+    std::thread::sleep(idle);
+    let cpu = cpu_time(pid) - cpu_before;
+    let wall = start.elapsed();
+    let (positions, mut latency_ns) = client.end();
+    let rss = status_kb(pid, "VmRSS:");
+    let rates: Vec<f64> = (1..=n as u8)
+        .map(|s| positions.get(&s).copied().unwrap_or(0) as f64 / wall.as_secs_f64())
+        .collect();
+    latency_ns.sort_unstable();
+    drop(service);
+    let _ = std::fs::remove_dir_all(&dir);
+    Row {
+        kind,
+        n,
+        one_ms,
+        all_ms,
+        failed,
+        cpu_percent: 100.0 * cpu.as_secs_f64() / wall.as_secs_f64(),
+        rss,
+        positions_per_s: (
+            rates.iter().copied().fold(f64::INFINITY, f64::min),
+            rates.iter().copied().fold(0.0, f64::max),
+        ),
+        latency_ns: if kind == Kind::Simulated {
+            latency_ns
+        } else {
+            Vec::new()
+        },
+    }
+}
+
+fn print(rows: &[Row]) {
+    println!(
+        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
+        "fleet",
+        "N",
+        "one ms",
+        "all ms",
+        "all/1",
+        "fail",
+        "CPU %",
+        "RSS MiB",
+        "KiB/veh",
+        "KiB/veh +",
+        "GPI/s min-max",
+        "lat p50",
+        "p99",
+        "p99.9",
+        "max µs",
+        "samples"
+    );
+    for r in rows {
+        let base = rows
+            .iter()
+            .find(|b| b.kind == r.kind && b.n == 1)
+            .filter(|_| r.n > 1);
+        let marginal = base.map_or_else(
+            || "-".to_owned(),
+            |b| {
+                format!(
+                    "{:.0}",
+                    (r.rss as f64 - b.rss as f64) / (r.n - 1) as f64 / 1024.0
+                )
+            },
+        );
+        let us = |p: f64| {
+            if r.latency_ns.is_empty() {
+                "-".to_owned()
+            } else {
+                format!("{:.0}", percentile(&r.latency_ns, p) as f64 / 1e3)
+            }
+        };
+        let (one, all) = (median(&r.one_ms), median(&r.all_ms));
+        println!(
+            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
+            r.kind.name(),
+            r.n,
+            one,
+            all,
+            all / one,
+            r.failed,
+            r.cpu_percent,
+            r.rss as f64 / (1 << 20) as f64,
+            r.rss as f64 / r.n as f64 / 1024.0,
+            marginal,
+            r.positions_per_s.0,
+            r.positions_per_s.1,
+            us(0.5),
+            us(0.99),
+            us(0.999),
+            us(1.0),
+            r.latency_ns.len(),
+        );
+    }
+    println!(
+        "\none, all: median wall time of `gcs upload` to one vehicle and to all at once; CPU: the \
+         service's share of one core while idle; KiB/veh +: resident set added per vehicle over \
+         the fleet of one; lat: #101 sent to its GLOBAL_POSITION_INT, µs"
+    );
+}
+
+/// The hour: one real fleet of `n`, an upload to all every [`SOAK_UPLOAD_EVERY`], a sample
+/// every [`SOAK_SAMPLE_EVERY`].
+fn soak(n: usize, duration: Duration) {
+    let dir = std::env::temp_dir().join(format!("missionlink-bench-soak-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let client = MavlinkClient::start(Arc::default());
+    let (_rigs, _fccs, entries) = real_fleet(n);
+    let service = service(&dir, &entries, &client);
+    client.wait_for_all(n, Duration::from_secs(60));
+    let pid = service.pid();
+    let all: Vec<String> = (0..n).map(vehicle_name).collect();
+    let all = all.join(",");
+    let files = ["mission-2.toml", "mission-1.toml"];
+    println!(
+        "{:>7} {:>9} {:>5} {:>8} {:>7} {:>8} {:>7} {:>13}",
+        "minute", "RSS KiB", "fds", "threads", "CPU %", "uploads", "failed", "GPI/s min-max"
+    );
+    let start = Instant::now();
+    let mut samples: Vec<(u64, usize, usize)> = Vec::new();
+    let (mut uploads, mut failed) = (0usize, 0usize);
+    let mut next_upload = start;
+    let mut next_sample = start + SOAK_SAMPLE_EVERY;
+    let mut cpu_before = cpu_time(pid);
+    client.begin();
+    while start.elapsed() < duration {
+        let now = Instant::now();
+        if now >= next_upload {
+            let (_, done) = upload(&service, &all, files[uploads % 2]);
+            uploads += 1;
+            failed += usize::from(!done);
+            next_upload += SOAK_UPLOAD_EVERY;
+        }
+        if now >= next_sample {
+            let cpu = cpu_time(pid);
+            let (positions, _) = client.end();
+            client.begin();
+            let rates: Vec<f64> = (1..=n as u8)
+                .map(|s| {
+                    positions.get(&s).copied().unwrap_or(0) as f64 / SOAK_SAMPLE_EVERY.as_secs_f64()
+                })
+                .collect();
+            let sample = (status_kb(pid, "VmRSS:") / 1024, open_fds(pid), threads(pid));
+            println!(
+                "{:>7} {:>9} {:>5} {:>8} {:>7.2} {:>8} {:>7} {:>6.2}-{:<6.2}",
+                samples.len() + 1,
+                sample.0,
+                sample.1,
+                sample.2,
+                100.0 * (cpu - cpu_before).as_secs_f64() / SOAK_SAMPLE_EVERY.as_secs_f64(),
+                uploads,
+                failed,
+                rates.iter().copied().fold(f64::INFINITY, f64::min),
+                rates.iter().copied().fold(0.0, f64::max),
+            );
+            samples.push(sample);
+            cpu_before = cpu;
+            next_sample += SOAK_SAMPLE_EVERY;
+        }
+        std::thread::sleep(
+            next_upload
+                .min(next_sample)
+                .saturating_duration_since(Instant::now()),
+        );
+    }
+    let (first, last) = (samples.first().unwrap(), samples.last().unwrap());
+    let max_rss = samples.iter().map(|s| s.0).max().unwrap();
+    println!(
+        "\n{n} vehicles for {:.0} min: RSS {} KiB at minute 1, {} KiB at the end (max {} KiB, \
+         growth {:+} KiB); fds {} -> {}; threads {} -> {}; {uploads} uploads to all, {failed} \
+         not complete",
+        duration.as_secs_f64() / 60.0,
+        first.0,
+        last.0,
+        max_rss,
+        last.0 as i64 - first.0 as i64,
+        first.1,
+        last.1,
+        first.2,
+        last.2,
+    );
+    drop(service);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let bench = args.iter().any(|a| a == "--bench");
+    let real = list(&args, "--real", if bench { &[1, 4, 16] } else { &[1] });
+    let simulated = list(
+        &args,
+        "--simulated",
+        if bench { &[1, 16, 250] } else { &[1] },
+    );
+    let runs: usize =
+        arg(&args, "--runs").map_or(if bench { 5 } else { 1 }, |v| v.parse().expect("--runs N"));
+    let idle = Duration::from_secs_f64(
+        arg(&args, "--idle-s").map_or(if bench { 30.0 } else { 3.0 }, |v| {
+            v.parse().expect("--idle-s S")
+        }),
+    );
+    if let Some(seconds) = arg(&args, "--soak-s") {
+        let n = real.iter().copied().max().unwrap_or(16);
+        soak(
+            n,
+            Duration::from_secs_f64(seconds.parse().expect("--soak-s S")),
+        );
+        return;
+    }
+    assert!(
+        simulated.iter().all(|n| (1..=250).contains(n)),
+        "a MAVLink fleet has at most 250 systems here"
+    );
+    let mut rows = Vec::new();
+    for n in real {
+        rows.push(measure(Kind::Real, n, runs, idle));
+    }
+    for n in simulated {
+        rows.push(measure(Kind::Simulated, n, runs, idle));
+    }
+    print(&rows);
+}
