@@ -6,7 +6,7 @@
 //! group of processes, prefix, ports and state) or FCCs simulated in this process: a thread per
 //! vehicle with the FCC's own voting (paper §2.4), signing (ICD §9) and mission data handling
 //! (`MissionDataHandling`, the sans-IO machine of the partition) over two UDP sockets, guidance
-//! replaced by a position that moves 1 m every 100 ms. A simulated FCC has no shared memory
+//! replaced by a position that moves 1 m every 100 ms near the demo's take-off position. A simulated FCC has no shared memory
 //! between partitions, so 250 of them (MAVLink's limit of system IDs) fit this 2-core machine
 //! beside the service; what the service does per vehicle is the same.
 //!
@@ -49,6 +49,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::MavMessage;
+use missionlink::harness::binaries;
 use missionlink::harness::service::{FleetEntry, GroundService, fleet_text};
 use missionlink::harness::{Process, Rig, eventually};
 use missionlink_flight::mission_data_handling::MissionDataHandling;
@@ -148,6 +149,7 @@ type SentPositions = Arc<Mutex<HashMap<(u8, i32), Instant>>>;
 /// simulated FCC recorded, the latency from its send.
 struct MavlinkClient {
     addr: SocketAddr,
+    sent: SentPositions,
     stop: Arc<AtomicBool>,
     heard: Arc<Mutex<Heard>>,
     thread: Option<JoinHandle<()>>,
@@ -173,7 +175,7 @@ impl MavlinkClient {
         let stop = Arc::new(AtomicBool::new(false));
         let heard = Arc::new(Mutex::new(Heard::default()));
         let thread = {
-            let (stop, heard) = (stop.clone(), heard.clone());
+            let (stop, heard, sent) = (stop.clone(), heard.clone(), sent.clone());
             std::thread::spawn(move || {
                 let mut buf = [0u8; 2048];
                 while !stop.load(Ordering::Relaxed) {
@@ -210,6 +212,7 @@ impl MavlinkClient {
         };
         Self {
             addr,
+            sent,
             stop,
             heard,
             thread: Some(thread),
@@ -235,6 +238,7 @@ impl MavlinkClient {
 
     /// Starts a window: counts from zero, latencies recorded.
     fn begin(&self) {
+        self.sent.lock().unwrap().clear();
         let mut heard = self.heard.lock().unwrap();
         heard.positions.clear();
         heard.latencies_ns.clear();
@@ -322,7 +326,7 @@ impl Drop for SimulatedFleet {
 
 /// One simulated FCC: voting-monitoring and mission data handling of one partition each in
 /// the real FCC, here one loop; the position moves north [`STEP_DEG`] every
-/// [`GUIDANCE_PERIOD`].
+/// [`GUIDANCE_PERIOD`], back and forth.
 fn simulated_fcc(
     config: &Config,
     links: LinkPair,
@@ -342,12 +346,13 @@ fn simulated_fcc(
     let mut core = Box::new(MissionDataHandling::new(
         config.fcc_core(clock.utc_at_zero()),
     ));
+    // At the demo's take-off position (TROL), inside the demo missions' fly-zone, so that the
+    // onboard geofence check passes what the bench uploads; it moves back and forth within
+    // 200 steps (about 220 m), each #101 with a latitude of its own within 20 s.
     let mut progress = GuidanceProgressPayload::IDLE;
-    progress.latitude_deg = 47.0 + f64::from(system) * 0.01;
-    progress.longitude_deg = 11.0;
-    progress.altitude_m = 500.0;
+    progress.longitude_deg = 11.66;
+    progress.altitude_m = 30.0;
     progress.ground_speed_mps = 10.0;
-    progress.on_ground = false;
     let mut next_guidance = clock.now();
     let mut frame = [0u8; MAX_FRAME_LEN];
     let mut buf = [0u8; MAX_DATAGRAM];
@@ -357,7 +362,7 @@ fn simulated_fcc(
         if now >= next_guidance {
             progress.sequence += 1;
             progress.time_ns = missionlink_platform::clock::monotonic_ns();
-            progress.latitude_deg += STEP_DEG;
+            progress.latitude_deg = 48.26 + STEP_DEG * (progress.sequence % 200) as f64;
             core.handle_progress(now, &progress);
             next_guidance = now + GUIDANCE_PERIOD;
         }
@@ -570,6 +575,48 @@ fn measure(kind: Kind, n: usize, runs: usize, idle: Duration) -> Row {
         .map(|s| positions.get(&s).copied().unwrap_or(0) as f64 / wall.as_secs_f64())
         .collect();
     latency_ns.sort_unstable();
+    if std::env::var_os("FLEET_SMAPS").is_some() {
+        let smaps = std::fs::read_to_string(format!("/proc/{pid}/smaps")).unwrap();
+        let mut current = String::new();
+        let mut sizes: Vec<(u64, String)> = Vec::new();
+        for l in smaps.lines() {
+            if let Some(kb) = l.strip_prefix("Rss:") {
+                let kb: u64 = kb.trim().trim_end_matches("kB").trim().parse().unwrap();
+                sizes.push((kb, current.clone()));
+            } else if l.contains('-') && !l.contains(':')
+                || l.split_whitespace().count() >= 5
+                    && l.chars().next().is_some_and(|c| c.is_ascii_hexdigit())
+            {
+                current = l.to_owned();
+            }
+        }
+        let mut cats: std::collections::BTreeMap<&str, (u64, usize)> = Default::default();
+        for (kb, m) in &sizes {
+            let range = m.split_whitespace().next().unwrap_or("");
+            let (a, b) = range.split_once('-').unwrap_or(("0", "0"));
+            let (a, b) = (
+                u64::from_str_radix(a, 16).unwrap_or(0),
+                u64::from_str_radix(b, 16).unwrap_or(0),
+            );
+            let cat = if m.contains('/') || m.contains('[') && !m.contains("[heap]") {
+                "file/special"
+            } else if m.contains("[heap]") {
+                "heap"
+            } else if b - a == 64 << 20 && a % (64 << 20) == 0 {
+                "arena 64MiB aligned"
+            } else if b - a == 64 << 20 {
+                "stack 64MiB"
+            } else {
+                "other anon"
+            };
+            let e = cats.entry(cat).or_default();
+            e.0 += kb;
+            e.1 += 1;
+        }
+        for (cat, (kb, n)) in cats {
+            eprintln!("{cat:<22} {kb:>8} kB in {n} mappings");
+        }
+    }
     drop(service);
     let _ = std::fs::remove_dir_all(&dir);
     Row {
@@ -748,6 +795,10 @@ fn soak(n: usize, duration: Duration) {
 }
 
 fn main() {
+    // The FCC and the ground service of this build, as the sources are now.
+    let dir = binaries::build_dir().unwrap();
+    binaries::ensure(&dir, &binaries::FCC_BINARIES, binaries::Build::UnderCargo).unwrap();
+    binaries::ensure_gcs(&dir, binaries::Build::UnderCargo).unwrap();
     let args: Vec<String> = std::env::args().collect();
     let bench = args.iter().any(|a| a == "--bench");
     let real = list(&args, "--real", if bench { &[1, 4, 16] } else { &[1] });

@@ -41,6 +41,55 @@ const STAMP_LEASE: Duration = Duration::from_secs(1);
 /// the floor before it sends, so that the FCC's answers to it come after the floor.
 const REPLAY_LEASE: Duration = Duration::from_millis(250);
 
+/// The downlink's replay window kept across processes ([`GcsLink::with_replay_lease`]): the
+/// floor written in its file, and a renewal due but not yet written.
+#[derive(Debug)]
+struct ReplayLease {
+    file: std::path::PathBuf,
+    floor: wire::Timestamp,
+    /// The highest stamp admitted, when it came within half a lease of the floor.
+    due: Option<wire::Timestamp>,
+}
+
+impl ReplayLease {
+    /// The highest stamp admitted so far is `highest`: a renewal is due when less than half a
+    /// lease is left above it.
+    fn admitted(&mut self, highest: wire::Timestamp) {
+        let half = REPLAY_LEASE.as_millis() as u64 / 2;
+        if highest.millis().saturating_add(half) >= self.floor.millis() {
+            self.due = Some(highest);
+        }
+    }
+
+    /// Writes the renewal due, if one is: a lease ahead of the highest stamp admitted.
+    fn write_due(&mut self) {
+        let Some(highest) = self.due.take() else {
+            return;
+        };
+        let ahead = highest
+            .millis()
+            .saturating_add(REPLAY_LEASE.as_millis() as u64);
+        let tmp = self.file.with_extension("tmp");
+        let written = std::fs::write(&tmp, format!("{ahead}\n"))
+            .and_then(|()| std::fs::rename(&tmp, &self.file));
+        match written {
+            Ok(()) => self.floor = wire::Timestamp::from_millis(ahead).unwrap_or(highest),
+            Err(e) => tracing::warn!(
+                file = %self.file.display(),
+                %e,
+                "cannot keep the replay window: a GCS started next refuses what the FCC sent \
+                 before it as sent before its start"
+            ),
+        }
+    }
+}
+
+impl Drop for ReplayLease {
+    fn drop(&mut self) {
+        self.write_due();
+    }
+}
+
 /// How a request ended well.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Finished {
@@ -111,8 +160,8 @@ pub struct GcsLink<G: SafetyGateway> {
     slots: Vec<[u8; MAX_DATAGRAM]>,
     /// The file that reserves time stamps across processes, and how far it reserves.
     stamp_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
-    /// The file that keeps the replay window's floor across processes, and the floor it holds.
-    replay_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
+    /// The file that keeps the replay window's floor across processes.
+    replay_lease: Option<ReplayLease>,
     /// What each link (direct, LTE) brought: datagrams and when the last one came.
     activity: [LinkActivity; 2],
     /// Every message sent and every voted message received, when logging is on, but the
@@ -221,37 +270,12 @@ impl<G: SafetyGateway> GcsLink<G> {
                 .min(REPLAY_LEASE.as_millis() as u64 + 1);
             std::thread::sleep(Duration::from_millis(wait));
         }
-        self.replay_lease = Some((file.to_owned(), floor.unwrap_or_default()));
+        self.replay_lease = Some(ReplayLease {
+            file: file.to_owned(),
+            floor: floor.unwrap_or_default(),
+            due: None,
+        });
         self
-    }
-
-    /// Renews the replay lease when the highest stamp admitted comes within half a lease of it.
-    fn renew_replay_lease(&mut self) {
-        let Some((file, lease)) = self.replay_lease.as_mut() else {
-            return;
-        };
-        let Some(highest) = self.voter.signatures().admitted_up_to() else {
-            return;
-        };
-        let half = REPLAY_LEASE.as_millis() as u64 / 2;
-        if highest.millis().saturating_add(half) < lease.millis() {
-            return;
-        }
-        let ahead = highest
-            .millis()
-            .saturating_add(REPLAY_LEASE.as_millis() as u64);
-        let tmp = file.with_extension("tmp");
-        let written =
-            std::fs::write(&tmp, format!("{ahead}\n")).and_then(|()| std::fs::rename(&tmp, &*file));
-        match written {
-            Ok(()) => *lease = wire::Timestamp::from_millis(ahead).unwrap_or(highest),
-            Err(e) => tracing::warn!(
-                file = %file.display(),
-                %e,
-                "cannot keep the replay window: a GCS started next refuses what the FCC sent \
-                 before it as sent before its start"
-            ),
-        }
     }
 
     /// Moves the reservation to one second past `stamp` and writes it (a temporary file renamed
@@ -401,6 +425,13 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// Runs the links for at most `wait`: sends, sleeps until a datagram or the next timer,
     /// votes and handles what arrived, fires due timers.
     pub fn pump(&mut self, wait: Duration) {
+        // The replay window's floor follows what the last pump admitted. Written here, once its
+        // caller has handed on what arrived, not between the arrival and the caller: the write
+        // of a file (about a millisecond here) would otherwise delay every position report on
+        // its way to the MAVLink side and the monitors. A link dropped writes it too.
+        if let Some(lease) = &mut self.replay_lease {
+            lease.write_due();
+        }
         self.flush();
         let now = self.clock.now();
         let until_timer = self
@@ -468,7 +499,12 @@ impl<G: SafetyGateway> GcsLink<G> {
             });
             // The arrivals borrow the slots; recording needs all of `self`.
             drop(arrivals);
-            self.renew_replay_lease();
+            if let (Some(lease), Some(highest)) = (
+                &mut self.replay_lease,
+                self.voter.signatures().admitted_up_to(),
+            ) {
+                lease.admitted(highest);
+            }
             for m in received {
                 self.record(Direction::Down, m);
             }
@@ -620,6 +656,8 @@ mod tests {
             "the one below it may have been admitted"
         );
         assert_eq!(stats.rejected_signatures.total(), 0);
+        // The renewal is written at the next pump, once the caller has handed on what arrived.
+        link.pump(Duration::ZERO);
         let renewed: u64 = std::fs::read_to_string(&lease)
             .unwrap()
             .trim()
