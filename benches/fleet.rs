@@ -32,9 +32,11 @@
 //! cargo bench --bench fleet -- --soak-s 3600 --real 16          # the hour: no growth
 //! ```
 //!
-//! `--soak-s S` runs one real fleet (the largest of `--real`) for S seconds instead: positions
+//! `--soak-s S` runs one fleet (the largest of `--real`, or with `--real ""` of `--simulated`)
+//! for S seconds instead: positions
 //! at 2 Hz, an upload to every vehicle every 10 s, and every minute the service's resident set,
-//! open file descriptors, threads and CPU share since the minute before; then the growth from
+//! open file descriptors, threads and CPU share since the minute before (`--sample-s` another
+//! period); then the growth from
 //! the first minute to the last and every upload's outcome.
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -64,8 +66,6 @@ use missionlink_protocol::voting::Voter;
 
 /// How often an upload goes to every vehicle in the soak.
 const SOAK_UPLOAD_EVERY: Duration = Duration::from_secs(10);
-/// How often the soak samples the service.
-const SOAK_SAMPLE_EVERY: Duration = Duration::from_secs(60);
 /// How far a simulated vehicle moves between its guidance updates: 1e-5 degrees of latitude
 /// (about 1 m), so that every #101 carries a latitude of its own.
 const STEP_DEG: f64 = 1e-5;
@@ -575,48 +575,6 @@ fn measure(kind: Kind, n: usize, runs: usize, idle: Duration) -> Row {
         .map(|s| positions.get(&s).copied().unwrap_or(0) as f64 / wall.as_secs_f64())
         .collect();
     latency_ns.sort_unstable();
-    if std::env::var_os("FLEET_SMAPS").is_some() {
-        let smaps = std::fs::read_to_string(format!("/proc/{pid}/smaps")).unwrap();
-        let mut current = String::new();
-        let mut sizes: Vec<(u64, String)> = Vec::new();
-        for l in smaps.lines() {
-            if let Some(kb) = l.strip_prefix("Rss:") {
-                let kb: u64 = kb.trim().trim_end_matches("kB").trim().parse().unwrap();
-                sizes.push((kb, current.clone()));
-            } else if l.contains('-') && !l.contains(':')
-                || l.split_whitespace().count() >= 5
-                    && l.chars().next().is_some_and(|c| c.is_ascii_hexdigit())
-            {
-                current = l.to_owned();
-            }
-        }
-        let mut cats: std::collections::BTreeMap<&str, (u64, usize)> = Default::default();
-        for (kb, m) in &sizes {
-            let range = m.split_whitespace().next().unwrap_or("");
-            let (a, b) = range.split_once('-').unwrap_or(("0", "0"));
-            let (a, b) = (
-                u64::from_str_radix(a, 16).unwrap_or(0),
-                u64::from_str_radix(b, 16).unwrap_or(0),
-            );
-            let cat = if m.contains('/') || m.contains('[') && !m.contains("[heap]") {
-                "file/special"
-            } else if m.contains("[heap]") {
-                "heap"
-            } else if b - a == 64 << 20 && a % (64 << 20) == 0 {
-                "arena 64MiB aligned"
-            } else if b - a == 64 << 20 {
-                "stack 64MiB"
-            } else {
-                "other anon"
-            };
-            let e = cats.entry(cat).or_default();
-            e.0 += kb;
-            e.1 += 1;
-        }
-        for (cat, (kb, n)) in cats {
-            eprintln!("{cat:<22} {kb:>8} kB in {n} mappings");
-        }
-    }
     drop(service);
     let _ = std::fs::remove_dir_all(&dir);
     Row {
@@ -709,14 +667,24 @@ fn print(rows: &[Row]) {
     );
 }
 
-/// The hour: one real fleet of `n`, an upload to all every [`SOAK_UPLOAD_EVERY`], a sample
-/// every [`SOAK_SAMPLE_EVERY`].
-fn soak(n: usize, duration: Duration) {
+/// The hour: one fleet of `n` of `kind`, an upload to all every [`SOAK_UPLOAD_EVERY`], a
+/// sample every `sample_every`.
+fn soak(kind: Kind, n: usize, duration: Duration, sample_every: Duration) {
     let dir = std::env::temp_dir().join(format!("missionlink-bench-soak-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let client = MavlinkClient::start(Arc::default());
-    let (_rigs, _fccs, entries) = real_fleet(n);
+    let sent: SentPositions = Arc::default();
+    let client = MavlinkClient::start(sent.clone());
+    let (_rigs, _fccs, _simulated, entries) = match kind {
+        Kind::Real => {
+            let (rigs, fccs, entries) = real_fleet(n);
+            (rigs, fccs, None, entries)
+        }
+        Kind::Simulated => {
+            let (fleet, entries) = SimulatedFleet::start(n, &dir, &sent);
+            (Vec::new(), Vec::new(), Some(fleet), entries)
+        }
+    };
     let service = service(&dir, &entries, &client);
     client.wait_for_all(n, Duration::from_secs(60));
     let pid = service.pid();
@@ -731,7 +699,7 @@ fn soak(n: usize, duration: Duration) {
     let mut samples: Vec<(u64, usize, usize)> = Vec::new();
     let (mut uploads, mut failed) = (0usize, 0usize);
     let mut next_upload = start;
-    let mut next_sample = start + SOAK_SAMPLE_EVERY;
+    let mut next_sample = start + sample_every;
     let mut cpu_before = cpu_time(pid);
     client.begin();
     while start.elapsed() < duration {
@@ -748,7 +716,7 @@ fn soak(n: usize, duration: Duration) {
             client.begin();
             let rates: Vec<f64> = (1..=n as u8)
                 .map(|s| {
-                    positions.get(&s).copied().unwrap_or(0) as f64 / SOAK_SAMPLE_EVERY.as_secs_f64()
+                    positions.get(&s).copied().unwrap_or(0) as f64 / sample_every.as_secs_f64()
                 })
                 .collect();
             let sample = (status_kb(pid, "VmRSS:") / 1024, open_fds(pid), threads(pid));
@@ -758,7 +726,7 @@ fn soak(n: usize, duration: Duration) {
                 sample.0,
                 sample.1,
                 sample.2,
-                100.0 * (cpu - cpu_before).as_secs_f64() / SOAK_SAMPLE_EVERY.as_secs_f64(),
+                100.0 * (cpu - cpu_before).as_secs_f64() / sample_every.as_secs_f64(),
                 uploads,
                 failed,
                 rates.iter().copied().fold(f64::INFINITY, f64::min),
@@ -766,7 +734,7 @@ fn soak(n: usize, duration: Duration) {
             );
             samples.push(sample);
             cpu_before = cpu;
-            next_sample += SOAK_SAMPLE_EVERY;
+            next_sample += sample_every;
         }
         std::thread::sleep(
             next_upload
@@ -815,11 +783,19 @@ fn main() {
         }),
     );
     if let Some(seconds) = arg(&args, "--soak-s") {
-        let n = real.iter().copied().max().unwrap_or(16);
-        soak(
-            n,
-            Duration::from_secs_f64(seconds.parse().expect("--soak-s S")),
+        let duration = Duration::from_secs_f64(seconds.parse().expect("--soak-s S"));
+        let sample_every = Duration::from_secs_f64(
+            arg(&args, "--sample-s").map_or(60.0, |v| v.parse().expect("--sample-s S")),
         );
+        match real.iter().copied().max() {
+            Some(n) => soak(Kind::Real, n, duration, sample_every),
+            None => soak(
+                Kind::Simulated,
+                simulated.iter().copied().max().unwrap_or(16),
+                duration,
+                sample_every,
+            ),
+        }
         return;
     }
     assert!(

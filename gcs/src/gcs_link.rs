@@ -18,6 +18,8 @@ use missionlink_protocol::voting::Voter;
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::config::LinkConfig;
 use missionlink_platform::keys::LinkSigning;
+use std::os::fd::AsFd;
+
 use missionlink_platform::udp::{LinkError, LinkPair, MAX_DATAGRAM, MAX_READS_PER_RECEIVE};
 use missionlink_protocol::link::signing::{Policy, Signer};
 
@@ -425,6 +427,12 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// Runs the links for at most `wait`: sends, sleeps until a datagram or the next timer,
     /// votes and handles what arrived, fires due timers.
     pub fn pump(&mut self, wait: Duration) {
+        self.pump_or_bell(wait, None);
+    }
+
+    /// [`GcsLink::pump`], woken too when `bell` becomes readable (the owner's queue of work: an
+    /// eventfd another thread writes).
+    pub fn pump_or_bell(&mut self, wait: Duration, bell: Option<std::os::fd::BorrowedFd<'_>>) {
         // The replay window's floor follows what the last pump admitted. Written here, once its
         // caller has handed on what arrived, not between the arrival and the caller: the write
         // of a file (about a millisecond here) would otherwise delay every position report on
@@ -445,10 +453,13 @@ impl<G: SafetyGateway> GcsLink<G> {
         };
         {
             let [direct, lte] = self.links.sockets();
-            let mut fds = [
-                rustix::event::PollFd::new(direct, rustix::event::PollFlags::IN),
-                rustix::event::PollFd::new(lte, rustix::event::PollFlags::IN),
-            ];
+            let mut fds: heapless::Vec<rustix::event::PollFd<'_>, 3> = heapless::Vec::new();
+            for fd in [direct.as_fd(), lte.as_fd()].into_iter().chain(bell) {
+                let _ = fds.push(rustix::event::PollFd::from_borrowed_fd(
+                    fd,
+                    rustix::event::PollFlags::IN,
+                ));
+            }
             if let Err(e) = rustix::event::poll(&mut fds, Some(&timeout)) {
                 if e != rustix::io::Errno::INTR {
                     tracing::warn!(%e, "poll failed");

@@ -9,12 +9,18 @@
 //! receivers and autopilots report MSL altitudes against. An evaluation costs about a millisecond,
 //! so the last value is kept per cell of 1/120 degree (at most 930 m across): the undulation's
 //! gradient, at most a few centimetres per kilometre outside the steepest mountain ranges, moves
-//! it by less than the wire's altitude step within a cell.
+//! it by less than the wire's altitude step within a cell. An evaluation also takes over half a
+//! megabyte of stack, which a thread keeps resident once it has touched it: it runs on a
+//! short-lived thread of its own, so that the ground service's thread per vehicle, which
+//! converts every position it hands to MAVLink, stays small.
 
 use std::cell::Cell;
 
 /// Cells per degree of the memo.
 const CELLS_PER_DEGREE: f64 = 120.0;
+
+/// The stack of an evaluation's thread: the model's 520 KB frame and room to spare.
+const EVALUATION_STACK: usize = 2 << 20;
 
 thread_local! {
     /// The last cell evaluated and its undulation.
@@ -33,10 +39,19 @@ pub fn undulation_m(latitude_deg: f64, longitude_deg: f64) -> f64 {
     {
         return n;
     }
-    let n = egm96::egm96_compute_altitude_offset(
+    let (lat, lon) = (
         cell.0 as f64 / CELLS_PER_DEGREE,
         cell.1 as f64 / CELLS_PER_DEGREE,
     );
+    let evaluate = move || egm96::egm96_compute_altitude_offset(lat, lon);
+    // Where no thread can be started, on this one.
+    let n = std::thread::Builder::new()
+        .name("geoid".to_owned())
+        .stack_size(EVALUATION_STACK)
+        .spawn(evaluate)
+        .ok()
+        .and_then(|t| t.join().ok())
+        .unwrap_or_else(evaluate);
     LAST.set(Some((cell, n)));
     n
 }

@@ -1384,6 +1384,11 @@ impl Vehicle {
         mavlink::write_v2_msg(&mut out, header, &message).ok()
     }
 
+    /// Whether an event waits for the driver.
+    pub fn has_event(&self) -> bool {
+        !self.events.is_empty()
+    }
+
     /// The next event for the driver.
     pub fn poll_event(&mut self) -> Option<VehicleEvent> {
         self.events.pop_front()

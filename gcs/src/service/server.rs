@@ -12,6 +12,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::io::{BufRead, BufReader, Write};
 use std::net::SocketAddr;
+use std::os::fd::{AsFd, OwnedFd};
 use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
@@ -146,8 +147,10 @@ pub enum ServeError {
 /// The stack of a vehicle's thread: requests hold plans and lists inline (tens of KB each, and
 /// a debug build copies them into every frame), as the gcs command's thread does.
 const VEHICLE_STACK: usize = 64 << 20;
-/// How long a vehicle's thread waits on its links between looks at its queue of calls.
-const PUMP: Duration = Duration::from_millis(20);
+/// How long an idle vehicle's thread waits at most: it wakes for a datagram, a call (its
+/// [`JobSender`] rings), a deadline of its ground station or of its MAVLink side, and at the
+/// latest after this to look whether the service stops.
+const IDLE_WAIT: Duration = Duration::from_millis(500);
 /// How long a write to a client may block the vehicle's thread: a monitor that stopped reading
 /// is dropped, not waited for.
 const CLIENT_WRITE: Duration = Duration::from_millis(200);
@@ -197,6 +200,20 @@ pub fn serve(
             lte,
         });
         let (jobs, queue) = channel();
+        let bell = Arc::new(
+            rustix::event::eventfd(
+                0,
+                rustix::event::EventfdFlags::CLOEXEC | rustix::event::EventfdFlags::NONBLOCK,
+            )
+            .map_err(|e| ServeError::Links {
+                name: vehicle.name.clone(),
+                error: format!("cannot make the thread's bell (eventfd): {e}"),
+            })?,
+        );
+        let jobs = JobSender {
+            queue: jobs,
+            bell: bell.clone(),
+        };
         let shared = Arc::new(Mutex::new(Snapshot::default()));
         let dir = vehicle_dir(options, &vehicle.name);
         let clock = link.clock();
@@ -219,6 +236,7 @@ pub fn serve(
             gateway: options.gateway,
             link,
             queue,
+            bell,
             deferred: VecDeque::new(),
             shared: shared.clone(),
             state: VehicleState {
@@ -466,8 +484,26 @@ fn keeps_separation(
 struct Route {
     name: String,
     vehicle_id: u32,
-    jobs: Sender<Job>,
+    jobs: JobSender,
     shared: Arc<Mutex<Snapshot>>,
+}
+
+/// The sending end of a vehicle's queue of calls: each call rings the vehicle's bell (an
+/// eventfd its thread waits on beside its links), so that an idle vehicle's thread sleeps until
+/// something comes instead of looking at its queue every few milliseconds.
+#[derive(Clone)]
+struct JobSender {
+    queue: Sender<Job>,
+    bell: Arc<OwnedFd>,
+}
+
+impl JobSender {
+    fn send(&self, job: Job) -> Result<(), std::sync::mpsc::SendError<Job>> {
+        self.queue.send(job)?;
+        // A full counter (2^64 - 2 rings) would only mean the thread is woken already.
+        let _ = rustix::io::write(&*self.bell, &1u64.to_ne_bytes());
+        Ok(())
+    }
 }
 
 struct Routes {
@@ -488,7 +524,7 @@ enum Job {
 /// client's HEARTBEAT) goes to every vehicle, but the mission protocol and commands addressed
 /// to system 0 in a fleet of several, which would change every vehicle's lists at once: those
 /// are counted and dropped. A message for a system the fleet does not hold is counted.
-fn route_mavlink(socket: &MavlinkSocket, routes: &[(u8, Sender<Job>)], stop: &AtomicBool) {
+fn route_mavlink(socket: &MavlinkSocket, routes: &[(u8, JobSender)], stop: &AtomicBool) {
     let mut buf = [0u8; 2048];
     let (mut elsewhere, mut to_all_refused, mut unreadable) = (0u64, 0u64, 0u64);
     while !stop.load(Ordering::Relaxed) {
@@ -798,7 +834,7 @@ impl VehicleState {
 struct Running<'a> {
     client: Option<&'a mut UnixStream>,
     state: &'a mut VehicleState,
-    queue: &'a Receiver<Job>,
+    queue: &'a mut Receiver<Job>,
     deferred: &'a mut VecDeque<Job>,
 }
 
@@ -837,6 +873,8 @@ struct Worker {
     gateway: SafetyGateway,
     link: Link,
     queue: Receiver<Job>,
+    /// Rung with every call put in `queue`.
+    bell: Arc<OwnedFd>,
     /// Calls that came while a request ran, in their order.
     deferred: VecDeque<Job>,
     shared: Arc<Mutex<Snapshot>>,
@@ -846,6 +884,57 @@ struct Worker {
 
 impl Worker {
     fn run(&mut self, stop: &AtomicBool) {
+        let name = self.name.clone();
+        on_request_thread(&name, || self.start());
+        while !stop.load(Ordering::Relaxed) {
+            // Until a datagram, a call, or the next deadline of the MAVLink side (the ground
+            // station's own the pump adds).
+            let now = self.state.clock.now();
+            let wait = self
+                .state
+                .mav
+                .as_ref()
+                .and_then(|m| m.vehicle.poll_timeout())
+                .map_or(IDLE_WAIT, |t| t.saturating_since(now))
+                .min(IDLE_WAIT);
+            self.link.pump_or_bell(wait, Some(self.bell.as_fd()));
+            // Reset before the queue is read: a call put after this rings again.
+            let _ = rustix::io::read(&*self.bell, &mut [0u8; 8]);
+            while let Some(event) = self.link.station().poll_event() {
+                self.state.heard(&event);
+            }
+            while let Some(job) = self
+                .deferred
+                .pop_front()
+                .or_else(|| self.queue.try_recv().ok())
+            {
+                match job {
+                    Job::Request(request, stream) => {
+                        on_request_thread(&name, || self.request(request, stream));
+                    }
+                    Job::Monitor(stream) => self.state.monitor(stream),
+                    Job::Mavlink(m) => self.state.mavlink(m.0, &m.1),
+                }
+            }
+            // What a MAVLink client asked (a commit, an execute, a clear) is a request.
+            if self
+                .state
+                .mav
+                .as_ref()
+                .is_some_and(|m| m.vehicle.has_event())
+            {
+                on_request_thread(&name, || self.mavlink_requests());
+            } else {
+                self.mavlink_requests();
+            }
+            self.state.tick();
+            self.publish();
+        }
+    }
+
+    /// What the thread does before its loop: the FCC's report for the status, the staged
+    /// copies a previous run left deleted, the MAVLink side's lists read.
+    fn start(&mut self) {
         let left = self.state.copies.read();
         self.link.station().set_copies_to_delete(&left);
         self.publish();
@@ -856,37 +945,24 @@ impl Worker {
             m.vehicle.start(self.link.now());
         }
         self.state.snapshot.busy = None;
-        while !stop.load(Ordering::Relaxed) {
-            self.link.pump(PUMP);
-            while let Some(event) = self.link.station().poll_event() {
-                self.state.heard(&event);
-            }
-            while let Some(job) = self
-                .deferred
-                .pop_front()
-                .or_else(|| self.queue.try_recv().ok())
-            {
-                match job {
-                    Job::Request(request, stream) => self.request(request, stream),
-                    Job::Monitor(stream) => self.state.monitor(stream),
-                    Job::Mavlink(m) => self.state.mavlink(m.0, &m.1),
-                }
-            }
-            if let Some(m) = &mut self.state.mav {
-                let (fleet, name, separation, gateway) =
-                    (&self.fleet, &self.name, self.separation, &self.gateway);
-                let changed = driver::carry_out_events(
-                    &mut self.link,
-                    &mut m.vehicle,
-                    m.memory.as_deref(),
-                    &mut |plan| keeps_separation(fleet, name, separation, gateway, plan),
-                );
-                if changed {
-                    self.refresh_report();
-                }
-            }
-            self.state.tick();
-            self.publish();
+    }
+
+    /// Carries out what the MAVLink client asked, and asks the FCC's report after what may
+    /// have changed its lists.
+    fn mavlink_requests(&mut self) {
+        let Some(m) = &mut self.state.mav else {
+            return;
+        };
+        let (fleet, name, separation, gateway) =
+            (&self.fleet, &self.name, self.separation, &self.gateway);
+        let changed = driver::carry_out_events(
+            &mut self.link,
+            &mut m.vehicle,
+            m.memory.as_deref(),
+            &mut |plan| keeps_separation(fleet, name, separation, gateway, plan),
+        );
+        if changed {
+            self.refresh_report();
         }
     }
 
@@ -984,7 +1060,8 @@ impl Worker {
         }
     }
 
-    /// Carries `request` out, `client` hearing its progress (none: the service's own).
+    /// Carries `request` out, `client` hearing its progress (none: the service's own). Called
+    /// on a request's thread ([`on_request_thread`]).
     fn carry_out(
         &mut self,
         request: Request,
@@ -1096,6 +1173,35 @@ fn request_name(request: &Request) -> &'static str {
         Request::ClearAreas => "clear areas",
         Request::Execute { .. } => "execute",
     }
+}
+
+/// Runs `work` (a request, a MAVLink client's commit, the start's report and downloads) on a
+/// thread of its own and waits for it.
+/// A request goes deep into the GCS logic with mission plans on the stack, some 500 KB at an
+/// upload's deepest, and a thread keeps every page of stack it touched: run on the vehicle's
+/// own thread, that would stay resident for every vehicle of the fleet, idle or not. A
+/// thread's stack this large is unmapped when the thread ends (the C library caches smaller
+/// ones for the next thread). Where no thread can be started, `work` runs on this one.
+fn on_request_thread<T: Send>(vehicle: &str, work: impl FnOnce() -> T + Send) -> Option<T> {
+    // Taken once, by the thread or, if none starts, here.
+    let work = Mutex::new(Some(work));
+    let run = || work.lock().ok().and_then(|mut w| w.take()).map(|w| w());
+    std::thread::scope(|scope| {
+        let spawned = std::thread::Builder::new()
+            .name(format!("{vehicle} request"))
+            .stack_size(VEHICLE_STACK)
+            .spawn_scoped(scope, run);
+        match spawned {
+            Ok(thread) => match thread.join() {
+                Ok(done) => done,
+                Err(panic) => std::panic::resume_unwind(panic),
+            },
+            Err(e) => {
+                tracing::warn!(%e, "cannot start a request's thread: it runs on the vehicle's");
+                run()
+            }
+        }
+    })
 }
 
 /// The checksums (ICD §11) of the lists of a mission file.

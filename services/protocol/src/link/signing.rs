@@ -23,8 +23,6 @@ use core::fmt;
 use core::str::FromStr;
 use core::time::Duration;
 
-use heapless::Deque;
-use heapless::index_set::FnvIndexSet;
 use hmac::{Hmac, Mac};
 use missionlink_interfaces::contracts::Link;
 use missionlink_interfaces::wire::{self, Frame, FrameError, SignatureTrailer, Timestamp};
@@ -319,15 +317,21 @@ pub enum Authenticity {
 /// A message's identity (ICD §3): Source ID, Message Type, Time Stamp.
 type Identity = (u32, u16, Timestamp);
 
-/// The identities one link accepted, in fixed memory (ICD §9 "Replay").
-#[derive(Debug, Clone)]
+/// The identities one link accepted, in fixed memory (ICD §9 "Replay"), allocated once when the
+/// check is built: a ring of [`REPLAY_MEMORY`] identities in the order they were accepted (the
+/// oldest is forgotten first) and an index over it with twice as many slots, open addressing
+/// with linear probing, so that a look-up probes a slot or two: 80 KB a link. (A set that holds
+/// its identities itself beside the ring took 300 KB a link, all of it resident: too much for
+/// a ground service with a check per vehicle.)
+#[derive(Clone)]
 struct ReplayMemory {
-    /// Twice as many slots as identities held: heapless's index table has as many slots as
-    /// the capacity, and a table kept full makes every probe long (measured: 4.6 us per check
-    /// at 4096 of 4096, `cargo bench --bench signing`).
-    seen: FnvIndexSet<Identity, { 2 * REPLAY_MEMORY }>,
-    /// The same identities in the order they were accepted: the oldest is forgotten first.
-    order: Deque<Identity, REPLAY_MEMORY>,
+    /// The identities; `len` of them from `head` on, wrapping round.
+    ring: Box<[Identity]>,
+    head: usize,
+    len: usize,
+    /// Per slot, the ring position of an identity whose probe passes it, or [`EMPTY`]. Never
+    /// more than half full, so every probe ends at an empty slot.
+    index: Box<[u16]>,
     /// Stamps below this are refused: the memory no longer proves they are new. It rises past
     /// every identity forgotten while its stamp could still pass the window, and starts at the
     /// receiver's start (what a lost memory held cannot be taken back: this choice counts a
@@ -336,6 +340,23 @@ struct ReplayMemory {
     /// The receiver's start: a stamp below it is refused as [`NotAdmitted::BeforeStart`], sent
     /// while the receiver was down or starting, not as a replay.
     start: Timestamp,
+}
+
+/// Slots of a [`ReplayMemory`]'s index: a power of two, twice its identities.
+const SLOTS: usize = 2 * REPLAY_MEMORY;
+/// An empty slot of the index (no ring position is this large).
+const EMPTY: u16 = u16::MAX;
+const _: () = assert!(SLOTS.is_power_of_two() && REPLAY_MEMORY < EMPTY as usize);
+
+/// Its size and floors: the identities are no one's business in a log.
+impl fmt::Debug for ReplayMemory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("ReplayMemory")
+            .field("len", &self.len)
+            .field("lowest", &self.lowest)
+            .field("start", &self.start)
+            .finish_non_exhaustive()
+    }
 }
 
 /// Why the replay check drops a frame whose signature verified.
@@ -360,10 +381,119 @@ impl From<NotAdmitted> for SignatureCause {
 impl ReplayMemory {
     fn new(lowest: Timestamp) -> Self {
         Self {
-            seen: FnvIndexSet::new(),
-            order: Deque::new(),
+            ring: vec![(0, 0, Timestamp::default()); REPLAY_MEMORY].into_boxed_slice(),
+            head: 0,
+            len: 0,
+            index: vec![EMPTY; SLOTS].into_boxed_slice(),
             lowest,
             start: lowest,
+        }
+    }
+
+    /// The slot an identity's probe starts at: its fields mixed (the finaliser of SplitMix64),
+    /// so that the stamps of one source, which differ in their low bits, spread over the
+    /// table. Only identities of frames whose signature verified get here: no stranger
+    /// chooses them.
+    fn home(identity: &Identity) -> usize {
+        let (source, message_type, stamp) = *identity;
+        let mut z = ((u64::from(source) << 16) | u64::from(message_type))
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ stamp.millis();
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        (z ^ (z >> 31)) as usize & (SLOTS - 1)
+    }
+
+    /// The identity at ring position `position` of slot `slot`, if the slot holds one.
+    fn at(&self, slot: usize) -> Option<(u16, &Identity)> {
+        let position = *self.index.get(slot)?;
+        let identity = self.ring.get(usize::from(position))?;
+        Some((position, identity))
+    }
+
+    /// The slot that points at `identity`'s ring position, if it is held.
+    fn slot_of(&self, identity: &Identity) -> Option<usize> {
+        let mut slot = Self::home(identity);
+        // At most every slot once: the index is never full, so an empty one ends the probe
+        // long before.
+        for _ in 0..SLOTS {
+            let (_, held) = self.at(slot)?;
+            if held == identity {
+                return Some(slot);
+            }
+            slot = (slot + 1) & (SLOTS - 1);
+        }
+        None
+    }
+
+    fn contains(&self, identity: &Identity) -> bool {
+        self.slot_of(identity).is_some()
+    }
+
+    fn is_full(&self) -> bool {
+        self.len == REPLAY_MEMORY
+    }
+
+    /// The oldest identity.
+    fn front(&self) -> Option<Identity> {
+        (self.len > 0)
+            .then(|| self.ring.get(self.head).copied())
+            .flatten()
+    }
+
+    /// Adds `identity` as the newest; nothing when full (the caller makes room first).
+    fn push_back(&mut self, identity: Identity) {
+        if self.is_full() {
+            return;
+        }
+        let position = (self.head + self.len) % REPLAY_MEMORY;
+        let Some(entry) = self.ring.get_mut(position) else {
+            return;
+        };
+        *entry = identity;
+        let mut slot = Self::home(&identity);
+        while self.index.get(slot).is_some_and(|p| *p != EMPTY) {
+            slot = (slot + 1) & (SLOTS - 1);
+        }
+        if let Some(free) = self.index.get_mut(slot) {
+            // REPLAY_MEMORY < EMPTY: every position fits.
+            *free = position as u16;
+            self.len += 1;
+        }
+    }
+
+    /// Forgets the oldest identity.
+    fn pop_front(&mut self) {
+        let Some(oldest) = self.front() else {
+            return;
+        };
+        if let Some(slot) = self.slot_of(&oldest) {
+            self.free_slot(slot);
+        }
+        self.head = (self.head + 1) % REPLAY_MEMORY;
+        self.len -= 1;
+    }
+
+    /// Empties `slot`, moving back every entry after it whose probe passes it (backward-shift
+    /// deletion), so that no probe meets a gap before its identity.
+    fn free_slot(&mut self, slot: usize) {
+        let mut hole = slot;
+        let mut next = (slot + 1) & (SLOTS - 1);
+        while let Some((position, identity)) = self.at(next) {
+            // The entry at `next` may fill the hole if the hole lies on its probe: no farther
+            // back from `next` than its home.
+            let from_home = next.wrapping_sub(Self::home(identity)) & (SLOTS - 1);
+            let from_hole = next.wrapping_sub(hole) & (SLOTS - 1);
+            if from_home >= from_hole {
+                if let Some(h) = self.index.get_mut(hole) {
+                    *h = position;
+                }
+                hole = next;
+            }
+            next = (next + 1) & (SLOTS - 1);
+        }
+        if let Some(h) = self.index.get_mut(hole) {
+            *h = EMPTY;
         }
     }
 
@@ -377,17 +507,16 @@ impl ReplayMemory {
         if identity.2 < self.start {
             return Err(NotAdmitted::BeforeStart);
         }
-        if identity.2 < self.lowest || self.seen.contains(&identity) {
+        if identity.2 < self.lowest || self.contains(&identity) {
             return Err(NotAdmitted::Replay);
         }
         // Identities whose stamps the window refuses now need no memory.
         let expired = now.saturating_sub(window);
-        while let Some(oldest) = self.order.front().copied() {
-            if oldest.2.millis() >= expired && !self.order.is_full() {
+        while let Some(oldest) = self.front() {
+            if oldest.2.millis() >= expired && !self.is_full() {
                 break;
             }
-            self.order.pop_front();
-            self.seen.remove(&oldest);
+            self.pop_front();
             if oldest.2.millis() >= expired {
                 // Forgotten while it could still pass the window: nothing at or below it may.
                 self.lowest = self.lowest.max(
@@ -395,9 +524,8 @@ impl ReplayMemory {
                 );
             }
         }
-        // Room was made above: the set and the queue hold the same identities.
-        let _ = self.seen.insert(identity);
-        let _ = self.order.push_back(identity);
+        // Room was made above.
+        self.push_back(identity);
         Ok(())
     }
 }
@@ -418,9 +546,8 @@ pub struct SignatureCheck {
     policy: Policy,
     keys: Keyring,
     clock: UtcClock,
-    /// Direct, then LTE; boxed, since each holds [`REPLAY_MEMORY`] identities (some 300 KB).
-    /// None under policy `off`, which never checks a replay.
-    memories: Option<[Box<ReplayMemory>; 2]>,
+    /// Direct, then LTE. None under policy `off`, which never checks a replay.
+    memories: Option<[ReplayMemory; 2]>,
     stats: SignatureStats,
     /// The highest stamp admitted on either link, for a receiver that keeps its replay window
     /// across restarts ([`SignatureCheck::resume_after`]).
@@ -437,12 +564,8 @@ impl SignatureCheck {
             policy,
             keys,
             clock,
-            memories: (policy != Policy::Off).then(|| {
-                [
-                    Box::new(ReplayMemory::new(start)),
-                    Box::new(ReplayMemory::new(start)),
-                ]
-            }),
+            memories: (policy != Policy::Off)
+                .then(|| [ReplayMemory::new(start), ReplayMemory::new(start)]),
             stats: SignatureStats::default(),
             highest: None,
         }
@@ -833,14 +956,14 @@ mod tests {
         for ms in 0..REPLAY_MEMORY as u64 {
             memory.admit(utc, id(ms)).unwrap();
         }
-        assert!(memory.order.is_full());
+        assert!(memory.is_full());
         // One more: the oldest (stamp 0) is forgotten, and with it everything up to it.
         memory.admit(utc, id(REPLAY_MEMORY as u64)).unwrap();
         assert_eq!(memory.admit(utc, id(0)), Err(NotAdmitted::Replay));
         // Below the start: sent before the receiver started, not a replay.
         let before = (GCS_ID, 13002u16, Timestamp::from_millis(T0 - 1).unwrap());
         assert_eq!(memory.admit(utc, before), Err(NotAdmitted::BeforeStart));
-        assert_eq!(memory.seen.len(), REPLAY_MEMORY);
+        assert_eq!(memory.len, REPLAY_MEMORY);
         // Still-held identities are still refused; new ones pass.
         assert_eq!(memory.admit(utc, id(7)), Err(NotAdmitted::Replay));
         assert!(memory.admit(utc, id(REPLAY_MEMORY as u64 + 1)).is_ok());
@@ -881,6 +1004,68 @@ mod tests {
         );
     }
 
+    /// The memory against a model of the same rule over std's set and queue: random identities
+    /// of a few sources and types, stamps around a clock that advances, the memory full and
+    /// wrapping round many times, so that every path of the index (probes that wrap, entries
+    /// moved back into freed slots) is taken; after every step each identity the model holds
+    /// is found, and only those.
+    #[test]
+    fn the_index_agrees_with_a_set_through_many_wraps() {
+        use std::collections::{HashSet, VecDeque};
+        let start = Timestamp::from_millis(T0).unwrap();
+        let mut memory = ReplayMemory::new(start);
+        let (mut order, mut seen) = (VecDeque::<Identity>::new(), HashSet::<Identity>::new());
+        let mut lowest = start;
+        let mut rng = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        for step in 0..60_000u64 {
+            // The clock advances 1 ms a step; stamps up to 2 s behind it, or repeated.
+            let now = T0 + 70_000 + step;
+            let r = next();
+            let id = (
+                GCS_ID + (r % 3) as u32,
+                13000 + ((r >> 8) % 4) as u16,
+                Timestamp::from_millis(now - (r >> 16) % 2_000).unwrap(),
+            );
+            let utc = Timestamp::from_millis(now).unwrap();
+            // The model: the rule of `admit` over std's collections.
+            let expected = if id.2 < lowest || seen.contains(&id) {
+                Err(NotAdmitted::Replay)
+            } else {
+                let expired = now - REPLAY_WINDOW.as_millis() as u64;
+                while let Some(oldest) = order.front().copied() {
+                    if oldest.2.millis() >= expired && order.len() < REPLAY_MEMORY {
+                        break;
+                    }
+                    order.pop_front();
+                    seen.remove(&oldest);
+                    if oldest.2.millis() >= expired {
+                        lowest = lowest.max(Timestamp::from_millis(oldest.2.millis() + 1).unwrap());
+                    }
+                }
+                order.push_back(id);
+                seen.insert(id);
+                Ok(())
+            };
+            assert_eq!(memory.admit(utc, id), expected, "step {step}");
+            assert_eq!(memory.len, order.len(), "step {step}");
+            if step % 997 == 0 {
+                assert!(order.iter().all(|i| memory.contains(i)), "step {step}");
+                let used = memory.index.iter().filter(|p| **p != EMPTY).count();
+                assert_eq!(used, order.len(), "one slot per identity, step {step}");
+            }
+        }
+        assert!(
+            lowest > start,
+            "the memory was full and forgot within the window"
+        );
+    }
+
     #[test]
     fn identities_older_than_the_window_are_forgotten_without_raising_the_floor() {
         let mut memory = ReplayMemory::new(Timestamp::from_millis(T0).unwrap());
@@ -891,11 +1076,7 @@ mod tests {
         memory
             .admit(Timestamp::from_millis(T0 + 60_001).unwrap(), id(60_001))
             .unwrap();
-        assert_eq!(
-            memory.seen.len(),
-            1,
-            "the identity out of the window is gone"
-        );
+        assert_eq!(memory.len, 1, "the identity out of the window is gone");
         assert_eq!(memory.lowest.millis(), T0);
     }
 
