@@ -54,6 +54,7 @@ use mavlink::dialects::common::MavMessage;
 use missionlink::harness::binaries;
 use missionlink::harness::service::{FleetEntry, GroundService, fleet_text};
 use missionlink::harness::{Process, Rig, eventually};
+use missionlink::link_emulator::{Emulator, EmulatorConfig, Profile};
 use missionlink_flight::mission_data_handling::MissionDataHandling;
 use missionlink_gcs::mavlink::vehicle::read_datagram;
 use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
@@ -271,29 +272,50 @@ impl Drop for MavlinkClient {
 struct SimulatedFleet {
     stop: Arc<AtomicBool>,
     threads: Vec<JoinHandle<()>>,
+    _emulators: Vec<Emulator>,
 }
 
 impl SimulatedFleet {
     /// `n` vehicles, their fleet entries (key file `key`), sending their positions' send times
-    /// to `sent`.
-    fn start(n: usize, dir: &Path, sent: &SentPositions) -> (Self, Vec<FleetEntry>) {
+    /// to `sent`; each behind a link emulator of `profile`, if one.
+    fn start(
+        n: usize,
+        dir: &Path,
+        sent: &SentPositions,
+        profile: Option<Profile>,
+    ) -> (Self, Vec<FleetEntry>) {
         let key = dir.join("link.key");
         missionlink_platform::keys::generate_key_file(&key, 1).unwrap();
         let stop = Arc::new(AtomicBool::new(false));
         let mut entries = Vec::new();
         let mut threads = Vec::new();
+        let mut emulators = Vec::new();
+        let mut ground_ends = Vec::new();
         for i in 0..n {
             let mut config = Config::default();
             config.ids.fcc = 0x0B00_0001 + i as u32;
             config.signing.key_files = vec![key.clone()];
-            // The service's ends, bound here and released for it to bind (as a rig's).
-            let ground = missionlink_platform::udp::LocalEnds::bind_loopback()
-                .unwrap()
-                .addrs()
-                .unwrap();
+            // The service's ends, bound here and released for it to bind (as a rig's): held
+            // until every vehicle has its own, so that no two are given the same port.
+            let ends = missionlink_platform::udp::LocalEnds::bind_loopback().unwrap();
+            let ground = ends.addrs().unwrap();
+            ground_ends.push(ends);
             let direct = UdpSocket::bind("127.0.0.1:0").unwrap();
             let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
-            let fcc = [direct.local_addr().unwrap(), lte.local_addr().unwrap()];
+            let own = [direct.local_addr().unwrap(), lte.local_addr().unwrap()];
+            // Behind an emulator, each end talks to the emulator's side that faces it.
+            let (fcc, peer) = match profile {
+                Some(profile) => {
+                    let emulator =
+                        Emulator::start(EmulatorConfig::profile(ground, profile, i as u64))
+                            .unwrap();
+                    emulator.set_fcc(own);
+                    let ends = (emulator.gcs_facing(), emulator.fcc_facing());
+                    emulators.push(emulator);
+                    ends
+                }
+                None => (own, ground),
+            };
             entries.push(FleetEntry {
                 name: vehicle_name(i),
                 vehicle_id: config.ids.fcc,
@@ -301,7 +323,7 @@ impl SimulatedFleet {
                 fcc,
                 key_file: key.clone(),
             });
-            let links = LinkPair::from_sockets(direct, lte, ground[0], ground[1]).unwrap();
+            let links = LinkPair::from_sockets(direct, lte, peer[0], peer[1]).unwrap();
             let (stop, sent) = (stop.clone(), sent.clone());
             let system = (i + 1) as u8;
             threads.push(
@@ -311,7 +333,14 @@ impl SimulatedFleet {
                     .unwrap(),
             );
         }
-        (Self { stop, threads }, entries)
+        (
+            Self {
+                stop,
+                threads,
+                _emulators: emulators,
+            },
+            entries,
+        )
     }
 }
 
@@ -410,18 +439,70 @@ fn simulated_fcc(
 
 // ---- Real FCCs ----
 
-/// `n` real FCCs, each with a rig of its own; their fleet entries.
-fn real_fleet(n: usize) -> (Vec<Rig>, Vec<Process>, Vec<FleetEntry>) {
-    let mut rigs = Vec::new();
-    let mut fccs = Vec::new();
+/// A fleet that runs: what keeps its vehicles alive (rigs, FCCs, emulators, simulated FCCs),
+/// and its fleet file's entries.
+struct Fleet {
+    _real: Vec<(Rig, Process, Option<Emulator>)>,
+    _simulated: Option<SimulatedFleet>,
+    entries: Vec<FleetEntry>,
+}
+
+impl Fleet {
+    /// `n` vehicles of `kind`, each behind a link emulator of `profile` if one; a simulated
+    /// fleet's files in `dir`, its positions' send times to `sent`.
+    fn start(
+        kind: Kind,
+        n: usize,
+        profile: Option<Profile>,
+        dir: &Path,
+        sent: &SentPositions,
+    ) -> Self {
+        match kind {
+            Kind::Real => {
+                let (real, entries) = real_fleet(n, profile);
+                Self {
+                    _real: real,
+                    _simulated: None,
+                    entries,
+                }
+            }
+            Kind::Simulated => {
+                let (simulated, entries) = SimulatedFleet::start(n, dir, sent, profile);
+                Self {
+                    _real: Vec::new(),
+                    _simulated: Some(simulated),
+                    entries,
+                }
+            }
+        }
+    }
+}
+
+/// `n` real FCCs, each with a rig of its own (behind a link emulator of `profile`, if one);
+/// their fleet entries.
+#[allow(clippy::type_complexity)]
+fn real_fleet(
+    n: usize,
+    profile: Option<Profile>,
+) -> (Vec<(Rig, Process, Option<Emulator>)>, Vec<FleetEntry>) {
+    let mut real = Vec::new();
     let mut entries = Vec::new();
     for i in 0..n {
         let mut rig = Rig::new(&format!("fleet-bench-{}", i + 1));
         rig.config.ids.fcc = 0x0B00_0001 + i as u32;
         // Guidance in real time: positions as an aircraft flies them.
         rig.config.guidance.time_scale = 1.0;
-        let mut fcc = rig.start_fcc();
-        rig.learn_links(&mut fcc);
+        let (fcc, emulator) = match profile {
+            Some(profile) => {
+                let (fcc, emulator, _) = rig.start_fcc_behind(profile.flows(), i as u64);
+                (fcc, Some(emulator))
+            }
+            None => {
+                let mut fcc = rig.start_fcc();
+                rig.learn_links(&mut fcc);
+                (fcc, None)
+            }
+        };
         entries.push(FleetEntry {
             name: vehicle_name(i),
             vehicle_id: rig.config.ids.fcc,
@@ -429,10 +510,9 @@ fn real_fleet(n: usize) -> (Vec<Rig>, Vec<Process>, Vec<FleetEntry>) {
             fcc: [rig.config.links.fcc_direct, rig.config.links.fcc_lte],
             key_file: rig.dir.join("link.key"),
         });
-        rigs.push(rig);
-        fccs.push(fcc);
+        real.push((rig, fcc, emulator));
     }
-    (rigs, fccs, entries)
+    (real, entries)
 }
 
 // ---- The measurements ----
@@ -513,7 +593,7 @@ fn service(dir: &Path, entries: &[FleetEntry], client: &MavlinkClient) -> Ground
     )
 }
 
-fn measure(kind: Kind, n: usize, runs: usize, idle: Duration) -> Row {
+fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Duration) -> Row {
     eprintln!("{} fleet of {n}: starting", kind.name());
     let dir = std::env::temp_dir().join(format!(
         "missionlink-bench-fleet-{}-{n}-{}",
@@ -524,17 +604,8 @@ fn measure(kind: Kind, n: usize, runs: usize, idle: Duration) -> Row {
     std::fs::create_dir_all(&dir).unwrap();
     let sent: SentPositions = Arc::default();
     let client = MavlinkClient::start(sent.clone());
-    let (_rigs, _fccs, _simulated, entries) = match kind {
-        Kind::Real => {
-            let (rigs, fccs, entries) = real_fleet(n);
-            (rigs, fccs, None, entries)
-        }
-        Kind::Simulated => {
-            let (fleet, entries) = SimulatedFleet::start(n, &dir, &sent);
-            (Vec::new(), Vec::new(), Some(fleet), entries)
-        }
-    };
-    let service = service(&dir, &entries, &client);
+    let fleet = Fleet::start(kind, n, profile, &dir, &sent);
+    let service = service(&dir, &fleet.entries, &client);
     client.wait_for_all(n, Duration::from_secs(60));
 
     let all: Vec<String> = (0..n).map(vehicle_name).collect();
@@ -669,23 +740,20 @@ fn print(rows: &[Row]) {
 
 /// The hour: one fleet of `n` of `kind`, an upload to all every [`SOAK_UPLOAD_EVERY`], a
 /// sample every `sample_every`.
-fn soak(kind: Kind, n: usize, duration: Duration, sample_every: Duration) {
+fn soak(
+    kind: Kind,
+    n: usize,
+    profile: Option<Profile>,
+    duration: Duration,
+    sample_every: Duration,
+) {
     let dir = std::env::temp_dir().join(format!("missionlink-bench-soak-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let sent: SentPositions = Arc::default();
     let client = MavlinkClient::start(sent.clone());
-    let (_rigs, _fccs, _simulated, entries) = match kind {
-        Kind::Real => {
-            let (rigs, fccs, entries) = real_fleet(n);
-            (rigs, fccs, None, entries)
-        }
-        Kind::Simulated => {
-            let (fleet, entries) = SimulatedFleet::start(n, &dir, &sent);
-            (Vec::new(), Vec::new(), Some(fleet), entries)
-        }
-    };
-    let service = service(&dir, &entries, &client);
+    let fleet = Fleet::start(kind, n, profile, &dir, &sent);
+    let service = service(&dir, &fleet.entries, &client);
     client.wait_for_all(n, Duration::from_secs(60));
     let pid = service.pid();
     let all: Vec<String> = (0..n).map(vehicle_name).collect();
@@ -782,16 +850,29 @@ fn main() {
             v.parse().expect("--idle-s S")
         }),
     );
+    // Each vehicle behind its own emulated link of this profile; none: loopback.
+    let profile = arg(&args, "--profile")
+        .map(|p| Profile::named(p).expect("--profile lan, lte, satcom, satcom-narrow or bad"));
+    // A fleet of 250 behind emulators holds some 2000 sockets in this process.
+    let limit = rustix::process::getrlimit(rustix::process::Resource::Nofile);
+    let _ = rustix::process::setrlimit(
+        rustix::process::Resource::Nofile,
+        rustix::process::Rlimit {
+            current: limit.maximum,
+            maximum: limit.maximum,
+        },
+    );
     if let Some(seconds) = arg(&args, "--soak-s") {
         let duration = Duration::from_secs_f64(seconds.parse().expect("--soak-s S"));
         let sample_every = Duration::from_secs_f64(
             arg(&args, "--sample-s").map_or(60.0, |v| v.parse().expect("--sample-s S")),
         );
         match real.iter().copied().max() {
-            Some(n) => soak(Kind::Real, n, duration, sample_every),
+            Some(n) => soak(Kind::Real, n, profile, duration, sample_every),
             None => soak(
                 Kind::Simulated,
                 simulated.iter().copied().max().unwrap_or(16),
+                profile,
                 duration,
                 sample_every,
             ),
@@ -804,10 +885,10 @@ fn main() {
     );
     let mut rows = Vec::new();
     for n in real {
-        rows.push(measure(Kind::Real, n, runs, idle));
+        rows.push(measure(Kind::Real, n, profile, runs, idle));
     }
     for n in simulated {
-        rows.push(measure(Kind::Simulated, n, runs, idle));
+        rows.push(measure(Kind::Simulated, n, profile, runs, idle));
     }
     print(&rows);
 }

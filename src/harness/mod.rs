@@ -183,6 +183,37 @@ impl Rig {
             .unwrap()
     }
 
+    /// Starts the FCC behind a link emulator with `flows` (a profile's, say) and points the
+    /// configuration's FCC ends at the emulator's ground-facing ports, so that a fleet file
+    /// written from the rig (`service::fleet_file`) sends through it. Gives the FCC, the
+    /// emulator and the FCC's own ends (to start it again on them).
+    pub fn start_fcc_behind(
+        &mut self,
+        flows: [missionlink_linksim::channel::Impairments; 4],
+        seed: u64,
+    ) -> (
+        Process,
+        crate::link_emulator::Emulator,
+        [std::net::SocketAddr; 2],
+    ) {
+        use crate::link_emulator::{Emulator, EmulatorConfig};
+        let emulator = Emulator::start(EmulatorConfig {
+            gcs: self.gcs_addrs(),
+            flows,
+            seed,
+        })
+        .unwrap();
+        let [direct, lte] = emulator.fcc_facing();
+        self.config.links.gcs_direct = direct;
+        self.config.links.gcs_lte = lte;
+        let mut fcc = self.start_fcc();
+        self.learn_links(&mut fcc);
+        let own = [self.config.links.fcc_direct, self.config.links.fcc_lte];
+        emulator.set_fcc(own);
+        [self.config.links.fcc_direct, self.config.links.fcc_lte] = emulator.gcs_facing();
+        (fcc, emulator, own)
+    }
+
     /// Releases the rig's GCS ends and gives where they were bound (direct, LTE), for a ground
     /// service to bind them: the FCC sends there.
     pub fn release_gcs_ends(&mut self) -> [std::net::SocketAddr; 2] {

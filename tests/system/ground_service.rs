@@ -551,46 +551,14 @@ fn ground_service_mavsdk_sees_every_system_and_uploads_to_one() {
     assert_ne!(down_b.status.code(), Some(0), "{}", text(&down_b.stdout));
 }
 
-/// An FCC for `rig` behind a link emulator with `flows` (a profile's, say): the fleet file then
-/// names the emulator's ground-facing ports as the FCC's (`fleet_file` reads them from the
-/// rig). Gives the FCC, the emulator and the FCC's own ends (to start it again on them).
-fn behind_emulator(
-    rig: &mut Rig,
-    flows: [missionlink_linksim::channel::Impairments; 4],
-    seed: u64,
-) -> (
-    Process,
-    missionlink::link_emulator::Emulator,
-    [std::net::SocketAddr; 2],
-) {
-    use missionlink::link_emulator::{Emulator, EmulatorConfig};
-    let emulator = Emulator::start(EmulatorConfig {
-        gcs: rig.gcs_addrs(),
-        flows,
-        seed,
-    })
-    .unwrap();
-    let [direct, lte] = emulator.fcc_facing();
-    rig.config.links.gcs_direct = direct;
-    rig.config.links.gcs_lte = lte;
-    let mut fcc = rig.start_fcc();
-    rig.learn_links(&mut fcc);
-    let own = [rig.config.links.fcc_direct, rig.config.links.fcc_lte];
-    emulator.set_fcc(own);
-    let [direct, lte] = emulator.gcs_facing();
-    rig.config.links.fcc_direct = direct;
-    rig.config.links.fcc_lte = lte;
-    (fcc, emulator, own)
-}
-
 #[test]
 fn ground_service_uploads_at_once_over_lossy_links_and_each_outcome_is_true() {
     use missionlink::link_emulator::Profile;
     let mut a = Rig::new("service-lossy-a");
     let mut b = Rig::new("service-lossy-b");
     b.config.ids.fcc = 0x0B00_0002;
-    let (_fcc_a, _emulator_a, _) = behind_emulator(&mut a, Profile::Lte.flows(), 7);
-    let (_fcc_b, _emulator_b, _) = behind_emulator(&mut b, Profile::Bad.flows(), 11);
+    let (_fcc_a, _emulator_a, _) = a.start_fcc_behind(Profile::Lte.flows(), 7);
+    let (_fcc_b, _emulator_b, _) = b.start_fcc_behind(Profile::Bad.flows(), 11);
     let fleet = fleet_file(&mut [
         FleetVehicle {
             name: "alpha",
@@ -802,7 +770,7 @@ fn ground_service_fcc_killed_during_uploads_to_all_the_others_complete_and_it_co
     let mut running: Vec<_> = rigs
         .iter_mut()
         .zip(0u64..)
-        .map(|(rig, seed)| behind_emulator(rig, delayed, seed))
+        .map(|(rig, seed)| rig.start_fcc_behind(delayed, seed))
         .collect();
     let fleet = {
         let mut vehicles: Vec<FleetVehicle<'_>> = names

@@ -104,10 +104,13 @@ impl MavlinkSocket {
                 }
                 Ok(Some(len))
             }
+            // Interrupted: a signal came (the debugger's, say); nothing was read.
             Err(e)
                 if matches!(
                     e.kind(),
-                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                    std::io::ErrorKind::WouldBlock
+                        | std::io::ErrorKind::TimedOut
+                        | std::io::ErrorKind::Interrupted
                 ) =>
             {
                 Ok(None)
