@@ -312,8 +312,8 @@ impl<G: SafetyGateway> GcsLink<G> {
         self
     }
 
-    /// Moves the reservation to one second past `stamp` and writes it (a temporary file renamed
-    /// over the old one, so a reader never sees half a number).
+    /// Moves the reservation to one second past `stamp` and writes it whole (a reader never sees
+    /// half a number: `missionlink_platform::files::replace`).
     fn reserve_stamps(&mut self, stamp: wire::Timestamp) -> Result<(), LinkError> {
         let Some((file, reserved)) = self.stamp_lease.as_mut() else {
             return Ok(());
@@ -321,9 +321,7 @@ impl<G: SafetyGateway> GcsLink<G> {
         let ahead = stamp
             .millis()
             .saturating_add(STAMP_LEASE.as_millis() as u64);
-        let tmp = file.with_extension("tmp");
-        std::fs::write(&tmp, format!("{ahead}\n"))
-            .and_then(|()| std::fs::rename(&tmp, &*file))
+        missionlink_platform::files::replace(file, format!("{ahead}\n").as_bytes())
             .map_err(|e| LinkError(format!("{}: {e}", file.display())))?;
         *reserved = wire::Timestamp::from_millis(ahead).unwrap_or(stamp);
         Ok(())

@@ -12,6 +12,7 @@
 pub mod clock;
 pub mod config;
 pub mod fence;
+pub mod files;
 pub mod keys;
 pub mod udp;
 

@@ -182,13 +182,9 @@ fn recall(path: &Path) -> Option<Memory> {
     }
 }
 
-/// Writes `memory` to `path` whole: a temporary file beside it, renamed over it, so a crash
-/// leaves the old memory or the new one.
+/// Writes `memory` to `path` whole, so a crash leaves the old memory or the new one.
 fn remember(path: &Path, memory: &Memory) {
-    let temporary = path.with_extension("tmp");
-    let written = std::fs::write(&temporary, memory.to_text())
-        .and_then(|()| std::fs::rename(&temporary, path));
-    if let Err(e) = written {
+    if let Err(e) = missionlink_platform::files::replace(path, memory.to_text().as_bytes()) {
         tracing::warn!(path = %path.display(), %e, "the MAVLink memory is not written");
     }
 }

@@ -755,16 +755,14 @@ impl Copies {
         self.kept.clone()
     }
 
-    /// Keeps `ids` on disk when they changed (a temporary file renamed over the old one).
+    /// Keeps `ids` on disk when they changed (whole: `missionlink_platform::files`).
     fn keep(&mut self, ids: Vec<MissionId>) {
         if ids == self.kept {
             return;
         }
         if let Some(path) = &self.path {
             let text: String = ids.iter().map(|id| format!("{}\n", id.as_str())).collect();
-            let tmp = path.with_extension("tmp");
-            let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
-            if let Err(e) = written {
+            if let Err(e) = missionlink_platform::files::replace(path, text.as_bytes()) {
                 tracing::warn!(path = %path.display(), %e, "the staged copies to delete are not kept");
             }
         }
@@ -1235,13 +1233,8 @@ fn read_planned(dir: &Path) -> Option<(Checksum, Checksum)> {
 
 fn write_planned(dir: &Path, (mission, areas): (Checksum, Checksum)) {
     let path = dir.join(PLANNED);
-    let tmp = path.with_extension("tmp");
-    let written = std::fs::write(
-        &tmp,
-        format!("{:#010x} {:#010x}\n", mission.value(), areas.value()),
-    )
-    .and_then(|()| std::fs::rename(&tmp, &path));
-    if let Err(e) = written {
+    let text = format!("{:#010x} {:#010x}\n", mission.value(), areas.value());
+    if let Err(e) = missionlink_platform::files::replace(&path, text.as_bytes()) {
         tracing::warn!(path = %path.display(), %e, "the lists uploaded last are not kept");
     }
 }

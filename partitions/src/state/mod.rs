@@ -64,33 +64,8 @@ pub fn default_dir(prefix: &str) -> PathBuf {
     std::env::temp_dir().join("missionlink-state").join(safe)
 }
 
-/// Writes `bytes` to `path` so that a reader, or the next start after a crash or a power loss,
-/// finds either the previous file or the new one, whole: a temporary file of this process's own
-/// is written and flushed to the disk, renamed over `path`, and the directory is flushed so that
-/// the rename itself survives.
-pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = path.parent();
-    if let Some(dir) = dir {
-        std::fs::create_dir_all(dir)?;
-    }
-    // A name of this process's own: two processes writing the same file never share a
-    // half-written one.
-    let tmp = path.with_extension(format!("tmp.{}", std::process::id()));
-    let mut file = std::fs::File::create(&tmp)?;
-    io::Write::write_all(&mut file, bytes)?;
-    file.sync_all()?;
-    drop(file);
-    std::fs::rename(&tmp, path)?;
-    if let Some(dir) = dir {
-        sync_dir(dir)?;
-    }
-    Ok(())
-}
-
-/// Flushes a directory's entries (a rename or a removal in it) to the disk.
-pub(crate) fn sync_dir(dir: &Path) -> io::Result<()> {
-    std::fs::File::open(dir)?.sync_all()
-}
+// One owner of whole writes for the FCC and the ground (`missionlink_platform::files`).
+pub(crate) use missionlink_platform::files::{sync_dir, write_atomically};
 
 /// Removes `path`; a file that is not there is removed already.
 pub(crate) fn remove_if_present(path: &Path) -> io::Result<()> {
