@@ -204,10 +204,11 @@ impl<G: SafetyGateway> GcsLink<G> {
     pub fn with_links(config: &LinkConfig, links: LinkPair, gateway: G) -> Result<Self, LinkError> {
         let signing = LinkSigning::load(&config.signing).map_err(|e| LinkError(e.to_string()))?;
         let clock = DriverClock::start();
-        let station = Box::new(GroundStation::new(
+        let mut station = Box::new(GroundStation::new(
             gcs_core(config, clock.utc_at_zero()),
             gateway,
         ));
+        station.set_link_rate(config.timing.uplink_rate());
         tracing::debug!(signing = %signing.summary(), "link signing (ICD §9)");
         // Said at every start, as the FCC says it: a link anyone on the path can write to must
         // not pass unnoticed.
@@ -712,6 +713,22 @@ mod tests {
             .unwrap()
             .with_replay_lease(&lease);
         assert!(DriverClock::start().utc_at_zero().millis() > floor);
+    }
+
+    /// `[timing] uplink_rate_bps` reaches the window of the GCS logic (ICD §10.4): with a rate,
+    /// the window counts bytes in flight (none before a round trip is measured); without, it
+    /// does not.
+    #[test]
+    fn the_uplink_rate_of_the_configuration_limits_the_window() {
+        let mut config = LinkConfig::default();
+        config.links.gcs_direct = "127.0.0.1:0".parse().unwrap();
+        config.links.gcs_lte = "127.0.0.1:0".parse().unwrap();
+        config.signing.policy = missionlink_platform::config::SigningPolicy::Off;
+        let mut link = GcsLink::open(&config, WithoutGateway).unwrap();
+        assert_eq!(link.station().link_window().bytes(), None);
+        config.timing.uplink_rate_bps = 64_000;
+        let mut link = GcsLink::open(&config, WithoutGateway).unwrap();
+        assert_eq!(link.station().link_window().bytes(), Some(0));
     }
 
     /// A burst of more datagrams than the pump once had slots for (8) all reach the voter and

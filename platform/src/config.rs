@@ -23,6 +23,9 @@
 //! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10);
 //!                                 # 1: every message stop-and-wait (no §10.3)
 //! upload_attempts = 2             # a GCS upload that failed with the lists as they were, again
+//! uplink_rate_bps = 0             # the link's rate toward the FCC, bit/s, if known (0: not
+//!                                 # known): the GCS's window keeps in flight at most what the
+//!                                 # link carries in a round trip (ICD §10.4)
 //!
 //! [signing]                       # link signing, ICD §9 (see `keys`)
 //! policy = "require"              # require (the default) | accept | off: what this node's
@@ -130,6 +133,11 @@ pub struct Timing {
     /// the lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is
     /// begun again once more by default.
     pub upload_attempts: u8,
+    /// The rate of the link toward the FCC in bit/s, when the operator knows it (a satellite
+    /// terminal's guaranteed rate, say); 0: not known. The GCS's window then keeps in flight at
+    /// most what the link carries in its shortest round trip measured (ICD §10.4), so that a
+    /// window does not only build a queue in the terminal.
+    pub uplink_rate_bps: u64,
 }
 
 impl Default for Timing {
@@ -139,6 +147,7 @@ impl Default for Timing {
             transfer_timeout_ms: defaults::TRANSFER_TIMEOUT.as_millis() as u64,
             transfer_window: TransferWindow::MAX,
             upload_attempts: 2,
+            uplink_rate_bps: 0,
         }
     }
 }
@@ -152,6 +161,11 @@ impl Timing {
     pub fn transfer_timeout(&self) -> Duration {
         Duration::from_millis(self.transfer_timeout_ms)
     }
+    /// The rate of the link toward the FCC, if known.
+    pub fn uplink_rate(&self) -> Option<u64> {
+        (self.uplink_rate_bps > 0).then_some(self.uplink_rate_bps)
+    }
+
     /// The transfer window, clamped to 1..=32.
     pub fn transfer_window(&self) -> TransferWindow {
         let w = self
@@ -396,6 +410,10 @@ pub struct LinkArgs {
     /// they were is begun again).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..))]
     pub upload_attempts: Option<u8>,
+    /// The link's rate toward the FCC in bit/s, if known (0: not known): the GCS's window keeps
+    /// in flight at most what the link carries in a round trip (ICD §10.4).
+    #[arg(long, value_name = "BPS")]
+    pub uplink_rate_bps: Option<u64>,
     /// What this node's receiver does with link signatures (ICD §9).
     #[arg(long, value_name = "POLICY")]
     pub signing: Option<SigningPolicy>,
@@ -456,6 +474,9 @@ impl LinkArgs {
         if let Some(v) = self.upload_attempts {
             timing.upload_attempts = v;
         }
+        if let Some(v) = self.uplink_rate_bps {
+            timing.uplink_rate_bps = v;
+        }
         if let Some(p) = self.signing {
             signing.policy = p;
         }
@@ -506,7 +527,7 @@ mod tests {
     #[test]
     fn the_link_flags_override_the_handed_over_configuration() {
         let args = LinkArgs {
-            config_toml: Some("[timing]\nack_timeout_ms = 900\n".into()),
+            config_toml: Some("[timing]\nack_timeout_ms = 900\nuplink_rate_bps = 64000\n".into()),
             fcc_id: Some(7),
             transfer_window: Some(4),
             signing: Some(SigningPolicy::Require),
@@ -516,6 +537,12 @@ mod tests {
         assert_eq!(c.timing.ack_timeout(), Duration::from_millis(900));
         assert_eq!(c.ids.fcc, 7);
         assert_eq!(c.timing.transfer_window, 4);
+        assert_eq!(c.timing.uplink_rate(), Some(64_000));
+        assert_eq!(
+            LinkConfig::default().timing.uplink_rate(),
+            None,
+            "not known"
+        );
         assert_eq!(c.signing.policy, SigningPolicy::Require);
     }
 
