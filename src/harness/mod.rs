@@ -243,20 +243,7 @@ impl Rig {
         flows: [crate::link_emulator::Impairments; 4],
         seed: u64,
     ) -> (Process, Link, crate::link_emulator::Emulator) {
-        use crate::link_emulator::{Emulator, EmulatorConfig};
-        let emulator = Emulator::start(EmulatorConfig {
-            gcs: self.gcs_addrs(),
-            flows,
-            seed,
-        })
-        .unwrap();
-        let [direct, lte] = emulator.fcc_facing();
-        self.config.links.gcs_direct = direct;
-        self.config.links.gcs_lte = lte;
-        let mut fcc = self.start("fcc");
-        self.ready(&mut fcc);
-        self.learn_links(&mut fcc);
-        emulator.set_fcc([self.config.links.fcc_direct, self.config.links.fcc_lte]);
+        let (fcc, emulator, _) = self.start_fcc_behind(flows, seed);
         let links = self.gcs_links_to(emulator.gcs_facing());
         let link = self.gcs_on(links);
         (fcc, link, emulator)

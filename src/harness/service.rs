@@ -183,15 +183,23 @@ impl GroundService {
         })
     }
 
-    /// `gcs ARGS` run against the service, as an operator runs it.
-    pub fn gcs(&self, args: &[&str]) -> Output {
-        Command::new(gcs_binary())
+    /// `gcs ARGS` against the service, as an operator types it, to run to its end with
+    /// [`GroundService::gcs`] or to start and watch (its output piped).
+    pub fn gcs_command(&self, args: &[&str]) -> Command {
+        let mut command = Command::new(gcs_binary());
+        command
             .args(args)
             .env("MISSIONLINK_GCS_SOCKET", &self.socket)
             .env("XDG_STATE_HOME", self.state_dir.join("client"))
             .env_remove("MISSIONLINK_FLEET")
-            .output()
-            .unwrap()
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        command
+    }
+
+    /// `gcs ARGS` run against the service to its end, as an operator runs it.
+    pub fn gcs(&self, args: &[&str]) -> Output {
+        self.gcs_command(args).output().unwrap()
     }
 
     /// Kills the service as a crash would (its socket file stays behind).

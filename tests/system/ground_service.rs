@@ -89,14 +89,10 @@ fn ground_service_serves_two_fccs_side_by_side() {
 
     // Both uploads at once, each to its vehicle.
     let upload = |vehicle: &'static str, file: &'static str| {
-        let mut command = std::process::Command::new(gcs_binary());
-        command
-            .args(["--vehicle", vehicle, "upload", &mission(file)])
-            .env("MISSIONLINK_GCS_SOCKET", &service.socket)
-            .env("XDG_STATE_HOME", service.state_dir.join("client"))
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped());
-        command.spawn().unwrap()
+        service
+            .gcs_command(&["--vehicle", vehicle, "upload", &mission(file)])
+            .spawn()
+            .unwrap()
     };
     let (alpha, bravo) = (
         upload("alpha", "mission-2.toml"),
@@ -394,12 +390,8 @@ fn ground_service_killed_during_an_atomic_upload_leaves_lists_whole_and_no_stage
     // loopback may end between two looks: then it is tried again.
     let mut killed = false;
     for file in ["mission-2.toml", "mission-1.toml"].iter().cycle().take(10) {
-        let client = std::process::Command::new(gcs_binary())
-            .args(["--vehicle", "alpha", "upload", &mission(file)])
-            .env("MISSIONLINK_GCS_SOCKET", &service.socket)
-            .env("XDG_STATE_HOME", service.state_dir.join("client"))
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
+        let client = service
+            .gcs_command(&["--vehicle", "alpha", "upload", &mission(file)])
             .spawn()
             .unwrap();
         let mut client = client;
@@ -786,12 +778,8 @@ fn ground_service_fcc_killed_during_uploads_to_all_the_others_complete_and_it_co
 
     // Mission 2 to all three; bravo's FCC is killed (SIGKILL, launcher and partitions at once,
     // as a crash of its computer) while all three uploads run.
-    let upload = std::process::Command::new(gcs_binary())
-        .args(["--vehicle", &all, "upload", &mission("mission-2.toml")])
-        .env("MISSIONLINK_GCS_SOCKET", &service.socket)
-        .env("XDG_STATE_HOME", service.state_dir.join("client"))
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
+    let upload = service
+        .gcs_command(&["--vehicle", &all, "upload", &mission("mission-2.toml")])
         .spawn()
         .unwrap();
     let all_busy = eventually(Duration::from_secs(10), || {
