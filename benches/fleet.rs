@@ -129,6 +129,22 @@ fn status_kb(pid: u32, field: &str) -> u64 {
         .unwrap()
 }
 
+/// The machine's busy CPU time so far, all cores (`/proc/stat`: user, nice, system, irq,
+/// softirq and steal; not idle nor iowait).
+fn machine_busy() -> Duration {
+    let stat = std::fs::read_to_string("/proc/stat").unwrap();
+    let cpu: Vec<u64> = stat
+        .lines()
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .skip(1)
+        .map(|f| f.parse().unwrap())
+        .collect();
+    let ticks = cpu[0] + cpu[1] + cpu[2] + cpu[5] + cpu[6] + cpu[7];
+    Duration::from_secs_f64(ticks as f64 / 100.0)
+}
+
 fn open_fds(pid: u32) -> usize {
     std::fs::read_dir(format!("/proc/{pid}/fd"))
         .unwrap()
@@ -537,6 +553,10 @@ struct Row {
     n: usize,
     one_ms: Vec<f64>,
     all_ms: Vec<f64>,
+    /// The machine's busy CPU time (all cores, all processes) during each upload to one and to
+    /// all: what an upload costs, and whether the uploads to all were bound by the cores.
+    one_busy_ms: Vec<f64>,
+    all_busy_ms: Vec<f64>,
     failed: usize,
     cpu_percent: f64,
     rss: u64,
@@ -561,19 +581,22 @@ fn percentile(sorted: &[u64], p: f64) -> u64 {
     sorted[i.min(sorted.len() - 1)]
 }
 
-/// `gcs upload` of `file` to `vehicles` through `service`: wall time, and whether every
+/// `gcs upload` of `file` to `vehicles` through `service`: wall time, the machine's busy CPU
+/// time meanwhile (every process: the client, the service, the FCCs), and whether every
 /// vehicle completed.
-fn upload(service: &GroundService, vehicles: &str, file: &str) -> (Duration, bool) {
+fn upload(service: &GroundService, vehicles: &str, file: &str) -> (Duration, Duration, bool) {
     let start = Instant::now();
+    let busy = machine_busy();
     let out = service.gcs(&["--vehicle", vehicles, "upload", &mission(file)]);
     let took = start.elapsed();
+    let busy = machine_busy().saturating_sub(busy);
     if !out.status.success() {
         eprintln!(
             "upload to {vehicles} did not complete:\n{}",
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    (took, out.status.success())
+    (took, busy, out.status.success())
 }
 
 /// The service on `entries` with its MAVLink side toward `client`.
@@ -612,22 +635,27 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
     let all = all.join(",");
     let mut one_ms = Vec::new();
     let mut all_ms = Vec::new();
+    let (mut one_busy_ms, mut all_busy_ms) = (Vec::new(), Vec::new());
     let mut failed = 0;
     // Both lists change at every upload: missions 1 and 2 in turn.
     let files = ["mission-2.toml", "mission-1.toml"];
     let mut turn = 0;
     for _ in 0..runs {
-        for (vehicles, times) in [(vehicle_name(0), &mut one_ms), (all.clone(), &mut all_ms)] {
+        for (vehicles, times, busy_ms) in [
+            (vehicle_name(0), &mut one_ms, &mut one_busy_ms),
+            (all.clone(), &mut all_ms, &mut all_busy_ms),
+        ] {
             // One vehicle alone; first every vehicle with the mission the next upload replaces.
             if vehicles != all || turn == 0 {
-                let (_, done) = upload(&service, &all, files[turn % 2]);
+                let (_, _, done) = upload(&service, &all, files[turn % 2]);
                 failed += usize::from(!done);
                 turn += 1;
             }
-            let (took, done) = upload(&service, &vehicles, files[turn % 2]);
+            let (took, busy, done) = upload(&service, &vehicles, files[turn % 2]);
             failed += usize::from(!done);
             turn += 1;
             times.push(took.as_secs_f64() * 1e3);
+            busy_ms.push(busy.as_secs_f64() * 1e3);
         }
     }
 
@@ -653,6 +681,8 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
         n,
         one_ms,
         all_ms,
+        one_busy_ms,
+        all_busy_ms,
         failed,
         cpu_percent: 100.0 * cpu.as_secs_f64() / wall.as_secs_f64(),
         rss,
@@ -669,13 +699,17 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
 }
 
 fn print(rows: &[Row]) {
+    let cores = std::thread::available_parallelism().map_or(1, usize::from) as f64;
     println!(
-        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
+        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>9} {:>9} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
         "fleet",
         "N",
         "one ms",
         "all ms",
         "all/1",
+        "cpu1 ms",
+        "cpuN ms",
+        "busy%",
         "fail",
         "CPU %",
         "RSS MiB",
@@ -710,13 +744,17 @@ fn print(rows: &[Row]) {
             }
         };
         let (one, all) = (median(&r.one_ms), median(&r.all_ms));
+        let all_busy = median(&r.all_busy_ms);
         println!(
-            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
+            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>9.0} {:>9.0} {:>6.0} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
             r.kind.name(),
             r.n,
             one,
             all,
             all / one,
+            median(&r.one_busy_ms),
+            all_busy,
+            100.0 * all_busy / (all * cores),
             r.failed,
             r.cpu_percent,
             r.rss as f64 / (1 << 20) as f64,
@@ -732,7 +770,9 @@ fn print(rows: &[Row]) {
         );
     }
     println!(
-        "\none, all: median wall time of `gcs upload` to one vehicle and to all at once; CPU: the \
+        "\none, all: median wall time of `gcs upload` to one vehicle and to all at once; cpu1, cpuN: \
+         the machine's busy CPU time meanwhile (every process, all cores; in 10 ms ticks); busy%: \
+         cpuN as a share of all cores over the upload to all; CPU: the \
          service's share of one core while idle; KiB/veh +: resident set added per vehicle over \
          the fleet of one; lat: #101 sent to its GLOBAL_POSITION_INT, µs"
     );
@@ -773,7 +813,7 @@ fn soak(
     while start.elapsed() < duration {
         let now = Instant::now();
         if now >= next_upload {
-            let (_, done) = upload(&service, &all, files[uploads % 2]);
+            let (_, _, done) = upload(&service, &all, files[uploads % 2]);
             uploads += 1;
             failed += usize::from(!done);
             next_upload += SOAK_UPLOAD_EVERY;

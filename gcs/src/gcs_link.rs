@@ -17,6 +17,7 @@ use missionlink_protocol::voting::Voter;
 
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::config::LinkConfig;
+use missionlink_platform::files::LineFile;
 use missionlink_platform::keys::LinkSigning;
 use std::os::fd::AsFd;
 
@@ -46,17 +47,16 @@ const REPLAY_LEASE: Duration = Duration::from_millis(250);
 /// The downlink's replay window kept across processes ([`GcsLink::with_replay_lease`]): the
 /// floor written in its file, and a renewal due but not yet written.
 ///
-/// The file stays open and each renewal overwrites its one line in place, a number of fixed
-/// width (one `pwrite`): with a position report every half second a renewal is due at almost
-/// every one, and a temporary file renamed over the old one cost the ground service, at 250
-/// vehicles, more CPU in the file system than all the rest of its work. The next GCS reads
-/// the file once this one has stopped; should a crash leave a line that does not read, it
-/// counts as none (the window starts at that GCS's start: nothing before it is taken).
+/// The file stays open and each renewal overwrites its one line in place
+/// ([`LineFile`]): with a position report every half second a renewal is due at almost every
+/// one. The next GCS reads the file once this one has stopped; should a crash leave a line
+/// that does not read, it counts as none (the window starts at that GCS's start: nothing
+/// before it is taken).
 #[derive(Debug)]
 struct ReplayLease {
     path: std::path::PathBuf,
     /// Open for writing; `None` when it could not be opened (warned about once).
-    file: Option<std::fs::File>,
+    file: Option<LineFile>,
     floor: wire::Timestamp,
     /// The highest stamp admitted, when it came within half a lease of the floor.
     due: Option<wire::Timestamp>,
@@ -80,12 +80,10 @@ impl ReplayLease {
         let ahead = highest
             .millis()
             .saturating_add(REPLAY_LEASE.as_millis() as u64);
-        let Some(file) = &self.file else {
+        let Some(file) = &mut self.file else {
             return;
         };
-        // 20 digits hold any u64: every line is as long as the one it overwrites.
-        let line = format!("{ahead:020}\n");
-        match std::os::unix::fs::FileExt::write_all_at(file, line.as_bytes(), 0) {
+        match file.write(&lease_line(ahead)) {
             Ok(()) => self.floor = wire::Timestamp::from_millis(ahead).unwrap_or(highest),
             Err(e) => {
                 tracing::warn!(
@@ -98,6 +96,19 @@ impl ReplayLease {
             }
         }
     }
+}
+
+/// A lease's line: 20 digits hold any u64, so every line is as long as the one it overwrites.
+fn lease_line(millis: u64) -> String {
+    format!("{millis:020}")
+}
+
+/// What a lease's file holds: the time stamp it reserved, `None` when there is none or it does
+/// not read.
+fn read_lease(file: &std::path::Path) -> Option<wire::Timestamp> {
+    LineFile::read(file)
+        .and_then(|t| t.trim().parse::<u64>().ok())
+        .and_then(wire::Timestamp::from_millis)
 }
 
 impl Drop for ReplayLease {
@@ -175,7 +186,7 @@ pub struct GcsLink<G: SafetyGateway> {
     /// counts what a step cannot hold). Allocated once.
     slots: Vec<[u8; MAX_DATAGRAM]>,
     /// The file that reserves time stamps across processes, and how far it reserves.
-    stamp_lease: Option<(std::path::PathBuf, wire::Timestamp)>,
+    stamp_lease: Option<(LineFile, wire::Timestamp)>,
     /// The file that keeps the replay window's floor across processes.
     replay_lease: Option<ReplayLease>,
     /// What each link (direct, LTE) brought: datagrams and when the last one came.
@@ -249,16 +260,15 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// stamp beyond it is sent. A file that cannot be read counts as empty; one that cannot be
     /// written is the error.
     pub fn with_stamp_lease(mut self, file: &std::path::Path) -> Result<Self, LinkError> {
-        let reserved = std::fs::read_to_string(file)
-            .ok()
-            .and_then(|t| t.trim().parse::<u64>().ok())
-            .and_then(wire::Timestamp::from_millis);
+        let reserved = read_lease(file);
         if let Some(floor) = reserved {
             self.station.resume_stamps_after(floor);
         }
         let now = self.clock.utc_at_zero();
         let start = reserved.map_or(now, |r| r.max(now));
-        self.stamp_lease = Some((file.to_owned(), start));
+        let lease =
+            LineFile::open(file).map_err(|e| LinkError(format!("{}: {e}", file.display())))?;
+        self.stamp_lease = Some((lease, start));
         self.reserve_stamps(start)?;
         Ok(self)
     }
@@ -271,10 +281,7 @@ impl<G: SafetyGateway> GcsLink<G> {
     /// A file that cannot be read counts as none (the window starts at this start); one that
     /// cannot be written is warned about.
     pub fn with_replay_lease(mut self, file: &std::path::Path) -> Self {
-        let floor = std::fs::read_to_string(file)
-            .ok()
-            .and_then(|t| t.trim().parse::<u64>().ok())
-            .and_then(wire::Timestamp::from_millis);
+        let floor = read_lease(file);
         if let Some(floor) = floor {
             self.voter.signatures_mut().resume_after(floor);
             // The FCC's answers to this GCS must come after the floor to be taken: a GCS
@@ -287,12 +294,7 @@ impl<G: SafetyGateway> GcsLink<G> {
                 .min(REPLAY_LEASE.as_millis() as u64 + 1);
             std::thread::sleep(Duration::from_millis(wait));
         }
-        let open = std::fs::OpenOptions::new()
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(file);
-        let open = match open {
+        let open = match LineFile::open(file) {
             Ok(f) => Some(f),
             Err(e) => {
                 tracing::warn!(
@@ -313,8 +315,8 @@ impl<G: SafetyGateway> GcsLink<G> {
         self
     }
 
-    /// Moves the reservation to one second past `stamp` and writes it whole (a reader never sees
-    /// half a number: `missionlink_platform::files::replace`).
+    /// Moves the reservation to one second past `stamp` and writes it whole (one line of fixed
+    /// width overwritten in place: [`LineFile`]).
     fn reserve_stamps(&mut self, stamp: wire::Timestamp) -> Result<(), LinkError> {
         let Some((file, reserved)) = self.stamp_lease.as_mut() else {
             return Ok(());
@@ -322,8 +324,8 @@ impl<G: SafetyGateway> GcsLink<G> {
         let ahead = stamp
             .millis()
             .saturating_add(STAMP_LEASE.as_millis() as u64);
-        missionlink_platform::files::replace(file, format!("{ahead}\n").as_bytes())
-            .map_err(|e| LinkError(format!("{}: {e}", file.display())))?;
+        file.write(&lease_line(ahead))
+            .map_err(|e| LinkError(format!("{}: {e}", file.path().display())))?;
         *reserved = wire::Timestamp::from_millis(ahead).unwrap_or(stamp);
         Ok(())
     }

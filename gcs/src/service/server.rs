@@ -1231,10 +1231,14 @@ fn read_planned(dir: &Path) -> Option<(Checksum, Checksum)> {
     Some((next()?, next()?))
 }
 
+/// Keeps the lists of an upload that completed: one line of fixed width overwritten in place
+/// (`missionlink_platform::files::LineFile`), no file made per upload.
 fn write_planned(dir: &Path, (mission, areas): (Checksum, Checksum)) {
     let path = dir.join(PLANNED);
-    let text = format!("{:#010x} {:#010x}\n", mission.value(), areas.value());
-    if let Err(e) = missionlink_platform::files::replace(&path, text.as_bytes()) {
+    let line = format!("{:#010x} {:#010x}", mission.value(), areas.value());
+    let written =
+        missionlink_platform::files::LineFile::open(&path).and_then(|mut f| f.write(&line));
+    if let Err(e) = written {
         tracing::warn!(path = %path.display(), %e, "the lists uploaded last are not kept");
     }
 }

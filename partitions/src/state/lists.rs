@@ -10,9 +10,12 @@
 //! Both active lists and their generations are one file ([`save_active`],
 //! `active-lists.frames`): an activation that replaces both (ICD §8) cannot be torn by a kill
 //! between two writes. Each staged mission is a file of its own under `staged/`
-//! ([`save_staged`]). Every file is replaced atomically ([`super::write_atomically`]).
+//! ([`save_staged`]). Every file is replaced atomically: a staged mission's by a new file
+//! ([`super::write_atomically`]), the active lists and the open upload's record, rewritten at
+//! every upload, by exchanging them with their spare ([`super::rewrite_durably`]).
 //!
-//! A mission upload that is open is recorded too (`mission-upload.open`, empty): a partition
+//! Whether a mission upload is open is recorded too (`mission-upload.open`: `open` or `closed`;
+//! empty, as an earlier version left it, reads as open): a partition
 //! restarted in the middle of one must not take the rest of it as an edit of the active list
 //! (`missionlink_flight::mission_data_handling`, "A restart never assembles a transfer it did not see from
 //! the start").
@@ -29,7 +32,7 @@ use missionlink_protocol::transfer::mission::{Mission, MissionBuffer};
 use missionlink_protocol::transfer::sender::mission_command;
 use missionlink_protocol::transfer::staged::MissionId;
 
-use super::{remove_if_present, sync_dir, write_atomically};
+use super::{remove_if_present, rewrite_durably, sync_dir, write_atomically};
 
 const ACTIVE_LISTS: &str = "active-lists.frames";
 const STAGED: &str = "staged";
@@ -211,7 +214,7 @@ pub fn save_active(
     let mut bytes = mission_generation.to_be_bytes().to_vec();
     bytes.extend_from_slice(&area_generation.to_be_bytes());
     encode_lists(&mut bytes, mission, areas)?;
-    write_atomically(&dir.join(ACTIVE_LISTS), &bytes)
+    rewrite_durably(&dir.join(ACTIVE_LISTS), &bytes)
 }
 
 /// The active lists saved last, `None` when there are none or the file is damaged (logged).
@@ -337,19 +340,20 @@ pub fn load_staged(dir: &Path) -> Vec<(MissionId, Option<Mission>, Option<AreaLi
     staged
 }
 
-/// Records that a mission upload is open (`true`) or that none is.
+/// Records that a mission upload is open (`true`) or that none is: the same file rewritten
+/// (`open`, `closed`), so that an upload makes and deletes no file.
 pub fn save_mission_upload_open(dir: &Path, open: bool) -> io::Result<()> {
-    let path = dir.join(MISSION_UPLOAD_OPEN);
-    if open {
-        write_atomically(&path, &[])
-    } else {
-        remove_if_present(&path)
-    }
+    let text: &[u8] = if open { b"open\n" } else { b"closed\n" };
+    rewrite_durably(&dir.join(MISSION_UPLOAD_OPEN), text)
 }
 
-/// Whether a mission upload was recorded open.
+/// Whether a mission upload was recorded open. Anything but `closed` is open: a file that cannot
+/// be read whole must not let a restart take the rest of an upload as an edit.
 pub fn load_mission_upload_open(dir: &Path) -> bool {
-    dir.join(MISSION_UPLOAD_OPEN).is_file()
+    match std::fs::read(dir.join(MISSION_UPLOAD_OPEN)) {
+        Ok(text) => text != b"closed\n",
+        Err(e) => e.kind() != io::ErrorKind::NotFound,
+    }
 }
 
 #[cfg(test)]
@@ -396,11 +400,31 @@ mod tests {
             ..ActiveLists::default()
         };
         assert_eq!(load_active(dir.path()), Some(cleared));
-        let names: Vec<_> = std::fs::read_dir(dir.path())
+        let mut names: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()
             .map(|e| e.unwrap().file_name().into_string().unwrap())
             .collect();
-        assert_eq!(names, [ACTIVE_LISTS], "no temporary file left");
+        names.sort();
+        assert_eq!(
+            names,
+            [ACTIVE_LISTS, "active-lists.spare"],
+            "the file and its spare, no temporary file"
+        );
+    }
+
+    #[test]
+    fn an_open_upload_is_recorded_in_one_file_and_anything_but_closed_reads_open() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(!load_mission_upload_open(dir.path()), "never recorded");
+        for open in [true, false, true, false] {
+            save_mission_upload_open(dir.path(), open).unwrap();
+            assert_eq!(load_mission_upload_open(dir.path()), open);
+        }
+        // The empty file an earlier version made for an open upload, or a cut one.
+        for text in [&b""[..], b"clo"] {
+            std::fs::write(dir.path().join(MISSION_UPLOAD_OPEN), text).unwrap();
+            assert!(load_mission_upload_open(dir.path()));
+        }
     }
 
     #[test]

@@ -25,8 +25,7 @@ pub use ready::{
     announce_ready, forget_ready, is_ready, ready_dir, wait_for_ready, withdraw_ready,
 };
 
-use std::io;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 /// Polls `probe` until it gives a value, for at most `limit`, while `alive` says it may still
@@ -65,12 +64,12 @@ pub fn default_dir(prefix: &str) -> PathBuf {
 }
 
 // One owner of whole writes for the FCC and the ground (`missionlink_platform::files`).
-pub(crate) use missionlink_platform::files::{sync_dir, write_atomically};
+pub(crate) use missionlink_platform::files::{rewrite_durably, sync_dir, write_atomically};
 
 /// Removes `path`; a file that is not there is removed already.
-pub(crate) fn remove_if_present(path: &Path) -> io::Result<()> {
+pub(crate) fn remove_if_present(path: &std::path::Path) -> std::io::Result<()> {
     match std::fs::remove_file(path) {
-        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e),
         _ => Ok(()),
     }
 }
