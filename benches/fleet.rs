@@ -63,7 +63,6 @@ use missionlink_partitions::config::Config;
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::{LinkPair, MAX_DATAGRAM};
-use missionlink_protocol::voting::Voter;
 
 /// How often an upload goes to every vehicle in the soak.
 const SOAK_UPLOAD_EVERY: Duration = Duration::from_secs(10);
@@ -382,12 +381,7 @@ fn simulated_fcc(
     let signing = LinkSigning::load(&config.signing).unwrap();
     let links = links.with_signer(signing.signer.clone());
     let clock = DriverClock::start();
-    let mut voter = Voter::new(
-        config.ids.fcc,
-        config.ids.gcs,
-        config.timing.transfer_timeout(),
-    )
-    .with_signatures(signing.check(clock.utc_at_zero(), clock.now()));
+    let mut voter = missionlink_partitions::voting_monitoring::fcc_voter(config, &signing, &clock);
     let mut core = Box::new(MissionDataHandling::new(
         config.fcc_core(clock.utc_at_zero()),
     ));
@@ -616,23 +610,66 @@ fn service(dir: &Path, entries: &[FleetEntry], client: &MavlinkClient) -> Ground
     )
 }
 
+/// A directory of the bench's own, removed when dropped.
+struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// One fleet and the ground service on it, the bench's MAVLink client hearing every vehicle:
+/// what [`measure`] and [`soak`] both run. Dropped in this order: the service, the fleet, the
+/// client, the directory.
+struct Setup {
+    service: GroundService,
+    _fleet: Fleet,
+    client: MavlinkClient,
+    /// Every vehicle's name, as `gcs --vehicle` takes them.
+    all: String,
+    _dir: Scratch,
+}
+
+impl Setup {
+    /// `n` vehicles of `kind` (behind links of `profile`, if one) in a directory named after
+    /// `name`, the service started on them, every vehicle heard on MAVLink.
+    fn start(kind: Kind, n: usize, profile: Option<Profile>, name: &str) -> Self {
+        let dir = Scratch::new(name);
+        let sent: SentPositions = Arc::default();
+        let client = MavlinkClient::start(sent.clone());
+        let fleet = Fleet::start(kind, n, profile, &dir.0, &sent);
+        let service = service(&dir.0, &fleet.entries, &client);
+        client.wait_for_all(n, Duration::from_secs(60));
+        let all: Vec<String> = (0..n).map(vehicle_name).collect();
+        Self {
+            service,
+            _fleet: fleet,
+            client,
+            all: all.join(","),
+            _dir: dir,
+        }
+    }
+}
+
 fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Duration) -> Row {
     eprintln!("{} fleet of {n}: starting", kind.name());
-    let dir = std::env::temp_dir().join(format!(
-        "missionlink-bench-fleet-{}-{n}-{}",
-        kind.name(),
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let sent: SentPositions = Arc::default();
-    let client = MavlinkClient::start(sent.clone());
-    let fleet = Fleet::start(kind, n, profile, &dir, &sent);
-    let service = service(&dir, &fleet.entries, &client);
-    client.wait_for_all(n, Duration::from_secs(60));
-
-    let all: Vec<String> = (0..n).map(vehicle_name).collect();
-    let all = all.join(",");
+    let setup = Setup::start(
+        kind,
+        n,
+        profile,
+        &format!("missionlink-bench-fleet-{}-{n}", kind.name()),
+    );
+    let (service, client, all) = (&setup.service, &setup.client, &setup.all);
     let mut one_ms = Vec::new();
     let mut all_ms = Vec::new();
     let (mut one_busy_ms, mut all_busy_ms) = (Vec::new(), Vec::new());
@@ -646,12 +683,12 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
             (all.clone(), &mut all_ms, &mut all_busy_ms),
         ] {
             // One vehicle alone; first every vehicle with the mission the next upload replaces.
-            if vehicles != all || turn == 0 {
-                let (_, _, done) = upload(&service, &all, files[turn % 2]);
+            if vehicles != *all || turn == 0 {
+                let (_, _, done) = upload(service, all, files[turn % 2]);
                 failed += usize::from(!done);
                 turn += 1;
             }
-            let (took, busy, done) = upload(&service, &vehicles, files[turn % 2]);
+            let (took, busy, done) = upload(service, &vehicles, files[turn % 2]);
             failed += usize::from(!done);
             turn += 1;
             times.push(took.as_secs_f64() * 1e3);
@@ -674,8 +711,7 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
         .map(|s| positions.get(&s).copied().unwrap_or(0) as f64 / wall.as_secs_f64())
         .collect();
     latency_ns.sort_unstable();
-    drop(service);
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(setup);
     Row {
         kind,
         n,
@@ -787,17 +823,9 @@ fn soak(
     duration: Duration,
     sample_every: Duration,
 ) {
-    let dir = std::env::temp_dir().join(format!("missionlink-bench-soak-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let sent: SentPositions = Arc::default();
-    let client = MavlinkClient::start(sent.clone());
-    let fleet = Fleet::start(kind, n, profile, &dir, &sent);
-    let service = service(&dir, &fleet.entries, &client);
-    client.wait_for_all(n, Duration::from_secs(60));
+    let setup = Setup::start(kind, n, profile, "missionlink-bench-soak");
+    let (service, client, all) = (&setup.service, &setup.client, &setup.all);
     let pid = service.pid();
-    let all: Vec<String> = (0..n).map(vehicle_name).collect();
-    let all = all.join(",");
     let files = ["mission-2.toml", "mission-1.toml"];
     println!(
         "{:>7} {:>9} {:>5} {:>8} {:>7} {:>8} {:>7} {:>13}",
@@ -813,7 +841,7 @@ fn soak(
     while start.elapsed() < duration {
         let now = Instant::now();
         if now >= next_upload {
-            let (_, _, done) = upload(&service, &all, files[uploads % 2]);
+            let (_, _, done) = upload(service, all, files[uploads % 2]);
             uploads += 1;
             failed += usize::from(!done);
             next_upload += SOAK_UPLOAD_EVERY;
@@ -866,8 +894,40 @@ fn soak(
         first.2,
         last.2,
     );
-    drop(service);
-    let _ = std::fs::remove_dir_all(&dir);
+    // Growth told apart from the spread of single samples: the means of the first and the last
+    // sixth, and the least-squares slope of each half (memory that settles has a slope in the
+    // first half only).
+    let rss: Vec<f64> = samples.iter().map(|s| s.0 as f64).collect();
+    let sixth = (rss.len() / 6).max(1);
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let per_hour = 3600.0 / sample_every.as_secs_f64();
+    let half = rss.len() / 2;
+    println!(
+        "RSS mean of the first sixth {:.0} KiB, of the last sixth {:.0} KiB ({:+.0} KiB); slope \
+         {:+.0} KiB/h over the first half, {:+.0} KiB/h over the second",
+        mean(&rss[..sixth]),
+        mean(&rss[rss.len() - sixth..]),
+        mean(&rss[rss.len() - sixth..]) - mean(&rss[..sixth]),
+        slope(&rss[..half]) * per_hour,
+        slope(&rss[half..]) * per_hour,
+    );
+}
+
+/// The least-squares slope of `values` against their index; 0 for fewer than two.
+fn slope(values: &[f64]) -> f64 {
+    let n = values.len() as f64;
+    if values.len() < 2 {
+        return 0.0;
+    }
+    let mean_x = (n - 1.0) / 2.0;
+    let mean_y = values.iter().sum::<f64>() / n;
+    let (mut num, mut den) = (0.0, 0.0);
+    for (i, y) in values.iter().enumerate() {
+        let dx = i as f64 - mean_x;
+        num += dx * (y - mean_y);
+        den += dx * dx;
+    }
+    num / den
 }
 
 fn main() {

@@ -7,14 +7,16 @@
 //!
 //! The model is EGM96 (the `egm96` crate: NGA's spherical harmonics to degree 360), which GNSS
 //! receivers and autopilots report MSL altitudes against. An evaluation costs about a millisecond,
-//! so the last value is kept per cell of 1/120 degree (at most 930 m across): the undulation's
-//! gradient, at most a few centimetres per kilometre outside the steepest mountain ranges, moves
-//! it by less than the wire's altitude step within a cell. An evaluation also takes over half a
-//! megabyte of stack, which a thread keeps resident once it has touched it: it runs on a
-//! short-lived thread of its own, so that the ground service's thread per vehicle, which
-//! converts every position it hands to MAVLink, stays small.
+//! so the value is kept per cell of 1/120 degree (at most 930 m across), for the whole process:
+//! the undulation's gradient, at most a few centimetres per kilometre outside the steepest
+//! mountain ranges, moves it by less than the wire's altitude step within a cell, and the ground
+//! service's vehicles (their positions, every upload's take-off position) share their cells. An
+//! evaluation also takes over half a megabyte of stack, which a thread keeps resident once it
+//! has touched it: it runs on a short-lived thread of its own, so that the ground service's
+//! threads stay small.
 
-use std::cell::Cell;
+use std::collections::HashMap;
+use std::sync::Mutex;
 
 /// Cells per degree of the memo.
 const CELLS_PER_DEGREE: f64 = 120.0;
@@ -22,10 +24,12 @@ const CELLS_PER_DEGREE: f64 = 120.0;
 /// The stack of an evaluation's thread: the model's 520 KB frame and room to spare.
 const EVALUATION_STACK: usize = 2 << 20;
 
-thread_local! {
-    /// The last cell evaluated and its undulation.
-    static LAST: Cell<Option<((i64, i64), f64)>> = const { Cell::new(None) };
-}
+/// The most cells the memo keeps; past it, it starts again empty (a fleet spread over more than
+/// 4096 cells of a kilometre re-evaluates some, and the memo stays some 100 KB).
+const MEMO_CELLS: usize = 4096;
+
+/// The cells evaluated and their undulations.
+static MEMO: Mutex<Option<HashMap<(i64, i64), f64>>> = Mutex::new(None);
 
 /// The geoid undulation N at a position, metres: the height of mean sea level above the WGS-84
 /// ellipsoid (positive where the geoid lies above it).
@@ -34,9 +38,8 @@ pub fn undulation_m(latitude_deg: f64, longitude_deg: f64) -> f64 {
         (latitude_deg * CELLS_PER_DEGREE).round() as i64,
         (longitude_deg * CELLS_PER_DEGREE).round() as i64,
     );
-    if let Some((last, n)) = LAST.get()
-        && last == cell
-    {
+    let known = |memo: &Option<HashMap<(i64, i64), f64>>| memo.as_ref()?.get(&cell).copied();
+    if let Some(n) = MEMO.lock().ok().and_then(|memo| known(&memo)) {
         return n;
     }
     let (lat, lon) = (
@@ -52,7 +55,13 @@ pub fn undulation_m(latitude_deg: f64, longitude_deg: f64) -> f64 {
         .ok()
         .and_then(|t| t.join().ok())
         .unwrap_or_else(evaluate);
-    LAST.set(Some((cell, n)));
+    if let Ok(mut memo) = MEMO.lock() {
+        let memo = memo.get_or_insert_with(HashMap::new);
+        if memo.len() >= MEMO_CELLS {
+            memo.clear();
+        }
+        memo.insert(cell, n);
+    }
     n
 }
 

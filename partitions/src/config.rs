@@ -245,8 +245,9 @@ pub struct FccArgs {
     /// Heartbeat period of every partition, milliseconds (`[health] period_ms`).
     #[arg(long, value_name = "MS")]
     pub heartbeat_ms: Option<u64>,
-    /// End when the parent process ends (the launcher passes it, so that its partitions do not
-    /// outlive it even after a `kill -9` of the launcher).
+    /// End when the parent process ends: the launcher passes it to its partitions, so that they
+    /// do not outlive it even after a `kill -9` of the launcher; a test or a benchmark passes it
+    /// to the launcher, so that the FCC does not outlive them.
     #[arg(long, hide = true)]
     pub exit_with_parent: bool,
 }

@@ -517,6 +517,11 @@ pub fn main(
         tracing::error!("cannot find the partition binaries: give --bin-dir");
         return ExitCode::from(2);
     };
+    if args.exit_with_parent
+        && let Some(parent) = rustix::process::getppid()
+    {
+        crate::runtime::watch_parent(parent);
+    }
     let control = Control::new();
     let result = control
         .requests

@@ -745,7 +745,9 @@ pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
 
 /// Sends this process SIGTERM once its parent `parent` is gone (the process is re-parented and
 /// its parent ID changes), so it stops through its normal shutdown path: a safe stand-in for
-/// PR_SET_PDEATHSIG, which would need unsafe code in the launcher.
+/// PR_SET_PDEATHSIG, which would need unsafe code in the launcher. A partition watches its
+/// launcher; the launcher, asked to (`--exit-with-parent`), whatever started it (a test, a
+/// benchmark, the demo), so that a `kill -9` of that leaves no FCC behind.
 pub fn watch_parent(parent: rustix::process::Pid) {
     let parent = Some(parent);
     let spawned = std::thread::Builder::new()
@@ -754,7 +756,7 @@ pub fn watch_parent(parent: rustix::process::Pid) {
             loop {
                 std::thread::sleep(Duration::from_millis(100));
                 if rustix::process::getppid() != parent {
-                    tracing::warn!("the launcher is gone: stopping");
+                    tracing::warn!("the parent process is gone: stopping");
                     let _ = rustix::process::kill_process(
                         rustix::process::getpid(),
                         rustix::process::Signal::TERM,

@@ -103,6 +103,18 @@ fn open_links(config: &Config, state_dir: &Path) -> Result<LinkPair, PartitionEr
     Ok(links)
 }
 
+/// The FCC's voter (paper §2.4): frames from the configured GCS to the configured FCC, the
+/// transfer timeout of its timing, and the signature check of `signing` (ICD §9) from `clock`'s
+/// now on. One constructor for the partition and for FCCs simulated in a benchmark.
+pub fn fcc_voter(config: &Config, signing: &LinkSigning, clock: &DriverClock) -> Voter {
+    Voter::new(
+        config.ids.fcc,
+        config.ids.gcs,
+        config.timing.transfer_timeout(),
+    )
+    .with_signatures(signing.check(clock.utc_at_zero(), clock.now()))
+}
+
 /// Runs voting-monitoring on the service type `S` until `control` or a termination request
 /// stops it.
 pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), PartitionError>
@@ -116,12 +128,7 @@ where
         LinkSigning::load(&config.signing).map_err(|e| PartitionError::Config(e.to_string()))?;
     let links = open_links(config, &config.ipc.state_dir())?.with_signer(signing.signer.clone());
     let clock = DriverClock::start();
-    let mut voter = Voter::new(
-        config.ids.fcc,
-        config.ids.gcs,
-        config.timing.transfer_timeout(),
-    )
-    .with_signatures(signing.check(clock.utc_at_zero(), clock.now()));
+    let mut voter = fcc_voter(config, &signing, &clock);
     tracing::info!(signing = %signing.summary(), "link signing (ICD §9)");
     // Said at every start: a link anyone on the path can write to must not pass unnoticed.
     match config.signing.policy {

@@ -76,6 +76,10 @@ impl FccProcess {
         }
         let mut command = Command::new(bin_dir.join(binary));
         config::hand_to(&mut command, config).map_err(io::Error::other)?;
+        // An FCC ends with whatever started it, even a test or a benchmark killed by a signal.
+        if binary == NAME {
+            command.arg("--exit-with-parent");
+        }
         Ok(command)
     }
 

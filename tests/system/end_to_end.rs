@@ -253,6 +253,55 @@ fn frames_from_a_wrong_source_or_with_a_bad_checksum_change_nothing_and_are_coun
 }
 
 #[test]
+fn the_fcc_stops_when_the_process_that_started_it_is_killed() {
+    let rig = Rig::new("started-by");
+    // The harness's command for the launcher (`--exit-with-parent` among its arguments), run
+    // by a shell that is then killed as a test or a benchmark killed by a signal would be.
+    let command = FccProcess::command(&bin_dir(), "fcc", &rig.config).unwrap();
+    let log = std::fs::File::create(rig.dir.join("fcc.log")).unwrap();
+    let mut shell = std::process::Command::new("sh");
+    shell
+        .arg("-c")
+        .arg("\"$0\" \"$@\" & wait")
+        .arg(command.get_program())
+        .args(command.get_args())
+        .stderr(log);
+    for (key, value) in command.get_envs() {
+        match value {
+            Some(v) => shell.env(key, v),
+            None => shell.env_remove(key),
+        };
+    }
+    let mut shell = shell.spawn().unwrap();
+    let state_dir = rig.config.ipc.state_dir();
+    let launcher: i32 = eventually(Duration::from_secs(20), || {
+        std::fs::read_to_string(state_dir.join("ready").join("fcc"))
+            .ok()?
+            .trim()
+            .parse()
+            .ok()
+    })
+    .expect("the FCC came up");
+    shell.kill().unwrap();
+    shell.wait().unwrap();
+    let gone = eventually(Duration::from_secs(5), || {
+        std::fs::read_to_string(format!("/proc/{launcher}/stat"))
+            .map_or(true, |s| {
+                s.rsplit(')')
+                    .next()
+                    .is_some_and(|rest| rest.trim_start().starts_with('Z'))
+            })
+            .then_some(())
+    });
+    let text = std::fs::read_to_string(rig.dir.join("fcc.log")).unwrap();
+    assert!(gone.is_some(), "the FCC outlived what started it:\n{text}");
+    assert!(
+        text.contains("the parent process is gone: stopping"),
+        "{text}"
+    );
+}
+
+#[test]
 fn partitions_stop_and_nothing_is_left_in_the_temp_directory_when_the_launcher_is_killed() {
     let rig = Rig::new("orphans");
     // The launcher's and its partitions' temporary directory: empty at the end.
@@ -284,7 +333,10 @@ fn partitions_stop_and_nothing_is_left_in_the_temp_directory_when_the_launcher_i
         (!pids.iter().any(running)).then_some(())
     });
     assert!(left.is_some(), "partitions outlived the launcher: {pids:?}");
-    assert!(fcc.log_text().contains("the launcher is gone: stopping"));
+    assert!(
+        fcc.log_text()
+            .contains("the parent process is gone: stopping")
+    );
     let left_behind: Vec<_> = std::fs::read_dir(&tmp)
         .unwrap()
         .map(|e| e.unwrap().path())

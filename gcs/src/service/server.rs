@@ -418,13 +418,22 @@ impl FleetMissions {
 /// The active mission of a mission file's text (the lists as the command validated them) and
 /// its take-off position.
 fn active_of(mission: &str) -> Option<Active> {
-    let plan = MissionFile::parse(mission).ok()?.to_plan().ok()?;
+    lists_of(&MissionFile::parse(mission).ok()?.to_plan().ok()?).map(|(active, _)| active)
+}
+
+/// A plan's lists as they become active when it is uploaded (ICD §8): the mission with its
+/// checksum and take-off position, and the area list's checksum (ICD §11).
+fn lists_of(plan: &MissionPlan) -> Option<(Active, Checksum)> {
     let lists = plan.assemble().ok()?;
-    Some(Active {
-        checksum: integrity::mission_checksum(&lists.mission),
-        mission: Arc::new(lists.mission),
-        take_off: plan.take_off_position,
-    })
+    let areas = integrity::areas_checksum(&lists.areas);
+    Some((
+        Active {
+            checksum: integrity::mission_checksum(&lists.mission),
+            mission: Arc::new(lists.mission),
+            take_off: plan.take_off_position,
+        },
+        areas,
+    ))
 }
 
 /// The safety gateway's separation check (`[fleet] separation_m`): `plan` for `vehicle`, as
@@ -995,15 +1004,13 @@ impl Worker {
     /// The safety gateway's separation check (`[fleet] separation_m`) of the plan of `upload`,
     /// as it flies in the upload's wind. A plan that does not read is left to the request,
     /// which refuses it in the gateway's words.
-    fn keeps_separation(&self, upload: &super::request::Upload) -> Result<(), Failure> {
-        let Some(plan) = MissionFile::parse(&upload.mission)
-            .ok()
-            .and_then(|f| f.to_plan().ok())
-        else {
-            return Ok(());
-        };
+    fn keeps_separation(
+        &self,
+        upload: &super::request::Upload,
+        plan: &MissionPlan,
+    ) -> Result<(), Failure> {
         let gateway = SafetyGateway::new(upload.profile.into(), upload.environment.into());
-        keeps_separation(&self.fleet, &self.name, self.separation, &gateway, &plan).map_err(|why| {
+        keeps_separation(&self.fleet, &self.name, self.separation, &gateway, plan).map_err(|why| {
             let (first, rest) = why.split_once('\n').unwrap_or((&why, ""));
             let rest = if rest.is_empty() {
                 String::new()
@@ -1082,18 +1089,22 @@ impl Worker {
     }
 
     fn request(&mut self, request: Request, mut stream: UnixStream) {
-        if let Request::Upload(upload) = &request
-            && let Err(refused) = self.keeps_separation(upload)
+        // An upload's mission file read once for the service's own checks and records; a file
+        // that does not read is left to the request, which refuses it in the gateway's words.
+        let plan = match &request {
+            Request::Upload(u) => MissionFile::parse(&u.mission)
+                .ok()
+                .and_then(|f| f.to_plan().ok()),
+            _ => None,
+        };
+        if let (Request::Upload(upload), Some(plan)) = (&request, &plan)
+            && let Err(refused) = self.keeps_separation(upload, plan)
         {
             let _ = send(&mut stream, &Reply::Failed(refused));
             return;
         }
-        let planned = match &request {
-            Request::Upload(u) if u.stage.is_none() => checksums(&u.mission),
-            _ => None,
-        };
-        let uploaded = match &request {
-            Request::Upload(u) if u.stage.is_none() => active_of(&u.mission),
+        let lists = match (&request, &plan) {
+            (Request::Upload(u), Some(plan)) if u.stage.is_none() => lists_of(plan),
             _ => None,
         };
         let changes = !matches!(request, Request::Report | Request::Download { .. });
@@ -1104,10 +1115,9 @@ impl Worker {
             self.state.snapshot.report = Some(reports(entries));
             self.state.snapshot.report_failed = None;
         }
-        if let (Ok(Answer::Uploaded { .. }), Some(active)) = (&outcome, uploaded) {
+        if let (Ok(Answer::Uploaded { .. }), Some((active, areas))) = (&outcome, lists) {
+            let planned = (active.checksum, areas);
             self.fleet.set(&self.name, Some(active));
-        }
-        if let (Ok(Answer::Uploaded { .. }), Some(planned)) = (&outcome, planned) {
             self.state.snapshot.planned = Some(planned);
             if let Some(dir) = &self.dir {
                 write_planned(dir, planned);
@@ -1200,20 +1210,6 @@ fn on_request_thread<T: Send>(vehicle: &str, work: impl FnOnce() -> T + Send) ->
             }
         }
     })
-}
-
-/// The checksums (ICD §11) of the lists of a mission file.
-fn checksums(mission: &str) -> Option<(Checksum, Checksum)> {
-    let plan = MissionFile::parse(mission)
-        .ok()?
-        .to_plan()
-        .ok()?
-        .assemble()
-        .ok()?;
-    Some((
-        integrity::mission_checksum(&plan.mission),
-        integrity::areas_checksum(&plan.areas),
-    ))
 }
 
 const PLANNED: &str = "planned";
