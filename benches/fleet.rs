@@ -11,9 +11,15 @@
 //! beside the service; what the service does per vehicle is the same.
 //!
 //! Reported per fleet:
-//! - **upload**: wall time of `gcs upload --vehicle v001` (one vehicle, the others idle) and of
-//!   `gcs upload --vehicle v001,...,vNNN` (all at once, through the service), demo missions 1
-//!   and 2 in turn so that both lists change every time; medians of `--runs` and their ratio;
+//! - **upload**: wall time of `gcs upload --vehicle vNNN` (one vehicle, the last, the others
+//!   idle) and of `gcs upload --vehicle v001,...,vNNN` (all at once, through the service), demo
+//!   missions 1 and 2 in turn so that both lists change every time; medians of `--runs` and
+//!   their ratio; beside each, the machine's busy CPU time meanwhile (every process: the
+//!   client, the service, the FCCs), which tells an upload bound by the cores from one that
+//!   waits for its links;
+//! - **others beside a bad link** (`--first-behind PROFILE`: the first vehicle behind an
+//!   emulated link of that profile, the others as `--profile` says): the upload to all but the
+//!   first alone, and while an upload to the first runs over its link, another client at once;
 //! - **CPU**: the service's CPU time over `--idle-s` seconds of positions and heartbeats, no
 //!   request running, as a share of one core (`/proc/<pid>/stat` utime + stime);
 //! - **memory**: the service's resident set (`VmRSS`) after the uploads and the idle window, per
@@ -30,14 +36,15 @@
 //! cargo bench --bench fleet                                     # real 1,4,16; simulated 1,16,250
 //! cargo bench --bench fleet -- --real 1,4 --simulated 1,250 --runs 3 --idle-s 20
 //! cargo bench --bench fleet -- --soak-s 3600 --real 16          # the hour: no growth
+//! cargo bench --bench fleet -- --real 16 --simulated "" --first-behind bad
 //! ```
 //!
 //! `--soak-s S` runs one fleet (the largest of `--real`, or with `--real ""` of `--simulated`)
 //! for S seconds instead: positions
 //! at 2 Hz, an upload to every vehicle every 10 s, and every minute the service's resident set,
 //! open file descriptors, threads and CPU share since the minute before (`--sample-s` another
-//! period); then the growth from
-//! the first minute to the last and every upload's outcome.
+//! period); then the growth from the first minute to the last, the means of the first and the
+//! last sixth of the samples, the slope of each half, and every upload's outcome.
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -292,13 +299,8 @@ struct SimulatedFleet {
 
 impl SimulatedFleet {
     /// `n` vehicles, their fleet entries (key file `key`), sending their positions' send times
-    /// to `sent`; each behind a link emulator of `profile`, if one.
-    fn start(
-        n: usize,
-        dir: &Path,
-        sent: &SentPositions,
-        profile: Option<Profile>,
-    ) -> (Self, Vec<FleetEntry>) {
+    /// to `sent`; each behind a link emulator of its profile in `links`, if one.
+    fn start(n: usize, dir: &Path, sent: &SentPositions, links: Links) -> (Self, Vec<FleetEntry>) {
         let key = dir.join("link.key");
         missionlink_platform::keys::generate_key_file(&key, 1).unwrap();
         let stop = Arc::new(AtomicBool::new(false));
@@ -319,7 +321,7 @@ impl SimulatedFleet {
             let lte = UdpSocket::bind("127.0.0.1:0").unwrap();
             let own = [direct.local_addr().unwrap(), lte.local_addr().unwrap()];
             // Behind an emulator, each end talks to the emulator's side that faces it.
-            let (fcc, peer) = match profile {
+            let (fcc, peer) = match links.of(i) {
                 Some(profile) => {
                     let emulator =
                         Emulator::start(EmulatorConfig::profile(ground, profile, i as u64))
@@ -449,6 +451,25 @@ fn simulated_fcc(
 
 // ---- Real FCCs ----
 
+/// The links of a fleet's vehicles: each behind an emulated link of `all` (none: loopback), the
+/// first behind one of `first` instead, if one (`--first-behind`: a vehicle whose link is bad
+/// among vehicles whose links are not).
+#[derive(Debug, Clone, Copy)]
+struct Links {
+    all: Option<Profile>,
+    first: Option<Profile>,
+}
+
+impl Links {
+    /// The profile of vehicle `i`'s link, none for loopback.
+    fn of(self, i: usize) -> Option<Profile> {
+        match (i, self.first) {
+            (0, Some(first)) => Some(first),
+            _ => self.all,
+        }
+    }
+}
+
 /// A fleet that runs: what keeps its vehicles alive (rigs, FCCs, emulators, simulated FCCs),
 /// and its fleet file's entries.
 struct Fleet {
@@ -458,18 +479,12 @@ struct Fleet {
 }
 
 impl Fleet {
-    /// `n` vehicles of `kind`, each behind a link emulator of `profile` if one; a simulated
+    /// `n` vehicles of `kind`, each behind a link emulator of its profile in `links`; a simulated
     /// fleet's files in `dir`, its positions' send times to `sent`.
-    fn start(
-        kind: Kind,
-        n: usize,
-        profile: Option<Profile>,
-        dir: &Path,
-        sent: &SentPositions,
-    ) -> Self {
+    fn start(kind: Kind, n: usize, links: Links, dir: &Path, sent: &SentPositions) -> Self {
         match kind {
             Kind::Real => {
-                let (real, entries) = real_fleet(n, profile);
+                let (real, entries) = real_fleet(n, links);
                 Self {
                     _real: real,
                     _simulated: None,
@@ -477,7 +492,7 @@ impl Fleet {
                 }
             }
             Kind::Simulated => {
-                let (simulated, entries) = SimulatedFleet::start(n, dir, sent, profile);
+                let (simulated, entries) = SimulatedFleet::start(n, dir, sent, links);
                 Self {
                     _real: Vec::new(),
                     _simulated: Some(simulated),
@@ -488,13 +503,10 @@ impl Fleet {
     }
 }
 
-/// `n` real FCCs, each with a rig of its own (behind a link emulator of `profile`, if one);
+/// `n` real FCCs, each with a rig of its own (behind a link emulator of its profile in `links`);
 /// their fleet entries.
 #[allow(clippy::type_complexity)]
-fn real_fleet(
-    n: usize,
-    profile: Option<Profile>,
-) -> (Vec<(Rig, Process, Option<Emulator>)>, Vec<FleetEntry>) {
+fn real_fleet(n: usize, links: Links) -> (Vec<(Rig, Process, Option<Emulator>)>, Vec<FleetEntry>) {
     let mut real = Vec::new();
     let mut entries = Vec::new();
     for i in 0..n {
@@ -502,7 +514,7 @@ fn real_fleet(
         rig.config.ids.fcc = 0x0B00_0001 + i as u32;
         // Guidance in real time: positions as an aircraft flies them.
         rig.config.guidance.time_scale = 1.0;
-        let (fcc, emulator) = match profile {
+        let (fcc, emulator) = match links.of(i) {
             Some(profile) => {
                 let (fcc, emulator, _) = rig.start_fcc_behind(profile.flows(), i as u64);
                 (fcc, Some(emulator))
@@ -551,6 +563,11 @@ struct Row {
     /// all: what an upload costs, and whether the uploads to all were bound by the cores.
     one_busy_ms: Vec<f64>,
     all_busy_ms: Vec<f64>,
+    /// With `--first-behind`: the upload to all but the first alone, and beside an upload to
+    /// the first over its link; how many of the first's did not complete.
+    others_alone_ms: Vec<f64>,
+    others_beside_ms: Vec<f64>,
+    first_failed: usize,
     failed: usize,
     cpu_percent: f64,
     rss: u64,
@@ -641,13 +658,13 @@ struct Setup {
 }
 
 impl Setup {
-    /// `n` vehicles of `kind` (behind links of `profile`, if one) in a directory named after
+    /// `n` vehicles of `kind` (behind the emulated links of `links`) in a directory named after
     /// `name`, the service started on them, every vehicle heard on MAVLink.
-    fn start(kind: Kind, n: usize, profile: Option<Profile>, name: &str) -> Self {
+    fn start(kind: Kind, n: usize, links: Links, name: &str) -> Self {
         let dir = Scratch::new(name);
         let sent: SentPositions = Arc::default();
         let client = MavlinkClient::start(sent.clone());
-        let fleet = Fleet::start(kind, n, profile, &dir.0, &sent);
+        let fleet = Fleet::start(kind, n, links, &dir.0, &sent);
         let service = service(&dir.0, &fleet.entries, &client);
         client.wait_for_all(n, Duration::from_secs(60));
         let all: Vec<String> = (0..n).map(vehicle_name).collect();
@@ -661,14 +678,15 @@ impl Setup {
     }
 }
 
-fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Duration) -> Row {
+fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> Row {
     eprintln!("{} fleet of {n}: starting", kind.name());
     let setup = Setup::start(
         kind,
         n,
-        profile,
+        links,
         &format!("missionlink-bench-fleet-{}-{n}", kind.name()),
     );
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
     let (service, client, all) = (&setup.service, &setup.client, &setup.all);
     let mut one_ms = Vec::new();
     let mut all_ms = Vec::new();
@@ -679,7 +697,8 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
     let mut turn = 0;
     for _ in 0..runs {
         for (vehicles, times, busy_ms) in [
-            (vehicle_name(0), &mut one_ms, &mut one_busy_ms),
+            // The last: with `--first-behind`, the first's link is not the others'.
+            (vehicle_name(n - 1), &mut one_ms, &mut one_busy_ms),
             (all.clone(), &mut all_ms, &mut all_busy_ms),
         ] {
             // One vehicle alone; first every vehicle with the mission the next upload replaces.
@@ -691,8 +710,40 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
             let (took, busy, done) = upload(service, &vehicles, files[turn % 2]);
             failed += usize::from(!done);
             turn += 1;
-            times.push(took.as_secs_f64() * 1e3);
-            busy_ms.push(busy.as_secs_f64() * 1e3);
+            times.push(ms(took));
+            busy_ms.push(ms(busy));
+        }
+    }
+
+    // The others beside a vehicle whose link is bad (`--first-behind`): the upload to all but
+    // the first alone, and while an upload to the first runs over its link (another client,
+    // started 20 ms before). Every vehicle first holds the same mission, which every upload
+    // then replaces.
+    let (mut others_alone_ms, mut others_beside_ms) = (Vec::new(), Vec::new());
+    let mut first_failed = 0;
+    if links.first.is_some() && n > 1 {
+        let others: Vec<String> = (1..n).map(vehicle_name).collect();
+        let (others, first) = (others.join(","), vehicle_name(0));
+        let (_, _, done) = upload(service, all, files[turn % 2]);
+        failed += usize::from(!done);
+        turn += 1;
+        let first_start = turn;
+        for first_turn in first_start..first_start + runs {
+            let (took, _, done) = upload(service, &others, files[turn % 2]);
+            failed += usize::from(!done);
+            turn += 1;
+            others_alone_ms.push(ms(took));
+            std::thread::scope(|scope| {
+                let file = files[first_turn % 2];
+                let first_upload = scope.spawn(|| upload(service, &first, file));
+                std::thread::sleep(Duration::from_millis(20));
+                let (took, _, done) = upload(service, &others, files[turn % 2]);
+                failed += usize::from(!done);
+                others_beside_ms.push(ms(took));
+                let (_, _, first_done) = first_upload.join().unwrap();
+                first_failed += usize::from(!first_done);
+            });
+            turn += 1;
         }
     }
 
@@ -719,6 +770,9 @@ fn measure(kind: Kind, n: usize, profile: Option<Profile>, runs: usize, idle: Du
         all_ms,
         one_busy_ms,
         all_busy_ms,
+        others_alone_ms,
+        others_beside_ms,
+        first_failed,
         failed,
         cpu_percent: 100.0 * cpu.as_secs_f64() / wall.as_secs_f64(),
         rss,
@@ -805,6 +859,29 @@ fn print(rows: &[Row]) {
             r.latency_ns.len(),
         );
     }
+    if rows.iter().any(|r| !r.others_beside_ms.is_empty()) {
+        println!(
+            "\n{:<10} {:>4} {:>14} {:>15} {:>7} {:>13}",
+            "fleet", "N", "others ms", "beside ms", "ratio", "first failed"
+        );
+        for r in rows.iter().filter(|r| !r.others_beside_ms.is_empty()) {
+            let (alone, beside) = (median(&r.others_alone_ms), median(&r.others_beside_ms));
+            println!(
+                "{:<10} {:>4} {:>14.0} {:>15.0} {:>7.2} {:>8} of {:<3}",
+                r.kind.name(),
+                r.n,
+                alone,
+                beside,
+                beside / alone,
+                r.first_failed,
+                r.others_beside_ms.len(),
+            );
+        }
+        println!(
+            "\nothers: median wall time of `gcs upload` to every vehicle but the first, alone; \
+             beside: while an upload to the first runs over its own link (--first-behind)"
+        );
+    }
     println!(
         "\none, all: median wall time of `gcs upload` to one vehicle and to all at once; cpu1, cpuN: \
          the machine's busy CPU time meanwhile (every process, all cores; in 10 ms ticks); busy%: \
@@ -816,14 +893,8 @@ fn print(rows: &[Row]) {
 
 /// The hour: one fleet of `n` of `kind`, an upload to all every [`SOAK_UPLOAD_EVERY`], a
 /// sample every `sample_every`.
-fn soak(
-    kind: Kind,
-    n: usize,
-    profile: Option<Profile>,
-    duration: Duration,
-    sample_every: Duration,
-) {
-    let setup = Setup::start(kind, n, profile, "missionlink-bench-soak");
+fn soak(kind: Kind, n: usize, links: Links, duration: Duration, sample_every: Duration) {
+    let setup = Setup::start(kind, n, links, "missionlink-bench-soak");
     let (service, client, all) = (&setup.service, &setup.client, &setup.all);
     let pid = service.pid();
     let files = ["mission-2.toml", "mission-1.toml"];
@@ -951,8 +1022,18 @@ fn main() {
         }),
     );
     // Each vehicle behind its own emulated link of this profile; none: loopback.
-    let profile = arg(&args, "--profile")
-        .map(|p| Profile::named(p).expect("--profile lan, lte, satcom, satcom-narrow or bad"));
+    let named = |flag: &str| {
+        arg(&args, flag).map(|p| {
+            Profile::named(p)
+                .unwrap_or_else(|| panic!("{flag} lan, lte, satcom, satcom-narrow or bad"))
+        })
+    };
+    // The first vehicle behind a link of its own profile instead (`--first-behind bad`): the
+    // others' uploads beside its upload.
+    let links = Links {
+        all: named("--profile"),
+        first: named("--first-behind"),
+    };
     // A fleet of 250 behind emulators holds some 2000 sockets in this process.
     let limit = rustix::process::getrlimit(rustix::process::Resource::Nofile);
     let _ = rustix::process::setrlimit(
@@ -968,11 +1049,11 @@ fn main() {
             arg(&args, "--sample-s").map_or(60.0, |v| v.parse().expect("--sample-s S")),
         );
         match real.iter().copied().max() {
-            Some(n) => soak(Kind::Real, n, profile, duration, sample_every),
+            Some(n) => soak(Kind::Real, n, links, duration, sample_every),
             None => soak(
                 Kind::Simulated,
                 simulated.iter().copied().max().unwrap_or(16),
-                profile,
+                links,
                 duration,
                 sample_every,
             ),
@@ -985,10 +1066,10 @@ fn main() {
     );
     let mut rows = Vec::new();
     for n in real {
-        rows.push(measure(Kind::Real, n, profile, runs, idle));
+        rows.push(measure(Kind::Real, n, links, runs, idle));
     }
     for n in simulated {
-        rows.push(measure(Kind::Simulated, n, profile, runs, idle));
+        rows.push(measure(Kind::Simulated, n, links, runs, idle));
     }
     print(&rows);
 }
