@@ -563,6 +563,8 @@ struct Row {
     /// all: what an upload costs, and whether the uploads to all were bound by the cores.
     one_busy_ms: Vec<f64>,
     all_busy_ms: Vec<f64>,
+    /// The service's CPU time per vehicle and upload, over the uploads to all.
+    service_ms_per_upload: f64,
     /// With `--first-behind`: the upload to all but the first alone, and beside an upload to
     /// the first over its link; how many of the first's did not complete.
     others_alone_ms: Vec<f64>,
@@ -691,6 +693,8 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
     let mut one_ms = Vec::new();
     let mut all_ms = Vec::new();
     let (mut one_busy_ms, mut all_busy_ms) = (Vec::new(), Vec::new());
+    // The service's CPU time over every upload to all.
+    let mut service_ms = 0.0;
     let mut failed = 0;
     // Both lists change at every upload: missions 1 and 2 in turn.
     let files = ["mission-2.toml", "mission-1.toml"];
@@ -707,7 +711,11 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
                 failed += usize::from(!done);
                 turn += 1;
             }
+            let service_before = cpu_time(service.pid());
             let (took, busy, done) = upload(service, &vehicles, files[turn % 2]);
+            if vehicles == *all {
+                service_ms += ms(cpu_time(service.pid()) - service_before);
+            }
             failed += usize::from(!done);
             turn += 1;
             times.push(ms(took));
@@ -770,6 +778,7 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
         all_ms,
         one_busy_ms,
         all_busy_ms,
+        service_ms_per_upload: service_ms / (runs * n) as f64,
         others_alone_ms,
         others_beside_ms,
         first_failed,
@@ -791,7 +800,7 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
 fn print(rows: &[Row]) {
     let cores = std::thread::available_parallelism().map_or(1, usize::from) as f64;
     println!(
-        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>9} {:>9} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
+        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>9} {:>9} {:>6} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
         "fleet",
         "N",
         "one ms",
@@ -800,6 +809,7 @@ fn print(rows: &[Row]) {
         "cpu1 ms",
         "cpuN ms",
         "busy%",
+        "svc ms",
         "fail",
         "CPU %",
         "RSS MiB",
@@ -836,7 +846,7 @@ fn print(rows: &[Row]) {
         let (one, all) = (median(&r.one_ms), median(&r.all_ms));
         let all_busy = median(&r.all_busy_ms);
         println!(
-            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>9.0} {:>9.0} {:>6.0} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
+            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>9.0} {:>9.0} {:>6.0} {:>6.2} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
             r.kind.name(),
             r.n,
             one,
@@ -845,6 +855,7 @@ fn print(rows: &[Row]) {
             median(&r.one_busy_ms),
             all_busy,
             100.0 * all_busy / (all * cores),
+            r.service_ms_per_upload,
             r.failed,
             r.cpu_percent,
             r.rss as f64 / (1 << 20) as f64,
@@ -885,7 +896,8 @@ fn print(rows: &[Row]) {
     println!(
         "\none, all: median wall time of `gcs upload` to one vehicle and to all at once; cpu1, cpuN: \
          the machine's busy CPU time meanwhile (every process, all cores; in 10 ms ticks); busy%: \
-         cpuN as a share of all cores over the upload to all; CPU: the \
+         cpuN as a share of all cores over the upload to all; svc: the service's CPU time per \
+         vehicle and upload, over the uploads to all; CPU: the \
          service's share of one core while idle; KiB/veh +: resident set added per vehicle over \
          the fleet of one; lat: #101 sent to its GLOBAL_POSITION_INT, µs"
     );

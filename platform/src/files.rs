@@ -6,9 +6,10 @@
 //!   before and after the rename or the exchange);
 //! - the ground keeps what makes a restart smoother, whole but not flushed (after a power loss
 //!   its clock is past what it reserved, and the rest it reads again from the FCC): the staged
-//!   copies it must delete and the MAVLink memory with [`replace`]; what it rewrites every
-//!   second or at every upload (its time-stamp and replay reservations, the lists it planned)
-//!   as a [`LineFile`], one line overwritten in place.
+//!   copies it must delete and the MAVLink memory with [`replace`], as [`rewrite_durably`] does
+//!   without its flushes; what it rewrites every second or at every upload (its time-stamp and
+//!   replay reservations, the lists it planned) as a [`LineFile`], one line overwritten in
+//!   place.
 
 use std::io;
 use std::path::{Path, PathBuf};
@@ -19,12 +20,12 @@ fn temporary(path: &Path) -> PathBuf {
     path.with_extension(format!("tmp.{}", std::process::id()))
 }
 
-/// Writes `bytes` to `path` whole: a temporary file beside it, renamed over it. A reader sees
-/// the previous contents or the new ones; a crash of this process leaves one of them.
+/// As [`rewrite_durably`] without the flushes: a crash of this process leaves the previous
+/// contents or the new ones, whole; a power loss may leave either, or what the disk had before
+/// them. For the ground's files, rewritten at every upload (the MAVLink memory), whose only
+/// reader is the next start of their writer.
 pub fn replace(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let tmp = temporary(path);
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
+    exchange(path, bytes, false)
 }
 
 /// Writes `bytes` to `path` so that a reader, or the next start after a crash or a power loss,
@@ -70,6 +71,11 @@ pub fn spare(path: &Path) -> PathBuf {
 /// contents of the write after next if it were still reading then: none is. Where the file
 /// system cannot exchange names, the spare is renamed over `path` (a plain atomic replacement).
 pub fn rewrite_durably(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    exchange(path, bytes, true)
+}
+
+/// [`rewrite_durably`], flushed to the disk or not (`durable`).
+fn exchange(path: &Path, bytes: &[u8], durable: bool) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -85,7 +91,9 @@ pub fn rewrite_durably(path: &Path, bytes: &[u8]) -> io::Result<()> {
         .open(&spare)?;
     io::Write::write_all(&mut file, bytes)?;
     file.set_len(bytes.len() as u64)?;
-    file.sync_all()?;
+    if durable {
+        file.sync_all()?;
+    }
     drop(file);
     match rustix::fs::renameat_with(
         rustix::fs::CWD,
@@ -102,7 +110,10 @@ pub fn rewrite_durably(path: &Path, bytes: &[u8]) -> io::Result<()> {
         Err(e) => return Err(e.into()),
     }
     // Flushes the exchange; the lock goes with the descriptor.
-    dir_file.sync_all()
+    if durable {
+        dir_file.sync_all()?;
+    }
+    Ok(())
 }
 
 /// A file of one line that its one writer overwrites in place, kept open: no file is made or
@@ -181,18 +192,13 @@ mod tests {
     }
 
     #[test]
-    fn a_replacement_leaves_the_new_contents_whole_and_no_temporary_file() {
+    fn an_atomic_write_leaves_the_new_contents_whole_and_no_temporary_file() {
         let dir = tempfile::tempdir().unwrap();
-        for write in [
-            replace as fn(&Path, &[u8]) -> io::Result<()>,
-            write_atomically,
-        ] {
-            let path = dir.path().join("state");
-            write(&path, b"old\n").unwrap();
-            write(&path, b"new contents\n").unwrap();
-            assert_eq!(std::fs::read(&path).unwrap(), b"new contents\n");
-            assert_eq!(names(dir.path()), ["state"]);
-        }
+        let path = dir.path().join("state");
+        write_atomically(&path, b"old\n").unwrap();
+        write_atomically(&path, b"new contents\n").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new contents\n");
+        assert_eq!(names(dir.path()), ["state"]);
     }
 
     #[test]
@@ -221,7 +227,16 @@ mod tests {
     }
 
     #[test]
-    fn a_durable_write_exchanges_two_files_and_makes_none_after_the_second() {
+    fn a_rewrite_exchanges_two_files_and_makes_none_after_the_second() {
+        for rewrite in [
+            rewrite_durably as fn(&Path, &[u8]) -> io::Result<()>,
+            replace,
+        ] {
+            rewrites_by_exchange(rewrite);
+        }
+    }
+
+    fn rewrites_by_exchange(rewrite_durably: fn(&Path, &[u8]) -> io::Result<()>) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("lists.frames");
         rewrite_durably(&path, b"first, the longest of the contents\n").unwrap();
