@@ -525,6 +525,11 @@ fn real_fleet(n: usize, links: Links) -> (Vec<(Rig, Process, Option<Emulator>)>,
                 (fcc, None)
             }
         };
+        real.push((rig, fcc, emulator));
+    }
+    // The GCS ends released once every FCC is up, right before the service binds them: an FCC
+    // started after a release could be given a released port for its own links.
+    for (i, (rig, _, _)) in real.iter_mut().enumerate() {
         entries.push(FleetEntry {
             name: vehicle_name(i),
             vehicle_id: rig.config.ids.fcc,
@@ -532,7 +537,6 @@ fn real_fleet(n: usize, links: Links) -> (Vec<(Rig, Process, Option<Emulator>)>,
             fcc: [rig.config.links.fcc_direct, rig.config.links.fcc_lte],
             key_file: rig.dir.join("link.key"),
         });
-        real.push((rig, fcc, emulator));
     }
     (real, entries)
 }
