@@ -517,10 +517,8 @@ pub fn main(
         tracing::error!("cannot find the partition binaries: give --bin-dir");
         return ExitCode::from(2);
     };
-    if args.exit_with_parent
-        && let Some(parent) = rustix::process::getppid()
-    {
-        crate::runtime::watch_parent(parent);
+    if args.exit_with_parent {
+        missionlink_platform::parent::exit_with_parent();
     }
     let control = Control::new();
     let result = control

@@ -25,6 +25,7 @@ use crate::latency::{self, Recorder};
 use crate::state;
 use crate::wait_fd::SocketFd;
 use iceoryx2::port::listener::Listener;
+use missionlink_platform::parent::watch_parent;
 use missionlink_platform::udp::{LinkError, LinkPair};
 
 /// The longest a loop sleeps before it looks at its stop flag: a [`Requests::stop`] from another
@@ -741,33 +742,6 @@ pub const CONFIG_EXIT_CODE: u8 = 2;
 pub fn config_error(e: &ConfigError) -> std::process::ExitCode {
     tracing::error!(%e, "configuration");
     std::process::ExitCode::from(CONFIG_EXIT_CODE)
-}
-
-/// Sends this process SIGTERM once its parent `parent` is gone (the process is re-parented and
-/// its parent ID changes), so it stops through its normal shutdown path: a safe stand-in for
-/// PR_SET_PDEATHSIG, which would need unsafe code in the launcher. A partition watches its
-/// launcher; the launcher, asked to (`--exit-with-parent`), whatever started it (a test, a
-/// benchmark, the demo), so that a `kill -9` of that leaves no FCC behind.
-pub fn watch_parent(parent: rustix::process::Pid) {
-    let parent = Some(parent);
-    let spawned = std::thread::Builder::new()
-        .name("watch-parent".to_owned())
-        .spawn(move || {
-            loop {
-                std::thread::sleep(Duration::from_millis(100));
-                if rustix::process::getppid() != parent {
-                    tracing::warn!("the parent process is gone: stopping");
-                    let _ = rustix::process::kill_process(
-                        rustix::process::getpid(),
-                        rustix::process::Signal::TERM,
-                    );
-                    return;
-                }
-            }
-        });
-    if let Err(e) = spawned {
-        tracing::warn!(%e, "cannot watch the parent process");
-    }
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@
 //! - [`udp`]: the two UDP links as one pair of non-blocking sockets.
 //! - [`keys`]: link key files and a node's signing (ICD §9).
 //! - [`clock`]: the drivers' clock (CLOCK_MONOTONIC, UTC at start).
+//! - [`parent`]: ending with the process that started this one.
 //! - [`init_logging`]: the `tracing` subscriber of every binary.
 
 pub mod clock;
@@ -14,6 +15,7 @@ pub mod config;
 pub mod fence;
 pub mod files;
 pub mod keys;
+pub mod parent;
 pub mod udp;
 
 /// Installs the `tracing` subscriber of every binary: human-readable lines on stderr, filtered by

@@ -136,6 +136,8 @@ impl GroundService {
             .arg("--service-socket")
             .arg(&socket)
             .arg("serve")
+            // The service ends with whatever started it, even a test or a bench killed.
+            .arg("--exit-with-parent")
             .arg("--state-dir")
             .arg(&state_dir)
             .args(&args)

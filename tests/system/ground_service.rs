@@ -852,3 +852,73 @@ fn ground_service_fcc_killed_during_uploads_to_all_the_others_complete_and_it_co
         "{held}"
     );
 }
+
+#[test]
+fn ground_service_stops_when_the_process_that_started_it_is_killed() {
+    // One vehicle whose FCC does not run: the service serves it all the same.
+    let mut rig = Rig::new("service-started-by");
+    // Where no FCC listens (the discard port and the one after it).
+    rig.config.links.fcc_direct = "127.0.0.1:9".parse().unwrap();
+    rig.config.links.fcc_lte = "127.0.0.1:10".parse().unwrap();
+    let dir = rig.dir.clone();
+    let fleet = fleet_file(&mut [FleetVehicle {
+        name: "alpha",
+        rig: &mut rig,
+    }]);
+    std::fs::write(dir.join("fleet.toml"), fleet).unwrap();
+    // As the harness starts it (`--exit-with-parent`), by a shell that is then killed as a test
+    // or a benchmark killed by a signal would be.
+    let log = std::fs::File::create(dir.join("gcs-serve.log")).unwrap();
+    let mut shell = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("\"$0\" \"$@\" >\"$SERVE_OUT\" & echo $! && wait")
+        .arg(gcs_binary())
+        .arg("--fleet")
+        .arg(dir.join("fleet.toml"))
+        .arg("--service-socket")
+        .arg(dir.join("gcs.sock"))
+        .args(["serve", "--exit-with-parent", "--state-dir"])
+        .arg(dir.join("ground-state"))
+        .env("SERVE_OUT", dir.join("gcs-serve.out"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(log)
+        .spawn()
+        .unwrap();
+    let mut pid = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(shell.stdout.take().unwrap()),
+        &mut pid,
+    )
+    .unwrap();
+    let pid: i32 = pid.trim().parse().unwrap();
+    let serving = eventually(Duration::from_secs(20), || {
+        dir.join("gcs.sock").exists().then_some(())
+    });
+    let log_text = || std::fs::read_to_string(dir.join("gcs-serve.log")).unwrap_or_default();
+    assert!(
+        serving.is_some(),
+        "the service did not start:\n{}",
+        log_text()
+    );
+    shell.kill().unwrap();
+    shell.wait().unwrap();
+    let gone = eventually(Duration::from_secs(5), || {
+        std::fs::read_to_string(format!("/proc/{pid}/stat"))
+            .map_or(true, |s| {
+                s.rsplit(')')
+                    .next()
+                    .is_some_and(|rest| rest.trim_start().starts_with('Z'))
+            })
+            .then_some(())
+    });
+    assert!(
+        gone.is_some(),
+        "the service outlived what started it:\n{}",
+        log_text()
+    );
+    assert!(
+        log_text().contains("the parent process is gone: stopping"),
+        "{}",
+        log_text()
+    );
+}

@@ -60,6 +60,10 @@ pub struct ServeOptions {
     /// The fence the service puts around itself once its links and socket are open
     /// (`missionlink_platform::fence`, [`service_fence`]); `None`: none.
     pub fence: Option<Fence>,
+    /// The process the service ends with (`--exit-with-parent`: the one that started it, as
+    /// it was at start), watched once the fence is up: the fence needs the process's one
+    /// thread.
+    pub parent: Option<rustix::process::Pid>,
 }
 
 /// The fence of the ground service: it writes beneath its state directory and its socket's
@@ -269,6 +273,9 @@ pub fn serve(
             let _ = std::fs::remove_file(&options.socket);
             ServeError::Fence(e)
         })?;
+    }
+    if let Some(parent) = options.parent {
+        missionlink_platform::parent::watch_parent(parent);
     }
     for (name, mut worker) in workers {
         let stop = stop.clone();

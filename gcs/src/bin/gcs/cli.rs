@@ -266,6 +266,10 @@ pub(crate) enum Command {
         /// in the deployment.
         #[arg(long)]
         no_isolation: bool,
+        /// End when the process that started this one ends (a test or a benchmark passes it,
+        /// so that the service does not outlive them).
+        #[arg(long, hide = true)]
+        exit_with_parent: bool,
     },
     /// One row per vehicle of the ground service: each link's last frame and loss, the
     /// position and its age, FROM-TO-NEXT, the active lists' checksums and whether they are

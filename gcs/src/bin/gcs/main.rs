@@ -1107,7 +1107,10 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
             fence_wait_ms,
             tlog,
             no_isolation,
+            exit_with_parent,
         } => {
+            // The parent now, before anything: the service watches it once its fence is up.
+            let parent = exit_with_parent.then(rustix::process::getppid).flatten();
             let mavlink = mavlink.then_some(ServeMavlink {
                 to: mavlink_to,
                 bind: mavlink_bind,
@@ -1115,7 +1118,7 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
                 fence_wait: Duration::from_millis(fence_wait_ms),
                 tlog,
             });
-            serve(ground, &state, &safety, mavlink, !no_isolation)
+            serve(ground, &state, &safety, mavlink, !no_isolation, parent)
         }
         Command::Status { watch, json } => status(ground, watch, json),
         Command::Inspect { .. } | Command::Encode { .. } | Command::Keygen { .. } => Ok(()),
@@ -1147,6 +1150,7 @@ fn serve(
     safety: &SafetyArgs,
     mavlink: Option<ServeMavlink>,
     isolation: bool,
+    parent: Option<rustix::process::Pid>,
 ) -> Result<(), Failure> {
     use missionlink_gcs::mavlink::driver::MavlinkSocket;
     use missionlink_gcs::service::MavlinkOptions;
@@ -1199,28 +1203,35 @@ fn serve(
         gateway: safety.gateway()?,
         mavlink,
         fence,
+        parent,
     };
     let stop = stop_on_signals();
+    // What the service says on stdout; a stdout closed by whoever started it (a pipe whose
+    // reader went) costs the lines, never the service.
+    let say = |text: &str| {
+        let mut out = io::stdout().lock();
+        let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
+    };
     missionlink_gcs::service::serve(&fleet, &options, &stop, |bound| {
-        println!(
-            "ground service for {} vehicle{} on {}",
+        let mut text = format!(
+            "ground service for {} vehicle{} on {}\n",
             bound.len(),
             if bound.len() == 1 { "" } else { "s" },
             socket.display()
         );
         for b in bound {
-            println!(
-                "vehicle {} ({:#010X}): direct {}, LTE {}",
+            text += &format!(
+                "vehicle {} ({:#010X}): direct {}, LTE {}\n",
                 b.name, b.vehicle_id, b.direct, b.lte
             );
         }
         if let Some(line) = &mavlink_line {
-            println!("{line}");
+            text += &format!("{line}\n");
         }
-        let _ = io::stdout().flush();
+        say(&text);
     })
     .map_err(|e| Failure::from(e.to_string()))?;
-    println!("ground service stopped");
+    say("ground service stopped\n");
     Ok(())
 }
 
