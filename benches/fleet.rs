@@ -135,20 +135,9 @@ fn status_kb(pid: u32, field: &str) -> u64 {
         .unwrap()
 }
 
-/// The machine's busy CPU time so far, all cores (`/proc/stat`: user, nice, system, irq,
-/// softirq and steal; not idle nor iowait).
+/// The machine's busy CPU time so far, all cores (`harness::machine_ticks`).
 fn machine_busy() -> Duration {
-    let stat = std::fs::read_to_string("/proc/stat").unwrap();
-    let cpu: Vec<u64> = stat
-        .lines()
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .skip(1)
-        .map(|f| f.parse().unwrap())
-        .collect();
-    let ticks = cpu[0] + cpu[1] + cpu[2] + cpu[5] + cpu[6] + cpu[7];
-    Duration::from_secs_f64(ticks as f64 / 100.0)
+    Duration::from_secs_f64(missionlink::harness::machine_ticks().0 as f64 / 100.0)
 }
 
 fn open_fds(pid: u32) -> usize {

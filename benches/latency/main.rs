@@ -464,24 +464,6 @@ impl Usage {
     }
 }
 
-/// CPU time of the whole machine from /proc/stat, in clock ticks: (busy, total). Busy counts
-/// everything but idle and I/O wait, including time stolen by the hypervisor.
-fn machine_ticks() -> (u64, u64) {
-    let stat = std::fs::read_to_string("/proc/stat").unwrap_or_default();
-    let fields: Vec<u64> = stat
-        .lines()
-        .next()
-        .unwrap_or_default()
-        .split_whitespace()
-        .skip(1)
-        .take(8)
-        .filter_map(|v| v.parse().ok())
-        .collect();
-    let total: u64 = fields.iter().sum();
-    let idle = fields.get(3).copied().unwrap_or(0) + fields.get(4).copied().unwrap_or(0);
-    (total.saturating_sub(idle), total)
-}
-
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
@@ -562,7 +544,7 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
         }
     };
     let info = next("ready");
-    let (start, machine_start) = (Usage::now(), machine_ticks());
+    let (start, machine_start) = (Usage::now(), missionlink::harness::machine_ticks());
     match run.transport.hop() {
         Hop::Iox2 { event } => {
             iox2(run, Role::Sender, event);
@@ -576,7 +558,7 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
         Hop::Foreign => foreign_sender(run),
     }
     let sender = Usage::now().since(start);
-    let machine_end = machine_ticks();
+    let machine_end = missionlink::harness::machine_ticks();
     let mut result: Value = serde_json::from_str(&next("result")).expect("the receiver's JSON");
     let status = child.0.wait().expect("the receiver's exit");
     assert!(status.success(), "the receiver failed: {status}");

@@ -284,15 +284,7 @@ fn the_fcc_stops_when_the_process_that_started_it_is_killed() {
     .expect("the FCC came up");
     shell.kill().unwrap();
     shell.wait().unwrap();
-    let gone = eventually(Duration::from_secs(5), || {
-        std::fs::read_to_string(format!("/proc/{launcher}/stat"))
-            .map_or(true, |s| {
-                s.rsplit(')')
-                    .next()
-                    .is_some_and(|rest| rest.trim_start().starts_with('Z'))
-            })
-            .then_some(())
-    });
+    let gone = eventually(Duration::from_secs(5), || (!runs(launcher)).then_some(()));
     let text = std::fs::read_to_string(rig.dir.join("fcc.log")).unwrap();
     assert!(gone.is_some(), "the FCC outlived what started it:\n{text}");
     assert!(
@@ -322,15 +314,8 @@ fn partitions_stop_and_nothing_is_left_in_the_temp_directory_when_the_launcher_i
     assert_eq!(pids.len(), 4, "{}", fcc.log_text());
     fcc.kill().unwrap();
     // Gone, or a zombie waiting for init to reap it: either way no longer running.
-    let running = |pid: &i32| {
-        std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|s| {
-            s.rsplit(')')
-                .next()
-                .is_some_and(|rest| !rest.trim_start().starts_with('Z'))
-        })
-    };
     let left = eventually(Duration::from_secs(5), || {
-        (!pids.iter().any(running)).then_some(())
+        (!pids.iter().any(|pid| runs(*pid))).then_some(())
     });
     assert!(left.is_some(), "partitions outlived the launcher: {pids:?}");
     assert!(

@@ -902,15 +902,7 @@ fn ground_service_stops_when_the_process_that_started_it_is_killed() {
     );
     shell.kill().unwrap();
     shell.wait().unwrap();
-    let gone = eventually(Duration::from_secs(5), || {
-        std::fs::read_to_string(format!("/proc/{pid}/stat"))
-            .map_or(true, |s| {
-                s.rsplit(')')
-                    .next()
-                    .is_some_and(|rest| rest.trim_start().starts_with('Z'))
-            })
-            .then_some(())
-    });
+    let gone = eventually(Duration::from_secs(5), || (!runs(pid)).then_some(()));
     assert!(
         gone.is_some(),
         "the service outlived what started it:\n{}",

@@ -40,18 +40,6 @@ fn logged_at(line: &str) -> Option<f64> {
     Some(h.parse::<f64>().ok()? * 3600.0 + m.parse::<f64>().ok()? * 60.0 + s.parse::<f64>().ok()?)
 }
 
-/// Whether process `pid` exists (a zombie counts as gone: the launcher reaps its children).
-fn exists(pid: i32) -> bool {
-    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
-        !stat
-            .rsplit(')')
-            .next()
-            .unwrap_or("")
-            .trim_start()
-            .starts_with('Z')
-    })
-}
-
 #[test]
 fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
     let rig = Rig::new("health-stop");
@@ -63,7 +51,7 @@ fn a_stopped_partition_is_found_by_its_heartbeat_killed_and_restarted() {
         signal_partition(&fcc, partition, Signal::STOP);
         wait_for_line(&fcc, &["partition hung", &tag], 0, LIMIT);
         wait_for_starts(&fcc, partition, 2, LIMIT);
-        assert!(!exists(pid), "the stopped {partition} ({pid}) was killed");
+        assert!(!runs(pid), "the stopped {partition} ({pid}) was killed");
         let line = fcc
             .log_text()
             .lines()
