@@ -853,19 +853,77 @@ fn ground_service_fcc_killed_during_uploads_to_all_the_others_complete_and_it_co
     );
 }
 
-#[test]
-fn ground_service_stops_when_the_process_that_started_it_is_killed() {
-    // One vehicle whose FCC does not run: the service serves it all the same.
-    let mut rig = Rig::new("service-started-by");
+/// A rig for `test` and its fleet file (`fleet.toml` in the rig's directory) of one vehicle
+/// whose FCC does not run: the service serves it all the same.
+fn vehicle_without_fcc(test: &str) -> Rig {
+    let mut rig = Rig::new(test);
     // Where no FCC listens (the discard port and the one after it).
     rig.config.links.fcc_direct = "127.0.0.1:9".parse().unwrap();
     rig.config.links.fcc_lte = "127.0.0.1:10".parse().unwrap();
-    let dir = rig.dir.clone();
     let fleet = fleet_file(&mut [FleetVehicle {
         name: "alpha",
         rig: &mut rig,
     }]);
-    std::fs::write(dir.join("fleet.toml"), fleet).unwrap();
+    std::fs::write(rig.dir.join("fleet.toml"), fleet).unwrap();
+    rig
+}
+
+#[test]
+fn ground_service_keeps_serving_when_its_stdout_is_closed() {
+    let rig = vehicle_without_fcc("service-stdout");
+    let dir = rig.dir.clone();
+    let log = std::fs::File::create(dir.join("gcs-serve.log")).unwrap();
+    let mut service = std::process::Command::new(gcs_binary())
+        .arg("--fleet")
+        .arg(dir.join("fleet.toml"))
+        .arg("--service-socket")
+        .arg(dir.join("gcs.sock"))
+        .args(["serve", "--state-dir"])
+        .arg(dir.join("ground-state"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(log)
+        .spawn()
+        .unwrap();
+    // The first line of its banner read, then the pipe's only reader gone.
+    let mut first = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(service.stdout.take().unwrap()),
+        &mut first,
+    )
+    .unwrap();
+    assert!(first.starts_with("ground service for 1 vehicle"), "{first}");
+    let log_text = || std::fs::read_to_string(dir.join("gcs-serve.log")).unwrap_or_default();
+    let status = std::process::Command::new(gcs_binary())
+        .arg("--service-socket")
+        .arg(dir.join("gcs.sock"))
+        .arg("status")
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}\n{}",
+        text(&status.stderr),
+        log_text()
+    );
+    assert!(
+        text(&status.stdout).contains("alpha"),
+        "{}",
+        text(&status.stdout)
+    );
+    // Stopped, it says so to no one: its exit is a clean one, not a panic on the closed pipe.
+    rustix::process::kill_process(
+        rustix::process::Pid::from_child(&service),
+        rustix::process::Signal::TERM,
+    )
+    .unwrap();
+    let exit = service.wait().unwrap();
+    assert!(exit.success(), "{exit:?}\n{}", log_text());
+}
+
+#[test]
+fn ground_service_stops_when_the_process_that_started_it_is_killed() {
+    let rig = vehicle_without_fcc("service-started-by");
+    let dir = rig.dir.clone();
     // As the harness starts it (`--exit-with-parent`), by a shell that is then killed as a test
     // or a benchmark killed by a signal would be.
     let log = std::fs::File::create(dir.join("gcs-serve.log")).unwrap();
