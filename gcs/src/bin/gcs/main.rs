@@ -1322,7 +1322,7 @@ const COMMAND_STACK: usize = 64 << 20;
 /// threads that allocate at the same moment arenas of their own, each keeping what it held at
 /// its fullest: at 16 vehicles on 2 CPUs, 15 arenas held 6.4 MiB at first and 7.3 MiB after 50
 /// minutes of an upload to all every 10 s, all of the service's growth over that time (read
-/// off `/proc/<pid>/smaps`), about 220 KiB a vehicle more than with one arena
+/// off `/proc/<pid>/smaps`); with one arena a vehicle adds 732-775 KiB instead of 960-964
 /// (BENCHMARKS.md section 10). The requests mostly wait for their links, and small blocks come
 /// from each thread's cache, so one lock for the rest costs nothing measurable. Other C
 /// libraries (musl) keep no arenas per thread: nothing to set there.
