@@ -1087,8 +1087,7 @@ fn mission_command(ground: &Ground, command: Command) -> Result<(), Failure> {
                 cruise_speed,
             ));
             driver::read_lists(&mut link, &mut vehicle, memory.as_deref());
-            println!("MAVLink vehicle on {local}, sending to {to}");
-            let _ = io::stdout().flush();
+            say(&format!("MAVLink vehicle on {local}, sending to {to}\n"));
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
             for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
                 let _ = signal_hook::flag::register(signal, std::sync::Arc::clone(&stop));
@@ -1141,6 +1140,13 @@ struct ServeMavlink {
     cruise_speed: f64,
     fence_wait: Duration,
     tlog: Option<PathBuf>,
+}
+
+/// What a long-running command (`gcs serve`, `gcs mavlink`) says on stdout, flushed: a stdout
+/// closed by whoever started it (a pipe whose reader went) costs the lines, never the command.
+fn say(text: &str) {
+    let mut out = io::stdout().lock();
+    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
 }
 
 /// `gcs serve`: the ground service until SIGINT or SIGTERM.
@@ -1206,12 +1212,6 @@ fn serve(
         parent,
     };
     let stop = stop_on_signals();
-    // What the service says on stdout; a stdout closed by whoever started it (a pipe whose
-    // reader went) costs the lines, never the service.
-    let say = |text: &str| {
-        let mut out = io::stdout().lock();
-        let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
-    };
     missionlink_gcs::service::serve(&fleet, &options, &stop, |bound| {
         let mut text = format!(
             "ground service for {} vehicle{} on {}\n",
