@@ -868,6 +868,17 @@ fn vehicle_without_fcc(test: &str) -> Rig {
     rig
 }
 
+/// The first line `child` writes on its piped stdout; the pipe's reader is gone after it.
+fn first_line(child: &mut std::process::Child) -> String {
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(child.stdout.take().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    line
+}
+
 #[test]
 fn ground_service_keeps_serving_when_its_stdout_is_closed() {
     let rig = vehicle_without_fcc("service-stdout");
@@ -885,12 +896,7 @@ fn ground_service_keeps_serving_when_its_stdout_is_closed() {
         .spawn()
         .unwrap();
     // The first line of its banner read, then the pipe's only reader gone.
-    let mut first = String::new();
-    std::io::BufRead::read_line(
-        &mut std::io::BufReader::new(service.stdout.take().unwrap()),
-        &mut first,
-    )
-    .unwrap();
+    let first = first_line(&mut service);
     assert!(first.starts_with("ground service for 1 vehicle"), "{first}");
     let log_text = || std::fs::read_to_string(dir.join("gcs-serve.log")).unwrap_or_default();
     let status = std::process::Command::new(gcs_binary())
@@ -942,13 +948,7 @@ fn ground_service_stops_when_the_process_that_started_it_is_killed() {
         .stderr(log)
         .spawn()
         .unwrap();
-    let mut pid = String::new();
-    std::io::BufRead::read_line(
-        &mut std::io::BufReader::new(shell.stdout.take().unwrap()),
-        &mut pid,
-    )
-    .unwrap();
-    let pid: i32 = pid.trim().parse().unwrap();
+    let pid: i32 = first_line(&mut shell).trim().parse().unwrap();
     let serving = eventually(Duration::from_secs(20), || {
         dir.join("gcs.sock").exists().then_some(())
     });
