@@ -6,7 +6,9 @@ use super::*;
 use missionlink_interfaces::contracts::{FramePayload, Link};
 
 /// The sender: stamps and sends a frame, waits for its reply, repeats (at the sparse pace,
-/// sleeping until the next frame is due).
+/// sleeping until the next frame is due). For a row measured as iceoryx2 measures
+/// (`Transport::loop_mean`), then [`LOOP_ROUND_TRIPS`] more round trips without a clock read
+/// per sample, their mean one-way time kept for [`take_loop_mean_ns`].
 pub(super) fn drive_sender(
     run: &Run,
     mut send: impl FnMut(u64),
@@ -26,9 +28,33 @@ pub(super) fn drive_sender(
         let echoed = receive_reply();
         assert_eq!(echoed, stamp, "the reply answers the frame just sent");
     }
+    if run.transport.loop_mean() {
+        let start = Instant::now();
+        for i in 0..LOOP_ROUND_TRIPS {
+            send(i);
+            receive_reply();
+        }
+        let one_way = start.elapsed().as_nanos() as f64 / (2.0 * LOOP_ROUND_TRIPS as f64);
+        if let Ok(mut mean) = LOOP_MEAN_NS.lock() {
+            *mean = Some(one_way);
+        }
+    }
 }
 
-/// The receiver: takes a frame, records `now - stamp` (after the warm-up), replies, repeats.
+/// Round trips of the loop measured as iceoryx2's own publish-subscribe benchmark measures: the
+/// time of the whole loop over twice the round trips, no clock read per sample.
+pub(super) const LOOP_ROUND_TRIPS: u64 = 100_000;
+
+/// The mean one-way time of the last loop of [`drive_sender`], nanoseconds.
+static LOOP_MEAN_NS: std::sync::Mutex<Option<f64>> = std::sync::Mutex::new(None);
+
+/// Takes what the sender's loop measured, if the row had one.
+pub(super) fn take_loop_mean_ns() -> Option<f64> {
+    LOOP_MEAN_NS.lock().ok().and_then(|mut m| m.take())
+}
+
+/// The receiver: takes a frame, records `now - stamp` (after the warm-up), replies, repeats;
+/// then answers the sender's untimed loop ([`LOOP_ROUND_TRIPS`]) where the row has one.
 pub(super) fn drive_receiver(
     run: &Run,
     mut receive: impl FnMut() -> u64,
@@ -43,6 +69,12 @@ pub(super) fn drive_receiver(
             histogram.saturating_record(now.saturating_sub(stamp).max(1));
         }
         reply(stamp);
+    }
+    if run.transport.loop_mean() {
+        for _ in 0..LOOP_ROUND_TRIPS {
+            let stamp = receive();
+            reply(stamp);
+        }
     }
     histogram
 }
@@ -296,7 +328,12 @@ pub(super) const LOOP_TIMEOUT: Duration = Duration::from_secs(1);
 /// and idle strategy), publishing a frame on the uplink service whenever the previous one was
 /// answered on the downlink service (at the sparse pace, after the pause).
 pub(super) fn partition_sender<F: Stamped>(run: &Run) {
-    let config = partition_config(run);
+    let mut config = partition_config(run);
+    if run.transport == super::Transport::PartitionUnrungSparse {
+        // A publisher that knows no doorbell: it rings nothing and notifies with event ID 0.
+        config.ipc.idle[Partition::MissionDataHandling] =
+            missionlink_partitions::config::Idle::BLOCK;
+    }
     let ipc = Ipc::<S>::open("latency-sender", &config.ipc).expect("node");
     let publisher = ipc.publisher::<F>(FccService::Uplink).expect("publisher");
     let replies = ipc

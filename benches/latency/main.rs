@@ -63,6 +63,11 @@
 //!     data handling's loop with its default idle strategy, as in `partition-sparse`. Only at
 //!     the STANAG frame's size. The sender's columns (preemptions, CPU) are the bench
 //!     process's, which only waits for the C process: the C process's CPU counts as others'.
+//! 11. `partition-unrung-sparse`: `partition-sparse` with a sender that rings no doorbell, as a
+//!     partition in Python or a program on iceoryx2's own bindings publishes: its configuration
+//!     has mission data handling in the WaitSet, so it notifies the uplink's event with event
+//!     ID 0 alone, and the receiver (the defaults: on its doorbell) hears it through its
+//!     doorbell's forwarder (`doorbell`), one wake-up more.
 //!
 //! `--only T,T,...` runs only the named transports, `--sizes N,N` only the named payload sizes
 //! (for example `--only partition,uds --sizes 548`). After each table the ratios of p50 that
@@ -201,11 +206,12 @@ enum Transport {
     PartitionDoorbellSparse,
     UdsSparse,
     PartitionForeignSparse,
+    PartitionUnrungSparse,
 }
 
 impl Transport {
     /// In the order of the tables; the first is the reference of the ratios.
-    const ALL: [Transport; 16] = [
+    const ALL: [Transport; 17] = [
         Self::Iox2Event,
         Self::Partition,
         Self::PartitionBlock,
@@ -222,6 +228,7 @@ impl Transport {
         Self::PartitionDoorbellSparse,
         Self::UdsSparse,
         Self::PartitionForeignSparse,
+        Self::PartitionUnrungSparse,
     ];
 
     /// The name on the command line and in the JSON.
@@ -243,6 +250,7 @@ impl Transport {
             Self::PartitionDoorbellSparse => "partition-doorbell-sparse",
             Self::UdsSparse => "uds-sparse",
             Self::PartitionForeignSparse => "partition-foreign-sparse",
+            Self::PartitionUnrungSparse => "partition-unrung-sparse",
         }
     }
 
@@ -265,6 +273,7 @@ impl Transport {
             Self::PartitionDoorbellSparse => "partition, doorbell, sparse",
             Self::UdsSparse => "Unix datagram, sparse",
             Self::PartitionForeignSparse => "C publisher, sparse",
+            Self::PartitionUnrungSparse => "publisher ringing nothing",
         }
     }
 
@@ -279,8 +288,16 @@ impl Transport {
                 | Self::PartitionDoorbellSparse
                 | Self::UdsSparse
                 | Self::PartitionForeignSparse
+                | Self::PartitionUnrungSparse
         )
         .then_some(SPARSE_PACE)
+    }
+
+    /// Whether the row also runs the ping-pong loop that iceoryx2's own publish-subscribe
+    /// benchmark times (the polling rows: its mean one-way time without a clock read per
+    /// sample, `hop::LOOP_ROUND_TRIPS`).
+    fn loop_mean(self) -> bool {
+        matches!(self, Self::Iox2Poll | Self::Iox2OwnPubsub)
     }
 
     /// The idle strategy of every partition in a partition-loop row: `None` for each
@@ -321,7 +338,8 @@ impl Transport {
             | Self::PartitionSparse
             | Self::PartitionBlockSparse
             | Self::PartitionBackoffSparse
-            | Self::PartitionDoorbellSparse => Hop::Typed { own: false },
+            | Self::PartitionDoorbellSparse
+            | Self::PartitionUnrungSparse => Hop::Typed { own: false },
             Self::Iox2OwnPubsub => Hop::Typed { own: true },
             Self::Uds | Self::UdsSparse => Hop::Uds,
             Self::Udp => Hop::Udp,
@@ -559,12 +577,16 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
     }
     let sender = Usage::now().since(start);
     let machine_end = missionlink::harness::machine_ticks();
+    let loop_mean = hop::take_loop_mean_ns();
     let mut result: Value = serde_json::from_str(&next("result")).expect("the receiver's JSON");
     let status = child.0.wait().expect("the receiver's exit");
     assert!(status.success(), "the receiver failed: {status}");
     result["transport"] = json!(run.transport.arg());
     result["label"] = json!(run.transport.label());
     result["payload_bytes"] = json!(run.size);
+    if let Some(mean) = loop_mean {
+        result["loop_mean_ns"] = json!(mean);
+    }
     result["sender_involuntary_switches"] = json!(sender.switches);
     result["sender_cpu_ticks"] = json!(sender.ticks);
     result["machine_busy_ticks"] = json!(machine_end.0.saturating_sub(machine_start.0));

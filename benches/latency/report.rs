@@ -33,6 +33,26 @@ pub(super) fn print_table(description: &str, results: &[&Value]) {
             ratio(value, reference)
         );
     }
+    let loop_mean = |t: Transport| {
+        results
+            .iter()
+            .find(|r| r["transport"] == t.arg())
+            .and_then(|r| r["loop_mean_ns"].as_f64())
+    };
+    if let (Some(ours), Some(theirs)) = (
+        loop_mean(Transport::Iox2Poll),
+        loop_mean(Transport::Iox2OwnPubsub),
+    ) {
+        println!(
+            "  ping-pong loop, one-way mean without a clock read per sample ({} round trips, as \
+             iceoryx2's benchmark-publish-subscribe measures): {} {ours:.0} ns, {} {theirs:.0} ns \
+             = {}",
+            hop::LOOP_ROUND_TRIPS,
+            Transport::Iox2Poll.arg(),
+            Transport::Iox2OwnPubsub.arg(),
+            ratio(ours, theirs)
+        );
+    }
 }
 
 /// The ratios of p50 the goals name, for the rows present: (what, value µs, reference µs).
@@ -52,6 +72,8 @@ pub(super) fn goal_ratios(results: &[&Value]) -> Vec<(String, f64, f64)> {
         (Transport::PartitionBlockSparse, Transport::UdsSparse),
         (Transport::PartitionBackoffSparse, Transport::UdsSparse),
         (Transport::PartitionDoorbellSparse, Transport::UdsSparse),
+        (Transport::PartitionForeignSparse, Transport::UdsSparse),
+        (Transport::PartitionUnrungSparse, Transport::UdsSparse),
         (
             Transport::PartitionForeignSparse,
             Transport::PartitionSparse,

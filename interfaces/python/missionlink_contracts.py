@@ -58,13 +58,18 @@ class Qos(NamedTuple):
     max_subscribers: int
     safe_overflow: bool
 
+    @property
+    def max_listeners(self) -> int:
+        """Listeners of the event service: two per subscriber (Qos::max_listeners)."""
+        return 2 * self.max_subscribers
+
 
 class Service(NamedTuple):
     """A service of the FCC: its path under the prefix and its QoS.
 
     The same name serves the publish-subscribe service and its event service; the event service
     is opened with max notifiers = `qos.max_publishers` and max listeners =
-    `qos.max_subscribers`, and a publisher notifies it after every sample.
+    `qos.max_listeners`, and a publisher notifies it after every sample.
     """
 
     path: str

@@ -209,6 +209,15 @@ pub struct Qos {
     pub safe_overflow: bool,
 }
 
+impl Qos {
+    /// Listeners the event service of the same name allows: two per subscriber, its own and
+    /// the one through which a partition sleeping on its doorbell hears publishers that do not
+    /// ring it (`missionlink_partitions::doorbell`, docs/wait-path.md).
+    pub const fn max_listeners(self) -> usize {
+        2 * self.max_subscribers
+    }
+}
+
 impl FccService {
     /// Every service.
     pub const ALL: [FccService; 11] = [

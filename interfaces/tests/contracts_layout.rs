@@ -458,13 +458,14 @@ fn partition_fact(p: Partition) -> String {
 fn service_fact(service: FccService) -> String {
     let q = service.qos();
     format!(
-        "service {} path {} history {} buffer {} publishers {} subscribers {} safe_overflow {}",
+        "service {} path {} history {} buffer {} publishers {} subscribers {} listeners {} safe_overflow {}",
         service_key(service),
         service.path(),
         q.history_size,
         q.subscriber_max_buffer_size,
         q.max_publishers,
         q.max_subscribers,
+        q.max_listeners(),
         u8::from(q.safe_overflow)
     )
 }
@@ -662,6 +663,7 @@ fn expected_c_names(layouts: &[Layout]) -> BTreeSet<String> {
             "SUBSCRIBER_MAX_BUFFER_SIZE",
             "MAX_PUBLISHERS",
             "MAX_SUBSCRIBERS",
+            "MAX_LISTENERS",
             "SAFE_OVERFLOW",
         ] {
             names.insert(format!("MISSIONLINK_SERVICE_{key}_{what}"));
@@ -743,9 +745,9 @@ fn c_program(header: &CHeader, layouts: &[Layout]) -> String {
         let m = format!("MISSIONLINK_SERVICE_{}", service_key(service));
         p.push_str(&format!(
             "    printf(\"service %s path %s history %d buffer %d publishers %d subscribers %d \
-             safe_overflow %d\\n\", {}, {m}_PATH, {m}_HISTORY_SIZE, \
+             listeners %d safe_overflow %d\\n\", {}, {m}_PATH, {m}_HISTORY_SIZE, \
              {m}_SUBSCRIBER_MAX_BUFFER_SIZE, {m}_MAX_PUBLISHERS, {m}_MAX_SUBSCRIBERS, \
-             {m}_SAFE_OVERFLOW);\n",
+             {m}_MAX_LISTENERS, {m}_SAFE_OVERFLOW);\n",
             c_str(&service_key(service))
         ));
     }
@@ -1026,9 +1028,9 @@ for name, value in vars(m).items():
             print("a Service not named SERVICE_*: %s" % name)
         services.append(value)
         q = value.qos
-        print("service %s path %s history %d buffer %d publishers %d subscribers %d safe_overflow %d"
+        print("service %s path %s history %d buffer %d publishers %d subscribers %d listeners %d safe_overflow %d"
               % (name[len("SERVICE_"):], value.path, q.history_size, q.subscriber_max_buffer_size,
-                 q.max_publishers, q.max_subscribers, int(q.safe_overflow)))
+                 q.max_publishers, q.max_subscribers, q.max_listeners, int(q.safe_overflow)))
     elif isinstance(value, m.Partition):
         if not name.startswith("PARTITION_"):
             print("a Partition not named PARTITION_*: %s" % name)

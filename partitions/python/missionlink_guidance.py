@@ -1300,7 +1300,7 @@ class Ports:
             self.node.service_builder(self._name(service))
             .event()
             .max_notifiers(q.max_publishers)
-            .max_listeners(q.max_subscribers)
+            .max_listeners(q.max_listeners)
             .open_or_create()
         )
 

@@ -15,9 +15,9 @@
 //!
 //! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
 //! mode = "backoff"                # block: sleep in the WaitSet at once; backoff: spin, yield,
-//!                                 # then sleep in the WaitSet (the others' default: block);
-//!                                 # doorbell: spin, yield, then sleep on the partition's
-//!                                 # semaphore (all-Rust FCCs only: see `IdleMode::Doorbell`)
+//!                                 # then sleep in the WaitSet; doorbell (the others' default):
+//!                                 # spin, yield, then sleep on the partition's semaphore
+//!                                 # (`IdleMode::Doorbell`)
 //! spin_us = 200                   # spin this long after the last work (others' default: 0)
 //! yield_us = 0                    # then yield between looks this long (default 0)
 //! # and [ipc.idle.mission-data-handling], [ipc.idle.system-automation],
@@ -115,38 +115,35 @@ pub enum IdleMode {
     /// Sleep in the WaitSet at once: the wake-up of every frame costs the event's system calls
     /// and the kernel waking the thread (a Unix datagram and an epoll round with iceoryx2's
     /// default event).
-    #[default]
     Block,
     /// Look at the inputs in a loop for `spin_us`, then yield the CPU between looks for
     /// `yield_us`, then sleep in the WaitSet as `Block` does (Aeron's BackoffIdleStrategy). A
     /// frame that comes within the budget after the last one is taken without a wake-up.
     Backoff,
     /// As `backoff`, then sleep on the partition's doorbell instead of the WaitSet: a POSIX
-    /// semaphore in shared memory that every publisher feeding the partition rings, with a
-    /// timer thread that rings it at the loop's next deadline (`doorbell`). A partition that
-    /// also waits for sockets (voting-monitoring) cannot: it sleeps in the WaitSet. Only the
-    /// Rust publishers of this workspace ring the doorbell: a publisher in C or Python (a
-    /// replaced partition) notifies the service's event only, which a doorbell partition hears
-    /// at its next deadline (up to 100 ms later). For an all-Rust FCC only.
+    /// semaphore in shared memory that every publisher of this workspace feeding the partition
+    /// rings (the C library's too), with a timer thread that rings it at the loop's next
+    /// deadline and a forwarder thread that rings it for a publisher that does not (a partition
+    /// in Python, a program on iceoryx2's own bindings): `doorbell`. A partition that also
+    /// waits for sockets (voting-monitoring) cannot: it sleeps in the WaitSet as `backoff`.
+    #[default]
     Doorbell,
 }
 
 /// The idle strategy of one partition (`[ipc.idle.<partition>]`); a field left out takes the
-/// value of [`Idle::default`] (`block`, no spin). The defaults of the partitions
+/// value of [`Idle::default`] (`doorbell`, no spin). The defaults of the partitions
 /// ([`PartitionDefault`] of `Idle`) were chosen by measurement on the 2-vCPU development machine
-/// (docs/wait-path.md) and by what a replaced partition needs:
+/// (docs/wait-path.md, BENCHMARKS.md section 1):
 ///
 /// - voting-monitoring: `backoff`, 200 µs of spinning. It waits for the UDP links as well, so it
 ///   cannot use the doorbell; mission data handling's answer to an uplink frame comes within the
 ///   spin, and so does the GCS's next frame of a transfer over loopback. Idle, it spins about
 ///   200 µs per wake-up (heartbeat and timers): 0.6 % of a CPU measured.
-/// - mission-data-handling, system-automation, guidance-stub: `block`. On two CPUs a second
-///   partition spinning takes the CPU the GCS and the other partitions need: the transfer of a
-///   256-waypoint mission was slower with every partition spinning than with every partition
-///   sleeping at once. The doorbell wakes a few microseconds sooner than the WaitSet, but only
-///   for publishers that ring it: a partition replaced by one in C or Python (the HIL rig's
-///   guidance, say) would be heard up to 100 ms late, so it is a choice for an all-Rust FCC,
-///   not the default.
+/// - mission-data-handling, system-automation, guidance-stub: `doorbell`, no spin. A futex
+///   wake-up is the cheapest there is (a cold one as fast as a Unix socket's, the WaitSet's
+///   some microseconds slower), and the forwarder hears a publisher that does not ring at the
+///   cost of one more wake-up. On two CPUs a second partition spinning takes the CPU the GCS
+///   and the other partitions need, so they do not spin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Idle {
@@ -165,7 +162,7 @@ pub const DEFAULT_SPIN_US: u64 = 200;
 
 impl Default for Idle {
     fn default() -> Self {
-        Self::BLOCK
+        Self::DOORBELL
     }
 }
 
@@ -177,7 +174,14 @@ impl Idle {
         yield_us: 0,
     };
 
-    /// Sleeping at once.
+    /// The others' default: sleep on the doorbell at once.
+    pub const DOORBELL: Self = Self {
+        mode: IdleMode::Doorbell,
+        spin_us: 0,
+        yield_us: 0,
+    };
+
+    /// Sleeping in the WaitSet at once.
     pub const BLOCK: Self = Self {
         mode: IdleMode::Block,
         spin_us: 0,
@@ -195,12 +199,13 @@ impl Idle {
     }
 }
 
-/// The defaults of [`Idle`]'s documentation: voting-monitoring spins, the others sleep at once.
+/// The defaults of [`Idle`]'s documentation: voting-monitoring spins, the others sleep on their
+/// doorbells at once.
 impl PartitionDefault for Idle {
     fn default_for(partition: Partition) -> Self {
         match partition {
             Partition::VotingMonitoring => Self::VOTING_MONITORING,
-            _ => Self::BLOCK,
+            _ => Self::DOORBELL,
         }
     }
 }
@@ -629,7 +634,7 @@ mod tests {
     }
 
     #[test]
-    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_waitset() {
+    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_doorbell() {
         let c = Config::parse(
             "[ipc.idle.voting-monitoring]\nmode = \"block\"\n\
              [ipc.idle.guidance-stub]\nmode = \"backoff\"\nspin_us = 50\nyield_us = 20\n",
@@ -646,7 +651,7 @@ mod tests {
         assert_eq!(guidance.yield_for(), Duration::from_micros(20));
         let mdh = c.ipc.idle[Partition::MissionDataHandling];
         assert_eq!(mdh, Idle::default());
-        assert_eq!(mdh.mode, IdleMode::Block);
+        assert_eq!(mdh.mode, IdleMode::Doorbell);
         assert_eq!(mdh.spin_us, 0);
         let defaults = Config::default();
         assert_eq!(

@@ -11,21 +11,32 @@
 //! `timed_wait` on it is not a futex wait with a timeout but an adaptive wait (10 000
 //! `sched_yield`s, then sleeps of 100 µs, then of 10 ms: `iceoryx2-bb-posix`'s
 //! `adaptive_wait`), which would cost CPU when idle and wake late. So the partition blocks in
-//! `blocking_wait`, and a timer thread of the [`Doorbell`] rings it at the loop's next deadline
-//! ([`Doorbell::wait`]).
+//! `blocking_wait`, and two threads of the [`Doorbell`] ring it:
+//!
+//! - the timer, at the loop's next deadline ([`Doorbell::wait`]);
+//! - the forwarder, for a publisher that does not ring it: a partition in Python (iceoryx2's
+//!   binding knows nothing of doorbells), a program on iceoryx2's own bindings, a process
+//!   configured otherwise. It sleeps in a WaitSet on the events of the services the partition
+//!   consumes ([`consumed_by`]), each through a listener of its own ([`Qos::max_listeners`]
+//!   counts it), and rings when a notification's event ID does not carry the partition's bit:
+//!   a publisher of this workspace notifies with the bits of the doorbells it rang
+//!   ([`Ringers::event_id`]), any other with 0. So every publisher is heard at once, and a
+//!   frame of a ringing publisher wakes the partition once.
 //!
 //! A partition on the doorbell still has its ordinary listeners, which the publishers notify as
 //! before (a test, the launcher, a WaitSet elsewhere may sleep on them); the steps drain them.
-//! A publisher that does not ring (another language's guidance in the rig) is seen at the
-//! partition's next deadline, within its timer period.
 //!
-//! The doorbell costs nothing where it is not used: [`waits`] is the one rule that says which
-//! partitions wait on their doorbells under a configuration (none by default: `config::Idle`),
-//! and the runtime (which doorbell a loop waits on) and `ipc::Ipc::open` (which doorbells its
-//! publishers ring) both ask it. A process under a configuration where no partition waits on one
-//! opens no doorbell service, and its publishers ring nothing.
+//! [`waits`] is the one rule that says which partitions wait on their doorbells under a
+//! configuration (by default every partition but voting-monitoring, which waits for its
+//! sockets: `config::Idle`); the runtime (which doorbell a loop waits on) and `ipc::Ipc::open`
+//! (which doorbells its publishers ring) both ask it. A process under a configuration where no
+//! partition waits on one opens no doorbell service, and its publishers ring nothing.
+//!
+//! [`Qos::max_listeners`]: missionlink_interfaces::contracts::Qos::max_listeners
 
 use core::fmt::Debug;
+use std::os::unix::net::UnixDatagram;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
@@ -42,6 +53,8 @@ use iceoryx2_cal::{
 use missionlink_interfaces::contracts::{FccService, Partition};
 
 use crate::config::{self, IdleMode, PerPartition};
+use crate::ipc::Ipc;
+use crate::wait_fd::SocketFd;
 
 /// Something iceoryx2 refused about a doorbell, with what was being done.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -108,6 +121,19 @@ pub fn consumers(service: FccService) -> &'static [Partition] {
     }
 }
 
+/// The services whose publishers feed `role` ([`consumers`]): what its forwarder listens to.
+pub fn consumed_by(role: Partition) -> impl Iterator<Item = FccService> {
+    FccService::ALL
+        .into_iter()
+        .filter(move |service| consumers(*service).contains(&role))
+}
+
+/// The bit of `role` in a notification's event ID ([`Ringers::event_id`]): its place in
+/// `Partition::ALL` (four partitions, well within iceoryx2's default largest event ID, 255).
+fn bit(role: Partition) -> usize {
+    1 << Partition::ALL.iter().position(|p| *p == role).unwrap_or(0)
+}
+
 /// Notifiers a doorbell allows: every publisher of a consumed service, with room for restarted
 /// processes whose ports are not cleaned up yet.
 const MAX_RINGERS: usize = 64;
@@ -123,6 +149,8 @@ fn err(what: impl std::fmt::Display, e: impl Debug) -> DoorbellError {
 #[derive(Debug)]
 pub struct Doorbells {
     node: Node<DoorbellService>,
+    /// The process's node name, which its forwarders' nodes are named after.
+    name: String,
     prefix: String,
     /// The partitions that wait on their doorbells ([`waits`]): only theirs are rung.
     waiting: PerPartition<bool>,
@@ -154,6 +182,7 @@ impl Doorbells {
         node.try_cleanup_dead_nodes();
         Ok(Self {
             node,
+            name: name.to_owned(),
             prefix: prefix.to_owned(),
             waiting,
         })
@@ -187,40 +216,49 @@ impl Doorbells {
 
     /// The ringers of the doorbells of `service`'s consumers that wait on theirs.
     pub fn ringers(&self, service: FccService) -> Result<Ringers, DoorbellError> {
-        let notifiers = consumers(service)
+        let mut ringers = Ringers::default();
+        for role in consumers(service)
             .iter()
             .filter(|role| self.waiting[**role])
-            .map(|role| {
+        {
+            ringers.notifiers.push(
                 self.event(*role)?
                     .notifier_builder()
                     .create()
-                    .map_err(|e| err(format_args!("ringer of the doorbell of {role:?}"), e))
-            })
-            .collect::<Result<_, _>>()?;
-        Ok(Ringers { notifiers })
+                    .map_err(|e| err(format_args!("ringer of the doorbell of {role:?}"), e))?,
+            );
+            ringers.rung |= bit(*role);
+        }
+        Ok(ringers)
     }
 
-    /// The doorbell of `role`, to wait on, with its timer thread.
+    /// The doorbell of `role`, to wait on once [`Doorbell::start`] has started its threads.
     pub fn doorbell(&self, role: Partition) -> Result<Doorbell, DoorbellError> {
         let event = self.event(role)?;
         let listener = event
             .listener_builder()
             .create()
             .map_err(|e| err(format_args!("listener of the doorbell of {role:?}"), e))?;
-        let timer = Arc::new(Timer::default());
-        let notifier = event
-            .notifier_builder()
-            .create()
-            .map_err(|e| err(format_args!("timer of the doorbell of {role:?}"), e))?;
-        let ring = Arc::clone(&timer);
-        let thread = std::thread::Builder::new()
-            .name("doorbell-timer".to_owned())
-            .spawn(move || ring.run(&notifier))
-            .map_err(|e| err("starting the doorbell's timer thread", e))?;
+        let notifier = || {
+            event
+                .notifier_builder()
+                .create()
+                .map_err(|e| err(format_args!("ringer of the doorbell of {role:?}"), e))
+        };
+        // The forwarder's end, made here: the fence allows no socket pair.
+        let end = UnixDatagram::pair().map_err(|e| err("the forwarder's socket pair", e))?;
         Ok(Doorbell {
             listener,
-            timer,
-            thread: Some(thread),
+            role,
+            name: self.name.clone(),
+            prefix: self.prefix.clone(),
+            unstarted: Some(Unstarted {
+                timer_ring: notifier()?,
+                forward_ring: notifier()?,
+                end,
+            }),
+            timer: Arc::new(Timer::default()),
+            threads: None,
         })
     }
 }
@@ -230,12 +268,21 @@ impl Doorbells {
 #[derive(Debug, Default)]
 pub struct Ringers {
     notifiers: Vec<Notifier<DoorbellService>>,
+    /// The bits of the partitions whose doorbells they ring ([`bit`]).
+    rung: usize,
 }
 
 impl Ringers {
     /// Whether there is no doorbell to ring.
     pub fn is_empty(&self) -> bool {
         self.notifiers.is_empty()
+    }
+
+    /// The event ID a publisher notifies its service's event with after [`Ringers::ring`]: the
+    /// bits of the partitions whose doorbells it rang, so that their forwarders do not ring
+    /// again (0, as any publisher that rings nothing: every forwarder rings).
+    pub fn event_id(&self) -> EventId {
+        EventId::new(self.rung)
     }
 
     /// Rings every consumer's doorbell (a `sem_post` per listening consumer).
@@ -296,19 +343,82 @@ impl Timer {
     }
 }
 
-/// A partition's doorbell: its listener and the timer thread that rings it at the loop's next
-/// deadline. The thread ends when the doorbell is dropped.
+/// A partition's doorbell: its listener, and the two threads that ring it besides the
+/// publishers (the timer at the loop's next deadline, the forwarder for publishers that do not
+/// ring), started by [`Doorbell::start`] once the partition is fenced and ended when the
+/// doorbell is dropped.
 #[derive(Debug)]
 pub struct Doorbell {
     listener: Listener<DoorbellService>,
+    role: Partition,
+    /// The process's node name and the service prefix, for the forwarder's node.
+    name: String,
+    prefix: String,
+    /// What the threads take when they start, opened with the listener before the fence.
+    unstarted: Option<Unstarted>,
     timer: Arc<Timer>,
-    thread: Option<std::thread::JoinHandle<()>>,
+    threads: Option<Threads>,
+}
+
+/// What a doorbell's threads are given: the timer's and the forwarder's notifiers, and the
+/// socket pair that ends the forwarder (its two ends).
+#[derive(Debug)]
+struct Unstarted {
+    timer_ring: Notifier<DoorbellService>,
+    forward_ring: Notifier<DoorbellService>,
+    end: (UnixDatagram, UnixDatagram),
+}
+
+/// The running threads of a doorbell.
+#[derive(Debug)]
+struct Threads {
+    timer: std::thread::JoinHandle<()>,
+    forwarder: Forwarder,
 }
 
 impl Doorbell {
-    /// Sleeps until a publisher or the timer rings, the timer at `timeout` from now. Consumes
-    /// every pending ring.
+    /// Starts the timer and the forwarder (once; again does nothing). A fence wants the only
+    /// thread of the process (`isolation`), so the loop calls this after its fence: the
+    /// forwarder opens its node and its listeners of the data services' type `S` then, within
+    /// the fence's allowances. Returns once the forwarder listens, or with what it could not
+    /// open.
+    pub fn start<S: Service>(&mut self) -> Result<(), DoorbellError>
+    where
+        Listener<S>: SynchronousMultiplexing,
+    {
+        let Some(Unstarted {
+            timer_ring,
+            forward_ring,
+            end,
+        }) = self.unstarted.take()
+        else {
+            return Ok(());
+        };
+        let forwarder = Forwarder::start::<S>(
+            format!("{}-forwarder", self.name),
+            self.prefix.clone(),
+            self.role,
+            forward_ring,
+            end,
+        )?;
+        let timer = Arc::clone(&self.timer);
+        let timer = std::thread::Builder::new()
+            .name("doorbell-timer".to_owned())
+            .spawn(move || timer.run(&timer_ring))
+            .map_err(|e| err("starting the doorbell's timer thread", e))?;
+        self.threads = Some(Threads { timer, forwarder });
+        Ok(())
+    }
+
+    /// Sleeps until a publisher, the forwarder or the timer rings, the timer at `timeout` from
+    /// now. Consumes every pending ring. An error before [`Doorbell::start`]: nothing would
+    /// ring at the deadline.
     pub fn wait(&self, timeout: Duration) -> Result<(), DoorbellError> {
+        if self.threads.is_none() {
+            return Err(DoorbellError(
+                "waiting on a doorbell whose threads were not started".to_owned(),
+            ));
+        }
         let deadline = Instant::now() + timeout;
         if let Ok(mut state) = self.timer.state.lock() {
             // The timer thread is woken only for a deadline earlier by more than TIMER_SLACK
@@ -340,21 +450,146 @@ impl Drop for Doorbell {
             state.end = true;
             self.timer.changed.notify_one();
         }
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
+        if let Some(threads) = self.threads.take() {
+            threads.forwarder.stop();
+            let _ = threads.timer.join();
         }
     }
+}
+
+/// The forwarder's thread and what ends it: a flag and a datagram on a socket pair whose other
+/// end is in its WaitSet.
+#[derive(Debug)]
+struct Forwarder {
+    stop: Arc<AtomicBool>,
+    wake: UnixDatagram,
+    thread: std::thread::JoinHandle<()>,
+}
+
+impl Forwarder {
+    /// Starts the forwarder of `role`'s doorbell, ringing through `ring`, on a node `name`
+    /// under `prefix`, ended through the socket pair `(wake, woken)`; returns once it listens.
+    fn start<S: Service>(
+        name: String,
+        prefix: String,
+        role: Partition,
+        ring: Notifier<DoorbellService>,
+        (wake, woken): (UnixDatagram, UnixDatagram),
+    ) -> Result<Self, DoorbellError>
+    where
+        Listener<S>: SynchronousMultiplexing,
+    {
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopped = Arc::clone(&stop);
+        let (listening, listens) = std::sync::mpsc::channel();
+        let thread = std::thread::Builder::new()
+            .name("doorbell-forward".to_owned())
+            .spawn(move || {
+                // The ports of `S` are the thread's own (they need not be `Send`).
+                let opened = Ipc::<S>::without_doorbells(&name, &prefix).and_then(|ipc| {
+                    let listeners = consumed_by(role)
+                        .map(|service| ipc.listener(service))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    Ok((ipc, listeners))
+                });
+                let (_ipc, listeners) = match opened {
+                    Ok(opened) => opened,
+                    Err(e) => {
+                        let _ = listening.send(Err(DoorbellError(e.0)));
+                        return;
+                    }
+                };
+                if let Err(e) = forward(&listeners, &woken, &stopped, bit(role), &ring, || {
+                    let _ = listening.send(Ok(()));
+                }) {
+                    tracing::error!(%e, "the doorbell's forwarder stopped");
+                }
+            })
+            .map_err(|e| err("starting the doorbell's forwarder", e))?;
+        match listens.recv() {
+            Ok(Ok(())) => Ok(Self { stop, wake, thread }),
+            Ok(Err(e)) => {
+                let _ = thread.join();
+                Err(e)
+            }
+            Err(_) => {
+                let _ = thread.join();
+                Err(DoorbellError(
+                    "the doorbell's forwarder ended at its start".to_owned(),
+                ))
+            }
+        }
+    }
+
+    /// Ends the thread and waits for it.
+    fn stop(self) {
+        self.stop.store(true, Ordering::Relaxed);
+        let _ = self.wake.send(&[0]);
+        let _ = self.thread.join();
+    }
+}
+
+/// The forwarder's loop: sleeps in a WaitSet on `listeners` and on `woken` (the end of the
+/// forwarder), and rings through `ring` whenever a notification's event ID lacks `bit` (its
+/// publisher did not ring this doorbell), until `stop`. Calls `listening` once it sleeps on
+/// everything.
+fn forward<S: Service>(
+    listeners: &[Listener<S>],
+    woken: &UnixDatagram,
+    stop: &AtomicBool,
+    bit: usize,
+    ring: &Notifier<DoorbellService>,
+    listening: impl FnOnce(),
+) -> Result<(), DoorbellError>
+where
+    Listener<S>: SynchronousMultiplexing,
+{
+    let waitset = WaitSetBuilder::new()
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<S>()
+        .map_err(|e| err("the forwarder's WaitSet", e))?;
+    let _guards = listeners
+        .iter()
+        .map(|l| waitset.attach_notification(l))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| err("attaching the forwarder's listeners", e))?;
+    let end = SocketFd::of(woken).ok_or_else(|| DoorbellError("the forwarder's socket".into()))?;
+    let _end = waitset
+        .attach_notification(&end)
+        .map_err(|e| err("attaching the forwarder's end", e))?;
+    listening();
+    while !stop.load(Ordering::Relaxed) {
+        // Blocking: no deadline of its own, so an idle forwarder costs nothing. A signal that
+        // lands on this thread returns it (`Interrupt`), and it looks again.
+        waitset
+            .wait_and_process_once(|_| CallbackProgression::Continue)
+            .map_err(|e| err("the forwarder's wait", e))?;
+        let mut unrung = false;
+        for listener in listeners {
+            let _ = listener.try_wait(|a| unrung |= a.id.as_value() & bit == 0);
+        }
+        if unrung {
+            ring.notify().map_err(|e| err("the forwarder's ring", e))?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use missionlink_interfaces::contracts::FramePayload;
 
     #[test]
     fn a_publisher_of_a_consumed_service_rings_and_the_timer_rings_at_the_deadline() {
         let prefix = format!("doorbell-test-{}", std::process::id());
         let bells = Doorbells::open("doorbell-test", &prefix, PerPartition::all(true)).unwrap();
-        let doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
+        let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
+        assert!(
+            doorbell.wait(Duration::ZERO).is_err(),
+            "no wait before the threads run"
+        );
+        doorbell.start::<ipc::Service>().unwrap();
         let uplink = bells.ringers(FccService::Uplink).unwrap();
         let downlink = bells.ringers(FccService::Downlink).unwrap();
 
@@ -394,21 +629,68 @@ mod tests {
         );
     }
 
-    /// The default configuration uses no doorbell: no process opens one or rings one.
+    /// By default every partition but voting-monitoring (its sockets) waits on its doorbell; a
+    /// configuration without one opens none and rings none.
     #[test]
     fn only_a_partition_configured_for_the_doorbell_waits_on_it() {
         let mut ipc = config::Ipc::default();
+        for p in Partition::ALL {
+            assert_eq!(waits(&ipc, p), p != Partition::VotingMonitoring, "{p:?}");
+        }
+        ipc.idle = PerPartition::all(config::Idle::BLOCK);
         assert!(Partition::ALL.iter().all(|p| !waits(&ipc, *p)));
         assert!(Doorbells::of("doorbell-none", &ipc).unwrap().is_none());
-        ipc.idle = PerPartition::all(config::Idle {
-            mode: IdleMode::Doorbell,
-            ..config::Idle::BLOCK
-        });
+        ipc.idle = PerPartition::all(config::Idle::DOORBELL);
         // The link partition waits for its sockets in the WaitSet.
         assert!(!waits(&ipc, Partition::VotingMonitoring));
         assert!(waits(&ipc, Partition::MissionDataHandling));
         ipc.poll = true;
         assert!(Partition::ALL.iter().all(|p| !waits(&ipc, *p)));
+    }
+
+    /// A publisher that rings no doorbell (a partition in Python, a process configured
+    /// otherwise) is heard through the forwarder at once; a publisher that rang is not rung for
+    /// a second time.
+    #[test]
+    fn the_forwarder_rings_for_a_publisher_that_does_not_and_only_for_it() {
+        let prefix = format!("doorbell-test-forward-{}", std::process::id());
+        let bells = Doorbells::open("doorbell-forward", &prefix, PerPartition::all(true)).unwrap();
+        let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
+        doorbell.start::<ipc::Service>().unwrap();
+        let frame =
+            FramePayload::new(missionlink_interfaces::contracts::Link::Direct, &[1], 0).unwrap();
+
+        // Rings nothing: its configuration has every partition in the WaitSet.
+        let plain = config::Ipc {
+            idle: PerPartition::all(config::Idle::BLOCK),
+            ..config::Ipc::with_prefix(&prefix)
+        };
+        let foreign = Ipc::<ipc::Service>::open("doorbell-foreign", &plain).unwrap();
+        let foreign = foreign
+            .publisher::<FramePayload>(FccService::Uplink)
+            .unwrap();
+        foreign.send(&frame).unwrap();
+        let start = Instant::now();
+        doorbell.wait(Duration::from_secs(5)).unwrap();
+        assert!(
+            start.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            start.elapsed()
+        );
+
+        // Rings the doorbell itself: the wait returns at once for its ring, and after the
+        // forwarder has seen its notification nothing else is pending: the next wait ends at
+        // its deadline.
+        let rust =
+            Ipc::<ipc::Service>::open("doorbell-rust", &config::Ipc::with_prefix(&prefix)).unwrap();
+        let rust = rust.publisher::<FramePayload>(FccService::Uplink).unwrap();
+        rust.send(&frame).unwrap();
+        doorbell.wait(Duration::from_secs(5)).unwrap();
+        std::thread::sleep(Duration::from_millis(100));
+        let start = Instant::now();
+        doorbell.wait(Duration::from_millis(30)).unwrap();
+        let waited = start.elapsed();
+        assert!(waited >= Duration::from_millis(29), "{waited:?}");
     }
 
     /// A publisher rings only the doorbells of consumers that wait on them.

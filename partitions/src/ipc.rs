@@ -57,7 +57,14 @@ impl<S: Service> Ipc<S> {
     /// Creates the node `name` under `ipc` (`[ipc]`: the service prefix, and which partitions
     /// wait on their doorbells, `doorbell::waits`) and removes what dead nodes left behind.
     pub fn open(name: &str, ipc: &config::Ipc) -> Result<Self, IpcError> {
-        let prefix = ipc.service_prefix.as_str();
+        let mut opened = Self::without_doorbells(name, &ipc.service_prefix)?;
+        opened.doorbells = Doorbells::of(name, ipc)?;
+        Ok(opened)
+    }
+
+    /// The node `name` under `prefix` whose publishers ring no doorbell (a doorbell's forwarder,
+    /// which only listens); removes what dead nodes left behind.
+    pub fn without_doorbells(name: &str, prefix: &str) -> Result<Self, IpcError> {
         let node_name: NodeName = name.try_into().map_err(|e| err("node name", e))?;
         let node = NodeBuilder::new()
             .name(&node_name)
@@ -74,7 +81,7 @@ impl<S: Service> Ipc<S> {
         Ok(Self {
             node,
             prefix: prefix.to_owned(),
-            doorbells: Doorbells::of(name, ipc)?,
+            doorbells: None,
         })
     }
 
@@ -133,7 +140,7 @@ impl<S: Service> Ipc<S> {
             .service_builder(&self.names(service)?)
             .event()
             .max_notifiers(qos.max_publishers)
-            .max_listeners(qos.max_subscribers)
+            .max_listeners(qos.max_listeners())
             .open_or_create()
             .map_err(|e| err(format_args!("opening the event service {service}"), e))
     }
@@ -172,6 +179,14 @@ impl<S: Service> Ipc<S> {
         })
     }
 
+    /// A listener of `service`'s event alone, without a subscriber (a doorbell's forwarder).
+    pub fn listener(&self, service: FccService) -> Result<Listener<S>, IpcError> {
+        self.event(service)?
+            .listener_builder()
+            .create()
+            .map_err(|e| err(format_args!("listener of {service}"), e))
+    }
+
     /// A subscriber of `service` with the listener to attach to a WaitSet.
     pub fn subscriber<T: Debug + Copy + ZeroCopySend + 'static>(
         &self,
@@ -182,11 +197,7 @@ impl<S: Service> Ipc<S> {
             .subscriber_builder()
             .create()
             .map_err(|e| err(format_args!("subscriber of {service}"), e))?;
-        let listener = self
-            .event(service)?
-            .listener_builder()
-            .create()
-            .map_err(|e| err(format_args!("listener of {service}"), e))?;
+        let listener = self.listener(service)?;
         Ok(Subscriber {
             service,
             subscriber,
@@ -351,12 +362,17 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
     /// doorbells of the partitions that consume the service (`doorbell::consumers`) and wait on
-    /// them (none by default), then notifies the service's own event: what every partition
-    /// does.
+    /// them (by default every consumer but voting-monitoring), then notifies the service's own
+    /// event: what every partition does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
         self.ringers.ring()?;
-        self.notify()
+        // The event ID names the doorbells rung (`Ringers::event_id`): a partition's forwarder
+        // rings its doorbell only for a notification whose publisher did not.
+        self.notifier
+            .notify_with_custom_event_id(self.ringers.event_id())
+            .map_err(|e| err(format_args!("notify on {}", self.service), e))?;
+        Ok(())
     }
 
     /// Publishes `value` without waking anyone: for subscribers that poll (the polling
@@ -373,7 +389,8 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
         Ok(())
     }
 
-    /// Wakes the subscribers sleeping on this service's event.
+    /// Wakes the subscribers sleeping on this service's event (saying that no doorbell was
+    /// rung).
     pub fn notify(&self) -> Result<(), IpcError> {
         self.notifier
             .notify()
@@ -544,17 +561,28 @@ mod tests {
         assert_eq!(numbers, [(1, 2), (2, 0)]);
     }
 
-    /// Under the defaults no partition waits on its doorbell: a process opens no doorbell node
-    /// and its publishers ring nothing.
+    /// Where no partition waits on its doorbell, a process opens no doorbell node and its
+    /// publishers ring nothing; under the defaults the uplink's publisher rings mission data
+    /// handling's and says so in its event ID.
     #[test]
-    fn the_default_configuration_opens_no_doorbell() {
+    fn a_configuration_without_doorbells_opens_none() {
         let prefix = format!("ipc-test-quiet-{}", std::process::id());
-        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &config::Ipc::with_prefix(&prefix))
-            .unwrap();
+        let quiet = config::Ipc {
+            idle: crate::config::PerPartition::all(config::Idle::BLOCK),
+            ..config::Ipc::with_prefix(&prefix)
+        };
+        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &quiet).unwrap();
         assert!(ipc.doorbells.is_none());
         assert!(ipc.doorbell(Partition::MissionDataHandling).is_err());
         let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
         assert!(uplink.ringers.is_empty());
+        assert_eq!(uplink.ringers.event_id().as_value(), 0);
+
+        let ipc = Ipc::<local::Service>::open("ipc-test-rings", &config::Ipc::with_prefix(&prefix))
+            .unwrap();
+        let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
+        assert!(!uplink.ringers.is_empty());
+        assert_ne!(uplink.ringers.event_id().as_value(), 0);
     }
 
     fn waypoints(activation: u64, count: u16) -> WaypointListPayload {

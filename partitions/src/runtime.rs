@@ -526,7 +526,10 @@ pub fn run_loop<S: Service>(
     control: &Control,
     inputs: Inputs<'_>,
     mut step: impl FnMut(&mut Report) -> Result<Duration, PartitionError>,
-) -> Result<Report, PartitionError> {
+) -> Result<Report, PartitionError>
+where
+    Listener<S>: SynchronousMultiplexing,
+{
     let name = partition.binary();
     let waitset = waitset::<S>()?;
     let _guards = inputs
@@ -568,6 +571,10 @@ pub fn run_loop<S: Service>(
     };
     // Everything is open: from here on the partition can do only its job (`isolation`).
     control.fence.apply()?;
+    // The doorbell's threads after the fence, which wants the only thread.
+    if let Waiter::Doorbell { doorbell, .. } = &mut waiter {
+        doorbell.start::<S>().map_err(IpcError::from)?;
+    }
     tracing::info!(
         prefix = %config.ipc.service_prefix,
         heartbeat_ms = config.health.period().as_millis(),

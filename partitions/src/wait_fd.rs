@@ -27,6 +27,13 @@ impl FileDescriptorBased for SocketFd {
 
 impl SynchronousMultiplexing for SocketFd {}
 
+impl SocketFd {
+    /// The attachment of `socket`'s descriptor (`None` when it has none).
+    pub fn of(socket: &impl AsRawFd) -> Option<Self> {
+        FileDescriptor::non_owning_new(socket.as_raw_fd()).map(Self)
+    }
+}
+
 /// The WaitSet attachments of the direct and the LTE socket of `links`.
 pub fn attachments(links: &LinkPair) -> Result<[SocketFd; 2], LinkError> {
     let [direct, lte] = links.sockets();
