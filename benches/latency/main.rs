@@ -63,11 +63,11 @@
 //!     data handling's loop with its default idle strategy, as in `partition-sparse`. Only at
 //!     the STANAG frame's size. The sender's columns (preemptions, CPU) are the bench
 //!     process's, which only waits for the C process: the C process's CPU counts as others'.
-//! 11. `partition-unrung-sparse`: `partition-sparse` with a sender that rings no doorbell, as a
-//!     partition in Python or a program on iceoryx2's own bindings publishes: its configuration
-//!     has mission data handling in the WaitSet, so it notifies the uplink's event with event
-//!     ID 0 alone, and the receiver (the defaults: on its doorbell) hears it through its
-//!     doorbell's forwarder (`doorbell`), one wake-up more.
+//! 11. `partition-unrung-sparse`: `partition-doorbell-sparse` with a sender that rings no
+//!     doorbell, as a partition in Python or a program on iceoryx2's own bindings publishes:
+//!     its configuration has mission data handling in the WaitSet, so it notifies the uplink's
+//!     event with event ID 0 alone, and the receiver, on its doorbell, hears it through the
+//!     doorbell's forwarder (`doorbell`), one thread wake-up more.
 //!
 //! `--only T,T,...` runs only the named transports, `--sizes N,N` only the named payload sizes
 //! (for example `--only partition,uds --sizes 548`). After each table the ratios of p50 that
@@ -312,7 +312,9 @@ impl Transport {
                 spin_us: DEFAULT_SPIN_US,
                 yield_us: 0,
             }),
-            Self::PartitionDoorbell | Self::PartitionDoorbellSparse => Some(Idle {
+            Self::PartitionDoorbell
+            | Self::PartitionDoorbellSparse
+            | Self::PartitionUnrungSparse => Some(Idle {
                 mode: IdleMode::Doorbell,
                 spin_us: 0,
                 yield_us: 0,

@@ -5,8 +5,8 @@
 //! iceoryx2's own C bindings for 0.10 are not on crates.io, so this crate builds a shared and a
 //! static library of its own over the Rust partitions' IPC (`missionlink_partitions::ipc` and the
 //! heartbeat), with the defaults of `[ipc]`: a C partition opens each service with the same QoS,
-//! notifies its consumers and rings their doorbells as a Rust one does, and sleeps in an
-//! iceoryx2 WaitSet on the events of the services it subscribes to (docs/wait-path.md). The API is in clib/include/missionlink.h (kept by hand
+//! notifies its consumers as a Rust one does, and sleeps in an iceoryx2 WaitSet on the events of
+//! the services it subscribes to, as a Rust partition does by default (docs/wait-path.md). The API is in clib/include/missionlink.h (kept by hand
 //! beside interfaces/c/missionlink_contracts.h, whose payload structs it takes).
 //!
 //! Every function returns a status code (`status`) and never lets a panic cross into C; every
@@ -55,9 +55,9 @@ impl CPartition {
         period: Duration,
     ) -> Result<Self, Failure> {
         quiet_iceoryx2_log();
-        // The defaults of `[ipc]` under the caller's prefix: a C partition rings the doorbells
-        // of the consumers that wait on theirs by default, as a Rust one does
-        // (`doorbell::waits`).
+        // The defaults of `[ipc]` under the caller's prefix: no partition waits on a doorbell,
+        // so a C partition opens none and rings none (`doorbell::waits`); a Rust partition
+        // configured for its doorbell hears it through the doorbell's forwarder.
         let settings = config::Ipc::with_prefix(prefix);
         let ipc = Ipc::<ipc::Service>::open(name, &settings).map_err(|e| {
             // A node name iceoryx2 refuses is the caller's argument, not a refusal of the

@@ -14,8 +14,8 @@
 //! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
 //!
 //! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
-//! mode = "backoff"                # block: sleep in the WaitSet at once; backoff: spin, yield,
-//!                                 # then sleep in the WaitSet; doorbell (the others' default):
+//! mode = "backoff"                # block (the others' default): sleep in the WaitSet at once;
+//!                                 # backoff: spin, yield, then sleep in the WaitSet; doorbell:
 //!                                 # spin, yield, then sleep on the partition's semaphore
 //!                                 # (`IdleMode::Doorbell`)
 //! spin_us = 200                   # spin this long after the last work (others' default: 0)
@@ -115,6 +115,7 @@ pub enum IdleMode {
     /// Sleep in the WaitSet at once: the wake-up of every frame costs the event's system calls
     /// and the kernel waking the thread (a Unix datagram and an epoll round with iceoryx2's
     /// default event).
+    #[default]
     Block,
     /// Look at the inputs in a loop for `spin_us`, then yield the CPU between looks for
     /// `yield_us`, then sleep in the WaitSet as `Block` does (Aeron's BackoffIdleStrategy). A
@@ -126,12 +127,11 @@ pub enum IdleMode {
     /// deadline and a forwarder thread that rings it for a publisher that does not (a partition
     /// in Python, a program on iceoryx2's own bindings): `doorbell`. A partition that also
     /// waits for sockets (voting-monitoring) cannot: it sleeps in the WaitSet as `backoff`.
-    #[default]
     Doorbell,
 }
 
 /// The idle strategy of one partition (`[ipc.idle.<partition>]`); a field left out takes the
-/// value of [`Idle::default`] (`doorbell`, no spin). The defaults of the partitions
+/// value of [`Idle::default`] (`block`, no spin). The defaults of the partitions
 /// ([`PartitionDefault`] of `Idle`) were chosen by measurement on the 2-vCPU development machine
 /// (docs/wait-path.md, BENCHMARKS.md section 1):
 ///
@@ -139,11 +139,12 @@ pub enum IdleMode {
 ///   cannot use the doorbell; mission data handling's answer to an uplink frame comes within the
 ///   spin, and so does the GCS's next frame of a transfer over loopback. Idle, it spins about
 ///   200 µs per wake-up (heartbeat and timers): 0.6 % of a CPU measured.
-/// - mission-data-handling, system-automation, guidance-stub: `doorbell`, no spin. A futex
-///   wake-up is the cheapest there is (a cold one as fast as a Unix socket's, the WaitSet's
-///   some microseconds slower), and the forwarder hears a publisher that does not ring at the
-///   cost of one more wake-up. On two CPUs a second partition spinning takes the CPU the GCS
-///   and the other partitions need, so they do not spin.
+/// - mission-data-handling, system-automation, guidance-stub: `block`. It hears every publisher
+///   alike (a partition in Python or C as soon as a Rust one); at the sparse pace the doorbell
+///   was no faster for a ringing publisher within the spread of the runs and 1.4-1.7x the Unix
+///   socket for one that does not ring (one wake-up of its forwarder more), and it costs two
+///   threads and a second wake-up per frame. On two CPUs a second partition spinning takes the
+///   CPU the GCS and the other partitions need, so they do not spin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Idle {
@@ -162,7 +163,7 @@ pub const DEFAULT_SPIN_US: u64 = 200;
 
 impl Default for Idle {
     fn default() -> Self {
-        Self::DOORBELL
+        Self::BLOCK
     }
 }
 
@@ -174,14 +175,14 @@ impl Idle {
         yield_us: 0,
     };
 
-    /// The others' default: sleep on the doorbell at once.
+    /// Sleeping on the doorbell at once.
     pub const DOORBELL: Self = Self {
         mode: IdleMode::Doorbell,
         spin_us: 0,
         yield_us: 0,
     };
 
-    /// Sleeping in the WaitSet at once.
+    /// Sleeping in the WaitSet at once: the others' default.
     pub const BLOCK: Self = Self {
         mode: IdleMode::Block,
         spin_us: 0,
@@ -199,13 +200,13 @@ impl Idle {
     }
 }
 
-/// The defaults of [`Idle`]'s documentation: voting-monitoring spins, the others sleep on their
-/// doorbells at once.
+/// The defaults of [`Idle`]'s documentation: voting-monitoring spins, the others sleep in the
+/// WaitSet at once.
 impl PartitionDefault for Idle {
     fn default_for(partition: Partition) -> Self {
         match partition {
             Partition::VotingMonitoring => Self::VOTING_MONITORING,
-            _ => Self::DOORBELL,
+            _ => Self::BLOCK,
         }
     }
 }
@@ -634,7 +635,7 @@ mod tests {
     }
 
     #[test]
-    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_doorbell() {
+    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_waitset() {
         let c = Config::parse(
             "[ipc.idle.voting-monitoring]\nmode = \"block\"\n\
              [ipc.idle.guidance-stub]\nmode = \"backoff\"\nspin_us = 50\nyield_us = 20\n",
@@ -651,7 +652,7 @@ mod tests {
         assert_eq!(guidance.yield_for(), Duration::from_micros(20));
         let mdh = c.ipc.idle[Partition::MissionDataHandling];
         assert_eq!(mdh, Idle::default());
-        assert_eq!(mdh.mode, IdleMode::Doorbell);
+        assert_eq!(mdh.mode, IdleMode::Block);
         assert_eq!(mdh.spin_us, 0);
         let defaults = Config::default();
         assert_eq!(

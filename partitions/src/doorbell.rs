@@ -27,8 +27,8 @@
 //! before (a test, the launcher, a WaitSet elsewhere may sleep on them); the steps drain them.
 //!
 //! [`waits`] is the one rule that says which partitions wait on their doorbells under a
-//! configuration (by default every partition but voting-monitoring, which waits for its
-//! sockets: `config::Idle`); the runtime (which doorbell a loop waits on) and `ipc::Ipc::open`
+//! configuration (none by default: `config::Idle`; voting-monitoring never, it waits for its
+//! sockets); the runtime (which doorbell a loop waits on) and `ipc::Ipc::open`
 //! (which doorbells its publishers ring) both ask it. A process under a configuration where no
 //! partition waits on one opens no doorbell service, and its publishers ring nothing.
 //!
@@ -629,15 +629,11 @@ mod tests {
         );
     }
 
-    /// By default every partition but voting-monitoring (its sockets) waits on its doorbell; a
-    /// configuration without one opens none and rings none.
+    /// By default no partition waits on its doorbell: no process opens one or rings one. Where
+    /// configured, every partition but voting-monitoring (its sockets) can.
     #[test]
     fn only_a_partition_configured_for_the_doorbell_waits_on_it() {
         let mut ipc = config::Ipc::default();
-        for p in Partition::ALL {
-            assert_eq!(waits(&ipc, p), p != Partition::VotingMonitoring, "{p:?}");
-        }
-        ipc.idle = PerPartition::all(config::Idle::BLOCK);
         assert!(Partition::ALL.iter().all(|p| !waits(&ipc, *p)));
         assert!(Doorbells::of("doorbell-none", &ipc).unwrap().is_none());
         ipc.idle = PerPartition::all(config::Idle::DOORBELL);
@@ -660,12 +656,10 @@ mod tests {
         let frame =
             FramePayload::new(missionlink_interfaces::contracts::Link::Direct, &[1], 0).unwrap();
 
-        // Rings nothing: its configuration has every partition in the WaitSet.
-        let plain = config::Ipc {
-            idle: PerPartition::all(config::Idle::BLOCK),
-            ..config::Ipc::with_prefix(&prefix)
-        };
-        let foreign = Ipc::<ipc::Service>::open("doorbell-foreign", &plain).unwrap();
+        // Rings nothing: its configuration (the defaults) has every partition in the WaitSet.
+        let foreign =
+            Ipc::<ipc::Service>::open("doorbell-foreign", &config::Ipc::with_prefix(&prefix))
+                .unwrap();
         let foreign = foreign
             .publisher::<FramePayload>(FccService::Uplink)
             .unwrap();

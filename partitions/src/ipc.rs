@@ -362,8 +362,8 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
     /// doorbells of the partitions that consume the service (`doorbell::consumers`) and wait on
-    /// them (by default every consumer but voting-monitoring), then notifies the service's own
-    /// event: what every partition does.
+    /// them (none by default), then notifies the service's own event: what every partition
+    /// does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
         self.ringers.ring()?;
@@ -561,25 +561,25 @@ mod tests {
         assert_eq!(numbers, [(1, 2), (2, 0)]);
     }
 
-    /// Where no partition waits on its doorbell, a process opens no doorbell node and its
-    /// publishers ring nothing; under the defaults the uplink's publisher rings mission data
-    /// handling's and says so in its event ID.
+    /// Under the defaults no partition waits on its doorbell: a process opens no doorbell node
+    /// and its publishers ring nothing; where mission data handling waits on its doorbell, the
+    /// uplink's publisher rings it and says so in its event ID.
     #[test]
-    fn a_configuration_without_doorbells_opens_none() {
+    fn the_default_configuration_opens_no_doorbell() {
         let prefix = format!("ipc-test-quiet-{}", std::process::id());
-        let quiet = config::Ipc {
-            idle: crate::config::PerPartition::all(config::Idle::BLOCK),
-            ..config::Ipc::with_prefix(&prefix)
-        };
-        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &quiet).unwrap();
+        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &config::Ipc::with_prefix(&prefix))
+            .unwrap();
         assert!(ipc.doorbells.is_none());
         assert!(ipc.doorbell(Partition::MissionDataHandling).is_err());
         let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
         assert!(uplink.ringers.is_empty());
         assert_eq!(uplink.ringers.event_id().as_value(), 0);
 
-        let ipc = Ipc::<local::Service>::open("ipc-test-rings", &config::Ipc::with_prefix(&prefix))
-            .unwrap();
+        let on_doorbells = config::Ipc {
+            idle: crate::config::PerPartition::all(config::Idle::DOORBELL),
+            ..config::Ipc::with_prefix(&prefix)
+        };
+        let ipc = Ipc::<local::Service>::open("ipc-test-rings", &on_doorbells).unwrap();
         let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
         assert!(!uplink.ringers.is_empty());
         assert_ne!(uplink.ringers.event_id().as_value(), 0);
