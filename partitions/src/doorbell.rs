@@ -53,7 +53,6 @@ use iceoryx2_cal::{
 use missionlink_interfaces::contracts::{FccService, Partition};
 
 use crate::config::{self, IdleMode, PerPartition};
-use crate::ipc::Ipc;
 use crate::wait_fd::SocketFd;
 
 /// Something iceoryx2 refused about a doorbell, with what was being done.
@@ -149,8 +148,6 @@ fn err(what: impl std::fmt::Display, e: impl Debug) -> DoorbellError {
 #[derive(Debug)]
 pub struct Doorbells {
     node: Node<DoorbellService>,
-    /// The process's node name, which its forwarders' nodes are named after.
-    name: String,
     prefix: String,
     /// The partitions that wait on their doorbells ([`waits`]): only theirs are rung.
     waiting: PerPartition<bool>,
@@ -182,7 +179,6 @@ impl Doorbells {
         node.try_cleanup_dead_nodes();
         Ok(Self {
             node,
-            name: name.to_owned(),
             prefix: prefix.to_owned(),
             waiting,
         })
@@ -250,8 +246,6 @@ impl Doorbells {
         Ok(Doorbell {
             listener,
             role,
-            name: self.name.clone(),
-            prefix: self.prefix.clone(),
             unstarted: Some(Unstarted {
                 timer_ring: notifier()?,
                 forward_ring: notifier()?,
@@ -351,9 +345,6 @@ impl Timer {
 pub struct Doorbell {
     listener: Listener<DoorbellService>,
     role: Partition,
-    /// The process's node name and the service prefix, for the forwarder's node.
-    name: String,
-    prefix: String,
     /// What the threads take when they start, opened with the listener before the fence.
     unstarted: Option<Unstarted>,
     timer: Arc<Timer>,
@@ -379,12 +370,15 @@ struct Threads {
 impl Doorbell {
     /// Starts the timer and the forwarder (once; again does nothing). A fence wants the only
     /// thread of the process (`isolation`), so the loop calls this after its fence: the
-    /// forwarder opens its node and its listeners of the data services' type `S` then, within
-    /// the fence's allowances. Returns once the forwarder listens, or with what it could not
-    /// open.
-    pub fn start<S: Service>(&mut self) -> Result<(), DoorbellError>
+    /// forwarder calls `open` on its thread then, within the fence's allowances, for its
+    /// listeners of the data services' type `S` (one per service in [`consumed_by`]) and what
+    /// keeps them open (`ipc::Ipc::forwarder_listeners`). Returns once the forwarder listens,
+    /// or with what it could not open.
+    pub fn start<S, K, O>(&mut self, open: O) -> Result<(), DoorbellError>
     where
+        S: Service,
         Listener<S>: SynchronousMultiplexing,
+        O: FnOnce() -> Result<(K, Vec<Listener<S>>), DoorbellError> + Send + 'static,
     {
         let Some(Unstarted {
             timer_ring,
@@ -394,13 +388,7 @@ impl Doorbell {
         else {
             return Ok(());
         };
-        let forwarder = Forwarder::start::<S>(
-            format!("{}-forwarder", self.name),
-            self.prefix.clone(),
-            self.role,
-            forward_ring,
-            end,
-        )?;
+        let forwarder = Forwarder::start(open, self.role, forward_ring, end)?;
         let timer = Arc::clone(&self.timer);
         let timer = std::thread::Builder::new()
             .name("doorbell-timer".to_owned())
@@ -467,17 +455,19 @@ struct Forwarder {
 }
 
 impl Forwarder {
-    /// Starts the forwarder of `role`'s doorbell, ringing through `ring`, on a node `name`
-    /// under `prefix`, ended through the socket pair `(wake, woken)`; returns once it listens.
-    fn start<S: Service>(
-        name: String,
-        prefix: String,
+    /// Starts the forwarder of `role`'s doorbell on the listeners `open` gives on its thread,
+    /// ringing through `ring`, ended through the socket pair `(wake, woken)`; returns once it
+    /// listens.
+    fn start<S, K, O>(
+        open: O,
         role: Partition,
         ring: Notifier<DoorbellService>,
         (wake, woken): (UnixDatagram, UnixDatagram),
     ) -> Result<Self, DoorbellError>
     where
+        S: Service,
         Listener<S>: SynchronousMultiplexing,
+        O: FnOnce() -> Result<(K, Vec<Listener<S>>), DoorbellError> + Send + 'static,
     {
         let stop = Arc::new(AtomicBool::new(false));
         let stopped = Arc::clone(&stop);
@@ -486,16 +476,10 @@ impl Forwarder {
             .name("doorbell-forward".to_owned())
             .spawn(move || {
                 // The ports of `S` are the thread's own (they need not be `Send`).
-                let opened = Ipc::<S>::without_doorbells(&name, &prefix).and_then(|ipc| {
-                    let listeners = consumed_by(role)
-                        .map(|service| ipc.listener(service))
-                        .collect::<Result<Vec<_>, _>>()?;
-                    Ok((ipc, listeners))
-                });
-                let (_ipc, listeners) = match opened {
+                let (_keep, listeners) = match open() {
                     Ok(opened) => opened,
                     Err(e) => {
-                        let _ = listening.send(Err(DoorbellError(e.0)));
+                        let _ = listening.send(Err(e));
                         return;
                     }
                 };
@@ -578,7 +562,30 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ipc::Ipc;
     use missionlink_interfaces::contracts::FramePayload;
+
+    /// What the runtime gives a doorbell of mission data handling under `prefix`.
+    fn forwarder_of<S: Service>(
+        prefix: &str,
+    ) -> impl FnOnce() -> Result<(Ipc<S>, Vec<Listener<S>>), DoorbellError> + Send + 'static {
+        Ipc::<S>::forwarder_listeners(
+            "doorbell-test-forwarder".to_owned(),
+            prefix.to_owned(),
+            Partition::MissionDataHandling,
+        )
+    }
+
+    /// Waits on `doorbell` with a timer far away: a ring must end the wait long before it.
+    fn wait_is_rung(doorbell: &Doorbell) {
+        let start = Instant::now();
+        doorbell.wait(Duration::from_secs(5)).unwrap();
+        assert!(
+            start.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            start.elapsed()
+        );
+    }
 
     #[test]
     fn a_publisher_of_a_consumed_service_rings_and_the_timer_rings_at_the_deadline() {
@@ -589,32 +596,22 @@ mod tests {
             doorbell.wait(Duration::ZERO).is_err(),
             "no wait before the threads run"
         );
-        doorbell.start::<ipc::Service>().unwrap();
+        doorbell
+            .start(forwarder_of::<ipc::Service>(&prefix))
+            .unwrap();
         let uplink = bells.ringers(FccService::Uplink).unwrap();
         let downlink = bells.ringers(FccService::Downlink).unwrap();
 
         // A ring before the wait is kept: the wait returns at once, long before its timer.
         uplink.ring().unwrap();
-        let start = Instant::now();
-        doorbell.wait(Duration::from_secs(5)).unwrap();
-        assert!(
-            start.elapsed() < Duration::from_secs(1),
-            "{:?}",
-            start.elapsed()
-        );
+        wait_is_rung(&doorbell);
 
         // A ring from another thread wakes the wait.
         let ringer = std::thread::spawn(move || {
             std::thread::sleep(Duration::from_millis(20));
             uplink.ring().unwrap();
         });
-        let start = Instant::now();
-        doorbell.wait(Duration::from_secs(5)).unwrap();
-        assert!(
-            start.elapsed() < Duration::from_secs(1),
-            "{:?}",
-            start.elapsed()
-        );
+        wait_is_rung(&doorbell);
         ringer.join().unwrap();
 
         // The downlink feeds voting-monitoring, not this doorbell: only the timer ends the
@@ -652,7 +649,9 @@ mod tests {
         let prefix = format!("doorbell-test-forward-{}", std::process::id());
         let bells = Doorbells::open("doorbell-forward", &prefix, PerPartition::all(true)).unwrap();
         let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
-        doorbell.start::<ipc::Service>().unwrap();
+        doorbell
+            .start(forwarder_of::<ipc::Service>(&prefix))
+            .unwrap();
         let frame =
             FramePayload::new(missionlink_interfaces::contracts::Link::Direct, &[1], 0).unwrap();
 
@@ -664,13 +663,7 @@ mod tests {
             .publisher::<FramePayload>(FccService::Uplink)
             .unwrap();
         foreign.send(&frame).unwrap();
-        let start = Instant::now();
-        doorbell.wait(Duration::from_secs(5)).unwrap();
-        assert!(
-            start.elapsed() < Duration::from_secs(1),
-            "{:?}",
-            start.elapsed()
-        );
+        wait_is_rung(&doorbell);
 
         // Rings the doorbell itself: the wait returns at once for its ring, and after the
         // forwarder has seen its notification nothing else is pending: the next wait ends at

@@ -31,6 +31,12 @@ impl From<DoorbellError> for IpcError {
     }
 }
 
+impl From<IpcError> for DoorbellError {
+    fn from(e: IpcError) -> Self {
+        Self(e.0)
+    }
+}
+
 fn err(what: impl std::fmt::Display, e: impl Debug) -> IpcError {
     IpcError(format!("{what}: {e:?}"))
 }
@@ -177,6 +183,23 @@ impl<S: Service> Ipc<S> {
                 .unwrap_or_default(),
             notifier,
         })
+    }
+
+    /// What a doorbell's forwarder opens on its own thread (`doorbell::Doorbell::start`): a
+    /// node `name` under `prefix` and a listener of the event of every service `role` consumes
+    /// (`doorbell::consumed_by`).
+    pub fn forwarder_listeners(
+        name: String,
+        prefix: String,
+        role: Partition,
+    ) -> impl FnOnce() -> Result<(Self, Vec<Listener<S>>), DoorbellError> + Send + 'static {
+        move || {
+            let ipc = Self::without_doorbells(&name, &prefix)?;
+            let listeners = crate::doorbell::consumed_by(role)
+                .map(|service| ipc.listener(service))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok((ipc, listeners))
+        }
     }
 
     /// A listener of `service`'s event alone, without a subscriber (a doorbell's forwarder).

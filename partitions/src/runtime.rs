@@ -573,7 +573,12 @@ where
     control.fence.apply()?;
     // The doorbell's threads after the fence, which wants the only thread.
     if let Waiter::Doorbell { doorbell, .. } = &mut waiter {
-        doorbell.start::<S>().map_err(IpcError::from)?;
+        let open = Ipc::<S>::forwarder_listeners(
+            format!("{name}-forwarder"),
+            config.ipc.service_prefix.clone(),
+            partition,
+        );
+        doorbell.start(open).map_err(IpcError::from)?;
     }
     tracing::info!(
         prefix = %config.ipc.service_prefix,
