@@ -4,7 +4,7 @@
 //! `satcom`, `satcom-narrow`, `bad`; the rates of `lte`, `satcom` and `satcom-narrow` limit
 //! what the links carry). Each case is uploaded (the paper's sequence, clear first) over
 //! another demo mission, so that both lists change, and downloaded, stop-and-wait (window 1,
-//! ICD §5) against windowed (window 32, ICD §10), in the same run. Reports per profile, case
+//! ICD §5) against windowed (window 128, ICD §10), in the same run. Reports per profile, case
 //! and window: the median and p99 of the upload and the download, the completion rate, the
 //! ratio of the windowed median to stop-and-wait's, the ratio to n x RTT (messages up times the
 //! profile's round trip, what any stop-and-wait protocol needs), and beside each median the
@@ -13,9 +13,12 @@
 //! ```sh
 //! cargo bench --bench links                                   # every profile, 10 runs
 //! cargo bench --bench links -- --profiles lte,satcom --runs 5 --cases 1,256
-//! cargo bench --bench links -- --profiles satcom-narrow --cases 1 --windows 1,32
-//! cargo bench --bench links -- --profiles bad --cases 2 --windows 32 --runs 200 --attempts 1,2
+//! cargo bench --bench links -- --profiles satcom-narrow --cases 1 --windows 1,128
+//! cargo bench --bench links -- --profiles bad --cases 2 --windows 128 --runs 200 --attempts 1,2
+//! cargo bench --bench links -- --profiles satcom --cases 256 --runs 1 --trace  # every message
 //! ```
+//!
+//! `--trace` prints every message of each measured upload with its time (stderr).
 //!
 //! `--attempts` names how often the GCS may attempt each upload in all (`[timing]
 //! upload_attempts`, default 2): `1,2` measures one attempt against the default in one run.
@@ -50,11 +53,13 @@
 //! the transfer needs.
 //!
 //! The ack timeout is set per profile above its round trip and the queue a window can build
-//! (ICD §1 lets every peer change it): the larger of 500 ms and 2.5 round trips, plus the time
-//! the largest window measured takes at the profile's slowest rate in frames of the largest
-//! signed size (564 bytes): 500 ms on lan and bad, 528 ms on lte, 3756 ms on satcom, 63 910 ms
-//! on satcom-narrow with windows up to 32. Results: `target/links/results.json`, and the plot
-//! of the upload medians `target/links/links.svg`.
+//! (ICD §1 lets every peer change it): the larger of 500 ms and 2.5 round trips, plus the
+//! longest queue of frames of the largest signed size (564 bytes) at a rate: toward the FCC the
+//! largest window measured, but at most two round trips' worth and a frame (what the GCS keeps
+//! in flight, ICD §10.3, §10.4), toward the GCS the download's window (at most 32). With windows
+//! up to 128: 500 ms on lan and bad, 615 ms on lte, 2770 ms on satcom, 63 910 ms on
+//! satcom-narrow (its download window of 32 frames takes 60 s at 2.4 kbit/s). Results:
+//! `target/links/results.json`, and the plot of the upload medians `target/links/links.svg`.
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::panic, clippy::indexing_slicing)]
@@ -71,7 +76,7 @@ use missionlink_interfaces::wire::{MAX_SIGNED_FRAME_LEN, TransferWindow};
 use missionlink_protocol::testkit;
 
 /// Stop-and-wait and the default window, unless `--windows` names others.
-const WINDOWS: [u8; 2] = [1, 32];
+const WINDOWS: [u8; 2] = [1, 128];
 
 #[derive(Clone)]
 struct Case {
@@ -172,18 +177,27 @@ fn rtt(profile: Profile) -> Duration {
 }
 
 /// The ack timeout on `profile` for windows up to `window` (the bench's doc): above the round
-/// trip, and above the wait of the last frame of a full window of the largest frames behind
-/// the others in the queue of the slowest rate.
+/// trip, and above the wait of the last frame behind the queue the transfers can build at the
+/// slowest rate: toward the FCC, the GCS keeps at most what the link carries in a round trip
+/// in flight per transfer (ICD §10.4), two transfers at once (ICD §10.3), so at most two round
+/// trips' worth and one more frame, when the window holds that much; toward the GCS, the FCC's
+/// download keeps its window (at most 32, ICD §10.2) of the largest frames.
 fn ack_timeout(profile: Profile, window: u8) -> Duration {
     let above_round_trip = Duration::from_millis(500).max(rtt(profile) * 5 / 2);
-    let queue = profile
-        .flows()
-        .iter()
-        .filter_map(|flow| flow.bandwidth)
-        .map(|b| b.serialisation(u64::from(window) * MAX_SIGNED_FRAME_LEN as u64))
-        .max()
-        .unwrap_or_default();
-    above_round_trip + queue
+    let frame = MAX_SIGNED_FRAME_LEN as u64;
+    let window_bytes = u64::from(window) * frame;
+    let up = profile.up().bandwidth.map(|b| {
+        let round_trip_bytes = u64::try_from(
+            u128::from(b.bits_per_second()) * rtt(profile).as_nanos() / 8_000_000_000,
+        )
+        .unwrap_or(u64::MAX);
+        b.serialisation(window_bytes.min(2 * round_trip_bytes + frame))
+    });
+    let down = profile
+        .down()
+        .bandwidth
+        .map(|b| b.serialisation(u64::from(window.min(TransferWindow::MAX)) * frame));
+    above_round_trip + up.into_iter().chain(down).max().unwrap_or_default()
 }
 
 fn cases(sizes: &[u16]) -> Vec<Case> {
@@ -213,6 +227,7 @@ fn measure(
     attempts: &[u8],
     runs: usize,
     seed: u64,
+    trace: bool,
 ) -> Vec<Row> {
     let mut rig = harness::Rig::new(&format!("bench-links-{}", profile.name()));
     let widest = windows.iter().copied().max().unwrap_or(1);
@@ -243,8 +258,7 @@ fn measure(
             .iter()
             .flat_map(|w| attempts.iter().map(move |a| (w, a)))
         {
-            link.station()
-                .set_transfer_window(TransferWindow::new(window).unwrap());
+            link.station().set_transfer_window(window);
             link.station().set_upload_attempts(attempts);
             // The GCS knows the uplink's rate: its window keeps in flight what the link
             // carries in a round trip (ICD §10.4).
@@ -291,6 +305,16 @@ fn measure(
                     .and_then(|()| harness::finish(&mut link));
                 let took = start.elapsed();
                 let carried = counters(&emulator).since(before);
+                if trace {
+                    for l in &link.log {
+                        eprintln!(
+                            "trace {run} {:9.1} ms {:?} {:?}",
+                            l.at.as_secs_f64() * 1e3,
+                            l.direction,
+                            l.message
+                        );
+                    }
+                }
                 match up {
                     Ok(Finished::Uploaded(r)) if r.is_complete() => {
                         row.upload_ms.push(took.as_secs_f64() * 1e3);
@@ -405,6 +429,7 @@ fn main() {
                 .collect()
         })
         .unwrap_or_else(|| vec![2]);
+    let trace = args.iter().any(|a| a == "--trace");
 
     let mut rows = Vec::new();
     for (i, profile) in profiles.iter().enumerate() {
@@ -415,6 +440,7 @@ fn main() {
             &attempts,
             runs,
             15 + i as u64,
+            trace,
         ));
     }
 

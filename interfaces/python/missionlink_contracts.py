@@ -80,7 +80,7 @@ class Service(NamedTuple):
         return f"{prefix.rstrip('/')}/{self.path}"
 
 
-_QUEUE = Qos(0, 64, 2, 4, False)
+_QUEUE = Qos(0, 256, 2, 4, False)
 _STATE = Qos(1, 1, 2, 8, True)
 
 #: Voted uplink frames (FramePayload), voting-monitoring to mission-data-handling.

@@ -261,11 +261,12 @@ impl FccService {
     /// The QoS of the service.
     pub const fn qos(self) -> Qos {
         match self {
-            // Frame queues: deep enough for a whole mission transfer in flight (one frame per
-            // ack round trip, both links), never overwritten.
+            // Frame queues: deep enough for a whole window of data messages in flight and
+            // their answers (ICD §10.2: 128 toward this project's FCC), twice over, never
+            // overwritten.
             Self::Uplink | Self::Downlink | Self::AutomationCommand => Qos {
                 history_size: 0,
-                subscriber_max_buffer_size: 64,
+                subscriber_max_buffer_size: 256,
                 max_publishers: 2,
                 max_subscribers: 4,
                 safe_overflow: false,

@@ -20,7 +20,7 @@
 //! [timing]
 //! ack_timeout_ms = 500
 //! transfer_timeout_ms = 3000
-//! transfer_window = 32            # data messages in flight toward an edition-2 FCC (ICD §10);
+//! transfer_window = 128           # data messages in flight toward an edition-2 FCC (ICD §10);
 //!                                 # 1: every message stop-and-wait (no §10.3)
 //! upload_attempts = 2             # a GCS upload that failed with the lists as they were, again
 //! uplink_rate_bps = 0             # the link's rate toward the FCC, bit/s, if known (0: not
@@ -40,8 +40,9 @@ use std::time::Duration;
 
 use clap::Args;
 use missionlink_interfaces::defaults;
-use missionlink_interfaces::wire::{Timestamp, TransferWindow};
+use missionlink_interfaces::wire::Timestamp;
 use missionlink_protocol::link::endpoint::EndpointConfig;
+use missionlink_protocol::transfer::window::MAX_WINDOW;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -124,8 +125,10 @@ pub struct Timing {
     pub ack_timeout_ms: u64,
     /// How long a receiver in a transfer waits for its peer.
     pub transfer_timeout_ms: u64,
-    /// Data messages the GCS keeps in flight toward an edition-2 FCC, 1..=32 (ICD §10.2): its
-    /// uploads' window and the one its download requests ask for. Toward edition 1 it is 1.
+    /// Data messages the GCS keeps in flight toward an edition-2 FCC, 1..=128 (ICD §10.2): its
+    /// uploads' window, and the one its download requests ask for up to the 32 their field
+    /// holds. Toward edition 1 it is 1. Toward an FCC built from the shared contract alone,
+    /// whose receivers accept 32, at most 32 (ICD §13).
     /// Above 1 the GCS also sends what ICD §10.3 allows without waiting, and sizes its window
     /// to the link at or below this (ICD §10.4); 1 keeps every message stop-and-wait.
     pub transfer_window: u8,
@@ -145,7 +148,7 @@ impl Default for Timing {
         Self {
             ack_timeout_ms: defaults::ACK_TIMEOUT.as_millis() as u64,
             transfer_timeout_ms: defaults::TRANSFER_TIMEOUT.as_millis() as u64,
-            transfer_window: TransferWindow::MAX,
+            transfer_window: MAX_WINDOW as u8,
             upload_attempts: 2,
             uplink_rate_bps: 0,
         }
@@ -166,12 +169,9 @@ impl Timing {
         (self.uplink_rate_bps > 0).then_some(self.uplink_rate_bps)
     }
 
-    /// The transfer window, clamped to 1..=32.
-    pub fn transfer_window(&self) -> TransferWindow {
-        let w = self
-            .transfer_window
-            .clamp(TransferWindow::MIN, TransferWindow::MAX);
-        TransferWindow::new(w).unwrap_or_default()
+    /// The transfer window, clamped to 1..=128.
+    pub fn transfer_window(&self) -> u8 {
+        self.transfer_window.clamp(1, MAX_WINDOW as u8)
     }
 }
 

@@ -20,7 +20,7 @@ pub fn gcs_config() -> GcsConfig {
         transfer_timeout: defaults::TRANSFER_TIMEOUT,
         // Stop-and-wait, so that the sequence tests see ICD §5 message by message; the
         // windowed tests set their window.
-        transfer_window: missionlink_interfaces::wire::TransferWindow::ONE,
+        transfer_window: 1,
         // One attempt, so that a test of a failure sees it; the tests of attempts set theirs.
         upload_attempts: 1,
     }

@@ -635,9 +635,9 @@ mod tests {
 
     #[test]
     fn a_copy_below_what_sampling_forgot_is_stale() {
-        use crate::link::sampling::RECENT_STAMPS;
+        use crate::link::sampling::HORIZON_MS;
         let mut v = fcc();
-        for i in 0..RECENT_STAMPS as u64 + 1 {
+        for i in [0, HORIZON_MS] {
             let m = uplink(1000 + i);
             assert_eq!(
                 step(&mut v, Instant::from_millis(1), &[(Link::Direct, &m)]).len(),

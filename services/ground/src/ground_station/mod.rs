@@ -163,11 +163,12 @@ pub struct GcsConfig {
     pub ack_timeout: Duration,
     /// How long a download waits for the FCC before it is abandoned (ICD §1: 3 s).
     pub transfer_timeout: Duration,
-    /// Data messages in flight toward an edition-2 FCC (ICD §10.2): the uploads' window and
-    /// the one download requests ask for. Toward edition 1 it is always 1. The uploads keep at
-    /// or below it by the window sized to the link (ICD §10.4); above 1 the GCS sends what ICD
-    /// §10.3 allows without waiting.
-    pub transfer_window: TransferWindow,
+    /// Data messages in flight toward an edition-2 FCC (ICD §10.2), 1 to
+    /// [`MAX_WINDOW`](missionlink_protocol::transfer::window::MAX_WINDOW): the uploads' window,
+    /// and the one download requests ask for up to the 32 their field holds. Toward edition 1
+    /// it is always 1. The uploads keep at or below it by the window sized to the link (ICD
+    /// §10.4); above 1 the GCS sends what ICD §10.3 allows without waiting.
+    pub transfer_window: u8,
     /// How often an upload is attempted in all, at least 1: a failed attempt that left the
     /// lists as they were, for a cause that may pass (no answer, `Busy`, `WrongState`), is
     /// begun again (the upload module, `attempt_again`).
@@ -360,7 +361,7 @@ impl<G: SafetyGateway> GroundStation<G> {
             state: State::Standby,
             sender: None,
             behind: None,
-            window: Window::adaptive(usize::from(config.transfer_window.get()), None),
+            window: Window::adaptive(usize::from(config.transfer_window), None),
             held_report: None,
             upload: None,
             edition: None,
@@ -389,7 +390,7 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// The window of the transfers started from now on (ICD §10.2; toward an edition-2 FCC):
     /// the most the window sized to the link may reach (ICD §10.4).
-    pub fn set_transfer_window(&mut self, window: TransferWindow) {
+    pub fn set_transfer_window(&mut self, window: u8) {
         self.config.transfer_window = window;
     }
 
@@ -408,7 +409,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// FCC with a window above 1 (a window of 1 keeps every message stop-and-wait, and every
     /// upload starting with the report).
     fn pipelining(&self) -> bool {
-        self.edition == Some(Edition::Two) && self.config.transfer_window.get() > 1
+        self.edition == Some(Edition::Two) && self.config.transfer_window > 1
     }
 
     /// The FCC's report the GCS holds, if it is fresh (ICD §10.3): received or brought up to
@@ -514,10 +515,16 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(now, State::Reporting(purpose), Script::Request(request));
     }
 
-    /// The transfer window of a download request: the configured one toward edition 2 (the
-    /// field makes it an edition-2 request, ICD §10.2), absent toward edition 1.
+    /// The transfer window of a download request: the configured one toward edition 2, at
+    /// most the 32 its field holds (the field makes it an edition-2 request, ICD §10.2),
+    /// absent toward edition 1.
     fn window(&self) -> Option<TransferWindow> {
-        (self.edition == Some(Edition::Two)).then_some(self.config.transfer_window)
+        let window = self
+            .config
+            .transfer_window
+            .clamp(TransferWindow::MIN, TransferWindow::MAX);
+        (self.edition == Some(Edition::Two))
+            .then(|| TransferWindow::new(window).unwrap_or_default())
     }
 
     fn request_mission(&mut self, now: Instant) {
@@ -682,7 +689,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     /// send one at a time whatever the window.
     fn sender_window(&mut self) -> Window {
         let agreed = match self.edition {
-            Some(Edition::Two) => self.config.transfer_window.get(),
+            Some(Edition::Two) => self.config.transfer_window,
             _ => TransferWindow::MIN,
         };
         self.window.set_max(usize::from(agreed));

@@ -40,7 +40,7 @@ const LIMIT: Duration = Duration::from_secs(120);
 /// The GCS configuration of ICD §1 with the default window of 32 (ICD §10.2).
 fn config() -> GcsConfig {
     GcsConfig {
-        transfer_window: TransferWindow::new(TransferWindow::MAX).unwrap(),
+        transfer_window: TransferWindow::MAX,
         ..gcs_config()
     }
 }

@@ -19,7 +19,7 @@ const ONE_WAY: u64 = 100;
 fn pair(window: u8) -> Pair {
     let mut pair = Pair::new(7);
     let config = GcsConfig {
-        transfer_window: TransferWindow::new(window).unwrap(),
+        transfer_window: window,
         ..gcs_config()
     };
     pair.gcs = GroundStation::new(config, WithoutGateway);

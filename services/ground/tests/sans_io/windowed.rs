@@ -26,7 +26,7 @@ const WINDOWS: [u8; 4] = [1, 2, 16, 32];
 fn pair(seed: u64, window: u8) -> Pair {
     let mut pair = Pair::new(seed);
     let config = missionlink_ground::ground_station::GcsConfig {
-        transfer_window: TransferWindow::new(window).unwrap(),
+        transfer_window: window,
         ..gcs_config()
     };
     pair.gcs = GroundStation::new(config, WithoutGateway);

@@ -22,9 +22,15 @@ use crate::link::time::{Instant, UtcClock};
 use crate::link::time_stamp::TimeStamper;
 
 /// Messages the outgoing queue holds. A driver drains it after every call into the core; a
-/// call queues at most an acknowledgement, a cancel, and the messages a transfer may have in
-/// flight (a window of up to 32 data messages, ICD §10.2).
-pub const OUTBOX_CAPACITY: usize = 48;
+/// call queues at most a few answers and cancels ([`OUTBOX_RESERVE`]) and the messages a
+/// transfer may have in flight: a window of up to
+/// [`MAX_WINDOW`](crate::transfer::window::MAX_WINDOW) data messages (ICD §10.2), all sent
+/// again when they timed out together, and its opener.
+pub const OUTBOX_CAPACITY: usize = crate::transfer::window::MAX_WINDOW + OUTBOX_RESERVE;
+
+/// Room a sender of data messages leaves in the outgoing queue for answers and cancels
+/// ([`Endpoint::outbox_room`]).
+pub const OUTBOX_RESERVE: usize = 16;
 
 /// Addresses and clocks of an endpoint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -187,6 +193,13 @@ impl Endpoint {
     /// identities).
     pub fn resume_stamps_after(&mut self, floor: Timestamp) {
         self.stamper.resume_after(floor);
+    }
+
+    /// Messages the outgoing queue has room for until the driver drains it: a sender of data
+    /// messages sends one more only while more than [`OUTBOX_RESERVE`] are left, so that an
+    /// answer or a cancel queued in the same call is never dropped.
+    pub fn outbox_room(&self) -> usize {
+        OUTBOX_CAPACITY - self.outbox.len()
     }
 
     /// The last time stamp this endpoint issued.

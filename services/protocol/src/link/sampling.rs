@@ -3,19 +3,23 @@
 //!
 //! The sampler keeps the identities it processed, not only the newest stamp (ICD §10.2): with a
 //! window of data messages in flight, a message may arrive after a newer one of its type, and it
-//! is still new. Per (source, type) the last [`RECENT_STAMPS`] stamps processed are remembered;
-//! a stamp at or below the newest one forgotten to make room is *stale* (the sampler can no
-//! longer tell it from a delayed duplicate), anything else not remembered is fresh. Edition 1
-//! (one message in flight) sees the same decisions as before for every copy but a reordered
-//! one, which it now processes instead of dropping.
+//! is still new. Per (source, type) it keeps one bit per millisecond of stamp (ICD §3: stamps
+//! are milliseconds, one more for each message a sender originates) for the [`HORIZON_MS`]
+//! below the newest stamp processed: a stamp within it is a duplicate if its bit is set and
+//! fresh if not; a stamp further below is *stale* (the sampler can no longer tell it from a
+//! delayed duplicate) and dropped; a newer one is fresh. A window of 128 stamps a burst over
+//! 128 ms at least, and a link that delays one copy by seconds behind the other is rare, so the
+//! horizon holds both, where a memory of the last 64 stamps would take a message that LTE's
+//! jitter let 64 newer ones overtake for a stale one. Edition 1 (one message in flight) sees the same
+//! decisions as before for every copy but a reordered one, which it now processes instead of
+//! dropping.
 //!
-//! Memory is bounded: at most [`SAMPLING_KEYS`] (source, type) keys. A key is forgotten after
-//! the sampling window without traffic, so a peer that restarts with a clock behind its last
-//! stamps is heard again after one window instead of never.
+//! Memory is bounded: at most [`SAMPLING_KEYS`] (source, type) keys of 512 bytes of bits each.
+//! A key is forgotten after the sampling window without traffic, so a peer that restarts with a
+//! clock behind its last stamps is heard again after one window instead of never.
 
 use core::time::Duration;
 
-use heapless::Deque;
 use heapless::index_map::FnvIndexMap;
 use missionlink_interfaces::wire::Timestamp;
 
@@ -25,9 +29,11 @@ use crate::link::time::Instant;
 /// few peers.
 pub const SAMPLING_KEYS: usize = 64;
 
-/// Stamps remembered per (source, type): twice the largest window of ICD §10 (32 data messages
-/// in flight, each on two links, and their retries).
-pub const RECENT_STAMPS: usize = 64;
+/// How far below the newest stamp processed of a (source, type) the sampler still tells a
+/// duplicate from a new message, in milliseconds of stamp (ICD §3).
+pub const HORIZON_MS: u64 = 4096;
+
+const WORDS: usize = (HORIZON_MS / 64) as usize;
 
 /// What sampling decides for one message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,48 +42,85 @@ pub enum Sample {
     Fresh,
     /// Same time stamp as one already processed: drop it.
     Duplicate,
-    /// At or below a stamp the sampler forgot to make room: it cannot be told from a delayed
-    /// duplicate, so it is dropped.
+    /// More than [`HORIZON_MS`] below the newest stamp processed: it cannot be told from a
+    /// delayed duplicate, so it is dropped.
     Stale,
 }
 
 #[derive(Debug, Clone)]
 struct Seen {
-    /// The stamps processed, oldest first.
-    recent: Deque<Timestamp, RECENT_STAMPS>,
-    /// The newest stamp forgotten to make room.
-    forgotten: Option<Timestamp>,
+    /// The newest stamp processed, in milliseconds.
+    newest: u64,
+    /// Bit `stamp % HORIZON_MS` is set when `stamp`, within the horizon below `newest`, was
+    /// processed.
+    bits: [u64; WORDS],
     /// When the key last had a fresh message.
     at: Instant,
 }
 
 impl Seen {
-    fn new(at: Instant) -> Self {
-        Self {
-            recent: Deque::new(),
-            forgotten: None,
+    fn new(time_stamp: Timestamp, at: Instant) -> Self {
+        let mut seen = Self {
+            newest: time_stamp.millis(),
+            bits: [0; WORDS],
             at,
+        };
+        seen.set(time_stamp.millis());
+        seen
+    }
+
+    const fn slot(stamp: u64) -> (usize, u64) {
+        let bit = stamp % HORIZON_MS;
+        ((bit / 64) as usize, 1 << (bit % 64))
+    }
+
+    fn is_set(&self, stamp: u64) -> bool {
+        let (word, mask) = Self::slot(stamp);
+        self.bits.get(word).is_some_and(|w| w & mask != 0)
+    }
+
+    fn set(&mut self, stamp: u64) {
+        let (word, mask) = Self::slot(stamp);
+        if let Some(w) = self.bits.get_mut(word) {
+            *w |= mask;
+        }
+    }
+
+    fn clear(&mut self, stamp: u64) {
+        let (word, mask) = Self::slot(stamp);
+        if let Some(w) = self.bits.get_mut(word) {
+            *w &= !mask;
         }
     }
 
     fn decide(&self, time_stamp: Timestamp) -> Sample {
-        if self.recent.iter().any(|t| *t == time_stamp) {
-            Sample::Duplicate
-        } else if self.forgotten.is_some_and(|f| time_stamp <= f) {
+        let stamp = time_stamp.millis();
+        if stamp > self.newest {
+            Sample::Fresh
+        } else if self.newest - stamp >= HORIZON_MS {
             Sample::Stale
+        } else if self.is_set(stamp) {
+            Sample::Duplicate
         } else {
             Sample::Fresh
         }
     }
 
+    /// Remembers a fresh `time_stamp`: a newer one moves the horizon up, forgetting the slots
+    /// it leaves.
     fn remember(&mut self, time_stamp: Timestamp, now: Instant) {
-        if self.recent.is_full() {
-            if let Some(oldest) = self.recent.pop_front() {
-                self.forgotten = Some(self.forgotten.map_or(oldest, |f| f.max(oldest)));
+        let stamp = time_stamp.millis();
+        if stamp > self.newest {
+            if stamp - self.newest >= HORIZON_MS {
+                self.bits = [0; WORDS];
+            } else {
+                for passed in self.newest + 1..=stamp {
+                    self.clear(passed);
+                }
             }
+            self.newest = stamp;
         }
-        // Room was made above.
-        let _ = self.recent.push_back(time_stamp);
+        self.set(stamp);
         self.at = now;
     }
 }
@@ -85,7 +128,7 @@ impl Seen {
 /// The sampling table of one receiver.
 #[derive(Debug, Clone)]
 pub struct MessageSampler {
-    /// Boxed (37 KB), allocated once with the sampler: it lives in every endpoint and voter,
+    /// Boxed (34 KB), allocated once with the sampler: it lives in every endpoint and voter,
     /// and those move by value.
     seen: Box<FnvIndexMap<(u32, u16), Seen, SAMPLING_KEYS>>,
     window: Duration,
@@ -113,7 +156,8 @@ impl MessageSampler {
         let key = (source, message_type);
         if let Some(seen) = self.seen.get_mut(&key) {
             if now.saturating_since(seen.at) >= self.window {
-                *seen = Seen::new(now);
+                *seen = Seen::new(time_stamp, now);
+                return Sample::Fresh;
             }
             let decision = seen.decide(time_stamp);
             if decision == Sample::Fresh {
@@ -124,10 +168,8 @@ impl MessageSampler {
         if self.seen.len() == SAMPLING_KEYS {
             self.forget_oldest();
         }
-        let mut seen = Seen::new(now);
-        seen.remember(time_stamp, now);
         // A slot is free now.
-        let _ = self.seen.insert(key, seen);
+        let _ = self.seen.insert(key, Seen::new(time_stamp, now));
         Sample::Fresh
     }
 
@@ -165,25 +207,48 @@ mod tests {
     fn an_older_stamp_not_processed_is_fresh_once() {
         let mut s = MessageSampler::new(Duration::from_secs(3));
         let t = Instant::from_millis(10);
-        // 32 in flight, arriving in reverse, each twice (both links).
-        for stamp in (100..132).rev() {
+        // A window of 128 in flight, arriving in reverse, each twice (both links).
+        for stamp in (100..228).rev() {
             assert_eq!(s.sample(t, GCS, 13002, ts(stamp)), Sample::Fresh);
             assert_eq!(s.sample(t, GCS, 13002, ts(stamp)), Sample::Duplicate);
         }
-        assert_eq!(s.sample(t, GCS, 13002, ts(132)), Sample::Fresh);
+        assert_eq!(s.sample(t, GCS, 13002, ts(228)), Sample::Fresh);
+    }
+
+    /// A message overtaken by hundreds of newer ones of its type (LTE's jitter over a window
+    /// of 128 on two links) is still new within the horizon.
+    #[test]
+    fn a_message_overtaken_by_many_is_fresh_within_the_horizon() {
+        let mut s = MessageSampler::new(Duration::from_secs(3));
+        let t = Instant::from_millis(10);
+        for stamp in 1001..1500 {
+            assert_eq!(s.sample(t, GCS, 13002, ts(stamp)), Sample::Fresh);
+        }
+        assert_eq!(s.sample(t, GCS, 13002, ts(1000)), Sample::Fresh);
+        assert_eq!(s.sample(t, GCS, 13002, ts(1000)), Sample::Duplicate);
     }
 
     #[test]
-    fn a_stamp_at_or_below_one_forgotten_is_stale() {
+    fn a_stamp_below_the_horizon_is_stale() {
         let mut s = MessageSampler::new(Duration::from_secs(3));
         let t = Instant::from_millis(10);
-        for stamp in 0..RECENT_STAMPS as u64 + 10 {
-            assert_eq!(s.sample(t, GCS, 13002, ts(1000 + stamp)), Sample::Fresh);
+        let newest = 10_000 + HORIZON_MS;
+        for stamp in [10_000, 10_001, newest] {
+            assert_eq!(s.sample(t, GCS, 13002, ts(stamp)), Sample::Fresh);
         }
-        // 1000..=1009 were forgotten: they and anything below are stale, the rest duplicates.
-        assert_eq!(s.sample(t, GCS, 13002, ts(1009)), Sample::Stale);
+        // 10 000 fell below the horizon: it and anything below are stale; 10 001 is the
+        // oldest stamp still told apart.
+        assert_eq!(s.sample(t, GCS, 13002, ts(10_000)), Sample::Stale);
         assert_eq!(s.sample(t, GCS, 13002, ts(500)), Sample::Stale);
-        assert_eq!(s.sample(t, GCS, 13002, ts(1010)), Sample::Duplicate);
+        assert_eq!(s.sample(t, GCS, 13002, ts(10_001)), Sample::Duplicate);
+        assert_eq!(s.sample(t, GCS, 13002, ts(10_002)), Sample::Fresh);
+        // Moving the horizon up forgets the slots it leaves: the slot of 10 000 + 2 x horizon
+        // is the one of 10 000 and of `newest`, and is new.
+        let further = 10_000 + 2 * HORIZON_MS;
+        assert_eq!(s.sample(t, GCS, 13002, ts(further)), Sample::Fresh);
+        assert_eq!(s.sample(t, GCS, 13002, ts(further)), Sample::Duplicate);
+        assert_eq!(s.sample(t, GCS, 13002, ts(newest)), Sample::Stale);
+        assert_eq!(s.sample(t, GCS, 13002, ts(further - 1)), Sample::Fresh);
     }
 
     /// Time stamps are identities (ICD §3): a GCS started right after another one stamps below the

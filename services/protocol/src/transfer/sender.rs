@@ -32,7 +32,7 @@ use missionlink_interfaces::wire::{
     TRAILER_LEN, Text, Timestamp, TransferStatus, TransferWindow, WindowOrChecksum,
 };
 
-use crate::link::endpoint::Endpoint;
+use crate::link::endpoint::{Endpoint, OUTBOX_RESERVE};
 use crate::link::retry::{AttemptFailure, Exchange, ExchangeError, Outcome};
 use crate::link::time::Instant;
 use crate::transfer::areas::AreaList;
@@ -636,7 +636,11 @@ impl TransferSender {
             } else {
                 0
             };
-            if is_data && !self.window.admits(in_flight, bytes_in_flight, bytes) {
+            if is_data
+                && (!self.window.admits(in_flight, bytes_in_flight, bytes)
+                    || (in_flight > 0 && endpoint.outbox_room() <= OUTBOX_RESERVE))
+            {
+                // The next answer or timeout of what is in flight calls `fill` again.
                 break;
             }
             let mut exchange = Exchange::new(self.ack_timeout);

@@ -4,8 +4,8 @@
 //!
 //! The rule, in the order the sender applies it before each data message it would send:
 //!
-//! 1. **Never above the window agreed** (`max`: at most 32, ICD §10.2 and
-//!    [`TransferWindow::MAX`](missionlink_interfaces::wire::TransferWindow::MAX)).
+//! 1. **Never above the window agreed** (`max`: at most [`MAX_WINDOW`], what this project's
+//!    receivers accept in flight, ICD §10.2).
 //! 2. **Shrinks on loss, grows back** (the congestion window, `cwnd`, from `max`): the ack
 //!    timeout of a data message halves it (never below 1), once per loss: a timeout of a message
 //!    sent before the last halving does not halve it again, since the messages of one window
@@ -27,8 +27,12 @@ use core::time::Duration;
 
 use crate::link::time::Instant;
 
-/// Data messages in flight at most (ICD §10.2: receivers of edition 2 accept up to 32).
-pub const MAX_WINDOW: usize = 32;
+/// Data messages in flight at most: what this project's receivers accept (ICD §10.2; the
+/// shared contract's receivers accept 32, ICD §13). Over a link whose round trip carries more
+/// (satellite at 64 kbit/s: about 75 waypoints; LTE: a whole mission), a window of 32 left the
+/// link idle most of each round trip. Download requests ask for at most 32, the most their
+/// wire field holds ([`TransferWindow::MAX`](missionlink_interfaces::wire::TransferWindow::MAX)).
+pub const MAX_WINDOW: usize = 128;
 
 /// The window of one sender, carried from one transfer to the next by its owner (the GCS keeps
 /// one for the link).
@@ -223,7 +227,8 @@ mod tests {
         assert!(w.admits(7, 1_000_000, 1_000));
         assert!(!w.admits(8, 0, 1));
         assert_eq!(Window::fixed(0).messages(), 1);
-        assert_eq!(Window::fixed(40).messages(), MAX_WINDOW);
+        assert_eq!(Window::fixed(40).messages(), 40);
+        assert_eq!(Window::fixed(MAX_WINDOW + 1).messages(), MAX_WINDOW);
     }
 
     #[test]
