@@ -199,8 +199,7 @@ fn scenarios() -> Vec<(String, Exchange)> {
         ] {
             let mut x = Exchange::new();
             if name == "generated-256" {
-                x.gcs
-                    .set_transfer_window(wire::TransferWindow::new(32).unwrap());
+                x.gcs.set_transfer_window(32);
             }
             x.gcs.upload_with(x.now, &plan, sequence).unwrap();
             x.run();

@@ -38,7 +38,7 @@ use missionlink_interfaces::contracts::{
     AutomationStatePayload, FlightPhase, GuidanceProgressPayload,
 };
 use missionlink_interfaces::defaults::{FCC_ID, GCS_ID};
-use missionlink_interfaces::wire::{ExecuteCommand, MAX_FRAME_LEN, TransferWindow};
+use missionlink_interfaces::wire::{ExecuteCommand, MAX_FRAME_LEN};
 use missionlink_protocol::link::time::Instant;
 use missionlink_protocol::transfer::staged::MissionId;
 
@@ -161,9 +161,8 @@ impl Rig {
                 None => Ok(()),
             },
             _ => {
-                if let Some(window) = TransferWindow::new(argument) {
-                    self.gcs.set_transfer_window(window);
-                }
+                // Any count: the GCS clamps it to 1..=128 (ICD §10.2).
+                self.gcs.set_transfer_window(argument);
                 Ok(())
             }
         };

@@ -32,7 +32,7 @@ impl MissionDataHandling {
 
     /// Answers `message` (an opener or a data message of a transfer) with `outcome`; an
     /// accepted one ends the memory of the last closer of its kind (ICD §11): an area opener
-    /// sent behind the mission closer leaves the mission closer's (ICD §10.3).
+    /// sent beside the mission upload leaves the mission closer's (ICD §10.3).
     pub(super) fn answer_transfer(
         &mut self,
         now: Instant,

@@ -297,7 +297,7 @@ enum State {
 }
 
 /// A step of an upload sent behind the one in progress, whose last message is unanswered
-/// (ICD §10.3): the area upload behind the mission closer, the activation behind the area
+/// (ICD §10.3): the area upload beside the mission upload's data, the activation behind the area
 /// closer.
 #[derive(Debug)]
 struct Behind {
@@ -389,7 +389,8 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// The window of the transfers started from now on (ICD §10.2; toward an edition-2 FCC):
-    /// the most the window sized to the link may reach (ICD §10.4).
+    /// the most the window sized to the link may reach (ICD §10.4); 0 counts as 1, above
+    /// [`MAX_WINDOW`](missionlink_protocol::transfer::window::MAX_WINDOW) as that.
     pub fn set_transfer_window(&mut self, window: u8) {
         self.config.transfer_window = window;
     }
@@ -709,11 +710,17 @@ impl<G: SafetyGateway> GroundStation<G> {
             behind: true,
         };
         let window = self.sender_window();
-        let sender = TransferSender::start_with(
+        // Beside the data of the step in progress still in flight (ICD §10.4).
+        let beside = self
+            .sender
+            .as_ref()
+            .map_or((0, 0), TransferSender::data_in_flight);
+        let sender = TransferSender::start_beside(
             script,
             window,
             pacing,
             self.config.ack_timeout,
+            beside,
             &mut self.endpoint,
             now,
         );
@@ -722,6 +729,16 @@ impl<G: SafetyGateway> GroundStation<G> {
             sender,
             ended: None,
         });
+    }
+
+    /// The step in progress answered or timed out: the step sent beside its data (ICD §10.3)
+    /// may send what the window now allows beside them (ICD §10.4).
+    fn pace_behind(&mut self, now: Instant) {
+        if let (Some(sender), Some(behind)) = (self.sender.as_ref(), self.behind.as_mut()) {
+            behind
+                .sender
+                .pace_beside(&mut self.endpoint, now, sender.data_in_flight());
+        }
     }
 
     /// The step sent behind becomes the step in progress: the one before it was accepted to its
@@ -1109,6 +1126,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 5> for GroundStation<G> {
                 {
                     self.sender_event(now, event);
                 }
+                self.pace_behind(now);
                 None
             }
             GcsTimer::Behind => {
@@ -1142,6 +1160,7 @@ impl<G: SafetyGateway> Composite<GcsTimer, 5> for GroundStation<G> {
             .and_then(|s| s.handle_answer(&mut self.endpoint, now, message))
         {
             self.sender_event(now, event);
+            self.pace_behind(now);
             // A ready #3013 answers the area download request and opens the download: it goes
             // on to the receiver below.
             if !matches!(message, Message::AreaTransmissionStatus(s) if s.status == AreaDownloadStatus::Ready)

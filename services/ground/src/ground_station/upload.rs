@@ -54,7 +54,7 @@ use missionlink_protocol::transfer::areas::AreaList;
 use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
 use missionlink_protocol::transfer::mission::Mission;
 use missionlink_protocol::transfer::sender::{
-    Opener, Script, Target, TransferSender, activate_staged, delete_staged,
+    Opener, Script, Target, activate_staged, delete_staged,
 };
 use missionlink_protocol::transfer::staged::MissionId;
 
@@ -681,6 +681,8 @@ impl<G: SafetyGateway> GroundStation<G> {
             Some((phase, script)) => {
                 Self::starting(job, phase);
                 self.start(now, State::Uploading(phase), script);
+                // A mission upload whose data all went with its opener: the areas go beside.
+                self.send_next_behind(now);
             }
             None => {
                 let (m, a) = job.checksums;
@@ -690,11 +692,12 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// ICD §10.3: when the step in progress has only its last message unanswered (the closer),
-    /// the next step goes behind it if it is the area upload or the activation: its closer (the
-    /// area closer) waits for the step before to be accepted, and the activation goes only
-    /// after both closers were sent, the mission's accepted. The delete of the staged copy never
-    /// goes behind the activation: arriving first, it would make the activation fail.
+    /// ICD §10.3: the area upload goes beside the mission upload once every mission data
+    /// message was sent (their window shared, ICD §10.4), the activation behind the area closer
+    /// once only that is unanswered. The area closer waits for the mission upload to be
+    /// accepted, and the activation goes only after both closers were sent, the mission's
+    /// accepted. The delete of the staged copy never goes behind the activation: arriving
+    /// first, it would make the activation fail.
     pub(super) fn send_next_behind(&mut self, now: Instant) {
         if !self.pipelining() || self.behind.is_some() {
             return;
@@ -702,13 +705,17 @@ impl<G: SafetyGateway> GroundStation<G> {
         let State::Uploading(phase) = self.state else {
             return;
         };
-        if !self
-            .sender
-            .as_ref()
-            .is_some_and(TransferSender::awaits_only_its_last)
-        {
+        let Some(sender) = self.sender.as_ref() else {
             return;
-        }
+        };
+        // The step that may go now, if the plan's next step is that one.
+        let may_follow = match phase {
+            Phase::MissionUpload if sender.sent_all_data() || sender.awaits_only_its_last() => {
+                Phase::AreaUpload
+            }
+            Phase::AreaUpload if sender.awaits_only_its_last() => Phase::Activation,
+            _ => return,
+        };
         let edition_2 = self.edition == Some(Edition::Two);
         let Some(job) = self.upload.as_mut() else {
             return;
@@ -716,11 +723,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         let Some((next, script)) = Self::following(job, Some(phase), edition_2) else {
             return;
         };
-        let allowed = matches!(
-            (phase, next),
-            (Phase::MissionUpload, Phase::AreaUpload) | (Phase::AreaUpload, Phase::Activation)
-        );
-        if !allowed {
+        if next != may_follow {
             return;
         }
         Self::starting(job, next);

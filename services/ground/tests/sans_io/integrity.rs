@@ -419,7 +419,7 @@ fn a_retried_closer_gets_the_same_refusal() {
 
 /// ICD §11: the FCC remembers the last closer of each kind of list. The area upload after the
 /// mission's (its opener and data) leaves the mission closer's memory, so that the GCS may send
-/// the area opener behind the mission closer (ICD §10.3): both retries get their answers again
+/// the area opener beside the mission upload (ICD §10.3): both retries get their answers again
 /// and nothing changes. (Before the memory was kept per kind, the mission closer's retry was
 /// judged afresh here and the area closer's refused `WrongState`.)
 #[test]

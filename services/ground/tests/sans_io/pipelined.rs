@@ -1,12 +1,12 @@
 //! What an edition-2 GCS sends without waiting for an answer (ICD §10.3), and the FCC that
 //! accepts it: the report left out when the GCS holds a fresh one, the opener with the first
-//! window, the area opener behind the mission closer, the activation behind the area closer.
+//! window, the area upload beside the mission data, the activation behind the area closer.
 //! Every case of loss ends as today: the exact lists, or for each list the one before, and the
 //! GCS says which (ICD §11).
 //!
 //! | rule (ICD §10.3) | tests |
 //! |---|---|
-//! | what goes behind what; the report held | `the_atomic_upload_sends_each_step_behind_the_one_before`, `the_paper_sequence_sends_the_areas_behind_the_transmit` |
+//! | what goes behind what; the report held | `the_atomic_upload_sends_each_step_behind_the_one_before`, `the_paper_sequence_sends_the_areas_beside_the_mission_data` |
 //! | the opener lost, its answer lost, the first data lost, the area opener lost | `a_lost_opener_or_answer_sends_the_opener_alone_then_its_data_again`, `a_lost_data_message_is_retried_alone`, `area_data_refused_before_their_opener_go_again_after_it` |
 //! | the closer's answer lost, once and twice | `a_lost_answer_to_the_closer_is_given_again_behind_the_area_opener`, `a_lost_answer_to_the_area_closer_is_given_again_after_the_activation_behind_it`, `a_closer_whose_answers_are_lost_is_confirmed_by_the_report`, `an_activation_sent_behind_a_closer_whose_answers_are_lost_is_not_sent_again` |
 //! | a refused opener | `a_refused_opener_leaves_the_lists_and_the_data_sent_behind_it_are_dropped` |
@@ -143,9 +143,9 @@ fn the_atomic_upload_sends_each_step_behind_the_one_before() {
             "13006 take-off",
             "13002 wp 1",
             "13001",
-            "13000 mode 8",
             "2011 mode 1",
             "2012 area 1",
+            "13000 mode 8",
             "2011 mode 7",
             "50000",
             "13000 mode 6"
@@ -153,7 +153,13 @@ fn the_atomic_upload_sends_each_step_behind_the_one_before() {
     );
     let at = |what| first(&s, 0, what);
     assert!(sent_behind(&s.sent, at("13000 mode 10"), at("13001")));
-    assert!(sent_behind(&s.sent, at("13000 mode 8"), at("2012 area 1")));
+    // The area upload goes beside the mission data, once all of them were sent.
+    assert!(sent_behind(&s.sent, at("13001"), at("2011 mode 1")));
+    assert!(sent_behind(&s.sent, at("13001"), at("2012 area 1")));
+    assert!(
+        !sent_behind(&s.sent, at("13000 mode 8"), at("2011 mode 7")),
+        "the area closer waits for the mission closer's answer"
+    );
     assert!(sent_behind(&s.sent, at("2011 mode 7"), at("50000")));
     assert!(
         !sent_behind(&s.sent, at("50000"), at("13000 mode 6")),
@@ -180,15 +186,16 @@ fn the_atomic_upload_sends_each_step_behind_the_one_before() {
 }
 
 #[test]
-fn the_paper_sequence_sends_the_areas_behind_the_transmit() {
+fn the_paper_sequence_sends_the_areas_beside_the_mission_data() {
     let mut s = station(FccRig::new().with_mission_2());
     let r = upload(&mut s, &mission_1(), Sequence::Paper { clear: true });
     assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
     assert!(holds(&s, &mission_1()));
     let at = |what| first(&s, 0, what);
     assert!(sent_behind(&s.sent, at("13000 mode 1"), at("13001")));
-    assert!(sent_behind(&s.sent, at("13000 mode 2"), at("2011 mode 1")));
-    assert!(sent_behind(&s.sent, at("13000 mode 2"), at("2012 area 1")));
+    assert!(sent_behind(&s.sent, at("13001"), at("2011 mode 1")));
+    assert!(sent_behind(&s.sent, at("13001"), at("2012 area 1")));
+    assert!(at("2012 area 1") < at("13000 mode 2"));
     assert!(
         !sent_behind(&s.sent, at("13000 mode 2"), at("2011 mode 2")),
         "the area closer waits for the transmit's answer"
@@ -223,13 +230,13 @@ fn a_lost_opener_or_answer_sends_the_opener_alone_then_its_data_again() {
                 "13006 take-off",
                 "13002 wp 1",
                 "13001",
+                "2011 mode 1",
+                "2012 area 1",
                 "13000 mode 10",
                 "13006 take-off",
                 "13002 wp 1",
                 "13001",
                 "13000 mode 8",
-                "2011 mode 1",
-                "2012 area 1",
                 "2011 mode 7",
                 "50000",
                 "13000 mode 6"
@@ -263,12 +270,14 @@ fn a_lost_data_message_is_retried_alone() {
     assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
     assert!(holds(&s, &mission_1()));
     assert_eq!(
-        s.requests(from)[..6],
+        s.requests(from)[..8],
         [
             "13000 mode 10",
             "13006 take-off",
             "13002 wp 1",
             "13001",
+            "2011 mode 1",
+            "2012 area 1",
             "13006 take-off",
             "13000 mode 8"
         ]
@@ -290,9 +299,9 @@ fn area_data_refused_before_their_opener_go_again_after_it() {
     assert_eq!(
         requests[4..],
         [
-            "13000 mode 8",
             "2011 mode 1",
             "2012 area 1",
+            "13000 mode 8",
             "2011 mode 1",
             "2012 area 1",
             "2011 mode 7",
@@ -775,4 +784,74 @@ fn with_the_rate_known_the_window_keeps_what_the_link_carries() {
     println!("{most:?}");
     assert_eq!(most[0].1, 8, "{most:?}");
     assert_eq!(most[1].1, 32, "{most:?}");
+}
+
+/// ICD §10.3, §10.4: the area upload goes beside the mission upload's data, and the window
+/// counts both: over 64 kbit/s and 300 ms each way (what the link carries in a round trip holds
+/// about 75 waypoints and 8 areas), area data leave while waypoints are unanswered, and the
+/// bytes of the data messages unanswered of both uploads never exceed what the link carries in
+/// the shortest round trip measured, or one frame.
+#[test]
+fn the_area_upload_beside_the_mission_data_shares_the_window() {
+    use missionlink_interfaces::wire::{self, Envelope, TRAILER_LEN};
+    let plan = generated_plan(100);
+    let rate = 64_000;
+    let mut p = Pair::new(1);
+    p.gcs = GroundStation::new(
+        GcsConfig {
+            transfer_window: 128,
+            ack_timeout: Duration::from_secs(5),
+            ..config()
+        },
+        WithoutGateway,
+    );
+    p.gcs.set_link_rate(Some(rate));
+    p.fcc.set_automation_state(&on_ground());
+    let satellite = Impairments {
+        delay: Duration::from_millis(300),
+        bandwidth: Some(Bandwidth::new(rate).unwrap()),
+        ..Impairments::NONE
+    };
+    p.uplink = [satellite; 2];
+    p.downlink = [satellite; 2];
+    let r = pair_upload(&mut p, &plan, Sequence::Paper { clear: true });
+    assert!(r.is_complete(), "{r}");
+    let bytes = |m: &Message| {
+        let mut buf = [0u8; wire::MAX_FRAME_LEN];
+        (wire::encode(&Envelope::new(0, 0), m, &mut buf).unwrap() + TRAILER_LEN) as u64
+    };
+    let mut open = HashMap::new();
+    let (mut peak, mut beside) = (0, false);
+    for s in &p.sent {
+        match (&s.direction, &s.message) {
+            (Direction::Up, m @ Message::AreaPolygonLoopSegment(_)) => {
+                beside |= open.values().any(|(area, _)| !area);
+                open.insert((m.message_type() as u16, m.time_stamp()), (true, bytes(m)));
+            }
+            (
+                Direction::Up,
+                m @ (Message::UaPositionWaypoint(_)
+                | Message::VehicleSpecificWaypoint(_)
+                | Message::UaRoute(_)),
+            ) => {
+                open.insert((m.message_type() as u16, m.time_stamp()), (false, bytes(m)));
+            }
+            (Direction::Down, Message::MessageAcknowledgement(a)) => {
+                open.remove(&(a.original_message_type, a.original_time_stamp));
+            }
+            _ => {}
+        }
+        peak = peak.max(open.values().map(|(_, b)| b).sum::<u64>());
+    }
+    let rtt = p.gcs.link_window().min_rtt().unwrap();
+    let carried = (u128::from(rate) * rtt.as_nanos() / 8_000_000_000) as u64;
+    assert!(beside, "area data left while waypoints were unanswered");
+    assert!(
+        peak <= carried.max(wire::MAX_SIGNED_FRAME_LEN as u64),
+        "{peak} bytes in flight, {carried} carried in {rtt:?}"
+    );
+    assert!(
+        peak > carried / 2,
+        "{peak} of {carried}: the window is used"
+    );
 }

@@ -1,8 +1,9 @@
 //! What a whole upload costs in round trips, counted over the simulated links with a fixed delay
 //! by the link emulator's own rule (`linksim/src/round_trips.rs`): the figures ICD §10 is about.
 //! Each upload is measured after another one, as the links bench measures it (the FCC's lists
-//! both change), toward an edition-2 FCC with the default window of 32 (ICD §10.3 applies) and
-//! with a window of 1 (stop-and-wait, as before it).
+//! both change), toward an edition-2 FCC with the default window of 128 and the shared
+//! contract's 32 (ICD §10.2; ICD §10.3 applies to both) and with a window of 1 (stop-and-wait,
+//! as before it).
 
 use std::time::Duration;
 
@@ -10,7 +11,6 @@ use crate::support::*;
 use missionlink_ground::ground_station::{
     GcsConfig, GcsEvent, GroundStation, MissionPlan, Sequence, WithoutGateway,
 };
-use missionlink_interfaces::wire::TransferWindow;
 
 /// One way on each link: a round trip is 200 ms of simulated time.
 const ONE_WAY: u64 = 100;
@@ -81,15 +81,19 @@ fn measured(plan: &MissionPlan, sequence: Sequence, window: u8) -> u64 {
 ///   clear and data, transmit with the area opener and the area, area closer: 3. Atomic: mode 10
 ///   and data, mode 8 with the areas, mode 7 with the activation, delete: 4. 256 waypoints: the 9
 ///   windows (the first with the opener), then 2 (paper) or 3 (atomic) as for mission 1.
-const EXPECTED: [(&str, &str, u8, u64); 8] = [
+const EXPECTED: [(&str, &str, u8, u64); 12] = [
     ("mission 1", "paper", 1, 9),
     ("mission 1", "paper", 32, 3),
+    ("mission 1", "paper", 128, 3),
     ("mission 1", "atomic", 1, 11),
     ("mission 1", "atomic", 32, 4),
+    ("mission 1", "atomic", 128, 4),
     ("256 waypoints, 11 areas", "paper", 1, 274),
     ("256 waypoints, 11 areas", "paper", 32, 11),
+    ("256 waypoints, 11 areas", "paper", 128, 5),
     ("256 waypoints, 11 areas", "atomic", 1, 276),
     ("256 waypoints, 11 areas", "atomic", 32, 12),
+    ("256 waypoints, 11 areas", "atomic", 128, 6),
 ];
 
 #[test]

@@ -17,7 +17,7 @@ use crate::support::*;
 use missionlink_ground::ground_station::{
     GcsError, GcsEvent, GroundStation, MissionPlan, WithoutGateway,
 };
-use missionlink_interfaces::wire::{Message, TransferWindow};
+use missionlink_interfaces::wire::Message;
 use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
 
 const WINDOWS: [u8; 4] = [1, 2, 16, 32];

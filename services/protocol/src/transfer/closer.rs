@@ -206,7 +206,7 @@ mod tests {
         assert_eq!(memory.repeat(&closer), None);
     }
 
-    /// ICD §10.3, §11: the area opener sent behind the mission closer leaves the mission
+    /// ICD §10.3, §11: the area opener sent beside the mission upload leaves the mission
     /// closer's memory; a mission message ends it; each kind keeps its own.
     #[test]
     fn each_kind_of_list_has_its_own_memory() {

@@ -524,6 +524,10 @@ pub struct TransferSender {
     ack_timeout: Duration,
     pacing: Pacing,
     opener: Opening,
+    /// Data messages (and their bytes) another transfer on the same link has in flight, which
+    /// the window counts beside this one's (ICD §10.3: the area upload sent beside the mission
+    /// upload's data, ICD §10.4).
+    beside: (usize, u64),
 }
 
 impl TransferSender {
@@ -567,6 +571,21 @@ impl TransferSender {
         endpoint: &mut Endpoint,
         now: Instant,
     ) -> Self {
+        Self::start_beside(script, window, pacing, ack_timeout, (0, 0), endpoint, now)
+    }
+
+    /// [`TransferSender::start_with`] beside another transfer on the same link that has
+    /// `beside` data messages (count, bytes) in flight, which the window counts too
+    /// ([`TransferSender::pace_beside`]).
+    pub fn start_beside(
+        script: Script,
+        window: Window,
+        pacing: Pacing,
+        ack_timeout: Duration,
+        beside: (usize, u64),
+        endpoint: &mut Endpoint,
+        now: Instant,
+    ) -> Self {
         let opener = if script.data_messages().start > 0 {
             Opening::Pending { retried: false }
         } else {
@@ -582,9 +601,17 @@ impl TransferSender {
             ack_timeout,
             pacing,
             opener,
+            beside,
         };
         sender.fill(endpoint, now);
         sender
+    }
+
+    /// The other transfer on the link now has `beside` data messages (count, bytes) in flight:
+    /// sends what the window allows beside them.
+    pub fn pace_beside(&mut self, endpoint: &mut Endpoint, now: Instant, beside: (usize, u64)) {
+        self.beside = beside;
+        self.fill(endpoint, now);
     }
 
     /// Whether the data messages may go now: the opener was accepted, or it is pipelined
@@ -596,7 +623,9 @@ impl TransferSender {
         }
     }
 
-    fn data_in_flight(&self) -> (usize, u64) {
+    /// The data messages in flight and their bytes (counted when the window counts bytes,
+    /// ICD §10.4).
+    pub fn data_in_flight(&self) -> (usize, u64) {
         let data = self.script.data_messages();
         self.in_flight
             .iter()
@@ -614,7 +643,9 @@ impl TransferSender {
         while self.next < self.script.len() {
             let index = self.next;
             let is_data = data.contains(&index);
-            let (in_flight, bytes_in_flight) = self.data_in_flight();
+            let (own, own_bytes) = self.data_in_flight();
+            let in_flight = own + self.beside.0;
+            let bytes_in_flight = own_bytes + self.beside.1;
             let room = if is_data {
                 self.data_may_go()
                     && in_flight < self.window.messages()
@@ -638,7 +669,7 @@ impl TransferSender {
             };
             if is_data
                 && (!self.window.admits(in_flight, bytes_in_flight, bytes)
-                    || (in_flight > 0 && endpoint.outbox_room() <= OUTBOX_RESERVE))
+                    || (own > 0 && endpoint.outbox_room() <= OUTBOX_RESERVE))
             {
                 // The next answer or timeout of what is in flight calls `fill` again.
                 break;
@@ -685,6 +716,14 @@ impl TransferSender {
         (self.answered, self.script.len())
     }
 
+    /// Whether every data message was sent (and those whose opener failed sent again): only
+    /// the closer is left to send. The area upload may then go beside this mission upload
+    /// (ICD §10.3).
+    pub fn sent_all_data(&self) -> bool {
+        let data = self.script.data_messages();
+        !data.is_empty() && self.next >= data.end
+    }
+
     /// Whether everything but the last message (the closer, or a request) was answered and
     /// the last one is sent and unanswered: the owner may send its next transfer behind it
     /// (ICD §10.3).
@@ -698,6 +737,8 @@ impl TransferSender {
     /// may go, and what was refused meanwhile is sent again.
     pub fn release(&mut self, endpoint: &mut Endpoint, now: Instant) {
         self.pacing.behind = false;
+        // The transfer it went beside is over.
+        self.beside = (0, 0);
         self.unpark(endpoint, now);
         self.fill(endpoint, now);
     }
