@@ -28,12 +28,15 @@
 //! `satcom-narrow` mission 1 alone: at 2.4 kbit/s the generated missions' areas take minutes a
 //! transfer.
 //!
-//! **The floor** of a transfer is the least time the link allows any protocol that needs the
-//! same round trips and sends the same bytes: (round trips) x (the profile's round trip) +
-//! (bytes) / (rate). It is a lower bound because the way that waits (the one the round trips
-//! are counted on) sits idle for a round trip each time, besides the time its bytes take. Each
-//! term is counted from what the transfer sent, read off the emulator across it, not from a
-//! table:
+//! **The floor** of a transfer is a time no protocol that needs the same round trips and sends
+//! the same bytes can beat on the link: the larger of (round trips) x (the profile's round
+//! trip) and (bytes) / (rate) + (the profile's round trip). Both are lower bounds: each round
+//! begins only when an answer of the round before has come back, so R rounds take R round
+//! trips; and the last byte of the transfer leaves the sender only after all the bytes before
+//! it were serialised, then travels one way, and the transfer ends only when what answers it
+//! (or, for a download, the request that began it) has travelled the other. Their sum is not a
+//! bound: a window sends its bytes while it waits for answers. Each term is counted from what
+//! the transfer sent, read off the emulator across it, not from a table:
 //! - the round trips are the emulator's count (`Emulator::round_trips`, the rule of
 //!   `missionlink_linksim::round_trips`): a datagram up belongs to the round after the latest
 //!   answer delivered before it was sent, an answer to the latest round its sender received.
@@ -128,8 +131,8 @@ impl Carried {
         }
     }
 
-    /// The link's floor for it (the bench's doc): round trips x round trip + the longest time
-    /// one flow's bytes take at its rate.
+    /// The link's floor for it (the bench's doc): the larger of round trips x round trip and
+    /// the longest time one flow's bytes take at its rate plus a round trip.
     fn floor(self, profile: Profile) -> Duration {
         let serialisation = profile
             .flows()
@@ -138,7 +141,8 @@ impl Carried {
             .filter_map(|(flow, bytes)| flow.bandwidth.map(|b| b.serialisation(bytes)))
             .max()
             .unwrap_or_default();
-        profile.round_trip() * self.round_trips as u32 + serialisation
+        let round_trip = profile.round_trip();
+        (round_trip * self.round_trips as u32).max(serialisation + round_trip)
     }
 }
 
