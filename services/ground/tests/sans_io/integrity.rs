@@ -207,9 +207,11 @@ fn a_closer_with_the_checksum_of_the_list_assembled_activates_it() {
 
 /// ICD §11 upload: the GCS means mission 2 but its checksum is not that of the list assembled:
 /// refused with `IntegrityMismatch` (#17000 type 3 reason 15), the active mission as it was, the
-/// buffer emptied (the upload is closed, and nothing of it is left for a later closer).
+/// buffer as it was and the upload open (ICD §10.3: a closer sent right behind its data may
+/// have overtaken one of them). Only a closer whose checksum names the list assembled closes
+/// it; the GCS's cancel empties it.
 #[test]
-fn a_mission_closer_whose_checksum_differs_is_refused() {
+fn a_mission_closer_whose_checksum_differs_is_refused_and_the_buffer_stays() {
     let mut rig = with_mission_1();
     let before = rig.fcc.active_mission().cloned().unwrap();
     let new = validated(&mission_2()).mission;
@@ -218,16 +220,31 @@ fn a_mission_closer_whose_checksum_differs_is_refused() {
     assert_eq!(transfer_ack(&answers), Err(Reason::IntegrityMismatch));
     assert_eq!(rig.fcc.active_mission(), Some(&before));
     assert_eq!(rig.fcc.generations(), (1, 1));
-    // Opened by mode 10, closed by the refusal: nothing activated.
+    // Opened by mode 10 and still open: nothing activated.
+    assert_eq!(rig.events(), [FccEvent::MissionUploadOpened]);
+    // The same closer again: the same answer from the memory (ICD §11), nothing changes.
+    assert_eq!(
+        transfer_ack(&rig.send(transmit(&new, Some(other_than(mission_checksum(&new)))))),
+        Err(Reason::IntegrityMismatch)
+    );
+    assert_eq!(rig.fcc.active_mission(), Some(&before));
+    assert_eq!(rig.events(), []);
+    // The GCS cancels (ICD §5): the buffer is emptied and the upload closed; the closer with
+    // the right checksum, without the messages, finds nothing of mission 2 to assemble.
+    assert_eq!(transfer_ack(&rig.send(cancel())), Ok(()));
     assert_eq!(
         rig.events(),
-        [FccEvent::MissionUploadOpened, FccEvent::MissionUploadClosed]
+        [
+            FccEvent::UploadAbandoned {
+                kind: DataKind::Mission,
+                reason: None
+            },
+            FccEvent::MissionUploadClosed
+        ]
     );
-    // Nothing of mission 2 is left to assemble: its closer with the right checksum, without
-    // its messages, finds one waypoint (mission 1's, or none), not three.
-    assert_eq!(
+    assert_ne!(
         transfer_ack(&rig.send(transmit(&new, Some(mission_checksum(&new))))),
-        Err(Reason::CountMismatch)
+        Ok(())
     );
     assert_eq!(rig.fcc.active_mission(), Some(&before));
     assert_eq!(rig.fcc.generations(), (1, 1));
@@ -240,8 +257,32 @@ fn a_mission_closer_whose_checksum_differs_is_refused() {
     );
 }
 
+/// ICD §10.3, §11: a closer that overtook a data message of its upload (here the route, the
+/// last) finds an incomplete list and is refused, changing nothing; the data message stored,
+/// the same closer (a new time stamp) closes the upload with exactly the list it names.
+#[test]
+fn a_closer_that_overtook_its_data_is_refused_and_closes_after_them() {
+    let mut rig = with_mission_1();
+    let new = validated(&mission_2()).mission;
+    let sum = Some(mission_checksum(&new));
+    let mut messages: Vec<Message> = new.messages().collect();
+    let last = messages.pop().unwrap();
+    assert_eq!(transfer_ack(&rig.send(clear())), Ok(()));
+    for m in messages {
+        assert_eq!(ack_of(&rig.send(m.clone()), m.message_type()), Ok(()));
+    }
+    assert_eq!(
+        transfer_ack(&rig.send(transmit(&new, sum))),
+        Err(Reason::MissingInitial)
+    );
+    assert_ne!(rig.fcc.active_mission(), Some(&new));
+    assert_eq!(ack_of(&rig.send(last.clone()), last.message_type()), Ok(()));
+    assert_eq!(transfer_ack(&rig.send(transmit(&new, sum))), Ok(()));
+    assert_eq!(rig.fcc.active_mission(), Some(&new));
+}
+
 /// ICD §11 upload, areas: refused with #3012 status 0 reason 15 (loop count 0), the active areas
-/// as they were, the transfer closed (its buffer gone: a #2012 now has no transfer to go to).
+/// as they were, the transfer open with its buffer (ICD §10.3), until the GCS cancels it.
 #[test]
 fn an_area_closer_whose_checksum_differs_is_refused() {
     let mut rig = with_mission_1();
@@ -257,7 +298,30 @@ fn an_area_closer_whose_checksum_differs_is_refused() {
             &rig.send(new.areas[0].clone()),
             MessageType::AreaPolygonLoopSegment
         ),
-        Err(Reason::WrongState)
+        Ok(()),
+        "still open"
+    );
+    assert_eq!(
+        ack_of(
+            &rig.send(area_command(AreaTransferMode::Cancel, None)),
+            MessageType::AreaTransmissionCommand
+        ),
+        Ok(())
+    );
+    assert_eq!(
+        ack_of(
+            &rig.send(new.areas[0].clone()),
+            MessageType::AreaPolygonLoopSegment
+        ),
+        Err(Reason::WrongState),
+        "cancelled: no transfer to go to"
+    );
+    assert_eq!(
+        rig.events(),
+        [FccEvent::UploadAbandoned {
+            kind: DataKind::Areas,
+            reason: None
+        }]
     );
     // The areas of mission 1 again, with the right checksum: accepted, nothing changes.
     let answers = rig.upload_areas(&before, Some(areas_checksum(&before)));
@@ -485,9 +549,18 @@ fn an_accepted_data_message_or_opener_ends_the_memory() {
     );
     assert_eq!(rig.fcc.active_mission(), Some(&valid.mission));
     assert_eq!(rig.fcc.generations(), (1, 0));
+    // The edit stays open (ICD §10.3) until cancelled.
+    assert_eq!(rig.events(), [FccEvent::MissionUploadOpened]);
+    assert_eq!(transfer_ack(&rig.send(cancel())), Ok(()));
     assert_eq!(
         rig.events(),
-        [FccEvent::MissionUploadOpened, FccEvent::MissionUploadClosed]
+        [
+            FccEvent::UploadAbandoned {
+                kind: DataKind::Mission,
+                reason: None
+            },
+            FccEvent::MissionUploadClosed
+        ]
     );
 
     assert_eq!(
@@ -785,15 +858,24 @@ fn upload_events_come_exactly_when_an_upload_opens_or_closes() {
         ]
     );
 
-    // A closer refused for its checksum closes the upload (opened by mode 10).
+    // A closer refused for its checksum leaves the upload (opened by mode 10) open, for data
+    // still on their way (ICD §10.3); the cancel closes it.
     let answers = rig.upload_mission_into_empty_buffer(
         &valid.mission,
         Some(other_than(mission_checksum(&valid.mission))),
     );
     assert_eq!(transfer_ack(&answers), Err(Reason::IntegrityMismatch));
+    assert_eq!(rig.events(), [FccEvent::MissionUploadOpened]);
+    assert_eq!(transfer_ack(&rig.send(cancel())), Ok(()));
     assert_eq!(
         rig.events(),
-        [FccEvent::MissionUploadOpened, FccEvent::MissionUploadClosed]
+        [
+            FccEvent::UploadAbandoned {
+                kind: DataKind::Mission,
+                reason: None
+            },
+            FccEvent::MissionUploadClosed
+        ]
     );
 
     // Areas up and down, and a mission download: no mission upload.

@@ -270,7 +270,7 @@ fn a_lost_data_message_is_retried_alone() {
     assert_eq!(r.outcome(), UploadOutcome::Complete, "{r}");
     assert!(holds(&s, &mission_1()));
     assert_eq!(
-        s.requests(from)[..8],
+        s.requests(from)[..9],
         [
             "13000 mode 10",
             "13006 take-off",
@@ -278,6 +278,7 @@ fn a_lost_data_message_is_retried_alone() {
             "13001",
             "2011 mode 1",
             "2012 area 1",
+            "13000 mode 8",
             "13006 take-off",
             "13000 mode 8"
         ]

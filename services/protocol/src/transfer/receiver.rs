@@ -29,7 +29,9 @@
 //! A closing message that carries a checksum (ICD §11: #13000 mode 2 or 8 and #2011 mode 2 or 7
 //! from an edition-2 GCS, #14000 and #2011 mode 4 of a download to an edition-2 request) is accepted only
 //! when the list assembled has that checksum; otherwise it is refused with `IntegrityMismatch`
-//! and the buffer is emptied, so nothing of the transfer is left to assemble.
+//! and the buffer stays as it is: an edition-2 GCS sends the closer right behind its data (ICD
+//! §10.3), and a closer that overtook one of them is sent again once it was stored. The
+//! sender's cancel, its next opener or the transfer timeout empties the buffer.
 
 use core::time::Duration;
 
@@ -315,7 +317,8 @@ impl MissionReceiver {
         checksum: Option<Checksum>,
     ) -> Result<Received, Reason> {
         if checksum.is_some_and(|c| c != mission_checksum(&mission)) {
-            self.abandon(None);
+            // The buffer stays: data sent before the closer may still be on their way (ICD
+            // §10.3); the sender's cancel or the transfer timeout empties it.
             return Err(Reason::IntegrityMismatch);
         }
         self.complete = Some(mission);
@@ -483,12 +486,13 @@ impl AreaReceiver {
                         return Err(Reason::CountMismatch);
                     }
                     let list = self.buffer.assemble(announced, offset)?;
-                    self.abandon();
                     if c.area_checksum()
                         .is_some_and(|sum| sum != areas_checksum(&list))
                     {
+                        // As for missions: the buffer stays for data still on their way.
                         return Err(Reason::IntegrityMismatch);
                     }
+                    self.abandon();
                     self.complete = Some(list);
                     return Ok(Received::Complete);
                 }

@@ -193,6 +193,18 @@ impl Script {
         }
     }
 
+    /// Whether the closer of an upload carries the checksum of the list it closes (ICD §11):
+    /// only such a closer may go right behind its data (ICD §10.3), as the receiver then
+    /// refuses it whenever a data message is missing.
+    pub fn closer_has_checksum(&self) -> bool {
+        match self {
+            Self::MissionUpload { checksum, .. } | Self::AreaUpload { checksum, .. } => {
+                checksum.is_some()
+            }
+            _ => false,
+        }
+    }
+
     /// The indices of the script's data messages (ICD §10.2), which may be in flight together:
     /// between the opener and the closer of an upload or a download. Reports and single
     /// requests have none.
@@ -466,7 +478,9 @@ const IN_FLIGHT: usize = MAX_WINDOW + 1;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Pacing {
     /// ICD §10.3: the data messages go right behind the opener, without waiting for its
-    /// answer. Otherwise (ICD §10.2, and always toward edition 1) they wait for it.
+    /// answer, and the closer right behind the data, without waiting for theirs (a closer
+    /// that overtook one of them is refused and goes again after their answers). Otherwise
+    /// (ICD §10.2, and always toward edition 1) each waits.
     pub pipelined: bool,
     /// ICD §10.3: the transfer is sent behind the closer (or the last message) of the one
     /// before it, whose answer is outstanding: its own closer waits for
@@ -508,8 +522,8 @@ struct InFlight {
 /// A transfer in progress: the opener and the closer stop-and-wait, up to the window's data
 /// messages in flight between them, each with its own ack timeout and one retry (ICD §5,
 /// §10.2). The closer goes out only when every data message was accepted. Window 1 is
-/// edition 1, message for message. [`Pacing`] sends the data behind an unanswered opener and
-/// the transfer behind the one before it (ICD §10.3).
+/// edition 1, message for message. [`Pacing`] sends the data behind an unanswered opener, the
+/// closer right behind its data and the transfer behind the one before it (ICD §10.3).
 #[derive(Debug, Clone)]
 pub struct TransferSender {
     script: Script,
@@ -614,6 +628,24 @@ impl TransferSender {
         self.fill(endpoint, now);
     }
 
+    /// Whether message `index` is a closer that goes without waiting for the answers to its
+    /// data messages (ICD §10.3): pipelined pacing, an upload with data messages, and a closer
+    /// that carries its checksum.
+    fn closes_behind_its_data(&self, index: usize) -> bool {
+        let data = self.script.data_messages();
+        self.pacing.pipelined
+            && self.script.closer_has_checksum()
+            && !data.is_empty()
+            && index == data.end
+            && index > 0
+    }
+
+    /// Whether a data message is unanswered.
+    fn data_unanswered(&self) -> bool {
+        let data = self.script.data_messages();
+        self.in_flight.iter().any(|f| data.contains(&f.index))
+    }
+
     /// Whether the data messages may go now: the opener was accepted, or it is pipelined
     /// behind (ICD §10.3) and its first attempt has not failed.
     fn data_may_go(&self) -> bool {
@@ -636,7 +668,8 @@ impl TransferSender {
     /// Sends what may go now (ICD §10.2, §10.3): data messages while the window has room and
     /// their opener allows them; an opener or a closer only when nothing is in flight, and then
     /// nothing after it until it is answered, but for the data a pipelined opener is followed
-    /// by; the closer of a transfer sent behind another not before [`TransferSender::release`].
+    /// by and the pipelined closer, which goes behind its data once its opener was accepted;
+    /// the closer of a transfer sent behind another not before [`TransferSender::release`].
     fn fill(&mut self, endpoint: &mut Endpoint, now: Instant) {
         let data = self.script.data_messages();
         let last = self.script.len().saturating_sub(1);
@@ -653,6 +686,15 @@ impl TransferSender {
                         .in_flight
                         .iter()
                         .all(|f| data.contains(&f.index) || f.index < data.start)
+            } else if self.closes_behind_its_data(index) {
+                // ICD §10.3: the closer goes right behind its data; the FCC refuses it, and
+                // it waits for their answers, if it overtakes one of them.
+                !self.pacing.behind
+                    && matches!(self.opener, Opening::Absent | Opening::Accepted)
+                    && self
+                        .in_flight
+                        .iter()
+                        .all(|f| data.contains(&f.index) && !f.parked)
             } else {
                 self.in_flight.is_empty() && !(index == last && index > 0 && self.pacing.behind)
             };
@@ -743,18 +785,29 @@ impl TransferSender {
         self.fill(endpoint, now);
     }
 
-    /// Sends again the parked messages that may go now: any but a data message whose opener is
-    /// still unanswered, once nothing is sent behind another transfer. Each goes as a new
-    /// message with its own retry (ICD §10.3): the refusal answered a message that overtook
-    /// what it depends on, and says nothing of the message itself.
+    /// Sends again the parked messages that may go now: data messages once their opener was
+    /// accepted, the closer once every data message was answered, anything else once nothing
+    /// is sent behind another transfer. Each goes as a new message with its own retry (ICD
+    /// §10.3): the refusal answered a message that overtook what it depends on, and says
+    /// nothing of the message itself.
     fn unpark(&mut self, endpoint: &mut Endpoint, now: Instant) {
-        if self.pacing.behind {
-            return;
-        }
         let data = self.script.data_messages();
         let data_go = matches!(self.opener, Opening::Absent | Opening::Accepted);
+        let data_unanswered = self.data_unanswered();
+        let behind = self.pacing.behind;
+        let closer_behind_data = self.closes_behind_its_data(data.end);
         for f in self.in_flight.iter_mut() {
-            if f.parked && (data_go || !data.contains(&f.index)) {
+            // Data refused before their opener's acceptance go after it, also in a transfer
+            // sent behind another (they overtook their own opener); the closer after every
+            // data message was answered; anything else once nothing is sent behind another.
+            let may_go = if data.contains(&f.index) {
+                data_go
+            } else if closer_behind_data && f.index == data.end {
+                !behind && !data_unanswered
+            } else {
+                !behind
+            };
+            if f.parked && may_go {
                 let Some(message) = self.script.message(f.index) else {
                     // The script gave this message before; it cannot fail to now.
                     f.exchange.cancel();
@@ -831,8 +884,19 @@ impl TransferSender {
                     self.window.accepted();
                 }
                 self.answered += 1;
+                if self.closes_behind_its_data(f.index) {
+                    // ICD §10.3, §11: the FCC accepted the closer only with the list its
+                    // checksum names assembled, every data message stored: answers still on
+                    // their way say nothing more, and a retry of one of them would open an
+                    // edit of the list just closed.
+                    self.answered += self.in_flight.len();
+                    self.in_flight.clear();
+                }
                 if is_opener {
                     self.opener = Opening::Accepted;
+                    self.unpark(endpoint, now);
+                } else if is_data && !self.data_unanswered() {
+                    // A closer refused for overtaking its data goes again now.
                     self.unpark(endpoint, now);
                 }
                 self.fill(endpoint, now);
@@ -855,7 +919,8 @@ impl TransferSender {
                 // have overtaken that on the link; its retry waits for that answer.
                 let behind_opener =
                     is_data && !matches!(self.opener, Opening::Accepted | Opening::Absent);
-                let waits = refused && (self.pacing.behind || behind_opener);
+                let behind_data = self.closes_behind_its_data(f.index) && self.data_unanswered();
+                let waits = refused && (self.pacing.behind || behind_opener || behind_data);
                 if let Some(f) = self.in_flight.iter_mut().find(|g| g.index == f.index) {
                     if waits {
                         f.parked = true;
@@ -1153,6 +1218,95 @@ mod tests {
         assert_eq!(s.sent(), 8, "clear, 3 data twice, transmit");
         // The opener's retry says nothing of the round trip; the data did.
         assert_eq!(s.window().min_rtt(), Some(Duration::from_millis(10)));
+    }
+
+    /// ICD §10.3: a closer that carries its checksum goes right behind its data once its
+    /// opener was accepted; refused while data are unanswered, it waits for their answers and
+    /// goes again as a new message; accepted, it answers for the data still unanswered.
+    #[test]
+    fn a_closer_with_its_checksum_goes_behind_its_data() {
+        let plan = mission_1().assemble().unwrap_or_else(|e| panic!("{e}"));
+        let checked = || Script::MissionUpload {
+            checksum: Some(crate::transfer::integrity::mission_checksum(&plan.mission)),
+            mission: plan.mission.clone(),
+            opener: Opener::Clear,
+            selection: None,
+            target: Target::Active,
+        };
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            checked(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        assert_eq!(names(&out), ["13000 mode 1 -", "13006", "13002", "13001"]);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        let closer = sent(&mut e);
+        assert_eq!(
+            names(&closer),
+            ["13000 mode 2 MEDEVAC-1"],
+            "behind its data"
+        );
+        // It overtook the route: refused, it waits (no retry, no timer of its own)...
+        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
+        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        assert_eq!(
+            s.handle_answer(
+                &mut e,
+                at(12),
+                &ack(&closer[0], Err(Reason::MissingInitial))
+            ),
+            None
+        );
+        assert!(sent(&mut e).is_empty(), "parked");
+        // ...and goes again, a new message, when the route was accepted.
+        s.handle_answer(&mut e, at(13), &ack(&out[3], Ok(())));
+        let again = sent(&mut e);
+        assert_eq!(names(&again), ["13000 mode 2 MEDEVAC-1"]);
+        assert!(again[0].time_stamp() > closer[0].time_stamp());
+        assert!(matches!(
+            s.handle_answer(&mut e, at(20), &ack(&again[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
+
+        // Accepted while answers to its data are still on their way: complete at once, and no
+        // data message is sent again.
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            checked(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        let closer = sent(&mut e);
+        assert!(matches!(
+            s.handle_answer(&mut e, at(20), &ack(&closer[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
+        assert_eq!(s.poll_timeout(), None);
+        assert_eq!(s.progress(), (5, 5));
+
+        // Without a checksum (edition 1's closer) it waits for every answer (ICD §10.2).
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            upload(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        assert!(sent(&mut e).is_empty());
     }
 
     /// ICD §10.3: a data message refused while its opener is unanswered may have overtaken it:
