@@ -935,6 +935,19 @@ impl TransferSender {
                 }
                 None
             }
+            Outcome::Failed(error)
+                if self.closes_behind_its_data(f.index)
+                    && self.data_unanswered()
+                    && matches!(error.second, Some(AttemptFailure::Rejected(_))) =>
+            {
+                // ICD §10.3: the closer's first attempt was lost and its retry overtook a data
+                // message sent before it (lost in the same burst, say): the refusal says
+                // nothing of the closer, which waits for its data as a new message.
+                if let Some(g) = self.in_flight.iter_mut().find(|g| g.index == f.index) {
+                    g.parked = true;
+                }
+                None
+            }
             Outcome::Failed(error) => {
                 self.abandon(endpoint, now, error.reason().unwrap_or(Reason::None));
                 Some(SenderEvent::Failed(error))
@@ -1293,6 +1306,44 @@ mod tests {
         ));
         assert_eq!(s.poll_timeout(), None);
         assert_eq!(s.progress(), (5, 5));
+
+        // Its first attempt lost and its retry refused while a data message is unanswered:
+        // it waits for the data, as a new message, instead of failing the transfer.
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            checked(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        let closer = sent(&mut e);
+        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
+        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        assert_eq!(s.handle_timeout(&mut e, at(10 + 500)), None);
+        let retries = sent(&mut e);
+        assert_eq!(names(&retries), ["13001", "13000 mode 2 MEDEVAC-1"]);
+        assert!(retries[0].time_stamp() < retries[1].time_stamp());
+        let _ = closer;
+        assert_eq!(
+            s.handle_answer(
+                &mut e,
+                at(520),
+                &ack(&retries[1], Err(Reason::MissingInitial))
+            ),
+            None
+        );
+        assert!(sent(&mut e).is_empty(), "parked, not failed");
+        s.handle_answer(&mut e, at(530), &ack(&retries[0], Ok(())));
+        let again = sent(&mut e);
+        assert_eq!(names(&again), ["13000 mode 2 MEDEVAC-1"]);
+        assert!(matches!(
+            s.handle_answer(&mut e, at(540), &ack(&again[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
 
         // Without a checksum (edition 1's closer) it waits for every answer (ICD §10.2).
         let mut e = gcs();
