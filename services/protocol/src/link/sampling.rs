@@ -114,8 +114,19 @@ impl Seen {
             if stamp - self.newest >= HORIZON_MS {
                 self.bits = [0; WORDS];
             } else {
-                for passed in self.newest + 1..=stamp {
-                    self.clear(passed);
+                // A word at a time where the range covers it: a position at 2 Hz moves the
+                // horizon 500 stamps a message.
+                let mut passed = self.newest + 1;
+                while passed <= stamp {
+                    if passed % 64 == 0 && stamp - passed >= 63 {
+                        if let Some(w) = self.bits.get_mut(Self::slot(passed).0) {
+                            *w = 0;
+                        }
+                        passed += 64;
+                    } else {
+                        self.clear(passed);
+                        passed += 1;
+                    }
                 }
             }
             self.newest = stamp;
@@ -249,6 +260,43 @@ mod tests {
         assert_eq!(s.sample(t, GCS, 13002, ts(further)), Sample::Duplicate);
         assert_eq!(s.sample(t, GCS, 13002, ts(newest)), Sample::Stale);
         assert_eq!(s.sample(t, GCS, 13002, ts(further - 1)), Sample::Fresh);
+    }
+
+    /// The bits decide as a set of every stamp processed would, within the horizon: stamps
+    /// moving up by up to 700 ms a message (a position at 2 Hz moves 500) and back by up to
+    /// 300, so that the horizon moves a bit, a word and many words at a time.
+    #[test]
+    fn the_bits_decide_as_the_set_of_stamps_processed() {
+        let mut s = MessageSampler::new(Duration::from_secs(3600));
+        let t = Instant::from_millis(10);
+        let mut processed = std::collections::HashSet::new();
+        let mut newest = 0u64;
+        let mut stamp = 100_000u64;
+        let mut rng = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..20_000 {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            stamp = (stamp + rng % 1000).saturating_sub(300);
+            let expected = if stamp > newest {
+                Sample::Fresh
+            } else if newest - stamp >= HORIZON_MS {
+                Sample::Stale
+            } else if processed.contains(&stamp) {
+                Sample::Duplicate
+            } else {
+                Sample::Fresh
+            };
+            assert_eq!(
+                s.sample(t, GCS, 13002, ts(stamp)),
+                expected,
+                "stamp {stamp}"
+            );
+            if expected == Sample::Fresh {
+                processed.insert(stamp);
+                newest = newest.max(stamp);
+            }
+        }
     }
 
     /// Time stamps are identities (ICD §3): a GCS started right after another one stamps below the
