@@ -1,6 +1,7 @@
 //! What an edition-2 GCS sends without waiting for an answer (ICD §10.3), and the FCC that
 //! accepts it: the report left out when the GCS holds a fresh one, the opener with the first
-//! window, the area upload beside the mission data, the activation behind the area closer.
+//! window, the area upload beside the mission data, the closer behind its data, the activation
+//! behind the area closer.
 //! Every case of loss ends as today: the exact lists, or for each list the one before, and the
 //! GCS says which (ICD §11).
 //!
@@ -14,6 +15,8 @@
 //! | loss, duplication, reordering over many seeds | `pipelined_uploads_under_faults_end_with_the_exact_lists_or_the_previous_ones` |
 //! | edition 1 | `an_edition_1_fcc_still_gets_the_papers_sequence_stop_and_wait` |
 //! | the window sized to the link (ICD §10.4) | `with_the_rate_known_the_window_keeps_what_the_link_carries` |
+//! | the area upload beside the mission data, one window for both | `the_area_upload_beside_the_mission_data_shares_the_window` |
+//! | the closer behind its data, refused and sent again | `a_lost_data_message_is_retried_alone`; the FCC's side in `integrity.rs`, `a_closer_that_overtook_its_data_is_refused_and_closes_after_them` |
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -260,6 +263,8 @@ fn a_lost_opener_or_answer_sends_the_opener_alone_then_its_data_again() {
     }
 }
 
+/// The take-off height lost: it alone goes again; the mission closer (mode 8), sent behind the
+/// data, found it missing, was refused and goes again after it (ICD §10.3).
 #[test]
 fn a_lost_data_message_is_retried_alone() {
     let mut s = station(FccRig::new().with_mission_2());

@@ -139,7 +139,7 @@ impl Seen {
 /// The sampling table of one receiver.
 #[derive(Debug, Clone)]
 pub struct MessageSampler {
-    /// Boxed (34 KB), allocated once with the sampler: it lives in every endpoint and voter,
+    /// Boxed (35 KB), allocated once with the sampler: it lives in every endpoint and voter,
     /// and those move by value.
     seen: Box<FnvIndexMap<(u32, u16), Seen, SAMPLING_KEYS>>,
     window: Duration,
