@@ -40,7 +40,8 @@ type Event = GcsEvent<core::convert::Infallible>;
 
 const LIMIT: Duration = Duration::from_secs(120);
 
-/// The GCS configuration of ICD §1 with the default window of 32 (ICD §10.2).
+/// The GCS configuration of ICD §1 with the shared contract's window of 32 (ICD §10.2; this
+/// GCS's default is 128).
 fn config() -> GcsConfig {
     GcsConfig {
         transfer_window: TransferWindow::MAX,

@@ -75,12 +75,15 @@ fn measured(plan: &MissionPlan, sequence: Sequence, window: u8) -> u64 {
 ///   (report, clear, data, transmit, area opener, area, area closer) and 9 atomic (report,
 ///   mode 10, data, mode 8, area opener, area, area closer, activation, delete); 256 waypoints
 ///   with 11 areas 15 and 17 (the 258 mission data messages in 9 windows).
-/// - Window 32 with ICD §10.3: the report held from the upload before is fresh, so none is
-///   asked; the opener goes with the first window, the area opener and its areas behind the
-///   mission closer, the activation behind the area closer. Mission 1 by the paper's sequence:
-///   clear and data, transmit with the area opener and the area, area closer: 3. Atomic: mode 10
-///   and data, mode 8 with the areas, mode 7 with the activation, delete: 4. 256 waypoints: the 9
-///   windows (the first with the opener), then 2 (paper) or 3 (atomic) as for mission 1.
+/// - With ICD §10.3 (windows of 32 and 128): the report held from the upload before is fresh,
+///   so none is asked; the opener goes with the first window, the area upload beside the
+///   mission data once all of them were sent, each closer right behind its data once its
+///   opener was accepted, the area closer once the mission closer was accepted, the activation
+///   behind the area closer. Mission 1 by the paper's sequence: the clear, the data and the
+///   areas; the transmit; the area closer: 3. Atomic: mode 10, the data and the areas; mode 8;
+///   mode 7 with the activation; the delete: 4. 256 waypoints: the windows of data (9 of 32,
+///   3 of 128; the transmit behind the last, the areas beside it), then the area closer: 10
+///   and 4 by the paper's sequence, one more (the delete) atomically.
 const EXPECTED: [(&str, &str, u8, u64); 12] = [
     ("mission 1", "paper", 1, 9),
     ("mission 1", "paper", 32, 3),
