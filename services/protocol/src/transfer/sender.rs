@@ -640,6 +640,16 @@ impl TransferSender {
             && index > 0
     }
 
+    /// Whether the closer went behind its data and is unanswered, neither refused nor parked.
+    fn closer_unanswered(&self) -> bool {
+        let closer = self.script.data_messages().end;
+        self.closes_behind_its_data(closer)
+            && self
+                .in_flight
+                .iter()
+                .any(|f| f.index == closer && !f.parked)
+    }
+
     /// Whether a data message is unanswered.
     fn data_unanswered(&self) -> bool {
         let data = self.script.data_messages();
@@ -794,6 +804,7 @@ impl TransferSender {
         let data = self.script.data_messages();
         let data_go = matches!(self.opener, Opening::Absent | Opening::Accepted);
         let data_unanswered = self.data_unanswered();
+        let closer_unanswered = self.closer_unanswered();
         let behind = self.pacing.behind;
         let closer_behind_data = self.closes_behind_its_data(data.end);
         for f in self.in_flight.iter_mut() {
@@ -801,7 +812,7 @@ impl TransferSender {
             // sent behind another (they overtook their own opener); the closer after every
             // data message was answered; anything else once nothing is sent behind another.
             let may_go = if data.contains(&f.index) {
-                data_go
+                data_go && !closer_unanswered
             } else if closer_behind_data && f.index == data.end {
                 !behind && !data_unanswered
             } else {
@@ -933,6 +944,10 @@ impl TransferSender {
                         }
                     }
                 }
+                if behind_data && waits {
+                    // The closer refused: data that waited for its answer go again.
+                    self.unpark(endpoint, now);
+                }
                 None
             }
             Outcome::Failed(error)
@@ -943,6 +958,21 @@ impl TransferSender {
                 // ICD §10.3: the closer's first attempt was lost and its retry overtook a data
                 // message sent before it (lost in the same burst, say): the refusal says
                 // nothing of the closer, which waits for its data as a new message.
+                if let Some(g) = self.in_flight.iter_mut().find(|g| g.index == f.index) {
+                    g.parked = true;
+                }
+                self.unpark(endpoint, now);
+                None
+            }
+            Outcome::Failed(error)
+                if is_data
+                    && self.closer_unanswered()
+                    && matches!(error.second, Some(AttemptFailure::Rejected(_))) =>
+            {
+                // ICD §10.3: a data message whose answer was lost, sent again behind its
+                // closer, finds the transfer the closer closed: the refusal says nothing until
+                // the closer is answered. Accepted, the closer answers for it; refused, it
+                // waits for this message, which goes again first.
                 if let Some(g) = self.in_flight.iter_mut().find(|g| g.index == f.index) {
                     g.parked = true;
                 }
@@ -1342,6 +1372,72 @@ mod tests {
         assert_eq!(names(&again), ["13000 mode 2 MEDEVAC-1"]);
         assert!(matches!(
             s.handle_answer(&mut e, at(540), &ack(&again[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
+
+        // A data message whose answer was lost goes again behind the closer, which closed the
+        // transfer: its retry refused, it waits for the closer, whose acceptance answers for it.
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            checked(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        let closer = sent(&mut e);
+        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
+        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        assert_eq!(s.handle_timeout(&mut e, at(500)), None);
+        let retry = sent(&mut e);
+        assert_eq!(names(&retry), ["13001"]);
+        assert_eq!(
+            s.handle_answer(&mut e, at(505), &ack(&retry[0], Err(Reason::WrongState))),
+            None,
+            "parked, not failed"
+        );
+        assert!(sent(&mut e).is_empty());
+        assert!(matches!(
+            s.handle_answer(&mut e, at(506), &ack(&closer[0], Ok(()))),
+            Some(SenderEvent::Completed(_))
+        ));
+
+        // The same, the closer refused: the data message goes again first, then the closer.
+        let mut e = gcs();
+        let mut s = TransferSender::start_with(
+            checked(),
+            Window::fixed(32),
+            PIPELINED,
+            ACK_TIMEOUT,
+            &mut e,
+            at(0),
+        );
+        let out = sent(&mut e);
+        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
+        let closer = sent(&mut e);
+        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
+        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        assert_eq!(s.handle_timeout(&mut e, at(500)), None);
+        let retry = sent(&mut e);
+        s.handle_answer(&mut e, at(505), &ack(&retry[0], Err(Reason::WrongState)));
+        assert_eq!(
+            s.handle_answer(
+                &mut e,
+                at(506),
+                &ack(&closer[0], Err(Reason::MissingInitial))
+            ),
+            None
+        );
+        let again = sent(&mut e);
+        assert_eq!(names(&again), ["13001"]);
+        s.handle_answer(&mut e, at(510), &ack(&again[0], Ok(())));
+        let closer_again = sent(&mut e);
+        assert_eq!(names(&closer_again), ["13000 mode 2 MEDEVAC-1"]);
+        assert!(matches!(
+            s.handle_answer(&mut e, at(520), &ack(&closer_again[0], Ok(()))),
             Some(SenderEvent::Completed(_))
         ));
 
