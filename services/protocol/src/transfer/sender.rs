@@ -1263,22 +1263,21 @@ mod tests {
         assert_eq!(s.window().min_rtt(), Some(Duration::from_millis(10)));
     }
 
-    /// ICD §10.3: a closer that carries its checksum goes right behind its data once its
-    /// opener was accepted; refused while data are unanswered, it waits for their answers and
-    /// goes again as a new message; accepted, it answers for the data still unanswered.
-    #[test]
-    fn a_closer_with_its_checksum_goes_behind_its_data() {
+    /// Mission 1 with its checksum (ICD §11) by a pipelined sender: the clear accepted at 10 ms
+    /// and the take-off height and waypoint at 11 ms; the closer went behind the data. The
+    /// messages sent first (clear, 3 data) and the closer.
+    fn behind_its_data() -> (Endpoint, TransferSender, Vec<Message>, Vec<Message>) {
         let plan = mission_1().assemble().unwrap_or_else(|e| panic!("{e}"));
-        let checked = || Script::MissionUpload {
+        let script = Script::MissionUpload {
             checksum: Some(crate::transfer::integrity::mission_checksum(&plan.mission)),
-            mission: plan.mission.clone(),
+            mission: plan.mission,
             opener: Opener::Clear,
             selection: None,
             target: Target::Active,
         };
         let mut e = gcs();
         let mut s = TransferSender::start_with(
-            checked(),
+            script,
             Window::fixed(32),
             PIPELINED,
             ACK_TIMEOUT,
@@ -1294,9 +1293,18 @@ mod tests {
             ["13000 mode 2 MEDEVAC-1"],
             "behind its data"
         );
-        // It overtook the route: refused, it waits (no retry, no timer of its own)...
         s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
         s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        (e, s, out, closer)
+    }
+
+    /// ICD §10.3: a closer that carries its checksum goes right behind its data once its
+    /// opener was accepted; refused while data are unanswered, it waits for their answers and
+    /// goes again as a new message; accepted, it answers for the data still unanswered.
+    #[test]
+    fn a_closer_with_its_checksum_goes_behind_its_data() {
+        // It overtook the route: refused, it waits (no retry, no timer of its own)...
+        let (mut e, mut s, out, closer) = behind_its_data();
         assert_eq!(
             s.handle_answer(
                 &mut e,
@@ -1316,20 +1324,9 @@ mod tests {
             Some(SenderEvent::Completed(_))
         ));
 
-        // Accepted while answers to its data are still on their way: complete at once, and no
+        // Accepted while the route's answer is still on its way: complete at once, and no
         // data message is sent again.
-        let mut e = gcs();
-        let mut s = TransferSender::start_with(
-            checked(),
-            Window::fixed(32),
-            PIPELINED,
-            ACK_TIMEOUT,
-            &mut e,
-            at(0),
-        );
-        let out = sent(&mut e);
-        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
-        let closer = sent(&mut e);
+        let (mut e, mut s, _, closer) = behind_its_data();
         assert!(matches!(
             s.handle_answer(&mut e, at(20), &ack(&closer[0], Ok(()))),
             Some(SenderEvent::Completed(_))
@@ -1339,25 +1336,11 @@ mod tests {
 
         // Its first attempt lost and its retry refused while a data message is unanswered:
         // it waits for the data, as a new message, instead of failing the transfer.
-        let mut e = gcs();
-        let mut s = TransferSender::start_with(
-            checked(),
-            Window::fixed(32),
-            PIPELINED,
-            ACK_TIMEOUT,
-            &mut e,
-            at(0),
-        );
-        let out = sent(&mut e);
-        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
-        let closer = sent(&mut e);
-        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
-        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        let (mut e, mut s, _, _) = behind_its_data();
         assert_eq!(s.handle_timeout(&mut e, at(10 + 500)), None);
         let retries = sent(&mut e);
         assert_eq!(names(&retries), ["13001", "13000 mode 2 MEDEVAC-1"]);
         assert!(retries[0].time_stamp() < retries[1].time_stamp());
-        let _ = closer;
         assert_eq!(
             s.handle_answer(
                 &mut e,
@@ -1377,20 +1360,7 @@ mod tests {
 
         // A data message whose answer was lost goes again behind the closer, which closed the
         // transfer: its retry refused, it waits for the closer, whose acceptance answers for it.
-        let mut e = gcs();
-        let mut s = TransferSender::start_with(
-            checked(),
-            Window::fixed(32),
-            PIPELINED,
-            ACK_TIMEOUT,
-            &mut e,
-            at(0),
-        );
-        let out = sent(&mut e);
-        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
-        let closer = sent(&mut e);
-        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
-        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        let (mut e, mut s, _, closer) = behind_its_data();
         assert_eq!(s.handle_timeout(&mut e, at(500)), None);
         let retry = sent(&mut e);
         assert_eq!(names(&retry), ["13001"]);
@@ -1406,20 +1376,7 @@ mod tests {
         ));
 
         // The same, the closer refused: the data message goes again first, then the closer.
-        let mut e = gcs();
-        let mut s = TransferSender::start_with(
-            checked(),
-            Window::fixed(32),
-            PIPELINED,
-            ACK_TIMEOUT,
-            &mut e,
-            at(0),
-        );
-        let out = sent(&mut e);
-        s.handle_answer(&mut e, at(10), &ack(&out[0], Ok(())));
-        let closer = sent(&mut e);
-        s.handle_answer(&mut e, at(11), &ack(&out[1], Ok(())));
-        s.handle_answer(&mut e, at(11), &ack(&out[2], Ok(())));
+        let (mut e, mut s, _, closer) = behind_its_data();
         assert_eq!(s.handle_timeout(&mut e, at(500)), None);
         let retry = sent(&mut e);
         s.handle_answer(&mut e, at(505), &ack(&retry[0], Err(Reason::WrongState)));
