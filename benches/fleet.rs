@@ -41,9 +41,11 @@
 //!
 //! `--soak-s S` runs one fleet (the largest of `--real`, or with `--real ""` of `--simulated`)
 //! for S seconds instead: positions
-//! at 2 Hz, an upload to every vehicle every 10 s, and every minute the service's resident set,
-//! open file descriptors, threads and CPU share since the minute before (`--sample-s` another
-//! period); then the growth from the first minute to the last, the means of the first and the
+//! at 2 Hz, an upload to every vehicle every 10 s (`--upload-every-s` another period: a shorter
+//! one makes a leak per request show sooner), and every minute the service's resident set, the
+//! resident part of its allocator's heap (`[heap]` in `/proc/<pid>/smaps`: the one arena, see
+//! `one_allocator_arena` in the `gcs` binary), open file descriptors, threads and CPU share since
+//! the minute before (`--sample-s` another period); then the growth from the first minute to the last, the means of the first and the
 //! last sixth of the samples, the slope of each half, and every upload's outcome.
 // A benchmark stops at its first failure: it may unwrap, expect, panic and index.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -71,7 +73,7 @@ use missionlink_platform::clock::DriverClock;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::{LinkPair, MAX_DATAGRAM};
 
-/// How often an upload goes to every vehicle in the soak.
+/// How often an upload goes to every vehicle in the soak, unless `--upload-every-s` says.
 const SOAK_UPLOAD_EVERY: Duration = Duration::from_secs(10);
 /// How far a simulated vehicle moves between its guidance updates: 1e-5 degrees of latitude
 /// (about 1 m), so that every #101 carries a latitude of its own.
@@ -124,6 +126,16 @@ fn cpu_time(pid: u32) -> Duration {
     Duration::from_secs_f64(ticks as f64 / 100.0)
 }
 
+/// Page faults of process `pid` so far that read nothing from disk (every thread, ended ones
+/// included): a count, not a time, so the fresh memory an upload touches is measured alike on a
+/// busy and on a quiet machine.
+fn minor_faults(pid: u32) -> u64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // minflt is field 10 of proc(5): the 8th after the command's closing parenthesis.
+    let rest = &stat[stat.rfind(')').unwrap() + 2..];
+    rest.split(' ').nth(7).unwrap().parse().unwrap()
+}
+
 /// A `kB` field of `/proc/<pid>/status` (VmRSS, VmHWM), in bytes.
 fn status_kb(pid: u32, field: &str) -> u64 {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
@@ -138,6 +150,26 @@ fn status_kb(pid: u32, field: &str) -> u64 {
 /// The machine's busy CPU time so far, all cores (`harness::machine_ticks`).
 fn machine_busy() -> Duration {
     Duration::from_secs_f64(missionlink::harness::machine_ticks().0 as f64 / 100.0)
+}
+
+/// The resident part of the process's `[heap]` mapping, KiB: the C library's main arena, where
+/// every thread of the service allocates (one arena).
+fn heap_kb(pid: u32) -> u64 {
+    let smaps = std::fs::read_to_string(format!("/proc/{pid}/smaps")).unwrap_or_default();
+    let mut in_heap = false;
+    for line in smaps.lines() {
+        if line.ends_with("[heap]") {
+            in_heap = true;
+        } else if in_heap && let Some(rss) = line.strip_prefix("Rss:") {
+            return rss
+                .trim()
+                .trim_end_matches("kB")
+                .trim()
+                .parse()
+                .unwrap_or(0);
+        }
+    }
+    0
 }
 
 fn open_fds(pid: u32) -> usize {
@@ -558,6 +590,9 @@ struct Row {
     all_busy_ms: Vec<f64>,
     /// The service's CPU time per vehicle and upload, over the uploads to all.
     service_ms_per_upload: f64,
+    /// The service's page faults per vehicle and upload, over the uploads to all: the pages of
+    /// fresh memory (a request thread's stack, the allocator's growth) each request touches.
+    service_faults_per_upload: f64,
     /// With `--first-behind`: the upload to all but the first alone, and beside an upload to
     /// the first over its link; how many of the first's did not complete.
     others_alone_ms: Vec<f64>,
@@ -688,6 +723,7 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
     let (mut one_busy_ms, mut all_busy_ms) = (Vec::new(), Vec::new());
     // The service's CPU time over every upload to all.
     let mut service_ms = 0.0;
+    let mut service_faults = 0;
     let mut failed = 0;
     // Both lists change at every upload: missions 1 and 2 in turn.
     let files = ["mission-2.toml", "mission-1.toml"];
@@ -704,10 +740,11 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
                 failed += usize::from(!done);
                 turn += 1;
             }
-            let service_before = cpu_time(service.pid());
+            let service_before = (cpu_time(service.pid()), minor_faults(service.pid()));
             let (took, busy, done) = upload(service, &vehicles, files[turn % 2]);
             if vehicles == *all {
-                service_ms += ms(cpu_time(service.pid()) - service_before);
+                service_ms += ms(cpu_time(service.pid()) - service_before.0);
+                service_faults += minor_faults(service.pid()) - service_before.1;
             }
             failed += usize::from(!done);
             turn += 1;
@@ -772,6 +809,7 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
         one_busy_ms,
         all_busy_ms,
         service_ms_per_upload: service_ms / (runs * n) as f64,
+        service_faults_per_upload: service_faults as f64 / (runs * n) as f64,
         others_alone_ms,
         others_beside_ms,
         first_failed,
@@ -793,7 +831,7 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
 fn print(rows: &[Row]) {
     let cores = std::thread::available_parallelism().map_or(1, usize::from) as f64;
     println!(
-        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>9} {:>9} {:>6} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
+        "\n{:<10} {:>4} {:>9} {:>9} {:>6} {:>9} {:>9} {:>6} {:>6} {:>6} {:>5} {:>7} {:>9} {:>10} {:>11} {:>13} {:>8} {:>8} {:>8} {:>8} {:>7}",
         "fleet",
         "N",
         "one ms",
@@ -803,6 +841,7 @@ fn print(rows: &[Row]) {
         "cpuN ms",
         "busy%",
         "svc ms",
+        "svc pf",
         "fail",
         "CPU %",
         "RSS MiB",
@@ -839,7 +878,7 @@ fn print(rows: &[Row]) {
         let (one, all) = (median(&r.one_ms), median(&r.all_ms));
         let all_busy = median(&r.all_busy_ms);
         println!(
-            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>9.0} {:>9.0} {:>6.0} {:>6.2} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
+            "{:<10} {:>4} {:>9.0} {:>9.0} {:>6.2} {:>9.0} {:>9.0} {:>6.0} {:>6.2} {:>6.0} {:>5} {:>7.2} {:>9.1} {:>10.0} {:>11} {:>6.2}-{:<6.2} {:>8} {:>8} {:>8} {:>8} {:>7}",
             r.kind.name(),
             r.n,
             one,
@@ -849,6 +888,7 @@ fn print(rows: &[Row]) {
             all_busy,
             100.0 * all_busy / (all * cores),
             r.service_ms_per_upload,
+            r.service_faults_per_upload,
             r.failed,
             r.cpu_percent,
             r.rss as f64 / (1 << 20) as f64,
@@ -890,25 +930,46 @@ fn print(rows: &[Row]) {
         "\none, all: median wall time of `gcs upload` to one vehicle and to all at once; cpu1, cpuN: \
          the machine's busy CPU time meanwhile (every process, all cores; in 10 ms ticks); busy%: \
          cpuN as a share of all cores over the upload to all; svc: the service's CPU time per \
-         vehicle and upload, over the uploads to all; CPU: the \
+         vehicle and upload, over the uploads to all; pf: its page faults per vehicle and upload \
+         (pages of fresh memory touched); CPU: the \
          service's share of one core while idle; KiB/veh +: resident set added per vehicle over \
          the fleet of one; lat: #101 sent to its GLOBAL_POSITION_INT, µs"
     );
 }
 
-/// The hour: one fleet of `n` of `kind`, an upload to all every [`SOAK_UPLOAD_EVERY`], a
-/// sample every `sample_every`.
-fn soak(kind: Kind, n: usize, links: Links, duration: Duration, sample_every: Duration) {
+/// How a soak runs: how long, how often it samples, how often it uploads to all.
+struct SoakPlan {
+    duration: Duration,
+    sample_every: Duration,
+    upload_every: Duration,
+}
+
+/// The hour: one fleet of `n` of `kind`, an upload to all every `plan.upload_every`, a sample
+/// every `plan.sample_every`.
+fn soak(kind: Kind, n: usize, links: Links, plan: &SoakPlan) {
+    let SoakPlan {
+        duration,
+        sample_every,
+        upload_every,
+    } = *plan;
     let setup = Setup::start(kind, n, links, "missionlink-bench-soak");
     let (service, client, all) = (&setup.service, &setup.client, &setup.all);
     let pid = service.pid();
     let files = ["mission-2.toml", "mission-1.toml"];
     println!(
-        "{:>7} {:>9} {:>5} {:>8} {:>7} {:>8} {:>7} {:>13}",
-        "minute", "RSS KiB", "fds", "threads", "CPU %", "uploads", "failed", "GPI/s min-max"
+        "{:>7} {:>9} {:>9} {:>5} {:>8} {:>7} {:>8} {:>7} {:>13}",
+        "sample",
+        "RSS KiB",
+        "heap KiB",
+        "fds",
+        "threads",
+        "CPU %",
+        "uploads",
+        "failed",
+        "GPI/s min-max"
     );
     let start = Instant::now();
-    let mut samples: Vec<(u64, usize, usize)> = Vec::new();
+    let mut samples: Vec<(u64, usize, usize, u64)> = Vec::new();
     let (mut uploads, mut failed) = (0usize, 0usize);
     let mut next_upload = start;
     let mut next_sample = start + sample_every;
@@ -920,7 +981,7 @@ fn soak(kind: Kind, n: usize, links: Links, duration: Duration, sample_every: Du
             let (_, _, done) = upload(service, all, files[uploads % 2]);
             uploads += 1;
             failed += usize::from(!done);
-            next_upload += SOAK_UPLOAD_EVERY;
+            next_upload += upload_every;
         }
         if now >= next_sample {
             let cpu = cpu_time(pid);
@@ -931,11 +992,17 @@ fn soak(kind: Kind, n: usize, links: Links, duration: Duration, sample_every: Du
                     positions.get(&s).copied().unwrap_or(0) as f64 / sample_every.as_secs_f64()
                 })
                 .collect();
-            let sample = (status_kb(pid, "VmRSS:") / 1024, open_fds(pid), threads(pid));
+            let sample = (
+                status_kb(pid, "VmRSS:") / 1024,
+                open_fds(pid),
+                threads(pid),
+                heap_kb(pid),
+            );
             println!(
-                "{:>7} {:>9} {:>5} {:>8} {:>7.2} {:>8} {:>7} {:>6.2}-{:<6.2}",
+                "{:>7} {:>9} {:>9} {:>5} {:>8} {:>7.2} {:>8} {:>7} {:>6.2}-{:<6.2}",
                 samples.len() + 1,
                 sample.0,
+                sample.3,
                 sample.1,
                 sample.2,
                 100.0 * (cpu - cpu_before).as_secs_f64() / sample_every.as_secs_f64(),
@@ -973,20 +1040,25 @@ fn soak(kind: Kind, n: usize, links: Links, duration: Duration, sample_every: Du
     // Growth told apart from the spread of single samples: the means of the first and the last
     // sixth, and the least-squares slope of each half (memory that settles has a slope in the
     // first half only).
-    let rss: Vec<f64> = samples.iter().map(|s| s.0 as f64).collect();
-    let sixth = (rss.len() / 6).max(1);
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let per_hour = 3600.0 / sample_every.as_secs_f64();
-    let half = rss.len() / 2;
-    println!(
-        "RSS mean of the first sixth {:.0} KiB, of the last sixth {:.0} KiB ({:+.0} KiB); slope \
-         {:+.0} KiB/h over the first half, {:+.0} KiB/h over the second",
-        mean(&rss[..sixth]),
-        mean(&rss[rss.len() - sixth..]),
-        mean(&rss[rss.len() - sixth..]) - mean(&rss[..sixth]),
-        slope(&rss[..half]) * per_hour,
-        slope(&rss[half..]) * per_hour,
-    );
+    let trend = |name: &str, values: Vec<f64>| {
+        let sixth = (values.len() / 6).max(1);
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let half = values.len() / 2;
+        let (early, late) = (
+            mean(&values[..sixth]),
+            mean(&values[values.len() - sixth..]),
+        );
+        println!(
+            "{name} mean of the first sixth {early:.0} KiB, of the last sixth {late:.0} KiB \
+             ({:+.0} KiB); slope {:+.0} KiB/h over the first half, {:+.0} KiB/h over the second",
+            late - early,
+            slope(&values[..half]) * per_hour,
+            slope(&values[half..]) * per_hour,
+        );
+    };
+    trend("RSS", samples.iter().map(|s| s.0 as f64).collect());
+    trend("heap", samples.iter().map(|s| s.3 as f64).collect());
 }
 
 /// The least-squares slope of `values` against their index; 0 for fewer than two.
@@ -1053,14 +1125,20 @@ fn main() {
         let sample_every = Duration::from_secs_f64(
             arg(&args, "--sample-s").map_or(60.0, |v| v.parse().expect("--sample-s S")),
         );
+        let plan = SoakPlan {
+            duration,
+            sample_every,
+            upload_every: arg(&args, "--upload-every-s").map_or(SOAK_UPLOAD_EVERY, |v| {
+                Duration::from_secs_f64(v.parse().expect("--upload-every-s S"))
+            }),
+        };
         match real.iter().copied().max() {
-            Some(n) => soak(Kind::Real, n, links, duration, sample_every),
+            Some(n) => soak(Kind::Real, n, links, &plan),
             None => soak(
                 Kind::Simulated,
                 simulated.iter().copied().max().unwrap_or(16),
                 links,
-                duration,
-                sample_every,
+                &plan,
             ),
         }
         return;

@@ -20,12 +20,18 @@ use missionlink_ground::ground_station::{
 };
 
 use super::vehicle::{Vehicle, VehicleEvent};
+use missionlink_interfaces::wire::GeoPoint;
 use missionlink_protocol::transfer::integrity::{areas_checksum, mission_checksum};
+use missionlink_protocol::transfer::mission::Mission;
 
 use super::memory::Memory;
 use super::plan::{List, from_plan};
 use crate::gcs_link::{Finished, GcsLink};
 use crate::qgc::ExportOptions;
+
+/// The ground service's own check of a plan to commit, after the safety gateway's: its mission
+/// as validated and its take-off position; why not, in the operator's words.
+pub type CommitCheck<'a> = dyn FnMut(&Mission, Option<GeoPoint>) -> Result<(), String> + 'a;
 
 /// Largest MAVLink 2 datagram (280 bytes a frame; a datagram may hold several).
 const DATAGRAM: usize = 2048;
@@ -223,10 +229,10 @@ fn read_fcc_lists<G: SafetyGateway>(link: &mut GcsLink<G>, vehicle: &mut Vehicle
 fn commit<G: SafetyGateway>(
     link: &mut GcsLink<G>,
     plan: &MissionPlan,
-    check: &mut dyn FnMut(&MissionPlan) -> Result<(), String>,
+    check: &mut CommitCheck<'_>,
 ) -> Result<(u32, u32), String> {
-    link.station().validate(plan).map_err(|e| e.to_string())?;
-    check(plan)?;
+    let lists = link.station().validate(plan).map_err(|e| e.to_string())?;
+    check(&lists.mission, plan.take_off_position)?;
     let now = link.now();
     link.station()
         .upload_with(now, plan, Sequence::Atomic)
@@ -283,7 +289,7 @@ pub fn run<G: SafetyGateway>(
 ) -> std::io::Result<()> {
     vehicle.start(link.now());
     while !stop.load(Ordering::Relaxed) {
-        carry_out_events(link, vehicle, memory, &mut |_| Ok(()));
+        carry_out_events(link, vehicle, memory, &mut |_, _| Ok(()));
         tick(link.now(), vehicle, socket);
         // The downlink: positions and FROM-TO-NEXT.
         let mut downlink = Vec::new();
@@ -314,13 +320,14 @@ pub fn run<G: SafetyGateway>(
 
 /// What the vehicle asked of the GCS link (a commit, execute, a clear), carried out and
 /// reported back; what it must remember written to `memory`; the links' counts handed over. A
-/// plan to commit passes the safety gateway, then `check` (the ground service's separation
-/// from the fleet), before it goes. Whether a list may have changed on the FCC.
+/// plan to commit passes the safety gateway, then `check` of its mission as validated, with its
+/// take-off position (the ground service's separation from the fleet), before it goes. Whether
+/// a list may have changed on the FCC.
 pub fn carry_out_events<G: SafetyGateway>(
     link: &mut GcsLink<G>,
     vehicle: &mut Vehicle,
     memory: Option<&Path>,
-    check: &mut dyn FnMut(&MissionPlan) -> Result<(), String>,
+    check: &mut CommitCheck<'_>,
 ) -> bool {
     let mut changed = false;
     while let Some(event) = vehicle.poll_event() {

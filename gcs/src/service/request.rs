@@ -14,7 +14,7 @@ use missionlink_ground::ground_station::{
     ValidatedPlan, validate,
 };
 use missionlink_ground::safety_gateway::SafetyGateway;
-use missionlink_interfaces::wire::{ExecuteCommand, Message};
+use missionlink_interfaces::wire::{ExecuteCommand, GeoPoint, Message};
 use missionlink_protocol::transfer::mission::Mission;
 use missionlink_protocol::transfer::sender::Target;
 use missionlink_protocol::transfer::staged::MissionId;
@@ -159,6 +159,20 @@ pub trait Listener {
     /// request to end (the ground service's MAVLink heartbeat, its monitors, the staged copies
     /// it keeps on disk); `station` is the GCS logic as it runs the request.
     fn tick(&mut self, _station: &GroundStation<SafetyGateway>) {}
+    /// An upload's lists passed the safety gateway (`gateway`, as the command gave it), before
+    /// anything is sent: the ground service's own checks of them (the fleet's separation), and
+    /// what they will be once uploaded (`target`). An error (why, its first line the summary)
+    /// refuses the upload with nothing sent. The plan is read and validated once, here, for
+    /// both.
+    fn validated(
+        &mut self,
+        _lists: &ValidatedPlan,
+        _take_off: Option<GeoPoint>,
+        _target: Target,
+        _gateway: &SafetyGateway,
+    ) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// A listener that hears nothing.
@@ -239,6 +253,18 @@ fn carry_out_upload(
         Some(id) => Target::Staged(mission_id(id)?),
         None => Target::Active,
     };
+    listener
+        .validated(&validated, plan.take_off_position, target, &gateway)
+        .map_err(|why| {
+            // "nothing was sent" ends the summary; the details (one per line) follow it.
+            let (first, rest) = why.split_once('\n').unwrap_or((&why, ""));
+            let rest = if rest.is_empty() {
+                String::new()
+            } else {
+                format!("\n{rest}")
+            };
+            Failure::other(format!("{}: {first}; nothing was sent{rest}", upload.file))
+        })?;
     let sequence = if upload.paper_sequence {
         Sequence::Paper { clear: true }
     } else {

@@ -21,12 +21,13 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use missionlink_ground::ground_station::{GcsEvent, GroundStation, MissionPlan};
+use missionlink_ground::ground_station::{GcsEvent, GroundStation, ValidatedPlan};
 use missionlink_ground::safety_gateway::SafetyGateway;
 use missionlink_interfaces::wire::{Checksum, GeoPoint, Message};
 use missionlink_platform::udp::LinkPair;
 use missionlink_protocol::transfer::integrity;
 use missionlink_protocol::transfer::mission::Mission;
+use missionlink_protocol::transfer::sender::Target;
 use missionlink_protocol::transfer::staged::MissionId;
 
 use super::client::{Call, Reply, What};
@@ -425,42 +426,39 @@ impl FleetMissions {
 /// The active mission of a mission file's text (the lists as the command validated them) and
 /// its take-off position.
 fn active_of(mission: &str) -> Option<Active> {
-    lists_of(&MissionFile::parse(mission).ok()?.to_plan().ok()?).map(|(active, _)| active)
+    let plan = MissionFile::parse(mission).ok()?.to_plan().ok()?;
+    let lists = plan.assemble().ok()?;
+    Some(lists_of(&lists, plan.take_off_position).0)
 }
 
-/// A plan's lists as they become active when it is uploaded (ICD §8): the mission with its
-/// checksum and take-off position, and the area list's checksum (ICD §11).
-fn lists_of(plan: &MissionPlan) -> Option<(Active, Checksum)> {
-    let lists = plan.assemble().ok()?;
-    let areas = integrity::areas_checksum(&lists.areas);
-    Some((
+/// Validated lists as they become active when uploaded (ICD §8): the mission with its checksum
+/// and take-off position, and the area list's checksum (ICD §11).
+fn lists_of(lists: &ValidatedPlan, take_off: Option<GeoPoint>) -> (Active, Checksum) {
+    (
         Active {
             checksum: integrity::mission_checksum(&lists.mission),
-            mission: Arc::new(lists.mission),
-            take_off: plan.take_off_position,
+            mission: Arc::new(lists.mission.clone()),
+            take_off,
         },
-        areas,
-    ))
+        integrity::areas_checksum(&lists.areas),
+    )
 }
 
-/// The safety gateway's separation check (`[fleet] separation_m`): `plan` for `vehicle`, as
-/// it flies with `gateway`, against the active missions of the fleet's other vehicles; every
-/// conflict, or why the check cannot run. A plan that does not validate passes here: the
-/// gateway refuses it where it is sent.
+/// The safety gateway's separation check (`[fleet] separation_m`): the mission `own` for
+/// `vehicle` (validated, taking off at `take_off`), as it flies with `gateway`, against the
+/// active missions of the fleet's other vehicles; every conflict, or why the check cannot run.
 fn keeps_separation(
     fleet: &FleetMissions,
     vehicle: &str,
     separation: super::fleet::Separation,
     gateway: &SafetyGateway,
-    plan: &MissionPlan,
+    own: &Mission,
+    take_off: Option<GeoPoint>,
 ) -> Result<(), String> {
     use missionlink_ground::safety_gateway::separation::{self, Flight, Separation};
     if separation.separation_m <= 0.0 {
         return Ok(());
     }
-    let Ok(lists) = missionlink_ground::ground_station::validate(gateway, plan) else {
-        return Ok(());
-    };
     let others = fleet.others(vehicle);
     let flights: Vec<Flight<'_>> = others
         .iter()
@@ -472,8 +470,8 @@ fn keeps_separation(
         .collect();
     let own = Flight {
         vehicle,
-        mission: &lists.mission,
-        take_off: plan.take_off_position,
+        mission: own,
+        take_off,
     };
     let limits = Separation {
         horizontal_m: separation.separation_m,
@@ -850,6 +848,10 @@ struct Running<'a> {
     state: &'a mut VehicleState,
     queue: &'a mut Receiver<Job>,
     deferred: &'a mut VecDeque<Job>,
+    /// The fleet an upload keeps its separation from, this vehicle's name and the separation.
+    fleet: (&'a FleetMissions, &'a str, super::fleet::Separation),
+    /// The lists an upload to the active lists makes active, once validated and separated.
+    uploading: Option<(Active, Checksum)>,
 }
 
 impl Listener for Running<'_> {
@@ -861,6 +863,26 @@ impl Listener for Running<'_> {
 
     fn event(&mut self, event: &Event) {
         self.state.heard(event);
+    }
+
+    fn validated(
+        &mut self,
+        lists: &ValidatedPlan,
+        take_off: Option<GeoPoint>,
+        target: Target,
+        gateway: &SafetyGateway,
+    ) -> Result<(), String> {
+        let (fleet, vehicle, separation) = self.fleet;
+        keeps_separation(
+            fleet,
+            vehicle,
+            separation,
+            gateway,
+            &lists.mission,
+            take_off,
+        )?;
+        self.uploading = (target == Target::Active).then(|| lists_of(lists, take_off));
+        Ok(())
     }
 
     fn tick(&mut self, station: &GroundStation<SafetyGateway>) {
@@ -973,7 +995,7 @@ impl Worker {
             &mut self.link,
             &mut m.vehicle,
             m.memory.as_deref(),
-            &mut |plan| keeps_separation(fleet, name, separation, gateway, plan),
+            &mut |own, take_off| keeps_separation(fleet, name, separation, gateway, own, take_off),
         );
         if changed {
             self.refresh_report();
@@ -993,7 +1015,7 @@ impl Worker {
         if self.fleet.checksum(&self.name) == Some(checksum) {
             return;
         }
-        match self.carry_out(Request::Download { id: None }, None) {
+        match self.carry_out(Request::Download { id: None }, None).0 {
             Ok(Answer::Downloaded { mission }) => {
                 let learnt = active_of(&mission).filter(|a| a.checksum == checksum);
                 if learnt.is_none() {
@@ -1006,26 +1028,6 @@ impl Worker {
                 self.fleet.set(&self.name, None);
             }
         }
-    }
-
-    /// The safety gateway's separation check (`[fleet] separation_m`) of the plan of `upload`,
-    /// as it flies in the upload's wind. A plan that does not read is left to the request,
-    /// which refuses it in the gateway's words.
-    fn keeps_separation(
-        &self,
-        upload: &super::request::Upload,
-        plan: &MissionPlan,
-    ) -> Result<(), Failure> {
-        let gateway = SafetyGateway::new(upload.profile.into(), upload.environment.into());
-        keeps_separation(&self.fleet, &self.name, self.separation, &gateway, plan).map_err(|why| {
-            let (first, rest) = why.split_once('\n').unwrap_or((&why, ""));
-            let rest = if rest.is_empty() {
-                String::new()
-            } else {
-                format!("\n{rest}")
-            };
-            Failure::other(format!("{}: {first}; nothing was sent{rest}", upload.file))
-        })
     }
 
     /// Deletes the staged copies a previous run left (those the FCC's report lists); those
@@ -1042,7 +1044,7 @@ impl Worker {
             let request = Request::Delete {
                 id: id.as_str().to_owned(),
             };
-            match self.carry_out(request, None) {
+            match self.carry_out(request, None).0 {
                 Ok(_) => {
                     tracing::info!(copy = %id.as_str(), "a staged copy a previous run left is deleted")
                 }
@@ -1072,18 +1074,22 @@ impl Worker {
         }
     }
 
-    /// Carries `request` out, `client` hearing its progress (none: the service's own). Called
-    /// on a request's thread ([`on_request_thread`]).
+    /// Carries `request` out, `client` hearing its progress (none: the service's own), and,
+    /// for an upload to the active lists that went, the lists it made active. Called on a
+    /// request's thread ([`on_request_thread`]).
     fn carry_out(
         &mut self,
         request: Request,
         client: Option<&mut UnixStream>,
-    ) -> Result<Answer, Failure> {
+    ) -> (Result<Answer, Failure>, Option<(Active, Checksum)>) {
         let Self {
             link,
             state,
             queue,
             deferred,
+            fleet,
+            name,
+            separation,
             ..
         } = self;
         let mut running = Running {
@@ -1091,38 +1097,23 @@ impl Worker {
             state,
             queue,
             deferred,
+            fleet: (fleet, name, *separation),
+            uploading: None,
         };
-        request::carry_out(link, request, &mut running)
+        let outcome = request::carry_out(link, request, &mut running);
+        (outcome, running.uploading)
     }
 
     fn request(&mut self, request: Request, mut stream: UnixStream) {
-        // An upload's mission file read once for the service's own checks and records; a file
-        // that does not read is left to the request, which refuses it in the gateway's words.
-        let plan = match &request {
-            Request::Upload(u) => MissionFile::parse(&u.mission)
-                .ok()
-                .and_then(|f| f.to_plan().ok()),
-            _ => None,
-        };
-        if let (Request::Upload(upload), Some(plan)) = (&request, &plan)
-            && let Err(refused) = self.keeps_separation(upload, plan)
-        {
-            let _ = send(&mut stream, &Reply::Failed(refused));
-            return;
-        }
-        let lists = match (&request, &plan) {
-            (Request::Upload(u), Some(plan)) if u.stage.is_none() => lists_of(plan),
-            _ => None,
-        };
         let changes = !matches!(request, Request::Report | Request::Download { .. });
         self.state.snapshot.busy = Some(request_name(&request).to_owned());
         self.publish();
-        let outcome = self.carry_out(request, Some(&mut stream));
+        let (outcome, uploaded) = self.carry_out(request, Some(&mut stream));
         if let Ok(Answer::Reported { entries }) = &outcome {
             self.state.snapshot.report = Some(reports(entries));
             self.state.snapshot.report_failed = None;
         }
-        if let (Ok(Answer::Uploaded { .. }), Some((active, areas))) = (&outcome, lists) {
+        if let (Ok(Answer::Uploaded { .. }), Some((active, areas))) = (&outcome, uploaded) {
             let planned = (active.checksum, areas);
             self.fleet.set(&self.name, Some(active));
             self.state.snapshot.planned = Some(planned);
@@ -1147,7 +1138,7 @@ impl Worker {
     /// Asks the FCC for its report (ICD §8) for the status, and learns its active mission for
     /// the fleet's separation check when the report shows one this ground does not know.
     fn refresh_report(&mut self) {
-        match self.carry_out(Request::Report, None) {
+        match self.carry_out(Request::Report, None).0 {
             Ok(Answer::Reported { entries }) => {
                 let reports = reports(&entries);
                 let active = reports.first().and_then(|e| e.mission_checksum);
