@@ -84,7 +84,7 @@ fn print_sequence(log: &[Logged], from: usize) {
 
 fn plan(text: &str, name: &str) -> Result<MissionPlan, String> {
     MissionFile::parse(text)
-        .and_then(|f| f.to_plan())
+        .and_then(|f| f.to_plan().map(|p| *p))
         .map_err(|e| format!("{name}: {e}"))
 }
 

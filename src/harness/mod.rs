@@ -341,7 +341,7 @@ pub fn plan(file: &str) -> MissionPlan {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("missions")
         .join(file);
-    MissionFile::read(&path).unwrap().to_plan().unwrap()
+    *MissionFile::read(&path).unwrap().to_plan().unwrap()
 }
 
 /// Runs the link until the request ends.

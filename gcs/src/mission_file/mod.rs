@@ -11,7 +11,6 @@ use missionlink_interfaces::wire::{
     PolygonVertices, RouteType, SafetyOffset, SpecificData, Speed, SpeedType, Text, Timestamp,
     TurnDirection, TurnType, U3, UaPositionWaypoint, UaRoute, VehicleSpecificWaypoint,
 };
-use missionlink_protocol::transfer::areas::AreaBuffer;
 use missionlink_protocol::transfer::mission::{MissionBuffer, WaypointRecord};
 use serde::{Deserialize, Deserializer, Serialize};
 use toml::value::Datetime;
@@ -211,11 +210,17 @@ impl MissionFile {
     }
 
     /// The mission plan: the take-off height, every waypoint, RF centre and the route in a
-    /// [`MissionBuffer`], every area in an [`AreaBuffer`]. Every value is checked against what
-    /// the wire carries and the FCC's message decoding accepts; the plan as a whole is checked
-    /// by the GCS validation.
-    pub fn to_plan(&self) -> Result<MissionPlan, MissionFileError> {
-        let mut mission = MissionBuffer::new();
+    /// [`MissionBuffer`], every area in an
+    /// [`AreaBuffer`](missionlink_protocol::transfer::areas::AreaBuffer). Every value is checked
+    /// against what the wire carries and the FCC's message decoding accepts; the plan as a whole
+    /// is checked by the GCS validation.
+    ///
+    /// Boxed, and filled in place: a plan is 38 KB, and every frame it passed through by value
+    /// would be that much larger (the ground service runs each request on a fresh thread, whose
+    /// stack pages each cost a fault).
+    pub fn to_plan(&self) -> Result<Box<MissionPlan>, MissionFileError> {
+        let mut plan = Box::<MissionPlan>::default();
+        let mission = &mut plan.mission;
         let height = altitude("take_off_height_m", self.take_off_height_m)?;
         if height.raw() < 0 {
             return Err(field_error(
@@ -230,7 +235,7 @@ impl MissionFile {
                 activity_id("take_off_activity_id", v)
             })?,
         };
-        store(&mut mission, take_off.into(), "take_off_height_m")?;
+        store(mission, take_off.into(), "take_off_height_m")?;
 
         let mut numbers: Vec<(u16, usize)> = Vec::with_capacity(self.waypoints.len());
         for (i, entry) in self.waypoints.iter().enumerate() {
@@ -251,14 +256,14 @@ impl MissionFile {
                     format!("more than {MAX_WAYPOINTS} waypoints (the FCC's capacity)"),
                 ));
             }
-            store(&mut mission, waypoint.into(), &format!("waypoints[{i}]"))?;
+            store(mission, waypoint.into(), &format!("waypoints[{i}]"))?;
             if let Some(c) = rf_centre {
-                store(&mut mission, c.into(), &format!("waypoints[{i}].rf_centre"))?;
+                store(mission, c.into(), &format!("waypoints[{i}].rf_centre"))?;
             }
         }
-        store(&mut mission, self.route.to_message()?.into(), "route")?;
+        store(mission, self.route.to_message()?.into(), "route")?;
 
-        let mut areas = AreaBuffer::new();
+        let areas = &mut plan.areas;
         let mut ids: Vec<(u16, usize)> = Vec::with_capacity(self.areas.len());
         for (i, entry) in self.areas.iter().enumerate() {
             let area = entry.to_message(i)?;
@@ -277,16 +282,13 @@ impl MissionFile {
             })?;
         }
 
-        Ok(MissionPlan {
-            mission,
-            areas,
-            safety_offset: SafetyOffset::from_metres(self.safety_offset_m)
-                .map_err(|e| field_error("safety_offset_m", e.to_string()))?,
-            mission_id: optional(self.mission_id.as_deref(), |s| text("mission_id", s))?,
-            take_off_position: optional(self.take_off_position, |[lat, lon]| {
-                point("take_off_position", lat, lon)
-            })?,
-        })
+        plan.safety_offset = SafetyOffset::from_metres(self.safety_offset_m)
+            .map_err(|e| field_error("safety_offset_m", e.to_string()))?;
+        plan.mission_id = optional(self.mission_id.as_deref(), |s| text("mission_id", s))?;
+        plan.take_off_position = optional(self.take_off_position, |[lat, lon]| {
+            point("take_off_position", lat, lon)
+        })?;
+        Ok(plan)
     }
 
     /// The file of a validated plan and its planned take-off position (`gcs convert`; `gcs

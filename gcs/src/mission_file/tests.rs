@@ -147,7 +147,7 @@ fn read_reads_a_file_and_names_one_it_cannot() {
 
 /// The plan of the file `text` (before assembly).
 fn plan_of(text: &str) -> MissionPlan {
-    MissionFile::parse(text).unwrap().to_plan().unwrap()
+    *MissionFile::parse(text).unwrap().to_plan().unwrap()
 }
 
 /// The file of `text` as an export writes it (the plan validated, with its take-off).

@@ -232,7 +232,7 @@ fn mission_id(id: &str) -> Result<MissionId, Failure> {
 }
 
 /// A mission file's text as the plan it holds; `what` names it in errors.
-fn plan_of(text: &str, what: &str) -> Result<MissionPlan, Failure> {
+fn plan_of(text: &str, what: &str) -> Result<Box<MissionPlan>, Failure> {
     MissionFile::parse(text)
         .and_then(|f| f.to_plan())
         .map_err(|e| Failure::input(format!("{what}: {e}")))

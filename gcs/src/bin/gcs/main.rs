@@ -405,7 +405,7 @@ fn read_plan(file: &Path, safety: &SafetyArgs) -> Result<Read, Failure> {
             dropped.extend(import.dropped.into_iter().map(|d| (file.to_owned(), d)));
             import.plan
         }
-        Some("toml") => MissionFile::read(file)
+        Some("toml") => *MissionFile::read(file)
             .and_then(|f| f.to_plan())
             .map_err(|e| Failure::file(file, e))?,
         _ => {

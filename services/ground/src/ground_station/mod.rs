@@ -296,13 +296,25 @@ enum State {
     Commanding,
 }
 
+/// The GCS's senders keep their script boxed: a sender moves as a few kilobytes, not the
+/// mission's 27 (see [`TransferSender`]).
+type Sender = TransferSender<Box<Script>>;
+
+/// The script of a single request and its answer, boxed. Not inlined: a [`Script`] is as large
+/// as its largest kind (a mission, 27 KB), and a caller that built one would carry that much
+/// frame into everything it calls next.
+#[inline(never)]
+fn request_script(message: Message) -> Box<Script> {
+    Box::new(Script::Request(message))
+}
+
 /// A step of an upload sent behind the one in progress, whose last message is unanswered
 /// (ICD §10.3): the area upload beside the mission upload's data, the activation behind the area
 /// closer.
 #[derive(Debug)]
 struct Behind {
     phase: Phase,
-    sender: TransferSender,
+    sender: Sender,
     /// How it ended, when it ended before the step it was sent behind.
     ended: Option<SenderEvent>,
 }
@@ -322,7 +334,7 @@ pub struct GroundStation<G: SafetyGateway> {
     endpoint: Endpoint,
     gateway: G,
     state: State,
-    sender: Option<TransferSender>,
+    sender: Option<Sender>,
     /// The step of an upload sent behind the one in progress (ICD §10.3).
     behind: Option<Behind>,
     /// The window of the link (ICD §10.4): what the senders measured, carried from one
@@ -513,7 +525,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
         self.report.abandon();
         let request = mission_command(MissionPlanMode::ReportMissions, None, None);
-        self.start(now, State::Reporting(purpose), Script::Request(request));
+        self.start(now, State::Reporting(purpose), request_script(request));
     }
 
     /// The transfer window of a download request: the configured one toward edition 2, at
@@ -536,7 +548,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(
             now,
             State::Downloading(Phase::MissionDownload),
-            Script::Request(request),
+            request_script(request),
         );
     }
 
@@ -545,7 +557,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(
             now,
             State::Downloading(Phase::AreaDownload),
-            Script::Request(request),
+            request_script(request),
         );
     }
 
@@ -558,7 +570,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(
             now,
             State::Commanding,
-            Script::Request(mission_command(MissionPlanMode::ClearMission, None, None)),
+            request_script(mission_command(MissionPlanMode::ClearMission, None, None)),
         );
         Ok(())
     }
@@ -614,7 +626,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         // A command may change the lists (a clear, an activation, a delete): the report held
         // is no longer known to be what the FCC holds.
         self.held_report = None;
-        self.start(now, State::Commanding, Script::Request(message));
+        self.start(now, State::Commanding, request_script(message));
         Ok(())
     }
 
@@ -630,7 +642,7 @@ impl<G: SafetyGateway> GroundStation<G> {
     }
 
     /// Keeps what `sender`'s window measured of the link (ICD §10.4).
-    fn keep_window(&mut self, sender: &TransferSender) {
+    fn keep_window(&mut self, sender: &Sender) {
         let mut window = *sender.window();
         window.absorb(&self.window);
         self.window = window;
@@ -667,7 +679,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    fn start(&mut self, now: Instant, state: State, script: Script) {
+    fn start(&mut self, now: Instant, state: State, script: Box<Script>) {
         self.account_sender();
         self.state = state;
         let pacing = Pacing {
@@ -699,7 +711,7 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// Starts `script`, the upload step `phase`, behind the step in progress, whose last message
     /// is unanswered (ICD §10.3).
-    fn start_behind(&mut self, now: Instant, phase: Phase, script: Script) {
+    fn start_behind(&mut self, now: Instant, phase: Phase, script: Box<Script>) {
         // It starts from what the step in progress measured of the link (ICD §10.4).
         if let Some(sender) = self.sender.take() {
             self.keep_window(&sender);

@@ -152,6 +152,50 @@ pub(super) struct UploadJob {
     request: Box<Request>,
 }
 
+impl UploadJob {
+    /// Attempt `attempt` of `request`, `sent` messages sent by the attempts before it. Built
+    /// apart from the steps that follow (not inlined into them): the job is 60 KB, and the
+    /// frame that builds it is left before the first step goes deeper.
+    #[inline(never)]
+    fn attempt(request: Box<Request>, attempt: u8, sent: usize) -> Box<Self> {
+        let super::ValidatedPlan { mission, areas } = request.plan.clone();
+        let edit = request.known.clone().map(|known| EditJob {
+            known,
+            base: None,
+            base_areas: None,
+            fetching: false,
+            fallback: None,
+        });
+        Box::new(UploadJob {
+            checksums: (mission_checksum(&mission), areas_checksum(&areas)),
+            mission,
+            areas,
+            kind: request.kind,
+            edit,
+            before: None,
+            entries: Vec::new(),
+            temp: None,
+            temp_staged: Some(false),
+            leftovers: Vec::new(),
+            had_leftovers: false,
+            asked_report: false,
+            deleting: None,
+            mission_step: None,
+            send_areas: true,
+            activation_sent: false,
+            failure: None,
+            verified_mission: None,
+            asking_since: None,
+            confirmation: Confirmation::Answers,
+            sent,
+            ending: None,
+            warning: None,
+            attempt,
+            request,
+        })
+    }
+}
+
 /// An upload request as it was made: what another attempt begins with.
 #[derive(Debug, Clone)]
 pub(super) struct Request {
@@ -347,41 +391,7 @@ impl<G: SafetyGateway> GroundStation<G> {
 
     /// Begins attempt `attempt` of `request`, `sent` messages sent by the attempts before.
     fn begin_attempt(&mut self, now: Instant, request: Box<Request>, attempt: u8, sent: usize) {
-        let super::ValidatedPlan { mission, areas } = request.plan.clone();
-        let edit = request.known.clone().map(|known| EditJob {
-            known,
-            base: None,
-            base_areas: None,
-            fetching: false,
-            fallback: None,
-        });
-        self.upload = Some(Box::new(UploadJob {
-            checksums: (mission_checksum(&mission), areas_checksum(&areas)),
-            mission,
-            areas,
-            kind: request.kind,
-            edit,
-            before: None,
-            entries: Vec::new(),
-            temp: None,
-            temp_staged: Some(false),
-            leftovers: Vec::new(),
-            had_leftovers: false,
-            asked_report: false,
-            deleting: None,
-            mission_step: None,
-            send_areas: true,
-            activation_sent: false,
-            failure: None,
-            verified_mission: None,
-            asking_since: None,
-            confirmation: Confirmation::Answers,
-            sent,
-            ending: None,
-            warning: None,
-            attempt,
-            request,
-        }));
+        self.upload = Some(UploadJob::attempt(request, attempt, sent));
         // Toward edition 2 the report goes first: it is what is held before, for the plan and
         // for the truth after a failure (ICD §11); pipelining, a fresh one the GCS holds will
         // do (ICD §10.3). The upload changes the lists: the one held is used up.
@@ -596,12 +606,13 @@ impl<G: SafetyGateway> GroundStation<G> {
         }
     }
 
-    /// The first step after `after` that the plan holds, and its script.
+    /// The first step after `after` that the plan holds, and its script (boxed, see
+    /// [`super::Sender`]).
     fn following(
         job: &UploadJob,
         after: Option<Phase>,
         edition_2: bool,
-    ) -> Option<(Phase, Script)> {
+    ) -> Option<(Phase, Box<Script>)> {
         let order = [
             Phase::MissionUpload,
             Phase::AreaUpload,
@@ -637,7 +648,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                     .map(|id| Script::Request(delete_staged(id))),
                 _ => None,
             };
-            script.map(|s| (phase, s))
+            script.map(|s| (phase, Box::new(s)))
         })
     }
 
@@ -947,7 +958,7 @@ impl<G: SafetyGateway> GroundStation<G> {
                 self.start(
                     now,
                     State::Uploading(Phase::Deletion),
-                    Script::Request(delete_staged(id)),
+                    super::request_script(delete_staged(id)),
                 );
                 return;
             }
@@ -978,7 +989,7 @@ impl<G: SafetyGateway> GroundStation<G> {
         self.start(
             now,
             State::Uploading(Phase::Deletion),
-            Script::Request(delete_staged(id)),
+            super::request_script(delete_staged(id)),
         );
         true
     }

@@ -22,6 +22,7 @@
 //! A script with a checksum (ICD §11) puts it into its closer: the GCS's transmit and upload
 //! complete toward an edition-2 FCC, the FCC's #14000 and #2011 mode 4 to an edition-2 request.
 
+use core::borrow::Borrow;
 use core::time::Duration;
 
 use missionlink_interfaces::capacity::MAX_REPORT_ENTRIES;
@@ -524,9 +525,15 @@ struct InFlight {
 /// §10.2). The closer goes out only when every data message was accepted. Window 1 is
 /// edition 1, message for message. [`Pacing`] sends the data behind an unanswered opener, the
 /// closer right behind its data and the transfer behind the one before it (ICD §10.3).
+///
+/// The script is kept as `S`: in place (the default, what the FCC's per-frame path uses, which
+/// allocates nothing), or boxed (`TransferSender<Box<Script>>`, the GCS's), so that a sender
+/// moves and starts as a few kilobytes instead of the mission's 27: every frame a sender or a
+/// script passes through is that much smaller, and a thread's stack touches that much less
+/// fresh memory (the ground service runs each request on a thread of its own).
 #[derive(Debug, Clone)]
-pub struct TransferSender {
-    script: Script,
+pub struct TransferSender<S = Script> {
+    script: S,
     /// The next message of the script to send.
     next: usize,
     /// Messages of the script answered with an acceptance (and not to be sent again).
@@ -544,22 +551,17 @@ pub struct TransferSender {
     beside: (usize, u64),
 }
 
-impl TransferSender {
+impl<S: Borrow<Script>> TransferSender<S> {
     /// Starts sending `script` at `now`, one message at a time (ICD §5): its first message
     /// goes out.
-    pub fn start(
-        script: Script,
-        ack_timeout: Duration,
-        endpoint: &mut Endpoint,
-        now: Instant,
-    ) -> Self {
+    pub fn start(script: S, ack_timeout: Duration, endpoint: &mut Endpoint, now: Instant) -> Self {
         Self::start_windowed(script, 1, ack_timeout, endpoint, now)
     }
 
     /// Starts sending `script` at `now` with up to `window` data messages in flight (ICD
     /// §10.2; 0 counts as 1, above [`MAX_WINDOW`] as [`MAX_WINDOW`]).
     pub fn start_windowed(
-        script: Script,
+        script: S,
         window: usize,
         ack_timeout: Duration,
         endpoint: &mut Endpoint,
@@ -578,7 +580,7 @@ impl TransferSender {
     /// Starts sending `script` at `now` with `window` (sized to the link, ICD §10.4) and
     /// `pacing` (ICD §10.3).
     pub fn start_with(
-        script: Script,
+        script: S,
         window: Window,
         pacing: Pacing,
         ack_timeout: Duration,
@@ -592,7 +594,7 @@ impl TransferSender {
     /// `beside` data messages (count, bytes) in flight, which the window counts too
     /// ([`TransferSender::pace_beside`]).
     pub fn start_beside(
-        script: Script,
+        script: S,
         window: Window,
         pacing: Pacing,
         ack_timeout: Duration,
@@ -600,7 +602,7 @@ impl TransferSender {
         endpoint: &mut Endpoint,
         now: Instant,
     ) -> Self {
-        let opener = if script.data_messages().start > 0 {
+        let opener = if script.borrow().data_messages().start > 0 {
             Opening::Pending { retried: false }
         } else {
             Opening::Absent
@@ -632,9 +634,9 @@ impl TransferSender {
     /// data messages (ICD §10.3): pipelined pacing, an upload with data messages, and a closer
     /// that carries its checksum.
     fn closes_behind_its_data(&self, index: usize) -> bool {
-        let data = self.script.data_messages();
+        let data = self.script().data_messages();
         self.pacing.pipelined
-            && self.script.closer_has_checksum()
+            && self.script().closer_has_checksum()
             && !data.is_empty()
             && index == data.end
             && index > 0
@@ -642,7 +644,7 @@ impl TransferSender {
 
     /// Whether the closer went behind its data and is unanswered, neither refused nor parked.
     fn closer_unanswered(&self) -> bool {
-        let closer = self.script.data_messages().end;
+        let closer = self.script().data_messages().end;
         self.closes_behind_its_data(closer)
             && self
                 .in_flight
@@ -652,7 +654,7 @@ impl TransferSender {
 
     /// Whether a data message is unanswered.
     fn data_unanswered(&self) -> bool {
-        let data = self.script.data_messages();
+        let data = self.script().data_messages();
         self.in_flight.iter().any(|f| data.contains(&f.index))
     }
 
@@ -668,7 +670,7 @@ impl TransferSender {
     /// The data messages in flight and their bytes (counted when the window counts bytes,
     /// ICD §10.4).
     pub fn data_in_flight(&self) -> (usize, u64) {
-        let data = self.script.data_messages();
+        let data = self.script().data_messages();
         self.in_flight
             .iter()
             .filter(|f| data.contains(&f.index))
@@ -681,9 +683,9 @@ impl TransferSender {
     /// by and the pipelined closer, which goes behind its data once its opener was accepted;
     /// the closer of a transfer sent behind another not before [`TransferSender::release`].
     fn fill(&mut self, endpoint: &mut Endpoint, now: Instant) {
-        let data = self.script.data_messages();
-        let last = self.script.len().saturating_sub(1);
-        while self.next < self.script.len() {
+        let data = self.script().data_messages();
+        let last = self.script().len().saturating_sub(1);
+        while self.next < self.script().len() {
             let index = self.next;
             let is_data = data.contains(&index);
             let (own, own_bytes) = self.data_in_flight();
@@ -711,7 +713,7 @@ impl TransferSender {
             if !room {
                 break;
             }
-            let Some(message) = self.script.message(index) else {
+            let Some(message) = self.script().message(index) else {
                 break;
             };
             let bytes = if is_data && self.window.bytes().is_some() {
@@ -748,7 +750,7 @@ impl TransferSender {
 
     /// The script.
     pub fn script(&self) -> &Script {
-        &self.script
+        self.script.borrow()
     }
 
     /// The window (ICD §10.4): what it measured of the link, for the owner to carry to the next
@@ -765,14 +767,14 @@ impl TransferSender {
 
     /// (messages answered, messages in the script).
     pub fn progress(&self) -> (usize, usize) {
-        (self.answered, self.script.len())
+        (self.answered, self.script().len())
     }
 
     /// Whether every data message was sent (and those whose opener failed sent again): only
     /// the closer is left to send. The area upload may then go beside this mission upload
     /// (ICD §10.3).
     pub fn sent_all_data(&self) -> bool {
-        let data = self.script.data_messages();
+        let data = self.script().data_messages();
         !data.is_empty() && self.next >= data.end
     }
 
@@ -780,8 +782,8 @@ impl TransferSender {
     /// the last one is sent and unanswered: the owner may send its next transfer behind it
     /// (ICD §10.3).
     pub fn awaits_only_its_last(&self) -> bool {
-        let last = self.script.len().saturating_sub(1);
-        self.next == self.script.len()
+        let last = self.script().len().saturating_sub(1);
+        self.next == self.script().len()
             && matches!(self.in_flight.as_slice(), [only] if only.index == last && !only.parked)
     }
 
@@ -801,7 +803,7 @@ impl TransferSender {
     /// §10.3): the refusal answered a message that overtook what it depends on, and says
     /// nothing of the message itself.
     fn unpark(&mut self, endpoint: &mut Endpoint, now: Instant) {
-        let data = self.script.data_messages();
+        let data = self.script().data_messages();
         let data_go = matches!(self.opener, Opening::Absent | Opening::Accepted);
         let data_unanswered = self.data_unanswered();
         let closer_unanswered = self.closer_unanswered();
@@ -819,7 +821,7 @@ impl TransferSender {
                 !behind
             };
             if f.parked && may_go {
-                let Some(message) = self.script.message(f.index) else {
+                let Some(message) = Borrow::<Script>::borrow(&self.script).message(f.index) else {
                     // The script gave this message before; it cannot fail to now.
                     f.exchange.cancel();
                     continue;
@@ -881,7 +883,7 @@ impl TransferSender {
         slot: usize,
         outcome: Outcome,
     ) -> Option<SenderEvent> {
-        let data = self.script.data_messages();
+        let data = self.script().data_messages();
         let f = *self.in_flight.get(slot)?;
         let is_data = data.contains(&f.index);
         let is_opener = f.index == 0 && matches!(self.opener, Opening::Pending { .. });
@@ -911,7 +913,7 @@ impl TransferSender {
                     self.unpark(endpoint, now);
                 }
                 self.fill(endpoint, now);
-                if self.next >= self.script.len() && self.in_flight.is_empty() {
+                if self.next >= self.script().len() && self.in_flight.is_empty() {
                     Some(SenderEvent::Completed(answer))
                 } else {
                     let (sent, total) = self.progress();
@@ -937,7 +939,7 @@ impl TransferSender {
                         f.parked = true;
                     } else {
                         f.retried = true;
-                        match self.script.message(f.index) {
+                        match Borrow::<Script>::borrow(&self.script).message(f.index) {
                             Some(message) => f.exchange.resend(endpoint, now, message),
                             // The script gave this message before; it cannot fail to now.
                             None => f.exchange.cancel(),
@@ -1002,7 +1004,7 @@ impl TransferSender {
     /// Abandons the transfer and tells the peer, once, without waiting for an answer.
     pub fn abandon(&mut self, endpoint: &mut Endpoint, now: Instant, reason: Reason) {
         self.cancel();
-        if let Some(m) = self.script.abandon_message(reason) {
+        if let Some(m) = self.script().abandon_message(reason) {
             endpoint.send(now, m, false);
         }
     }
