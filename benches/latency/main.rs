@@ -166,6 +166,9 @@ use serde_json::{Value, json};
 const DEFAULT_FRAMES: u64 = 100_000;
 /// Frames sent before recording unless `--warmup` says otherwise.
 const DEFAULT_WARMUP: u64 = 2_000;
+/// Rounds a run takes unless `--rounds` says otherwise: every row records a share of its frames
+/// in each, the rows taking turns.
+const DEFAULT_ROUNDS: u64 = 5;
 /// The SCHED_FIFO priority of both sides in the real-time case of `--load`.
 const LOAD_FIFO_PRIORITY: u8 = 50;
 /// The goal for the hop under load with real-time settings (BENCHMARKS.md section 7): p99.9 at
@@ -524,6 +527,11 @@ fn receiver_main(run: &Run, cpu: Option<usize>) {
         "receiver_involuntary_switches": usage.switches,
         "receiver_cpu_ticks": usage.ticks,
         "receiver_realtime": realtime,
+        // Every recorded value with its count: what the sender merges the rounds of a row from.
+        "recorded": h
+            .iter_recorded()
+            .map(|v| [v.value_iterated_to(), v.count_at_value()])
+            .collect::<Vec<_>>(),
     });
     println!("result {result}");
 }
@@ -601,6 +609,60 @@ fn measure(run: &Run, receiver_cpu: Option<usize>) -> Value {
     result
 }
 
+/// One row's result from the results of its rounds: the percentiles of all their recorded
+/// frames together, the counts of all rounds summed.
+fn merge_rounds(rounds: Vec<Value>) -> Value {
+    let mut histogram =
+        Histogram::<u64>::new_with_bounds(1, 60_000_000_000, 3).expect("valid histogram bounds");
+    let mut merged = rounds.first().cloned().unwrap_or(Value::Null);
+    let sum = |key: &str| -> u64 { rounds.iter().filter_map(|r| r[key].as_u64()).sum() };
+    for round in &rounds {
+        for pair in round["recorded"].as_array().into_iter().flatten() {
+            if let (Some(value), Some(count)) = (pair[0].as_u64(), pair[1].as_u64()) {
+                histogram.saturating_record_n(value, count);
+            }
+        }
+    }
+    let h = &histogram;
+    for (key, value) in [
+        ("samples", h.len()),
+        ("min_ns", h.min()),
+        ("p50_ns", h.value_at_quantile(0.5)),
+        ("p99_ns", h.value_at_quantile(0.99)),
+        ("p999_ns", h.value_at_quantile(0.999)),
+        ("max_ns", h.max()),
+    ] {
+        merged[key] = json!(value);
+    }
+    merged["mean_ns"] = json!(h.mean());
+    for key in [
+        "receiver_involuntary_switches",
+        "receiver_cpu_ticks",
+        "sender_involuntary_switches",
+        "sender_cpu_ticks",
+        "machine_busy_ticks",
+        "machine_total_ticks",
+    ] {
+        merged[key] = json!(sum(key));
+    }
+    let ours = sum("sender_cpu_ticks") + sum("receiver_cpu_ticks");
+    let busy = sum("machine_busy_ticks");
+    let total = sum("machine_total_ticks").max(1);
+    merged["others_cpu_percent"] = json!(100.0 * busy.saturating_sub(ours) as f64 / total as f64);
+    let loop_means: Vec<f64> = rounds
+        .iter()
+        .filter_map(|r| r["loop_mean_ns"].as_f64())
+        .collect();
+    if !loop_means.is_empty() {
+        merged["loop_mean_ns"] = json!(loop_means.iter().sum::<f64>() / loop_means.len() as f64);
+    }
+    merged["rounds"] = json!(rounds.len());
+    if let Some(fields) = merged.as_object_mut() {
+        fields.remove("recorded");
+    }
+    merged
+}
+
 // ---------------------------------------------------------------------------------------------
 // main
 // ---------------------------------------------------------------------------------------------
@@ -618,6 +680,7 @@ struct Args {
     realtime: bool,
     only: Option<Vec<Transport>>,
     sizes: Option<Vec<usize>>,
+    rounds: Option<u64>,
 }
 
 fn parse_args() -> Args {
@@ -654,13 +717,14 @@ fn parse_args() -> Args {
                         .collect(),
                 )
             }
+            "--rounds" => args.rounds = Some(number(value()).max(1)),
             "--realtime" => args.realtime = true,
             // `cargo bench` adds it.
             "--bench" => {}
             other => {
                 eprintln!(
-                    "latency: ignoring `{other}` (options: --frames N, --warmup N, --load, \
-                 --only T,T, --sizes N,N)"
+                    "latency: ignoring `{other}` (options: --frames N, --warmup N, --rounds N, \
+                 --load, --only T,T, --sizes N,N)"
                 )
             }
         }
@@ -673,6 +737,7 @@ fn main() {
     let args = parse_args();
     let frames = args.frames.unwrap_or(DEFAULT_FRAMES).max(1);
     let warmup = args.warmup.unwrap_or(DEFAULT_WARMUP);
+    let rounds = args.rounds.unwrap_or(DEFAULT_ROUNDS);
 
     if args.role.as_deref() == Some("hog") {
         hog_main(args.cpu);
@@ -719,8 +784,9 @@ fn main() {
     let load_before = load_average();
     println!(
         "One-way latency, sender to receiver process: {frames} frames per transport and size \
-         after {warmup} warm-up frames, each sent after the previous one was answered; {cpus}; \
-         load average before: {load_before}"
+         in {rounds} rounds, the rows taking turns, each round after {warmup} warm-up frames, \
+         each frame sent after the previous one was answered; {cpus}; load average before: \
+         {load_before}"
     );
     let pid = std::process::id();
     let mut results = Vec::new();
@@ -729,31 +795,54 @@ fn main() {
         if args.sizes.as_ref().is_some_and(|s| !s.contains(&size)) {
             continue;
         }
-        for transport in Transport::ALL.into_iter().filter(wanted) {
+        let runs: Vec<Run> = Transport::ALL
+            .into_iter()
+            .filter(wanted)
             // The C sender publishes the contract's FramePayload: a STANAG frame, one size.
-            if transport.hop() == Hop::Foreign && size != MAX_FRAME_LEN {
-                continue;
+            .filter(|t| t.hop() != Hop::Foreign || size == MAX_FRAME_LEN)
+            .map(|transport| {
+                // At the sparse pace a frame takes a millisecond: a tenth of the frames.
+                let (frames, warmup) = match transport.pace() {
+                    Some(_) => ((frames / SPARSE_DIVISOR).max(1), warmup / SPARSE_DIVISOR),
+                    None => (frames, warmup),
+                };
+                Run {
+                    transport,
+                    size,
+                    // Each round records its share; every round warms up again.
+                    frames: (frames / rounds).max(1),
+                    warmup,
+                    id: format!("{pid}-{}-{size}", transport.arg()),
+                    realtime: false,
+                }
+            })
+            .collect();
+        // The rows take turns, a share of each row's frames per round: what the host does
+        // over a run (its wake-ups are several times slower in some minutes than in others)
+        // falls on every row alike, so the ratios compare the transports, not the minutes.
+        let mut rounds_of: Vec<Vec<Value>> = vec![Vec::new(); runs.len()];
+        let mut took = vec![Duration::ZERO; runs.len()];
+        for round in 0..rounds {
+            for (i, run) in runs.iter().enumerate() {
+                let run = Run {
+                    id: format!("{}-r{round}", run.id),
+                    ..run.clone()
+                };
+                let started = Instant::now();
+                rounds_of[i].push(measure(&run, receiver_cpu));
+                took[i] += started.elapsed();
             }
-            // At the sparse pace a frame takes a millisecond: a tenth of the frames.
-            let (frames, warmup) = match transport.pace() {
-                Some(_) => ((frames / SPARSE_DIVISOR).max(1), warmup / SPARSE_DIVISOR),
-                None => (frames, warmup),
-            };
-            let run = Run {
-                transport,
-                size,
-                frames,
-                warmup,
-                id: format!("{pid}-{}-{size}", transport.arg()),
-                realtime: false,
-            };
-            let started = Instant::now();
-            let result = measure(&run, receiver_cpu);
+            if rounds > 1 {
+                eprintln!("  {size} B: round {} of {rounds} done", round + 1);
+            }
+        }
+        for ((run, of_run), took) in runs.iter().zip(rounds_of).zip(took) {
+            let result = merge_rounds(of_run);
             eprintln!(
                 "  {:<27} {size:>6} B  p50 {:>8.2} µs  ({:.1} s)",
-                transport.label(),
+                run.transport.label(),
                 us(&result, "p50_ns"),
-                started.elapsed().as_secs_f64()
+                took.as_secs_f64()
             );
             results.push(result);
         }
