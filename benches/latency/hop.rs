@@ -334,7 +334,7 @@ pub(super) fn partition_sender<F: Stamped>(run: &Run) {
         config.ipc.idle[Partition::MissionDataHandling] =
             missionlink_partitions::config::Idle::BLOCK;
     }
-    let ipc = Ipc::<S>::open("latency-sender", &config.ipc).expect("node");
+    let ipc = Ipc::<S>::for_partition(Partition::VotingMonitoring, &config.ipc).expect("node");
     let publisher = ipc.publisher::<F>(FccService::Uplink).expect("publisher");
     let replies = ipc
         .subscriber::<Frame64>(FccService::Downlink)
@@ -399,7 +399,7 @@ pub(super) fn partition_receiver<F: Stamped>(run: &Run) -> Histogram<u64> {
 /// [`partition_receiver`] with the frames of type `F` answered by a reply of type `R`.
 fn partition_receiver_replying<F: Stamped, R: Stamped>(run: &Run) -> Histogram<u64> {
     let config = partition_config(run);
-    let ipc = Ipc::<S>::open("latency-receiver", &config.ipc).expect("node");
+    let ipc = Ipc::<S>::for_partition(Partition::MissionDataHandling, &config.ipc).expect("node");
     let frames = ipc.subscriber::<F>(FccService::Uplink).expect("subscriber");
     let publisher = ipc.publisher::<R>(FccService::Downlink).expect("publisher");
     let control = Control::new();

@@ -69,6 +69,12 @@
 //!     event with event ID 0 alone, and the receiver, on its doorbell, hears it through the
 //!     doorbell's forwarder (`doorbell`), one thread wake-up more.
 //!
+//! The rows take turns: a run is `--rounds N` rounds (5 by default), in each of which every row
+//! records its share of the frames (after its own warm-up); a row's percentiles are those of
+//! all its rounds' frames together. This host's cold wake-ups are tens of percent slower in
+//! some minutes than in others, which measured one row after the other moved a ratio by as
+//! much as the transports differ.
+//!
 //! `--only T,T,...` runs only the named transports, `--sizes N,N` only the named payload sizes
 //! (for example `--only partition,uds --sizes 548`). After each table the ratios of p50 that
 //! the goals name are printed: `partition` / `uds`, `partition-sparse` / `uds-sparse`,

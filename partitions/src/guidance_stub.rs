@@ -38,7 +38,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
+    let ipc = Ipc::<S>::for_partition(PARTITION, &config.ipc)?;
     let lists = ipc.active_lists()?;
     let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
     let progress = ipc.publisher::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;

@@ -11,6 +11,7 @@ use core::fmt::Debug;
 use iceoryx2::port::backpressure_strategy::BackpressureStrategy;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::port_name::PortName;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use missionlink_interfaces::contracts::{
@@ -57,6 +58,10 @@ pub struct Ipc<S: Service> {
     /// wait on them. `None` (the default configuration): no doorbell service is opened and no
     /// send rings one.
     doorbells: Option<Doorbells>,
+    /// The partition this node's listeners belong to when it waits on its doorbell (or is its
+    /// forwarder): they are named for it (`doorbell::listener_name`), so that a publisher that
+    /// rang it does not notify them.
+    rung_as: Option<Partition>,
 }
 
 impl<S: Service> Ipc<S> {
@@ -65,6 +70,16 @@ impl<S: Service> Ipc<S> {
     pub fn open(name: &str, ipc: &config::Ipc) -> Result<Self, IpcError> {
         let mut opened = Self::without_doorbells(name, &ipc.service_prefix)?;
         opened.doorbells = Doorbells::of(name, ipc)?;
+        Ok(opened)
+    }
+
+    /// The node of partition `role` under `ipc`, named as its binary ([`Ipc::open`]); where
+    /// `role` waits on its doorbell (`doorbell::waits`), its listeners are named for it.
+    pub fn for_partition(role: Partition, ipc: &config::Ipc) -> Result<Self, IpcError> {
+        let mut opened = Self::open(role.binary(), ipc)?;
+        if crate::doorbell::waits(ipc, role) {
+            opened.rung_as = Some(role);
+        }
         Ok(opened)
     }
 
@@ -88,6 +103,7 @@ impl<S: Service> Ipc<S> {
             node,
             prefix: prefix.to_owned(),
             doorbells: None,
+            rung_as: None,
         })
     }
 
@@ -167,14 +183,15 @@ impl<S: Service> Ipc<S> {
             .backpressure_strategy(BackpressureStrategy::DiscardData)
             .create()
             .map_err(|e| err(format_args!("publisher of {service}"), e))?;
-        let notifier = self
-            .event(service)?
+        let event = self.event(service)?;
+        let notifier = event
             .notifier_builder()
             .create()
             .map_err(|e| err(format_args!("notifier of {service}"), e))?;
         Ok(Publisher {
             service,
             publisher,
+            event,
             ringers: self
                 .doorbells
                 .as_ref()
@@ -194,7 +211,8 @@ impl<S: Service> Ipc<S> {
         role: Partition,
     ) -> impl FnOnce() -> Result<(Self, Vec<Listener<S>>), DoorbellError> + Send + 'static {
         move || {
-            let ipc = Self::without_doorbells(&name, &prefix)?;
+            let mut ipc = Self::without_doorbells(&name, &prefix)?;
+            ipc.rung_as = Some(role);
             let listeners = crate::doorbell::consumed_by(role)
                 .map(|service| ipc.listener(service))
                 .collect::<Result<Vec<_>, _>>()?;
@@ -204,8 +222,16 @@ impl<S: Service> Ipc<S> {
 
     /// A listener of `service`'s event alone, without a subscriber (a doorbell's forwarder).
     pub fn listener(&self, service: FccService) -> Result<Listener<S>, IpcError> {
-        self.event(service)?
-            .listener_builder()
+        let event = self.event(service)?;
+        let builder = event.listener_builder();
+        let builder = match self.rung_as {
+            Some(role) => builder.name(
+                &PortName::new(&crate::doorbell::listener_name(role))
+                    .map_err(|e| err("listener name", e))?,
+            ),
+            None => builder,
+        };
+        builder
             .create()
             .map_err(|e| err(format_args!("listener of {service}"), e))
     }
@@ -379,6 +405,8 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
     service: FccService,
     publisher: iceoryx2::port::publisher::Publisher<S, T, ()>,
     ringers: Ringers,
+    /// The service's event, whose listeners [`Publisher::send`] looks at.
+    event: iceoryx2::service::port_factory::event::PortFactory<S>,
     notifier: Notifier<S>,
 }
 
@@ -390,12 +418,33 @@ impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
         self.ringers.ring()?;
+        if !self.ringers.is_empty() && !self.someone_else_listens() {
+            return Ok(());
+        }
         // The event ID names the doorbells rung (`Ringers::event_id`): a partition's forwarder
         // rings its doorbell only for a notification whose publisher did not.
         self.notifier
             .notify_with_custom_event_id(self.ringers.event_id())
             .map_err(|e| err(format_args!("notify on {}", self.service), e))?;
         Ok(())
+    }
+
+    /// Whether a listener of the service's event is not one of the partitions whose doorbells
+    /// [`Publisher::send`] just rang (`doorbell::Ringers::notifies`): then it notifies. Read from
+    /// the event's shared memory at every send, so a listener that joins is notified from its
+    /// next sample on; one that joins between this look and the sample finds the sample when it
+    /// first looks, as any new listener must.
+    fn someone_else_listens(&self) -> bool {
+        let mut someone = false;
+        self.event.dynamic_config().list_listeners(|listener| {
+            if self.ringers.notifies(listener.listener_name.as_str()) {
+                someone = true;
+                CallbackProgression::Stop
+            } else {
+                CallbackProgression::Continue
+            }
+        });
+        someone
     }
 
     /// Publishes `value` without waking anyone: for subscribers that poll (the polling

@@ -45,7 +45,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
+    let ipc = Ipc::<S>::for_partition(PARTITION, &config.ipc)?;
     let uplink = ipc.subscriber::<FramePayload>(FccService::Uplink)?;
     let automation = ipc.subscriber::<AutomationStatePayload>(FccService::AutomationState)?;
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;

@@ -376,6 +376,11 @@ fn spin(requests: &Requests, timeout: Duration, idle: Idle, pending: &[&dyn Pend
         }
         if elapsed >= spin {
             std::thread::yield_now();
+        } else {
+            // PAUSE: a spin-wait on a guest lets the hypervisor see it as one (pause-loop
+            // exiting) and run the peer it is waiting for, which it just woke on the other
+            // vCPU, sooner; on any x86 it spares the sibling hyper-thread.
+            std::hint::spin_loop();
         }
     }
 }

@@ -37,7 +37,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
+    let ipc = Ipc::<S>::for_partition(PARTITION, &config.ipc)?;
     let lists = ipc.active_lists()?;
     let progress = ipc.subscriber::<GuidanceProgressPayload>(FccService::GuidanceProgress)?;
     let commands = ipc.subscriber::<AutomationCommandPayload>(FccService::AutomationCommand)?;

@@ -121,7 +121,7 @@ pub fn run<S: Service>(config: &Config, control: &Control) -> Result<(), Partiti
 where
     Listener<S>: SynchronousMultiplexing,
 {
-    let ipc = Ipc::<S>::open(PARTITION.binary(), &config.ipc)?;
+    let ipc = Ipc::<S>::for_partition(PARTITION, &config.ipc)?;
     let uplink = ipc.publisher::<FramePayload>(FccService::Uplink)?;
     let downlink = ipc.subscriber::<FramePayload>(FccService::Downlink)?;
     let signing =
