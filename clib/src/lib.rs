@@ -5,8 +5,9 @@
 //! iceoryx2's own C bindings for 0.10 are not on crates.io, so this crate builds a shared and a
 //! static library of its own over the Rust partitions' IPC (`missionlink_partitions::ipc` and the
 //! heartbeat), with the defaults of `[ipc]`: a C partition opens each service with the same QoS,
-//! notifies its consumers as a Rust one does, and sleeps in an iceoryx2 WaitSet on the events of
-//! the services it subscribes to, as a Rust partition does by default (docs/wait-path.md). The API is in clib/include/missionlink.h (kept by hand
+//! notifies and rings its consumers as a Rust one does, and sleeps in an iceoryx2 WaitSet on the
+//! events of the services it subscribes to, whose listeners every publisher notifies
+//! (docs/wait-path.md). The API is in clib/include/missionlink.h (kept by hand
 //! beside interfaces/c/missionlink_contracts.h, whose payload structs it takes).
 //!
 //! Every function returns a status code (`status`) and never lets a panic cross into C; every
@@ -55,9 +56,10 @@ impl CPartition {
         period: Duration,
     ) -> Result<Self, Failure> {
         quiet_iceoryx2_log();
-        // The defaults of `[ipc]` under the caller's prefix: no partition waits on a doorbell,
-        // so a C partition opens none and rings none (`doorbell::waits`); a Rust partition
-        // configured for its doorbell hears it through the doorbell's forwarder.
+        // The defaults of `[ipc]` under the caller's prefix: the C partition's publishers ring
+        // the doorbells of the Rust partitions that wait on theirs (`doorbell::waits`), as a
+        // Rust publisher does; the C partition itself sleeps in a WaitSet on its listeners,
+        // which have no name, so every publisher notifies them (`doorbell::Ringers::notifies`).
         let settings = config::Ipc::with_prefix(prefix);
         let ipc = Ipc::<ipc::Service>::open(name, &settings).map_err(|e| {
             // A node name iceoryx2 refuses is the caller's argument, not a refusal of the
@@ -355,7 +357,7 @@ pub unsafe extern "C" fn missionlink_take_latest(
 }
 
 /// Sleeps until a publisher of a service the partition subscribes to notifies it (in an iceoryx2
-/// WaitSet, as a Rust partition waits by default), or `timeout_ns` passes; returns at once while a subscribed
+/// WaitSet, on listeners every publisher notifies), or `timeout_ns` passes; returns at once while a subscribed
 /// service has a sample waiting. A signal ends the wait early (check your own flag then).
 ///
 /// # Safety

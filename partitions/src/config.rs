@@ -14,10 +14,10 @@
 //! state_dir = "/var/lib/missionlink"  # mission data handling's lists across restarts
 //!
 //! [ipc.idle.voting-monitoring]    # how the partition waits for its inputs (see `Idle`)
-//! mode = "backoff"                # block (the others' default): sleep in the WaitSet at once;
-//!                                 # backoff: spin, yield, then sleep in the WaitSet; doorbell:
-//!                                 # spin, yield, then sleep on the partition's semaphore
-//!                                 # (`IdleMode::Doorbell`)
+//! mode = "backoff"                # backoff (its default): spin, yield, then sleep in the
+//!                                 # WaitSet; doorbell (the others' default): spin, yield, then
+//!                                 # sleep on the partition's semaphore (`IdleMode::Doorbell`);
+//!                                 # block: sleep in the WaitSet at once
 //! spin_us = 200                   # spin this long after the last work (others' default: 0)
 //! yield_us = 0                    # then yield between looks this long (default 0)
 //! # and [ipc.idle.mission-data-handling], [ipc.idle.system-automation],
@@ -139,12 +139,15 @@ pub enum IdleMode {
 ///   cannot use the doorbell; mission data handling's answer to an uplink frame comes within the
 ///   spin, and so does the GCS's next frame of a transfer over loopback. Idle, it spins about
 ///   200 µs per wake-up (heartbeat and timers): 0.6 % of a CPU measured.
-/// - mission-data-handling, system-automation, guidance-stub: `block`. It hears every publisher
-///   alike (a partition in Python or C as soon as a Rust one); at the sparse pace the doorbell
-///   was no faster for a ringing publisher within the spread of the runs and 1.4-1.7x the Unix
-///   socket for one that does not ring (one wake-up of its forwarder more), and it costs two
-///   threads and a second wake-up per frame. On two CPUs a second partition spinning takes the
-///   CPU the GCS and the other partitions need, so they do not spin.
+/// - mission-data-handling, system-automation, guidance-stub: `doorbell`, no spin. A publisher
+///   of this workspace or on the C library rings it, one futex wake-up, and leaves its
+///   listeners out of the event's notification (`doorbell::Ringers::notifies`); at the sparse
+///   pace that hop was 0.98-1.07x the Unix socket against 1.09-1.28x for `block` in the same
+///   runs (the rows in turns). A publisher that rings none (the Python guidance, a program on
+///   iceoryx2's own bindings) is heard through the doorbell's forwarder, one thread wake-up
+///   later (1.39-1.78x). It costs two threads per partition (the timer and the forwarder). On
+///   two CPUs a second partition spinning takes the CPU the GCS and the other partitions
+///   need, so they do not spin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Idle {
@@ -175,14 +178,14 @@ impl Idle {
         yield_us: 0,
     };
 
-    /// Sleeping on the doorbell at once.
+    /// Sleeping on the doorbell at once: the default of every partition but voting-monitoring.
     pub const DOORBELL: Self = Self {
         mode: IdleMode::Doorbell,
         spin_us: 0,
         yield_us: 0,
     };
 
-    /// Sleeping in the WaitSet at once: the others' default.
+    /// Sleeping in the WaitSet at once: what a field left out of `[ipc.idle.<partition>]` is.
     pub const BLOCK: Self = Self {
         mode: IdleMode::Block,
         spin_us: 0,
@@ -206,7 +209,7 @@ impl PartitionDefault for Idle {
     fn default_for(partition: Partition) -> Self {
         match partition {
             Partition::VotingMonitoring => Self::VOTING_MONITORING,
-            _ => Self::BLOCK,
+            _ => Self::DOORBELL,
         }
     }
 }
@@ -635,7 +638,7 @@ mod tests {
     }
 
     #[test]
-    fn the_idle_strategy_is_set_per_partition_and_defaults_to_the_waitset() {
+    fn the_idle_strategy_is_set_per_partition_and_a_partition_left_out_takes_its_default() {
         let c = Config::parse(
             "[ipc.idle.voting-monitoring]\nmode = \"block\"\n\
              [ipc.idle.guidance-stub]\nmode = \"backoff\"\nspin_us = 50\nyield_us = 20\n",
@@ -651,9 +654,19 @@ mod tests {
         assert_eq!(guidance.spin(), Duration::from_micros(50));
         assert_eq!(guidance.yield_for(), Duration::from_micros(20));
         let mdh = c.ipc.idle[Partition::MissionDataHandling];
-        assert_eq!(mdh, Idle::default());
-        assert_eq!(mdh.mode, IdleMode::Block);
+        assert_eq!(mdh, Idle::DOORBELL);
+        assert_eq!(mdh.mode, IdleMode::Doorbell);
         assert_eq!(mdh.spin_us, 0);
+        // A field left out of a partition's section is `Idle::default`'s.
+        let guidance_mode_only =
+            Config::parse("[ipc.idle.guidance-stub]\nspin_us = 10\n", Path::new("h")).unwrap();
+        assert_eq!(
+            guidance_mode_only.ipc.idle[Partition::Guidance],
+            Idle {
+                spin_us: 10,
+                ..Idle::default()
+            }
+        );
         let defaults = Config::default();
         assert_eq!(
             defaults.ipc.idle[Partition::VotingMonitoring],

@@ -32,8 +32,8 @@
 //! that wake-up, 0.95-1.09x without, three interleaved runs on 2026-12-07).
 //!
 //! [`waits`] is the one rule that says which partitions wait on their doorbells under a
-//! configuration (none by default: `config::Idle`; voting-monitoring never, it waits for its
-//! sockets); the runtime (which doorbell a loop waits on) and `ipc::Ipc::open`
+//! configuration (by default every partition but voting-monitoring, `config::Idle`;
+//! voting-monitoring never, it waits for its sockets); the runtime (which doorbell a loop waits on) and `ipc::Ipc::open`
 //! (which doorbells its publishers ring) both ask it. A process under a configuration where no
 //! partition waits on one opens no doorbell service, and its publishers ring nothing.
 //!
@@ -667,11 +667,20 @@ mod tests {
         );
     }
 
-    /// By default no partition waits on its doorbell: no process opens one or rings one. Where
-    /// configured, every partition but voting-monitoring (its sockets) can.
+    /// By default every partition but voting-monitoring (its sockets) waits on its doorbell;
+    /// with every partition in the WaitSet no process opens one or rings one.
     #[test]
     fn only_a_partition_configured_for_the_doorbell_waits_on_it() {
         let mut ipc = config::Ipc::default();
+        assert!(!waits(&ipc, Partition::VotingMonitoring));
+        for p in [
+            Partition::MissionDataHandling,
+            Partition::SystemAutomation,
+            Partition::Guidance,
+        ] {
+            assert!(waits(&ipc, p), "{p}");
+        }
+        ipc.idle = PerPartition::all(config::Idle::BLOCK);
         assert!(Partition::ALL.iter().all(|p| !waits(&ipc, *p)));
         assert!(Doorbells::of("doorbell-none", &ipc).unwrap().is_none());
         ipc.idle = PerPartition::all(config::Idle::DOORBELL);
@@ -696,19 +705,22 @@ mod tests {
         let frame =
             FramePayload::new(missionlink_interfaces::contracts::Link::Direct, &[1], 0).unwrap();
 
-        // Rings nothing: its configuration (the defaults) has every partition in the WaitSet.
-        let foreign =
-            Ipc::<ipc::Service>::open("doorbell-foreign", &config::Ipc::with_prefix(&prefix))
-                .unwrap();
+        // Rings nothing: its configuration has every partition in the WaitSet.
+        let in_the_waitset = config::Ipc {
+            idle: PerPartition::all(config::Idle::BLOCK),
+            ..config::Ipc::with_prefix(&prefix)
+        };
+        let foreign = Ipc::<ipc::Service>::open("doorbell-foreign", &in_the_waitset).unwrap();
         let foreign = foreign
             .publisher::<FramePayload>(FccService::Uplink)
             .unwrap();
         foreign.send(&frame).unwrap();
         wait_is_rung(&doorbell);
 
-        // Rings the doorbell itself: the wait returns at once for its ring, and after the
-        // forwarder has seen its notification nothing else is pending: the next wait ends at
-        // its deadline.
+        // Rings the doorbell itself (the defaults have mission data handling on its doorbell)
+        // and notifies no one, the forwarder's listener being named for mission data handling:
+        // the wait returns at once for its ring, and nothing else is pending: the next wait
+        // ends at its deadline.
         let rust =
             Ipc::<ipc::Service>::open("doorbell-rust", &config::Ipc::with_prefix(&prefix)).unwrap();
         let rust = rust.publisher::<FramePayload>(FccService::Uplink).unwrap();

@@ -413,7 +413,7 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
     /// doorbells of the partitions that consume the service (`doorbell::consumers`) and wait on
-    /// them (none by default), then notifies the service's own event: what every partition
+    /// them (by default all but voting-monitoring), then notifies the service's own event: what every partition
     /// does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
@@ -633,28 +633,64 @@ mod tests {
         assert_eq!(numbers, [(1, 2), (2, 0)]);
     }
 
-    /// Under the defaults no partition waits on its doorbell: a process opens no doorbell node
-    /// and its publishers ring nothing; where mission data handling waits on its doorbell, the
-    /// uplink's publisher rings it and says so in its event ID.
+    /// With every partition in the WaitSet a process opens no doorbell node and its publishers
+    /// ring nothing; under the defaults (mission data handling on its doorbell) the uplink's
+    /// publisher rings it and says so in its event ID.
     #[test]
-    fn the_default_configuration_opens_no_doorbell() {
+    fn a_configuration_without_a_doorbell_opens_none_and_the_default_rings_mission_data_handling() {
         let prefix = format!("ipc-test-quiet-{}", std::process::id());
-        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &config::Ipc::with_prefix(&prefix))
-            .unwrap();
+        let in_the_waitset = config::Ipc {
+            idle: crate::config::PerPartition::all(config::Idle::BLOCK),
+            ..config::Ipc::with_prefix(&prefix)
+        };
+        let ipc = Ipc::<local::Service>::open("ipc-test-quiet", &in_the_waitset).unwrap();
         assert!(ipc.doorbells.is_none());
         assert!(ipc.doorbell(Partition::MissionDataHandling).is_err());
         let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
         assert!(uplink.ringers.is_empty());
         assert_eq!(uplink.ringers.event_id().as_value(), 0);
 
-        let on_doorbells = config::Ipc {
-            idle: crate::config::PerPartition::all(config::Idle::DOORBELL),
-            ..config::Ipc::with_prefix(&prefix)
-        };
-        let ipc = Ipc::<local::Service>::open("ipc-test-rings", &on_doorbells).unwrap();
+        let ipc = Ipc::<local::Service>::open("ipc-test-rings", &config::Ipc::with_prefix(&prefix))
+            .unwrap();
         let uplink = ipc.publisher::<FramePayload>(FccService::Uplink).unwrap();
         assert!(!uplink.ringers.is_empty());
         assert_ne!(uplink.ringers.event_id().as_value(), 0);
+    }
+
+    /// A publisher that rang mission data handling's doorbell does not notify the listeners
+    /// named for it (nobody sleeps on them), and does notify as soon as another listener is on
+    /// the event (a partition in the WaitSet, a test, a partition in Python).
+    #[test]
+    fn a_ringing_publisher_notifies_only_listeners_it_did_not_ring() {
+        let prefix = format!("ipc-test-spare-{}", std::process::id());
+        let defaults = config::Ipc::with_prefix(&prefix);
+        let mission_data =
+            Ipc::<local::Service>::for_partition(Partition::MissionDataHandling, &defaults)
+                .unwrap();
+        let frames = mission_data
+            .subscriber::<FramePayload>(FccService::Uplink)
+            .unwrap();
+        let sender = Ipc::<local::Service>::open("ipc-test-spare-sender", &defaults).unwrap();
+        let uplink = sender
+            .publisher::<FramePayload>(FccService::Uplink)
+            .unwrap();
+        let frame = FramePayload::new(Link::Direct, &[1], 0).unwrap();
+        let notified = |listener: &Listener<local::Service>| {
+            let mut n = 0;
+            listener.try_wait(|_| n += 1).unwrap();
+            n
+        };
+
+        uplink.send(&frame).unwrap();
+        assert_eq!(notified(frames.listener()), 0, "no notification");
+        assert_eq!(frames.take_all(|_| {}), 1, "the sample is there");
+
+        let stranger = Ipc::<local::Service>::open("ipc-test-spare-stranger", &defaults).unwrap();
+        let stranger = stranger.listener(FccService::Uplink).unwrap();
+        uplink.send(&frame).unwrap();
+        assert_eq!(notified(&stranger), 1);
+        assert_eq!(notified(frames.listener()), 1, "notified alongside");
+        assert_eq!(frames.take_all(|_| {}), 1);
     }
 
     fn waypoints(activation: u64, count: u16) -> WaypointListPayload {
