@@ -2,7 +2,7 @@
  * foreign_sender.c: the sending end of the latency row `partition-foreign-sparse`
  * (benches/latency/main.rs): a partition in C on missionlink's C library, as voting-monitoring
  * would be in a rig that replaced it. It publishes a FramePayload on fcc/link/uplink with
- * CLOCK_MONOTONIC in origin_ns, sleeps on its doorbell until mission data handling's reply on
+ * CLOCK_MONOTONIC in origin_ns, sleeps in its WaitSet until mission data handling's reply on
  * fcc/link/downlink echoes that stamp, pauses for the sparse pace and sends the next; the
  * receiver, the bench's own process running mission data handling's loop, records the hop.
  *

@@ -37,7 +37,7 @@
 //!    data handling taking the frames as it does (`take_all`) and answering on the downlink
 //!    service; each waits as its partition's default idle strategy says (`config::Idle`:
 //!    voting-monitoring spins 200 µs, then sleeps in the WaitSet; mission data handling sleeps
-//!    in the WaitSet at once).
+//!    on its doorbell at once).
 //! 7. `partition-block`, `partition-backoff`, `partition-doorbell`: the same with each idle
 //!    strategy (`config::IdleMode`): `block` (sleep in the WaitSet at once: the wait path
 //!    before the idle strategies, the same as `iox2-event` through `run_loop`), `backoff`
@@ -59,7 +59,8 @@
 //!     missionlink's C library (`clib/`, docs/hil.md) in voting-monitoring's role
 //!     (benches/latency/foreign_sender.c, built with `cc` against the static library of the
 //!     bench's profile): it publishes the contract's `FramePayload` on the uplink service (the
-//!     stamp in `origin_ns`) and sleeps on its doorbell for the reply; the receiver is mission
+//!     stamp in `origin_ns`, ringing mission data handling's doorbell as a Rust publisher does)
+//!     and sleeps in its WaitSet for the reply; the receiver is mission
 //!     data handling's loop with its default idle strategy, as in `partition-sparse`. Only at
 //!     the STANAG frame's size. The sender's columns (preemptions, CPU) are the bench
 //!     process's, which only waits for the C process: the C process's CPU counts as others'.
