@@ -145,8 +145,11 @@ fn bit(role: Partition) -> usize {
 /// wakes. Every other listener (a test, the launcher, a partition in Python or in the WaitSet)
 /// has another name or none, and is notified.
 pub fn listener_name(role: Partition) -> String {
-    format!("rung/{}", role.binary())
+    format!("{RUNG_LISTENER}{}", role.binary())
 }
+
+/// What the name of a listener of a partition on its doorbell starts with ([`listener_name`]).
+const RUNG_LISTENER: &str = "rung/";
 
 /// Notifiers a doorbell allows: every publisher of a consumed service, with room for restarted
 /// processes whose ports are not cleaned up yet.
@@ -287,10 +290,15 @@ impl Ringers {
     /// whose doorbells were just rung ([`listener_name`]), which nobody sleeps on (the
     /// partition sleeps on its doorbell; its forwarder ignores a notification of a publisher
     /// that rang it).
+    /// Read at every send: it compares names in place and allocates nothing.
     pub fn notifies(&self, listener: &str) -> bool {
-        !Partition::ALL
-            .into_iter()
-            .any(|p| self.rung & bit(p) != 0 && listener == listener_name(p))
+        match listener
+            .strip_prefix(RUNG_LISTENER)
+            .and_then(Partition::from_binary)
+        {
+            Some(rung) => self.rung & bit(rung) == 0,
+            None => true,
+        }
     }
 
     /// Whether there is no doorbell to ring.

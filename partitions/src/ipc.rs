@@ -413,7 +413,8 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
     /// doorbells of the partitions that consume the service (`doorbell::consumers`) and wait on
-    /// them (by default all but voting-monitoring), then notifies the service's own event: what every partition
+    /// them (by default all but voting-monitoring), then notifies the service's own event if a
+    /// listener not rung is on it (`Publisher::someone_else_listens`): what every partition
     /// does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
