@@ -130,8 +130,9 @@ pub enum IdleMode {
     Doorbell,
 }
 
-/// The idle strategy of one partition (`[ipc.idle.<partition>]`); a field left out takes the
-/// value of [`Idle::default`] (`block`, no spin). The defaults of the partitions
+/// The idle strategy of one partition (`[ipc.idle.<partition>]`). A section names its `mode`:
+/// the partitions' defaults differ, so a section without one would be ambiguous and is refused;
+/// `spin_us` and `yield_us` left out are 0. The defaults of the partitions
 /// ([`PartitionDefault`] of `Idle`) were chosen by measurement on the 2-vCPU development machine
 /// (docs/wait-path.md, BENCHMARKS.md section 1):
 ///
@@ -149,15 +150,17 @@ pub enum IdleMode {
 ///   two CPUs a second partition spinning takes the CPU the GCS and the other partitions
 ///   need, so they do not spin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(deny_unknown_fields)]
 pub struct Idle {
     /// `block`, `backoff` or `doorbell`.
     pub mode: IdleMode,
     /// With `backoff` and `doorbell`: how long the loop looks at its inputs without pausing
     /// before it sleeps, microseconds.
+    #[serde(default)]
     pub spin_us: u64,
     /// With `backoff` and `doorbell`: how long it then looks, yielding the CPU between looks,
     /// microseconds.
+    #[serde(default)]
     pub yield_us: u64,
 }
 
@@ -185,7 +188,7 @@ impl Idle {
         yield_us: 0,
     };
 
-    /// Sleeping in the WaitSet at once: what a field left out of `[ipc.idle.<partition>]` is.
+    /// Sleeping in the WaitSet at once.
     pub const BLOCK: Self = Self {
         mode: IdleMode::Block,
         spin_us: 0,
@@ -657,14 +660,26 @@ mod tests {
         assert_eq!(mdh, Idle::DOORBELL);
         assert_eq!(mdh.mode, IdleMode::Doorbell);
         assert_eq!(mdh.spin_us, 0);
-        // A field left out of a partition's section is `Idle::default`'s.
-        let guidance_mode_only =
-            Config::parse("[ipc.idle.guidance-stub]\nspin_us = 10\n", Path::new("h")).unwrap();
+        // A section without its mode is refused (the partitions' defaults differ), saying
+        // where; the spin and yield budgets left out are 0.
+        let e = Config::parse("[ipc.idle.guidance-stub]\nspin_us = 10\n", Path::new("h"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("h:1:") && e.contains("missing field `mode`"),
+            "{e}"
+        );
+        let mode_only = Config::parse(
+            "[ipc.idle.guidance-stub]\nmode = \"backoff\"\n",
+            Path::new("i"),
+        )
+        .unwrap();
         assert_eq!(
-            guidance_mode_only.ipc.idle[Partition::Guidance],
+            mode_only.ipc.idle[Partition::Guidance],
             Idle {
-                spin_us: 10,
-                ..Idle::default()
+                mode: IdleMode::Backoff,
+                spin_us: 0,
+                yield_us: 0,
             }
         );
         let defaults = Config::default();
