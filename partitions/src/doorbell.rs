@@ -40,9 +40,10 @@
 //! [`Qos::max_listeners`]: missionlink_interfaces::contracts::Qos::max_listeners
 
 use core::fmt::Debug;
+use std::os::fd::OwnedFd;
 use std::os::unix::net::UnixDatagram;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use iceoryx2::port::listener::Listener;
@@ -56,6 +57,10 @@ use iceoryx2_cal::{
     resizable_shared_memory, serialize, shared_memory, static_storage, zero_copy_connection,
 };
 use missionlink_interfaces::contracts::{FccService, Partition};
+use rustix::time::{
+    Itimerspec, TimerfdClockId, TimerfdFlags, TimerfdTimerFlags, Timespec, timerfd_create,
+    timerfd_settime,
+};
 
 use crate::config::{self, IdleMode, PerPartition};
 use crate::wait_fd::SocketFd;
@@ -269,7 +274,7 @@ impl Doorbells {
                 forward_ring: notifier()?,
                 end,
             }),
-            timer: Arc::new(Timer::default()),
+            timer: Arc::new(Timer::new()?),
             threads: None,
         })
     }
@@ -324,48 +329,128 @@ impl Ringers {
     }
 }
 
-/// How late the timer may ring rather than be woken to ring earlier.
+/// How late the timer may ring rather than be armed again for an earlier deadline.
 const TIMER_SLACK: Duration = Duration::from_millis(1);
 
-/// The deadline the timer thread rings the doorbell at, and the end of the thread.
-#[derive(Debug, Default)]
+/// The doorbell's timer: a timerfd that the loop arms for its next deadline (a system call on
+/// the loop's thread, no wake-up of another), and the thread that sleeps in the timerfd's read
+/// and rings when the loop's deadline has come. Before, a condition variable told the thread
+/// of every new deadline, and a deadline after a ring woke it twice: to be told, then to ring
+/// (an idle partition's timer thread woke about 80 times a second for its loop's 20
+/// deadlines).
+#[derive(Debug)]
 struct Timer {
+    fd: OwnedFd,
     state: Mutex<TimerState>,
-    changed: Condvar,
 }
 
 #[derive(Debug, Default)]
 struct TimerState {
+    /// The loop's deadline, until it is rung.
     deadline: Option<Instant>,
+    /// When the timerfd fires; `None` when it is disarmed (it fired, or was never armed).
+    armed: Option<Instant>,
+    /// The doorbell is dropped: the thread ends at the next firing.
     end: bool,
 }
 
 impl Timer {
-    /// The timer thread: rings through `notifier` whenever the deadline passes, until the end.
-    fn run(&self, notifier: &Notifier<DoorbellService>) {
-        let Ok(mut state) = self.state.lock() else {
-            return;
+    fn new() -> Result<Self, DoorbellError> {
+        let fd = timerfd_create(TimerfdClockId::Monotonic, TimerfdFlags::CLOEXEC)
+            .map_err(|e| err("the doorbell's timerfd", e))?;
+        Ok(Self {
+            fd,
+            state: Mutex::default(),
+        })
+    }
+
+    /// Arms the timerfd to fire at `at` (at once when `at` has passed: a zero value would
+    /// disarm it). `Instant` is CLOCK_MONOTONIC, the timerfd's clock.
+    fn arm(&self, at: Instant) -> Result<(), DoorbellError> {
+        let after = at
+            .saturating_duration_since(Instant::now())
+            .max(Duration::from_nanos(1));
+        let zero = Timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
         };
+        let it_value = Timespec::try_from(after).unwrap_or(Timespec {
+            tv_sec: i64::MAX,
+            tv_nsec: 0,
+        });
+        timerfd_settime(
+            &self.fd,
+            TimerfdTimerFlags::empty(),
+            &Itimerspec {
+                it_interval: zero,
+                it_value,
+            },
+        )
+        .map(|_| ())
+        .map_err(|e| err("arming the doorbell's timerfd", e))
+    }
+
+    /// Makes `deadline` the loop's next one. The timerfd is armed again only when it would
+    /// fire more than [`TIMER_SLACK`] after the deadline, or not at all: a later deadline the
+    /// thread finds when the timerfd fires, and arms it for, without ringing.
+    fn set(&self, deadline: Instant) -> Result<(), DoorbellError> {
+        let mut state = self
+            .state
+            .lock()
+            .map_err(|_| DoorbellError("the doorbell's timer is poisoned".to_owned()))?;
+        state.deadline = Some(deadline);
+        if state.armed.is_none_or(|a| deadline + TIMER_SLACK < a) {
+            self.arm(deadline)?;
+            state.armed = Some(deadline);
+        }
+        Ok(())
+    }
+
+    /// Ends the thread: it sees the end at the next firing, which is now.
+    fn end(&self) {
+        if let Ok(mut state) = self.state.lock() {
+            state.end = true;
+            if self.arm(Instant::now()).is_ok() {
+                state.armed = None;
+            }
+        }
+    }
+
+    /// The timer thread: sleeps until the timerfd fires, then rings through `notifier` if the
+    /// loop's deadline has come, or arms the timerfd for the later deadline the loop set since;
+    /// until the end.
+    fn run(&self, notifier: &Notifier<DoorbellService>) {
+        let mut expirations = [0_u8; 8];
         loop {
+            match rustix::io::read(&self.fd, &mut expirations) {
+                Ok(_) => {}
+                // A signal (SIGUSR1 for a report) landed on this thread.
+                Err(rustix::io::Errno::INTR) => continue,
+                Err(e) => {
+                    tracing::warn!(%e, "the doorbell's timer cannot wait");
+                    return;
+                }
+            }
+            let Ok(mut state) = self.state.lock() else {
+                return;
+            };
             if state.end {
                 return;
             }
-            let now = Instant::now();
+            state.armed = None;
             match state.deadline {
-                Some(d) if d <= now => {
+                Some(d) if d <= Instant::now() => {
                     state.deadline = None;
+                    drop(state);
                     if let Err(e) = notifier.notify() {
                         tracing::warn!(?e, "the doorbell's timer cannot ring");
                     }
                 }
-                Some(d) => match self.changed.wait_timeout(state, d - now) {
-                    Ok((s, _)) => state = s,
-                    Err(_) => return,
+                Some(d) => match self.arm(d) {
+                    Ok(()) => state.armed = Some(d),
+                    Err(e) => tracing::warn!(%e, "the doorbell's timer cannot wait"),
                 },
-                None => match self.changed.wait(state) {
-                    Ok(s) => state = s,
-                    Err(_) => return,
-                },
+                None => {}
             }
         }
     }
@@ -441,18 +526,7 @@ impl Doorbell {
                 "waiting on a doorbell whose threads were not started".to_owned(),
             ));
         }
-        let deadline = Instant::now() + timeout;
-        if let Ok(mut state) = self.timer.state.lock() {
-            // The timer thread is woken only for a deadline earlier by more than TIMER_SLACK
-            // (waking it costs a context switch on the loop's path): a later one it finds when
-            // the one it waits for passes, a slightly earlier one it rings at most TIMER_SLACK
-            // late.
-            let earlier = state.deadline.is_none_or(|d| deadline + TIMER_SLACK < d);
-            state.deadline = Some(deadline);
-            if earlier {
-                self.timer.changed.notify_one();
-            }
-        }
+        self.timer.set(Instant::now() + timeout)?;
         match self.listener.blocking_wait(|_| {}) {
             // A signal (SIGUSR1 for a report, SIGTERM): the loop looks at its control.
             Ok(_) | Err(iceoryx2_cal::event::ListenerWaitError::InterruptSignal) => Ok(()),
@@ -468,10 +542,7 @@ impl Doorbell {
 
 impl Drop for Doorbell {
     fn drop(&mut self) {
-        if let Ok(mut state) = self.timer.state.lock() {
-            state.end = true;
-            self.timer.changed.notify_one();
-        }
+        self.timer.end();
         if let Some(threads) = self.threads.take() {
             threads.forwarder.stop();
             let _ = threads.timer.join();
@@ -671,6 +742,37 @@ mod tests {
         let waited = start.elapsed();
         assert!(
             waited >= Duration::from_millis(29) && waited < Duration::from_millis(500),
+            "{waited:?}"
+        );
+    }
+
+    /// The loop's deadline moved later after the timerfd was armed for an earlier one: the
+    /// timer rings at the later deadline, not before (a ring before it would wake the loop for
+    /// nothing); an earlier deadline is armed at once.
+    #[test]
+    fn the_timer_rings_at_the_loops_latest_deadline() {
+        let prefix = format!("doorbell-test-timer-{}", std::process::id());
+        let bells = Doorbells::open("doorbell-timer", &prefix, PerPartition::all(true)).unwrap();
+        let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
+        doorbell
+            .start(forwarder_of::<ipc::Service>(&prefix))
+            .unwrap();
+
+        let start = Instant::now();
+        doorbell.timer.set(start + Duration::from_millis(20)).unwrap();
+        doorbell.wait(Duration::from_millis(300)).unwrap();
+        let waited = start.elapsed();
+        assert!(
+            waited >= Duration::from_millis(299) && waited < Duration::from_secs(3),
+            "{waited:?}"
+        );
+
+        let start = Instant::now();
+        doorbell.timer.set(start + Duration::from_secs(60)).unwrap();
+        doorbell.wait(Duration::from_millis(30)).unwrap();
+        let waited = start.elapsed();
+        assert!(
+            waited >= Duration::from_millis(29) && waited < Duration::from_secs(3),
             "{waited:?}"
         );
     }

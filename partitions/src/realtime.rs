@@ -9,8 +9,8 @@
 //! What a setting reaches: the affinity and the scheduling policy are per thread in Linux.
 //! They are set on the calling thread (the one that goes on to run the partition's loop) and
 //! every thread it starts afterwards inherits them. A thread started before keeps what it had:
-//! in a partition that is only `runtime`'s watch-parent thread, which sleeps but for a
-//! `getppid` every 100 ms and is better left off the real-time priorities. iceoryx2 0.10 starts
+//! in a partition that is only `runtime`'s watch-parent thread, which sleeps until the
+//! launcher ends and is better left off the real-time priorities. iceoryx2 0.10 starts
 //! no thread of its own in a node, a port or a WaitSet. Locked memory is per process.
 //!
 //! The benchmark of the partition-to-partition hop under CPU load (`benches/latency/load.rs`,

@@ -429,8 +429,10 @@ pub fn allowed_syscalls(profile: Profile) -> BTreeMap<i64, Vec<Conditions>> {
         libc::SYS_epoll_wait,
         libc::SYS_dup2,
     ]);
-    // Waiting: the WaitSet (epoll), timers, the doorbell's semaphore (futex), the spin's yield.
+    // Waiting: the WaitSet (epoll), timers, the doorbell's semaphore (futex) and timerfd (armed
+    // by the loop, read by the doorbell's timer thread), the spin's yield.
     any(&[
+        libc::SYS_timerfd_settime,
         libc::SYS_epoll_create1,
         libc::SYS_epoll_ctl,
         libc::SYS_epoll_pwait,
@@ -475,7 +477,8 @@ pub fn allowed_syscalls(profile: Profile) -> BTreeMap<i64, Vec<Conditions>> {
         libc::SYS_ioctl,
     ]);
     // Signals and the process: SIGTERM/SIGINT/SIGUSR1 handlers, the watch of the launcher
-    // (getppid, and SIGTERM to itself), abort on a fatal error, identity queries.
+    // (a pidfd of it to sleep on, getppid, and SIGTERM to itself), abort on a fatal error,
+    // identity queries.
     any(&[
         libc::SYS_rt_sigaction,
         libc::SYS_rt_sigprocmask,
@@ -485,6 +488,7 @@ pub fn allowed_syscalls(profile: Profile) -> BTreeMap<i64, Vec<Conditions>> {
         libc::SYS_getpid,
         libc::SYS_gettid,
         libc::SYS_getppid,
+        libc::SYS_pidfd_open,
         libc::SYS_getuid,
         libc::SYS_geteuid,
         libc::SYS_getgid,
