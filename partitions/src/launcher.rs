@@ -26,6 +26,7 @@
 //! the tests waits for it: `missionlink::harness::fcc`).
 
 use std::io;
+use std::os::fd::OwnedFd;
 use std::os::unix::process::ExitStatusExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, ExitStatus};
@@ -34,6 +35,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::ipc;
 use missionlink_flight::health::Liveness;
 use missionlink_interfaces::contracts::Partition;
+use rustix::event::{PollFd, PollFlags};
 
 use crate::config::{self, Config, FccArgs};
 use crate::health::Watch;
@@ -48,7 +50,13 @@ pub const NAME: &str = "fcc";
 
 /// How long a partition may take to end after SIGTERM.
 pub const GRACE: Duration = Duration::from_secs(5);
+/// How often the launcher looks at its partitions while one is starting or due to be restarted
+/// (their readiness announcements, their first heartbeats), and at a stopping one.
 const SUPERVISION_PERIOD: Duration = Duration::from_millis(20);
+/// How often it looks at their heartbeats once every partition is up: a hung one is found
+/// within its liveness limit and this period. A partition that dies wakes it at once (it
+/// sleeps on a pidfd of each child), so a restart waits for no period.
+const SETTLED_PERIOD: Duration = Duration::from_millis(100);
 
 /// The flag that makes a partition end with its parent (see `runtime::partition_main`).
 const EXIT_WITH_PARENT: &str = "--exit-with-parent";
@@ -79,6 +87,8 @@ struct Supervised {
     /// Started by the launcher (else left out: another process fills the role).
     started_here: bool,
     child: Option<Child>,
+    /// A pidfd of the child, readable once it ends ([`wait_for_exit`]).
+    pidfd: Option<OwnedFd>,
     restart_at: Option<Instant>,
     /// When it was started, within the start-limit window.
     starts: std::collections::VecDeque<Instant>,
@@ -89,6 +99,29 @@ struct Supervised {
     liveness: Liveness,
     /// A left-out role's heartbeat was heard since it was last silent.
     heard: bool,
+}
+
+/// A pidfd of `child`; `None` where the kernel has none (before Linux 5.3): the launcher then
+/// finds its end at its next look.
+fn pidfd_of(child: &Child) -> Option<OwnedFd> {
+    rustix::process::pidfd_open(
+        rustix::process::Pid::from_child(child),
+        rustix::process::PidfdFlags::empty(),
+    )
+    .ok()
+}
+
+/// Sleeps until one of the children of `pidfds` ends, a signal arrives (a stop request), or
+/// `period` has passed.
+fn wait_for_exit<'a>(pidfds: impl Iterator<Item = &'a OwnedFd>, period: Duration) {
+    let mut fds: Vec<PollFd<'_>> = pidfds.map(|fd| PollFd::new(fd, PollFlags::IN)).collect();
+    let timeout = rustix::time::Timespec::try_from(period).ok();
+    match rustix::event::poll(&mut fds, timeout.as_ref()) {
+        // Interrupted by a signal: the loop looks at its stop request at once.
+        Ok(_) | Err(rustix::io::Errno::INTR) => {}
+        // The loop's next look a period later, as without pidfds.
+        Err(_) => std::thread::sleep(period),
+    }
 }
 
 fn signal(child: &Child, signal: rustix::process::Signal) {
@@ -222,6 +255,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 name: partition.binary(),
                 started_here,
                 child: None,
+                pidfd: None,
                 restart_at: started_here.then(Instant::now),
                 starts: std::collections::VecDeque::new(),
                 delay: restart_delay,
@@ -293,6 +327,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 if let Ok(Some(status)) = child.try_wait() {
                     let pid = child.id();
                     p.child = None;
+                    p.pidfd = None;
                     p.liveness.forget();
                     match limits.after_death(p, status, Instant::now()) {
                         Some(delay) => {
@@ -341,6 +376,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                         p.starts.push_back(Instant::now());
                         p.liveness
                             .expect(clock.now(), child.id(), config.health.start_timeout());
+                        p.pidfd = pidfd_of(&child);
                         p.child = Some(child);
                     }
                     Err(e) => {
@@ -371,7 +407,21 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 all_up = false;
             }
         }
-        std::thread::sleep(SUPERVISION_PERIOD);
+        let settled = (all_up || degraded)
+            && partitions.iter().all(|p| p.restart_at.is_none())
+            && bridge.start_at.is_none();
+        let pidfds = partitions
+            .iter()
+            .filter_map(|p| p.pidfd.as_ref())
+            .chain(bridge.pidfd.as_ref());
+        wait_for_exit(
+            pidfds,
+            if settled {
+                SETTLED_PERIOD
+            } else {
+                SUPERVISION_PERIOD
+            },
+        );
     }
     tracing::info!("stopping the FCC partitions");
     bridge.stop();
@@ -398,6 +448,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
 struct BridgeChild {
     enabled: bool,
     child: Option<Child>,
+    pidfd: Option<OwnedFd>,
     start_at: Option<Instant>,
 }
 
@@ -406,6 +457,7 @@ impl BridgeChild {
         Self {
             enabled: config.bridge.enabled,
             child: None,
+            pidfd: None,
             start_at: config.bridge.enabled.then(Instant::now),
         }
     }
@@ -422,6 +474,7 @@ impl BridgeChild {
             .and_then(|c| c.try_wait().ok().flatten());
         if let Some(status) = died {
             self.child = None;
+            self.pidfd = None;
             if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) {
                 // Starting it again cannot help: its configuration cannot work.
                 tracing::error!(
@@ -444,6 +497,7 @@ impl BridgeChild {
             match spawned {
                 Ok(child) => {
                     tracing::info!(partition = "bridge", pid = child.id(), "started");
+                    self.pidfd = pidfd_of(&child);
                     self.child = Some(child);
                 }
                 Err(e) if e.kind() == io::ErrorKind::NotFound => {
