@@ -25,9 +25,9 @@
 //!
 //! A partition on the doorbell still has its ordinary listeners, which the steps drain. Its
 //! listeners and its forwarder's are named for it ([`listener_name`]), and a publisher that
-//! rang its doorbell notifies the service's event only if another listener is on it (a test,
-//! the launcher, a partition in Python or in the WaitSet: [`Ringers::notifies`]): otherwise the
-//! notification would only wake the forwarder, for nothing, on the partition's CPU as the
+//! rang its doorbell notifies only the event's other listeners, each alone (a test, the
+//! launcher, a partition in Python or in the WaitSet: [`Ringers::notifies`]): a notification
+//! of the whole event would wake the forwarder too, for nothing, on the partition's CPU as the
 //! partition wakes (benches/latency: the doorbell's sparse hop 1.19-1.25x the Unix socket with
 //! that wake-up, 0.95-1.09x without, three interleaved runs on 2026-12-07).
 //!
@@ -759,7 +759,10 @@ mod tests {
             .unwrap();
 
         let start = Instant::now();
-        doorbell.timer.set(start + Duration::from_millis(20)).unwrap();
+        doorbell
+            .timer
+            .set(start + Duration::from_millis(20))
+            .unwrap();
         doorbell.wait(Duration::from_millis(300)).unwrap();
         let waited = start.elapsed();
         assert!(

@@ -191,7 +191,6 @@ impl<S: Service> Ipc<S> {
         Ok(Publisher {
             service,
             publisher,
-            event,
             ringers: self
                 .doorbells
                 .as_ref()
@@ -405,47 +404,39 @@ pub struct Publisher<S: Service, T: Debug + ZeroCopySend + 'static> {
     service: FccService,
     publisher: iceoryx2::port::publisher::Publisher<S, T, ()>,
     ringers: Ringers,
-    /// The service's event, whose listeners [`Publisher::send`] looks at.
-    event: iceoryx2::service::port_factory::event::PortFactory<S>,
     notifier: Notifier<S>,
 }
 
 impl<S: Service, T: Debug + Copy + ZeroCopySend + 'static> Publisher<S, T> {
     /// Publishes `value` (copied into shared memory once) and wakes the subscribers: rings the
     /// doorbells of the partitions that consume the service (`doorbell::consumers`) and wait on
-    /// them (by default all but voting-monitoring), then notifies the service's own event if a
-    /// listener not rung is on it (`Publisher::someone_else_listens`): what every partition
-    /// does.
+    /// them (by default all but voting-monitoring), then notifies each listener of the
+    /// service's event but those of the partitions it rang (`doorbell::Ringers::notifies`): a
+    /// test, the launcher, a partition in Python or in the WaitSet. Each listener alone: the
+    /// forwarder of a partition it rang is not woken for nothing when someone else listens on
+    /// the event too (the launcher on a heartbeat, say). What every partition does.
     pub fn send(&self, value: &T) -> Result<(), IpcError> {
         self.publish(value)?;
-        self.ringers.ring()?;
-        if !self.ringers.is_empty() && !self.someone_else_listens() {
-            return Ok(());
+        if self.ringers.is_empty() {
+            return self.notify();
         }
+        self.ringers.ring()?;
         // The event ID names the doorbells rung (`Ringers::event_id`): a partition's forwarder
         // rings its doorbell only for a notification whose publisher did not.
-        self.notifier
-            .notify_with_custom_event_id(self.ringers.event_id())
-            .map_err(|e| err(format_args!("notify on {}", self.service), e))?;
-        Ok(())
-    }
-
-    /// Whether a listener of the service's event is not one of the partitions whose doorbells
-    /// [`Publisher::send`] just rang (`doorbell::Ringers::notifies`): then it notifies. Read from
-    /// the event's shared memory at every send, so a listener that joins is notified from its
-    /// next sample on; one that joins between this look and the sample finds the sample when it
-    /// first looks, as any new listener must.
-    fn someone_else_listens(&self) -> bool {
-        let mut someone = false;
-        self.event.dynamic_config().list_listeners(|listener| {
-            if self.ringers.notifies(listener.listener_name.as_str()) {
-                someone = true;
-                CallbackProgression::Stop
-            } else {
-                CallbackProgression::Continue
+        let id = self.ringers.event_id();
+        let mut failed = None;
+        self.notifier.for_each_listener(|listener, details| {
+            if self.ringers.notifies(details.listener_name.as_str())
+                && let Err(e) = listener.notify_with_custom_event_id(id)
+            {
+                failed.get_or_insert(e);
             }
+            CallbackProgression::Continue
         });
-        someone
+        match failed {
+            Some(e) => Err(err(format_args!("notify on {}", self.service), e)),
+            None => Ok(()),
+        }
     }
 
     /// Publishes `value` without waking anyone: for subscribers that poll (the polling
@@ -659,8 +650,8 @@ mod tests {
     }
 
     /// A publisher that rang mission data handling's doorbell does not notify the listeners
-    /// named for it (nobody sleeps on them), and does notify as soon as another listener is on
-    /// the event (a partition in the WaitSet, a test, a partition in Python).
+    /// named for it (nobody sleeps on them), not even when another listener is on the event
+    /// (a partition in the WaitSet, a test, a partition in Python), which it does notify.
     #[test]
     fn a_ringing_publisher_notifies_only_listeners_it_did_not_ring() {
         let prefix = format!("ipc-test-spare-{}", std::process::id());
@@ -690,7 +681,11 @@ mod tests {
         let stranger = stranger.listener(FccService::Uplink).unwrap();
         uplink.send(&frame).unwrap();
         assert_eq!(notified(&stranger), 1);
-        assert_eq!(notified(frames.listener()), 1, "notified alongside");
+        assert_eq!(
+            notified(frames.listener()),
+            0,
+            "left out even so: each listener is notified alone"
+        );
         assert_eq!(frames.take_all(|_| {}), 1);
     }
 
