@@ -336,8 +336,8 @@ const TIMER_SLACK: Duration = Duration::from_millis(1);
 /// the loop's thread, no wake-up of another), and the thread that sleeps in the timerfd's read
 /// and rings when the loop's deadline has come. Before, a condition variable told the thread
 /// of every new deadline, and a deadline after a ring woke it twice: to be told, then to ring
-/// (an idle partition's timer thread woke about 80 times a second for its loop's 20
-/// deadlines).
+/// (an idle mission data handling's timer thread woke about 80 times a second for its loop's
+/// 20 deadlines).
 #[derive(Debug)]
 struct Timer {
     fd: OwnedFd,
