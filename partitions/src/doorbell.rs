@@ -696,6 +696,31 @@ mod tests {
         )
     }
 
+    /// Mission data handling's doorbell under a prefix of its own (`name` and this process),
+    /// its threads started; the prefix, and the doorbells that keep it open.
+    fn started(name: &str) -> (String, Doorbells, Doorbell) {
+        let prefix = format!("{name}-{}", std::process::id());
+        let bells = Doorbells::open(name, &prefix, PerPartition::all(true)).unwrap();
+        let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
+        doorbell
+            .start(forwarder_of::<ipc::Service>(&prefix))
+            .unwrap();
+        (prefix, bells, doorbell)
+    }
+
+    /// Waits on `doorbell` for `timeout`, which only its timer may end: not before the
+    /// timeout (within a millisecond of the clocks' rounding), and within a few seconds.
+    fn wait_is_timed(doorbell: &Doorbell, start: Instant, timeout: Duration) {
+        doorbell
+            .wait(timeout.saturating_sub(start.elapsed()))
+            .unwrap();
+        let waited = start.elapsed();
+        assert!(
+            waited + Duration::from_millis(1) >= timeout && waited < Duration::from_secs(3),
+            "{waited:?}"
+        );
+    }
+
     /// Waits on `doorbell` with a timer far away: a ring must end the wait long before it.
     fn wait_is_rung(doorbell: &Doorbell) {
         let start = Instant::now();
@@ -751,33 +776,18 @@ mod tests {
     /// nothing); an earlier deadline is armed at once.
     #[test]
     fn the_timer_rings_at_the_loops_latest_deadline() {
-        let prefix = format!("doorbell-test-timer-{}", std::process::id());
-        let bells = Doorbells::open("doorbell-timer", &prefix, PerPartition::all(true)).unwrap();
-        let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
-        doorbell
-            .start(forwarder_of::<ipc::Service>(&prefix))
-            .unwrap();
+        let (_prefix, _bells, doorbell) = started("doorbell-test-timer");
 
         let start = Instant::now();
         doorbell
             .timer
             .set(start + Duration::from_millis(20))
             .unwrap();
-        doorbell.wait(Duration::from_millis(300)).unwrap();
-        let waited = start.elapsed();
-        assert!(
-            waited >= Duration::from_millis(299) && waited < Duration::from_secs(3),
-            "{waited:?}"
-        );
+        wait_is_timed(&doorbell, start, Duration::from_millis(300));
 
         let start = Instant::now();
         doorbell.timer.set(start + Duration::from_secs(60)).unwrap();
-        doorbell.wait(Duration::from_millis(30)).unwrap();
-        let waited = start.elapsed();
-        assert!(
-            waited >= Duration::from_millis(29) && waited < Duration::from_secs(3),
-            "{waited:?}"
-        );
+        wait_is_timed(&doorbell, start, Duration::from_millis(30));
     }
 
     /// By default every partition but voting-monitoring (its sockets) waits on its doorbell;
@@ -809,12 +819,7 @@ mod tests {
     /// a second time.
     #[test]
     fn the_forwarder_rings_for_a_publisher_that_does_not_and_only_for_it() {
-        let prefix = format!("doorbell-test-forward-{}", std::process::id());
-        let bells = Doorbells::open("doorbell-forward", &prefix, PerPartition::all(true)).unwrap();
-        let mut doorbell = bells.doorbell(Partition::MissionDataHandling).unwrap();
-        doorbell
-            .start(forwarder_of::<ipc::Service>(&prefix))
-            .unwrap();
+        let (prefix, _bells, doorbell) = started("doorbell-test-forward");
         let frame =
             FramePayload::new(missionlink_interfaces::contracts::Link::Direct, &[1], 0).unwrap();
 
@@ -840,10 +845,7 @@ mod tests {
         rust.send(&frame).unwrap();
         doorbell.wait(Duration::from_secs(5)).unwrap();
         std::thread::sleep(Duration::from_millis(100));
-        let start = Instant::now();
-        doorbell.wait(Duration::from_millis(30)).unwrap();
-        let waited = start.elapsed();
-        assert!(waited >= Duration::from_millis(29), "{waited:?}");
+        wait_is_timed(&doorbell, Instant::now(), Duration::from_millis(30));
     }
 
     /// A publisher rings only the doorbells of consumers that wait on them.

@@ -183,8 +183,8 @@ impl<S: Service> Ipc<S> {
             .backpressure_strategy(BackpressureStrategy::DiscardData)
             .create()
             .map_err(|e| err(format_args!("publisher of {service}"), e))?;
-        let event = self.event(service)?;
-        let notifier = event
+        let notifier = self
+            .event(service)?
             .notifier_builder()
             .create()
             .map_err(|e| err(format_args!("notifier of {service}"), e))?;
