@@ -17,6 +17,12 @@
 //!   their ratio; beside each, the machine's busy CPU time meanwhile (every process: the
 //!   client, the service, the FCCs), which tells an upload bound by the cores from one that
 //!   waits for its links;
+//! - **the floor of all/one**: 30 uploads to one vehicle in a row tell one upload's wall time
+//!   and its work (the machine's busy CPU time per upload, less what the idle fleet keeps busy
+//!   meanwhile); the uploads to all tell the work per vehicle of an upload to all. Spread over
+//!   the cores the idle fleet leaves, that work cannot take less than `N x workN / ((cores -
+//!   idle) x one)` times one upload: where one upload keeps a core busy all its time (loopback),
+//!   no concurrency brings 16 vehicles on 2 cores near one;
 //! - **others beside a bad link** (`--first-behind PROFILE`: the first vehicle behind an
 //!   emulated link of that profile, the others as `--profile` says): the upload to all but the
 //!   first alone, and while an upload to the first runs over its link, another client at once;
@@ -73,6 +79,9 @@ use missionlink_platform::clock::DriverClock;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::{LinkPair, MAX_DATAGRAM};
 
+/// How many uploads to one vehicle in a row tell the work of one upload: their busy CPU time in
+/// ticks of 10 ms adds up to a time worth comparing with the upload's few milliseconds.
+const ONE_SERIES: usize = 30;
 /// How often an upload goes to every vehicle in the soak, unless `--upload-every-s` says.
 const SOAK_UPLOAD_EVERY: Duration = Duration::from_secs(10);
 /// How far a simulated vehicle moves between its guidance updates: 1e-5 degrees of latitude
@@ -588,6 +597,12 @@ struct Row {
     /// all: what an upload costs, and whether the uploads to all were bound by the cores.
     one_busy_ms: Vec<f64>,
     all_busy_ms: Vec<f64>,
+    /// [`ONE_SERIES`] uploads to one vehicle in a row: their wall time and the machine's busy
+    /// CPU time meanwhile, in all (ticks of 10 ms add up to a time worth comparing).
+    series: (Duration, Duration),
+    /// The machine's busy cores while the fleet idles (positions and heartbeats, every FCC's
+    /// and the service's loops): what an upload shares the cores with.
+    background_cores: f64,
     /// The service's CPU time per vehicle and upload, over the uploads to all.
     service_ms_per_upload: f64,
     /// The service's page faults per vehicle and upload, over the uploads to all: the pages of
@@ -754,6 +769,18 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
         }
     }
 
+    // The work of one upload: uploads to the last vehicle in a row, the fleet idle beside them.
+    let series_start = (Instant::now(), machine_busy());
+    for _ in 0..ONE_SERIES {
+        let (_, _, done) = upload(service, &vehicle_name(n - 1), files[turn % 2]);
+        failed += usize::from(!done);
+        turn += 1;
+    }
+    let series = (
+        series_start.0.elapsed(),
+        machine_busy().saturating_sub(series_start.1),
+    );
+
     // The others beside a vehicle whose link is bad (`--first-behind`): the upload to all but
     // the first alone, and while an upload to the first runs over its link (another client,
     // started 20 ms before). Every vehicle first holds the same mission, which every upload
@@ -791,10 +818,12 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
     let pid = service.pid();
     client.begin();
     let cpu_before = cpu_time(pid);
-    let start = Instant::now();
+    let (start, busy_before) = (Instant::now(), machine_busy());
     std::thread::sleep(idle);
     let cpu = cpu_time(pid) - cpu_before;
     let wall = start.elapsed();
+    let background_cores =
+        machine_busy().saturating_sub(busy_before).as_secs_f64() / wall.as_secs_f64();
     let (positions, mut latency_ns) = client.end();
     let rss = status_kb(pid, "VmRSS:");
     let rates: Vec<f64> = (1..=n as u8)
@@ -809,6 +838,8 @@ fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> R
         all_ms,
         one_busy_ms,
         all_busy_ms,
+        series,
+        background_cores,
         service_ms_per_upload: service_ms / (runs * n) as f64,
         service_faults_per_upload: service_faults as f64 / (runs * n) as f64,
         others_alone_ms,
@@ -904,6 +935,41 @@ fn print(rows: &[Row]) {
             r.latency_ns.len(),
         );
     }
+    // What the cores allow: the upload to all's work, spread over the cores the idle fleet
+    // leaves, cannot take less time than that; against one upload's time it is the least
+    // all/one this machine can show with the work an upload costs now.
+    println!(
+        "\n{:<10} {:>4} {:>9} {:>9} {:>7} {:>11} {:>7} {:>7} {:>6}",
+        "fleet", "N", "one ms", "work1 ms", "cores1", "workN ms/v", "idle", "floor", "all/1"
+    );
+    for r in rows {
+        let count = ONE_SERIES as f64;
+        let b = r.background_cores;
+        let one = r.series.0.as_secs_f64() * 1e3 / count;
+        let work1 = (r.series.1.as_secs_f64() - b * r.series.0.as_secs_f64()) * 1e3 / count;
+        let (all_wall, all_busy): (f64, f64) = (r.all_ms.iter().sum(), r.all_busy_ms.iter().sum());
+        let work_n = (all_busy - b * all_wall) / (r.all_ms.len() * r.n) as f64;
+        let floor = (r.n as f64 * work_n / ((cores - b) * one)).max(1.0);
+        println!(
+            "{:<10} {:>4} {:>9.2} {:>9.2} {:>7.2} {:>11.2} {:>7.2} {:>7.2} {:>6.2}",
+            r.kind.name(),
+            r.n,
+            one,
+            work1,
+            work1 / one,
+            work_n,
+            b,
+            floor,
+            median(&r.all_ms) / median(&r.one_ms),
+        );
+    }
+    println!(
+        "\none: mean wall time of {ONE_SERIES} uploads to one vehicle in a row; work1: the machine's \
+         busy CPU time per upload over them, less what the idle fleet keeps busy meanwhile; cores1: \
+         work1 / one, the cores one upload keeps busy; workN: the same per vehicle over the \
+         uploads to all; idle: the cores the idle fleet keeps busy; floor: N x workN / ((cores - \
+         idle) x one), the least all/one the cores allow for that work"
+    );
     if rows.iter().any(|r| !r.others_beside_ms.is_empty()) {
         println!(
             "\n{:<10} {:>4} {:>14} {:>15} {:>7} {:>13}",
