@@ -45,6 +45,10 @@
 //! cargo bench --bench fleet -- --real 16 --simulated "" --first-behind bad
 //! ```
 //!
+//! `--sharing-cores` configures the real FCCs as several FCCs on one simulation PC are
+//! configured: voting-monitoring sleeps on its sockets at once instead of spinning after every
+//! frame (`[ipc.idle.voting-monitoring] mode = "block"`, docs/fleet.md).
+//!
 //! `--soak-s S` runs one fleet (the largest of `--real`, or with `--real ""` of `--simulated`)
 //! for S seconds instead: positions
 //! at 2 Hz, an upload to every vehicle every 10 s (`--upload-every-s` another period: a shorter
@@ -72,9 +76,9 @@ use missionlink::harness::{Process, Rig, eventually};
 use missionlink::link_emulator::{Emulator, EmulatorConfig, Profile};
 use missionlink_flight::mission_data_handling::MissionDataHandling;
 use missionlink_gcs::mavlink::vehicle::read_datagram;
-use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link};
+use missionlink_interfaces::contracts::{GuidanceProgressPayload, Link, Partition};
 use missionlink_interfaces::wire::{self, MAX_FRAME_LEN, Message};
-use missionlink_partitions::config::Config;
+use missionlink_partitions::config::{Config, Idle};
 use missionlink_platform::clock::DriverClock;
 use missionlink_platform::keys::LinkSigning;
 use missionlink_platform::udp::{LinkPair, MAX_DATAGRAM};
@@ -481,6 +485,18 @@ fn simulated_fcc(
 
 // ---- Real FCCs ----
 
+/// How the real FCCs are configured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Fccs {
+    /// As each on a computer of its own: the defaults (voting-monitoring spins 200 µs after
+    /// every frame, `[ipc.idle]`, which takes nothing another process of that computer needs).
+    OwnComputer,
+    /// As several FCCs sharing a simulation PC's cores are (`--sharing-cores`):
+    /// voting-monitoring sleeps on its sockets at once (`[ipc.idle.voting-monitoring] mode =
+    /// "block"`), so that no FCC's wait for a frame takes a core another FCC's work needs.
+    SharingCores,
+}
+
 /// The links of a fleet's vehicles: each behind an emulated link of `all` (none: loopback), the
 /// first behind one of `first` instead, if one (`--first-behind`: a vehicle whose link is bad
 /// among vehicles whose links are not).
@@ -511,10 +527,17 @@ struct Fleet {
 impl Fleet {
     /// `n` vehicles of `kind`, each behind a link emulator of its profile in `links`; a simulated
     /// fleet's files in `dir`, its positions' send times to `sent`.
-    fn start(kind: Kind, n: usize, links: Links, dir: &Path, sent: &SentPositions) -> Self {
+    fn start(
+        kind: Kind,
+        n: usize,
+        links: Links,
+        fccs: Fccs,
+        dir: &Path,
+        sent: &SentPositions,
+    ) -> Self {
         match kind {
             Kind::Real => {
-                let (real, entries) = real_fleet(n, links);
+                let (real, entries) = real_fleet(n, links, fccs);
                 Self {
                     _real: real,
                     _simulated: None,
@@ -536,7 +559,11 @@ impl Fleet {
 /// `n` real FCCs, each with a rig of its own (behind a link emulator of its profile in `links`);
 /// their fleet entries.
 #[allow(clippy::type_complexity)]
-fn real_fleet(n: usize, links: Links) -> (Vec<(Rig, Process, Option<Emulator>)>, Vec<FleetEntry>) {
+fn real_fleet(
+    n: usize,
+    links: Links,
+    fccs: Fccs,
+) -> (Vec<(Rig, Process, Option<Emulator>)>, Vec<FleetEntry>) {
     let mut real = Vec::new();
     let mut entries = Vec::new();
     for i in 0..n {
@@ -544,6 +571,9 @@ fn real_fleet(n: usize, links: Links) -> (Vec<(Rig, Process, Option<Emulator>)>,
         rig.config.ids.fcc = 0x0B00_0001 + i as u32;
         // Guidance in real time: positions as an aircraft flies them.
         rig.config.guidance.time_scale = 1.0;
+        if fccs == Fccs::SharingCores {
+            rig.config.ipc.idle[Partition::VotingMonitoring] = Idle::BLOCK;
+        }
         let (fcc, emulator) = match links.of(i) {
             Some(profile) => {
                 let (fcc, emulator, _) = rig.start_fcc_behind(profile.flows(), i as u64);
@@ -705,11 +735,11 @@ struct Setup {
 impl Setup {
     /// `n` vehicles of `kind` (behind the emulated links of `links`) in a directory named after
     /// `name`, the service started on them, every vehicle heard on MAVLink.
-    fn start(kind: Kind, n: usize, links: Links, name: &str) -> Self {
+    fn start(kind: Kind, n: usize, links: Links, fccs: Fccs, name: &str) -> Self {
         let dir = Scratch::new(name);
         let sent: SentPositions = Arc::default();
         let client = MavlinkClient::start(sent.clone());
-        let fleet = Fleet::start(kind, n, links, &dir.0, &sent);
+        let fleet = Fleet::start(kind, n, links, fccs, &dir.0, &sent);
         let service = service(&dir.0, &fleet.entries, &client);
         client.wait_for_all(n, Duration::from_secs(60));
         let all: Vec<String> = (0..n).map(vehicle_name).collect();
@@ -723,12 +753,13 @@ impl Setup {
     }
 }
 
-fn measure(kind: Kind, n: usize, links: Links, runs: usize, idle: Duration) -> Row {
+fn measure(kind: Kind, n: usize, links: Links, fccs: Fccs, runs: usize, idle: Duration) -> Row {
     eprintln!("{} fleet of {n}: starting", kind.name());
     let setup = Setup::start(
         kind,
         n,
         links,
+        fccs,
         &format!("missionlink-bench-fleet-{}-{n}", kind.name()),
     );
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
@@ -1013,13 +1044,13 @@ struct SoakPlan {
 
 /// The hour: one fleet of `n` of `kind`, an upload to all every `plan.upload_every`, a sample
 /// every `plan.sample_every`.
-fn soak(kind: Kind, n: usize, links: Links, plan: &SoakPlan) {
+fn soak(kind: Kind, n: usize, links: Links, fccs: Fccs, plan: &SoakPlan) {
     let SoakPlan {
         duration,
         sample_every,
         upload_every,
     } = *plan;
-    let setup = Setup::start(kind, n, links, "missionlink-bench-soak");
+    let setup = Setup::start(kind, n, links, fccs, "missionlink-bench-soak");
     let (service, client, all) = (&setup.service, &setup.client, &setup.all);
     let pid = service.pid();
     let files = ["mission-2.toml", "mission-1.toml"];
@@ -1178,6 +1209,12 @@ fn main() {
         all: named("--profile"),
         first: named("--first-behind"),
     };
+    // Real FCCs as on their own computers, or as several on one simulation PC are configured.
+    let fccs = if args.iter().any(|a| a == "--sharing-cores") {
+        Fccs::SharingCores
+    } else {
+        Fccs::OwnComputer
+    };
     // A fleet of 250 behind emulators holds some 2000 sockets in this process.
     let limit = rustix::process::getrlimit(rustix::process::Resource::Nofile);
     let _ = rustix::process::setrlimit(
@@ -1200,11 +1237,12 @@ fn main() {
             }),
         };
         match real.iter().copied().max() {
-            Some(n) => soak(Kind::Real, n, links, &plan),
+            Some(n) => soak(Kind::Real, n, links, fccs, &plan),
             None => soak(
                 Kind::Simulated,
                 simulated.iter().copied().max().unwrap_or(16),
                 links,
+                fccs,
                 &plan,
             ),
         }
@@ -1216,10 +1254,10 @@ fn main() {
     );
     let mut rows = Vec::new();
     for n in real {
-        rows.push(measure(Kind::Real, n, links, runs, idle));
+        rows.push(measure(Kind::Real, n, links, fccs, runs, idle));
     }
     for n in simulated {
-        rows.push(measure(Kind::Simulated, n, links, runs, idle));
+        rows.push(measure(Kind::Simulated, n, links, fccs, runs, idle));
     }
     print(&rows);
 }
