@@ -972,3 +972,37 @@ fn ground_service_stops_when_the_process_that_started_it_is_killed() {
         log_text()
     );
 }
+
+#[test]
+fn ground_service_binds_the_fleets_links_before_its_mavlink_endpoint() {
+    // A MAVLink endpoint on a port the system picks must never take a port the fleet file
+    // names: the service binds the fleet's links first. Asked for one of them outright, the
+    // MAVLink endpoint is what cannot start, and it says so.
+    let rig = vehicle_without_fcc("service-bind-order");
+    let dir = rig.dir.clone();
+    let fleet = std::fs::read_to_string(dir.join("fleet.toml")).unwrap();
+    let direct = fleet
+        .lines()
+        .find_map(|l| l.strip_prefix("direct = { ground = \""))
+        .and_then(|rest| rest.split('"').next())
+        .unwrap()
+        .to_owned();
+    let out = std::process::Command::new(gcs_binary())
+        .arg("--fleet")
+        .arg(dir.join("fleet.toml"))
+        .arg("--service-socket")
+        .arg(dir.join("gcs.sock"))
+        .args(["serve", "--state-dir"])
+        .arg(dir.join("ground-state"))
+        .args(["--mavlink", "--mavlink-bind", &direct])
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!("cannot bind the MAVLink socket {direct}")),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("cannot bind the direct link"), "{stderr}");
+    assert!(!dir.join("gcs.sock").exists(), "nothing was served");
+}

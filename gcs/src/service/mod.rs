@@ -18,7 +18,9 @@ pub mod request;
 mod server;
 pub mod status;
 
-pub use server::{Bound, MavlinkOptions, ServeError, ServeOptions, serve, service_fence};
+pub use server::{
+    Bound, MavlinkOptions, Opened, ServeError, ServeOptions, open, serve, service_fence,
+};
 
 /// The state directory: `dir`, else `$XDG_STATE_HOME/missionlink`, else
 /// `$HOME/.local/state/missionlink`.

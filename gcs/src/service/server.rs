@@ -162,14 +162,16 @@ const CLIENT_WRITE: Duration = Duration::from_millis(200);
 /// How long a client may take to send its call.
 const CLIENT_CALL: Duration = Duration::from_secs(5);
 
-/// Runs the service for `fleet` until `stop` is set: binds every vehicle's links and the
-/// socket, calls `ready` with the bound links, serves, and on stop removes the socket.
-pub fn serve(
-    fleet: &Fleet,
-    options: &ServeOptions,
-    stop: &Arc<AtomicBool>,
-    ready: impl FnOnce(&[Bound]),
-) -> Result<(), ServeError> {
+/// The service's socket and every vehicle's links, bound ([`open`]): what [`serve`] serves.
+pub struct Opened {
+    listener: UnixListener,
+    links: Vec<Link>,
+}
+
+/// Binds the service's socket and every vehicle's links of `fleet`. Called before anything of
+/// the service binds a port the system picks (the MAVLink endpoint's `127.0.0.1:0`): such a
+/// port could be one the fleet file names, and that vehicle could not start.
+pub fn open(fleet: &Fleet, options: &ServeOptions) -> Result<Opened, ServeError> {
     if let Some(dir) = &options.state_dir
         && let Err(error) = std::fs::create_dir_all(dir)
     {
@@ -190,6 +192,19 @@ pub fn serve(
         })?;
         links.push(link);
     }
+    Ok(Opened { listener, links })
+}
+
+/// Runs the service for `fleet` on what [`open`] bound until `stop` is set: calls `ready` with
+/// the bound links, serves, and on stop removes the socket.
+pub fn serve(
+    fleet: &Fleet,
+    opened: Opened,
+    options: &ServeOptions,
+    stop: &Arc<AtomicBool>,
+    ready: impl FnOnce(&[Bound]),
+) -> Result<(), ServeError> {
+    let Opened { listener, links } = opened;
     let mut bound = Vec::new();
     let mut routes = Vec::new();
     let mut workers = Vec::new();

@@ -1168,24 +1168,46 @@ fn serve(
     };
     let socket = client::socket_path(ground.socket.as_deref())
         .ok_or("no place for the service's socket: give --service-socket")?;
-    let mavlink = match mavlink {
-        None => None,
-        Some(m) => {
-            let mut endpoint = MavlinkSocket::bind(m.bind, m.to)
-                .map_err(|e| format!("cannot bind the MAVLink socket {}: {e}", m.bind))?;
-            if let Some(path) = &m.tlog {
-                endpoint = endpoint
-                    .with_tlog(path)
-                    .map_err(|e| format!("cannot write the capture {}: {e}", path.display()))?;
-            }
-            Some(MavlinkOptions {
-                socket: Arc::new(endpoint),
-                cruise_speed_mps: m.cruise_speed,
-                fence_wait: m.fence_wait,
-            })
+    let state_dir = state_base(state.state_dir.clone());
+    let fence =
+        isolation.then(|| missionlink_gcs::service::service_fence(&socket, state_dir.as_deref()));
+    let mut options = ServeOptions {
+        socket: socket.clone(),
+        state_dir,
+        capture: CAPTURE.get().cloned(),
+        gateway: safety.gateway()?,
+        mavlink: None,
+        fence,
+        parent,
+    };
+    // The socket and the fleet's links first: the MAVLink endpoint's port may be the system's
+    // pick, which must not be one the fleet file names.
+    let opened = missionlink_gcs::service::open(&fleet, &options)
+        .map_err(|e| Failure::from(e.to_string()))?;
+    let endpoint = |m: &ServeMavlink| {
+        let endpoint = MavlinkSocket::bind(m.bind, m.to)
+            .map_err(|e| format!("cannot bind the MAVLink socket {}: {e}", m.bind))?;
+        match &m.tlog {
+            Some(path) => endpoint
+                .with_tlog(path)
+                .map_err(|e| format!("cannot write the capture {}: {e}", path.display())),
+            None => Ok(endpoint),
         }
     };
-    let mavlink_line = match &mavlink {
+    options.mavlink = match mavlink.as_ref().map(|m| (m, endpoint(m))) {
+        None => None,
+        Some((m, Ok(endpoint))) => Some(MavlinkOptions {
+            socket: Arc::new(endpoint),
+            cruise_speed_mps: m.cruise_speed,
+            fence_wait: m.fence_wait,
+        }),
+        // Nothing served: the socket goes with the service that could not start.
+        Some((_, Err(e))) => {
+            let _ = std::fs::remove_file(&socket);
+            return Err(e.into());
+        }
+    };
+    let mavlink_line = match &options.mavlink {
         Some(m) => Some(format!(
             "MAVLink vehicles on {}, sending to {}: {}",
             m.socket.local_addr().map_err(|e| e.to_string())?,
@@ -1199,20 +1221,8 @@ fn serve(
         )),
         None => None,
     };
-    let state_dir = state_base(state.state_dir.clone());
-    let fence =
-        isolation.then(|| missionlink_gcs::service::service_fence(&socket, state_dir.as_deref()));
-    let options = ServeOptions {
-        socket: socket.clone(),
-        state_dir,
-        capture: CAPTURE.get().cloned(),
-        gateway: safety.gateway()?,
-        mavlink,
-        fence,
-        parent,
-    };
     let stop = stop_on_signals();
-    missionlink_gcs::service::serve(&fleet, &options, &stop, |bound| {
+    missionlink_gcs::service::serve(&fleet, opened, &options, &stop, |bound| {
         let mut text = format!(
             "ground service for {} vehicle{} on {}\n",
             bound.len(),
