@@ -981,8 +981,14 @@ fn print(rows: &[Row]) {
         let (all_wall, all_busy): (f64, f64) = (r.all_ms.iter().sum(), r.all_busy_ms.iter().sum());
         let work_n = (all_busy - b * all_wall) / (r.all_ms.len() * r.n) as f64;
         let floor = (r.n as f64 * work_n / ((cores - b) * one)).max(1.0);
+        // In a fleet of one the upload to all is an upload to one: its few ticks say nothing.
+        let (work_n, floor) = if r.n > 1 {
+            (format!("{work_n:.2}"), format!("{floor:.2}"))
+        } else {
+            ("-".to_owned(), "-".to_owned())
+        };
         println!(
-            "{:<10} {:>4} {:>9.2} {:>9.2} {:>7.2} {:>11.2} {:>7.2} {:>7.2} {:>6.2}",
+            "{:<10} {:>4} {:>9.2} {:>9.2} {:>7.2} {:>11} {:>7.2} {:>7} {:>6.2}",
             r.kind.name(),
             r.n,
             one,
