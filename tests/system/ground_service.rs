@@ -868,6 +868,20 @@ fn vehicle_without_fcc(test: &str) -> Rig {
     rig
 }
 
+/// `gcs serve` of the fleet file [`vehicle_without_fcc`] wrote in `dir`, its socket and state
+/// directory in `dir` too: the arguments, to start it as a test needs.
+fn serve_args(dir: &std::path::Path) -> Vec<std::ffi::OsString> {
+    vec![
+        "--fleet".into(),
+        dir.join("fleet.toml").into(),
+        "--service-socket".into(),
+        dir.join("gcs.sock").into(),
+        "serve".into(),
+        "--state-dir".into(),
+        dir.join("ground-state").into(),
+    ]
+}
+
 /// The first line `child` writes on its piped stdout; the pipe's reader is gone after it.
 fn first_line(child: &mut std::process::Child) -> String {
     let mut line = String::new();
@@ -885,12 +899,7 @@ fn ground_service_keeps_serving_when_its_stdout_is_closed() {
     let dir = rig.dir.clone();
     let log = std::fs::File::create(dir.join("gcs-serve.log")).unwrap();
     let mut service = std::process::Command::new(gcs_binary())
-        .arg("--fleet")
-        .arg(dir.join("fleet.toml"))
-        .arg("--service-socket")
-        .arg(dir.join("gcs.sock"))
-        .args(["serve", "--state-dir"])
-        .arg(dir.join("ground-state"))
+        .args(serve_args(&dir))
         .stdout(std::process::Stdio::piped())
         .stderr(log)
         .spawn()
@@ -937,12 +946,8 @@ fn ground_service_stops_when_the_process_that_started_it_is_killed() {
         .arg("-c")
         .arg("\"$0\" \"$@\" >\"$SERVE_OUT\" & echo $! && wait")
         .arg(gcs_binary())
-        .arg("--fleet")
-        .arg(dir.join("fleet.toml"))
-        .arg("--service-socket")
-        .arg(dir.join("gcs.sock"))
-        .args(["serve", "--exit-with-parent", "--state-dir"])
-        .arg(dir.join("ground-state"))
+        .args(serve_args(&dir))
+        .arg("--exit-with-parent")
         .env("SERVE_OUT", dir.join("gcs-serve.out"))
         .stdout(std::process::Stdio::piped())
         .stderr(log)
@@ -988,12 +993,7 @@ fn ground_service_binds_the_fleets_links_before_its_mavlink_endpoint() {
         .unwrap()
         .to_owned();
     let out = std::process::Command::new(gcs_binary())
-        .arg("--fleet")
-        .arg(dir.join("fleet.toml"))
-        .arg("--service-socket")
-        .arg(dir.join("gcs.sock"))
-        .args(["serve", "--state-dir"])
-        .arg(dir.join("ground-state"))
+        .args(serve_args(&dir))
         .args(["--mavlink", "--mavlink-bind", &direct])
         .output()
         .unwrap();
