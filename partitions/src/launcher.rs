@@ -86,9 +86,7 @@ struct Supervised {
     name: &'static str,
     /// Started by the launcher (else left out: another process fills the role).
     started_here: bool,
-    child: Option<Child>,
-    /// A pidfd of the child, readable once it ends ([`wait_for_exit`]).
-    pidfd: Option<OwnedFd>,
+    child: Option<Running>,
     restart_at: Option<Instant>,
     /// When it was started, within the start-limit window.
     starts: std::collections::VecDeque<Instant>,
@@ -101,14 +99,23 @@ struct Supervised {
     heard: bool,
 }
 
-/// A pidfd of `child`; `None` where the kernel has none (before Linux 5.3): the launcher then
-/// finds its end at its next look.
-fn pidfd_of(child: &Child) -> Option<OwnedFd> {
-    rustix::process::pidfd_open(
-        rustix::process::Pid::from_child(child),
-        rustix::process::PidfdFlags::empty(),
-    )
-    .ok()
+/// A child the launcher started, with a pidfd of it that is readable once it ends
+/// ([`wait_for_exit`]); no pidfd where the kernel has none (before Linux 5.3): the launcher then
+/// finds its end at its next look. Kept together, so that no pidfd outlives its child.
+struct Running {
+    child: Child,
+    pidfd: Option<OwnedFd>,
+}
+
+impl Running {
+    fn new(child: Child) -> Self {
+        let pidfd = rustix::process::pidfd_open(
+            rustix::process::Pid::from_child(&child),
+            rustix::process::PidfdFlags::empty(),
+        )
+        .ok();
+        Self { child, pidfd }
+    }
 }
 
 /// Sleeps until one of the children of `pidfds` ends, a signal arrives (a stop request), or
@@ -255,7 +262,6 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                 name: partition.binary(),
                 started_here,
                 child: None,
-                pidfd: None,
                 restart_at: started_here.then(Instant::now),
                 starts: std::collections::VecDeque::new(),
                 delay: restart_delay,
@@ -301,7 +307,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
         });
         for p in &mut partitions {
             if let Some(silence) = p.liveness.poll(now) {
-                match p.child.as_ref() {
+                match p.child.as_ref().map(|r| &r.child) {
                     Some(child) => {
                         tracing::error!(
                             partition = p.name,
@@ -323,11 +329,10 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                     None => {}
                 }
             }
-            if let Some(child) = p.child.as_mut() {
+            if let Some(Running { child, .. }) = p.child.as_mut() {
                 if let Ok(Some(status)) = child.try_wait() {
                     let pid = child.id();
                     p.child = None;
-                    p.pidfd = None;
                     p.liveness.forget();
                     match limits.after_death(p, status, Instant::now()) {
                         Some(delay) => {
@@ -376,8 +381,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
                         p.starts.push_back(Instant::now());
                         p.liveness
                             .expect(clock.now(), child.id(), config.health.start_timeout());
-                        p.pidfd = pidfd_of(&child);
-                        p.child = Some(child);
+                        p.child = Some(Running::new(child));
                     }
                     Err(e) => {
                         tracing::error!(partition = p.name, %e, "cannot start; retrying");
@@ -412,8 +416,9 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
             && bridge.start_at.is_none();
         let pidfds = partitions
             .iter()
-            .filter_map(|p| p.pidfd.as_ref())
-            .chain(bridge.pidfd.as_ref());
+            .filter_map(|p| p.child.as_ref())
+            .chain(bridge.child.as_ref())
+            .filter_map(|r| r.pidfd.as_ref());
         wait_for_exit(
             pidfds,
             if settled {
@@ -427,7 +432,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
     bridge.stop();
     withdraw_ready(&state_dir, NAME, own);
     for p in partitions.iter_mut().rev() {
-        if let Some(mut child) = p.child.take() {
+        if let Some(Running { mut child, .. }) = p.child.take() {
             match terminate(&mut child, GRACE) {
                 Ok(status) if status.signal() == Some(9) => {
                     tracing::warn!(partition = p.name, "did not stop in time: killed");
@@ -447,8 +452,7 @@ pub fn run(config: &Config, bin_dir: &Path, control: &Control) -> Result<(), Par
 /// no heartbeat: the heartbeats of the remote partitions it carries are its health.
 struct BridgeChild {
     enabled: bool,
-    child: Option<Child>,
-    pidfd: Option<OwnedFd>,
+    child: Option<Running>,
     start_at: Option<Instant>,
 }
 
@@ -457,7 +461,6 @@ impl BridgeChild {
         Self {
             enabled: config.bridge.enabled,
             child: None,
-            pidfd: None,
             start_at: config.bridge.enabled.then(Instant::now),
         }
     }
@@ -471,10 +474,9 @@ impl BridgeChild {
         let died = self
             .child
             .as_mut()
-            .and_then(|c| c.try_wait().ok().flatten());
+            .and_then(|r| r.child.try_wait().ok().flatten());
         if let Some(status) = died {
             self.child = None;
-            self.pidfd = None;
             if status.code() == Some(i32::from(CONFIG_EXIT_CODE)) {
                 // Starting it again cannot help: its configuration cannot work.
                 tracing::error!(
@@ -497,8 +499,7 @@ impl BridgeChild {
             match spawned {
                 Ok(child) => {
                     tracing::info!(partition = "bridge", pid = child.id(), "started");
-                    self.pidfd = pidfd_of(&child);
-                    self.child = Some(child);
+                    self.child = Some(Running::new(child));
                 }
                 Err(e) if e.kind() == io::ErrorKind::NotFound => {
                     // Retrying cannot help: the bridge is a package of its own, built apart.
@@ -520,7 +521,7 @@ impl BridgeChild {
     }
 
     fn stop(&mut self) {
-        if let Some(mut child) = self.child.take() {
+        if let Some(Running { mut child, .. }) = self.child.take() {
             match terminate(&mut child, GRACE) {
                 Ok(status) => {
                     tracing::info!(partition = "bridge", status = %describe(status), "stopped")
